@@ -1,0 +1,36 @@
+# The two commands of the README:
+#   make demo   - install everything and run the example survey end to end (headless)
+#   make test   - install everything and run the whole test suite (lint + pytest)
+PYTHON ?= python3.11
+VENV   ?= .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+
+.PHONY: setup system demo test lint bench clean
+
+setup: system $(STAMP)
+
+system:
+	@bash scripts/install-system-packages.sh
+
+$(STAMP): pyproject.toml
+	@command -v $(PYTHON) >/dev/null || { echo "error: $(PYTHON) not found; install Python 3.11 (the bpy wheels exist only for 3.11)"; exit 1; }
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e ".[all]"
+	touch $(STAMP)
+
+demo: setup
+	$(BIN)/designer demo -o demo-output
+
+lint: setup
+	$(BIN)/ruff check designer tests benchmarks
+
+test: setup lint
+	$(BIN)/python -m pytest
+
+bench: setup
+	$(BIN)/designer bench core
+
+clean:
+	rm -rf $(VENV) demo-output .pytest_cache .ruff_cache

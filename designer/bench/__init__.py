@@ -1,0 +1,1 @@
+"""Benchmarks run by ``designer bench NAME``; each prints a table of measured figures."""

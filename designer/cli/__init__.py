@@ -1,0 +1,1 @@
+"""The ``designer`` command line: thin wrappers around plain functions."""

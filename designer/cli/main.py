@@ -1,0 +1,57 @@
+"""Entry point of the ``designer`` command.
+
+Each sub-command lives in its own module under ``designer.cli`` with a
+``register(subparsers)`` function that adds its parser and sets ``func`` to a
+callable ``func(args) -> int``. Command modules import their heavy dependencies
+inside ``func`` so that ``designer --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from designer import __version__
+from designer.errors import DesignerError
+
+#: modules that provide sub-commands, in the order ``--help`` lists them
+COMMAND_MODULES = [
+    "designer.cli.demo",
+    "designer.cli.bench",
+]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="designer",
+        description=(
+            "Design, render and evaluate repeatable virtual surveys for "
+            "Structure-from-Motion accuracy experiments."
+        ),
+    )
+    parser.add_argument("--version", action="version", version=f"designer {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(subparsers)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 0
+    try:
+        return int(args.func(args) or 0)
+    except DesignerError as error:
+        print(f"designer: error: {error}", file=sys.stderr)
+        return error.exit_code
+    except KeyboardInterrupt:
+        print("designer: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
