@@ -27,7 +27,8 @@ class Heightfield:
     def __post_init__(self) -> None:
         z = np.asarray(self.heights_m, dtype=float)
         if z.ndim != 2 or min(z.shape) < 2:
-            raise DesignerError(f"height field must be a 2-dirs grid of at least 2 x 2, got {z.shape}")
+            raise DesignerError(
+                f"height field must be a 2-D grid of at least 2 x 2, got {z.shape}")
         if not (self.dx_m > 0 and self.dy_m > 0):
             raise DesignerError("height field spacing dx_m and dy_m must be > 0")
         if not np.all(np.isfinite(z)):

@@ -22,9 +22,11 @@ import numpy as np
 R_CV_FROM_PHOTO: np.ndarray = np.diag([1.0, -1.0, -1.0])
 R_CV_FROM_PHOTO.flags.writeable = False
 
-#: hypot of the two matrix elements that carry cos(middle angle); below it the middle
-#: angle is ±90° (gimbal lock) and the inner angle is reported as 0.
-_GIMBAL_LOCK_TOL = 1e-12
+#: cos of the middle Euler angle (a hypot of two matrix elements) below which it is
+#: taken as ±90° (gimbal lock) and the inner angle is reported as 0. Reporting 0
+#: instead of the true inner angle costs up to 2x this in the rebuilt matrix, so it
+#: sits well above rounding noise (~1e-16) and well below the 1e-12 round-trip budget.
+_GIMBAL_LOCK_TOL = 1e-14
 #: below this angle (rad) sin θ/θ and (1 − cos θ)/θ² use their Taylor series.
 _SMALL_ANGLE_RAD = 1e-4
 
@@ -99,19 +101,15 @@ def opk_from_rotation(R) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     second column is (0, cos ω, sin ω): this equals atan2(−R23, R33) for an exact
     rotation, but stays consistent with the computed κ when cos φ is tiny, so
     matrix → angles → matrix is exact to rounding at φ = ±89.999° too. At φ = ±90°
-    (hypot(R11, R12) < 1e-12) only ω ± κ is defined: κ = 0 and ω carries the rotation.
+    (hypot(R11, R12) < 1e-14) only ω ± κ is defined: κ = 0 and ω carries the rotation.
     """
     R = _as_matrices(R)
     cos_phi = np.hypot(R[..., 0, 0], R[..., 0, 1])
     phi = np.arctan2(R[..., 0, 2], cos_phi)
-    kappa = np.where(
-        cos_phi < _GIMBAL_LOCK_TOL, 0.0, np.arctan2(-R[..., 0, 1], R[..., 0, 0])
-    )
+    kappa = np.where(cos_phi < _GIMBAL_LOCK_TOL, 0.0, np.arctan2(-R[..., 0, 1], R[..., 0, 0]))
     ck, sk = np.cos(kappa), np.sin(kappa)
-    omega = np.arctan2(
-        sk * R[..., 2, 0] + ck * R[..., 2, 1], sk * R[..., 1, 0] + ck * R[..., 1, 1]
-    )
-    return omega, phi, kappa
+    omega = np.arctan2(sk * R[..., 2, 0] + ck * R[..., 2, 1], sk * R[..., 1, 0] + ck * R[..., 1, 1])
+    return omega[()], phi[()], kappa[()]
 
 
 # --------------------------------------------------------------- heading, tilt, roll
@@ -146,21 +144,18 @@ def heading_tilt_roll_from_rotation(R) -> tuple[np.ndarray, np.ndarray, np.ndarr
     :func:`rotation_from_heading_tilt_roll`. Nadir (tilt = 0) is regular: heading and
     roll are both defined by the image-top axis. At |tilt| = π/2 the image top points
     straight up or down and has no azimuth: roll = 0 and heading is the azimuth of
-    the horizontal viewing axis, so matrix → angles → matrix stays exact.
+    the horizontal viewing axis (of its opposite at tilt = −π/2), so
+    matrix → angles → matrix stays exact.
     """
     R = _as_matrices(R)
     # R = Rz(a)·Rx(t)·Ry(b) with a = −heading, b = −roll; its third row is
     # (−cos t·sin b, sin t, cos t·cos b) and R·Ry(b)ᵀ has first column (cos a, sin a, 0).
     cos_tilt = np.hypot(R[..., 2, 0], R[..., 2, 2])
     tilt = np.arctan2(R[..., 2, 1], cos_tilt)
-    roll = np.where(
-        cos_tilt < _GIMBAL_LOCK_TOL, 0.0, np.arctan2(R[..., 2, 0], R[..., 2, 2])
-    )
+    roll = np.where(cos_tilt < _GIMBAL_LOCK_TOL, 0.0, np.arctan2(R[..., 2, 0], R[..., 2, 2]))
     cb, sb = np.cos(roll), -np.sin(roll)
-    a = np.arctan2(
-        cb * R[..., 1, 0] + sb * R[..., 1, 2], cb * R[..., 0, 0] + sb * R[..., 0, 2]
-    )
-    return _wrap_0_2pi(-a), tilt, roll
+    a = np.arctan2(cb * R[..., 1, 0] + sb * R[..., 1, 2], cb * R[..., 0, 0] + sb * R[..., 0, 2])
+    return _wrap_0_2pi(-a)[()], tilt[()], roll[()]
 
 
 # --------------------------------------------------------------------- quaternions

@@ -1,0 +1,430 @@
+"""The project model: a survey description in photogrammetric terms, Qt-free and bpy-free.
+
+It mirrors ``schema/designer-project-1.0.xsd`` one to one (element ``focal-length-mm``
+is field ``focal_length_mm``). Conventions (docs/conventions.md):
+
+* every coordinate is a **world** coordinate in metres, X = Easting, Y = Northing,
+  Z = height; the origin (E0, N0, H0) is only subtracted for Blender;
+* angles are **degrees** here, as in the file (``*_deg``); R = Rx(ω)·Ry(φ)·Rz(κ) maps
+  the photogrammetric camera frame (x right, y up, z backwards) to world;
+* focal length, sensor and principal point in mm, image sizes in px;
+* file paths are stored as written (relative to the XML file's folder).
+
+All classes are frozen dataclasses holding tuples, so a project is a value: two
+projects are equal when every field is. Construction does not validate; call
+:func:`designer.project.validate.semantic_problems` (or load through
+:func:`designer.project.load.load_project`) for that.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+SCHEMA_VERSION = "1.0"
+
+Role = Literal["control", "check"]
+TargetShape = Literal["checker", "cross", "circle", "square"]
+TexturePattern = Literal["grass", "gravel", "noise", "checkerboard", "slanted-edge"]
+Interpolation = Literal["closest", "linear"]
+Preset = Literal["draft", "standard", "high"]
+PixelFilterType = Literal["box", "gaussian", "blackman-harris"]
+ImageFormat = Literal["png", "jpeg", "tiff", "exr"]
+GroundTruthFormat = Literal["colmap", "odm", "metashape", "pix4d", "csv"]
+
+#: samples per pixel of each render preset (render/samples overrides it)
+PRESET_SAMPLES = {"draft": 16, "standard": 64, "high": 256}
+
+
+# ---------------------------------------------------------------------- project level
+@dataclass(frozen=True)
+class Origin:
+    """Project origin, world frame (m), float64; Blender gets world − origin."""
+
+    E0: float
+    N0: float
+    H0: float
+
+
+@dataclass(frozen=True)
+class Point3:
+    """A world point (m): X = Easting, Y = Northing, Z = height."""
+
+    X: float
+    Y: float
+    Z: float
+
+
+# ---------------------------------------------------------------------- terrain
+@dataclass(frozen=True)
+class Extent:
+    """Rectangle of ground, world X/Y (m)."""
+
+    min_X: float
+    min_Y: float
+    max_X: float
+    max_Y: float
+
+    @property
+    def width_m(self) -> float:
+        return self.max_X - self.min_X
+
+    @property
+    def length_m(self) -> float:
+        return self.max_Y - self.min_Y
+
+    def contains(self, X: float, Y: float) -> bool:
+        return self.min_X <= X <= self.max_X and self.min_Y <= Y <= self.max_Y
+
+
+@dataclass(frozen=True)
+class FlatTerrain:
+    height_m: float
+
+
+@dataclass(frozen=True)
+class ProceduralTerrain:
+    """Fractal-noise hills; heights from min to max (world Z, m)."""
+
+    seed: int
+    feature_size_m: float
+    octaves: int
+    min_height_m: float
+    max_height_m: float
+
+
+@dataclass(frozen=True)
+class DemTerrain:
+    """A GeoTIFF or ESRI ASCII grid of world heights."""
+
+    file: str
+
+
+@dataclass(frozen=True)
+class MeshTerrain:
+    """A .ply/.obj/.stl mesh in world − origin coordinates."""
+
+    file: str
+
+
+TerrainSource = FlatTerrain | ProceduralTerrain | DemTerrain | MeshTerrain
+
+
+@dataclass(frozen=True)
+class Terrain:
+    extent: Extent
+    source: TerrainSource
+
+    @property
+    def kind(self) -> str:
+        return {FlatTerrain: "flat", ProceduralTerrain: "procedural",
+                DemTerrain: "dem", MeshTerrain: "mesh"}[type(self.source)]
+
+
+# ---------------------------------------------------------------------- texture
+@dataclass(frozen=True)
+class ImageTexture:
+    file: str
+
+
+@dataclass(frozen=True)
+class ProceduralTexture:
+    pattern: TexturePattern
+    seed: int
+    texel_size_m: float
+
+
+@dataclass(frozen=True)
+class Texture:
+    """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent."""
+
+    source: ImageTexture | ProceduralTexture
+    repeat_X: int
+    repeat_Y: int
+    interpolation: Interpolation
+
+
+# ---------------------------------------------------------------------- targets
+@dataclass(frozen=True)
+class TruePosition:
+    """True target centre (world, m); ``Z=None`` drapes it on the terrain."""
+
+    X: float
+    Y: float
+    Z: float | None = None
+
+
+@dataclass(frozen=True)
+class Sigma3:
+    """Standard deviations along X, Y, Z (m)."""
+
+    X: float
+    Y: float
+    Z: float
+
+
+@dataclass(frozen=True)
+class SurveyedPosition:
+    """Measured target position (world, m) and its standard deviations (m)."""
+
+    position: Point3
+    sigma: Sigma3
+
+
+@dataclass(frozen=True)
+class Target:
+    """A GCP target: ``control`` georeferences, ``check`` only measures accuracy."""
+
+    id: str
+    role: Role
+    shape: TargetShape
+    size_m: float
+    true: TruePosition
+    surveyed: SurveyedPosition | None = None
+
+
+@dataclass(frozen=True)
+class SurveyAccuracy:
+    """Simulated survey of targets without ``surveyed``: σ per axis (m) and a seed."""
+
+    sigma: Sigma3
+    seed: int
+
+
+@dataclass(frozen=True)
+class Targets:
+    targets: tuple[Target, ...] = ()
+    survey_accuracy: SurveyAccuracy | None = None
+
+
+# ---------------------------------------------------------------------- objects, light
+@dataclass(frozen=True)
+class Placement:
+    """Mesh origin at ``position`` (world, m), rotated by ω φ κ (deg), scaled."""
+
+    position: Point3
+    omega_deg: float
+    phi_deg: float
+    kappa_deg: float
+    scale: float = 1.0
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    name: str
+    file: str
+    placement: Placement
+
+
+@dataclass(frozen=True)
+class Sun:
+    """Sun direction: azimuth clockwise from grid north, elevation above horizon (deg)."""
+
+    azimuth_deg: float
+    elevation_deg: float
+
+
+@dataclass(frozen=True)
+class SunPosition:
+    """Sun computed for an ISO 8601 moment (with time zone) and a place (deg)."""
+
+    date_time: str
+    latitude_deg: float
+    longitude_deg: float
+
+
+@dataclass(frozen=True)
+class Lighting:
+    sun: Sun | SunPosition
+    sun_strength: float = 4.0
+    sky_strength: float = 1.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    terrain: Terrain
+    texture: Texture
+    lighting: Lighting
+    targets: Targets | None = None
+    objects: tuple[SceneObject, ...] = ()
+
+
+# ---------------------------------------------------------------------- cameras
+@dataclass(frozen=True)
+class BrownConradyDistortion:
+    """OpenCV's (k1, k2, k3, p1, p2) on normalised computer-vision coordinates."""
+
+    k1: float = 0.0
+    k2: float = 0.0
+    k3: float = 0.0
+    p1: float = 0.0
+    p2: float = 0.0
+
+
+@dataclass(frozen=True)
+class FisheyeEquidistantDistortion:
+    """OpenCV's equidistant fisheye (k1..k4 on θ)."""
+
+    k1: float = 0.0
+    k2: float = 0.0
+    k3: float = 0.0
+    k4: float = 0.0
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Interior orientation in photogrammetric terms (mm, px); see core.interior."""
+
+    id: str
+    focal_length_mm: float
+    sensor_width_mm: float
+    sensor_height_mm: float
+    image_width_px: int
+    image_height_px: int
+    principal_point_x_mm: float = 0.0
+    principal_point_y_mm: float = 0.0
+    pixel_aspect: float | None = None
+    distortion: BrownConradyDistortion | FisheyeEquidistantDistortion | None = None
+    name: str | None = None
+
+
+# ---------------------------------------------------------------------- trajectory
+@dataclass(frozen=True)
+class ExteriorOrientation:
+    """One photo: perspective centre (world, m) and ω φ κ (deg)."""
+
+    name: str
+    camera: str
+    X: float
+    Y: float
+    Z: float
+    omega_deg: float
+    phi_deg: float
+    kappa_deg: float
+
+
+@dataclass(frozen=True)
+class PoseNoise:
+    """σ of position (m, world axes) and of rotation (deg, camera axes x, y, z)."""
+
+    sigma_X_m: float = 0.0
+    sigma_Y_m: float = 0.0
+    sigma_Z_m: float = 0.0
+    sigma_omega_deg: float = 0.0
+    sigma_phi_deg: float = 0.0
+    sigma_kappa_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class FlightPlan:
+    """A grid flight over ``area`` (world X/Y vertices, m); exactly one of altitude/GSD."""
+
+    camera: str
+    image_prefix: str
+    area: tuple[tuple[float, float], ...]
+    altitude_agl_m: float | None = None
+    gsd_m: float | None = None
+    front_overlap_percent: float = 80.0
+    side_overlap_percent: float = 70.0
+    grid_angle_deg: float = 0.0
+    crosshatch: bool = False
+    terrain_following: bool = False
+    tilt_deg: float = 0.0
+    pose_noise: PoseNoise | None = None
+    random_seed: int = 0
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    exterior_orientations: tuple[ExteriorOrientation, ...] = ()
+    flight_plan: FlightPlan | None = None
+
+
+# ---------------------------------------------------------------------- effects, render
+@dataclass(frozen=True)
+class Vignetting:
+    corner_falloff: float
+
+
+@dataclass(frozen=True)
+class SensorNoise:
+    sigma_dn: float
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class Blur:
+    sigma_px: float
+
+
+@dataclass(frozen=True)
+class MotionBlur:
+    exposure_time_s: float
+    speed_m_s: float
+
+
+@dataclass(frozen=True)
+class Jpeg:
+    quality: int
+
+
+@dataclass(frozen=True)
+class Effects:
+    """Image effects, each ``None`` when off. Distortion comes from the camera."""
+
+    vignetting: Vignetting | None = None
+    sensor_noise: SensorNoise | None = None
+    blur: Blur | None = None
+    motion_blur: MotionBlur | None = None
+    jpeg: Jpeg | None = None
+
+
+@dataclass(frozen=True)
+class Render:
+    preset: Preset = "standard"
+    samples: int | None = None
+    pixel_filter_type: PixelFilterType = "gaussian"
+    pixel_filter_width_px: float = 1.5
+    resolution_scale: float = 1.0
+    workers: int = 1
+    output_format: ImageFormat = "png"
+    bit_depth: int = 8
+
+    @property
+    def effective_samples(self) -> int:
+        return self.samples if self.samples is not None else PRESET_SAMPLES[self.preset]
+
+
+@dataclass(frozen=True)
+class Outputs:
+    directory: str = "output"
+    ground_truth: tuple[GroundTruthFormat, ...] = ()
+
+
+# ---------------------------------------------------------------------- the project
+@dataclass(frozen=True)
+class Project:
+    """A whole virtual survey; see the module docstring for frames and units."""
+
+    name: str
+    crs: str
+    origin: Origin
+    scene: Scene
+    cameras: tuple[Camera, ...]
+    trajectory: Trajectory
+    render: Render = field(default_factory=Render)
+    outputs: Outputs = field(default_factory=Outputs)
+    effects: Effects | None = None
+    description: str | None = None
+    schema_version: str = SCHEMA_VERSION
+
+    def camera(self, camera_id: str) -> Camera:
+        """The camera with this id (KeyError if there is none)."""
+        for cam in self.cameras:
+            if cam.id == camera_id:
+                return cam
+        raise KeyError(camera_id)
+
+    @property
+    def targets(self) -> tuple[Target, ...]:
+        return self.scene.targets.targets if self.scene.targets else ()

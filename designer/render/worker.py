@@ -1,0 +1,235 @@
+"""The render worker: the only module of designer that imports ``bpy``.
+
+Run as ``python -m designer.render.worker JOB.json --frames 0,1,5 [--progress-fd N]``.
+It builds the scene described by the job once, then renders the frames asked for,
+each to a temporary file renamed into place when complete. Progress goes out as JSON
+lines on file descriptor N (stdout carries Blender's own log).
+
+Only effects the job asks for are rendered: no denoiser, no adaptive sampling, no
+dithering, a box pixel filter one pixel wide unless asked otherwise, the 'Standard'
+view transform (no filmic tone curve), and texture interpolation as configured.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+import bpy  # the one place in designer that imports bpy
+import numpy as np
+from mathutils import Matrix
+
+FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
+
+
+def reset_scene() -> bpy.types.Scene:
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    return bpy.context.scene
+
+
+def configure_render(scene: bpy.types.Scene, job: dict) -> None:
+    render = job["render"]
+    scene.render.engine = "CYCLES"
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = int(render["samples"])
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = int(render.get("seed", 0))
+    cycles.use_animated_seed = False
+    cycles.pixel_filter_type = render.get("pixel_filter", "BOX")
+    cycles.filter_width = float(render.get("filter_width_px", 1.0))
+    if job["lighting"]["mode"] == "emission":
+        # Everything visible is emissive: a camera ray's first hit is the answer.
+        cycles.max_bounces = 0
+        cycles.diffuse_bounces = cycles.glossy_bounces = 0
+        cycles.transmission_bounces = cycles.volume_bounces = cycles.transparent_max_bounces = 0
+    threads = int(render.get("threads", 0))
+    scene.render.threads_mode = "FIXED" if threads > 0 else "AUTO"
+    if threads > 0:
+        scene.render.threads = threads
+    scene.render.dither_intensity = 0.0
+    scene.render.film_transparent = False
+    scene.render.use_compositing = False
+    scene.render.use_sequencer = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    scene.display_settings.display_device = "sRGB"
+    scene.sequencer_colorspace_settings.name = "sRGB"
+    fmt, _ = FORMATS[render.get("format", "png")]
+    settings = scene.render.image_settings
+    settings.file_format = fmt
+    settings.color_mode = "RGB"
+    settings.color_depth = str(render.get("bit_depth", 8))
+    if fmt == "PNG":
+        settings.compression = 15
+    elif fmt == "TIFF":
+        settings.tiff_codec = "DEFLATE"
+    scene.render.use_file_extension = False
+    camera = job["camera"]
+    scene.render.resolution_x = int(camera["resolution_x_px"])
+    scene.render.resolution_y = int(camera["resolution_y_px"])
+    scene.render.resolution_percentage = 100
+    scene.render.pixel_aspect_x = float(camera["pixel_aspect_x"])
+    scene.render.pixel_aspect_y = float(camera["pixel_aspect_y"])
+
+
+def add_camera(scene: bpy.types.Scene, camera: dict) -> bpy.types.Object:
+    data = bpy.data.cameras.new("survey_camera")
+    data.type = "PERSP"
+    data.lens_unit = "MILLIMETERS"
+    data.lens = float(camera["lens_mm"])
+    data.sensor_fit = camera["sensor_fit"]
+    data.sensor_width = float(camera["sensor_width_mm"])
+    data.shift_x = float(camera["shift_x"])
+    data.shift_y = float(camera["shift_y"])
+    data.clip_start = float(camera.get("clip_start_m", 0.01))
+    data.clip_end = float(camera.get("clip_end_m", 1e5))
+    obj = bpy.data.objects.new("survey_camera", data)
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def load_image(path: str, interpolation_colour: str) -> bpy.types.Image:
+    image = bpy.data.images.load(path, check_existing=True)
+    image.colorspace_settings.name = interpolation_colour
+    return image
+
+
+def emission_material(name: str, spec: dict, base: Path) -> bpy.types.Material:
+    """Emission shader: colour = texture (tiled) × optional light map (one tile)."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    emit = nodes.new("ShaderNodeEmission")
+    emit.inputs["Strength"].default_value = 1.0
+    links.new(emit.outputs["Emission"], out.inputs["Surface"])
+    if "color" in spec:
+        emit.inputs["Color"].default_value = (*spec["color"], 1.0)
+        return mat
+    uv = nodes.new("ShaderNodeTexCoord")
+    mapping = nodes.new("ShaderNodeMapping")
+    mapping.vector_type = "POINT"
+    tiles = spec.get("uv_tiles", [1.0, 1.0])
+    mapping.inputs["Scale"].default_value = (float(tiles[0]), float(tiles[1]), 1.0)
+    links.new(uv.outputs["UV"], mapping.inputs["Vector"])
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = load_image(str(base / spec["texture"]), "sRGB")
+    tex.interpolation = spec.get("interpolation", "Closest")
+    tex.extension = "REPEAT"
+    links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
+    colour = tex.outputs["Color"]
+    if spec.get("lightmap"):
+        light = nodes.new("ShaderNodeTexImage")
+        light.image = load_image(str(base / spec["lightmap"]), "Non-Color")
+        light.interpolation = "Linear"
+        light.extension = "EXTEND"
+        links.new(uv.outputs["UV"], light.inputs["Vector"])
+        mix = nodes.new("ShaderNodeMix")
+        mix.data_type = "RGBA"
+        mix.blend_type = "MULTIPLY"
+        mix.inputs["Factor"].default_value = 1.0
+        links.new(colour, mix.inputs["A"])
+        links.new(light.outputs["Color"], mix.inputs["B"])
+        colour = mix.outputs["Result"]
+    links.new(colour, emit.inputs["Color"])
+    return mat
+
+
+def add_mesh(scene: bpy.types.Scene, spec: dict, base: Path) -> bpy.types.Object:
+    data = np.load(base / spec["mesh"])
+    verts = np.ascontiguousarray(data["vertices_local"], dtype=np.float32)
+    faces = np.ascontiguousarray(data["faces"], dtype=np.int32)
+    mesh = bpy.data.meshes.new(spec["name"])
+    mesh.vertices.add(len(verts))
+    mesh.vertices.foreach_set("co", verts.ravel())
+    n_faces = len(faces)
+    corners = faces.shape[1]
+    mesh.loops.add(n_faces * corners)
+    mesh.loops.foreach_set("vertex_index", faces.ravel())
+    mesh.polygons.add(n_faces)
+    mesh.polygons.foreach_set("loop_start", np.arange(0, n_faces * corners, corners, dtype=np.int32))
+    mesh.polygons.foreach_set("loop_total", np.full(n_faces, corners, dtype=np.int32))
+    if "uv" in data:
+        layer = mesh.uv_layers.new(name="UVMap")
+        loop_uv = np.asarray(data["uv"], dtype=np.float32)[faces.ravel()]
+        layer.data.foreach_set("uv", loop_uv.ravel())
+    materials = spec["materials"]
+    for i, mspec in enumerate(materials):
+        mesh.materials.append(emission_material(f"{spec['name']}_{i}", mspec, base))
+    if "material_index" in data:
+        mesh.polygons.foreach_set("material_index", np.asarray(data["material_index"], np.int32))
+    mesh.update(calc_edges=True)
+    mesh.validate(verbose=False)
+    obj = bpy.data.objects.new(spec["name"], mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def build_scene(job: dict, base: Path) -> tuple[bpy.types.Scene, bpy.types.Object]:
+    scene = reset_scene()
+    configure_render(scene, job)
+    world = bpy.data.worlds.new("world")
+    world.use_nodes = True
+    background = world.node_tree.nodes.get("Background")
+    background.inputs["Color"].default_value = (*job.get("background_rgb", [0.0, 0.0, 0.0]), 1)
+    background.inputs["Strength"].default_value = 1.0
+    scene.world = world
+    for spec in job["objects"]:
+        add_mesh(scene, spec, base)
+    camera = add_camera(scene, job["camera"])
+    return scene, camera
+
+
+def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str) -> Path:
+    camera.matrix_world = Matrix(frame["matrix_world_local"])
+    final = out_dir / frame["image_name"]
+    tmp = final.with_name(f".{final.stem}.rendering{ext}")
+    scene.render.filepath = str(tmp)
+    bpy.ops.render.render(write_still=True)
+    os.replace(tmp, final)
+    return final
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="designer.render.worker")
+    parser.add_argument("job", type=Path)
+    parser.add_argument("--frames", required=True, help="comma-separated frame indices")
+    parser.add_argument("--progress-fd", type=int, default=None)
+    args = parser.parse_args(argv)
+    job = json.loads(args.job.read_text())
+    base = args.job.parent
+    progress = os.fdopen(args.progress_fd, "w", buffering=1) if args.progress_fd else sys.stderr
+    wanted = [int(i) for i in args.frames.split(",") if i != ""]
+    frames = {int(f["index"]): f for f in job["frames"]}
+    out_dir = Path(job["output_dir"])
+    out_dir.mkdir(parents=True, exist_ok=True)
+    _, ext = FORMATS[job["render"].get("format", "png")]
+    t0 = time.perf_counter()
+    scene, camera = build_scene(job, base)
+    emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
+    for index in wanted:
+        t = time.perf_counter()
+        path = render_frame(scene, camera, frames[index], out_dir, ext)
+        emit(progress, event="frame_done", index=index, path=str(path),
+             seconds=time.perf_counter() - t)
+    emit(progress, event="worker_done", blender=bpy.app.version_string)
+    return 0
+
+
+def emit(stream, **fields) -> None:
+    stream.write(json.dumps(fields) + "\n")
+    stream.flush()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
