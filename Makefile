@@ -24,7 +24,7 @@ demo: setup
 	$(BIN)/designer demo -o demo-output
 
 lint: setup
-	$(BIN)/ruff check designer tests benchmarks
+	$(BIN)/ruff check .
 
 test: setup lint
 	$(BIN)/python -m pytest

@@ -157,7 +157,8 @@ def add_mesh(scene: bpy.types.Scene, spec: dict, base: Path) -> bpy.types.Object
     mesh.loops.add(n_faces * corners)
     mesh.loops.foreach_set("vertex_index", faces.ravel())
     mesh.polygons.add(n_faces)
-    mesh.polygons.foreach_set("loop_start", np.arange(0, n_faces * corners, corners, dtype=np.int32))
+    loop_start = np.arange(0, n_faces * corners, corners, dtype=np.int32)
+    mesh.polygons.foreach_set("loop_start", loop_start)
     mesh.polygons.foreach_set("loop_total", np.full(n_faces, corners, dtype=np.int32))
     if "uv" in data:
         layer = mesh.uv_layers.new(name="UVMap")
@@ -205,8 +206,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("job", type=Path)
     parser.add_argument("--frames", required=True, help="comma-separated frame indices")
     parser.add_argument("--progress-fd", type=int, default=None)
+    parser.add_argument("--threads", type=int, default=0, help="Cycles threads (0: all)")
     args = parser.parse_args(argv)
     job = json.loads(args.job.read_text())
+    if args.threads:
+        job["render"]["threads"] = args.threads
     base = args.job.parent
     progress = os.fdopen(args.progress_fd, "w", buffering=1) if args.progress_fd else sys.stderr
     wanted = [int(i) for i in args.frames.split(",") if i != ""]

@@ -1,0 +1,94 @@
+"""Write every requested ground-truth format of a survey into one folder.
+
+Layout under ``out_dir`` (keys of the returned dict in brackets):
+
+* ``colmap/`` cameras.txt, images.txt, points3D.txt  [colmap, colmap_cameras,
+  colmap_images, colmap_points3D] — world coordinates minus ``colmap_offset_world``;
+* ``odm/gcp_list.txt``, ``odm/geo.txt``  [odm_gcp_list, odm_geo] — control GCPs only
+  unless ``odm_gcp_roles`` says otherwise;
+* ``metashape/calibration.xml``, ``metashape/cameras_reference.csv``,
+  ``metashape/markers_reference.csv``  [metashape_calibration, metashape_cameras,
+  metashape_markers];
+* ``camera_poses_opk.csv``  [opk];
+* ``gcp_truth.csv``, ``gcp_observations.csv``  [gcp_truth, gcp_observations].
+
+Pixel origins, rotation conventions, units and coefficient swaps are documented in
+each format's module. All file contents are produced (and every input checked)
+before the first file is written, so bad input leaves nothing behind; each file is
+then written atomically.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+from designer.core.interior import InteriorOrientation
+from designer.export import colmap, metashape, odm, tables
+from designer.export._text import ExportError, check_crs, check_unique, write_texts
+from designer.export.groundtruth import CameraPose, GcpObservation, GroundControlPoint
+
+FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
+
+
+def write_all(
+    out_dir: str | os.PathLike,
+    interior: InteriorOrientation,
+    poses: Sequence[CameraPose],
+    gcps: Sequence[GroundControlPoint],
+    observations: Sequence[GcpObservation],
+    crs: str,
+    formats: Sequence[str] = FORMATS,
+    *,
+    colmap_offset_world=None,
+    odm_gcp_roles: Sequence[str] = ("control",),
+) -> dict[str, Path]:
+    """Write the chosen ``formats`` (subset of FORMATS) under ``out_dir``; {key: path}."""
+    unknown = [f for f in formats if f not in FORMATS]
+    if unknown:
+        raise ExportError(f"unknown export format(s) {unknown}; choose from {list(FORMATS)}")
+    crs = check_crs(crs)
+    check_unique((p.image_name for p in poses), "image name")
+    check_unique((g.gcp_id for g in gcps), "GCP id")
+    images = {p.image_name for p in poses}
+    ids = {g.gcp_id for g in gcps}
+    for o in observations:
+        if o.image_name not in images:
+            raise ExportError(f"observation of {o.gcp_id!r} in unknown image {o.image_name!r}")
+        if o.gcp_id not in ids:
+            raise ExportError(f"observation of unknown GCP {o.gcp_id!r} in {o.image_name!r}")
+
+    out = Path(out_dir)
+    texts: dict[Path, str] = {}
+    paths: dict[str, Path] = {}
+
+    def add(key: str, path: Path, text: str) -> None:
+        texts[path] = text
+        paths[key] = path
+
+    if "colmap" in formats:
+        folder = out / "colmap"
+        for path, text in colmap.colmap_texts(folder, interior, poses, colmap_offset_world).items():
+            add(f"colmap_{path.stem}", path, text)
+        paths["colmap"] = folder
+    if "odm" in formats:
+        add("odm_gcp_list", out / "odm" / "gcp_list.txt",
+            odm.odm_gcp_list_text(gcps, observations, crs, odm_gcp_roles))
+        add("odm_geo", out / "odm" / "geo.txt", odm.odm_geo_text(poses, crs))
+    if "metashape" in formats:
+        folder = out / "metashape"
+        add("metashape_calibration", folder / "calibration.xml",
+            metashape.metashape_calibration_xml(interior))
+        add("metashape_cameras", folder / "cameras_reference.csv",
+            metashape.metashape_cameras_csv(poses, crs))
+        add("metashape_markers", folder / "markers_reference.csv",
+            metashape.metashape_markers_csv(gcps, crs))
+    if "opk" in formats:
+        add("opk", out / "camera_poses_opk.csv", tables.opk_csv(poses, crs))
+    if "gcp" in formats:
+        add("gcp_truth", out / "gcp_truth.csv", tables.gcp_truth_csv(gcps, crs))
+        add("gcp_observations", out / "gcp_observations.csv",
+            tables.gcp_observations_csv(observations))
+    write_texts(texts)
+    return paths

@@ -1,0 +1,169 @@
+"""OpenDroneMap inputs: ``gcp_list.txt`` (GCP image points) and ``geo.txt`` (image positions).
+
+Conventions at this boundary (sources: ODM docs source/geo.rst; ODM code
+opendm/gcp.py, opendm/geo.py, opendm/location.py parse_srs_header,
+opendm/photo.py; OpenSfM opensfm/io.py _read_gcp_list_lines and
+opensfm/features.py normalized_image_coordinates):
+
+* CRS: the first line of both files, one of ``EPSG:<code>``, ``WGS84 UTM <zone><N|S>``
+  or a PROJ string containing ``+proj`` — the forms parse_srs_header accepts;
+  anything else is rejected here. Coordinates are written in that CRS's axis order
+  as designer's world X (Easting), Y (Northing), Z (height), metres, exact repr.
+* pixel origin: gcp_list.txt uses OpenCV's convention, (0, 0) at the CENTRE of the
+  top-left pixel (OpenSfM normalises with (px + 0.5 − W/2) / max(W, H)), so
+  im_x = u − 0.5 and im_y = v − 0.5 from designer's corner-origin ``uv_px``.
+* gcp_list.txt rows: ``geo_x geo_y geo_z im_x im_y image_name gcp_id`` with the
+  SURVEYED coordinates (what a field crew would hand over). By default only
+  "control" GCPs are written: ODM uses every row to georeference, so check points
+  stay out and are scored separately. OpenSfM groups rows into points by their
+  coordinates, so two written GCPs with identical surveyed coordinates are rejected.
+* geo.txt rows: ``image geo_x geo_y geo_z yaw pitch roll [horz_acc vert_acc]``,
+  angles in degrees in ODM's normalised camera convention (opendm/photo.py):
+  yaw 0 = image top points grid north, 90 = east (clockwise); pitch 0 = nadir,
+  90 = looking forward (towards the image top); roll about the along-track axis
+  with ODM's aerospace sign (positive = right wing down, i.e. the view swings left).
+  ODM builds R_ned = Rz(yaw) · Ry(pitch) · Rx(roll) · [[0,1,0],[1,0,0],[0,0,−1]]
+  (compute_opk). In designer's terms yaw = heading, pitch = tilt, roll = −roll of
+  :func:`designer.core.rotation.heading_tilt_roll_from_rotation`; a test rebuilds
+  ODM's matrix from the written angles. ODM's docs say the angles are currently
+  used only for radiometric calibration (photo.py also turns them into ω φ κ priors
+  for OpenSfM); north here is grid north (the CRS's Y axis), not true north.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.rotation import heading_tilt_roll_from_rotation
+from designer.export._text import (
+    ExportError,
+    check_crs,
+    check_unique,
+    fmt,
+    write_texts,
+)
+from designer.export.groundtruth import GCP_ROLES, CameraPose, GcpObservation, GroundControlPoint
+
+#: designer's pixel coordinates minus this are OpenCV/OpenSfM pixel coordinates
+OPENCV_PIXEL_SHIFT = 0.5
+
+_UTM = re.compile(r"^WGS84 UTM \d{1,2}[NS]$", re.IGNORECASE)
+_EPSG = re.compile(r"^EPSG:\d+$", re.IGNORECASE)
+
+
+def check_odm_crs(crs: object) -> str:
+    """The CRS line if OpenDroneMap can parse it, else ExportError naming the forms."""
+    line = check_crs(crs)
+    if _EPSG.match(line) or _UTM.match(line) or "+proj" in line:
+        return line
+    raise ExportError(
+        f"OpenDroneMap cannot read the CRS {line!r}; give 'EPSG:<code>', "
+        "'WGS84 UTM <zone><N|S>' or a PROJ string with +proj"
+    )
+
+
+def odm_ypr_deg_from_rotation(R_cam_to_world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """ODM (yaw, pitch, roll) in degrees from R_cam_to_world (..., 3, 3); see module doc.
+
+    yaw ∈ [0, 360), pitch ∈ [−90, 90], roll ∈ [−180, 180].
+    """
+    heading, tilt, roll = heading_tilt_roll_from_rotation(R_cam_to_world)
+    return np.degrees(heading), np.degrees(tilt), -np.degrees(roll) + 0.0
+
+
+def odm_gcp_list_text(
+    gcps: Sequence[GroundControlPoint],
+    observations: Sequence[GcpObservation],
+    crs: str,
+    roles: Sequence[str] = ("control",),
+) -> str:
+    """gcp_list.txt: CRS line, then one row per observation of a GCP whose role is in ``roles``.
+
+    Rows use the GCP's SURVEYED coordinates and OpenCV pixel coordinates (uv − 0.5).
+    """
+    line = check_odm_crs(crs)
+    unknown = set(roles) - set(GCP_ROLES)
+    if unknown:
+        raise ExportError(f"unknown GCP role(s) {sorted(unknown)}; use {', '.join(GCP_ROLES)}")
+    check_unique((g.gcp_id for g in gcps), "GCP id")
+    by_id = {g.gcp_id: g for g in gcps}
+    # OpenSfM keys GCPs by their coordinates: two written GCPs at one spot would merge
+    seen: dict[tuple[float, ...], str] = {}
+    for g in gcps:
+        if g.role in roles:
+            other = seen.setdefault(tuple(g.surveyed_xyz.tolist()), g.gcp_id)
+            if other != g.gcp_id:
+                raise ExportError(
+                    f"GCPs {other!r} and {g.gcp_id!r} have identical surveyed coordinates; "
+                    "OpenSfM would merge them into one point"
+                )
+    rows = [line]
+    for obs in observations:
+        gcp = by_id.get(obs.gcp_id)
+        if gcp is None:
+            raise ExportError(f"observation of unknown GCP {obs.gcp_id!r} in {obs.image_name!r}")
+        if gcp.role not in roles:
+            continue
+        x, y, z = (fmt(v) for v in gcp.surveyed_xyz)
+        im_x = fmt(obs.uv_px[0] - OPENCV_PIXEL_SHIFT)
+        im_y = fmt(obs.uv_px[1] - OPENCV_PIXEL_SHIFT)
+        rows.append(f"{x} {y} {z} {im_x} {im_y} {obs.image_name} {gcp.gcp_id}")
+    return "\n".join(rows) + "\n"
+
+
+def odm_geo_text(
+    poses: Sequence[CameraPose],
+    crs: str,
+    horizontal_accuracy_m: float | None = None,
+    vertical_accuracy_m: float | None = None,
+) -> str:
+    """geo.txt: CRS line, then ``image x y z yaw pitch roll [horz_acc vert_acc]`` per image.
+
+    The accuracies (metres, one standard deviation) are written only when both are given.
+    """
+    line = check_odm_crs(crs)
+    check_unique((p.image_name for p in poses), "image name")
+    accuracy = ""
+    if (horizontal_accuracy_m is None) != (vertical_accuracy_m is None):
+        raise ExportError("give both horizontal_accuracy_m and vertical_accuracy_m, or neither")
+    if horizontal_accuracy_m is not None:
+        for a in (horizontal_accuracy_m, vertical_accuracy_m):
+            if not math.isfinite(a) or a < 0:
+                raise ExportError(f"accuracy {a!r} m must be finite and >= 0")
+        accuracy = f" {fmt(horizontal_accuracy_m)} {fmt(vertical_accuracy_m)}"
+    rows = [line]
+    for pose in poses:
+        yaw, pitch, roll = odm_ypr_deg_from_rotation(pose.R_cam_to_world)
+        numbers = " ".join(fmt(v) for v in (*pose.C_world, yaw, pitch, roll))
+        rows.append(f"{pose.image_name} {numbers}{accuracy}")
+    return "\n".join(rows) + "\n"
+
+
+def write_odm_gcp_list(
+    path: str | os.PathLike,
+    gcps: Sequence[GroundControlPoint],
+    observations: Sequence[GcpObservation],
+    crs: str,
+    roles: Sequence[str] = ("control",),
+) -> Path:
+    """Write gcp_list.txt atomically (see :func:`odm_gcp_list_text`); returns the path."""
+    write_texts({path: odm_gcp_list_text(gcps, observations, crs, roles)})
+    return Path(path)
+
+
+def write_odm_geo(
+    path: str | os.PathLike,
+    poses: Sequence[CameraPose],
+    crs: str,
+    horizontal_accuracy_m: float | None = None,
+    vertical_accuracy_m: float | None = None,
+) -> Path:
+    """Write geo.txt atomically (see :func:`odm_geo_text`); returns the path."""
+    write_texts({path: odm_geo_text(poses, crs, horizontal_accuracy_m, vertical_accuracy_m)})
+    return Path(path)

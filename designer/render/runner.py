@@ -1,0 +1,169 @@
+"""Local render runner: splits frames over worker processes, resumes, cancels, retries.
+
+Each worker is ``python -m designer.render.worker JOB --frames …`` and reports progress
+as JSON lines on a pipe. Images are renamed into place only when complete, so an
+interrupted run leaves only finished images; ``resume`` skips those that are complete
+and readable. A worker that dies has its unfinished frames retried once in a fresh
+process; frames that fail again are reported, not hidden.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import selectors
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from designer.errors import DesignerError
+
+ProgressCallback = Callable[[dict], None]
+
+
+@dataclass
+class RenderReport:
+    """What a run did: frames rendered now, skipped as complete, and failed."""
+
+    rendered: dict[int, float] = field(default_factory=dict)  # index -> render seconds
+    skipped: list[int] = field(default_factory=list)
+    failed: list[int] = field(default_factory=list)
+    scene_seconds: list[float] = field(default_factory=list)
+    blender_version: str | None = None
+    wall_seconds: float = 0.0
+
+
+def default_workers(n_frames: int) -> int:
+    """Worker processes for this machine: one per two cores, at least one."""
+    return max(1, min(n_frames, (os.cpu_count() or 2) // 2))
+
+
+def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
+    """True if ``path`` decodes to an image of the expected size."""
+    if not path.is_file() or path.stat().st_size == 0:
+        return False
+    import cv2
+
+    image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    return image is not None and image.shape[:2] == (height_px, width_px)
+
+
+def remove_partial_files(out_dir: Path) -> None:
+    """Delete temporary files left by an interrupted worker."""
+    for tmp in out_dir.glob(".*.rendering.*"):
+        tmp.unlink(missing_ok=True)
+
+
+def render_frames(
+    job_path: Path,
+    frames: list[int],
+    workers: int | None = None,
+    resume: bool = False,
+    progress: ProgressCallback | None = None,
+    retries: int = 1,
+) -> RenderReport:
+    """Render ``frames`` of the job at ``job_path`` with local worker processes."""
+    job_path = Path(job_path)
+    job = json.loads(job_path.read_text())
+    out_dir = Path(job["output_dir"])
+    out_dir.mkdir(parents=True, exist_ok=True)
+    remove_partial_files(out_dir)
+    names = {int(f["index"]): f["image_name"] for f in job["frames"]}
+    unknown = [i for i in frames if i not in names]
+    if unknown:
+        raise DesignerError(
+            f"frames {unknown[:5]} are not in the project (it has frames 0-{len(names) - 1}); "
+            "correct --frames")
+    report = RenderReport()
+    t0 = time.perf_counter()
+    todo = list(frames)
+    if resume:
+        width, height = job["camera"]["resolution_x_px"], job["camera"]["resolution_y_px"]
+        done = [i for i in todo if image_is_complete(out_dir / names[i], width, height)]
+        report.skipped = done
+        todo = [i for i in todo if i not in set(done)]
+        for i in done:
+            _notify(progress, {"event": "frame_skipped", "index": i})
+    attempt = 0
+    try:
+        while todo and attempt <= retries:
+            n_workers = workers or default_workers(len(todo))
+            n_workers = max(1, min(n_workers, len(todo)))
+            threads = max(1, (os.cpu_count() or 1) // n_workers)
+            batches = [todo[k::n_workers] for k in range(n_workers)]
+            finished = _run_workers(job_path, batches, threads, report, progress)
+            todo = [i for i in todo if i not in finished]
+            attempt += 1
+            if todo and attempt <= retries:
+                _notify(progress, {"event": "retry", "frames": todo})
+    finally:
+        remove_partial_files(out_dir)
+    report.failed = todo
+    report.wall_seconds = time.perf_counter() - t0
+    return report
+
+
+def _notify(progress: ProgressCallback | None, event: dict) -> None:
+    if progress is not None:
+        progress(event)
+
+
+def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
+    selector = selectors.DefaultSelector()
+    procs = []
+    finished: set[int] = set()
+    env = dict(os.environ, DESIGNER_RENDER_THREADS=str(threads))
+    log_dir = Path(job_path).parent / "logs"
+    log_dir.mkdir(exist_ok=True)
+    try:
+        for k, batch in enumerate(batches):
+            read_fd, write_fd = os.pipe()
+            log = open(log_dir / f"worker-{k}.log", "ab")  # closed in finally
+            cmd = [sys.executable, "-m", "designer.render.worker", str(job_path),
+                   "--frames", ",".join(map(str, batch)), "--progress-fd", str(write_fd),
+                   "--threads", str(threads)]
+            proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT,
+                                    pass_fds=(write_fd,), env=env)
+            os.close(write_fd)
+            stream = os.fdopen(read_fd, "r")
+            selector.register(stream, selectors.EVENT_READ, data=k)
+            procs.append((proc, stream, log))
+        open_streams = len(procs)
+        while open_streams:
+            for key, _ in selector.select(timeout=1.0):
+                line = key.fileobj.readline()
+                if not line:
+                    selector.unregister(key.fileobj)
+                    open_streams -= 1
+                    continue
+                event = json.loads(line)
+                event["worker"] = key.data
+                if event["event"] == "frame_done":
+                    finished.add(int(event["index"]))
+                    report.rendered[int(event["index"])] = float(event["seconds"])
+                elif event["event"] == "scene_ready":
+                    report.scene_seconds.append(float(event["seconds"]))
+                elif event["event"] == "worker_done":
+                    report.blender_version = event.get("blender")
+                _notify(progress, event)
+        for proc, _, _ in procs:
+            proc.wait()
+    except BaseException:
+        for proc, _, _ in procs:
+            if proc.poll() is None:
+                proc.terminate()
+        for proc, _, _ in procs:
+            try:
+                proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+        raise
+    finally:
+        for _, stream, log in procs:
+            stream.close()
+            log.close()
+        selector.close()
+    return finished
