@@ -7,6 +7,7 @@ import importlib
 
 BENCHMARKS = {
     "core": "designer.bench.core",
+    "scene": "designer.bench.scene",
 }
 
 
