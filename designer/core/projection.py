@@ -20,7 +20,7 @@ from designer.core.interior import InteriorOrientation
 from designer.core.rotation import R_CV_FROM_PHOTO
 
 #: points are projected in chunks of this many so temporaries stay in cache
-CHUNK_POINTS = 1 << 16
+CHUNK_POINTS = 1 << 14
 
 
 @dataclass(frozen=True)
@@ -87,28 +87,33 @@ def project_points(
 
 def _project_chunk(P, C, R_cv, interior, uv_out, depth_out, front_out) -> None:
     # Subtract the centre first, in float64: UTM-sized values cancel exactly here.
-    X = (P - C) @ R_cv.T
-    z = X[:, 2]
+    # Rows of X (3, n) are contiguous, which keeps the element-wise work fast.
+    X = R_cv @ (P - C).T
+    z = X[2]
     depth_out[:] = z
     model = interior.distortion
     if isinstance(model, FisheyeEquidistant):
         with np.errstate(invalid="ignore", divide="ignore"):
-            xy = model.distort_rays(X)
-        theta = np.arctan2(np.hypot(X[:, 0], X[:, 1]), z)
+            xy = model.distort_rays(X.T)
+        theta = np.arctan2(np.hypot(X[0], X[1]), z)
         front = np.isfinite(xy[:, 0]) & (theta < model.max_monotone_theta())
+        x, y = xy[:, 0], xy[:, 1]
     else:
         front = z > 0
         with np.errstate(invalid="ignore", divide="ignore"):
-            inv_z = np.where(front, 1.0 / z, np.nan)
-        xy = X[:, :2] * inv_z[:, None]
+            inv_z = np.divide(1.0, z, where=front, out=np.full_like(z, np.nan))
+        x = X[0]
+        x *= inv_z
+        y = X[1]
+        y *= inv_z
         if model is not None and not model.is_identity:
-            xy = model.distort(xy)
+            x, y = model.distort_xy(x, y)
     front_out[:] = front
-    np.multiply(xy[:, 0], interior.fx_px, out=uv_out[:, 0])
-    uv_out[:, 0] += interior.cx_px
-    np.multiply(xy[:, 1], interior.fy_px, out=uv_out[:, 1])
-    uv_out[:, 1] += interior.cy_px
-    uv_out[~front] = np.nan
+    u, v = uv_out[:, 0], uv_out[:, 1]
+    np.multiply(x, interior.fx_px, out=u)
+    u += interior.cx_px
+    np.multiply(y, interior.fy_px, out=v)
+    v += interior.cy_px
 
 
 def pixel_rays_world(
