@@ -8,6 +8,7 @@ import importlib
 BENCHMARKS = {
     "core": "designer.bench.core",
     "scene": "designer.bench.scene",
+    "project-io": "designer.bench.project_io",
 }
 
 

@@ -19,6 +19,8 @@ from designer.errors import DesignerError
 COMMAND_MODULES = [
     "designer.cli.demo",
     "designer.cli.bench",
+    "designer.cli.new",
+    "designer.cli.check",
 ]
 
 

@@ -25,12 +25,14 @@ SCHEMA_VERSION = "1.0"
 
 Role = Literal["control", "check"]
 TargetShape = Literal["checker", "cross", "circle", "square"]
-TexturePattern = Literal["grass", "gravel", "noise", "checkerboard", "slanted-edge"]
+TexturePattern = Literal["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
 Interpolation = Literal["closest", "linear"]
 Preset = Literal["draft", "standard", "high"]
 PixelFilterType = Literal["box", "gaussian", "blackman-harris"]
 ImageFormat = Literal["png", "jpeg", "tiff", "exr"]
-GroundTruthFormat = Literal["colmap", "odm", "metashape", "pix4d", "csv"]
+GroundTruthFormat = Literal["colmap", "odm", "metashape", "opk", "gcp"]
+Orientation = Literal["landscape", "portrait"]
+StartCorner = Literal["SW", "SE", "NW", "NE"]
 
 #: samples per pixel of each render preset (render/samples overrides it)
 PRESET_SAMPLES = {"draft": 16, "standard": 64, "high": 256}
@@ -84,11 +86,11 @@ class FlatTerrain:
 
 @dataclass(frozen=True)
 class ProceduralTerrain:
-    """Fractal-noise hills; heights from min to max (world Z, m)."""
+    """Smooth hills on a grid (spacing in m) spanning exactly min..max (world Z, m)."""
 
     seed: int
-    feature_size_m: float
-    octaves: int
+    grid_spacing_m: float
+    roughness: float
     min_height_m: float
     max_height_m: float
 
@@ -328,7 +330,11 @@ class FlightPlan:
     side_overlap_percent: float = 70.0
     grid_angle_deg: float = 0.0
     crosshatch: bool = False
+    orientation: Orientation = "landscape"
+    start_corner: StartCorner = "SW"
     terrain_following: bool = False
+    #: "mean" | "max" | "min" of the terrain in the area, or a world height Z (m)
+    altitude_reference: str | float = "mean"
     tilt_deg: float = 0.0
     pose_noise: PoseNoise | None = None
     random_seed: int = 0

@@ -21,7 +21,12 @@ class Problem:
     column: int = 1
 
     def format(self, source: str) -> str:
-        return f"{source}:{self.line}:{self.column}: {self.message}"
+        """``FILE:LINE:COLUMN: message`` on one line (line breaks in values are escaped)."""
+        message = self.message.translate(_ESCAPES)
+        return f"{source}:{self.line}:{self.column}: {message}"
+
+
+_ESCAPES = {ord("\n"): "\\n", ord("\r"): "\\r", ord("\t"): "\\t"}
 
 
 class ProjectError(DesignerError):
@@ -79,24 +84,40 @@ class SourceMap:
         """The issue as a located :class:`Problem`."""
         key = issue.key or issue.tag
         line = self._where.get((id(issue.obj), key)) or self._first.get(id(issue.obj), 1)
-        column = self.column(line, issue.tag, issue.attr)
+        line, column = self.position(line, issue.tag, issue.attr)
         return Problem(f"<{issue.tag}>: {issue.message}", line, column)
 
-    def column(self, line: int, tag: str, attr: str | None = None) -> int:
-        """1-based column of ``<tag`` (or of ``attr=`` after it) on ``line``; 1 if not found."""
+    def position(self, line: int, tag: str, attr: str | None = None) -> tuple[int, int]:
+        """(line, 1-based column) of ``<tag``, or of ``attr=`` inside that start tag.
+
+        lxml records only a line per element, and for a start tag spread over several
+        lines it is the last one; so the tag is searched backwards from ``line`` and
+        the attribute forwards from the tag. Column 1 when not found.
+        """
         if not 1 <= line <= len(self._lines):
-            return 1
-        text = self._lines[line - 1]
-        m = re.search(rf"<(?:[\w.\-]+:)?{re.escape(tag)}(?=[\s/>]|$)", text)
-        start = m.start() if m else 0
+            return line, 1
+        tag_re = re.compile(rf"<(?:[\w.\-]+:)?{re.escape(tag)}(?=[\s/>]|$)")
+        tag_line, start = line, None
+        for back in range(line, max(0, line - 50), -1):
+            hits = list(tag_re.finditer(self._lines[back - 1]))
+            if hits:
+                tag_line, start = back, hits[-1].start()
+                break
+        if start is None:
+            return line, 1
         if attr is None:
-            return start + 1
-        pattern = re.compile(rf"(?<![\w\-]){re.escape(attr)}\s*=")
-        for offset, later in enumerate(self._lines[line - 1: line + 30]):
-            a = pattern.search(later, start if offset == 0 else 0)
+            return tag_line, start + 1
+        attr_re = re.compile(rf"(?<![\w\-]){re.escape(attr)}\s*=")
+        for n in range(tag_line, min(len(self._lines), tag_line + 50) + 1):
+            text = self._lines[n - 1]
+            begin = start if n == tag_line else 0
+            end = text.find(">", begin)
+            a = attr_re.search(text, begin, end if end >= 0 else len(text))
             if a:
-                return a.start() + 1 if offset == 0 else 1
-        return start + 1
+                return n, a.start() + 1
+            if end >= 0:
+                break
+        return tag_line, start + 1
 
 
 def unlocated(issue: Issue) -> Problem:

@@ -1,0 +1,63 @@
+"""Shared pieces of the semantic checks: limits, element names, number checks."""
+
+from __future__ import annotations
+
+import math
+
+from designer.project import model as m
+from designer.project.problems import Issue
+
+#: no coordinate or length in a project may exceed this (m); larger values are typos
+MAX_ABS_COORDINATE_M = 1e8
+#: generated texture tiles have this many texels per side, at least and at most
+MIN_TEXTURE_TEXELS = 16
+MAX_TEXTURE_TEXELS = 16384
+#: largest procedural terrain grid (nodes), and the "whole number of cells" tolerance
+MAX_TERRAIN_NODES = 64e6
+GRID_TOL = 1e-9
+BIT_DEPTHS = {"png": (8, 16), "jpeg": (8,), "tiff": (8, 16, 32), "exr": (16, 32)}
+EXTENSIONS = {"png": (".png",), "jpeg": (".jpg", ".jpeg"), "tiff": (".tif", ".tiff"),
+              "exr": (".exr",)}
+
+TAGS = {
+    m.Origin: "origin", m.Extent: "extent", m.FlatTerrain: "flat",
+    m.ProceduralTerrain: "procedural", m.ProceduralTexture: "procedural",
+    m.Texture: "tiling", m.Sigma3: "surveyed", m.Point3: "surveyed",
+    m.TruePosition: "true", m.Target: "target", m.Placement: "placement",
+    m.Sun: "sun", m.SunPosition: "sun-position", m.Lighting: "lighting",
+    m.PoseNoise: "pose-noise", m.Vignetting: "vignetting", m.SensorNoise: "sensor-noise",
+    m.Blur: "blur", m.MotionBlur: "motion-blur", m.Jpeg: "jpeg", m.Render: "render",
+    m.BrownConradyDistortion: "brown-conrady",
+    m.FisheyeEquidistantDistortion: "fisheye-equidistant",
+}
+
+
+def finite_issues(*objs: object) -> list[Issue]:
+    """Non-finite or absurdly large floats in the direct fields of ``objs``."""
+    out = []
+    for obj in objs:
+        for name, value in vars(obj).items():
+            # whole numbers (seeds, counts) are finite; their ranges are checked elsewhere
+            if isinstance(value, float) and not (
+                    math.isfinite(value) and abs(value) <= MAX_ABS_COORDINATE_M):
+                out.append(Issue(obj, TAGS.get(type(obj), "project"),
+                                 f"{name.replace('_', '-')} = {value!r} is not a finite number "
+                                 f"of at most {MAX_ABS_COORDINATE_M:g} in size; give a "
+                                 "finite value", attr=name.replace("_", "-")))
+    return out
+
+
+def is_ok(value: float | None) -> bool:
+    return value is not None and math.isfinite(value) and abs(value) <= MAX_ABS_COORDINATE_M
+
+
+def file_issue(obj: object, tag: str, problem: str | None) -> list[Issue]:
+    return [] if problem is None else [Issue(obj, tag, problem, attr="file")]
+
+
+def sigma_issues(sigma: m.Sigma3, obj: object, tag: str) -> list[Issue]:
+    """Negative or non-finite standard deviations."""
+    return [Issue(obj, tag, f"sigma-{axis} = {value!r} must be a finite number >= 0 m",
+                  attr=f"sigma-{axis}")
+            for axis, value in (("X", sigma.X), ("Y", sigma.Y), ("Z", sigma.Z))
+            if not (math.isfinite(value) and value >= 0)]

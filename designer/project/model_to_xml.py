@@ -1,0 +1,254 @@
+"""Write the project model as XML, in the schema's element order.
+
+Numbers are written with ``repr`` (the shortest text that reads back to the same
+float64), so ``read(write(project)) == project``. Every value with a default is
+written explicitly, so a written file documents itself.
+"""
+
+from __future__ import annotations
+
+import os
+
+from lxml import etree
+
+from designer.atomic import write_bytes_atomic
+from designer.project import model as m
+from designer.project.schema import NAMESPACE, q, schema_filename
+
+_HEADER = """
+  designer project (schema {xsd}); validate it with: designer check FILE
+  World frame: X = Easting, Y = Northing, Z = up, metres. Paths are relative to this file.
+  Orientation: omega, phi, kappa in degrees; R = Rx(omega) Ry(phi) Rz(kappa), camera to world.
+"""
+
+
+def _num(value: float | int) -> str:
+    if isinstance(value, bool):
+        raise TypeError("a boolean is not a number")
+    if isinstance(value, int):
+        return str(value)
+    return repr(float(value))
+
+
+def _bool(value: bool) -> str:
+    return "true" if value else "false"
+
+
+def _sub(parent: etree._Element, tag: str, text: str | None = None, **attrs) -> etree._Element:
+    el = etree.SubElement(parent, q(tag))
+    for name, value in attrs.items():
+        el.set(name.replace("_", "-"), value)
+    if text is not None:
+        el.text = text
+    return el
+
+
+def _point_attrs(el: etree._Element, X: float, Y: float, Z: float | None) -> None:
+    el.set("X", _num(X))
+    el.set("Y", _num(Y))
+    if Z is not None:
+        el.set("Z", _num(Z))
+
+
+def _sigma_attrs(el: etree._Element, sigma: m.Sigma3) -> None:
+    el.set("sigma-X", _num(sigma.X))
+    el.set("sigma-Y", _num(sigma.Y))
+    el.set("sigma-Z", _num(sigma.Z))
+
+
+def _opk_attrs(el: etree._Element, omega: float, phi: float, kappa: float) -> None:
+    el.set("omega", _num(omega))
+    el.set("phi", _num(phi))
+    el.set("kappa", _num(kappa))
+
+
+def _scene(parent: etree._Element, scene: m.Scene) -> None:
+    el = _sub(parent, "scene")
+    terrain = _sub(el, "terrain")
+    e = scene.terrain.extent
+    _sub(terrain, "extent", **{"min-X": _num(e.min_X), "min-Y": _num(e.min_Y),
+                               "max-X": _num(e.max_X), "max-Y": _num(e.max_Y)})
+    src = scene.terrain.source
+    if isinstance(src, m.FlatTerrain):
+        _sub(terrain, "flat", height_m=_num(src.height_m))
+    elif isinstance(src, m.ProceduralTerrain):
+        _sub(terrain, "procedural", seed=_num(src.seed), grid_spacing_m=_num(src.grid_spacing_m),
+             roughness=_num(src.roughness), min_height_m=_num(src.min_height_m),
+             max_height_m=_num(src.max_height_m))
+    elif isinstance(src, m.DemTerrain):
+        _sub(terrain, "dem", file=src.file)
+    else:
+        _sub(terrain, "mesh", file=src.file)
+
+    tex = scene.texture
+    tex_el = _sub(el, "texture", interpolation=tex.interpolation)
+    if isinstance(tex.source, m.ImageTexture):
+        _sub(tex_el, "image", file=tex.source.file)
+    else:
+        _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
+             texel_size_m=_num(tex.source.texel_size_m))
+    _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X), "repeat-Y": _num(tex.repeat_Y)})
+
+    if scene.targets is not None:
+        targets_el = _sub(el, "targets")
+        acc = scene.targets.survey_accuracy
+        if acc is not None:
+            acc_el = _sub(targets_el, "survey-accuracy")
+            _sigma_attrs(acc_el, acc.sigma)
+            acc_el.set("seed", _num(acc.seed))
+        for t in scene.targets.targets:
+            t_el = _sub(targets_el, "target", id=t.id, role=t.role, shape=t.shape,
+                        size_m=_num(t.size_m))
+            _point_attrs(_sub(t_el, "true"), t.true.X, t.true.Y, t.true.Z)
+            if t.surveyed is not None:
+                s_el = _sub(t_el, "surveyed")
+                p = t.surveyed.position
+                _point_attrs(s_el, p.X, p.Y, p.Z)
+                _sigma_attrs(s_el, t.surveyed.sigma)
+    if scene.objects:
+        objects_el = _sub(el, "objects")
+        for obj in scene.objects:
+            o_el = _sub(objects_el, "object", name=obj.name, file=obj.file)
+            pl = obj.placement
+            p_el = _sub(o_el, "placement")
+            _point_attrs(p_el, pl.position.X, pl.position.Y, pl.position.Z)
+            _opk_attrs(p_el, pl.omega_deg, pl.phi_deg, pl.kappa_deg)
+            p_el.set("scale", _num(pl.scale))
+
+    light = scene.lighting
+    light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),
+                    sky_strength=_num(light.sky_strength))
+    if isinstance(light.sun, m.Sun):
+        _sub(light_el, "sun", azimuth_deg=_num(light.sun.azimuth_deg),
+             elevation_deg=_num(light.sun.elevation_deg))
+    else:
+        _sub(light_el, "sun-position", date_time=light.sun.date_time,
+             latitude_deg=_num(light.sun.latitude_deg),
+             longitude_deg=_num(light.sun.longitude_deg))
+
+
+def _camera(parent: etree._Element, cam: m.Camera) -> None:
+    el = _sub(parent, "camera", id=cam.id)
+    if cam.name is not None:
+        _sub(el, "name", cam.name)
+    _sub(el, "focal-length-mm", _num(cam.focal_length_mm))
+    _sub(el, "sensor", width_mm=_num(cam.sensor_width_mm), height_mm=_num(cam.sensor_height_mm))
+    _sub(el, "image", width_px=_num(cam.image_width_px), height_px=_num(cam.image_height_px))
+    if cam.principal_point_x_mm != 0 or cam.principal_point_y_mm != 0:
+        _sub(el, "principal-point", x_mm=_num(cam.principal_point_x_mm),
+             y_mm=_num(cam.principal_point_y_mm))
+    if cam.pixel_aspect is not None:
+        _sub(el, "pixel-aspect", _num(cam.pixel_aspect))
+    d = cam.distortion
+    if isinstance(d, m.BrownConradyDistortion):
+        _sub(el, "brown-conrady", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
+             p1=_num(d.p1), p2=_num(d.p2))
+    elif isinstance(d, m.FisheyeEquidistantDistortion):
+        _sub(el, "fisheye-equidistant", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
+             k4=_num(d.k4))
+
+
+def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
+    el = _sub(parent, "trajectory")
+    if traj.exterior_orientations:
+        eo_el = _sub(el, "exterior-orientations")
+        photo_tag = q("photo")
+        for eo in traj.exterior_orientations:
+            # attribute order as a surveyor reads a pose: name, camera, X Y Z, ω φ κ
+            etree.SubElement(eo_el, photo_tag, {
+                "name": eo.name, "camera": eo.camera, "X": _num(eo.X), "Y": _num(eo.Y),
+                "Z": _num(eo.Z), "omega": _num(eo.omega_deg), "phi": _num(eo.phi_deg),
+                "kappa": _num(eo.kappa_deg)})
+    fp = traj.flight_plan
+    if fp is None:
+        return
+    fp_el = _sub(el, "flight-plan", camera=fp.camera, image_prefix=fp.image_prefix)
+    area = _sub(fp_el, "area")
+    for X, Y in fp.area:
+        _sub(area, "vertex", X=_num(X), Y=_num(Y))
+    if fp.altitude_agl_m is not None:
+        _sub(fp_el, "altitude-agl-m", _num(fp.altitude_agl_m))
+    else:
+        _sub(fp_el, "gsd-m", _num(fp.gsd_m))
+    _sub(fp_el, "front-overlap-percent", _num(fp.front_overlap_percent))
+    _sub(fp_el, "side-overlap-percent", _num(fp.side_overlap_percent))
+    _sub(fp_el, "grid-angle-deg", _num(fp.grid_angle_deg))
+    _sub(fp_el, "crosshatch", _bool(fp.crosshatch))
+    _sub(fp_el, "orientation", fp.orientation)
+    _sub(fp_el, "start-corner", fp.start_corner)
+    _sub(fp_el, "terrain-following", _bool(fp.terrain_following))
+    reference = fp.altitude_reference
+    _sub(fp_el, "altitude-reference", reference if isinstance(reference, str) else _num(reference))
+    _sub(fp_el, "tilt-deg", _num(fp.tilt_deg))
+    if fp.pose_noise is not None:
+        n = fp.pose_noise
+        _sub(fp_el, "pose-noise", **{
+            "sigma-X-m": _num(n.sigma_X_m), "sigma-Y-m": _num(n.sigma_Y_m),
+            "sigma-Z-m": _num(n.sigma_Z_m), "sigma-omega-deg": _num(n.sigma_omega_deg),
+            "sigma-phi-deg": _num(n.sigma_phi_deg), "sigma-kappa-deg": _num(n.sigma_kappa_deg)})
+    _sub(fp_el, "random-seed", _num(fp.random_seed))
+
+
+def _effects(parent: etree._Element, fx: m.Effects) -> None:
+    el = _sub(parent, "effects")
+    if fx.vignetting is not None:
+        _sub(el, "vignetting", corner_falloff=_num(fx.vignetting.corner_falloff))
+    if fx.sensor_noise is not None:
+        _sub(el, "sensor-noise", sigma_dn=_num(fx.sensor_noise.sigma_dn),
+             seed=_num(fx.sensor_noise.seed))
+    if fx.blur is not None:
+        _sub(el, "blur", sigma_px=_num(fx.blur.sigma_px))
+    if fx.motion_blur is not None:
+        _sub(el, "motion-blur", exposure_time_s=_num(fx.motion_blur.exposure_time_s),
+             speed_m_s=_num(fx.motion_blur.speed_m_s))
+    if fx.jpeg is not None:
+        _sub(el, "jpeg", quality=_num(fx.jpeg.quality))
+
+
+def _render(parent: etree._Element, r: m.Render) -> None:
+    el = _sub(parent, "render")
+    _sub(el, "preset", r.preset)
+    if r.samples is not None:
+        _sub(el, "samples", _num(r.samples))
+    _sub(el, "pixel-filter", type=r.pixel_filter_type, width_px=_num(r.pixel_filter_width_px))
+    _sub(el, "resolution-scale", _num(r.resolution_scale))
+    _sub(el, "workers", _num(r.workers))
+    _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
+
+
+def project_to_tree(project: m.Project) -> etree._Element:
+    """The ``<project>`` element of ``project`` (schema order, defaults explicit)."""
+    root = etree.Element(q("project"), nsmap={None: NAMESPACE})
+    root.set("schema-version", project.schema_version)
+    _sub(root, "name", project.name)
+    if project.description is not None:
+        _sub(root, "description", project.description)
+    _sub(root, "crs", project.crs)
+    o = project.origin
+    _sub(root, "origin", E0=_num(o.E0), N0=_num(o.N0), H0=_num(o.H0))
+    _scene(root, project.scene)
+    cameras = _sub(root, "cameras")
+    for cam in project.cameras:
+        _camera(cameras, cam)
+    _trajectory(root, project.trajectory)
+    if project.effects is not None:
+        _effects(root, project.effects)
+    _render(root, project.render)
+    outputs = _sub(root, "outputs", directory=project.outputs.directory)
+    for fmt in project.outputs.ground_truth:
+        _sub(outputs, "ground-truth", format=fmt)
+    return root
+
+
+def project_to_bytes(project: m.Project) -> bytes:
+    """UTF-8 XML text of ``project``, indented, with a comment naming frames and schema."""
+    root = project_to_tree(project)
+    root.addprevious(etree.Comment(_HEADER.format(xsd=schema_filename(project.schema_version))))
+    etree.indent(root, space="  ")
+    doc = etree.ElementTree(root)
+    return etree.tostring(doc, xml_declaration=True, encoding="UTF-8", pretty_print=True)
+
+
+def write_project(project: m.Project, path: str | os.PathLike) -> None:
+    """Write ``project`` to ``path`` atomically (temporary file + rename). No validation."""
+    write_bytes_atomic(path, project_to_bytes(project))

@@ -1,0 +1,216 @@
+"""Example projects written by ``designer new --template NAME``.
+
+Each template is a model built in code plus the companion files it references (a
+mesh, a texture image), so the installed tool needs no data files and the examples in
+``resources/examples/`` are just these templates written out (a test checks that).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from designer.project import model as m
+from designer.project.assets import cube_obj_bytes, seamless_texture_png
+
+TEMPLATE_NAMES = ("survey", "validation-cube", "psf", "texture")
+
+
+@dataclass(frozen=True)
+class Template:
+    """A project and the files it references, by path relative to the XML file."""
+
+    project: m.Project
+    files: dict[str, bytes] = field(default_factory=dict)
+
+
+def phantom4pro(camera_id: str = "p4p") -> m.Camera:
+    """DJI Phantom 4 Pro: 1-inch 20 MP, 13.2 × 8.8 mm, 5472 × 3648 px, 8.8 mm lens."""
+    return m.Camera(
+        id=camera_id, name="DJI Phantom 4 Pro (1-inch, 20 MP)", focal_length_mm=8.8,
+        sensor_width_mm=13.2, sensor_height_mm=8.8, image_width_px=5472, image_height_px=3648,
+        distortion=m.BrownConradyDistortion(k1=-0.02, k2=0.01),
+    )
+
+
+def _look_at_opk_deg(C: np.ndarray, target: np.ndarray) -> tuple[float, float, float]:
+    """ω φ κ (deg) of a camera at C looking at ``target`` with the image top upwards."""
+    from designer.core.rotation import opk_from_rotation
+
+    z = (C - target) / np.linalg.norm(C - target)  # camera z points backwards
+    x = np.cross([0.0, 0.0, 1.0], z)
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    omega, phi, kappa = opk_from_rotation(np.column_stack([x, y, z]))
+    return tuple(round(float(np.degrees(a)), 6) + 0.0 for a in (omega, phi, kappa))  # no -0.0
+
+
+def _grid_targets(E0: float, N0: float, half: float, size: float) -> tuple[m.Target, ...]:
+    """Ten targets draped on the terrain: a 3 × 3 grid plus one off-centre; 3 are checks."""
+    offsets = [(-1, -1), (0, -1), (1, -1), (-1, 0), (0, 0), (1, 0), (-1, 1), (0, 1), (1, 1),
+               (0.45, 0.55)]
+    out = []
+    for i, (a, b) in enumerate(offsets):
+        role = "check" if i in (1, 5, 7) else "control"
+        out.append(m.Target(
+            id=f"GCP{i + 1:02d}", role=role, shape="checker", size_m=size,
+            true=m.TruePosition(E0 + a * half, N0 + b * half)))
+    return tuple(out)
+
+
+def survey() -> Template:
+    """The example survey: 100 × 100 m of hills (−10..10 m), grass, 10 GCPs, grid flight."""
+    E0, N0 = 512000.0, 5406000.0
+    cam = phantom4pro()
+    extent = m.Extent(E0 - 50, N0 - 50, E0 + 50, N0 + 50)
+    scene = m.Scene(
+        terrain=m.Terrain(extent, m.ProceduralTerrain(
+            seed=7, grid_spacing_m=0.5, roughness=0.3, min_height_m=-10.0, max_height_m=10.0)),
+        texture=m.Texture(m.ProceduralTexture("grass", seed=3, texel_size_m=0.01),
+                          repeat_X=5, repeat_Y=5, interpolation="linear"),
+        targets=m.Targets(_grid_targets(E0, N0, 38.0, 0.8),
+                          m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.02), seed=11)),
+        lighting=m.Lighting(m.Sun(azimuth_deg=135.0, elevation_deg=50.0),
+                            sun_strength=4.0, sky_strength=1.0),
+    )
+    plan = m.FlightPlan(
+        camera=cam.id, image_prefix="DJI_",
+        area=((E0 - 50, N0 - 50), (E0 + 50, N0 - 50), (E0 + 50, N0 + 50), (E0 - 50, N0 + 50)),
+        altitude_agl_m=50.0, front_overlap_percent=80.0, side_overlap_percent=70.0,
+        grid_angle_deg=0.0, crosshatch=False, terrain_following=False, tilt_deg=0.0,
+        pose_noise=m.PoseNoise(0.3, 0.3, 0.2, 0.5, 0.5, 1.0), random_seed=42)
+    project = m.Project(
+        name="Example survey: 100 m x 100 m hills",
+        description=("A 1-inch 20 MP drone camera flies a grid at 50 m over procedural hills "
+                     "with 10 GCP targets (7 control, 3 check). Images render at a quarter "
+                     "of the full size (1368 x 912 px) so the demo runs in minutes on 2 "
+                     "cores; set resolution-scale to 1 for full-size images."),
+        crs="EPSG:32632 (WGS 84 / UTM zone 32N)",
+        origin=m.Origin(E0, N0, 0.0),
+        scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
+        effects=m.Effects(vignetting=m.Vignetting(0.2), sensor_noise=m.SensorNoise(1.5, 5),
+                          motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(92)),
+        render=m.Render(preset="draft", pixel_filter_type="gaussian", pixel_filter_width_px=1.5,
+                        resolution_scale=0.25, workers=2, output_format="png", bit_depth=8),
+        outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),
+    )
+    return Template(project)
+
+
+def validation_cube() -> Template:
+    """A 4 m cube on flat ground seen by 24 oblique photos on a circle: exact geometry."""
+    cam = m.Camera(id="a7r4", name="Sony a7R IV, 35 mm lens", focal_length_mm=35.0,
+                   sensor_width_mm=35.7, sensor_height_mm=23.8,
+                   image_width_px=9504, image_height_px=6336)
+    photos = []
+    centre = np.array([0.0, 0.0, 2.0])
+    for i in range(24):
+        a = 2 * np.pi * i / 24
+        C = np.array([22.0 * np.sin(a), 22.0 * np.cos(a), 12.0])
+        omega, phi, kappa = _look_at_opk_deg(C, centre)
+        photos.append(m.ExteriorOrientation(
+            f"ORBIT_{i + 1:02d}.png", cam.id, round(float(C[0]), 6) + 0.0,
+            round(float(C[1]), 6) + 0.0,
+            float(C[2]), omega, phi, kappa))
+    corners = [(-10.0, -10.0), (10.0, -10.0), (10.0, 10.0), (-10.0, 10.0),
+               (-10.0, 0.0), (10.0, 0.0), (0.0, -10.0), (0.0, 10.0)]
+    targets = tuple(
+        m.Target(f"T{i + 1}", "check" if i >= 6 else "control", "checker", 0.5,
+                 m.TruePosition(X, Y, 0.0),
+                 m.SurveyedPosition(m.Point3(X, Y, 0.0), m.Sigma3(0.002, 0.002, 0.003)))
+        for i, (X, Y) in enumerate(corners))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(-30.0, -30.0, 30.0, 30.0), m.FlatTerrain(0.0)),
+        texture=m.Texture(m.ProceduralTexture("noise", seed=1, texel_size_m=0.02),
+                          repeat_X=6, repeat_Y=6, interpolation="linear"),
+        targets=m.Targets(targets),
+        objects=(m.SceneObject("cube", "cube.obj", m.Placement(
+            m.Point3(0.0, 0.0, 0.0), 0.0, 0.0, 0.0, scale=4.0)),),
+        lighting=m.Lighting(m.Sun(200.0, 45.0), sun_strength=4.0, sky_strength=1.0),
+    )
+    project = m.Project(
+        name="Validation cube",
+        description=("A 4 m cube (mesh cube.obj, unit cube scaled 4x) on a flat plane, 24 "
+                     "photos on a 22 m circle at 12 m height looking at its centre. Pinhole "
+                     "camera, no effects: reconstructions should match to a fraction of GSD."),
+        crs="local engineering frame (m)",
+        origin=m.Origin(0.0, 0.0, 0.0),
+        scene=scene, cameras=(cam,),
+        trajectory=m.Trajectory(exterior_orientations=tuple(photos)),
+        render=m.Render(preset="standard", resolution_scale=0.125, workers=2),
+        outputs=m.Outputs("output", ("colmap", "opk", "gcp")),
+    )
+    return Template(project, {"cube.obj": cube_obj_bytes()})
+
+
+def psf() -> Template:
+    """Slanted edges photographed at nadir to measure the point spread function."""
+    cam = phantom4pro("p4p")
+    photos = tuple(
+        m.ExteriorOrientation(f"PSF_{i + 1:02d}.png", cam.id, float(x), float(y), 30.0,
+                              0.0, 0.0, 0.0)
+        for i, (x, y) in enumerate((x, y) for y in (-2.0, 0.0, 2.0) for x in (-2.0, 0.0, 2.0)))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(-20.0, -20.0, 20.0, 20.0), m.FlatTerrain(0.0)),
+        texture=m.Texture(m.ProceduralTexture("slanted-edge", seed=0, texel_size_m=0.005),
+                          repeat_X=8, repeat_Y=8, interpolation="closest"),
+        lighting=m.Lighting(m.Sun(180.0, 60.0), sun_strength=4.0, sky_strength=1.0),
+    )
+    project = m.Project(
+        name="PSF: slanted edges",
+        description=("Nadir photos from 30 m of a plane tiled with slanted edges (5 m tiles, "
+                     "5 mm texels, closest interpolation) to measure the system's point "
+                     "spread function: Cycles pixel filter plus a 0.7 px Gaussian blur."),
+        crs="local engineering frame (m)",
+        origin=m.Origin(0.0, 0.0, 0.0),
+        scene=scene, cameras=(cam,),
+        trajectory=m.Trajectory(exterior_orientations=photos),
+        effects=m.Effects(blur=m.Blur(0.7)),
+        render=m.Render(preset="high", samples=256, pixel_filter_type="gaussian",
+                        pixel_filter_width_px=1.5, resolution_scale=0.5, workers=2,
+                        output_format="png", bit_depth=16),
+        outputs=m.Outputs("output", ("opk",)),
+    )
+    return Template(project)
+
+
+def texture() -> Template:
+    """An image texture (texture.png, seamless) tiled over a plane, flown at a given GSD."""
+    cam = m.Camera(id="s100", name="Canon PowerShot S100", focal_length_mm=5.2,
+                   sensor_width_mm=7.6, sensor_height_mm=5.7,
+                   image_width_px=4000, image_height_px=3000,
+                   distortion=m.BrownConradyDistortion(k1=-0.05, k2=0.02, p1=1e-4, p2=-1e-4))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(-20.0, -20.0, 20.0, 20.0), m.FlatTerrain(0.0)),
+        texture=m.Texture(m.ImageTexture("texture.png"), repeat_X=8, repeat_Y=8,
+                          interpolation="linear"),
+        lighting=m.Lighting(m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54),
+                            sun_strength=4.0, sky_strength=1.0),
+    )
+    plan = m.FlightPlan(
+        camera=cam.id, image_prefix="TEX_",
+        area=((-15.0, -15.0), (15.0, -15.0), (15.0, 15.0), (-15.0, 15.0)),
+        gsd_m=0.02, front_overlap_percent=75.0, side_overlap_percent=65.0,
+        grid_angle_deg=30.0, crosshatch=True, terrain_following=False, tilt_deg=0.0,
+        pose_noise=None, random_seed=0)
+    project = m.Project(
+        name="Texture: an image texture tiled 8 x 8",
+        description=("A seamless 512 x 512 px image (texture.png) tiled 8 x 8 over a 40 m "
+                     "plane: 5 m tiles, about 1 cm texels; a crosshatch flight at 2 cm GSD."),
+        crs="local engineering frame (m)",
+        origin=m.Origin(0.0, 0.0, 0.0),
+        scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
+        render=m.Render(preset="draft", resolution_scale=0.25, workers=2),
+        outputs=m.Outputs("output", ("colmap", "metashape")),
+    )
+    return Template(project, {"texture.png": seamless_texture_png(512, seed=5)})
+
+
+_BUILDERS = {"survey": survey, "validation-cube": validation_cube, "psf": psf,
+             "texture": texture}
+
+
+def template(name: str) -> Template:
+    """The template called ``name`` (one of :data:`TEMPLATE_NAMES`)."""
+    return _BUILDERS[name]()

@@ -1,0 +1,128 @@
+"""Semantic checks of one camera: the interior orientation of docs/conventions.md.
+
+The checks follow ``InteriorOrientation.problems()`` but point at the element at
+fault (focal length, sensor, image size, principal point); the core object is built
+only from a camera that passed them, and the lens model's invertibility over the
+image is asked of ``designer.core.distortion``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from designer.errors import DesignerError
+from designer.project import model as m
+from designer.project.checks import finite_issues
+from designer.project.problems import Issue
+
+#: relative tolerance of "square pixels" (the same as designer.core.interior)
+SQUARE_PIXEL_RTOL = 1e-6
+
+
+def camera_issues(cam: m.Camera, resolution_scale: float = 1.0) -> list[Issue]:
+    """Problems of ``cam``; ``resolution_scale`` is render/resolution-scale."""
+    out: list[Issue] = []
+    numbers = {
+        ("focal-length-mm", None): cam.focal_length_mm,
+        ("sensor", "width-mm"): cam.sensor_width_mm,
+        ("sensor", "height-mm"): cam.sensor_height_mm,
+        ("principal-point", "x-mm"): cam.principal_point_x_mm,
+        ("principal-point", "y-mm"): cam.principal_point_y_mm,
+    }
+    for (tag, attr), value in numbers.items():
+        if not isinstance(value, int | float) or not math.isfinite(value):
+            out.append(Issue(cam, tag, f"{attr or 'value'} = {value!r} is not a finite "
+                                       "number; give a finite value in mm", attr=attr))
+    if out:
+        return out
+    if not cam.focal_length_mm > 0:
+        out.append(Issue(cam, "focal-length-mm", f"focal length {cam.focal_length_mm!r} mm "
+                         "must be greater than 0; give the lens's principal distance in mm"))
+    for attr, value in (("width-mm", cam.sensor_width_mm), ("height-mm", cam.sensor_height_mm)):
+        if not value > 0:
+            out.append(Issue(cam, "sensor", f"{attr} = {value!r} must be greater than 0 mm",
+                             attr=attr))
+    for attr, value in (("width-px", cam.image_width_px), ("height-px", cam.image_height_px)):
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 100000:
+            out.append(Issue(cam, "image", f"{attr} = {value!r} must be a whole number of "
+                                           "pixels from 1 to 100000", attr=attr))
+    if out:
+        return out
+    out += _pixel_shape(cam)
+    if abs(cam.principal_point_x_mm) >= cam.sensor_width_mm / 2 or \
+            abs(cam.principal_point_y_mm) >= cam.sensor_height_mm / 2:
+        out.append(Issue(cam, "principal-point", f"the principal point ({cam.principal_point_x_mm}"
+                         f", {cam.principal_point_y_mm}) mm lies outside the sensor "
+                         f"({cam.sensor_width_mm} x {cam.sensor_height_mm} mm); it is an offset "
+                         "from the sensor centre in mm, not a position in pixels", attr="x-mm"))
+    out += _scaled_size(cam, resolution_scale)
+    if out:
+        return out
+    return _core_model(cam)
+
+
+def _pixel_shape(cam: m.Camera) -> list[Issue]:
+    pitch_x = cam.sensor_width_mm / cam.image_width_px
+    pitch_y = cam.sensor_height_mm / cam.image_height_px
+    if cam.pixel_aspect is None:
+        if abs(pitch_y - pitch_x) > SQUARE_PIXEL_RTOL * pitch_x:
+            return [Issue(cam, "sensor", (
+                f"pixels are not square: sensor {cam.sensor_width_mm:g} x "
+                f"{cam.sensor_height_mm:g} mm over {cam.image_width_px} x "
+                f"{cam.image_height_px} px gives {pitch_x * 1000:.6g} x {pitch_y * 1000:.6g} um "
+                "pixels; make width-mm / width-px equal height-mm / height-px (e.g. sensor "
+                f"height {cam.sensor_width_mm * cam.image_height_px / cam.image_width_px:.6g} "
+                "mm), or state <pixel-aspect>"), attr="height-mm")]
+        return []
+    aspect = cam.pixel_aspect
+    if not (math.isfinite(aspect) and aspect > 0):
+        return [Issue(cam, "pixel-aspect", f"pixel aspect {aspect!r} must be a finite number "
+                                           "greater than 0")]
+    if abs(pitch_y / pitch_x - aspect) > SQUARE_PIXEL_RTOL * aspect:
+        return [Issue(cam, "pixel-aspect", f"pixel aspect {aspect!r} disagrees with the sensor "
+                      f"and image sizes, which give {pitch_y / pitch_x:.9g}; correct one of "
+                      "them")]
+    return []
+
+
+def _scaled_size(cam: m.Camera, scale: float) -> list[Issue]:
+    if not (isinstance(scale, int | float) and math.isfinite(scale) and 0 < scale <= 1):
+        return []  # reported with the render settings
+    out = []
+    for attr, size in (("width-px", cam.image_width_px), ("height-px", cam.image_height_px)):
+        scaled = size * scale
+        if abs(scaled - round(scaled)) > 1e-6 or round(scaled) < 1:
+            out.append(Issue(cam, "image", (
+                f"{attr} {size} x resolution-scale {scale:g} = {scaled:g} px is not a whole "
+                "number of pixels; choose a scale that divides the image size (e.g. 0.5 or "
+                "0.25) so the rendered pixels keep the camera's geometry"), attr=attr))
+    return out
+
+
+def _core_model(cam: m.Camera) -> list[Issue]:
+    """Build the core interior orientation; report what it refuses and lens folds."""
+    from designer.core.distortion import BrownConrady, FisheyeEquidistant
+    from designer.core.interior import InteriorOrientation
+
+    d = cam.distortion
+    tag = "brown-conrady" if isinstance(d, m.BrownConradyDistortion) else "fisheye-equidistant"
+    issues = finite_issues(d) if d is not None else []
+    if issues:
+        return [Issue(cam, tag, i.message, attr=i.attr) for i in issues]
+    try:
+        core_d = None
+        if isinstance(d, m.BrownConradyDistortion):
+            core_d = BrownConrady(d.k1, d.k2, d.k3, d.p1, d.p2)
+        elif isinstance(d, m.FisheyeEquidistantDistortion):
+            core_d = FisheyeEquidistant(d.k1, d.k2, d.k3, d.k4)
+        io = InteriorOrientation(
+            cam.focal_length_mm, cam.sensor_width_mm, cam.sensor_height_mm,
+            cam.image_width_px, cam.image_height_px, cam.principal_point_x_mm,
+            cam.principal_point_y_mm, cam.pixel_aspect, core_d)
+        problem = None if core_d is None else core_d.invertibility_problem(
+            io.fx_px, io.fy_px, io.cx_px, io.cy_px, io.image_width_px, io.image_height_px)
+    except DesignerError as error:
+        return [Issue(cam, "camera", f"{error}", attr="id")]
+    if problem:
+        return [Issue(cam, tag, problem)]
+    return []

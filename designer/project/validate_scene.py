@@ -1,0 +1,213 @@
+"""Semantic checks of the scene: terrain, texture, GCP targets, objects, lighting."""
+
+from __future__ import annotations
+
+from collections import Counter
+from datetime import datetime
+from pathlib import Path
+
+from designer.project import model as m
+from designer.project.checks import (
+    GRID_TOL,
+    MAX_TERRAIN_NODES,
+    MAX_TEXTURE_TEXELS,
+    MIN_TEXTURE_TEXELS,
+    file_issue,
+    finite_issues,
+    is_ok,
+    sigma_issues,
+)
+from designer.project.files import (
+    ascii_grid_extent,
+    ascii_grid_header,
+    dem_problem,
+    image_problem,
+    mesh_problem,
+    resolve,
+)
+from designer.project.problems import Issue
+
+
+def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
+    """Problems of the scene; referenced files are checked when ``base`` is given."""
+    return (_terrain(scene.terrain, base)
+            + _texture(scene.texture, scene.terrain.extent, base)
+            + _targets(scene.targets, scene.terrain.extent)
+            + _objects(scene.objects, base)
+            + _lighting(scene.lighting))
+
+
+def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
+    out = []
+    e, src = terrain.extent, terrain.source
+    if is_ok(e.min_X) and is_ok(e.max_X) and not e.min_X < e.max_X:
+        out.append(Issue(e, "extent", f"min-X {e.min_X!r} must be less than max-X "
+                                      f"{e.max_X!r}; swap or correct them", attr="min-X"))
+    if is_ok(e.min_Y) and is_ok(e.max_Y) and not e.min_Y < e.max_Y:
+        out.append(Issue(e, "extent", f"min-Y {e.min_Y!r} must be less than max-Y "
+                                      f"{e.max_Y!r}; swap or correct them", attr="min-Y"))
+    if isinstance(src, m.ProceduralTerrain):
+        if src.min_height_m > src.max_height_m:
+            out.append(Issue(src, "procedural", f"min-height-m {src.min_height_m!r} is above "
+                             f"max-height-m {src.max_height_m!r}; swap them",
+                             attr="min-height-m"))
+        if not 0 <= src.roughness <= 1:
+            out.append(Issue(src, "procedural", f"roughness {src.roughness!r} must be from 0 "
+                             "to 1", attr="roughness"))
+        out += _grid(src, e)
+    elif isinstance(src, m.DemTerrain) and base is not None:
+        path = resolve(base, src.file)
+        problem = dem_problem(path)
+        out += file_issue(src, "dem", problem)
+        if problem is None and path.suffix.lower() == ".asc":
+            with path.open("rb") as f:
+                header = ascii_grid_header(f.read(4096))
+            x0, y0, x1, y1 = ascii_grid_extent(header)
+            if not (x0 <= e.min_X and y0 <= e.min_Y and x1 >= e.max_X and y1 >= e.max_Y):
+                out.append(Issue(src, "dem", f"the DEM covers X {x0:g}..{x1:g}, Y {y0:g}..{y1:g}"
+                                 f", not the whole terrain extent; shrink <extent> or use a "
+                                 "larger DEM", attr="file"))
+    elif isinstance(src, m.MeshTerrain) and base is not None:
+        out += file_issue(src, "mesh", mesh_problem(resolve(base, src.file)))
+    return out
+
+
+def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
+    """The extent must be a whole number of grid cells, and not too many of them."""
+    spacing = src.grid_spacing_m
+    if not (is_ok(spacing) and spacing > 0):
+        return [Issue(src, "procedural", "grid-spacing-m must be > 0 m",
+                      attr="grid-spacing-m")]
+    if not (e.width_m > 0 and e.length_m > 0):
+        return []  # reported with the extent
+    out = []
+    for name, size in (("width", e.width_m), ("length", e.length_m)):
+        n = round(size / spacing)
+        if n < 1 or abs(n * spacing - size) > GRID_TOL * size:
+            out.append(Issue(src, "procedural", f"the extent's {name} {size:g} m is not a whole "
+                             f"number of {spacing:g} m grid cells; choose a grid-spacing-m "
+                             "that divides the extent", attr="grid-spacing-m"))
+    nodes = (e.width_m / spacing + 1) * (e.length_m / spacing + 1)
+    if not out and nodes > MAX_TERRAIN_NODES:
+        out.append(Issue(src, "procedural", f"a {spacing:g} m grid over {e.width_m:g} x "
+                         f"{e.length_m:g} m has {nodes:.3g} nodes, more than "
+                         f"{MAX_TERRAIN_NODES:.3g}; use a coarser grid-spacing-m",
+                         attr="grid-spacing-m"))
+    return out
+
+
+def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]:
+    out = []
+    for name, value in (("repeat-X", tex.repeat_X), ("repeat-Y", tex.repeat_Y)):
+        if not 1 <= value <= 10000:
+            out.append(Issue(tex, "tiling", f"{name} = {value!r} must be a whole number from "
+                                            "1 to 10000", attr=name))
+    if tex.interpolation not in ("closest", "linear"):
+        out.append(Issue(tex, "texture", "interpolation must be 'closest' or 'linear'",
+                         attr="interpolation"))
+    src = tex.source
+    if isinstance(src, m.ImageTexture):
+        if base is not None:
+            out += file_issue(src, "image", image_problem(resolve(base, src.file)))
+    elif not (src.texel_size_m > 0):
+        out.append(Issue(src, "procedural", "texel-size-m must be > 0 m", attr="texel-size-m"))
+    elif out == [] and extent.width_m > 0 and extent.length_m > 0:
+        tile = max(extent.width_m / tex.repeat_X, extent.length_m / tex.repeat_Y)
+        texels = tile / src.texel_size_m
+        if texels > MAX_TEXTURE_TEXELS:
+            out.append(Issue(src, "procedural", f"a {tile:g} m tile of {src.texel_size_m:g} m "
+                             f"texels needs {texels:.0f} texels per side, more than "
+                             f"{MAX_TEXTURE_TEXELS}; increase texel-size-m or repeat-X/Y",
+                             attr="texel-size-m"))
+        elif texels < MIN_TEXTURE_TEXELS:
+            out.append(Issue(src, "procedural", f"a {tile:g} m tile of {src.texel_size_m:g} m "
+                             f"texels has only {texels:.3g} texels per side, fewer than "
+                             f"{MIN_TEXTURE_TEXELS}; make texel-size-m smaller",
+                             attr="texel-size-m"))
+    return out
+
+
+def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
+    if targets is None:
+        return []
+    out = []
+    if targets.survey_accuracy is not None:
+        acc = targets.survey_accuracy
+        out += sigma_issues(acc.sigma, acc, "survey-accuracy")
+    counts = Counter(t.id for t in targets.targets)
+    reported = set()
+    for t in targets.targets:
+        out += finite_issues(t, t.true)
+        if counts[t.id] > 1 and t.id not in reported:
+            reported.add(t.id)
+            out.append(Issue(t, "target", f"GCP id '{t.id}' is used by {counts[t.id]} targets; "
+                                          "give each target its own id", attr="id"))
+        if t.role not in ("control", "check"):
+            out.append(Issue(t, "target", "role must be 'control' or 'check'", attr="role"))
+        if not (t.size_m > 0):
+            out.append(Issue(t, "target", "size-m must be > 0 m", attr="size-m"))
+        if is_ok(t.true.X) and is_ok(t.true.Y) and not extent.contains(t.true.X, t.true.Y):
+            out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {t.true.X:.3f}, Y "
+                             f"{t.true.Y:.3f} lies outside the terrain extent (X "
+                             f"{extent.min_X:g}..{extent.max_X:g}, Y {extent.min_Y:g}.."
+                             f"{extent.max_Y:g}); move it inside or enlarge <extent>",
+                             attr="X"))
+        if t.surveyed is None:
+            if targets.survey_accuracy is None:
+                out.append(Issue(t, "target", f"GCP '{t.id}' has no <surveyed> position and "
+                                 "<targets> has no <survey-accuracy> to simulate one; add "
+                                 "either"))
+        else:
+            out += finite_issues(t.surveyed.position)
+            out += sigma_issues(t.surveyed.sigma, t.surveyed.sigma, "surveyed")
+    return out
+
+
+def _objects(objects: tuple[m.SceneObject, ...], base: Path | None) -> list[Issue]:
+    out = []
+    counts = Counter(o.name for o in objects)
+    for i, obj in enumerate(objects):
+        if counts[obj.name] > 1 and [o.name for o in objects].index(obj.name) == i:
+            out.append(Issue(obj, "object", f"object name '{obj.name}' is used "
+                             f"{counts[obj.name]} times; give each object its own name",
+                             attr="name"))
+        if not (obj.placement.scale > 0):
+            out.append(Issue(obj.placement, "placement", "scale must be > 0", attr="scale"))
+        if base is not None:
+            out += file_issue(obj, "object", mesh_problem(resolve(base, obj.file)))
+    return out
+
+
+def _lighting(light: m.Lighting) -> list[Issue]:
+    out = []
+    for name, value in (("sun-strength", light.sun_strength),
+                        ("sky-strength", light.sky_strength)):
+        if not (value >= 0):
+            out.append(Issue(light, "lighting", f"{name} must be >= 0", attr=name))
+    sun = light.sun
+    if isinstance(sun, m.Sun):
+        if not 0 <= sun.azimuth_deg < 360:
+            out.append(Issue(sun, "sun", "azimuth-deg must be from 0 to less than 360 degrees "
+                             "(clockwise from north)", attr="azimuth-deg"))
+        if not 0 < sun.elevation_deg <= 90:
+            out.append(Issue(sun, "sun", "elevation-deg must be above 0 and at most 90 "
+                             "degrees; the sun must be above the horizon",
+                             attr="elevation-deg"))
+        return out
+    try:
+        moment = datetime.fromisoformat(sun.date_time)
+    except ValueError:
+        moment = None
+        out.append(Issue(sun, "sun-position", f"date-time '{sun.date_time}' is not an ISO 8601 "
+                         "date and time; write e.g. 2024-06-21T10:30:00+02:00",
+                         attr="date-time"))
+    if moment is not None and moment.tzinfo is None:
+        out.append(Issue(sun, "sun-position", f"date-time '{sun.date_time}' has no time zone; "
+                         "add one, e.g. +02:00 or Z for UTC", attr="date-time"))
+    if not -90 <= sun.latitude_deg <= 90:
+        out.append(Issue(sun, "sun-position", "latitude-deg must be -90 to 90",
+                         attr="latitude-deg"))
+    if not -180 <= sun.longitude_deg <= 180:
+        out.append(Issue(sun, "sun-position", "longitude-deg must be -180 to 180",
+                         attr="longitude-deg"))
+    return out

@@ -1,0 +1,221 @@
+"""Semantic checks of where photos are taken, the image effects and the render settings."""
+
+from __future__ import annotations
+
+import math
+import re
+from collections import Counter
+
+from designer.project import model as m
+from designer.project.checks import BIT_DEPTHS, EXTENSIONS, finite_issues, is_ok
+from designer.project.geometry import (
+    polygon_area,
+    polygon_is_degenerate,
+    polygon_self_intersection,
+)
+from designer.project.problems import Issue
+
+_IMAGE_SUFFIX = re.compile(r"\.(png|jpe?g|tiff?|exr|bmp)$", re.IGNORECASE)
+
+
+def trajectory_issues(project: m.Project) -> list[Issue]:
+    traj = project.trajectory
+    out: list[Issue] = []
+    if not traj.exterior_orientations and traj.flight_plan is None:
+        out.append(Issue(traj, "trajectory", "no photos: add <exterior-orientations> with "
+                                             "<photo> elements or a <flight-plan>"))
+    out += _photos(project)
+    if traj.flight_plan is not None:
+        out += _flight_plan(project, traj.flight_plan)
+    return out
+
+
+def _lowest_ground(terrain: m.Terrain) -> float | None:
+    src = terrain.source
+    if isinstance(src, m.FlatTerrain):
+        return src.height_m
+    if isinstance(src, m.ProceduralTerrain):
+        return src.min_height_m
+    return None
+
+
+def _photos(project: m.Project) -> list[Issue]:
+    photos = project.trajectory.exterior_orientations
+    camera_ids = {c.id for c in project.cameras}
+    ground = _lowest_ground(project.scene.terrain)
+    allowed = EXTENSIONS.get(project.render.output_format, ())
+    out: list[Issue] = []
+    counts = Counter(p.name for p in photos)
+    reported: set[str] = set()
+    isfinite = math.isfinite
+    for p in photos:
+        if not all(isfinite(v) and abs(v) <= 1e8
+                   for v in (p.X, p.Y, p.Z, p.omega_deg, p.phi_deg, p.kappa_deg)):
+            out += [Issue(p, "photo", i.message.replace("-deg", ""), attr=i.attr.split("-")[0])
+                    for i in finite_issues(p)]
+            continue
+        if counts[p.name] > 1 and p.name not in reported:
+            reported.add(p.name)
+            out.append(Issue(p, "photo", f"image name '{p.name}' is used by {counts[p.name]} "
+                                         "photos; give each photo its own name", attr="name"))
+        if p.camera not in camera_ids:
+            out.append(Issue(p, "photo", _unknown_camera(p.camera, camera_ids), attr="camera"))
+        if ground is not None and p.Z <= ground:
+            out.append(Issue(p, "photo", f"photo '{p.name}' at Z {p.Z:g} m is not above the "
+                             f"terrain (lowest ground {ground:g} m); raise Z", attr="Z"))
+        suffix = _IMAGE_SUFFIX.search(p.name)
+        if suffix and allowed and suffix.group(0).lower() not in allowed:
+            out.append(Issue(p, "photo", f"image name '{p.name}' does not match the output "
+                             f"format {project.render.output_format}; use {allowed[0]} or "
+                             "change <output format>", attr="name"))
+        if not all(-360 <= a <= 360 for a in (p.omega_deg, p.phi_deg, p.kappa_deg)):
+            out.append(Issue(p, "photo", "omega, phi and kappa must be -360 to 360 degrees",
+                             attr="omega"))
+    return out
+
+
+def _unknown_camera(camera: str, camera_ids: set[str]) -> str:
+    known = ", ".join(sorted(camera_ids)) or "none"
+    return f"camera '{camera}' is not defined; use the id of a <camera> ({known})"
+
+
+def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
+    out = finite_issues(fp)
+    camera_ids = {c.id for c in project.cameras}
+    if fp.camera not in camera_ids:
+        out.append(Issue(fp, "flight-plan", _unknown_camera(fp.camera, camera_ids),
+                         attr="camera"))
+    out += _area(project, fp)
+    if (fp.altitude_agl_m is None) == (fp.gsd_m is None):
+        out.append(Issue(fp, "flight-plan", "give exactly one of <altitude-agl-m> and <gsd-m>"))
+    elif fp.altitude_agl_m is not None and not (is_ok(fp.altitude_agl_m)
+                                                and fp.altitude_agl_m > 0):
+        out.append(Issue(fp, "altitude-agl-m", f"altitude {fp.altitude_agl_m!r} m must be "
+                                               "greater than 0 m above ground"))
+    elif fp.gsd_m is not None and not (is_ok(fp.gsd_m) and fp.gsd_m > 0):
+        out.append(Issue(fp, "gsd-m", f"GSD {fp.gsd_m!r} m must be greater than 0"))
+    for tag, value in (("front-overlap-percent", fp.front_overlap_percent),
+                       ("side-overlap-percent", fp.side_overlap_percent)):
+        if not 0 <= value <= 95:
+            out.append(Issue(fp, tag, f"overlap {value!r} % must be from 0 to 95 %"))
+    if not 0 <= fp.grid_angle_deg < 180:
+        out.append(Issue(fp, "grid-angle-deg", "the grid angle must be from 0 to less than "
+                                               "180 degrees"))
+    if not -80 <= fp.tilt_deg <= 80:
+        out.append(Issue(fp, "tilt-deg", "the tilt must be from -80 to 80 degrees (0 = nadir)"))
+    if fp.orientation not in ("landscape", "portrait"):
+        out.append(Issue(fp, "orientation", "orientation must be landscape or portrait"))
+    if fp.start_corner not in ("SW", "SE", "NW", "NE"):
+        out.append(Issue(fp, "start-corner", "start-corner must be SW, SE, NW or NE"))
+    ref = fp.altitude_reference
+    if not (ref in ("mean", "max", "min") if isinstance(ref, str) else is_ok(ref)):
+        out.append(Issue(fp, "altitude-reference", f"altitude reference {ref!r} must be mean, "
+                                                   "max, min or a finite height in m"))
+    if fp.pose_noise is not None:
+        for name, value in vars(fp.pose_noise).items():
+            if not (math.isfinite(value) and value >= 0):
+                attr = name.replace("_", "-")
+                out.append(Issue(fp.pose_noise, "pose-noise", f"{attr} = {value!r} must be a "
+                                 "finite number >= 0", attr=attr))
+    pattern = re.compile(rf"{re.escape(fp.image_prefix)}\d{{4,}}(\.\w+)?$")
+    clash = next((p for p in project.trajectory.exterior_orientations
+                  if pattern.match(p.name)), None)
+    if clash is not None:
+        out.append(Issue(clash, "photo", f"image name '{clash.name}' clashes with the names "
+                         f"the flight plan gives its photos ({fp.image_prefix}0001, ...); "
+                         "rename the photo or change image-prefix", attr="name"))
+    return out
+
+
+def _area(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
+    vertices = fp.area
+    if len(vertices) < 3:
+        return [Issue(fp, "area", f"the area has {len(vertices)} vertices; a polygon needs at "
+                                  "least 3")]
+    if not all(is_ok(x) and is_ok(y) for x, y in vertices):
+        return [Issue(fp, "area", "every vertex needs finite X and Y coordinates")]
+    out = []
+    for i, (a, b) in enumerate(zip(vertices, vertices[1:] + vertices[:1], strict=True)):
+        if a == b:
+            out.append(Issue(fp, "vertex", f"vertex {(i + 1) % len(vertices) + 1} repeats the "
+                             "one before; remove it", key=f"vertex:{(i + 1) % len(vertices)}"))
+    if out:
+        return out
+    zero_area = [Issue(fp, "area", "the area polygon has zero area (its vertices lie on a "
+                                   "line); give the corners of the area to fly")]
+    if polygon_is_degenerate(vertices):
+        return zero_area
+    crossing = polygon_self_intersection(vertices)
+    if crossing is None and abs(polygon_area(vertices)) < 1e-6:
+        return zero_area
+    if crossing is not None:
+        i, j = crossing
+        return [Issue(fp, "vertex", f"the area polygon crosses itself: edge {i + 1} (vertex "
+                      f"{i + 1} to {i + 2}) meets edge {j + 1}; list the vertices in order "
+                      "around the area", key=f"vertex:{i}")]
+    extent = project.scene.terrain.extent
+    for i, (x, y) in enumerate(vertices):
+        if not extent.contains(x, y):
+            out.append(Issue(fp, "vertex", f"vertex {i + 1} (X {x:.3f}, Y {y:.3f}) lies outside "
+                             "the terrain extent; move it inside or enlarge <extent>",
+                             key=f"vertex:{i}", attr="X"))
+    return out
+
+
+def effects_issues(fx: m.Effects | None) -> list[Issue]:
+    if fx is None:
+        return []
+    checks = []
+    if fx.vignetting is not None:
+        checks.append((fx.vignetting, "vignetting", "corner-falloff",
+                       fx.vignetting.corner_falloff, 0, 1))
+    if fx.sensor_noise is not None:
+        checks.append((fx.sensor_noise, "sensor-noise", "sigma-dn", fx.sensor_noise.sigma_dn,
+                       0, 100))
+    if fx.blur is not None:
+        checks.append((fx.blur, "blur", "sigma-px", fx.blur.sigma_px, 0, 50))
+    if fx.motion_blur is not None:
+        checks.append((fx.motion_blur, "motion-blur", "exposure-time-s",
+                       fx.motion_blur.exposure_time_s, 0, 1))
+        checks.append((fx.motion_blur, "motion-blur", "speed-m-s", fx.motion_blur.speed_m_s,
+                       0, 100))
+    if fx.jpeg is not None:
+        checks.append((fx.jpeg, "jpeg", "quality", fx.jpeg.quality, 1, 100))
+    return [Issue(obj, tag, f"{attr} = {value!r} must be from {lo} to {hi}", attr=attr)
+            for obj, tag, attr, value, lo, hi in checks
+            if not (math.isfinite(value) and lo <= value <= hi)]
+
+
+def render_output_issues(project: m.Project) -> list[Issue]:
+    r, out = project.render, []
+    if r.preset not in ("draft", "standard", "high"):
+        out.append(Issue(r, "preset", "the preset must be draft, standard or high"))
+    if r.samples is not None and not 1 <= r.samples <= 65536:
+        out.append(Issue(r, "samples", f"samples = {r.samples!r} must be from 1 to 65536"))
+    if not (math.isfinite(r.pixel_filter_width_px) and 0.01 <= r.pixel_filter_width_px <= 10):
+        out.append(Issue(r, "pixel-filter", "width-px must be from 0.01 to 10 px",
+                         attr="width-px"))
+    if not (math.isfinite(r.resolution_scale) and 0 < r.resolution_scale <= 1):
+        out.append(Issue(r, "resolution-scale", f"resolution scale {r.resolution_scale!r} must "
+                                                "be greater than 0 and at most 1"))
+    if not 1 <= r.workers <= 256:
+        out.append(Issue(r, "workers", f"workers = {r.workers!r} must be from 1 to 256"))
+    depths = BIT_DEPTHS.get(r.output_format)
+    if depths is None:
+        out.append(Issue(r, "output", f"unknown output format '{r.output_format}'; use png, "
+                                      "jpeg, tiff or exr", attr="format"))
+    elif r.bit_depth not in depths:
+        out.append(Issue(r, "output", f"{r.output_format} images cannot have {r.bit_depth} "
+                         f"bits per channel; use bit-depth " + " or ".join(map(str, depths)),
+                         attr="bit-depth"))
+    outputs = project.outputs
+    if not outputs.directory.strip():
+        out.append(Issue(outputs, "outputs", "the output directory is empty; name a folder",
+                         attr="directory"))
+    seen = set()
+    for i, fmt in enumerate(outputs.ground_truth):
+        if fmt in seen:
+            out.append(Issue(outputs, "ground-truth", f"ground-truth format '{fmt}' is listed "
+                             "twice; remove one", key=f"ground-truth:{i}", attr="format"))
+        seen.add(fmt)
+    return out

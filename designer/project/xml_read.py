@@ -1,0 +1,186 @@
+"""Read a project file: size and content checks, safe XML parsing, version, XSD, model.
+
+Every failure becomes a :class:`ProjectError` listing located problems; no parser
+exception reaches the caller. Parsing is safe: no DTDs, entities or network access,
+no huge-tree mode, and files above :data:`MAX_PROJECT_BYTES` are refused before
+they are read.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from designer.project import model as m
+from designer.project.problems import Problem, ProjectError, SourceMap
+from designer.project.schema import (
+    NAMESPACE,
+    NAMESPACE_PREFIX,
+    SUPPORTED_VERSIONS,
+    xml_schema,
+)
+from designer.project.xml_to_model import project_from_tree
+from designer.project.xsd_messages import translate_xsd_error
+
+#: project files larger than this are refused (a 10,000-photo project is ~1.5 MB)
+MAX_PROJECT_BYTES = 32_000_000
+
+_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+
+
+def read_project_file(path: str | os.PathLike) -> tuple[m.Project, SourceMap]:
+    """Read and schema-validate ``path``; the model and where each part came from.
+
+    Raises ProjectError (exit code 2) for anything but a schema-valid project file.
+    Semantic checks are separate: see ``designer.project.load.load_project``.
+    """
+    path = Path(path)
+    source = str(path)
+    try:
+        size = path.stat().st_size
+        if not path.is_file():
+            raise ProjectError(source, [Problem(
+                "<project>: this is not a regular file; give the path of a project XML file")])
+        if size > MAX_PROJECT_BYTES:
+            raise ProjectError(source, [_too_big(size)])
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise ProjectError(source, [Problem(
+            "<project>: no such file; check the path, or create one with "
+            "'designer new FILE --template survey'")]) from None
+    except OSError as error:
+        raise ProjectError(source, [Problem(
+            f"<project>: cannot read the file ({error.strerror or error}); "
+            "check its permissions")]) from None
+    return parse_project(data, source)
+
+
+def read_project(path: str | os.PathLike) -> m.Project:
+    """The schema-valid model of ``path`` (no semantic checks)."""
+    return read_project_file(path)[0]
+
+
+def parse_project(data: bytes, source: str = "<memory>") -> tuple[m.Project, SourceMap]:
+    """Parse project XML bytes into the model; ProjectError on any problem."""
+    root, text = parse_tree(data, source)
+    smap = SourceMap(text)
+    schema = xml_schema()
+    if not schema.validate(root.getroottree()):
+        problems = [translate_xsd_error(e, root, smap) for e in schema.error_log]
+        problems.sort(key=lambda p: (p.line, p.column))
+        raise ProjectError(source, _dedupe(problems))
+    return project_from_tree(root, smap), smap
+
+
+def parse_tree(data: bytes, source: str) -> tuple[etree._Element, str]:
+    """The root element of a well-formed project of a supported version, and its text."""
+    if len(data) > MAX_PROJECT_BYTES:
+        raise ProjectError(source, [_too_big(len(data))])
+    problem = _content_problem(data)
+    if problem:
+        raise ProjectError(source, [problem])
+    parser = etree.XMLParser(
+        resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
+        remove_comments=False, collect_ids=False)
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as error:
+        raise ProjectError(source, [_syntax_problem(error)]) from None
+    text = data.decode("utf-8", errors="replace")
+    if root.getroottree().docinfo.doctype:
+        at = text.find("<!DOCTYPE")
+        line = text.count("\n", 0, at) + 1 if at >= 0 else 1
+        column = at - text.rfind("\n", 0, at) if at >= 0 else 1
+        raise ProjectError(source, [Problem(
+            "<!DOCTYPE>: document type declarations (and entities) are not allowed in "
+            "project files; remove the <!DOCTYPE ...> declaration", line, column)])
+    _check_root(root, source)
+    return root, text
+
+
+def _too_big(size: int) -> Problem:
+    return Problem(
+        f"<project>: the file is {size / 1e6:.1f} MB, larger than the "
+        f"{MAX_PROJECT_BYTES / 1e6:.0f} MB limit for project files; keep large data "
+        "(DEMs, meshes, textures) in separate files referenced from the project")
+
+
+def _content_problem(data: bytes) -> Problem | None:
+    if not data.strip():
+        return Problem("<project>: the file is empty; a project is an XML file starting "
+                       "with <project>, create one with 'designer new FILE --template survey'")
+    if data.startswith(_UTF16_BOMS):
+        return None  # UTF-16 text is legal XML; the parser reads it
+    head = data[:65536]
+    nul = head.find(b"\x00")
+    if nul >= 0:
+        return Problem(f"<project>: binary data (a zero byte at offset {nul}), not an XML "
+                       "project file; check that you gave the right file")
+    start = head.lstrip(b"\xef\xbb\xbf \t\r\n")[:1]
+    if start != b"<":
+        return Problem("<project>: not an XML file (it does not start with '<'); a project "
+                       "file starts with <?xml ...?> or <project>")
+    return None
+
+
+def _syntax_problem(error: etree.XMLSyntaxError) -> Problem:
+    line, column = error.position if error.position else (1, 1)
+    msg = re.sub(r",? line \d+, column \d+$", "", (error.msg or str(error)).strip())
+    mismatch = re.match(r"Opening and ending tag mismatch: (\S+) line (\d+) and (\S+)", msg)
+    if mismatch:
+        opened, opened_line, closed = mismatch.groups()
+        msg = (f"<{opened}> opened on line {opened_line} is closed by </{closed}>; "
+               f"close <{opened}> first")
+    elif msg.startswith("Entity"):
+        msg += "; write '&' as &amp; and '<' as &lt; (entities are not supported)"
+    else:
+        msg += "; fix the XML syntax here (every tag closed, attribute values quoted)"
+    return Problem(f"<xml>: malformed XML: {msg}", max(int(line or 1), 1),
+                   max(int(column or 1), 1))
+
+
+def _check_root(root: etree._Element, source: str) -> None:
+    qname = etree.QName(root)
+    line = root.sourceline or 1
+    version = root.get("schema-version")
+    supported = ", ".join(SUPPORTED_VERSIONS)
+    if qname.localname != "project":
+        raise ProjectError(source, [Problem(
+            f"<{qname.localname}>: the root element must be <project "
+            f'xmlns="{NAMESPACE}" schema-version="{SUPPORTED_VERSIONS[-1]}">; '
+            "this is not a designer project file", line, 1)])
+    ns = qname.namespace
+    if ns and ns.startswith(NAMESPACE_PREFIX) and ns != NAMESPACE:
+        found = f"schema-version {version}" if version else f"namespace {ns}"
+        raise ProjectError(source, [Problem(
+            f"<project>: {found} is not supported; this designer reads schema versions "
+            f"{supported} (namespace {NAMESPACE}); use a newer designer for this file",
+            line, 1)])
+    if ns != NAMESPACE:
+        where = f"namespace '{ns}'" if ns else "no namespace"
+        raise ProjectError(source, [Problem(
+            f'<project>: the root element is in {where}; a designer project needs '
+            f'xmlns="{NAMESPACE}" on <project>', line, 1)])
+    if version is None:
+        raise ProjectError(source, [Problem(
+            "<project>: the schema-version attribute is missing; add "
+            f'schema-version="{SUPPORTED_VERSIONS[-1]}" (supported: {supported})', line, 1)])
+    if version.strip() not in SUPPORTED_VERSIONS:
+        raise ProjectError(source, [Problem(
+            f"<project>: schema-version '{version}' is not supported; this designer reads "
+            f"schema versions {supported}; use a newer designer for files of a newer "
+            "version", line, 1)])
+
+
+def _dedupe(problems: list[Problem]) -> list[Problem]:
+    seen: set[tuple[int, int, str]] = set()
+    out = []
+    for p in problems:
+        key = (p.line, p.column, p.message)
+        if key not in seen:
+            seen.add(key)
+            out.append(p)
+    return out

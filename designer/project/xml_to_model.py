@@ -1,0 +1,307 @@
+"""Build the project model from a schema-valid XML tree, noting where each part came from.
+
+Only called on a tree that passed the XSD, so required elements and attributes exist
+and numbers parse; the semantic checks come afterwards (``validate.py``).
+"""
+
+from __future__ import annotations
+
+from lxml import etree
+
+from designer.project import model as m
+from designer.project.problems import SourceMap
+from designer.project.schema import q
+
+
+def _f(el: etree._Element, name: str) -> float:
+    return float(el.get(name))
+
+
+def _opt_f(el: etree._Element, name: str) -> float | None:
+    value = el.get(name)
+    return None if value is None else float(value)
+
+
+def _text(el: etree._Element | None) -> str | None:
+    return None if el is None else (el.text or "").strip()
+
+
+def _bool(text: str) -> bool:
+    return text.strip() in ("true", "1")
+
+
+class _Reader:
+    def __init__(self, smap: SourceMap) -> None:
+        self.smap = smap
+
+    def note(self, obj, el: etree._Element, key: str | None = None):
+        self.smap.add(obj, key or etree.QName(el).localname, el.sourceline)
+        return obj
+
+    def child_lines(self, obj, parent: etree._Element) -> None:
+        """Register the lines of the text-only children of ``parent`` under ``obj``."""
+        for child in parent.iterchildren(tag=etree.Element):
+            self.smap.add(obj, etree.QName(child).localname, child.sourceline)
+
+    # ----------------------------------------------------------------- project
+    def project(self, root: etree._Element) -> m.Project:
+        origin_el = root.find(q("origin"))
+        origin = self.note(m.Origin(_f(origin_el, "E0"), _f(origin_el, "N0"),
+                                    _f(origin_el, "H0")), origin_el)
+        effects_el = root.find(q("effects"))
+        project = m.Project(
+            name=_text(root.find(q("name"))),
+            description=_text(root.find(q("description"))),
+            crs=_text(root.find(q("crs"))),
+            origin=origin,
+            scene=self.scene(root.find(q("scene"))),
+            cameras=tuple(self.camera(el) for el in root.find(q("cameras"))
+                          .iterchildren(q("camera"))),
+            trajectory=self.trajectory(root.find(q("trajectory"))),
+            effects=None if effects_el is None else self.effects(effects_el),
+            render=self.render(root.find(q("render"))),
+            outputs=self.outputs(root.find(q("outputs"))),
+            schema_version=root.get("schema-version"),
+        )
+        self.note(project, root)
+        self.child_lines(project, root)
+        return project
+
+    # ----------------------------------------------------------------- scene
+    def scene(self, el: etree._Element) -> m.Scene:
+        targets_el = el.find(q("targets"))
+        objects_el = el.find(q("objects"))
+        scene = m.Scene(
+            terrain=self.terrain(el.find(q("terrain"))),
+            texture=self.texture(el.find(q("texture"))),
+            lighting=self.lighting(el.find(q("lighting"))),
+            targets=None if targets_el is None else self.targets(targets_el),
+            objects=() if objects_el is None else tuple(
+                self.scene_object(o) for o in objects_el.iterchildren(q("object"))),
+        )
+        return self.note(scene, el)
+
+    def terrain(self, el: etree._Element) -> m.Terrain:
+        ext_el = el.find(q("extent"))
+        extent = self.note(m.Extent(_f(ext_el, "min-X"), _f(ext_el, "min-Y"),
+                                    _f(ext_el, "max-X"), _f(ext_el, "max-Y")), ext_el)
+        src_el = ext_el.getnext()
+        while not isinstance(src_el.tag, str):
+            src_el = src_el.getnext()
+        kind = etree.QName(src_el).localname
+        if kind == "flat":
+            source = m.FlatTerrain(_f(src_el, "height-m"))
+        elif kind == "procedural":
+            source = m.ProceduralTerrain(
+                seed=int(src_el.get("seed")), grid_spacing_m=_f(src_el, "grid-spacing-m"),
+                roughness=_f(src_el, "roughness"),
+                min_height_m=_f(src_el, "min-height-m"), max_height_m=_f(src_el, "max-height-m"))
+        elif kind == "dem":
+            source = m.DemTerrain(src_el.get("file"))
+        else:
+            source = m.MeshTerrain(src_el.get("file"))
+        self.note(source, src_el)
+        return self.note(m.Terrain(extent, source), el)
+
+    def texture(self, el: etree._Element) -> m.Texture:
+        image_el = el.find(q("image"))
+        if image_el is not None:
+            source = self.note(m.ImageTexture(image_el.get("file")), image_el)
+        else:
+            p = el.find(q("procedural"))
+            source = self.note(m.ProceduralTexture(
+                p.get("pattern"), int(p.get("seed")), _f(p, "texel-size-m")), p)
+        tiling = el.find(q("tiling"))
+        texture = m.Texture(source, int(tiling.get("repeat-X")), int(tiling.get("repeat-Y")),
+                            el.get("interpolation"))
+        self.note(texture, el)
+        self.note(texture, tiling)
+        return texture
+
+    def targets(self, el: etree._Element) -> m.Targets:
+        acc_el = el.find(q("survey-accuracy"))
+        accuracy = None
+        if acc_el is not None:
+            sigma = self.note(self._sigma(acc_el), acc_el)
+            accuracy = self.note(m.SurveyAccuracy(sigma, int(acc_el.get("seed"))), acc_el)
+        targets = tuple(self.target(t) for t in el.iterchildren(q("target")))
+        return self.note(m.Targets(targets, accuracy), el)
+
+    def _sigma(self, el: etree._Element) -> m.Sigma3:
+        return m.Sigma3(_f(el, "sigma-X"), _f(el, "sigma-Y"), _f(el, "sigma-Z"))
+
+    def target(self, el: etree._Element) -> m.Target:
+        true_el = el.find(q("true"))
+        true = self.note(m.TruePosition(_f(true_el, "X"), _f(true_el, "Y"),
+                                        _opt_f(true_el, "Z")), true_el)
+        s_el = el.find(q("surveyed"))
+        surveyed = None
+        if s_el is not None:
+            point = self.note(m.Point3(_f(s_el, "X"), _f(s_el, "Y"), _f(s_el, "Z")), s_el)
+            sigma = self.note(self._sigma(s_el), s_el)
+            surveyed = self.note(m.SurveyedPosition(point, sigma), s_el)
+        target = m.Target(el.get("id"), el.get("role"), el.get("shape"), _f(el, "size-m"),
+                          true, surveyed)
+        return self.note(target, el)
+
+    def scene_object(self, el: etree._Element) -> m.SceneObject:
+        p = el.find(q("placement"))
+        point = self.note(m.Point3(_f(p, "X"), _f(p, "Y"), _f(p, "Z")), p)
+        placement = self.note(m.Placement(point, _f(p, "omega"), _f(p, "phi"), _f(p, "kappa"),
+                                          _f(p, "scale")), p)
+        return self.note(m.SceneObject(el.get("name"), el.get("file"), placement), el)
+
+    def lighting(self, el: etree._Element) -> m.Lighting:
+        sun_el = el.find(q("sun"))
+        if sun_el is not None:
+            sun = m.Sun(_f(sun_el, "azimuth-deg"), _f(sun_el, "elevation-deg"))
+        else:
+            sun_el = el.find(q("sun-position"))
+            sun = m.SunPosition(sun_el.get("date-time").strip(), _f(sun_el, "latitude-deg"),
+                                _f(sun_el, "longitude-deg"))
+        self.note(sun, sun_el)
+        lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"))
+        return self.note(lighting, el)
+
+    # ----------------------------------------------------------------- cameras
+    def camera(self, el: etree._Element) -> m.Camera:
+        sensor = el.find(q("sensor"))
+        image = el.find(q("image"))
+        pp = el.find(q("principal-point"))
+        aspect = _text(el.find(q("pixel-aspect")))
+        distortion = None
+        bc = el.find(q("brown-conrady"))
+        fe = el.find(q("fisheye-equidistant"))
+        if bc is not None:
+            distortion = self.note(m.BrownConradyDistortion(
+                *(_f(bc, k) for k in ("k1", "k2", "k3", "p1", "p2"))), bc)
+        elif fe is not None:
+            distortion = self.note(m.FisheyeEquidistantDistortion(
+                *(_f(fe, k) for k in ("k1", "k2", "k3", "k4"))), fe)
+        camera = m.Camera(
+            id=el.get("id"),
+            name=_text(el.find(q("name"))),
+            focal_length_mm=float(_text(el.find(q("focal-length-mm")))),
+            sensor_width_mm=_f(sensor, "width-mm"),
+            sensor_height_mm=_f(sensor, "height-mm"),
+            image_width_px=int(image.get("width-px")),
+            image_height_px=int(image.get("height-px")),
+            principal_point_x_mm=0.0 if pp is None else _f(pp, "x-mm"),
+            principal_point_y_mm=0.0 if pp is None else _f(pp, "y-mm"),
+            pixel_aspect=None if aspect is None else float(aspect),
+            distortion=distortion,
+        )
+        self.note(camera, el)
+        self.child_lines(camera, el)
+        return camera
+
+    # ----------------------------------------------------------------- trajectory
+    def trajectory(self, el: etree._Element) -> m.Trajectory:
+        eo_el = el.find(q("exterior-orientations"))
+        photos: tuple[m.ExteriorOrientation, ...] = ()
+        if eo_el is not None:
+            photos = tuple(self.photo(p) for p in eo_el.iterchildren(q("photo")))
+        fp_el = el.find(q("flight-plan"))
+        plan = None if fp_el is None else self.flight_plan(fp_el)
+        trajectory = self.note(m.Trajectory(photos, plan), el)
+        if eo_el is not None:
+            self.note(trajectory, eo_el)
+        return trajectory
+
+    def photo(self, el: etree._Element) -> m.ExteriorOrientation:
+        get = el.get
+        eo = m.ExteriorOrientation(
+            get("name"), get("camera"), float(get("X")), float(get("Y")), float(get("Z")),
+            float(get("omega")), float(get("phi")), float(get("kappa")))
+        self.smap.add(eo, "photo", el.sourceline)
+        return eo
+
+    def flight_plan(self, el: etree._Element) -> m.FlightPlan:
+        area_el = el.find(q("area"))
+        vertices = []
+        plan_key_lines = []
+        for i, v in enumerate(area_el.iterchildren(q("vertex"))):
+            vertices.append((_f(v, "X"), _f(v, "Y")))
+            plan_key_lines.append((f"vertex:{i}", v.sourceline))
+        noise_el = el.find(q("pose-noise"))
+        noise = None
+        if noise_el is not None:
+            noise = self.note(m.PoseNoise(*(_f(noise_el, f"sigma-{k}") for k in (
+                "X-m", "Y-m", "Z-m", "omega-deg", "phi-deg", "kappa-deg"))), noise_el)
+        altitude = _text(el.find(q("altitude-agl-m")))
+        reference = _text(el.find(q("altitude-reference")))
+        if reference is not None and reference not in ("mean", "max", "min"):
+            reference = float(reference)
+        gsd = _text(el.find(q("gsd-m")))
+        plan = m.FlightPlan(
+            camera=el.get("camera"),
+            image_prefix=el.get("image-prefix"),
+            area=tuple(vertices),
+            altitude_agl_m=None if altitude is None else float(altitude),
+            gsd_m=None if gsd is None else float(gsd),
+            front_overlap_percent=float(_text(el.find(q("front-overlap-percent")))),
+            side_overlap_percent=float(_text(el.find(q("side-overlap-percent")))),
+            grid_angle_deg=float(_text(el.find(q("grid-angle-deg")))),
+            crosshatch=_bool(_text(el.find(q("crosshatch")))),
+            orientation=_text(el.find(q("orientation"))) or "landscape",
+            start_corner=_text(el.find(q("start-corner"))) or "SW",
+            terrain_following=_bool(_text(el.find(q("terrain-following")))),
+            altitude_reference="mean" if reference is None else reference,
+            tilt_deg=float(_text(el.find(q("tilt-deg")))),
+            pose_noise=noise,
+            random_seed=int(_text(el.find(q("random-seed")))),
+        )
+        self.note(plan, el)
+        self.child_lines(plan, el)
+        for key, line in plan_key_lines:
+            self.smap.add(plan, key, line)
+        return plan
+
+    # ----------------------------------------------------------------- effects, render
+    def effects(self, el: etree._Element) -> m.Effects:
+        def one(tag, build):
+            child = el.find(q(tag))
+            return None if child is None else self.note(build(child), child)
+
+        effects = m.Effects(
+            vignetting=one("vignetting", lambda c: m.Vignetting(_f(c, "corner-falloff"))),
+            sensor_noise=one("sensor-noise",
+                             lambda c: m.SensorNoise(_f(c, "sigma-dn"), int(c.get("seed")))),
+            blur=one("blur", lambda c: m.Blur(_f(c, "sigma-px"))),
+            motion_blur=one("motion-blur", lambda c: m.MotionBlur(
+                _f(c, "exposure-time-s"), _f(c, "speed-m-s"))),
+            jpeg=one("jpeg", lambda c: m.Jpeg(int(c.get("quality")))),
+        )
+        return self.note(effects, el)
+
+    def render(self, el: etree._Element) -> m.Render:
+        pf = el.find(q("pixel-filter"))
+        out = el.find(q("output"))
+        samples = _text(el.find(q("samples")))
+        render = m.Render(
+            preset=_text(el.find(q("preset"))),
+            samples=None if samples is None else int(samples),
+            pixel_filter_type=pf.get("type"),
+            pixel_filter_width_px=_f(pf, "width-px"),
+            resolution_scale=float(_text(el.find(q("resolution-scale")))),
+            workers=int(_text(el.find(q("workers")))),
+            output_format=out.get("format"),
+            bit_depth=int(out.get("bit-depth")),
+        )
+        self.note(render, el)
+        self.child_lines(render, el)
+        return render
+
+    def outputs(self, el: etree._Element) -> m.Outputs:
+        formats = tuple(g.get("format") for g in el.iterchildren(q("ground-truth")))
+        outputs = self.note(m.Outputs(el.get("directory"), formats), el)
+        for i, g in enumerate(el.iterchildren(q("ground-truth"))):
+            self.smap.add(outputs, f"ground-truth:{i}", g.sourceline)
+        return outputs
+
+
+def project_from_tree(root: etree._Element, smap: SourceMap) -> m.Project:
+    """The model of a schema-valid ``<project>`` element; fills ``smap`` with lines."""
+    project = _Reader(smap).project(root)
+    smap.keep_alive = project
+    return project

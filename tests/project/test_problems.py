@@ -1,0 +1,54 @@
+"""Positions of problems: FILE:LINE:COLUMN, also for tags and attributes over several lines."""
+
+from __future__ import annotations
+
+from designer.project import project_to_bytes, template
+from designer.project.problems import Issue, Problem, ProjectError, SourceMap
+from designer.project.xml_read import parse_project
+
+TEXT = """<project>
+  <photo name="a"
+         camera="c" X="1"
+         Z="5"/>
+  <d:photo name="b" camera="x"/>
+</project>
+"""
+
+
+def test_positions_of_tags_and_attributes_on_later_lines():
+    smap = SourceMap(TEXT)
+    # lxml gives the line where a start tag ends (4); the tag is searched backwards
+    assert smap.position(4, "photo") == (2, 3)
+    assert smap.position(4, "photo", "camera") == (3, 10)
+    assert smap.position(4, "photo", "X") == (3, 21)
+    assert smap.position(4, "photo", "Z") == (4, 10)
+    assert smap.position(5, "photo", "camera") == (5, 21)
+    assert smap.position(4, "photo", "missing") == (2, 3)
+    assert smap.position(99, "photo") == (99, 1)
+
+
+def test_locate_uses_the_registered_element():
+    smap = SourceMap(TEXT)
+    obj = object()
+    smap.add(obj, "photo", 4)
+    problem = smap.locate(Issue(obj, "photo", "bad camera", attr="camera"))
+    assert problem == Problem("<photo>: bad camera", 3, 10)
+
+
+def test_a_value_with_line_breaks_stays_on_one_line():
+    data = project_to_bytes(template("psf").project).replace(
+        b"<workers>2</workers>", b"<workers>2\n\n3</workers>")
+    try:
+        parse_project(data, "p.xml")
+    except ProjectError as error:
+        assert error.lines == [
+            "p.xml:55:5: <workers>: value '2\\n\\n3' is not valid here; expected: Number of "
+            "Blender worker processes run at once, 1 to 256."]
+    else:
+        raise AssertionError("not refused")
+
+
+def test_project_error_lists_every_problem_one_a_line():
+    error = ProjectError("p.xml", [Problem("<a>: one", 1, 2), Problem("<b>: two", 3, 4)])
+    assert str(error) == "p.xml:1:2: <a>: one\np.xml:3:4: <b>: two"
+    assert error.exit_code == 2

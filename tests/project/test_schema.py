@@ -1,0 +1,62 @@
+"""The XSD: compiles in two validators, documents everything, is packaged identically."""
+
+from __future__ import annotations
+
+import filecmp
+from pathlib import Path
+
+import pytest
+import xmlschema
+from lxml import etree
+
+from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS, schema_path, xml_schema
+
+ROOT = Path(__file__).resolve().parents[2]
+CANONICAL = ROOT / "schema" / "designer-project-1.0.xsd"
+XS = "{http://www.w3.org/2001/XMLSchema}"
+
+
+def test_the_packaged_schema_is_the_canonical_one():
+    assert schema_path().is_file()
+    assert filecmp.cmp(schema_path(), CANONICAL, shallow=False), (
+        "designer/schema/ must be a copy of schema/: cp schema/*.xsd designer/schema/")
+
+
+def test_schema_is_versioned_and_namespaced():
+    root = etree.parse(str(CANONICAL)).getroot()
+    assert root.get("targetNamespace") == NAMESPACE
+    assert root.get("version") == "1.0" == SUPPORTED_VERSIONS[-1]
+    enum = root.find(f"{XS}simpleType[@name='SchemaVersion']/{XS}restriction")
+    assert [e.get("value") for e in enum] == list(SUPPORTED_VERSIONS)
+
+
+def test_both_validators_compile_it():
+    assert xml_schema() is not None
+    assert xmlschema.XMLSchema10(str(CANONICAL)).target_namespace == NAMESPACE
+
+
+def test_every_element_and_attribute_is_documented():
+    doc = etree.parse(str(CANONICAL))
+    undocumented = [
+        f"{decl.tag.replace(XS, 'xs:')} {decl.get('name')} (line {decl.sourceline})"
+        for decl in doc.iter(f"{XS}element", f"{XS}attribute")
+        if not (decl.findtext(f"{XS}annotation/{XS}documentation") or "").strip()]
+    assert undocumented == []
+
+
+@pytest.mark.parametrize("words", [
+    "X = Easting", "Y = Northing", "Z = height", "metres", "DEGREES", "R = Rx(omega)",
+    "top-left CORNER", "mm", "origin (E0, N0, H0)", "relative to the folder"])
+def test_the_top_level_documentation_states_the_conventions(words):
+    top = etree.parse(str(CANONICAL)).getroot().findtext(f"{XS}annotation/{XS}documentation")
+    assert words in top
+
+
+@pytest.mark.parametrize("name, unit", [
+    ("focal-length-mm", "mm"), ("altitude-agl-m", "m"), ("gsd-m", "m per px"),
+    ("front-overlap-percent", "percent"), ("grid-angle-deg", "degrees"), ("tilt-deg", "degrees"),
+])
+def test_numeric_elements_state_their_unit(name, unit):
+    doc = etree.parse(str(CANONICAL))
+    decl = doc.find(f".//{XS}element[@name='{name}']")
+    assert unit in decl.findtext(f"{XS}annotation/{XS}documentation")
