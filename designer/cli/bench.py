@@ -9,6 +9,7 @@ BENCHMARKS = {
     "core": "designer.bench.core",
     "scene": "designer.bench.scene",
     "project-io": "designer.bench.project_io",
+    "survey": "designer.bench.survey",
 }
 
 

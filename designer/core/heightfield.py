@@ -51,19 +51,23 @@ class Heightfield:
     def height_at(self, x_m, y_m) -> np.ndarray:
         """Bilinear height at (x, y); NaN outside the grid."""
         x, y = np.broadcast_arrays(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float))
+        return np.where(self.contains(x, y), self.height_at_clamped(x, y), np.nan)
+
+    def height_at_clamped(self, x_m, y_m) -> np.ndarray:
+        """Bilinear height with (x, y) clamped onto the grid: the edge heights extend
+        outwards. Ray marching uses it so a crossing just inside an edge is not lost."""
+        x, y = np.broadcast_arrays(np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float))
         ny, nx = self.heights_m.shape
-        fx = (x - self.x0_m) / self.dx_m
-        fy = (y - self.y0_m) / self.dy_m
-        inside = (fx >= 0) & (fx <= nx - 1) & (fy >= 0) & (fy <= ny - 1)
-        fx = np.clip(np.where(inside, fx, 0.0), 0, nx - 1)
-        fy = np.clip(np.where(inside, fy, 0.0), 0, ny - 1)
+        fx = np.clip((x - self.x0_m) / self.dx_m, 0, nx - 1)
+        fy = np.clip((y - self.y0_m) / self.dy_m, 0, ny - 1)
+        fx = np.where(np.isfinite(fx), fx, 0.0)
+        fy = np.where(np.isfinite(fy), fy, 0.0)
         j = np.minimum(fx.astype(int), nx - 2)
         i = np.minimum(fy.astype(int), ny - 2)
         tx, ty = fx - j, fy - i
         z = self.heights_m
-        h = ((z[i, j] * (1 - tx) + z[i, j + 1] * tx) * (1 - ty)
-             + (z[i + 1, j] * (1 - tx) + z[i + 1, j + 1] * tx) * ty)
-        return np.where(inside, h, np.nan)
+        return ((z[i, j] * (1 - tx) + z[i, j + 1] * tx) * (1 - ty)
+                + (z[i + 1, j] * (1 - tx) + z[i + 1, j + 1] * tx) * ty)
 
     def intersect_rays(
         self,
@@ -76,8 +80,10 @@ class Heightfield:
 
         Marches each ray in steps of half a grid cell from where it enters the height
         band [min, max] of the terrain, then refines the first sign change of
-        ``Z_ray − height`` by bisection to ``tol_m``. Steps of half a cell can step over
-        a ridge thinner than that only when the ray grazes it.
+        ``Z_ray − height`` by bisection to ``tol_m``. Heights are evaluated with the edge
+        values extended outwards, and a crossing that lies outside the grid counts as a
+        miss. Steps of half a cell can step over a ridge thinner than that only when the
+        ray grazes it.
         """
         origins = np.asarray(origins_world, dtype=float).reshape(-1, 3)
         dirs = np.asarray(directions_world, dtype=float).reshape(-1, 3)
@@ -103,7 +109,7 @@ class Heightfield:
 
         def gap(t, idx):
             p = origins[idx] + t[:, None] * dirs[idx]
-            return p[:, 2] - self.height_at(p[:, 0], p[:, 1])
+            return p[:, 2] - self.height_at_clamped(p[:, 0], p[:, 1])
 
         hit_t = np.full(len(origins), np.nan)
         active = np.flatnonzero(t_start <= t_stop)
@@ -121,10 +127,15 @@ class Heightfield:
                 hit_t[active[crossed]] = _bisect(
                     gap, active[crossed], t_prev[crossed], t_next[crossed], tol_m
                 )
-            # NaN gap: the ray left the grid horizontally; keep marching while inside the band.
             cont = ~crossed & (t_next < t_stop[active])
             active, t_prev, g_prev = active[cont], t_next[cont], g_next[cont]
-        return origins + hit_t[:, None] * dirs
+        hits = origins + hit_t[:, None] * dirs
+        x0, x1, y0, y1 = self.extent_m
+        eps = 1e-9 * max(1.0, abs(x0), abs(x1), abs(y0), abs(y1))
+        outside = ~((hits[:, 0] >= x0 - eps) & (hits[:, 0] <= x1 + eps)
+                    & (hits[:, 1] >= y0 - eps) & (hits[:, 1] <= y1 + eps))
+        hits[outside] = np.nan
+        return hits
 
 
 def _bisect(gap, idx, t_lo, t_hi, tol_m):

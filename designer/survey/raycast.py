@@ -1,0 +1,244 @@
+"""Fast ray queries on a height field: first hit and line of sight, vectorised.
+
+World frame X east, Y north, Z up (metres). The surface is the height field's
+bilinear surface; outside its extent there is no terrain. The ground is solid: a ray
+that enters the grid's extent from the side below the surface is stopped where it
+enters (the core's :meth:`Heightfield.intersect_rays` only finds downward crossings).
+
+Method: conservative sphere tracing. Along a ray ``O + t·d`` (|d| = 1) the vertical gap
+``g(t) = O_z + t·d_z − h(x(t), y(t))`` can shrink no faster than
+``rate = −d_z + S·|d_xy|``, where S bounds the terrain slope |∇h| over the stretch of
+the ray still to be searched; so stepping ``t += g / rate`` never passes the first
+crossing. The slope bound and the highest terrain point over a ray's stretch come from
+per-block maxima (blocks of ``block_cells`` × ``block_cells`` grid cells) with an O(1)
+range-maximum table over the box the stretch spans; the search stops where the ray is
+above everything it could still meet. A first-hit search stops as soon as the gap is
+below its tolerance. A line-of-sight search stops when the gap reaches zero, and steps
+at least MIN_STEP_CELLS of a cell so it does not creep along a sight line that grazes
+the terrain: a sight line dipping below the surface for less than that may pass as
+clear. A ray that needs more than ``max_iter`` steps (one grazing a long slope) is
+finished by :meth:`Heightfield.intersect_rays` (half-cell marching).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+
+#: smallest step (in grid cells) of a line-of-sight search close to the surface
+MIN_STEP_CELLS = 0.01
+
+
+class TerrainRaycaster:
+    """Precomputed bounds of one height field for :meth:`first_hit` and :meth:`occluded`."""
+
+    def __init__(self, heightfield: Heightfield, block_cells: int = 8) -> None:
+        self.heightfield = heightfield
+        z = heightfield.heights_m
+        self._ny, self._nx = z.shape
+        self._zf = np.ascontiguousarray(z).ravel()
+        self._x0, self._y0 = float(heightfield.x0_m), float(heightfield.y0_m)
+        self._dx, self._dy = float(heightfield.dx_m), float(heightfield.dy_m)
+        x0, x1, y0, y1 = heightfield.extent_m
+        self._box = (x0, x1, y0, y1)
+        self.z_min_m, self.z_max_m = float(z.min()), float(z.max())
+        cell_max = np.maximum(np.maximum(z[:-1, :-1], z[:-1, 1:]),
+                              np.maximum(z[1:, :-1], z[1:, 1:]))
+        # within a bilinear cell |dh/dx| is at most the larger of its two x edges' slopes
+        ex = np.abs(np.diff(z, axis=1)) / self._dx
+        ey = np.abs(np.diff(z, axis=0)) / self._dy
+        cell_slope = np.hypot(np.maximum(ex[:-1], ex[1:]), np.maximum(ey[:, :-1], ey[:, 1:]))
+        self._block = int(block_cells)
+        self._max_table = _range_max_table(_block_reduce(cell_max, self._block, -np.inf))
+        self._slope_table = _range_max_table(_block_reduce(cell_slope, self._block, 0.0))
+
+    # ------------------------------------------------------------------ queries
+    def height(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """Bilinear height at (x, y), clamped to the grid (no NaN)."""
+        fx = np.clip((np.asarray(x_m, dtype=float) - self._x0) / self._dx, 0, self._nx - 1)
+        fy = np.clip((np.asarray(y_m, dtype=float) - self._y0) / self._dy, 0, self._ny - 1)
+        j = np.minimum(fx.astype(np.intp), self._nx - 2)
+        i = np.minimum(fy.astype(np.intp), self._ny - 2)
+        tx, ty = fx - j, fy - i
+        k = i * self._nx + j
+        zf = self._zf
+        z00, z01 = zf[k], zf[k + 1]
+        z10, z11 = zf[k + self._nx], zf[k + self._nx + 1]
+        lower = z00 + tx * (z01 - z00)
+        return lower + ty * (z10 + tx * (z11 - z10) - lower)
+
+    def first_hit(
+        self, origins_world, directions_world, tol_m: float = 1e-3, max_iter: int = 64
+    ) -> np.ndarray:
+        """First intersection (N, 3) of rays with the terrain; NaN rows for misses.
+
+        The returned point lies on the ray at most ``tol_m`` (vertical gap) above the
+        surface, just before the exact crossing. A ray that enters the grid's extent
+        from the side below the surface hits where it enters (the ground is solid).
+        """
+        org, d = _rays(origins_world, directions_world)
+        n = len(org)
+        t = self._march(org, d, np.zeros(n), np.full(n, np.inf), tol_m, 0.0, max_iter)
+        return org + t[:, None] * d
+
+    def occluded(
+        self, points_world, cameras_world, tol_m: float = 0.01, max_iter: int = 256
+    ) -> np.ndarray:
+        """(N,) True where the terrain hides point k from camera k (pairwise, N × 3 each).
+
+        The sight line is blocked where it touches or passes below the surface anywhere
+        between the camera and ``tol_m`` short of the point, i.e. where the ray from the
+        camera meets the terrain first closer than ``|C − P| − tol_m``. The point itself
+        may lie on the surface (a GCP, a ground sample). Near the surface the search
+        steps at least MIN_STEP_CELLS of a grid cell, so a sight line that dips below
+        the surface for less than that (it grazes the terrain) may pass as clear.
+        """
+        P = np.asarray(points_world, dtype=float).reshape(-1, 3)
+        C = np.asarray(cameras_world, dtype=float).reshape(-1, 3)
+        P, C = np.broadcast_arrays(P, C)
+        v = C - P
+        dist = np.linalg.norm(v, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = v / dist[:, None]
+        out = np.zeros(len(P), dtype=bool)
+        todo = np.flatnonzero(dist > tol_m)
+        if todo.size:
+            min_step = MIN_STEP_CELLS * min(self._dx, self._dy)
+            t = self._march(P[todo], u[todo], np.full(todo.size, float(tol_m)), dist[todo],
+                            0.0, min_step, max_iter)
+            out[todo] = np.isfinite(t)
+        return out
+
+    # ---------------------------------------------------------------- internals
+    def _march(self, org, d, t0, t1, touch_m, min_step_m, max_iter) -> np.ndarray:
+        """Parameter t of the first point in [t0, t1] with gap ≤ touch_m; NaN if none.
+
+        Steps are gap / rate (never past a crossing) but at least ``min_step_m``; with
+        ``touch_m = 0`` that minimum lets a sight line pass over a grazing point instead
+        of creeping towards it.
+        """
+        t0, t1 = self._clip(org, d, t0.copy(), t1.copy())
+        hit = np.full(len(org), np.nan)
+        live = np.flatnonzero(t0 <= t1)
+        if live.size == 0:
+            return hit
+        org, d, t0, t1 = org[live], d[live], t0[live], t1[live]
+        # the terrain's highest point and steepest slope over each ray's stretch
+        zmax, slope = self._bounds_along(org, d, t0, t1)
+        dz = d[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_top = (zmax - org[:, 2]) / dz
+        t0 = np.where(dz < 0, np.maximum(t0, t_top), t0)
+        t1 = np.where(dz > 0, np.minimum(t1, t_top), t1)
+        t1 = np.where((dz == 0) & (org[:, 2] > zmax), -np.inf, t1)
+        rate = -dz + slope * np.hypot(d[:, 0], d[:, 1])
+        idx = np.flatnonzero(t0 <= t1)
+        t = t0[idx]
+        for _ in range(max_iter):
+            if idx.size == 0:
+                break
+            p = org[idx] + t[:, None] * d[idx]
+            gap = p[:, 2] - self.height(p[:, 0], p[:, 1])
+            touched = gap <= touch_m
+            hit[live[idx[touched]]] = t[touched]
+            r, end = rate[idx], t1[idx]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t_next = np.minimum(t + np.maximum(gap / r, min_step_m), end)
+            going = ~touched & (r > 0) & (t < end)
+            idx, t = idx[going], t_next[going]
+        if idx.size:  # rays still grazing the terrain: finish them with the core's marching
+            start = org[idx] + t[:, None] * d[idx]
+            p = self.heightfield.intersect_rays(start, d[idx], tol_m=max(touch_m, 1e-6))
+            along = np.einsum("ij,ij->i", p - start, d[idx])
+            ok = np.isfinite(along) & (t + along <= t1[idx])
+            hit[live[idx[ok]]] = (t + along)[ok]
+        return hit
+
+    def _clip(self, org, d, t0, t1):
+        """Narrow [t0, t1] to where the ray is over the grid and not above its highest
+        point (below the lowest point is inside the solid ground, so it stays)."""
+        x0, x1, y0, y1 = self._box
+        for axis, lo, hi in ((0, x0, x1), (1, y0, y1), (2, -np.inf, self.z_max_m)):
+            o, v = org[:, axis], d[:, axis]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ta, tb = (lo - o) / v, (hi - o) / v
+            flat = v == 0
+            inside = (o >= lo) & (o <= hi)
+            t0 = np.where(flat, np.where(inside, t0, np.inf), np.maximum(t0, np.minimum(ta, tb)))
+            t1 = np.where(flat, np.where(inside, t1, -np.inf),
+                          np.minimum(t1, np.maximum(ta, tb)))
+        return t0, t1
+
+    def _bounds_along(self, org, d, t0, t1):
+        """Highest terrain and steepest slope over the box spanned by the ray's stretch."""
+        a = org + t0[:, None] * d
+        # t1 is infinite only for a vertical ray, whose X and Y never change
+        b = org + np.where(np.isfinite(t1), t1, t0)[:, None] * d
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        B = self._block
+        pad_x, pad_y = 1e-6 * self._dx, 1e-6 * self._dy  # a stretch ending on a cell edge
+        j0 = _cell(lo[:, 0] - pad_x, self._x0, self._dx, self._nx) // B
+        j1 = _cell(hi[:, 0] + pad_x, self._x0, self._dx, self._nx) // B
+        i0 = _cell(lo[:, 1] - pad_y, self._y0, self._dy, self._ny) // B
+        i1 = _cell(hi[:, 1] + pad_y, self._y0, self._dy, self._ny) // B
+        return (_range_max(self._max_table, i0, i1, j0, j1),
+                _range_max(self._slope_table, i0, i1, j0, j1))
+
+
+# ----------------------------------------------------------------------------- helpers
+def _rays(origins, directions):
+    org = np.asarray(origins, dtype=float).reshape(-1, 3)
+    d = np.asarray(directions, dtype=float).reshape(-1, 3)
+    org, d = np.broadcast_arrays(org, d)
+    return org.copy(), d / np.linalg.norm(d, axis=1, keepdims=True)
+
+
+def _cell(x, x0, dx, n):
+    return np.clip(np.floor((x - x0) / dx), 0, n - 2).astype(np.intp)
+
+
+def _block_reduce(a: np.ndarray, B: int, fill: float) -> np.ndarray:
+    ny, nx = a.shape
+    by, bx = -(-ny // B), -(-nx // B)
+    padded = np.full((by * B, bx * B), fill)
+    padded[:ny, :nx] = a
+    return padded.reshape(by, B, bx, B).max(axis=(1, 3))
+
+
+def _range_max_table(a: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
+    """Sparse table: T[kx, ky][i, j] = max of a[i:i + 2**ky, j:j + 2**kx]."""
+    tables = {}
+    cur_x, kx = a, 0
+    while True:
+        cur, ky = cur_x, 0
+        while True:
+            tables[(kx, ky)] = cur
+            step = 1 << ky
+            if cur.shape[0] <= step:
+                break
+            cur, ky = np.maximum(cur[:-step], cur[step:]), ky + 1
+        step = 1 << kx
+        if cur_x.shape[1] <= step:
+            break
+        cur_x, kx = np.maximum(cur_x[:, :-step], cur_x[:, step:]), kx + 1
+    return tables
+
+
+def _floor_log2(n: np.ndarray) -> np.ndarray:
+    return np.frexp(n.astype(float))[1] - 1
+
+
+def _range_max(tables, i0, i1, j0, j1) -> np.ndarray:
+    """Max over the inclusive block ranges [i0, i1] × [j0, j1] (arrays of equal length)."""
+    ky, kx = _floor_log2(i1 - i0 + 1), _floor_log2(j1 - j0 + 1)
+    key = kx * 64 + ky
+    out = np.empty(len(i0))
+    for k in np.flatnonzero(np.bincount(key)):  # the few distinct keys, without a sort
+        sel = key == k
+        kx_, ky_ = divmod(int(k), 64)
+        T = tables[(kx_, ky_)]
+        a, b = i0[sel], i1[sel] - (1 << ky_) + 1
+        c, e = j0[sel], j1[sel] - (1 << kx_) + 1
+        out[sel] = np.maximum(np.maximum(T[a, c], T[a, e]), np.maximum(T[b, c], T[b, e]))
+    return out
