@@ -17,10 +17,11 @@ from designer.errors import DesignerError
 
 #: modules that provide sub-commands, in the order ``--help`` lists them
 COMMAND_MODULES = [
-    "designer.cli.demo",
-    "designer.cli.bench",
     "designer.cli.new",
     "designer.cli.check",
+    "designer.cli.render",
+    "designer.cli.demo",
+    "designer.cli.bench",
 ]
 
 

@@ -27,7 +27,7 @@ Role = Literal["control", "check"]
 TargetShape = Literal["checker", "cross", "circle", "square"]
 TexturePattern = Literal["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
 Interpolation = Literal["closest", "linear"]
-Preset = Literal["draft", "standard", "high"]
+Preset = Literal["draft", "survey", "metrology"]
 PixelFilterType = Literal["box", "gaussian", "blackman-harris"]
 ImageFormat = Literal["png", "jpeg", "tiff", "exr"]
 GroundTruthFormat = Literal["colmap", "odm", "metashape", "opk", "gcp"]
@@ -35,7 +35,7 @@ Orientation = Literal["landscape", "portrait"]
 StartCorner = Literal["SW", "SE", "NW", "NE"]
 
 #: samples per pixel of each render preset (render/samples overrides it)
-PRESET_SAMPLES = {"draft": 16, "standard": 64, "high": 256}
+PRESET_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 
 
 # ---------------------------------------------------------------------- project level
@@ -387,10 +387,10 @@ class Effects:
 
 @dataclass(frozen=True)
 class Render:
-    preset: Preset = "standard"
+    preset: Preset = "survey"
     samples: int | None = None
-    pixel_filter_type: PixelFilterType = "gaussian"
-    pixel_filter_width_px: float = 1.5
+    pixel_filter_type: PixelFilterType = "box"
+    pixel_filter_width_px: float = 1.0
     resolution_scale: float = 1.0
     workers: int = 1
     output_format: ImageFormat = "png"

@@ -91,7 +91,7 @@ def survey() -> Template:
         scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
         effects=m.Effects(vignetting=m.Vignetting(0.2), sensor_noise=m.SensorNoise(1.5, 5),
                           motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(92)),
-        render=m.Render(preset="draft", pixel_filter_type="gaussian", pixel_filter_width_px=1.5,
+        render=m.Render(preset="survey", pixel_filter_type="box", pixel_filter_width_px=1.0,
                         resolution_scale=0.25, workers=2, output_format="png", bit_depth=8),
         outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),
     )
@@ -138,7 +138,7 @@ def validation_cube() -> Template:
         origin=m.Origin(0.0, 0.0, 0.0),
         scene=scene, cameras=(cam,),
         trajectory=m.Trajectory(exterior_orientations=tuple(photos)),
-        render=m.Render(preset="standard", resolution_scale=0.125, workers=2),
+        render=m.Render(preset="survey", resolution_scale=0.125, workers=2),
         outputs=m.Outputs("output", ("colmap", "opk", "gcp")),
     )
     return Template(project, {"cube.obj": cube_obj_bytes()})
@@ -167,7 +167,7 @@ def psf() -> Template:
         scene=scene, cameras=(cam,),
         trajectory=m.Trajectory(exterior_orientations=photos),
         effects=m.Effects(blur=m.Blur(0.7)),
-        render=m.Render(preset="high", samples=256, pixel_filter_type="gaussian",
+        render=m.Render(preset="metrology", samples=256, pixel_filter_type="gaussian",
                         pixel_filter_width_px=1.5, resolution_scale=0.5, workers=2,
                         output_format="png", bit_depth=16),
         outputs=m.Outputs("output", ("opk",)),

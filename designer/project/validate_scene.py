@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from datetime import datetime
 from pathlib import Path
@@ -81,6 +82,11 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
     if not (e.width_m > 0 and e.length_m > 0):
         return []  # reported with the extent
     out = []
+    cells = (e.width_m / spacing) * (e.length_m / spacing)
+    if not math.isfinite(cells) or cells > MAX_TERRAIN_NODES:
+        return [Issue(src, "procedural", f"a {spacing:g} m grid over {e.width_m:g} x "
+                      f"{e.length_m:g} m has more than {MAX_TERRAIN_NODES:.3g} nodes; use a "
+                      "coarser grid-spacing-m or a smaller extent", attr="grid-spacing-m")]
     for name, size in (("width", e.width_m), ("length", e.length_m)):
         n = round(size / spacing)
         if n < 1 or abs(n * spacing - size) > GRID_TOL * size:

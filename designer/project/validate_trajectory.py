@@ -188,8 +188,8 @@ def effects_issues(fx: m.Effects | None) -> list[Issue]:
 
 def render_output_issues(project: m.Project) -> list[Issue]:
     r, out = project.render, []
-    if r.preset not in ("draft", "standard", "high"):
-        out.append(Issue(r, "preset", "the preset must be draft, standard or high"))
+    if r.preset not in ("draft", "survey", "metrology"):
+        out.append(Issue(r, "preset", "the preset must be draft, survey or metrology"))
     if r.samples is not None and not 1 <= r.samples <= 65536:
         out.append(Issue(r, "samples", f"samples = {r.samples!r} must be from 1 to 65536"))
     if not (math.isfinite(r.pixel_filter_width_px) and 0.01 <= r.pixel_filter_width_px <= 10):

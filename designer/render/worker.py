@@ -111,7 +111,8 @@ def emission_material(name: str, spec: dict, base: Path) -> bpy.types.Material:
     nodes.clear()
     out = nodes.new("ShaderNodeOutputMaterial")
     emit = nodes.new("ShaderNodeEmission")
-    emit.inputs["Strength"].default_value = 1.0
+    # A light map stores L / strength so it fits 16 bits; strength scales it back.
+    emit.inputs["Strength"].default_value = float(spec.get("strength", 1.0))
     links.new(emit.outputs["Emission"], out.inputs["Surface"])
     if "color" in spec:
         emit.inputs["Color"].default_value = (*spec["color"], 1.0)

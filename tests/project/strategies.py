@@ -163,7 +163,7 @@ def renders(draw) -> m.Render:
     fmt, depth = draw(st.sampled_from([("png", 8), ("png", 16), ("jpeg", 8), ("tiff", 8),
                                        ("tiff", 16), ("tiff", 32), ("exr", 16), ("exr", 32)]))
     return m.Render(
-        preset=draw(st.sampled_from(["draft", "standard", "high"])),
+        preset=draw(st.sampled_from(["draft", "survey", "metrology"])),
         samples=draw(st.none() | st.integers(1, 65536)),
         pixel_filter_type=draw(st.sampled_from(["box", "gaussian", "blackman-harris"])),
         pixel_filter_width_px=draw(reals(0.01, 10)),

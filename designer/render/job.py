@@ -1,0 +1,145 @@
+"""Turn a project into a render job: scene files in local coordinates plus job.json.
+
+The job is what a render worker reads (``designer.render.worker``); it is prepared once
+per output folder and shared by all workers, local or on a cluster. Everything handed
+to Blender is local — world minus the project origin — because Blender stores float32.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from designer import __version__
+from designer.atomic import atomic_path, write_text_atomic
+from designer.core.interior import InteriorOrientation
+from designer.export.groundtruth import CameraPose
+from designer.project import model as m
+from designer.render.blender_camera import blender_camera, blender_matrix_world
+from designer.scene.build import BuiltScene, build_scene
+from designer.scene.lighting import (
+    LIGHTMAP_SCALE,
+    bake_lightmap,
+    encode_lightmap_png16,
+    irradiance,
+    sun_direction_world,
+)
+from designer.survey.project_poses import project_poses, render_interior
+
+#: samples per pixel of each quality preset; measured costs in the README
+QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
+PIXEL_FILTERS = {"box": "BOX", "gaussian": "GAUSSIAN", "blackman-harris": "BLACKMAN_HARRIS"}
+#: linear reflectance of a target's white and black quadrants
+TARGET_WHITE, TARGET_BLACK = 0.8, 0.03
+LIGHTMAP_MAX_PX = 512
+JOB_DIR = ".designer-job"
+
+
+@dataclass(frozen=True)
+class PreparedJob:
+    job_path: Path
+    interior: InteriorOrientation
+    poses: tuple[CameraPose, ...]
+    scene: BuiltScene
+
+
+def prepare_job(
+    project: m.Project,
+    base_dir: Path,
+    out_dir: Path,
+    quality: str | None = None,
+) -> PreparedJob:
+    """Build the scene, write its files under ``out_dir/.designer-job`` and the job.json."""
+    out_dir = Path(out_dir)
+    job_dir = out_dir / JOB_DIR
+    job_dir.mkdir(parents=True, exist_ok=True)
+    origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
+    scene = build_scene(project, base_dir)
+    poses, camera_id = project_poses(project, scene.heightfield)
+    interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
+
+    _write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
+    terrain_material = {"texture": "texture.png", "uv_tiles": list(scene.texture_tiles),
+                        "interpolation": scene.interpolation.capitalize()}
+    if scene.heightfield is not None:
+        x0, x1, y0, y1 = scene.heightfield.extent_m
+        scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
+        size = (max(2, round((x1 - x0) * scale)), max(2, round((y1 - y0) * scale)))
+        light = bake_lightmap(scene.heightfield, scene.sun_azimuth_deg, scene.sun_elevation_deg,
+                              scene.sun_strength, scene.sky_strength, size_px=size)
+        _write_png(job_dir / "lightmap.png", encode_lightmap_png16(light))
+        terrain_material.update(lightmap="lightmap.png", strength=LIGHTMAP_SCALE)
+    _save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
+              faces=scene.terrain.faces, uv=scene.terrain.uv)
+    objects = [{"name": "terrain", "mesh": "terrain.npz", "materials": [terrain_material]}]
+    if scene.targets:
+        objects.append(_targets_object(scene, origin, job_dir))
+
+    render = project.render
+    samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
+    cam = blender_camera(interior).to_dict()
+    job = {
+        "designer_version": __version__,
+        "project": project.name,
+        "output_dir": str(out_dir.resolve()),
+        "origin_world": origin.tolist(),
+        "render": {"samples": samples, "seed": 0,
+                   "pixel_filter": PIXEL_FILTERS[render.pixel_filter_type],
+                   "filter_width_px": render.pixel_filter_width_px,
+                   "format": "tiff" if render.output_format == "tiff" else "png",
+                   "bit_depth": render.bit_depth, "quality": quality},
+        "lighting": {"mode": "emission"},
+        "camera": cam,
+        "objects": objects,
+        "frames": [{"index": i, "image_name": p.image_name,
+                    "matrix_world_local": blender_matrix_world(
+                        p.C_world, p.R_cam_to_world, origin).tolist()}
+                   for i, p in enumerate(poses)],
+    }
+    job_path = job_dir / "job.json"
+    write_text_atomic(job_path, json.dumps(job, indent=1))
+    return PreparedJob(job_path=job_path, interior=interior, poses=tuple(poses), scene=scene)
+
+
+def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> dict:
+    """All GCP targets as one mesh: material 0 white, 1 black, shaded like the ground."""
+    vertices, faces, material_index, light = [], [], [], []
+    sun = sun_direction_world(scene.sun_azimuth_deg, scene.sun_elevation_deg)
+    offset = 0
+    for t in scene.targets:
+        normal = np.cross(t.vertices_world[1] - t.vertices_world[0],
+                          t.vertices_world[3] - t.vertices_world[0])
+        normal /= np.linalg.norm(normal)
+        lit = 1.0
+        if scene.heightfield is not None and sun[2] > 0:
+            hit = scene.heightfield.intersect_rays(t.true_xyz[None] + 0.01 * normal, sun[None])
+            lit = 0.0 if np.isfinite(hit[0, 0]) else 1.0
+        e = float(irradiance(normal[None], np.array([lit]), sun,
+                             scene.sun_strength, scene.sky_strength)[0])
+        vertices.append(t.vertices_world - origin)
+        faces.append(t.faces + offset)
+        white = t.colors[:, 0] > 127
+        material_index.append(np.where(white, 0, 1))
+        light.append(e)
+        offset += len(t.vertices_world)
+    # One light value for all targets keeps two materials; targets share open ground.
+    e = float(np.median(light))
+    _save_npz(job_dir / "targets.npz", vertices_local=np.concatenate(vertices),
+              faces=np.concatenate(faces), material_index=np.concatenate(material_index))
+    return {"name": "gcp_targets", "mesh": "targets.npz",
+            "materials": [{"color": [TARGET_WHITE * e] * 3}, {"color": [TARGET_BLACK * e] * 3}]}
+
+
+def _write_png(path: Path, image: np.ndarray) -> None:
+    with atomic_path(path) as tmp:
+        if not cv2.imwrite(str(tmp), image):
+            raise OSError(f"could not write {path}")
+
+
+def _save_npz(path: Path, **arrays) -> None:
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez(f, **arrays)

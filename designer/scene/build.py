@@ -1,0 +1,172 @@
+"""Build the concrete scene of a project: terrain, texture, GCP targets and sun.
+
+Everything here is in world coordinates (float64) and deterministic for a project:
+the same file always gives the same terrain, texture, targets and surveyed
+coordinates. The render job (designer.render.job) turns it into local coordinates.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+from designer.errors import DesignerError
+from designer.project import model as m
+from designer.scene.gcp_target import (
+    DEFAULT_LIFT_M,
+    target_clearance_m,
+    target_mesh,
+    target_point_world,
+    target_pose_on_terrain,
+)
+from designer.scene.lighting import sun_position_deg
+from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh
+from designer.scene.terrain import load_dem, procedural_terrain
+from designer.scene.texture import checkerboard_texture, load_texture, procedural_texture
+
+#: the largest procedural texture side generated (px)
+MAX_TEXTURE_PX = 8192
+
+
+@dataclass(frozen=True)
+class BuiltTarget:
+    """A GCP target as built: true point (the visible checker centre) and its geometry."""
+
+    target: m.Target
+    true_xyz: np.ndarray
+    surveyed_xyz: np.ndarray
+    sigma_xyz: np.ndarray
+    vertices_world: np.ndarray
+    faces: np.ndarray
+    colors: np.ndarray
+
+
+@dataclass(frozen=True)
+class BuiltScene:
+    heightfield: Heightfield | None
+    terrain: TerrainMesh
+    texture_rgb: np.ndarray
+    texture_tiles: tuple[int, int]
+    interpolation: str
+    targets: tuple[BuiltTarget, ...]
+    sun_azimuth_deg: float
+    sun_elevation_deg: float
+    sun_strength: float
+    sky_strength: float
+
+
+def build_heightfield(terrain: m.Terrain, base_dir: Path) -> Heightfield | None:
+    """The terrain as a height field (None for a mesh terrain)."""
+    e = terrain.extent
+    src = terrain.source
+    if isinstance(src, m.FlatTerrain):
+        return Heightfield(e.min_X, e.min_Y, e.width_m, e.length_m,
+                           np.full((2, 2), float(src.height_m)))
+    if isinstance(src, m.ProceduralTerrain):
+        relief = 0.5 * (src.max_height_m - src.min_height_m)
+        return procedural_terrain(
+            e.width_m, e.length_m, src.grid_spacing_m, relief, src.seed,
+            x0_m=e.min_X, y0_m=e.min_Y,
+            base_height_m=0.5 * (src.max_height_m + src.min_height_m),
+            roughness=src.roughness)
+    if isinstance(src, m.DemTerrain):
+        return load_dem(base_dir / src.file)
+    return None
+
+
+def build_terrain_mesh(
+    terrain: m.Terrain, hf: Heightfield | None, base_dir: Path, origin: np.ndarray
+) -> TerrainMesh:
+    if hf is not None:
+        return heightfield_to_mesh(hf)
+    mesh = load_mesh(base_dir / terrain.source.file)
+    # Mesh terrain files hold world − origin coordinates.
+    return TerrainMesh(vertices_world=mesh.vertices_world + origin, faces=mesh.faces,
+                       uv=mesh.uv)
+
+
+def build_texture(texture: m.Texture, terrain: m.Terrain, base_dir: Path) -> np.ndarray:
+    src = texture.source
+    if isinstance(src, m.ImageTexture):
+        return load_texture(base_dir / src.file)
+    tile_w = terrain.extent.width_m / texture.repeat_X
+    tile_h = terrain.extent.length_m / texture.repeat_Y
+    w_px = round(tile_w / src.texel_size_m)
+    h_px = round(tile_h / src.texel_size_m)
+    if max(w_px, h_px) > MAX_TEXTURE_PX:
+        raise DesignerError(
+            f"procedural texture would be {w_px} x {h_px} px (tile {tile_w:g} x {tile_h:g} m at "
+            f"{src.texel_size_m} m per texel); the limit is {MAX_TEXTURE_PX} px: raise "
+            "texel-size-m or the tiling repeat")
+    if src.pattern == "checkerboard":
+        return checkerboard_texture((max(2, w_px // 2 * 2), max(2, h_px // 2 * 2)), 1)
+    if src.pattern in ("grass", "soil"):
+        return procedural_texture((w_px, h_px), src.seed, kind=src.pattern)
+    if src.pattern in ("gravel", "noise"):
+        return procedural_texture((w_px, h_px), src.seed, kind="soil")
+    raise DesignerError(
+        f"texture pattern '{src.pattern}' cannot be rendered on terrain yet; use grass, soil, "
+        "gravel, noise or checkerboard")
+
+
+def build_targets(project: m.Project, hf: Heightfield | None) -> tuple[BuiltTarget, ...]:
+    targets = project.targets
+    if not targets:
+        return ()
+    accuracy = project.scene.targets.survey_accuracy
+    rng = np.random.default_rng(accuracy.seed if accuracy else 0)
+    out = []
+    for t in targets:
+        if hf is None:
+            if t.true.Z is None:
+                raise DesignerError(
+                    f"target {t.id}: a mesh terrain cannot drape targets; give its true Z")
+            centre = np.array([t.true.X, t.true.Y, t.true.Z])
+            R = np.eye(3)
+            lift = DEFAULT_LIFT_M
+        else:
+            centre, R = target_pose_on_terrain(hf, t.true.X, t.true.Y, t.size_m)
+            if t.true.Z is not None:
+                centre = np.array([t.true.X, t.true.Y, t.true.Z])
+            # Lift the plate clear of curved ground so the terrain never pokes through.
+            clearance = target_clearance_m(hf, centre, R, t.size_m, DEFAULT_LIFT_M)
+            lift = DEFAULT_LIFT_M + max(0.0, 0.002 - clearance)
+        vertices, faces, colors = target_mesh(centre, R, t.size_m, lift)
+        true_xyz = target_point_world(centre, R, lift)
+        # Draw the simulated survey error for every target, in file order, so adding a
+        # measured position to one target does not change the others' errors.
+        sigma = (np.array([accuracy.sigma.X, accuracy.sigma.Y, accuracy.sigma.Z])
+                 if accuracy else np.zeros(3))
+        error = rng.normal(0.0, 1.0, 3) * sigma
+        if t.surveyed is not None:
+            p, s = t.surveyed.position, t.surveyed.sigma
+            surveyed, sigma = np.array([p.X, p.Y, p.Z]), np.array([s.X, s.Y, s.Z])
+        else:
+            surveyed = true_xyz + error
+        out.append(BuiltTarget(t, true_xyz, surveyed, sigma, vertices, faces, colors))
+    return tuple(out)
+
+
+def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
+    """Everything the renderer and the ground truth need, in world coordinates."""
+    base_dir = Path(base_dir)
+    origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
+    scene = project.scene
+    hf = build_heightfield(scene.terrain, base_dir)
+    mesh = build_terrain_mesh(scene.terrain, hf, base_dir, origin)
+    texture = build_texture(scene.texture, scene.terrain, base_dir)
+    sun = scene.lighting.sun
+    if isinstance(sun, m.Sun):
+        azimuth, elevation = sun.azimuth_deg, sun.elevation_deg
+    else:
+        azimuth, elevation = sun_position_deg(sun.date_time, sun.latitude_deg, sun.longitude_deg)
+    return BuiltScene(
+        heightfield=hf, terrain=mesh, texture_rgb=texture,
+        texture_tiles=(scene.texture.repeat_X, scene.texture.repeat_Y),
+        interpolation=scene.texture.interpolation,
+        targets=build_targets(project, hf),
+        sun_azimuth_deg=float(azimuth), sun_elevation_deg=float(elevation),
+        sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength)

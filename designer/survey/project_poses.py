@@ -1,0 +1,118 @@
+"""A project's camera stations: explicit exterior orientations and/or its flight plan.
+
+The flight plan is generated deterministically from its parameters and seed, so the
+same file always gives the same poses; ``designer plan --write-poses`` stores them in
+the XML as explicit exterior orientations for readers that want them spelled out.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from designer.core.distortion import BrownConrady, FisheyeEquidistant
+from designer.core.heightfield import Heightfield
+from designer.core.interior import InteriorOrientation
+from designer.core.rotation import rotation_from_opk
+from designer.errors import DesignerError
+from designer.export.groundtruth import CameraPose
+from designer.project import model as m
+from designer.survey.flight import FlightPlan, apply_pose_noise, plan_flight
+
+IMAGE_EXTENSIONS = {"png": ".png", "jpeg": ".jpg", "tiff": ".tif", "exr": ".exr"}
+
+
+def interior_from_camera(camera: m.Camera) -> InteriorOrientation:
+    """The core camera model of a project camera."""
+    d = camera.distortion
+    if isinstance(d, m.BrownConradyDistortion):
+        distortion = BrownConrady(d.k1, d.k2, d.k3, d.p1, d.p2)
+    elif isinstance(d, m.FisheyeEquidistantDistortion):
+        distortion = FisheyeEquidistant(d.k1, d.k2, d.k3, d.k4)
+    else:
+        distortion = None
+    return InteriorOrientation(
+        focal_length_mm=camera.focal_length_mm, sensor_width_mm=camera.sensor_width_mm,
+        sensor_height_mm=camera.sensor_height_mm, image_width_px=camera.image_width_px,
+        image_height_px=camera.image_height_px,
+        principal_point_x_mm=camera.principal_point_x_mm,
+        principal_point_y_mm=camera.principal_point_y_mm,
+        pixel_aspect=camera.pixel_aspect, distortion=distortion)
+
+
+def render_interior(camera: m.Camera, resolution_scale: float = 1.0) -> InteriorOrientation:
+    """The camera as rendered: same sensor and lens, image size × ``resolution_scale``."""
+    full = interior_from_camera(camera)
+    if resolution_scale == 1.0:
+        return full
+    return dataclasses.replace(
+        full, image_width_px=round(camera.image_width_px * resolution_scale),
+        image_height_px=round(camera.image_height_px * resolution_scale))
+
+
+def flight_plan_for(
+    plan: m.FlightPlan, interior: InteriorOrientation, hf: Heightfield | None,
+    extension: str,
+) -> FlightPlan:
+    """The planned stations (without noise) of a project's flight plan."""
+    reference = plan.altitude_reference
+    if hf is None and isinstance(reference, str) and not plan.terrain_following:
+        raise DesignerError(
+            "the flight plan's altitude reference is the terrain's "
+            f"{reference} height, but the terrain is a mesh; give a numeric reference height")
+    return plan_flight(
+        np.array(plan.area, dtype=float), interior,
+        altitude_agl_m=plan.altitude_agl_m, gsd_m=plan.gsd_m,
+        front_overlap_fraction=plan.front_overlap_percent / 100.0,
+        side_overlap_fraction=plan.side_overlap_percent / 100.0,
+        grid_angle_deg=plan.grid_angle_deg, crosshatch=plan.crosshatch, heightfield=hf,
+        altitude_mode="terrain_following" if plan.terrain_following else "constant",
+        altitude_reference=reference, forward_tilt_deg=plan.tilt_deg,
+        orientation=plan.orientation, start_corner=plan.start_corner,
+        image_name_format=plan.image_prefix + "{index:05d}" + extension, first_index=1)
+
+
+def project_poses(
+    project: m.Project, hf: Heightfield | None
+) -> tuple[list[CameraPose], str]:
+    """All stations of the project in order (explicit ones first) and their camera id.
+
+    One camera per render: every station must use the same camera.
+    """
+    extension = IMAGE_EXTENSIONS[project.render.output_format]
+    poses: list[CameraPose] = []
+    camera_ids = []
+    for eo in project.trajectory.exterior_orientations:
+        R = rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
+                                                          eo.kappa_deg)))
+        poses.append(CameraPose(eo.name, np.array([eo.X, eo.Y, eo.Z]), R))
+        camera_ids.append(eo.camera)
+    plan = project.trajectory.flight_plan
+    if plan is not None:
+        # Flight planning uses the full-size camera: overlaps do not depend on scaling.
+        interior = interior_from_camera(project.camera(plan.camera))
+        flight = flight_plan_for(plan, interior, hf, extension)
+        stations = list(flight.stations)
+        noise = plan.pose_noise
+        if noise is not None:
+            stations = apply_pose_noise(
+                stations, (noise.sigma_X_m, noise.sigma_Y_m, noise.sigma_Z_m),
+                (noise.sigma_omega_deg, noise.sigma_phi_deg, noise.sigma_kappa_deg),
+                seed=plan.random_seed)
+        poses.extend(CameraPose(s.image_name, s.C_world, s.R_cam_to_world) for s in stations)
+        camera_ids.extend([plan.camera] * len(stations))
+    if not poses:
+        raise DesignerError("the project has no camera stations: add exterior orientations "
+                            "or a flight plan to its trajectory")
+    if len(set(camera_ids)) > 1:
+        raise DesignerError(
+            f"stations use several cameras ({', '.join(sorted(set(camera_ids)))}); render one "
+            "camera per project")
+    names = [p.image_name for p in poses]
+    if len(set(names)) != len(names):
+        dup = next(n for n in names if names.count(n) > 1)
+        raise DesignerError(f"image name {dup} is used twice (explicit and planned stations "
+                            "overlap); change the flight plan's image-prefix")
+    return poses, camera_ids[0]
