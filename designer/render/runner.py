@@ -128,6 +128,8 @@ def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
             proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT,
                                     pass_fds=(write_fd,), env=env)
             os.close(write_fd)
+            _notify(progress, {"event": "worker_started", "worker": k, "pid": proc.pid,
+                               "frames": batch})
             stream = os.fdopen(read_fd, "r")
             selector.register(stream, selectors.EVENT_READ, data=k)
             procs.append((proc, stream, log))

@@ -1,0 +1,64 @@
+"""Small real surveys rendered with Blender/Cycles for the render tests."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from designer.project import model as m
+from designer.project import write_project
+
+
+def small_survey(
+    origin=(0.0, 0.0, 0.0), principal_point_mm=(0.0, 0.0), n_photos=4, samples=16,
+    effects=None, distortion=None, size_px=(640, 480),
+) -> m.Project:
+    """A 40 x 40 m gentle terrain, 9 large checker targets, a few photos from 30 m."""
+    E0, N0, H0 = origin
+    W, H = size_px
+    cam = m.Camera(id="cam", focal_length_mm=5.0, sensor_width_mm=W * 0.01,
+                   sensor_height_mm=H * 0.01, image_width_px=W, image_height_px=H,
+                   principal_point_x_mm=principal_point_mm[0],
+                   principal_point_y_mm=principal_point_mm[1], distortion=distortion)
+    targets = tuple(
+        m.Target(f"T{i}{j}", "check" if (i + j) % 2 else "control", "checker", 1.5,
+                 m.TruePosition(E0 + 10.0 * i, N0 + 10.0 * j),
+                 m.SurveyedPosition(m.Point3(E0 + 10.0 * i, N0 + 10.0 * j, H0),
+                                    m.Sigma3(0.0, 0.0, 0.0)))
+        for i in (-1, 0, 1) for j in (-1, 0, 1))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(E0 - 20, N0 - 20, E0 + 20, N0 + 20), m.ProceduralTerrain(
+            seed=1, grid_spacing_m=0.5, roughness=0.1, min_height_m=H0 - 0.5,
+            max_height_m=H0 + 0.5)),
+        texture=m.Texture(m.ProceduralTexture("grass", seed=2, texel_size_m=0.02),
+                          repeat_X=4, repeat_Y=4, interpolation="linear"),
+        targets=m.Targets(targets),
+        lighting=m.Lighting(m.Sun(azimuth_deg=150.0, elevation_deg=55.0)),
+    )
+    rng = np.random.default_rng(4)
+    photos = tuple(
+        m.ExteriorOrientation(f"IMG_{k:03d}.png", cam.id,
+                              E0 + float(rng.uniform(-4, 4)), N0 + float(rng.uniform(-4, 4)),
+                              H0 + 30.0 + float(rng.uniform(-1, 1)),
+                              float(rng.uniform(-4, 4)), float(rng.uniform(-4, 4)),
+                              float(rng.uniform(-180, 180)))
+        for k in range(n_photos))
+    return m.Project(
+        name="render test", crs="EPSG:32632", origin=m.Origin(E0, N0, H0), scene=scene,
+        cameras=(cam,), trajectory=m.Trajectory(exterior_orientations=photos),
+        effects=effects,
+        render=m.Render(preset="survey", samples=samples, workers=1),
+        outputs=m.Outputs("output", ("colmap", "odm", "metashape", "opk", "gcp")),
+    )
+
+
+def write(project: m.Project, folder: Path) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "project.xml"
+    write_project(project, path)
+    return path
+
+
+replace = dataclasses.replace

@@ -1,0 +1,83 @@
+"""Real Cycles renders: detected GCP target centres against the exported pixel coordinates."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pycolmap
+import pytest
+
+from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
+from designer.render.pipeline import render_project
+from tests.render.conftest import small_survey, write
+
+pytestmark = [pytest.mark.blender, pytest.mark.slow]
+
+CASES = {
+    "local origin": dict(origin=(0.0, 0.0, 0.0)),
+    "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0)),
+    "principal point offset": dict(origin=(500000.0, 5000000.0, 250.0),
+                                   principal_point_mm=(0.31, -0.17)),
+}
+
+
+def detect_centres(image_gray: np.ndarray, uv_expected: np.ndarray, rng) -> np.ndarray:
+    """Sub-pixel saddle points near the expected centres (designer pixel convention)."""
+    start = uv_expected - 0.5 + rng.uniform(-1.0, 1.0, uv_expected.shape)
+    pts = start.astype(np.float32).reshape(-1, 1, 2)
+    criteria = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_COUNT, 200, 1e-5)
+    refined = cv2.cornerSubPix(image_gray.astype(np.float32), pts, (5, 5), (-1, -1), criteria)
+    return refined.reshape(-1, 2) + 0.5
+
+
+@pytest.fixture(scope="module", params=list(CASES))
+def rendered(request, tmp_path_factory):
+    folder = tmp_path_factory.mktemp(request.param.replace(" ", "-"))
+    project_path = write(small_survey(**CASES[request.param]), folder)
+    summary = render_project(project_path, folder / "out", workers=1)
+    return request.param, summary
+
+
+def test_target_centres_match_the_exported_pixel_coordinates(rendered):
+    name, summary = rendered
+    obs = read_gcp_observations_csv(summary.ground_truth["gcp_observations"])
+    rng = np.random.default_rng(0)
+    errors = []
+    for image_name in sorted({o.image_name for o in obs}):
+        rows = [o for o in obs if o.image_name == image_name]
+        uv = np.array([o.uv_px for o in rows])
+        W, H = summary.prepared.interior.image_size_px
+        keep = (uv[:, 0] > 12) & (uv[:, 0] < W - 12) & (uv[:, 1] > 12) & (uv[:, 1] < H - 12)
+        gray = cv2.imread(str(summary.out_dir / image_name), cv2.IMREAD_GRAYSCALE)
+        errors.append(detect_centres(gray, uv[keep], rng) - uv[keep])
+    d = np.concatenate(errors)
+    assert len(d) >= 12, f"{name}: only {len(d)} targets seen"
+    mean, rms = d.mean(axis=0), np.sqrt((d ** 2).mean(axis=0))
+    assert np.all(np.abs(mean) <= 0.02), f"{name}: mean error {mean} px"
+    assert np.all(rms <= 0.1), f"{name}: RMS error {rms} px"
+
+
+def test_pycolmap_projects_gcps_like_the_odm_gcp_list(rendered):
+    _, summary = rendered
+    rec = pycolmap.Reconstruction(str(summary.ground_truth["colmap"]))
+    truth = {g.gcp_id: g.true_xyz for g in read_gcp_truth_csv(summary.ground_truth["gcp_truth"])}
+    lines = summary.ground_truth["odm_gcp_list"].read_text().splitlines()[1:]
+    assert lines
+    for line in lines:
+        # gcp_list.txt carries the surveyed coordinates; the pixels are those of the truth.
+        _, _, _, u, v, image_name, gcp_id = line.split()[:7]
+        image = rec.find_image_with_name(image_name)
+        uv = image.project_point(truth[gcp_id])
+        # ODM's pixel origin is the centre of the top-left pixel: 0.5 px from COLMAP's.
+        assert np.allclose(uv, [float(u) + 0.5, float(v) + 0.5], atol=1e-6)
+
+
+def test_manifest_and_images_are_complete(rendered):
+    import json
+
+    _, summary = rendered
+    manifest = json.loads(summary.manifest.read_text())
+    assert manifest["blender_version"]
+    assert len(manifest["images"]) == manifest["frames_total"] == 4
+    assert all(v["render_seconds"] > 0 for v in manifest["images"].values())
+    assert not list(summary.out_dir.glob(".*.rendering.*"))

@@ -1,0 +1,73 @@
+"""Cancel, resume and crash recovery of the local render runner, with real workers."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+
+import cv2
+import pytest
+
+from designer.render.pipeline import render_project
+from designer.render.runner import render_frames
+from tests.render.conftest import small_survey, write
+
+pytestmark = [pytest.mark.blender, pytest.mark.slow]
+
+
+def complete_images(folder, size=(320, 240)):
+    names = sorted(p.name for p in folder.glob("IMG_*.png"))
+    for name in names:
+        image = cv2.imread(str(folder / name))
+        assert image is not None and image.shape[1::-1] == size, f"{name} is incomplete"
+    return names
+
+
+def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
+    project = write(small_survey(n_photos=8, samples=64, size_px=(320, 240)), tmp_path)
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "designer", "render", str(project), "-o", str(out),
+           "--workers", "1", "--progress", "json"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        if json.loads(line)["event"] == "frame_done":
+            proc.send_signal(signal.SIGINT)
+            break
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err
+    done = complete_images(out)
+    assert 1 <= len(done) < 8
+    assert [p.name for p in out.glob(".*")] == [".designer-job"]  # no partial images
+
+    summary = render_project(project, out, workers=1, resume=True)
+    assert sorted(summary.report.skipped) == list(range(len(done)))
+    assert len(summary.report.rendered) == 8 - len(done)
+    assert len(complete_images(out)) == 8
+
+
+def test_a_killed_worker_has_its_frames_retried(tmp_path):
+    project = write(small_survey(n_photos=4, samples=64, size_px=(320, 240)), tmp_path)
+    summary = render_project(project, tmp_path / "out", workers=1, frames="0")
+    job = summary.prepared.job_path
+    for image in (tmp_path / "out").glob("IMG_*.png"):
+        image.unlink()
+    events = []
+
+    def kill_first_worker(event):
+        events.append(event)
+        if event["event"] == "frame_done" and event["worker"] == 0 and not any(
+                e["event"] == "retry" for e in events):
+            os.kill(worker_pids[0], signal.SIGKILL)
+        if event["event"] == "worker_started":
+            worker_pids.append(event["pid"])
+
+    worker_pids: list[int] = []
+    report = render_frames(job, [0, 1, 2, 3], workers=1, progress=kill_first_worker)
+    assert any(e["event"] == "retry" for e in events)
+    assert report.failed == []
+    assert sorted(report.rendered) == [0, 1, 2, 3]
+    assert len(complete_images(tmp_path / "out")) == 4
