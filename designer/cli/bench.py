@@ -10,6 +10,7 @@ BENCHMARKS = {
     "scene": "designer.bench.scene",
     "project-io": "designer.bench.project_io",
     "survey": "designer.bench.survey",
+    "render": "designer.bench.render",
 }
 
 

@@ -27,6 +27,9 @@ def register(subparsers) -> None:
                              "pixel (default: the project's render settings)")
     parser.add_argument("--resume", action="store_true",
                         help="skip images that are already complete and readable")
+    parser.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                        help="render on an existing Dask cluster; OUT must be on storage "
+                             "every worker sees under the same path")
     parser.add_argument("--progress", choices=["bar", "json", "none"], default=None,
                         help="progress display: a bar on a terminal, JSON lines for programs")
     parser.set_defaults(func=run)
@@ -43,7 +46,8 @@ def run(args) -> int:
     try:
         summary = render_project(args.project, args.output, workers=args.workers,
                                  frames=args.frames, quality=args.quality,
-                                 resume=args.resume, progress=reporter)
+                                 resume=args.resume, progress=reporter,
+                                 scheduler=args.scheduler)
     finally:
         reporter.close()
     report = summary.report

@@ -94,6 +94,7 @@ def prepare_job(
                    "bit_depth": render.bit_depth, "quality": quality},
         "lighting": {"mode": "emission"},
         "camera": cam,
+        "output": {"width_px": interior.image_width_px, "height_px": interior.image_height_px},
         "objects": objects,
         "frames": [{"index": i, "image_name": p.image_name,
                     "matrix_world_local": blender_matrix_world(

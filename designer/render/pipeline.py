@@ -111,7 +111,9 @@ def render_project(
     quality: str | None = None,
     resume: bool = False,
     progress: ProgressCallback | None = None,
+    scheduler: str | None = None,
 ) -> RenderSummary:
+    """Render a project into ``out_dir``; on a Dask cluster when ``scheduler`` is given."""
     project_path = Path(project_path)
     project = load_project(project_path)
     out_dir = Path(out_dir)
@@ -121,8 +123,15 @@ def render_project(
     prepare_seconds = time.perf_counter() - t0
     ground_truth = write_ground_truth(project, prepared, out_dir)
     wanted = parse_frames(frames, len(prepared.poses))
-    report = render_frames(prepared.job_path, wanted, workers=workers or project.render.workers,
-                           resume=resume, progress=progress)
+    if scheduler:
+        from designer.render.cluster import render_frames_on_cluster
+
+        report = render_frames_on_cluster(prepared.job_path, wanted, scheduler,
+                                          resume=resume, progress=progress)
+    else:
+        report = render_frames(prepared.job_path, wanted,
+                               workers=workers or project.render.workers,
+                               resume=resume, progress=progress)
     manifest = write_manifest(out_dir, project_path, prepared, report, prepare_seconds)
     if report.failed:
         raise DesignerError(

@@ -34,6 +34,7 @@ class RenderReport:
     scene_seconds: list[float] = field(default_factory=list)
     blender_version: str | None = None
     wall_seconds: float = 0.0
+    peak_rss_mb: list[float] = field(default_factory=list)  # one per worker process
 
 
 def default_workers(n_frames: int) -> int:
@@ -81,7 +82,7 @@ def render_frames(
     t0 = time.perf_counter()
     todo = list(frames)
     if resume:
-        width, height = job["camera"]["resolution_x_px"], job["camera"]["resolution_y_px"]
+        width, height = job["output"]["width_px"], job["output"]["height_px"]
         done = [i for i in todo if image_is_complete(out_dir / names[i], width, height)]
         report.skipped = done
         todo = [i for i in todo if i not in set(done)]
@@ -150,6 +151,7 @@ def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
                     report.scene_seconds.append(float(event["seconds"]))
                 elif event["event"] == "worker_done":
                     report.blender_version = event.get("blender")
+                    report.peak_rss_mb.append(float(event.get("peak_rss_mb", 0.0)))
                 _notify(progress, event)
         for proc, _, _ in procs:
             proc.wait()

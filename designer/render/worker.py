@@ -227,7 +227,10 @@ def main(argv: list[str] | None = None) -> int:
         path = render_frame(scene, camera, frames[index], out_dir, ext)
         emit(progress, event="frame_done", index=index, path=str(path),
              seconds=time.perf_counter() - t)
-    emit(progress, event="worker_done", blender=bpy.app.version_string)
+    import resource
+
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    emit(progress, event="worker_done", blender=bpy.app.version_string, peak_rss_mb=peak_mb)
     return 0
 
 

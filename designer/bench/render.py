@@ -1,0 +1,75 @@
+"""Render throughput on the example survey (``designer bench render``).
+
+Three figures for the same frames and settings:
+* designer: one long-lived worker process per two cores, the scene built once;
+* bare Cycles: the time spent inside Blender's render call for those frames (what the
+  renderer alone costs); designer's overhead ratio is wall time / this;
+* naive: a fresh Blender process per image (import bpy, build the scene, render).
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from pathlib import Path
+
+from designer.project import load_project, template, write_project
+from designer.render.job import prepare_job
+from designer.render.runner import render_frames
+
+
+def _example(folder: Path) -> Path:
+    tpl = template("survey")
+    path = folder / "survey.xml"
+    write_project(tpl.project, path)
+    return path
+
+
+def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
+    n_frames = max(2, int(round(20 * scale)))
+    n_naive = max(1, int(round(5 * scale)))
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        project_path = _example(tmp)
+        project = load_project(project_path)
+        for quality in ("draft", "survey"):
+            out = tmp / f"out-{quality}"
+            prepared = prepare_job(project, project_path.parent, out, quality)
+            frames = list(range(n_frames))
+            report = render_frames(prepared.job_path, frames)
+            bare = sum(report.rendered.values()) / max(1, len(report.peak_rss_mb))
+            t0 = time.perf_counter()
+            for i in range(n_naive):
+                render_frames(prepared.job_path, [i], workers=1)
+            naive_per_image = (time.perf_counter() - t0) / n_naive
+            W, H = prepared.interior.image_size_px
+            per_image = report.wall_seconds / n_frames
+            rows.append({
+                "quality": quality, "image": f"{W}x{H}", "frames": n_frames,
+                "workers": len(report.peak_rss_mb),
+                "wall_per_image_s": per_image,
+                "bare_cycles_per_image_s": bare / n_frames,
+                "overhead_ratio": report.wall_seconds / bare if bare else float("nan"),
+                "naive_per_image_s": naive_per_image,
+                "speedup_vs_naive": naive_per_image / per_image,
+                "peak_rss_mb_per_worker": max(report.peak_rss_mb or [0.0]),
+            })
+    return rows
+
+
+def format_table(rows: list[dict]) -> str:
+    head = (f"{'quality':<8} {'image':>10} {'frames':>6} {'workers':>7} {'wall s/img':>10} "
+            f"{'Cycles s/img':>12} {'overhead':>8} {'naive s/img':>11} {'speed-up':>8} "
+            f"{'peak MB/worker':>14}")
+    lines = [head, "-" * len(head)]
+    for r in rows:
+        lines.append(
+            f"{r['quality']:<8} {r['image']:>10} {r['frames']:>6} {r['workers']:>7} "
+            f"{r['wall_per_image_s']:>10.2f} {r['bare_cycles_per_image_s']:>12.2f} "
+            f"{r['overhead_ratio']:>8.3f} {r['naive_per_image_s']:>11.2f} "
+            f"{r['speedup_vs_naive']:>7.1f}x {r['peak_rss_mb_per_worker']:>14.0f}")
+    lines.append("wall: designer's local runner incl. process start and scene build; Cycles: "
+                 "time inside the render call per worker; naive: a new Blender process per "
+                 "image")
+    return "\n".join(lines)
