@@ -19,6 +19,7 @@ from designer.errors import DesignerError
 COMMAND_MODULES = [
     "designer.cli.new",
     "designer.cli.check",
+    "designer.cli.plan",
     "designer.cli.render",
     "designer.cli.demo",
     "designer.cli.bench",

@@ -52,6 +52,9 @@ def configure_render(scene: bpy.types.Scene, job: dict) -> None:
     scene.render.threads_mode = "FIXED" if threads > 0 else "AUTO"
     if threads > 0:
         scene.render.threads = threads
+    # Keep the synchronised scene (BVH, images, shaders) between frames: only the camera
+    # moves, so each frame costs just its own path tracing.
+    scene.render.use_persistent_data = True
     scene.render.dither_intensity = 0.0
     scene.render.film_transparent = False
     scene.render.use_compositing = False

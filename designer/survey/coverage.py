@@ -258,7 +258,18 @@ def analyse_stations(
         gsd_mean = np.nanmean(grid_gsd, axis=1)
         gsd_min, gsd_max = np.nanmin(grid_gsd, axis=1), np.nanmax(grid_gsd, axis=1)
 
-    samples = ground[:, :-1]  # (M, k², 3)
+    # Overlap is a property of the images: where a ray misses the terrain (beyond its
+    # edge) the ground is taken to continue as a plane at the terrain's mean height, so
+    # stations near the edge report the overlap they were planned with.
+    samples = ground[:, :-1].copy()  # (M, k², 3)
+    miss = ~np.all(np.isfinite(samples), axis=2)
+    if miss.any():
+        plane_z = float(np.mean(raycaster.heightfield.heights_m))
+        r = rays[:, :-1][miss]
+        c = np.repeat(C[:, None, :], k * k, axis=1)[miss]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (plane_z - c[:, 2]) / r[:, 2]
+        samples[miss] = np.where((t > 0)[:, None], c + t[:, None] * r, np.nan)
     hit = np.all(np.isfinite(samples), axis=2)
     # neighbours are found by where the images look (an oblique camera looks ahead)
     centre_xy = np.where(np.isfinite(ground[:, -1, :2]), ground[:, -1, :2], C[:, :2])
@@ -457,7 +468,8 @@ def analyse_plan(
                                         seconds_per_megapixel_sample)
     st = analyse_stations(stations, interior, rc, samples_per_axis)
     centre = st.centre_ground_xyz
-    inside = np.isfinite(centre[:, 0])
+    # Over the area: the station itself and the ground its principal ray meets.
+    inside = np.isfinite(centre[:, 0]) & _area.contains(area, C[:, :2])
     inside[inside] = _area.contains(area, centre[inside, :2])
     return PlanAnalysis(len(stations), st, inside, cover, gcps, render)
 

@@ -19,7 +19,7 @@ from designer.core.rotation import rotation_from_opk
 from designer.errors import DesignerError
 from designer.export.groundtruth import CameraPose
 from designer.project import model as m
-from designer.survey.flight import FlightPlan, apply_pose_noise, plan_flight
+from designer.survey.flight import FlightPlan, Station, apply_pose_noise, plan_flight
 
 IMAGE_EXTENSIONS = {"png": ".png", "jpeg": ".jpg", "tiff": ".tif", "exr": ".exr"}
 
@@ -74,45 +74,55 @@ def flight_plan_for(
         image_name_format=plan.image_prefix + "{index:05d}" + extension, first_index=1)
 
 
-def project_poses(
+def project_stations(
     project: m.Project, hf: Heightfield | None
-) -> tuple[list[CameraPose], str]:
+) -> tuple[list[Station], str]:
     """All stations of the project in order (explicit ones first) and their camera id.
 
-    One camera per render: every station must use the same camera.
+    Explicit exterior orientations become stations of their own flight line each (they
+    have no planned neighbours). One camera per render: every station must use the same
+    camera.
     """
     extension = IMAGE_EXTENSIONS[project.render.output_format]
-    poses: list[CameraPose] = []
+    stations: list[Station] = []
     camera_ids = []
-    for eo in project.trajectory.exterior_orientations:
+    for k, eo in enumerate(project.trajectory.exterior_orientations):
         R = rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
                                                           eo.kappa_deg)))
-        poses.append(CameraPose(eo.name, np.array([eo.X, eo.Y, eo.Z]), R))
+        heading = math.degrees(math.atan2(R[0, 1], R[1, 1])) % 360.0
+        stations.append(Station(eo.name, np.array([eo.X, eo.Y, eo.Z]), R, -1 - k, 0, heading))
         camera_ids.append(eo.camera)
     plan = project.trajectory.flight_plan
     if plan is not None:
         # Flight planning uses the full-size camera: overlaps do not depend on scaling.
         interior = interior_from_camera(project.camera(plan.camera))
-        flight = flight_plan_for(plan, interior, hf, extension)
-        stations = list(flight.stations)
+        planned = list(flight_plan_for(plan, interior, hf, extension).stations)
         noise = plan.pose_noise
         if noise is not None:
-            stations = apply_pose_noise(
-                stations, (noise.sigma_X_m, noise.sigma_Y_m, noise.sigma_Z_m),
+            planned = apply_pose_noise(
+                planned, (noise.sigma_X_m, noise.sigma_Y_m, noise.sigma_Z_m),
                 (noise.sigma_omega_deg, noise.sigma_phi_deg, noise.sigma_kappa_deg),
                 seed=plan.random_seed)
-        poses.extend(CameraPose(s.image_name, s.C_world, s.R_cam_to_world) for s in stations)
-        camera_ids.extend([plan.camera] * len(stations))
-    if not poses:
+        stations.extend(planned)
+        camera_ids.extend([plan.camera] * len(planned))
+    if not stations:
         raise DesignerError("the project has no camera stations: add exterior orientations "
                             "or a flight plan to its trajectory")
     if len(set(camera_ids)) > 1:
         raise DesignerError(
             f"stations use several cameras ({', '.join(sorted(set(camera_ids)))}); render one "
             "camera per project")
-    names = [p.image_name for p in poses]
+    names = [s.image_name for s in stations]
     if len(set(names)) != len(names):
         dup = next(n for n in names if names.count(n) > 1)
         raise DesignerError(f"image name {dup} is used twice (explicit and planned stations "
                             "overlap); change the flight plan's image-prefix")
-    return poses, camera_ids[0]
+    return stations, camera_ids[0]
+
+
+def project_poses(
+    project: m.Project, hf: Heightfield | None
+) -> tuple[list[CameraPose], str]:
+    """The project's stations as camera poses (see :func:`project_stations`)."""
+    stations, camera_id = project_stations(project, hf)
+    return [CameraPose(s.image_name, s.C_world, s.R_cam_to_world) for s in stations], camera_id

