@@ -24,9 +24,11 @@ from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
 from designer.survey.project_poses import project_stations, render_interior
 
-#: Cycles seconds per megapixel-sample for the baked-emission scenes on the reference
-#: machine (2 cores); from ``designer bench render`` (see the README).
-SECONDS_PER_MEGAPIXEL_SAMPLE = 0.035
+#: Render cost on the reference machine (2 cores) for the baked-emission scenes, from
+#: ``designer bench render`` (docs/benchmarks.md): seconds per megapixel per frame, plus
+#: seconds per megapixel per sample.
+SECONDS_PER_MEGAPIXEL = 0.58
+SECONDS_PER_MEGAPIXEL_SAMPLE = 0.081
 
 
 @dataclass(frozen=True)
@@ -51,10 +53,10 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     plan = project.trajectory.flight_plan
     area = np.array(plan.area) if plan is not None else _extent_polygon(project)
     gcp_xyz = np.array([t.true_xyz for t in targets]) if targets else None
+    spp = project.render.effective_samples
     analysis = analyse_plan(
-        stations, interior, hf, area, gcp_xyz=gcp_xyz, cell_m=cell_m,
-        samples_per_pixel=project.render.effective_samples,
-        seconds_per_megapixel_sample=SECONDS_PER_MEGAPIXEL_SAMPLE)
+        stations, interior, hf, area, gcp_xyz=gcp_xyz, cell_m=cell_m, samples_per_pixel=spp,
+        seconds_per_megapixel_sample=SECONDS_PER_MEGAPIXEL_SAMPLE + SECONDS_PER_MEGAPIXEL / spp)
     gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd))

@@ -1,0 +1,59 @@
+"""The project model's ``Effects`` → an ``EffectChain`` (the only module here that knows
+the model, so the model can grow without touching the effects)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from designer.core.interior import InteriorOrientation
+from designer.effects.chain import EffectChain
+from designer.effects.distortion_render import DistortionWarp, LensDistortion, pinhole_render_camera
+from designer.effects.jpeg import JpegCompression
+from designer.effects.motion import LinearMotionBlur
+from designer.effects.optics import GaussianBlur, RadialVignetting
+from designer.effects.sensor import GaussianNoiseDN
+
+if TYPE_CHECKING:  # the model is only read here; importing designer.project pulls in lxml
+    from designer.project import model as m
+
+
+def effects_from_model(
+    effects: m.Effects | None,
+    interior: InteriorOrientation,
+    *,
+    warp: DistortionWarp | None = None,
+    oversample: int = 1,
+) -> EffectChain:
+    """The chain for a camera ``interior`` (with its distortion) and the project's effects.
+
+    Distortion comes from the camera: if ``interior`` has any, the chain starts with the
+    warp from the pinhole render (``warp``, e.g. loaded from a cache, must have been made
+    for ``interior``; otherwise it is computed here with ``oversample``). The images
+    given to the chain are then renders of ``chain.warp.render_interior``.
+    Vignetting's ``corner_falloff`` gives gain 1 − c ρ² (ρ = 1 at the farthest image
+    corner); ``sigma_dn`` is in 8-bit digital numbers; motion blur needs the frame's GSD
+    and flight direction in the FrameContext.
+    """
+    chain = []
+    if warp is None:
+        _, warp = pinhole_render_camera(interior, oversample)
+    elif not warp.matches(interior):
+        raise ValueError("the distortion warp was made for another camera")
+    if warp is not None:
+        chain.append(LensDistortion(warp))
+    if effects is None:
+        return EffectChain(chain)
+    if effects.vignetting is not None:
+        chain.append(RadialVignetting.from_corner_falloff(interior,
+                                                          effects.vignetting.corner_falloff))
+    if effects.blur is not None:
+        chain.append(GaussianBlur(effects.blur.sigma_px))
+    if effects.motion_blur is not None:
+        scale = 1.0 if warp is None else float(warp.oversample)
+        chain.append(LinearMotionBlur(effects.motion_blur.exposure_time_s,
+                                      effects.motion_blur.speed_m_s, scale))
+    if effects.sensor_noise is not None:
+        chain.append(GaussianNoiseDN(effects.sensor_noise.sigma_dn, effects.sensor_noise.seed))
+    if effects.jpeg is not None:
+        chain.append(JpegCompression(effects.jpeg.quality))
+    return EffectChain(chain)
