@@ -120,5 +120,5 @@ def _report_text(project, plan: dict, summary, timings: dict[str, float]) -> str
     lines += [f"| {g['id']} | {g['role']} | {g['images']} |" for g in plan.get("gcps", [])]
     lines += ["", "## Timings", "", "| stage | seconds |", "|---|---|"]
     lines += [f"| {name} | {seconds:.1f} |" for name, seconds in timings.items()]
-    lines += ["", f"Ground truth: `images/ground-truth/`; manifest: `images/manifest.json`.", ""]
+    lines += ["", "Ground truth: `images/ground-truth/`; manifest: `images/manifest.json`.", ""]
     return "\n".join(lines)

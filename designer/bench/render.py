@@ -26,8 +26,8 @@ def _example(folder: Path) -> Path:
 
 
 def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
-    n_frames = max(2, int(round(20 * scale)))
-    n_naive = max(1, int(round(5 * scale)))
+    n_frames = max(2, round(20 * scale))
+    n_naive = max(1, round(5 * scale))
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
