@@ -21,6 +21,7 @@ COMMAND_MODULES = [
     "designer.cli.check",
     "designer.cli.plan",
     "designer.cli.render",
+    "designer.cli.reconstruct",
     "designer.cli.demo",
     "designer.cli.bench",
 ]

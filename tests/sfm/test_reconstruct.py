@@ -1,0 +1,75 @@
+"""COLMAP (pycolmap) on a small real render: both modes, GCP residuals, bad inputs."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from plyfile import PlyData
+
+from designer.errors import DesignerError
+from designer.render.pipeline import render_project
+from designer.sfm.reconstruct import reconstruct
+from tests.render.conftest import small_flight_survey, write
+
+pytestmark = [pytest.mark.blender, pytest.mark.slow]
+
+GSD_M = 0.06  # 30 m flying height, 10 um pixels, 5 mm lens
+
+
+@pytest.fixture(scope="module")
+def survey(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("sfm")
+    project = write(small_flight_survey(), folder)
+    summary = render_project(project, folder / "out", workers=2)
+    assert len(summary.prepared.poses) <= 12
+    return folder / "out"
+
+
+@pytest.mark.parametrize("mode", ["known-poses", "free"])
+def test_reconstruction_registers_every_image_and_meets_the_gcps(survey, tmp_path, mode):
+    result = reconstruct(survey, tmp_path / mode, mode=mode)
+    assert result.n_registered == result.n_images
+    assert result.n_points > 1000
+    rows = result.summary["gcps"]
+    checks = [r for r in rows if r["role"] == "check"]
+    assert len(checks) == 2
+    for r in rows:
+        horizontal = np.hypot(r["dx_m"], r["dy_m"])
+        assert horizontal <= GSD_M and abs(r["dz_m"]) <= 1.5 * GSD_M, r
+    cloud = PlyData.read(str(result.cloud_ply))["vertex"]
+    assert cloud["x"].dtype == np.float64  # UTM-sized coordinates keep their precision
+    assert 499970 < np.median(cloud["x"]) < 500030
+    saved = json.loads((tmp_path / mode / "summary.json").read_text())
+    assert saved["registered"] == result.n_registered
+
+
+def test_a_folder_without_ground_truth_is_a_clear_error(tmp_path):
+    with pytest.raises(DesignerError, match="no ground truth"):
+        reconstruct(tmp_path, tmp_path / "r")
+
+
+def test_too_few_images_is_a_clear_error(survey, tmp_path):
+    partial = tmp_path / "partial"
+    shutil.copytree(survey / "ground-truth", partial / "ground-truth")
+    for image in sorted(survey.glob("IMG_*.png"))[:2]:
+        shutil.copy(image, partial / image.name)
+    out = subprocess.run([sys.executable, "-m", "designer", "reconstruct", str(partial)],
+                         capture_output=True, text=True)
+    assert out.returncode == 2
+    assert "at least 3" in out.stderr and "Traceback" not in out.stderr
+
+
+def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
+    # Three images of the flight's corners do not overlap: no reconstruction can start.
+    apart = tmp_path / "apart"
+    shutil.copytree(survey / "ground-truth", apart / "ground-truth")
+    images = sorted(survey.glob("IMG_*.png"))
+    for image in (images[0], images[len(images) // 2 + 1], images[-1]):
+        shutil.copy(image, apart / image.name)
+    with pytest.raises(DesignerError, match="overlap"):
+        reconstruct(apart, tmp_path / "r", mode="free")
