@@ -122,7 +122,7 @@ class EffectChain:
 
 def _check_image(image: np.ndarray) -> None:
     max_code(image.dtype)  # uint8 / uint16 only
-    if not (image.ndim == 2 or (image.ndim == 3 and image.shape[2] in (1, 3))):
+    if not (image.ndim == 2 or (image.ndim == 3 and image.shape[2] == 3)):
         raise ValueError(f"images must be (H, W) or (H, W, 3), got {image.shape}")
 
 
@@ -191,7 +191,10 @@ def _pass_through(src: Path, dst: Path, how: str) -> None:
     with atomic_path(dst) as tmp:
         if how == "link":
             tmp.unlink()
-            os.link(src, tmp)
+            try:
+                os.link(src, tmp)
+            except OSError:  # another file system, or links not supported: copy
+                shutil.copyfile(src, tmp)
         elif how == "copy":
             shutil.copyfile(src, tmp)
         else:

@@ -8,6 +8,21 @@ normalised coordinates → pixel of the pinhole render. The map is the same for 
 frame of a camera, so it is computed once (``DistortionWarp``) and can be cached on
 disk (``save`` / ``load``).
 
+The render's extent is the bounding box of the undistorted positions of every output
+sample (the warp needs them all anyway, so this is exact even where tangential terms put
+an extreme inside an edge) plus the resampler's reach plus a 2 px margin. For a fisheye
+the rays through the image border are checked first, so a field too wide for a pinhole
+fails at once with an explanation. The render's principal point is moved by under a
+pixel so that its pixel grid coincides with the output's at the principal point.
+
+Accuracy (tests/effects/test_distortion_render.py, 800 × 600 px): forward check ≤ 1e-6 px
+(the inverse's tolerance); checkerboard corners in the warped image against
+cv2.projectPoints / cv2.fisheye.projectPoints: |mean| ≤ 0.011 px, RMS 0.068–0.073 px for
+k1 = −0.3, k1 = +0.2, p1/p2 and a 149° fisheye; cornerSubPix on an image area-sampled
+directly through the lens model gives 0.036–0.079 px RMS, so that is the detector.
+Cost at 20 MP (5472 × 3648, k1 = −0.3, k2 = 0.1): building the warp 15 s and 320 MB of
+maps (cache it), the render 7072 × 4718 px, applying it to an RGB float image 8–12 s.
+
 Frames and units: normalised coordinates are CV-frame (x/z, y/z); pixel coordinates are
 continuous with the origin at the top-left corner of the top-left pixel
 (docs/conventions.md); a pixel's centre is (i + 0.5, j + 0.5).
@@ -25,7 +40,7 @@ from __future__ import annotations
 import json
 import math
 import os
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from typing import ClassVar
 
 import numpy as np
@@ -62,7 +77,11 @@ def pinhole_render_camera(
     has the focal length in pixels of ``interior`` × ``oversample`` (the same pixel
     aspect), no distortion, and an image just large enough to hold every position the
     warp samples plus the interpolation kernel's reach (``order``: 1 bilinear, 3 cubic)
-    plus ``margin_px`` render pixels, with the principal point placed accordingly.
+    plus ``margin_px`` render pixels, with the principal point placed accordingly
+    (principal point offset x0 = (cx − W/2)·pitch_x, y0 = (H/2 − cy)·pitch_y mm,
+    sensor W·pitch × H·pitch mm, pitch = f / f_px).
+    ``oversample`` > 1 renders that much finer and averages oversample² samples per
+    output pixel: 4× the render cost, and the corner bias drops to ≤ 0.002 px.
 
     Raises NotInvertibleError naming how many output pixels have no unique undistorted
     position (the lens map folds over), and DesignerError for a fisheye field wider than
@@ -94,10 +113,7 @@ def pinhole_render_camera(
 
 
 def _without_distortion(interior: InteriorOrientation) -> InteriorOrientation:
-    if interior.distortion is None:
-        return interior
-    return InteriorOrientation(**{f.name: getattr(interior, f.name) for f in fields(interior)
-                                  if f.name != "distortion"})
+    return interior if interior.distortion is None else replace(interior, distortion=None)
 
 
 def _sample_positions(n_px: int, oversample: int) -> np.ndarray:
@@ -188,14 +204,20 @@ def _render_camera(interior: InteriorOrientation, oversample: int, pad: float,
                    x_range: tuple[float, float], y_range: tuple[float, float]
                    ) -> InteriorOrientation:
     """Pinhole camera with fx, fy = interior's × oversample covering the normalised box
-    x_range × y_range plus ``pad`` render pixels on every side."""
+    x_range × y_range plus at least ``pad`` render pixels on every side.
+
+    The principal point is shifted by less than a pixel so that near it the render's pixel
+    centres fall exactly on output sample centres (c_render − oversample · c_output is a
+    whole number): where distortion is small the warp then samples at whole pixels, and
+    the interpolation neither blurs nor biases edges there.
+    """
     fx, fy = interior.fx_px * oversample, interior.fy_px * oversample
     size, centre = [], []
-    for f, (lo, hi) in ((fx, x_range), (fy, y_range)):
-        need = f * (hi - lo) + 2.0 * pad
-        n = math.ceil(need - 1e-9)
-        size.append(n)
-        centre.append(pad + 0.5 * (n - need) - f * lo)  # the slack split evenly
+    for f, c_out, (lo, hi) in ((fx, interior.cx_px, x_range), (fy, interior.cy_px, y_range)):
+        first = pad - f * lo  # the principal point that puts the box's low edge at pad
+        c = first + (oversample * c_out - first) % 1.0
+        size.append(math.ceil(c + f * hi + pad - 1e-9))
+        centre.append(c)
     (W, H), (cx, cy) = size, centre
     pitch_x, pitch_y = interior.focal_length_mm / fx, interior.focal_length_mm / fy
     return InteriorOrientation(

@@ -199,7 +199,7 @@ def _known_pose_reconstruction(pycolmap, truth, db_path: Path):
     db = pycolmap.Database.open(str(db_path))
     try:
         cameras = {c.camera_id: c for c in db.read_all_cameras()}
-        for camera_id, camera in cameras.items():
+        for camera_id in cameras:
             true_camera = next(iter(truth.cameras.values()))
             true_camera.camera_id = camera_id
             rec.add_camera_with_trivial_rig(true_camera)

@@ -9,6 +9,7 @@ import pytest
 from scipy import ndimage
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
+from designer.core.interior import InteriorOrientation
 from designer.effects.distortion_render import DistortionWarp, pinhole_render_camera
 from designer.errors import DesignerError, NotInvertibleError
 from tests.effects.synthetic import (
@@ -91,11 +92,14 @@ def test_render_camera_keeps_the_focal_length_and_covers_the_samples(warped):
     assert render.focal_length_mm == interior.focal_length_mm
     W_r, H_r = render.image_size_px
     # every sampled position is at least margin (2) + cubic reach (8) px inside, and the
-    # image is no more than one pixel larger than that
+    # image is less than two pixels larger than that (rounding up, grid alignment)
     lo_u, hi_u = warp.map_u_px.min(), warp.map_u_px.max()
     lo_v, hi_v = warp.map_v_px.min(), warp.map_v_px.max()
     assert min(lo_u, lo_v, W_r - hi_u, H_r - hi_v) >= 10.0 - 1e-9
-    assert W_r - (hi_u - lo_u) - 20.0 < 1.0 and H_r - (hi_v - lo_v) - 20.0 < 1.0
+    assert W_r - (hi_u - lo_u) - 20.0 < 2.0 and H_r - (hi_v - lo_v) - 20.0 < 2.0
+    # near the principal point render pixels sit on output pixels: c_r − c is whole
+    for d in (render.cx_px - interior.cx_px, render.cy_px - interior.cy_px):
+        assert abs(d - round(d)) < 1e-9
 
 
 def test_mapping_error_against_opencv(warped):
@@ -186,22 +190,38 @@ def test_oversampled_warp_area_averages():
     assert np.abs(a - b).max() < 2e-3
 
 
-def test_save_and_load_round_trip(tmp_path, warped):
-    _, interior, render, warp, _ = warped
-    if interior.distortion is not LENSES["pincushion"].distortion:
-        pytest.skip("one lens is enough")
+@pytest.mark.parametrize("lens", [BrownConrady(k1=0.1, p2=0.001), FisheyeEquidistant(k1=0.02)])
+def test_save_and_load_round_trip(tmp_path, lens):
+    interior = camera(160, 120, 120.0, lens, (1.5, -2.0))
+    render, warp = pinhole_render_camera(interior, 2, order=1)
     path = tmp_path / "warp.npz"
     warp.save(path)
     loaded = DistortionWarp.load(path, interior)
     assert loaded.render_interior == render
     np.testing.assert_array_equal(loaded.map_u_px, warp.map_u_px)
     np.testing.assert_array_equal(loaded.map_v_px, warp.map_v_px)
-    assert (loaded.oversample, loaded.order) == (warp.oversample, warp.order)
+    assert (loaded.oversample, loaded.order) == (2, 1)
+    assert loaded.max_mapping_error_px == warp.max_mapping_error_px
+    other = camera(160, 120, 121.0, lens, (1.5, -2.0))
     with pytest.raises(DesignerError, match="another camera"):
-        DistortionWarp.load(path, LENSES["barrel"])
-    (tmp_path / "junk.npz").write_bytes(b"not a zip")
-    with pytest.raises(Exception):  # noqa: B017 - numpy's own error for a broken file
-        DistortionWarp.load(tmp_path / "junk.npz")
+        DistortionWarp.load(path, other)
+    np.savez(tmp_path / "other.npz", a=np.zeros(3))
+    with pytest.raises(DesignerError, match="not a designer distortion warp"):
+        DistortionWarp.load(tmp_path / "other.npz")
+
+
+def test_non_square_pixels():
+    pitch = 0.01
+    interior = InteriorOrientation(8.0, 320 * pitch, 240 * pitch * 1.1, 320, 240, 0.02, -0.01,
+                                   pixel_aspect=1.1, distortion=BrownConrady(k1=-0.2, p1=1e-3))
+    render, warp = pinhole_render_camera(interior)
+    assert render.pixel_aspect == 1.1
+    assert (render.fx_px, render.fy_px) == pytest.approx((interior.fx_px, interior.fy_px))
+    x = (warp.map_u_px - render.cx_px) / render.fx_px
+    y = (warp.map_v_px - render.cy_px) / render.fy_px
+    uv = project_opencv(interior, np.column_stack([x.ravel(), y.ravel(), np.ones(x.size)]))
+    v, u = np.mgrid[0:240, 0:320] + 0.5
+    assert np.hypot(uv[:, 0] - u.ravel(), uv[:, 1] - v.ravel()).max() <= 1e-3
 
 
 # ------------------------------------------------------------------------------ limits
@@ -209,8 +229,10 @@ def test_fisheye_field_beyond_150_degrees_is_refused():
     wide = camera(W, H, 330.0, FISHEYE)  # θ = 84.4° at the corners
     with pytest.raises(DesignerError, match=r"84\.4° off axis.*168\.8° field.*up to 150°"):
         pinhole_render_camera(wide)
-    with pytest.raises(DesignerError, match="pinhole"):
-        pinhole_render_camera(camera(W, H, 200.0, FISHEYE))  # beyond 180°
+    with pytest.raises(DesignerError, match=r"143\.0° off axis.*pinhole"):  # beyond 180°
+        pinhole_render_camera(camera(W, H, 200.0, FisheyeEquidistant()))
+    with pytest.raises(NotInvertibleError, match="161320 of 480000 output pixels"):
+        pinhole_render_camera(camera(W, H, 200.0, FISHEYE))  # this lens folds before
 
 
 def test_fold_over_is_reported_with_the_pixel_count():
