@@ -67,7 +67,7 @@ def survey() -> Template:
     scene = m.Scene(
         terrain=m.Terrain(extent, m.ProceduralTerrain(
             seed=7, grid_spacing_m=0.5, roughness=0.3, min_height_m=-10.0, max_height_m=10.0)),
-        texture=m.Texture(m.ProceduralTexture("grass", seed=3, texel_size_m=0.01),
+        texture=m.Texture(m.ProceduralTexture("grass", seed=3, texel_size_m=0.025),
                           repeat_X=5, repeat_Y=5, interpolation="linear"),
         targets=m.Targets(_grid_targets(E0, N0, 38.0, 0.8),
                           m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.02), seed=11)),

@@ -76,11 +76,35 @@ def plan_summary(result: PlanResult) -> dict:
     finite = gsd[np.isfinite(gsd)]
     out["gsd_terrain_m"] = ({"min": float(finite.min()), "mean": float(finite.mean()),
                              "max": float(finite.max())} if finite.size else None)
+    out["warnings"] = plan_warnings(result, out)
     if result.analysis.gcps is not None:
         out["gcps"] = [{"id": t.target.id, "role": t.target.role,
                         "images": int(result.analysis.gcps.counts[k])}
                        for k, t in enumerate(result.targets)]
     return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in out.items()}
+
+
+#: a texture finer than GSD / this aliases: pixels average too few texels per sample
+ALIASING_RATIO = 3.0
+
+
+def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
+    """Things a surveyor should fix before rendering."""
+    warnings = []
+    source = result.project.scene.texture.source
+    gsd = figures.get("gsd_terrain_m")
+    if isinstance(source, m.ProceduralTexture) and gsd:
+        if source.texel_size_m < gsd["min"] / ALIASING_RATIO:
+            warnings.append(
+                f"texture texels ({100 * source.texel_size_m:.1f} cm) are finer than a third "
+                f"of the GSD ({100 * gsd['min']:.1f} cm): pixels will alias the texture and "
+                "SIFT features will not repeat between images; use a texel near GSD/2")
+    if result.analysis.gcps is not None:
+        few = [t.target.id for k, t in enumerate(result.targets)
+               if result.analysis.gcps.counts[k] < 3]
+        if few:
+            warnings.append(f"GCPs seen by fewer than 3 images: {', '.join(few)}")
+    return warnings
 
 
 def format_plan(result: PlanResult, source: str) -> str:
@@ -104,6 +128,8 @@ def format_plan(result: PlanResult, source: str) -> str:
         for g in s["gcps"]:
             flag = "  <- fewer than 3" if g["images"] < 3 else ""
             lines.append(f"    {g['id']:<10} {g['role']:<8} {g['images']:>4}{flag}")
+    for warning in s["warnings"]:
+        lines.append(f"  warning: {warning}")
     if s.get("render_time_s") is not None:
         lines.append(f"  estimated render time: {s['render_time_s'] / 60:.1f} min at "
                      f"{result.project.render.effective_samples} samples per pixel on 2 cores")
