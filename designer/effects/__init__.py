@@ -11,6 +11,14 @@ for, in physical order (``chain.EffectChain``):
 * ``jpeg``: JPEG compression;
 * ``srgb``: the exact sRGB transfer function;
 * ``from_model``: the project model's effects → a chain.
+
+Use, per camera and frame::
+
+    render_interior, warp = pinhole_render_camera(interior)   # once; warp.save(cache)
+    chain = effects_from_model(project.effects, interior, warp=warp)
+    # Blender renders render_interior (blender_camera(render_interior)), then per frame:
+    process_file(raw_png, out_png, chain, frame_index,
+                 FrameContext(gsd_m=gsd, flight_direction_uv=direction))
 """
 
 from designer.effects.base import EFFECT_ORDER, Effect, FrameContext, frame_rng

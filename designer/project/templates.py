@@ -76,13 +76,14 @@ def survey() -> Template:
     )
     plan = m.FlightPlan(
         camera=cam.id, image_prefix="DJI_",
-        area=((E0 - 50, N0 - 50), (E0 + 50, N0 - 50), (E0 + 50, N0 + 50), (E0 - 50, N0 + 50)),
+        area=((E0 - 35, N0 - 35), (E0 + 35, N0 - 35), (E0 + 35, N0 + 35), (E0 - 35, N0 + 35)),
         altitude_agl_m=50.0, front_overlap_percent=80.0, side_overlap_percent=70.0,
         grid_angle_deg=0.0, crosshatch=False, terrain_following=False, tilt_deg=0.0,
         pose_noise=m.PoseNoise(0.3, 0.3, 0.2, 0.5, 0.5, 1.0), random_seed=42)
     project = m.Project(
         name="Example survey: 100 m x 100 m hills",
-        description=("A 1-inch 20 MP drone camera flies a grid at 50 m over procedural hills "
+        description=("A 1-inch 20 MP drone camera flies a grid at 50 m over the central 70 x 70 m "
+                     "of procedural hills "
                      "with 10 GCP targets (7 control, 3 check). Images render at a quarter "
                      "of the full size (1368 x 912 px) so the demo runs in minutes on 2 "
                      "cores; set resolution-scale to 1 for full-size images."),
@@ -90,7 +91,7 @@ def survey() -> Template:
         origin=m.Origin(E0, N0, 0.0),
         scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
         effects=m.Effects(vignetting=m.Vignetting(0.2), sensor_noise=m.SensorNoise(1.5, 5),
-                          motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(92)),
+                          motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(95)),
         render=m.Render(preset="survey", pixel_filter_type="box", pixel_filter_width_px=1.0,
                         resolution_scale=0.25, workers=2, output_format="png", bit_depth=8),
         outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),

@@ -28,7 +28,12 @@ from designer.scene.lighting import (
     irradiance,
     sun_direction_world,
 )
-from designer.survey.project_poses import project_poses, render_interior
+from designer.core.projection import ground_sample_distance_m, pixel_rays_world
+from designer.effects.distortion_render import pinhole_render_camera
+from designer.effects.from_model import effects_from_model
+from designer.effects.motion import flight_direction_uv
+from designer.project import write_project
+from designer.survey.project_poses import project_stations, render_interior
 
 #: samples per pixel of each quality preset; measured costs in the README
 QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
@@ -59,8 +64,20 @@ def prepare_job(
     job_dir.mkdir(parents=True, exist_ok=True)
     origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
     scene = build_scene(project, base_dir)
-    poses, camera_id = project_poses(project, scene.heightfield)
+    stations, camera_id = project_stations(project, scene.heightfield)
+    poses = [CameraPose(s.image_name, s.C_world, s.R_cam_to_world) for s in stations]
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
+    # A distorted camera is rendered as a pinhole just large enough to cover its field,
+    # then warped through the exact inverse (designer.effects): the warp is made once.
+    render_camera, warp = pinhole_render_camera(interior)
+    effects = None
+    if not effects_from_model(project.effects, interior, warp=warp).is_empty:
+        write_project(project, job_dir / "project.xml")
+        if warp is not None:
+            warp.save(job_dir / "distortion_warp.npz")
+        effects = {"project": "project.xml", "camera_id": camera_id,
+                   "resolution_scale": project.render.resolution_scale,
+                   "warp": "distortion_warp.npz" if warp is not None else None}
 
     _write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
     terrain_material = {"texture": "texture.png", "uv_tiles": list(scene.texture_tiles),
@@ -81,7 +98,8 @@ def prepare_job(
 
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
-    cam = blender_camera(interior).to_dict()
+    cam = blender_camera(render_camera).to_dict()
+    contexts = _frame_contexts(stations, interior, scene)
     job = {
         "designer_version": __version__,
         "project": project.name,
@@ -96,14 +114,37 @@ def prepare_job(
         "camera": cam,
         "output": {"width_px": interior.image_width_px, "height_px": interior.image_height_px},
         "objects": objects,
+        "effects": effects,
         "frames": [{"index": i, "image_name": p.image_name,
                     "matrix_world_local": blender_matrix_world(
-                        p.C_world, p.R_cam_to_world, origin).tolist()}
+                        p.C_world, p.R_cam_to_world, origin).tolist(),
+                    "context": contexts[i]}
                    for i, p in enumerate(poses)],
     }
     job_path = job_dir / "job.json"
     write_text_atomic(job_path, json.dumps(job, indent=1))
     return PreparedJob(job_path=job_path, interior=interior, poses=tuple(poses), scene=scene)
+
+
+def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) -> list[dict]:
+    """Per frame: GSD at the principal point (m/px) and the flight direction in the image."""
+    out = []
+    centre = np.array([[interior.cx_px, interior.cy_px]])
+    for st in stations:
+        ray = pixel_rays_world(centre, st.R_cam_to_world, interior)
+        depth = None
+        if scene.heightfield is not None:
+            hit = scene.heightfield.intersect_rays(st.C_world[None], ray)[0]
+            if np.isfinite(hit[0]):
+                depth = float(-(hit - st.C_world) @ st.R_cam_to_world[:, 2])
+        if depth is None:
+            depth = float(st.C_world[2] - np.mean(scene.terrain.vertices_world[:, 2]))
+        az = np.radians(st.flight_azimuth_deg)
+        velocity = np.array([np.sin(az), np.cos(az), 0.0])
+        du, dv = flight_direction_uv(velocity, st.R_cam_to_world)
+        out.append({"gsd_m": float(ground_sample_distance_m(interior, abs(depth))),
+                    "flight_direction_uv": [float(du), float(dv)]})
+    return out
 
 
 def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> dict:

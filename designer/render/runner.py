@@ -53,9 +53,10 @@ def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
 
 
 def remove_partial_files(out_dir: Path) -> None:
-    """Delete temporary files left by an interrupted worker."""
-    for tmp in out_dir.glob(".*.rendering.*"):
-        tmp.unlink(missing_ok=True)
+    """Delete temporary files (hidden files) left in OUT by an interrupted worker."""
+    for tmp in out_dir.glob(".*"):
+        if tmp.is_file():
+            tmp.unlink(missing_ok=True)
 
 
 def render_frames(

@@ -195,14 +195,47 @@ def build_scene(job: dict, base: Path) -> tuple[bpy.types.Scene, bpy.types.Objec
     return scene, camera
 
 
-def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str) -> Path:
+def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None) -> dict:
+    """Render one frame; apply the camera effects (if any); rename the image into place."""
     camera.matrix_world = Matrix(frame["matrix_world_local"])
     final = out_dir / frame["image_name"]
     tmp = final.with_name(f".{final.stem}.rendering{ext}")
     scene.render.filepath = str(tmp)
+    t0 = time.perf_counter()
     bpy.ops.render.render(write_still=True)
-    os.replace(tmp, final)
-    return final
+    t1 = time.perf_counter()
+    if chain is None:
+        os.replace(tmp, final)
+    else:
+        from designer.effects.base import FrameContext
+        from designer.effects.chain import process_file
+
+        ctx = frame.get("context") or {}
+        direction = ctx.get("flight_direction_uv")
+        context = FrameContext(gsd_m=ctx.get("gsd_m"),
+                               flight_direction_uv=tuple(direction) if direction else None)
+        try:
+            process_file(tmp, final, chain, int(frame["index"]), context)
+        finally:
+            tmp.unlink(missing_ok=True)
+    return {"path": str(final), "seconds": time.perf_counter() - t0,
+            "render_seconds": t1 - t0, "effects_seconds": time.perf_counter() - t1}
+
+
+def load_effects(job: dict, base: Path):
+    """The camera-effects chain of the job, or None when the images are final as rendered."""
+    spec = job.get("effects")
+    if not spec:
+        return None
+    from designer.effects.distortion_render import DistortionWarp
+    from designer.effects.from_model import effects_from_model
+    from designer.project import read_project
+    from designer.survey.project_poses import render_interior
+
+    project = read_project(base / spec["project"])
+    interior = render_interior(project.camera(spec["camera_id"]), spec["resolution_scale"])
+    warp = DistortionWarp.load(base / spec["warp"], interior) if spec.get("warp") else None
+    return effects_from_model(project.effects, interior, warp=warp)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -224,12 +257,11 @@ def main(argv: list[str] | None = None) -> int:
     _, ext = FORMATS[job["render"].get("format", "png")]
     t0 = time.perf_counter()
     scene, camera = build_scene(job, base)
+    chain = load_effects(job, base)
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
     for index in wanted:
-        t = time.perf_counter()
-        path = render_frame(scene, camera, frames[index], out_dir, ext)
-        emit(progress, event="frame_done", index=index, path=str(path),
-             seconds=time.perf_counter() - t)
+        done = render_frame(scene, camera, frames[index], out_dir, ext, chain)
+        emit(progress, event="frame_done", index=index, **done)
     import resource
 
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
