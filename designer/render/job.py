@@ -17,8 +17,13 @@ import numpy as np
 from designer import __version__
 from designer.atomic import atomic_path, write_text_atomic
 from designer.core.interior import InteriorOrientation
+from designer.core.projection import ground_sample_distance_m, pixel_rays_world
+from designer.effects.distortion_render import pinhole_render_camera
+from designer.effects.from_model import effects_from_model
+from designer.effects.motion import flight_direction_uv
 from designer.export.groundtruth import CameraPose
 from designer.project import model as m
+from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.lighting import (
@@ -28,11 +33,6 @@ from designer.scene.lighting import (
     irradiance,
     sun_direction_world,
 )
-from designer.core.projection import ground_sample_distance_m, pixel_rays_world
-from designer.effects.distortion_render import pinhole_render_camera
-from designer.effects.from_model import effects_from_model
-from designer.effects.motion import flight_direction_uv
-from designer.project import write_project
 from designer.survey.project_poses import project_stations, render_interior
 
 #: samples per pixel of each quality preset; measured costs in the README
