@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-TEMPLATES = ("survey", "validation-cube", "psf", "texture")
+TEMPLATES = ("survey", "survey-ideal", "validation-cube", "psf", "texture")
 
 
 def register(subparsers) -> None:

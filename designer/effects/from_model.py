@@ -11,7 +11,7 @@ from designer.effects.distortion_render import DistortionWarp, LensDistortion, p
 from designer.effects.jpeg import JpegCompression
 from designer.effects.motion import LinearMotionBlur
 from designer.effects.optics import GaussianBlur, RadialVignetting
-from designer.effects.sensor import GaussianNoiseDN
+from designer.effects.sensor import GaussianNoiseDN, SensorModel
 
 if TYPE_CHECKING:  # the model is only read here; importing designer.project pulls in lxml
     from designer.project import model as m
@@ -54,6 +54,13 @@ def effects_from_model(
                                       effects.motion_blur.speed_m_s, scale))
     if effects.sensor_noise is not None:
         chain.append(GaussianNoiseDN(effects.sensor_noise.sigma_dn, effects.sensor_noise.seed))
+    if effects.sensor is not None:
+        s = effects.sensor
+        chain.append(SensorModel(full_well_e=s.full_well_e, exposure_scale=s.exposure_scale,
+                                 read_noise_e=s.read_noise_e,
+                                 dark_current_e_per_s=s.dark_current_e_per_s,
+                                 exposure_time_s=s.exposure_time_s, adc_bits=s.adc_bits,
+                                 shot_noise=True, seed=s.seed))
     if effects.jpeg is not None:
         chain.append(JpegCompression(effects.jpeg.quality))
     return EffectChain(chain)

@@ -359,6 +359,20 @@ class SensorNoise:
 
 
 @dataclass(frozen=True)
+class Sensor:
+    """A physical sensor in linear light: photon shot noise, dark current, read noise and
+    ADC quantisation. White in the render collects ``exposure_scale × full_well_e``."""
+
+    full_well_e: float
+    read_noise_e: float
+    dark_current_e_per_s: float = 0.0
+    exposure_time_s: float = 0.001
+    adc_bits: int = 12
+    exposure_scale: float = 0.8
+    seed: int = 0
+
+
+@dataclass(frozen=True)
 class Blur:
     sigma_px: float
 
@@ -380,6 +394,7 @@ class Effects:
 
     vignetting: Vignetting | None = None
     sensor_noise: SensorNoise | None = None
+    sensor: Sensor | None = None
     blur: Blur | None = None
     motion_blur: MotionBlur | None = None
     jpeg: Jpeg | None = None

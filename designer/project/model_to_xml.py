@@ -196,6 +196,12 @@ def _effects(parent: etree._Element, fx: m.Effects) -> None:
     if fx.sensor_noise is not None:
         _sub(el, "sensor-noise", sigma_dn=_num(fx.sensor_noise.sigma_dn),
              seed=_num(fx.sensor_noise.seed))
+    if fx.sensor is not None:
+        s = fx.sensor
+        _sub(el, "sensor", full_well_e=_num(s.full_well_e), read_noise_e=_num(s.read_noise_e),
+             dark_current_e_per_s=_num(s.dark_current_e_per_s),
+             exposure_time_s=_num(s.exposure_time_s), adc_bits=_num(s.adc_bits),
+             exposure_scale=_num(s.exposure_scale), seed=_num(s.seed))
     if fx.blur is not None:
         _sub(el, "blur", sigma_px=_num(fx.blur.sigma_px))
     if fx.motion_blur is not None:

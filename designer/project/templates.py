@@ -14,7 +14,7 @@ import numpy as np
 from designer.project import model as m
 from designer.project.assets import cube_obj_bytes, seamless_texture_png
 
-TEMPLATE_NAMES = ("survey", "validation-cube", "psf", "texture")
+TEMPLATE_NAMES = ("survey", "survey-ideal", "validation-cube", "psf", "texture")
 
 
 @dataclass(frozen=True)
@@ -90,12 +90,32 @@ def survey() -> Template:
         crs="EPSG:32632 (WGS 84 / UTM zone 32N)",
         origin=m.Origin(E0, N0, 0.0),
         scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
-        effects=m.Effects(vignetting=m.Vignetting(0.2), sensor_noise=m.SensorNoise(1.5, 5),
-                          motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(95)),
+        # What a typical survey camera does to its images: mild barrel distortion (in the
+        # camera), vignetting, shot + read noise of a 1-inch sensor, a 1/1000 s exposure
+        # at 8 m/s, JPEG at quality 95. The 'survey-ideal' template has none of it.
+        effects=m.Effects(
+            vignetting=m.Vignetting(0.2),
+            sensor=m.Sensor(full_well_e=20000.0, read_noise_e=3.0, dark_current_e_per_s=0.5,
+                            exposure_time_s=0.001, adc_bits=12, exposure_scale=0.8, seed=5),
+            motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(95)),
         render=m.Render(preset="survey", pixel_filter_type="box", pixel_filter_width_px=1.0,
                         resolution_scale=0.25, workers=2, output_format="png", bit_depth=8),
         outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),
     )
+    return Template(project)
+
+
+def survey_ideal() -> Template:
+    """The example survey with an ideal camera: no distortion and no image effects."""
+    import dataclasses
+
+    tpl = survey()
+    cam = dataclasses.replace(tpl.project.cameras[0], distortion=None)
+    project = dataclasses.replace(
+        tpl.project, name="Example survey, ideal camera", cameras=(cam,), effects=None,
+        description=("The example survey seen by an ideal pinhole camera: no lens distortion, "
+                     "no vignetting, no noise, no compression: only what the renderer must "
+                     "do."))
     return Template(project)
 
 
@@ -208,8 +228,8 @@ def texture() -> Template:
     return Template(project, {"texture.png": seamless_texture_png(512, seed=5)})
 
 
-_BUILDERS = {"survey": survey, "validation-cube": validation_cube, "psf": psf,
-             "texture": texture}
+_BUILDERS = {"survey": survey, "survey-ideal": survey_ideal,
+             "validation-cube": validation_cube, "psf": psf, "texture": texture}
 
 
 def template(name: str) -> Template:

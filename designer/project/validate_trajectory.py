@@ -172,6 +172,14 @@ def effects_issues(fx: m.Effects | None) -> list[Issue]:
     if fx.sensor_noise is not None:
         checks.append((fx.sensor_noise, "sensor-noise", "sigma-dn", fx.sensor_noise.sigma_dn,
                        0, 100))
+    if fx.sensor is not None:
+        s = fx.sensor
+        checks += [(s, "sensor", "full-well-e", s.full_well_e, 1, 1e7),
+                   (s, "sensor", "read-noise-e", s.read_noise_e, 0, 1e4),
+                   (s, "sensor", "dark-current-e-per-s", s.dark_current_e_per_s, 0, 1e6),
+                   (s, "sensor", "exposure-time-s", s.exposure_time_s, 0, 60),
+                   (s, "sensor", "adc-bits", s.adc_bits, 1, 16),
+                   (s, "sensor", "exposure-scale", s.exposure_scale, 0, 100)]
     if fx.blur is not None:
         checks.append((fx.blur, "blur", "sigma-px", fx.blur.sigma_px, 0, 50))
     if fx.motion_blur is not None:

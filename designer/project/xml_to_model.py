@@ -267,6 +267,10 @@ class _Reader:
             vignetting=one("vignetting", lambda c: m.Vignetting(_f(c, "corner-falloff"))),
             sensor_noise=one("sensor-noise",
                              lambda c: m.SensorNoise(_f(c, "sigma-dn"), int(c.get("seed")))),
+            sensor=one("sensor", lambda c: m.Sensor(
+                _f(c, "full-well-e"), _f(c, "read-noise-e"), _f(c, "dark-current-e-per-s"),
+                _f(c, "exposure-time-s"), int(c.get("adc-bits")), _f(c, "exposure-scale"),
+                int(c.get("seed")))),
             blur=one("blur", lambda c: m.Blur(_f(c, "sigma-px"))),
             motion_blur=one("motion-blur", lambda c: m.MotionBlur(
                 _f(c, "exposure-time-s"), _f(c, "speed-m-s"))),

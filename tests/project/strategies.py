@@ -153,6 +153,9 @@ def effects(draw) -> m.Effects | None:
     return m.Effects(
         vignetting=draw(st.none() | st.builds(m.Vignetting, reals(0, 1))),
         sensor_noise=draw(st.none() | st.builds(m.SensorNoise, reals(0, 100), seeds)),
+        sensor=draw(st.none() | st.builds(m.Sensor, reals(1, 1e7), reals(0, 1e4), reals(0, 1e6),
+                                          reals(0, 60), st.integers(1, 16), reals(0, 100),
+                                          seeds)),
         blur=draw(st.none() | st.builds(m.Blur, reals(0, 50))),
         motion_blur=draw(st.none() | st.builds(m.MotionBlur, reals(0, 1), reals(0, 100))),
         jpeg=draw(st.none() | st.builds(m.Jpeg, st.integers(1, 100))))
