@@ -11,6 +11,8 @@ BENCHMARKS = {
     "project-io": "designer.bench.project_io",
     "survey": "designer.bench.survey",
     "render": "designer.bench.render",
+    "compare": "designer.bench.compare",
+    "gui": "designer.bench.gui",
 }
 
 

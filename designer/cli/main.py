@@ -24,6 +24,8 @@ COMMAND_MODULES = [
     "designer.cli.reconstruct",
     "designer.cli.demo",
     "designer.cli.bench",
+    "designer.cli.compare",
+    "designer.cli.gui",
 ]
 
 
