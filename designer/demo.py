@@ -1,7 +1,11 @@
-"""The example survey, end to end: every stage that exists, in order, with timings.
+"""The example survey, end to end: every stage, in order, with timings.
 
 Stages: write the example project → check it → plan it (maps) → render every image
-with its ground truth → report (Markdown with figures and the timing of each stage).
+with its camera effects and ground truth → reconstruct with COLMAP (incremental SfM,
+georeferenced by the control GCPs) → compare the cloud with the true mesh and the
+check points with their truth → report (Markdown + HTML with figures and timings).
+The accuracy targets, in ground sample distances (GSD): cloud vs mesh median |d| ≤ 1,
+check-point RMSE ≤ 1 horizontally and ≤ 1.5 vertically.
 """
 
 from __future__ import annotations
@@ -58,8 +62,18 @@ def run_demo(
                                  progress=_frame_logger(log, len(plan.stations)))
         log(f"{len(summary.report.rendered)} images rendered, "
             f"{len(summary.report.skipped)} already complete")
+    accuracy = None
+    if frames is None:
+        with stage("reconstruct (COLMAP)"):
+            from designer.sfm.reconstruct import reconstruct
+
+            recon = reconstruct(output / "images", output / "reconstruction", mode="free",
+                                log=log)
+        with stage("compare with the truth"):
+            accuracy = _compare(project_path, recon, plan, output / "accuracy", log)
     report = output / "report.md"
-    write_text_atomic(report, _report_text(project, plan_summary(plan), summary, timings))
+    write_text_atomic(report, _report_text(project, plan_summary(plan), summary, timings,
+                                           accuracy))
     write_text_atomic(output / "timings.json", json.dumps(timings, indent=1))
     for name, seconds in timings.items():
         log(f"{name:<28} {seconds:8.1f} s")
@@ -90,7 +104,50 @@ def _frame_logger(log, total: int):
     return progress
 
 
-def _report_text(project, plan: dict, summary, timings: dict[str, float]) -> str:
+def _compare(project_path: Path, recon, plan, out: Path, log) -> dict:
+    """Cloud vs mesh and check points vs truth, in metres and in GSD."""
+    import numpy as np
+
+    from designer.evaluate.clouds import read_point_cloud
+    from designer.evaluate.compare import compare_cloud, reference_mesh
+    from designer.evaluate.gcp import gcp_errors
+    from designer.export.tables import read_gcp_truth_csv
+
+    truth = read_gcp_truth_csv(recon.out_dir.parent / "images" / "ground-truth" /
+                               "gcp_truth.csv")
+    estimated = {r["id"]: r["estimated"] for r in recon.summary["gcps"]}
+    gcps = gcp_errors(estimated, truth)
+    summary = compare_cloud(read_point_cloud(recon.cloud_ply), reference_mesh(project_path),
+                            out, gcps=gcps)
+    from plyfile import PlyData
+
+    from designer.evaluate.writers import SCALAR_NAME
+
+    d = PlyData.read(str(out / summary["files"]["distances"]))["vertex"][SCALAR_NAME]
+    gsd = float(np.nanmedian(plan.analysis.stations.gsd_centre_m))
+    stats = dict(summary["distances"], abs_median=float(np.nanmedian(np.abs(d))))
+    check = gcps["summary"]["check"]
+    result = {
+        "gsd_m": gsd, "points": stats["n"],
+        "median_abs_d_m": stats["abs_median"],
+        "median_abs_d_gsd": stats["abs_median"] / gsd,
+        "check_rmse_xy_gsd": check["rmse_XY"] / gsd,
+        "check_rmse_z_gsd": check["rmse_Z"] / gsd,
+    }
+    result["pass"] = bool(result["median_abs_d_gsd"] <= 1.0 and result["check_rmse_xy_gsd"]
+                          <= 1.0 and result["check_rmse_z_gsd"] <= 1.5)
+    log(f"cloud vs mesh: median |d| {100 * stats['abs_median']:.2f} cm = "
+        f"{result['median_abs_d_gsd']:.2f} GSD (target <= 1) over {stats['n']} points")
+    log(f"check points: RMSE XY {100 * check['rmse_XY']:.2f} cm = "
+        f"{result['check_rmse_xy_gsd']:.2f} GSD (<= 1), Z {100 * check['rmse_Z']:.2f} cm = "
+        f"{result['check_rmse_z_gsd']:.2f} GSD (<= 1.5): "
+        f"{'PASS' if result['pass'] else 'FAIL'}")
+    write_text_atomic(out / "demo_accuracy.json", json.dumps(result, indent=1))
+    return result
+
+
+def _report_text(project, plan: dict, summary, timings: dict[str, float],
+                 accuracy: dict | None = None) -> str:
     first = summary.prepared.poses[0].image_name
     lines = [
         f"# {project.name}",
@@ -118,6 +175,23 @@ def _report_text(project, plan: dict, summary, timings: dict[str, float]) -> str
         "|---|---|---|",
     ]
     lines += [f"| {g['id']} | {g['role']} | {g['images']} |" for g in plan.get("gcps", [])]
+    if accuracy is not None:
+        gsd_cm = 100 * accuracy["gsd_m"]
+        lines += [
+            "", "## Accuracy of the COLMAP reconstruction", "",
+            f"GSD {gsd_cm:.2f} cm. Targets: median |d| <= 1 GSD; check-point RMSE <= 1 GSD "
+            "horizontally, <= 1.5 GSD vertically.", "",
+            "| figure | value | in GSD |", "|---|---|---|",
+            f"| sparse cloud vs true mesh, median abs. distance ({accuracy['points']} points)"
+            f" | {100 * accuracy['median_abs_d_m']:.2f} cm | {accuracy['median_abs_d_gsd']:.2f} |",
+            f"| check points, RMSE XY | {gsd_cm * accuracy['check_rmse_xy_gsd']:.2f} cm | "
+            f"{accuracy['check_rmse_xy_gsd']:.2f} |",
+            f"| check points, RMSE Z | {gsd_cm * accuracy['check_rmse_z_gsd']:.2f} cm | "
+            f"{accuracy['check_rmse_z_gsd']:.2f} |", "",
+            f"Result: **{'PASS' if accuracy['pass'] else 'FAIL'}**", "",
+            "![error map](accuracy/error_map.png) ![histogram](accuracy/histogram.png)", "",
+            "Details: `accuracy/report.html`, `accuracy/summary.json`, "
+            "`reconstruction/gcp_residuals.csv`."]
     lines += ["", "## Timings", "", "| stage | seconds |", "|---|---|"]
     lines += [f"| {name} | {seconds:.1f} |" for name, seconds in timings.items()]
     lines += ["", "Ground truth: `images/ground-truth/`; manifest: `images/manifest.json`.", ""]
