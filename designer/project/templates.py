@@ -100,7 +100,7 @@ def survey() -> Template:
             motion_blur=m.MotionBlur(0.001, 8.0), jpeg=m.Jpeg(95)),
         render=m.Render(preset="survey", pixel_filter_type="box", pixel_filter_width_px=1.0,
                         resolution_scale=0.25, workers=2, output_format="png", bit_depth=8),
-        outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),
+        outputs=m.Outputs("output", ("colmap", "odm", "metashape", "opk", "gcp")),
     )
     return Template(project)
 

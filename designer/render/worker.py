@@ -38,6 +38,12 @@ def configure_render(scene: bpy.types.Scene, job: dict) -> None:
     cycles.device = "CPU"
     cycles.samples = int(render["samples"])
     cycles.use_adaptive_sampling = False
+    adaptive = render.get("adaptive_sampling")  # optional {"threshold", "min_samples"}
+    if adaptive:
+        # Flat pixels (no edge inside) converge at once; samples go to the edges.
+        cycles.use_adaptive_sampling = True
+        cycles.adaptive_threshold = float(adaptive.get("threshold", 0.01))
+        cycles.adaptive_min_samples = int(adaptive.get("min_samples", 0))
     cycles.use_denoising = False
     cycles.seed = int(render.get("seed", 0))
     cycles.use_animated_seed = False
