@@ -13,6 +13,7 @@ BENCHMARKS = {
     "render": "designer.bench.render",
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",
+    "accuracy": "designer.bench.accuracy",
 }
 
 

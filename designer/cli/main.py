@@ -26,6 +26,7 @@ COMMAND_MODULES = [
     "designer.cli.bench",
     "designer.cli.compare",
     "designer.cli.gui",
+    "designer.cli.validate",
 ]
 
 
