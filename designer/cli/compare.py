@@ -1,0 +1,136 @@
+"""``designer compare CLOUD MESH_OR_PROJECT -o DIR``: accuracy of a cloud against the truth."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "compare", help="compare a reconstruction with the true surface, GCPs and cameras",
+        description=(
+            "Signed distances from every point of CLOUD to the true mesh (exact, float64, "
+            "positive above the terrain), their statistics (mean, std, RMSE, median, NMAD, "
+            "68.3/95 %% quantiles, tolerance shares), a histogram and an error map; with "
+            "--truth also GCP/check-point and camera pose errors. Writes DIR/distances.ply, "
+            "DIR/summary.json, DIR/report.md and DIR/report.html, and prints a summary."),
+    )
+    parser.add_argument("cloud", type=Path,
+                        help="point cloud: PLY, LAS/LAZ, XYZ/CSV/TXT, or a COLMAP model folder")
+    parser.add_argument("reference", type=Path, metavar="MESH_OR_PROJECT",
+                        help="true mesh (PLY/OBJ/STL, world coordinates) or project XML")
+    parser.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    parser.add_argument("--offset", type=float, nargs=3, metavar=("E", "N", "H"),
+                        help="add this to the cloud's (and its COLMAP model's) coordinates")
+    parser.add_argument("--columns", nargs=3, metavar=("X", "Y", "Z"),
+                        help="text clouds: the x, y, z columns, by header name or 0-based number")
+    parser.add_argument("--max-distance", type=float, metavar="M",
+                        help="leave out points farther than M metres from the mesh")
+    parser.add_argument("--tolerance", type=float, nargs="+", metavar="M",
+                        help="tolerances (m) whose share of |d| is reported "
+                             "(default 0.01 0.02 0.05 0.1 0.2)")
+    parser.add_argument("--cell-m", type=float, metavar="M", help="error-map cell size (m)")
+    parser.add_argument("--no-targets", action="store_true",
+                        help="project XML: compare with the terrain alone, not the GCP plates")
+    parser.add_argument("--truth", type=Path, metavar="DIR",
+                        help="a rendered survey folder (or its ground-truth/): adds GCP and "
+                             "camera errors")
+    parser.add_argument("--gcps", type=Path, metavar="CSV",
+                        help="estimated GCP coordinates (id, X, Y, Z); default: triangulated "
+                             "from the COLMAP model and the true GCP observations")
+    parser.add_argument("--cameras", type=Path, metavar="PATH",
+                        help="estimated cameras: COLMAP model, omega-phi-kappa table or ODM "
+                             "shots.geojson; default: CLOUD when it is a COLMAP model")
+    parser.add_argument("--no-align", action="store_true",
+                        help="camera errors without the 7-parameter similarity alignment")
+    parser.add_argument("--json", action="store_true", help="print summary.json instead")
+    parser.set_defaults(func=run)
+
+
+def _truth_folder(path: Path) -> Path:
+    from designer.errors import DesignerError
+
+    for folder in (path / "ground-truth", path):
+        if (folder / "gcp_truth.csv").is_file() or (folder / "camera_poses_opk.csv").is_file():
+            return folder
+    raise DesignerError(f"{path} holds no ground truth (gcp_truth.csv or camera_poses_opk.csv, "
+                        "directly or in ground-truth/)")
+
+
+def extra_errors(args) -> tuple[dict | None, dict | None]:
+    """(GCP errors, camera errors) requested by ``--truth``/``--gcps``/``--cameras``."""
+    from designer.errors import DesignerError
+    from designer.evaluate import (
+        camera_pose_errors,
+        gcp_errors,
+        read_camera_poses,
+        read_gcp_estimates_csv,
+        triangulate_gcps,
+    )
+    from designer.evaluate.colmap_model import model_files
+    from designer.export.tables import (
+        read_gcp_observations_csv,
+        read_gcp_truth_csv,
+        read_opk_csv,
+    )
+
+    if args.truth is None:
+        if args.gcps or args.cameras:
+            raise DesignerError("--gcps and --cameras need --truth (the rendered survey folder)")
+        return None, None
+    truth = _truth_folder(args.truth)
+    model = args.cameras if args.cameras is not None else args.cloud
+    is_model = model.is_dir() and model_files(model) is not None
+    gcps = cameras = None
+    if (truth / "gcp_truth.csv").is_file():
+        true_gcps = read_gcp_truth_csv(truth / "gcp_truth.csv")
+        estimated = None
+        if args.gcps is not None:
+            estimated = read_gcp_estimates_csv(args.gcps)
+        elif is_model and (truth / "gcp_observations.csv").is_file():
+            estimated = triangulate_gcps(model, read_gcp_observations_csv(
+                truth / "gcp_observations.csv"), offset_world=args.offset)
+        if estimated:
+            gcps = gcp_errors(estimated, true_gcps)
+    if (truth / "camera_poses_opk.csv").is_file() and (args.cameras is not None or is_model):
+        offset = args.offset if is_model else None
+        cameras = camera_pose_errors(read_camera_poses(model, offset_world=offset),
+                                     read_opk_csv(truth / "camera_poses_opk.csv"),
+                                     align=not args.no_align)
+    return gcps, cameras
+
+
+def run(args) -> int:
+    from designer.errors import DesignerError
+    from designer.evaluate import (
+        DEFAULT_TOLERANCES_M,
+        compare_cloud,
+        format_summary,
+        read_point_cloud,
+        reference_mesh,
+    )
+
+    for name in ("max_distance", "cell_m"):
+        value = getattr(args, name)
+        if value is not None and not value > 0:
+            raise DesignerError(f"--{name.replace('_', '-')} {value}: give a value > 0")
+    tolerances = tuple(args.tolerance) if args.tolerance else DEFAULT_TOLERANCES_M
+    if any(not t > 0 for t in tolerances):
+        raise DesignerError("--tolerance values must be > 0")
+    if not args.reference.exists():
+        raise DesignerError(f"reference {args.reference} does not exist")
+    cloud = read_point_cloud(args.cloud, offset=args.offset,
+                             columns=tuple(args.columns) if args.columns else None)
+    mesh = reference_mesh(args.reference, with_targets=not args.no_targets)
+    gcps, cameras = extra_errors(args)
+    summary = compare_cloud(cloud, mesh, args.output, max_distance=args.max_distance,
+                            tolerances=tolerances, cell_m=args.cell_m, gcps=gcps,
+                            cameras=cameras, offset=args.offset)
+    if args.json:
+        print(json.dumps(summary, indent=1))
+    else:
+        print(format_summary(summary))
+        print(f"wrote {args.output / 'distances.ply'}, {args.output / 'summary.json'}, "
+              f"{args.output / 'report.html'}")
+    return 0

@@ -1,0 +1,155 @@
+"""Compare a point cloud with the true mesh and write the accuracy products.
+
+:func:`compare_cloud` is what ``designer compare`` and ``designer reconstruct`` call:
+data in, files out —
+
+* ``distances.ply``: the cloud with its signed distance (see :mod:`.writers`);
+* ``summary.json``: inputs, statistics, error-map geometry, GCP and camera errors;
+* ``histogram.png``, ``error_map.png``, ``error_map.tif`` (GeoTIFF) and
+  ``error_map.npy``;
+* ``report.md`` and ``report.html``.
+
+:func:`reference_mesh` loads the mesh from a file (PLY/OBJ/STL) or builds it from a
+project XML (its terrain, plus the GCP target plates when ``with_targets``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.atomic import write_text_atomic
+from designer.errors import DesignerError
+from designer.evaluate.clouds import PointCloud
+from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics
+
+
+@dataclass(frozen=True, eq=False)
+class ReferenceMesh:
+    """World-coordinate triangles: ``vertices`` (N, 3) float64, ``faces`` (M, 3)."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    source: str
+    crs: str | None = None
+
+
+def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True) -> ReferenceMesh:
+    """The true surface from a mesh file or a project XML (terrain + GCP targets)."""
+    path = Path(path)
+    if path.suffix.lower() == ".xml":
+        from designer.project import load_project
+        from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
+
+        project = load_project(path)
+        terrain = project.scene.terrain
+        origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
+        # Only the geometry is needed: build the terrain and targets, not the texture.
+        hf = build_heightfield(terrain, path.parent)
+        mesh = build_terrain_mesh(terrain, hf, path.parent, origin)
+        vertices, faces = [mesh.vertices_world], [mesh.faces]
+        if with_targets:
+            n = len(mesh.vertices_world)
+            for t in build_targets(project, hf):
+                quads = np.asarray(t.faces, np.int64)  # counter-clockwise quads
+                vertices.append(t.vertices_world)
+                faces.append(np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) + n)
+                n += len(t.vertices_world)
+        return ReferenceMesh(np.vstack(vertices), np.vstack(faces), str(path), project.crs)
+    from designer.scene.mesh import load_mesh
+
+    mesh = load_mesh(path)
+    return ReferenceMesh(mesh.vertices_world, mesh.faces, str(path))
+
+
+def check_overlap(cloud_xyz: np.ndarray, vertices: np.ndarray, cloud_name: str,
+                  mesh_name: str) -> None:
+    """Raise a one-line error when cloud and mesh are obviously in different coordinates."""
+    c_lo, c_hi = cloud_xyz.min(axis=0), cloud_xyz.max(axis=0)
+    m_lo, m_hi = vertices.min(axis=0), vertices.max(axis=0)
+    gap = np.maximum(0.0, np.maximum(c_lo - m_hi, m_lo - c_hi))
+    size = max(float(np.max(m_hi - m_lo)), 1.0)
+    if np.linalg.norm(gap) > 10 * size:
+        cc, mc = 0.5 * (c_lo + c_hi), 0.5 * (m_lo + m_hi)
+        raise DesignerError(
+            f"{cloud_name} (centre {cc[0]:.1f}, {cc[1]:.1f}, {cc[2]:.1f}) lies far from "
+            f"{mesh_name} (centre {mc[0]:.1f}, {mc[1]:.1f}, {mc[2]:.1f}): are they in the same "
+            "coordinates? Give the cloud's offset with --offset E N H")
+
+
+def compare_cloud(
+    cloud: PointCloud,
+    mesh: ReferenceMesh,
+    out_dir: str | os.PathLike,
+    *,
+    max_distance: float | None = None,
+    tolerances=DEFAULT_TOLERANCES_M,
+    cell_m: float | None = None,
+    gcps: dict | None = None,
+    cameras: dict | None = None,
+    offset=None,
+) -> dict:
+    """Signed distances of ``cloud`` to ``mesh``, statistics and every product in
+    ``out_dir`` (created); returns the summary written to summary.json.
+
+    ``gcps`` / ``cameras`` are results of :func:`~designer.evaluate.gcp.gcp_errors` and
+    :func:`~designer.evaluate.poses.camera_pose_errors` to include in the report.
+    """
+    from designer.evaluate.distance import build_mesh_index, signed_distances
+    from designer.evaluate.maps import (
+        grid_errors,
+        write_error_map_geotiff,
+        write_error_map_npy,
+        write_error_map_png,
+        write_histogram_png,
+    )
+    from designer.evaluate.report import write_report
+    from designer.evaluate.writers import write_distances_ply
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    check_overlap(cloud.xyz, mesh.vertices, cloud.source or "the cloud", mesh.source)
+    t0 = time.perf_counter()
+    index = build_mesh_index((mesh.vertices, mesh.faces))
+    t1 = time.perf_counter()
+    d = signed_distances(cloud.xyz, index, max_distance=max_distance)
+    t2 = time.perf_counter()
+    stats = distance_statistics(d, tolerances)
+    write_distances_ply(out / "distances.ply", cloud.xyz, d, rgb=cloud.rgb,
+                        normals=cloud.normals,
+                        comments=(f"reference mesh {Path(mesh.source).name}",))
+    grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
+    files = {"distances": "distances.ply", "histogram": "histogram.png",
+             "error_map": "error_map.png", "error_map_geotiff": "error_map.tif",
+             "error_map_npy": "error_map.npy"}
+    write_histogram_png(out / files["histogram"], stats)
+    write_error_map_png(out / files["error_map"], grid, limit_m=stats["abs_q95"] or None)
+    write_error_map_geotiff(out / files["error_map_geotiff"], grid, mesh.crs)
+    write_error_map_npy(out / files["error_map_npy"], grid)
+    rows, cols = grid.values.shape
+    summary = {
+        "inputs": {"cloud": cloud.source, "n_points": len(cloud), "mesh": mesh.source,
+                   "n_faces": len(mesh.faces), "crs": mesh.crs,
+                   "offset": None if offset is None else [float(v) for v in offset],
+                   "max_distance": max_distance},
+        "convention": "signed distance = point to nearest mesh point (m), positive on the "
+                      "side the mesh normals face (above the terrain)",
+        "timing": {"index_s": t1 - t0, "distances_s": t2 - t1},
+        "distances": stats,
+        "error_map": {"cell_m": grid.cell_m, "x_min": grid.x_min, "y_max": grid.y_max,
+                      "rows": rows, "cols": cols,
+                      "filled_share": float(np.isfinite(grid.values).mean())},
+        "gcps": gcps, "cameras": cameras, "files": files,
+    }
+    report = write_report(out, summary, {"histogram": files["histogram"],
+                                         "error_map": files["error_map"]})
+    summary["files"].update({"report_markdown": report["markdown"].name,
+                             "report_html": report["html"].name,
+                             "summary": "summary.json"})
+    write_text_atomic(out / "summary.json", json.dumps(summary, indent=1) + "\n")
+    return summary
