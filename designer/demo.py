@@ -159,7 +159,7 @@ def _compare(project_path: Path, recon, plan, out: Path, log) -> dict:
 
 def _report_text(project, plan: dict, summary, timings: dict[str, float],
                  accuracy: dict | None = None) -> str:
-    first = summary.prepared.poses[0].image_name
+    first = summary.prepared.poses[len(summary.prepared.poses) // 2].image_name
     lines = [
         f"# {project.name}",
         "",

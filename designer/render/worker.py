@@ -207,9 +207,9 @@ def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None
     final = out_dir / frame["image_name"]
     tmp = final.with_name(f".{final.stem}.rendering{ext}")
     scene.render.filepath = str(tmp)
-    t0 = time.perf_counter()
+    t0, cpu0 = time.perf_counter(), time.process_time()
     bpy.ops.render.render(write_still=True)
-    t1 = time.perf_counter()
+    t1, cpu = time.perf_counter(), time.process_time() - cpu0
     if chain is None:
         os.replace(tmp, final)
     else:
@@ -225,7 +225,8 @@ def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None
         finally:
             tmp.unlink(missing_ok=True)
     return {"path": str(final), "seconds": time.perf_counter() - t0,
-            "render_seconds": t1 - t0, "effects_seconds": time.perf_counter() - t1}
+            "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
+            "effects_seconds": time.perf_counter() - t1}
 
 
 def load_effects(job: dict, base: Path):
