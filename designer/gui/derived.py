@@ -1,0 +1,215 @@
+"""Everything the view derives from a project, as plain functions (Qt-free).
+
+They run in worker threads (:mod:`designer.gui.tasks`), take immutable inputs and
+return frozen results, so a result can be handed to the UI thread as it is. World
+coordinates in metres. Each wraps the project's own code: the scene builder, the
+flight planner, the coverage analysis — the GUI computes nothing of its own.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+from designer.core.interior import InteriorOrientation
+from designer.errors import DesignerError
+from designer.gui.view_geometry import (
+    MAX_DISPLAY_NODES_PER_SIDE,
+    StationGeometry,
+    TerrainDisplay,
+    station_geometry,
+    terrain_display,
+)
+from designer.project import model as m
+from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
+from designer.scene.build import build_texture as _build_texture
+from designer.scene.mesh import TerrainMesh
+from designer.survey.flight import CameraCalc, camera_calc
+from designer.survey.raycast import TerrainRaycaster
+
+
+@dataclass(frozen=True, eq=False)
+class TerrainResult:
+    terrain: m.Terrain
+    heightfield: Heightfield | None
+    mesh: TerrainMesh | None
+    raycaster: TerrainRaycaster | None
+    display: TerrainDisplay
+    z_mean_m: float
+    centre_world: np.ndarray
+    n_vertices: int
+    tiles: tuple[int, int]
+    max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE
+
+
+def compute_terrain(project: m.Project, base_dir: Path,
+                    max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE) -> TerrainResult:
+    """Height field (or mesh), its ray caster and the thinned display mesh."""
+    terrain = project.scene.terrain
+    hf = build_heightfield(terrain, Path(base_dir))
+    mesh = None
+    tiles = (project.scene.texture.repeat_X, project.scene.texture.repeat_Y)
+    if hf is None:
+        origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
+        mesh = build_terrain_mesh(terrain, None, Path(base_dir), origin)
+        z = mesh.vertices_world[:, 2]
+        n = len(mesh.vertices_world)
+        rc = None
+    else:
+        z = hf.heights_m
+        n = z.size
+        rc = TerrainRaycaster(hf)
+    display = terrain_display(hf, mesh, tiles, max_display_nodes)
+    lo, hi = display.points_world.min(axis=0), display.points_world.max(axis=0)
+    centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(np.mean(z))])
+    return TerrainResult(terrain, hf, mesh, rc, display, float(np.mean(z)), centre, n, tiles,
+                         max_display_nodes)
+
+
+def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:
+    """The display mesh with another texture repeat (no new height field)."""
+    return terrain_display(result.heightfield, result.mesh, tiles, result.max_display_nodes)
+
+
+def compute_texture(project: m.Project, base_dir: Path) -> np.ndarray:
+    """The texture tile (H, W, 3) uint8, as the renderer will use it."""
+    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir))
+
+
+def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[float, float]:
+    """Ground size (m) of one texel along X and Y (NaN when unknown)."""
+    tex = project.scene.texture
+    e = project.scene.terrain.extent
+    if isinstance(tex.source, m.ProceduralTexture):
+        return tex.source.texel_size_m, tex.source.texel_size_m
+    if texture_rgb is None:
+        return math.nan, math.nan
+    h, w = texture_rgb.shape[:2]
+    return e.width_m / tex.repeat_X / w, e.length_m / tex.repeat_Y / h
+
+
+@dataclass(frozen=True, eq=False)
+class TargetsResult:
+    ids: list[str]
+    roles: list[str]
+    true_xyz: np.ndarray
+    plates: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+def compute_targets(project: m.Project, hf: Heightfield | None) -> TargetsResult:
+    built = build_targets(project, hf)
+    return TargetsResult(
+        [b.target.id for b in built], [b.target.role for b in built],
+        np.array([b.true_xyz for b in built]).reshape(-1, 3),
+        [(b.vertices_world, b.faces, b.colors) for b in built])
+
+
+@dataclass(frozen=True, eq=False)
+class StationsResult:
+    """Camera stations as drawn plus the figures the Flight panel shows."""
+
+    geometry: StationGeometry
+    n_images: int
+    camera_id: str
+    interior: InteriorOrientation
+    calc: CameraCalc | None
+    render_time_s: float | None
+    C_world: np.ndarray
+    R_cam_to_world: np.ndarray
+
+
+def render_seconds_per_image(project: m.Project, interior: InteriorOrientation,
+                             preset: str | None = None) -> float:
+    """Estimated Cycles seconds per image on the reference machine (``designer bench
+    render`` figures, as in ``designer plan``)."""
+    from designer.survey.plan_report import (
+        SECONDS_PER_MEGAPIXEL,
+        SECONDS_PER_MEGAPIXEL_SAMPLE,
+    )
+
+    render = project.render
+    spp = render.effective_samples if preset is None else m.PRESET_SAMPLES[preset]
+    # the rendered size as designer.survey.project_poses.render_interior rounds it
+    W = round(interior.image_width_px * render.resolution_scale)
+    H = round(interior.image_height_px * render.resolution_scale)
+    return W * H / 1e6 * (spp * SECONDS_PER_MEGAPIXEL_SAMPLE + SECONDS_PER_MEGAPIXEL)
+
+
+def compute_stations(project: m.Project, terrain: TerrainResult | None) -> StationsResult:
+    """Stations of the flight plan and explicit photos, drawn over the terrain."""
+    from designer.survey.project_poses import interior_from_camera, project_stations
+
+    hf = terrain.heightfield if terrain is not None else None
+    stations, camera_id = project_stations(project, hf)
+    try:
+        interior = interior_from_camera(project.camera(camera_id))
+    except KeyError:
+        raise DesignerError(f"the stations use camera '{camera_id}', which is not defined; "
+                            "choose a camera in the Flight panel") from None
+    C = np.array([s.C_world for s in stations])
+    R = np.array([s.R_cam_to_world for s in stations])
+    line = np.array([s.line_index for s in stations])
+    rc = terrain.raycaster if terrain is not None else None
+    geometry = station_geometry(C, R, line, interior, rc.first_hit if rc else None,
+                                terrain.z_mean_m if terrain is not None else 0.0)
+    plan = project.trajectory.flight_plan
+    calc = None
+    if plan is not None:
+        calc = camera_calc(interior, altitude_agl_m=plan.altitude_agl_m, gsd_m=plan.gsd_m,
+                           front_overlap_fraction=plan.front_overlap_percent / 100,
+                           side_overlap_fraction=plan.side_overlap_percent / 100,
+                           orientation=plan.orientation)
+    seconds = len(stations) * render_seconds_per_image(project, interior)
+    return StationsResult(geometry, len(stations), camera_id, interior, calc, seconds, C, R)
+
+
+@dataclass(frozen=True, eq=False)
+class CoverageResult:
+    points_world: np.ndarray
+    shape: tuple[int, int]
+    count: np.ndarray
+    shares: dict[int, float]
+
+
+def compute_coverage(project: m.Project, terrain: TerrainResult,
+                     stations: StationsResult) -> CoverageResult:
+    """Images seeing each cell of a ground grid over the survey area (occlusion included)."""
+    from designer.survey.coverage import coverage_map, ground_grid
+
+    if terrain.heightfield is None:
+        raise DesignerError("the coverage map needs a height-field terrain")
+    plan = project.trajectory.flight_plan
+    e = project.scene.terrain.extent
+    area = (np.array(plan.area) if plan is not None else
+            np.array([[e.min_X, e.min_Y], [e.max_X, e.min_Y], [e.max_X, e.max_Y],
+                      [e.min_X, e.max_Y]]))
+    grid = ground_grid(terrain.heightfield, area)
+    cover = coverage_map(grid, stations.C_world, stations.R_cam_to_world, stations.interior,
+                         terrain.raycaster)
+    xyz = grid.points_world()
+    count = np.where(grid.valid, cover.count, 0)
+    return CoverageResult(xyz, grid.shape, count, cover.shares)
+
+
+def draped_polygon(xy: np.ndarray, terrain: TerrainResult | None, lift_m: float = 0.3,
+                   step_m: float | None = None) -> np.ndarray:
+    """A closed polygon (N, 2) densified along its edges and laid on the terrain (N', 3)."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if terrain is None or terrain.heightfield is None:
+        z = terrain.z_mean_m if terrain is not None else 0.0
+        return np.column_stack([xy, np.full(len(xy), z + lift_m)])
+    hf = terrain.heightfield
+    if step_m is None:
+        x0, x1, y0, y1 = hf.extent_m
+        step_m = max(x1 - x0, y1 - y0) / 200
+    pts = []
+    for a, b in zip(xy, np.roll(xy, -1, axis=0), strict=True):
+        k = max(1, int(np.ceil(np.hypot(*(b - a)) / step_m)))
+        pts.append(a + (b - a) * (np.arange(k) / k)[:, None])
+    dense = np.vstack(pts)
+    z = hf.height_at_clamped(dense[:, 0], dense[:, 1]) + lift_m
+    return np.column_stack([dense, z])

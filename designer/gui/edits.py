@@ -1,0 +1,183 @@
+"""Pure edits of the immutable project model, one function per thing a person does.
+
+Each function takes a :class:`~designer.project.model.Project` and returns a new one
+(the input is never modified); the GUI pushes the result onto its undo stack. World
+coordinates in metres (X east, Y north, Z up), angles in degrees, as in the model.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from typing import Any
+
+import numpy as np
+
+from designer.project import model as m
+
+_INDEX = re.compile(r"^(\w+)\[(\d+)\]$")
+
+
+def replace_path(obj: Any, path: str, value: Any) -> Any:
+    """``obj`` with the field at a dotted ``path`` (``"scene.terrain.source.seed"``,
+    ``"cameras[0].focal_length_mm"``) set to ``value``; every level is copied."""
+    head, _, rest = path.partition(".")
+    match = _INDEX.match(head)
+    name, index = (match.group(1), int(match.group(2))) if match else (head, None)
+    current = getattr(obj, name)
+    if index is None:
+        new = replace_path(current, rest, value) if rest else value
+    else:
+        items = list(current)
+        items[index] = replace_path(items[index], rest, value) if rest else value
+        new = tuple(items)
+    return dataclasses.replace(obj, **{name: new})
+
+
+def get_path(obj: Any, path: str) -> Any:
+    """The value at a dotted ``path`` (see :func:`replace_path`)."""
+    for head in path.split("."):
+        match = _INDEX.match(head)
+        if match:
+            obj = getattr(obj, match.group(1))[int(match.group(2))]
+        else:
+            obj = getattr(obj, head)
+    return obj
+
+
+# ---------------------------------------------------------------------- targets
+def _targets(project: m.Project) -> m.Targets:
+    return project.scene.targets or m.Targets()
+
+
+#: survey σ given to new targets when the project has none: RTK GNSS, 1 cm / 2 cm
+DEFAULT_SURVEY_ACCURACY = m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.02), seed=0)
+
+
+def set_targets(project: m.Project, targets: tuple[m.Target, ...],
+                survey_accuracy: m.SurveyAccuracy | str | None = "keep") -> m.Project:
+    """The project with this target list and survey accuracy: ``"keep"`` keeps it, or
+    gives the default σ when a target without a measured position would have none."""
+    current = _targets(project)
+    accuracy = current.survey_accuracy if survey_accuracy == "keep" else survey_accuracy
+    if (survey_accuracy == "keep" and accuracy is None
+            and any(t.surveyed is None for t in targets)):
+        accuracy = DEFAULT_SURVEY_ACCURACY
+    new = m.Targets(tuple(targets), accuracy)
+    if not new.targets and new.survey_accuracy is None:
+        return replace_path(project, "scene.targets", None)
+    return replace_path(project, "scene.targets", new)
+
+
+def next_target_id(project: m.Project, prefix: str = "GCP") -> str:
+    """The first free id ``GCP01``, ``GCP02``, …"""
+    used = {t.id for t in project.targets}
+    k = 1
+    while f"{prefix}{k:02d}" in used:
+        k += 1
+    return f"{prefix}{k:02d}"
+
+
+def default_target_size_m(project: m.Project) -> float:
+    """The size of the last target, or 1 % of the terrain's shorter side (0.2–2 m)."""
+    if project.targets:
+        return project.targets[-1].size_m
+    e = project.scene.terrain.extent
+    return float(np.clip(0.01 * min(e.width_m, e.length_m), 0.2, 2.0))
+
+
+def add_target(project: m.Project, X: float, Y: float, role: m.Role = "control",
+               target_id: str | None = None, size_m: float | None = None) -> m.Project:
+    """A new checker target draped on the terrain at (X, Y)."""
+    target = m.Target(
+        id=target_id or next_target_id(project), role=role, shape="checker",
+        size_m=size_m if size_m is not None else default_target_size_m(project),
+        true=m.TruePosition(float(X), float(Y)))
+    return set_targets(project, (*project.targets, target))
+
+
+def move_target(project: m.Project, target_id: str, X: float, Y: float) -> m.Project:
+    """Move a target's true position to (X, Y), keeping a given Z only if it had one."""
+    out = []
+    for t in project.targets:
+        if t.id == target_id:
+            t = dataclasses.replace(t, true=dataclasses.replace(t.true, X=float(X), Y=float(Y)))
+        out.append(t)
+    return set_targets(project, tuple(out))
+
+
+def delete_targets(project: m.Project, target_ids) -> m.Project:
+    gone = set(target_ids)
+    return set_targets(project, tuple(t for t in project.targets if t.id not in gone))
+
+
+def replace_target(project: m.Project, index: int, target: m.Target) -> m.Project:
+    items = list(project.targets)
+    items[index] = target
+    return set_targets(project, tuple(items))
+
+
+def layout_targets(project: m.Project, xy: np.ndarray, roles, size_m: float,
+                   prefix: str = "GCP") -> m.Project:
+    """Replace every target by targets at ``xy`` (N, 2) with ``roles`` (N,)."""
+    targets = tuple(
+        m.Target(id=f"{prefix}{k + 1:02d}", role=str(roles[k]), shape="checker",
+                 size_m=float(size_m), true=m.TruePosition(float(x), float(y)))
+        for k, (x, y) in enumerate(np.asarray(xy, dtype=float)))
+    return set_targets(project, targets)
+
+
+# ---------------------------------------------------------------------- flight
+def terrain_rectangle(project: m.Project) -> tuple[tuple[float, float], ...]:
+    """The terrain extent as an area polygon (counter-clockwise from south-west)."""
+    e = project.scene.terrain.extent
+    return ((e.min_X, e.min_Y), (e.max_X, e.min_Y), (e.max_X, e.max_Y), (e.min_X, e.max_Y))
+
+
+def ensure_flight_plan(project: m.Project) -> m.Project:
+    """The project with a flight plan: a 50 m, 80/70 % grid over the terrain if none."""
+    if project.trajectory.flight_plan is not None:
+        return project
+    camera = project.cameras[0].id if project.cameras else "camera"
+    plan = m.FlightPlan(camera=camera, image_prefix="IMG_", area=terrain_rectangle(project),
+                        altitude_agl_m=50.0)
+    return replace_path(project, "trajectory.flight_plan", plan)
+
+
+def set_flight(project: m.Project, **fields) -> m.Project:
+    """Replace flight plan fields (creating the default plan first if there is none)."""
+    project = ensure_flight_plan(project)
+    plan = dataclasses.replace(project.trajectory.flight_plan, **fields)
+    return replace_path(project, "trajectory.flight_plan", plan)
+
+
+# ---------------------------------------------------------------------- camera
+def set_camera(project: m.Project, camera: m.Camera, index: int = 0) -> m.Project:
+    """Replace camera ``index`` (add it when there is none); a new id is followed by the
+    flight plan and by every exterior orientation that used the old one."""
+    cameras = list(project.cameras)
+    old_id = cameras[index].id if index < len(cameras) else None
+    if index < len(cameras):
+        cameras[index] = camera
+    else:
+        cameras.append(camera)
+    project = dataclasses.replace(project, cameras=tuple(cameras))
+    if old_id is not None and old_id != camera.id:
+        traj = project.trajectory
+        eos = tuple(dataclasses.replace(eo, camera=camera.id) if eo.camera == old_id else eo
+                    for eo in traj.exterior_orientations)
+        plan = traj.flight_plan
+        if plan is not None and plan.camera == old_id:
+            plan = dataclasses.replace(plan, camera=camera.id)
+        project = dataclasses.replace(project, trajectory=m.Trajectory(eos, plan))
+    return project
+
+
+# ---------------------------------------------------------------------- effects
+def set_effect(project: m.Project, name: str, value) -> m.Project:
+    """Turn effect ``name`` (a field of Effects) on with ``value`` or off with None."""
+    effects = project.effects or m.Effects()
+    effects = dataclasses.replace(effects, **{name: value})
+    if all(getattr(effects, f.name) is None for f in dataclasses.fields(effects)):
+        effects = None
+    return dataclasses.replace(project, effects=effects)

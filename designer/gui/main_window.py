@@ -1,0 +1,243 @@
+"""The designer window: the 3D view in the middle, dockable panels around it, menus,
+undo/redo, the Problems list and a status bar with the ground coordinates under the
+cursor (world coordinates: E, N, H with the project origin applied)."""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+from PySide6.QtCore import QSettings, Qt
+from PySide6.QtGui import QAction, QKeySequence, QUndoStack
+from PySide6.QtWidgets import (
+    QDockWidget,
+    QLabel,
+    QListWidget,
+    QMainWindow,
+    QMessageBox,
+    QWidget,
+)
+
+from designer.gui import files
+from designer.gui.document import ProjectDocument
+from designer.gui.file_actions import FileActions
+from designer.gui.panels.camera import CameraPanel
+from designer.gui.panels.effects import EffectsPanel
+from designer.gui.panels.flight import FlightPanel
+from designer.gui.panels.gcps import GcpPanel
+from designer.gui.panels.terrain import TerrainPanel
+from designer.gui.panels.texture import TexturePanel
+from designer.gui.scene_sync import SceneSync
+from designer.gui.scene_view import SceneView
+from designer.gui.tasks import TaskRunner
+from designer.gui.undo import Editor
+
+LAYERS = [("terrain", "Terrain"), ("targets", "GCP targets"), ("frusta", "Camera frusta"),
+          ("footprints", "Ground footprints"), ("flight", "Flight lines"),
+          ("area", "Survey area"), ("cloud", "Point cloud")]
+
+
+def _extra_panels():
+    """Panels that are optional at import time (render needs no Qt extras; results uses
+    matplotlib's Qt canvas)."""
+    out = []
+    from designer.gui.panels.render import RenderPanel
+
+    out.append(("right", RenderPanel))
+    from designer.gui.panels.results import ResultsPanel
+
+    out.append(("right", ResultsPanel))
+    return out
+
+
+class MainWindow(QMainWindow):
+    def __init__(self, settings: QSettings | None = None) -> None:
+        super().__init__()
+        self.setWindowTitle("designer")
+        self.resize(1600, 1000)
+        self.settings = settings or QSettings("designer", "designer-gui")
+        self.document = ProjectDocument(files.blank_project())
+        self.undo_stack = QUndoStack(self)
+        self.editor = Editor(self.document, self.undo_stack)
+        self.tasks = TaskRunner(self)
+        self.view = SceneView(self)
+        self.setCentralWidget(self.view)
+        self.sync = SceneSync(self.document, self.view, self.tasks)
+        self.file_actions = FileActions(self, self.settings)
+
+        self.panels: dict[str, QWidget] = {}
+        self.docks: dict[str, QDockWidget] = {}
+        left = [TerrainPanel, TexturePanel, GcpPanel]
+        right = [CameraPanel, FlightPanel, EffectsPanel]
+        for side, cls in [("left", c) for c in left] + [("right", c) for c in right] + \
+                _extra_panels():
+            self._add_panel(cls, side)
+        self._tabify(["Terrain", "Texture", "GCPs"])
+        self._tabify(["Camera", "Flight", "Effects", "Render", "Results"])
+        self.docks["Terrain"].raise_()
+        self.docks["Flight"].raise_()
+        self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
+                         Qt.Orientation.Horizontal)
+        self._build_problems()
+        self._build_menus()
+        self._build_status()
+
+        self.document.events.connect("file", self._file_state)
+        self.sync.message.connect(lambda text: self.statusBar().showMessage(text, 8000))
+        self.document.reset(self.document.project, None)
+
+    # ------------------------------------------------------------------ layout
+    def _add_panel(self, cls, side: str) -> None:
+        panel = cls(self.editor, self.sync, self)
+        dock = QDockWidget(panel.title, self)
+        dock.setObjectName(f"dock-{panel.title}")
+        dock.setWidget(panel)
+        dock.setMinimumWidth(380)
+        area = (Qt.DockWidgetArea.LeftDockWidgetArea if side == "left"
+                else Qt.DockWidgetArea.RightDockWidgetArea)
+        self.addDockWidget(area, dock)
+        self.panels[panel.title] = panel
+        self.docks[panel.title] = dock
+
+    def _tabify(self, titles: list[str]) -> None:
+        present = [t for t in titles if t in self.docks]
+        for a, b in itertools.pairwise(present):
+            self.tabifyDockWidget(self.docks[a], self.docks[b])
+
+    def _build_problems(self) -> None:
+        self.problems = QListWidget()
+        self.problems.setWordWrap(True)
+        self.problems.itemActivated.connect(self._problem_clicked)
+        self.problems.itemClicked.connect(self._problem_clicked)
+        dock = QDockWidget("Problems", self)
+        dock.setObjectName("dock-Problems")
+        dock.setWidget(self.problems)
+        self.addDockWidget(Qt.DockWidgetArea.BottomDockWidgetArea, dock)
+        dock.hide()
+        self.docks["Problems"] = dock
+
+    def show_problems(self, lines: list[str], headline: str = "") -> None:
+        """List problems inline (an empty list hides the Problems panel)."""
+        self.problems.clear()
+        self.problems.addItems(lines)
+        self.docks["Problems"].setVisible(bool(lines))
+        if lines and headline:
+            self.statusBar().showMessage(headline, 10000)
+
+    def _problem_clicked(self, item) -> None:
+        title = files.panel_for_problem(item.text())
+        if title in self.docks:
+            self.docks[title].show()
+            self.docks[title].raise_()
+
+    def _build_menus(self) -> None:
+        bar = self.menuBar()
+        self.file_actions.build_menu(bar.addMenu("&File"))
+        file_menu = bar.actions()[0].menu()
+        file_menu.addSeparator()
+        file_menu.addAction(self._action("Save screens&hot…", None, self._screenshot_dialog))
+        file_menu.addAction(self._action("&Quit", QKeySequence.StandardKey.Quit, self.close))
+
+        edit = bar.addMenu("&Edit")
+        undo = self.undo_stack.createUndoAction(self, "&Undo")
+        undo.setShortcut(QKeySequence.StandardKey.Undo)
+        redo = self.undo_stack.createRedoAction(self, "&Redo")
+        redo.setShortcuts([QKeySequence.StandardKey.Redo, QKeySequence("Ctrl+Y")])
+        edit.addActions([undo, redo])
+        edit.addSeparator()
+        mode = self.view.interaction.set_mode
+        edit.addAction(self._action("&Navigate", "Esc", lambda: mode("navigate")))
+        edit.addAction(self._action("&Place GCPs by clicking", "P", lambda: mode("place")))
+        edit.addAction(self._action("Draw survey &area", "A", lambda: mode("area")))
+
+        view = bar.addMenu("&View")
+        view.addAction(self._action("&Reset view", "R", self.view.reset_view))
+        view.addAction(self._action("&Top view", "T", self.view.view_top))
+        view.addSeparator()
+        for key, text in LAYERS:
+            action = self._action(text, None, None)
+            action.setCheckable(True)
+            action.setChecked(True)
+            action.toggled.connect(lambda on, k=key: self.view.set_layer_visible(k, on))
+            view.addAction(action)
+        coverage = self._action("Coverage &heat map", "H", None)
+        coverage.setCheckable(True)
+        coverage.toggled.connect(self.sync.set_coverage_enabled)
+        view.addAction(coverage)
+        self.coverage_action = coverage
+        view.addSeparator()
+        for dock in self.docks.values():
+            view.addAction(dock.toggleViewAction())
+
+        helpmenu = bar.addMenu("&Help")
+        helpmenu.addAction(self._action("&Mouse and keys", "F1", self._help))
+
+    def _action(self, text: str, shortcut, slot) -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            action.setShortcut(QKeySequence(shortcut) if isinstance(shortcut, str)
+                               else shortcut)
+        if slot is not None:
+            action.triggered.connect(slot)
+        return action
+
+    def _build_status(self) -> None:
+        self.coords = QLabel("")
+        self.coords.setMinimumWidth(420)
+        self.busy = QLabel("")
+        self.statusBar().addPermanentWidget(self.busy)
+        self.statusBar().addPermanentWidget(self.coords)
+        self.view.ground_hovered.connect(self._hover)
+        self.tasks.busy_changed.connect(lambda b: self.busy.setText("computing…" if b else ""))
+
+    def _hover(self, xyz) -> None:
+        if xyz is None:
+            self.coords.setText("")
+            return
+        self.coords.setText(f"E {xyz[0]:,.3f}  N {xyz[1]:,.3f}  H {xyz[2]:.3f} m "
+                            f"(world)".replace(",", " "))
+
+    def _file_state(self, path, dirty) -> None:
+        name = self.document.path.name if self.document.path else "untitled.xml"
+        self.setWindowTitle(f"{name}[*] — {self.document.project.name} — designer")
+        self.setWindowModified(dirty)
+
+    # ------------------------------------------------------------------ misc
+    def _help(self) -> None:
+        QMessageBox.information(self, "Mouse and keys", (
+            "Left drag: turn · middle drag or Shift+left: pan · wheel or right drag: zoom\n"
+            "P: place GCPs (click the terrain; drag a GCP to move it; Delete removes the "
+            "selected rows)\nA: draw the survey area (click vertices, double-click to close)"
+            "\nEsc: navigate · R: reset view · T: top view · H: coverage heat map\n"
+            "Ctrl+Z / Ctrl+Shift+Z: undo / redo · Ctrl+S: save"))
+
+    def _screenshot_dialog(self) -> None:
+        from PySide6.QtWidgets import QFileDialog
+
+        path, _ = QFileDialog.getSaveFileName(self, "Save screenshot", "designer.png",
+                                              "PNG (*.png)")
+        if path:
+            self.save_screenshot(Path(path))
+
+    def save_screenshot(self, path: Path, widget: QWidget | None = None) -> None:
+        self.view.render_now()
+        (widget or self).grab().save(str(path))
+
+    def open_project(self, path: Path) -> bool:
+        return self.file_actions.open(path)
+
+    def close_without_prompt(self) -> None:
+        """Close and drop unsaved changes (screenshots, benchmarks)."""
+        self._discard = True
+        self.close()
+
+    def closeEvent(self, event) -> None:
+        if not getattr(self, "_discard", False) and not self.file_actions.maybe_save():
+            event.ignore()
+            return
+        for panel in self.panels.values():
+            if hasattr(panel, "shutdown"):
+                panel.shutdown()
+        self.tasks.shutdown()
+        self.view.close_view()
+        event.accept()

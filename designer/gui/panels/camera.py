@@ -1,0 +1,155 @@
+"""Camera: presets of real cameras, interior orientation and distortion, derived FOV/GSD."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
+
+from designer.errors import DesignerError
+from designer.gui import camera_presets, edits
+from designer.gui.panels.base import Panel
+from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.project import model as m
+
+CAM = "cameras[0]"
+BROWN = ("k1", "k2", "k3", "p1", "p2")
+FISHEYE = ("k1", "k2", "k3", "k4")
+
+
+class CameraPanel(Panel):
+    title = "Camera"
+    parts = frozenset({"cameras", "trajectory"})
+
+    def build(self, layout) -> None:
+        top = form()
+        self.preset = combo([("custom", None)]
+                            + [(p.name, p.key) for p in camera_presets.PRESETS])
+        self.preset.currentIndexChanged.connect(self._preset_chosen)
+        top.addRow("preset", self.preset)
+        top.addRow("id", self.bindings.bind(_line(), f"{CAM}.id", "Camera id"))
+        top.addRow("name", self.bindings.bind(_line(), (
+            lambda p: p.cameras[0].name or "",
+            lambda p, v: edits.replace_path(p, f"{CAM}.name", v or None)), "Camera name"))
+        layout.addLayout(top)
+
+        io = QGroupBox("interior orientation")
+        f = form(io)
+        for label, field, box in (
+                ("focal length", "focal_length_mm", dspin(0.1, 2000, 4, 0.1, "mm")),
+                ("sensor width", "sensor_width_mm", dspin(0.1, 200, 4, 0.1, "mm")),
+                ("sensor height", "sensor_height_mm", dspin(0.1, 200, 6, 0.1, "mm")),
+                ("image width", "image_width_px", ispin(1, 200000, "px")),
+                ("image height", "image_height_px", ispin(1, 200000, "px")),
+                ("principal point x", "principal_point_x_mm", dspin(-100, 100, 4, 0.01, "mm")),
+                ("principal point y", "principal_point_y_mm", dspin(-100, 100, 4, 0.01, "mm"))):
+            f.addRow(label, self.bindings.bind(box, f"{CAM}.{field}", f"Camera {label}"))
+        layout.addWidget(io)
+
+        dist = QGroupBox("lens distortion (OpenCV's meaning and order)")
+        f = form(dist)
+        self.model = combo([("none (pinhole)", "none"), ("Brown–Conrady", "brown"),
+                            ("fisheye, equidistant", "fisheye")])
+        self.model.currentIndexChanged.connect(self._model_chosen)
+        f.addRow("model", self.model)
+        self.coeffs: dict[str, object] = {}
+        for name in BROWN + ("k4",):
+            box = dspin(-10, 10, 6, 0.001)
+            self.bindings.bind(box, (
+                lambda p, n=name: getattr(p.cameras[0].distortion, n),
+                lambda p, v, n=name: edits.replace_path(p, f"{CAM}.distortion.{n}", v)),
+                f"Distortion {name}")
+            self.coeffs[name] = box
+            f.addRow(name, box)
+        self._dist_form = f
+        layout.addWidget(dist)
+
+        info = form()
+        self.pitch_label, self.fov_label, self.gsd_label = readout(), readout(), readout()
+        info.addRow("pixel pitch", self.pitch_label)
+        info.addRow("field of view", self.fov_label)
+        info.addRow("GSD", self.gsd_label)
+        layout.addLayout(info)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        layout.addWidget(self.error_label)
+        self.sync.stations_changed.connect(self._readouts)
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        project = self.project
+        super().refresh()
+        cam = project.cameras[0] if project.cameras else None
+        match = camera_presets.matching_preset(cam) if cam else None
+        _select(self.preset, match.key if match else None)
+        d = cam.distortion if cam else None
+        kind = ("brown" if isinstance(d, m.BrownConradyDistortion) else
+                "fisheye" if isinstance(d, m.FisheyeEquidistantDistortion) else "none")
+        _select(self.model, kind)
+        names = BROWN if kind == "brown" else FISHEYE if kind == "fisheye" else ()
+        for name, box in self.coeffs.items():
+            self._dist_form.setRowVisible(box, name in names)
+        self._readouts()
+
+    def _readouts(self) -> None:
+        from designer.survey.project_poses import interior_from_camera
+
+        project = self.project
+        if not project.cameras:
+            return
+        cam = project.cameras[0]
+        try:
+            interior = interior_from_camera(cam)
+        except DesignerError as error:
+            self.error_label.setText(str(error))
+            for label in (self.pitch_label, self.fov_label, self.gsd_label):
+                label.setText("–")
+            return
+        self.error_label.setText("")
+        px, py = interior.pixel_pitch_x_mm, interior.pixel_pitch_y_mm
+        self.pitch_label.setText(f"{1000 * px:.4f} × {1000 * py:.4f} µm "
+                                 f"({interior.image_width_px * interior.image_height_px / 1e6:.1f}"
+                                 " MP)")
+        h, v, diag = interior.field_of_view_deg()
+        self.fov_label.setText(f"{h:.1f}° × {v:.1f}° (diagonal {diag:.1f}°)")
+        stations = self.sync.stations
+        if stations is not None and stations.calc is not None:
+            c = stations.calc
+            self.gsd_label.setText(
+                f"{100 * c.gsd_m:.2f} cm at {c.altitude_agl_m:.1f} m above ground; footprint "
+                f"{c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m")
+        else:
+            gsd = 100 * 100 * px / cam.focal_length_mm
+            self.gsd_label.setText(f"{gsd:.2f} cm at 100 m")
+
+    # ------------------------------------------------------------------ view → model
+    def _preset_chosen(self) -> None:
+        key = self.preset.currentData()
+        if key is None:
+            return
+        p = camera_presets.preset(key)
+        cam_id = self.project.cameras[0].id if self.project.cameras else p.key
+        self.editor.edit(edits.set_camera(self.project, p.camera(cam_id)), f"Camera {p.name}")
+
+    def _model_chosen(self) -> None:
+        kind = self.model.currentData()
+        distortion = {"none": None, "brown": m.BrownConradyDistortion(),
+                      "fisheye": m.FisheyeEquidistantDistortion()}[kind]
+        cam = self.project.cameras[0]
+        if type(cam.distortion) is type(distortion):
+            return
+        self.editor.edit(edits.set_camera(self.project,
+                                          dataclasses.replace(cam, distortion=distortion)),
+                         f"Distortion {kind}")
+
+
+def _line() -> QLineEdit:
+    return QLineEdit()
+
+
+def _select(box, data) -> None:
+    blocked = box.blockSignals(True)
+    index = box.findData(data)
+    box.setCurrentIndex(index if index >= 0 else 0)
+    box.blockSignals(blocked)

@@ -1,0 +1,244 @@
+"""Flight: area (drawn on the terrain or typed), altitude or GSD, overlaps, angle,
+crosshatch, terrain following, tilt, pose noise; image count and render time live."""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import (
+    QButtonGroup,
+    QCheckBox,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QPushButton,
+    QRadioButton,
+    QTableWidget,
+    QTableWidgetItem,
+)
+
+from designer.gui import edits
+from designer.gui.panels.base import Panel
+from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.project import model as m
+
+FP = "trajectory.flight_plan"
+
+
+def _fmt_time(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 2 * 3600:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class FlightPanel(Panel):
+    title = "Flight"
+    parts = frozenset({"trajectory", "cameras", "render"})
+
+    def build(self, layout) -> None:
+        self.create = QPushButton("Add a grid flight over the terrain")
+        self.create.clicked.connect(lambda: self.editor.edit(
+            edits.ensure_flight_plan(self.project), "Add flight plan"))
+        layout.addWidget(self.create)
+
+        info = QGroupBox("what this flight delivers")
+        f = form(info)
+        self.images_label = readout()
+        self.images_label.setStyleSheet("font-weight: bold")
+        self.calc_label, self.time_label = readout(), readout()
+        f.addRow("images", self.images_label)
+        f.addRow("grid", self.calc_label)
+        f.addRow("render time", self.time_label)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        f.addRow(self.error_label)
+        layout.addWidget(info)
+
+        area = QGroupBox("area (world X, Y; m)")
+        box = form(area)
+        row = QHBoxLayout()
+        self.draw = QPushButton("Draw on terrain")
+        self.draw.setCheckable(True)
+        self.draw.setToolTip("Click the vertices on the terrain; double-click, right-click "
+                             "or Enter to close, Esc to cancel")
+        self.draw.toggled.connect(self._draw_toggled)
+        whole = QPushButton("Whole terrain")
+        whole.clicked.connect(lambda: self.set_area(edits.terrain_rectangle(self.project)))
+        row.addWidget(self.draw)
+        row.addWidget(whole)
+        box.addRow(row)
+        self.area_table = QTableWidget(0, 2)
+        self.area_table.setHorizontalHeaderLabels(["X", "Y"])
+        self.area_table.setMinimumHeight(130)
+        self.area_table.setMaximumHeight(170)
+        self.area_table.itemChanged.connect(self._area_typed)
+        box.addRow(self.area_table)
+        layout.addWidget(area)
+
+        grid = QGroupBox("grid")
+        f = form(grid)
+        self.camera = combo([])
+        self.bindings.bind(self.camera, f"{FP}.camera", "Flight camera")
+        f.addRow("camera", self.camera)
+        self.by_altitude = QRadioButton("height above ground")
+        self.by_gsd = QRadioButton("ground sample distance")
+        group = QButtonGroup(self)
+        group.addButton(self.by_altitude)
+        group.addButton(self.by_gsd)
+        self.by_altitude.toggled.connect(self._height_mode)
+        f.addRow(self.by_altitude, self.bindings.bind(
+            dspin(0.1, 1e5, 2, 5, "m"), f"{FP}.altitude_agl_m", "Flight height"))
+        f.addRow(self.by_gsd, self.bindings.bind(dspin(0.001, 1000, 3, 0.1, "cm"), (
+            lambda p: None if p.trajectory.flight_plan.gsd_m is None
+            else 100 * p.trajectory.flight_plan.gsd_m,
+            lambda p, v: edits.set_flight(p, gsd_m=v / 100)), "Flight GSD"))
+        for label, field, box_ in (
+                ("front overlap", "front_overlap_percent", dspin(0, 99, 1, 5, "%")),
+                ("side overlap", "side_overlap_percent", dspin(0, 99, 1, 5, "%")),
+                ("line azimuth", "grid_angle_deg", dspin(-360, 360, 1, 5, "°")),
+                ("forward tilt", "tilt_deg", dspin(-80, 80, 1, 5, "°"))):
+            f.addRow(label, self.bindings.bind(box_, f"{FP}.{field}", f"Flight {label}"))
+        f.addRow("", self.bindings.bind(QCheckBox("crosshatch (second grid at 90°)"),
+                                        f"{FP}.crosshatch", "Crosshatch"))
+        f.addRow("", self.bindings.bind(QCheckBox("terrain following"),
+                                        f"{FP}.terrain_following", "Terrain following"))
+        f.addRow("altitude above", self.bindings.bind(
+            combo([("mean terrain", "mean"), ("highest terrain", "max"),
+                   ("lowest terrain", "min")]), f"{FP}.altitude_reference",
+            "Altitude reference"))
+        f.addRow("image", self.bindings.bind(
+            combo([("landscape", "landscape"), ("portrait", "portrait")]),
+            f"{FP}.orientation", "Image orientation"))
+        f.addRow("start corner", self.bindings.bind(
+            combo([(c, c) for c in ("SW", "SE", "NW", "NE")]), f"{FP}.start_corner",
+            "Start corner"))
+        f.addRow("image prefix", self.bindings.bind(_line(), f"{FP}.image_prefix",
+                                                    "Image prefix"))
+        layout.addWidget(grid)
+
+        noise = QGroupBox("pose noise (σ)")
+        noise.setToolTip("position σ along the world axes, angle σ about the camera axes")
+        f = form(noise)
+        self.noisy = QCheckBox("perturb the planned poses")
+        self.noisy.toggled.connect(self._noise_toggled)
+        f.addRow(self.noisy)
+        pn = f"{FP}.pose_noise"
+        for label, field, unit in (("X", "sigma_X_m", "m"), ("Y", "sigma_Y_m", "m"),
+                                   ("Z", "sigma_Z_m", "m"), ("ω", "sigma_omega_deg", "°"),
+                                   ("φ", "sigma_phi_deg", "°"), ("κ", "sigma_kappa_deg", "°")):
+            f.addRow(f"σ {label}", self.bindings.bind(dspin(0, 100, 3, 0.05, unit),
+                                                      f"{pn}.{field}", f"Pose noise σ {label}"))
+        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{FP}.random_seed",
+                                            "Flight seed"))
+        layout.addWidget(noise)
+
+        view = self.sync.view
+        view.area_drawn.connect(self.set_area)
+        view.interaction.mode_changed.connect(self._mode_changed)
+        self.sync.stations_changed.connect(self._readouts)
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        project = self.project
+        blocked = self.camera.blockSignals(True)
+        self.camera.clear()
+        for cam in project.cameras:
+            self.camera.addItem(cam.name or cam.id, cam.id)
+        self.camera.blockSignals(blocked)
+        super().refresh()
+        plan = project.trajectory.flight_plan
+        self.create.setVisible(plan is None)
+        for button in (self.by_altitude, self.by_gsd, self.noisy, self.draw):
+            button.setEnabled(plan is not None)
+        if plan is not None:
+            _check(self.by_altitude, plan.altitude_agl_m is not None)
+            _check(self.by_gsd, plan.gsd_m is not None)
+            _check(self.noisy, plan.pose_noise is not None)
+        self.area_table.blockSignals(True)
+        area = plan.area if plan is not None else ()
+        self.area_table.setRowCount(len(area))
+        for r, (x, y) in enumerate(area):
+            self.area_table.setItem(r, 0, QTableWidgetItem(f"{x:.3f}"))
+            self.area_table.setItem(r, 1, QTableWidgetItem(f"{y:.3f}"))
+        self.area_table.blockSignals(False)
+        self._readouts()
+
+    def _readouts(self) -> None:
+        stations = self.sync.stations
+        error = self.sync.errors.get("stations", "")
+        self.error_label.setText(error if stations is None else "")
+        if stations is None:
+            self.images_label.setText("–")
+            self.calc_label.setText("–")
+            self.time_label.setText("–")
+            return
+        self.images_label.setText(f"{stations.n_images}")
+        c = stations.calc
+        if c is not None:
+            self.calc_label.setText(
+                f"{c.altitude_agl_m:.1f} m above ground, GSD {100 * c.gsd_m:.2f} cm; "
+                f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
+                f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
+        if stations.render_time_s is not None:
+            per = stations.render_time_s / max(1, stations.n_images)
+            self.time_label.setText(
+                f"≈ {_fmt_time(stations.render_time_s)} ({per:.1f} s per image at "
+                f"{self.project.render.effective_samples} samples, reference machine)")
+
+    # ------------------------------------------------------------------ view → model
+    def set_area(self, vertices) -> None:
+        self._set_checked_draw(False)
+        area = tuple((float(x), float(y)) for x, y in vertices)
+        self.editor.edit(edits.set_flight(self.project, area=area),
+                         f"Flight area ({len(area)} vertices)")
+
+    def _area_typed(self, _item) -> None:
+        try:
+            area = tuple((float(self.area_table.item(r, 0).text()),
+                          float(self.area_table.item(r, 1).text()))
+                         for r in range(self.area_table.rowCount()))
+        except (ValueError, AttributeError):
+            self.error_label.setText("area vertices must be numbers (m)")
+            return
+        self.editor.edit(edits.set_flight(self.project, area=area), "Flight area typed")
+
+    def _height_mode(self, by_altitude: bool) -> None:
+        plan = self.project.trajectory.flight_plan
+        if plan is None or (plan.altitude_agl_m is not None) == by_altitude:
+            return
+        stations = self.sync.stations
+        if by_altitude:
+            altitude = stations.calc.altitude_agl_m if stations and stations.calc else 50.0
+            new = edits.set_flight(self.project, altitude_agl_m=round(altitude, 2), gsd_m=None)
+        else:
+            gsd = stations.calc.gsd_m if stations and stations.calc else 0.02
+            new = edits.set_flight(self.project, gsd_m=round(gsd, 5), altitude_agl_m=None)
+        self.editor.edit(new, "Flight height by " + ("altitude" if by_altitude else "GSD"))
+
+    def _noise_toggled(self, on: bool) -> None:
+        noise = m.PoseNoise(0.3, 0.3, 0.2, 0.5, 0.5, 1.0) if on else None
+        self.editor.edit(edits.set_flight(self.project, pose_noise=noise),
+                         "Pose noise " + ("on" if on else "off"))
+
+    def _draw_toggled(self, on: bool) -> None:
+        self.sync.view.interaction.set_mode("area" if on else "navigate")
+
+    def _mode_changed(self, mode: str) -> None:
+        self._set_checked_draw(mode == "area")
+
+    def _set_checked_draw(self, on: bool) -> None:
+        _check(self.draw, on)
+        if not on and self.sync.view.interaction.mode == "area":
+            self.sync.view.interaction.set_mode("navigate")
+
+
+def _check(button, on: bool) -> None:
+    blocked = button.blockSignals(True)
+    button.setChecked(on)
+    button.blockSignals(blocked)
+
+
+def _line() -> QLineEdit:
+    return QLineEdit()

@@ -1,0 +1,254 @@
+"""GCPs: the target table (true and surveyed coordinates, roles), placing by clicking on
+the terrain, dragging, deleting, automatic layouts and the simulated survey's σ."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QKeySequence, QShortcut
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QCheckBox,
+    QComboBox,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QTableWidget,
+    QTableWidgetItem,
+)
+
+from designer.errors import DesignerError
+from designer.gui import edits
+from designer.gui.panels.base import Panel
+from designer.gui.widgets import combo, dspin, form, ispin
+from designer.project import model as m
+
+COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
+           "surveyed X", "surveyed Y", "surveyed Z"]
+
+
+def _num(text: str) -> float | None:
+    text = text.strip()
+    return None if text == "" else float(text)
+
+
+class GcpPanel(Panel):
+    title = "GCPs"
+    parts = frozenset({"targets", "terrain"})
+
+    def build(self, layout) -> None:
+        row = QHBoxLayout()
+        self.place = QPushButton("Place by clicking")
+        self.place.setCheckable(True)
+        self.place.setToolTip("Click on the terrain to add a GCP; drag a GCP to move it")
+        self.place.toggled.connect(self._place_toggled)
+        delete = QPushButton("Delete")
+        delete.clicked.connect(self.delete_selected)
+        row.addWidget(self.place)
+        row.addWidget(delete)
+        layout.addLayout(row)
+
+        self.table = QTableWidget(0, len(COLUMNS))
+        self.table.setHorizontalHeaderLabels(COLUMNS)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
+        self.table.setMinimumHeight(220)
+        self.table.itemChanged.connect(self._cell_edited)
+        QShortcut(QKeySequence.StandardKey.Delete, self.table, self.delete_selected)
+        layout.addWidget(self.table)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        layout.addWidget(self.error_label)
+
+        auto = QGroupBox("automatic layout (replaces the targets)")
+        f = form(auto)
+        self.layout_kind = combo([("grid", "grid"), ("random, stratified", "random"),
+                                  ("perimeter and centre", "perimeter")])
+        self.count = ispin(1, 1000)
+        self.count.setValue(9)
+        self.n_check = ispin(0, 1000)
+        self.n_check.setValue(3)
+        self.margin = dspin(0, 1e5, 2, 1, "m")
+        self.margin.setValue(10)
+        self.spacing = dspin(0, 1e5, 2, 1, "m")
+        self.spacing.setValue(15)
+        self.layout_seed = ispin(0, 2**31 - 1)
+        self.size = dspin(0.05, 10, 3, 0.1, "m")
+        self.size.setValue(0.8)
+        apply = QPushButton("Apply layout")
+        apply.clicked.connect(self.apply_layout)
+        for label, widget in (("layout", self.layout_kind), ("GCPs", self.count),
+                              ("of which check points", self.n_check),
+                              ("margin", self.margin), ("min spacing (random)", self.spacing),
+                              ("seed", self.layout_seed), ("target size", self.size),
+                              ("", apply)):
+            f.addRow(label, widget)
+        layout.addWidget(auto)
+
+        survey = QGroupBox("simulated survey of the targets")
+        f = form(survey)
+        self.simulate = QCheckBox("add survey error to targets without measured positions")
+        self.simulate.toggled.connect(self._simulate_toggled)
+        f.addRow(self.simulate)
+        acc = "scene.targets.survey_accuracy"
+        for axis in "XYZ":
+            f.addRow(f"σ {axis}", self.bindings.bind(dspin(0, 10, 4, 0.005, "m"),
+                                                     f"{acc}.sigma.{axis}", f"Survey σ {axis}"))
+        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{acc}.seed", "Survey seed"))
+        layout.addWidget(survey)
+
+        view = self.sync.view
+        view.ground_clicked.connect(self.add_at)
+        view.target_moved.connect(self.move_target)
+        view.interaction.mode_changed.connect(
+            lambda mode: self._set_checked(self.place, mode == "place"))
+        self.sync.targets_changed.connect(self.refresh)
+
+    @staticmethod
+    def _set_checked(button, checked: bool) -> None:
+        blocked = button.blockSignals(True)
+        button.setChecked(checked)
+        button.blockSignals(blocked)
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        super().refresh()
+        project = self.project
+        self._set_checked(self.simulate, project.scene.targets is not None
+                          and project.scene.targets.survey_accuracy is not None)
+        built = self.sync.targets
+        true_z = {}
+        if built is not None and self.sync.terrain is not None:
+            for k, tid in enumerate(built.ids):
+                true_z[tid] = built.true_xyz[k, 2]
+        self.table.blockSignals(True)
+        try:
+            self.table.setRowCount(len(project.targets))
+            for r, t in enumerate(project.targets):
+                z = t.true.Z
+                cells = [t.id, None, f"{t.true.X:.3f}", f"{t.true.Y:.3f}",
+                         "" if z is None else f"{z:.3f}", f"{t.size_m:g}"]
+                if t.surveyed is not None:
+                    p = t.surveyed.position
+                    cells += [f"{p.X:.3f}", f"{p.Y:.3f}", f"{p.Z:.3f}"]
+                else:
+                    cells += ["", "", ""]
+                for c, text in enumerate(cells):
+                    if c == 1:
+                        self._role_box(r, t.role)
+                        continue
+                    item = QTableWidgetItem(text)
+                    if c == 4 and z is None and t.id in true_z:
+                        item.setToolTip(f"on the ground: Z = {true_z[t.id]:.3f} m")
+                        item.setData(Qt.ItemDataRole.UserRole, float(true_z[t.id]))
+                    if c >= 6 and t.surveyed is None:
+                        item.setToolTip("blank: the simulated survey (σ below) gives it")
+                    self.table.setItem(r, c, item)
+        finally:
+            self.table.blockSignals(False)
+        self.error_label.setText(self.sync.errors.get("targets", "")
+                                 if built is None and project.targets else "")
+
+    def _role_box(self, row: int, role: str) -> None:
+        box = QComboBox()
+        box.addItems(["control", "check"])
+        box.setCurrentText(role)
+        box.currentTextChanged.connect(lambda text, r=row: self._set_role(r, text))
+        self.table.setCellWidget(row, 1, box)
+
+    # ------------------------------------------------------------------ view → model
+    def _place_toggled(self, on: bool) -> None:
+        self.sync.view.interaction.set_mode("place" if on else "navigate")
+
+    def add_at(self, X: float, Y: float, Z: float) -> None:
+        project = self.project
+        new = edits.add_target(project, X, Y)
+        tid = new.targets[-1].id
+        self.editor.edit(new, f"Place {tid} at {X:.2f}, {Y:.2f}")
+
+    def move_target(self, target_id: str, X: float, Y: float) -> None:
+        self.editor.edit(edits.move_target(self.project, target_id, X, Y),
+                         f"Move {target_id}")
+
+    def delete_selected(self) -> None:
+        rows = sorted({i.row() for i in self.table.selectedIndexes()})
+        ids = [self.project.targets[r].id for r in rows if r < len(self.project.targets)]
+        if ids:
+            self.editor.edit(edits.delete_targets(self.project, ids),
+                             f"Delete {', '.join(ids)}")
+
+    def _set_role(self, row: int, role: str) -> None:
+        t = self.project.targets[row]
+        self.editor.edit(edits.replace_target(self.project, row,
+                                              dataclasses.replace(t, role=role)),
+                         f"{t.id} role {role}")
+
+    def _cell_edited(self, item: QTableWidgetItem) -> None:
+        r, c = item.row(), item.column()
+        t = self.project.targets[r]
+        text = item.text()
+        try:
+            if c == 0:
+                new = dataclasses.replace(t, id=text.strip())
+            elif c in (2, 3, 4):
+                field = "XYZ"[c - 2]
+                value = _num(text)
+                if value is None and field != "Z":
+                    raise ValueError(f"{field} must be a number")
+                new = dataclasses.replace(t, true=dataclasses.replace(t.true, **{field: value}))
+            elif c == 5:
+                new = dataclasses.replace(t, size_m=float(text))
+            else:
+                new = self._surveyed(t, r)
+        except ValueError as error:
+            self.error_label.setText(f"{t.id}: {error}")
+            self.refresh()
+            return
+        self.editor.edit(edits.replace_target(self.project, r, new), f"Edit {t.id}")
+
+    def _surveyed(self, t: m.Target, row: int) -> m.Target:
+        values = [_num(self.table.item(row, c).text() if self.table.item(row, c) else "")
+                  for c in (6, 7, 8)]
+        if all(v is None for v in values):
+            return dataclasses.replace(t, surveyed=None)
+        if any(v is None for v in values):
+            raise ValueError("give all three surveyed coordinates, or none")
+        acc = self.project.scene.targets.survey_accuracy if self.project.scene.targets else None
+        sigma = acc.sigma if acc is not None else m.Sigma3(0.01, 0.01, 0.02)
+        return dataclasses.replace(t, surveyed=m.SurveyedPosition(m.Point3(*values), sigma))
+
+    def _simulate_toggled(self, on: bool) -> None:
+        accuracy = m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.02), seed=0) if on else None
+        self.editor.edit(edits.set_targets(self.project, self.project.targets, accuracy),
+                         "Simulated survey " + ("on" if on else "off"))
+
+    def apply_layout(self) -> None:
+        from designer.survey import area as survey_area
+        from designer.survey import gcp_layout
+
+        project = self.project
+        plan = project.trajectory.flight_plan
+        area = np.array(plan.area if plan is not None and len(plan.area) >= 3
+                        else edits.terrain_rectangle(project))
+        n, kind = self.count.value(), self.layout_kind.currentData()
+        try:
+            if kind == "grid":
+                nx = int(np.ceil(np.sqrt(n)))
+                xy = gcp_layout.grid(nx, int(np.ceil(n / nx)), area, self.margin.value())[:n]
+            elif kind == "random":
+                inner = survey_area.inset(area, self.margin.value())
+                xy = gcp_layout.random_stratified(n, inner, self.spacing.value(),
+                                                  self.layout_seed.value())
+            else:
+                xy = gcp_layout.perimeter_and_centre(n, area, self.margin.value())
+            roles = gcp_layout.assign_roles(len(xy), min(self.n_check.value(), len(xy)),
+                                            pattern="interleaved")
+        except DesignerError as error:
+            self.error_label.setText(str(error))
+            return
+        self.error_label.setText("")
+        self.editor.edit(edits.layout_targets(project, xy, roles, self.size.value()),
+                         f"GCP layout: {len(xy)} by {kind}")

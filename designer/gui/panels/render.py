@@ -1,0 +1,205 @@
+"""Render: quality preset with its measured cost, workers, start/cancel, per-image progress
+and thumbnails. Rendering runs in ``designer render`` processes: the window never waits."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from PySide6.QtCore import QSize, Qt
+from PySide6.QtGui import QIcon, QImage, QPixmap
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QListView,
+    QListWidget,
+    QListWidgetItem,
+    QPlainTextEdit,
+    QProgressBar,
+    QPushButton,
+)
+
+from designer.gui import derived
+from designer.gui.panels.base import Panel
+from designer.gui.render_process import RenderProcess
+from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.project import model as m
+
+THUMB_PX = 120
+
+
+def _thumbnail(path: str) -> QImage:
+    """Read and shrink an image (runs in a worker thread: QImage is not a widget)."""
+    image = QImage(path)
+    if image.isNull():
+        return image
+    return image.scaled(THUMB_PX, THUMB_PX, Qt.AspectRatioMode.KeepAspectRatio,
+                        Qt.TransformationMode.SmoothTransformation)
+
+
+class RenderPanel(Panel):
+    title = "Render"
+    parts = frozenset({"render", "cameras", "trajectory", "outputs"})
+
+    def build(self, layout) -> None:
+        settings = QGroupBox("quality")
+        f = form(settings)
+        self.preset = combo([(p, p) for p in m.PRESET_SAMPLES])
+        f.addRow("preset", self.bindings.bind(self.preset, "render.preset", "Render preset"))
+        self.cost = readout()
+        self.cost.setWordWrap(True)
+        f.addRow("measured cost", self.cost)
+        f.addRow("resolution scale", self.bindings.bind(
+            dspin(0.01, 4, 3, 0.05), "render.resolution_scale", "Resolution scale"))
+        f.addRow("workers", self.bindings.bind(ispin(1, 256), "render.workers",
+                                               "Render workers"))
+        f.addRow("image format", self.bindings.bind(
+            combo([(x, x) for x in ("png", "jpeg", "tiff", "exr")]), "render.output_format",
+            "Image format"))
+        f.addRow("output folder", self.bindings.bind(QLineEdit(), "outputs.directory",
+                                                     "Output folder"))
+        layout.addWidget(settings)
+
+        row = QHBoxLayout()
+        self.start_button = QPushButton("Render")
+        self.start_button.clicked.connect(self.start)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.setEnabled(False)
+        self.cancel_button.clicked.connect(self.cancel)
+        self.resume = QCheckBox("resume")
+        self.resume.setChecked(True)
+        self.resume.setToolTip("keep images that are already complete")
+        row.addWidget(self.start_button)
+        row.addWidget(self.cancel_button)
+        row.addWidget(self.resume)
+        layout.addLayout(row)
+        self.progress = QProgressBar()
+        layout.addWidget(self.progress)
+        self.state = QLabel("")
+        self.state.setWordWrap(True)
+        layout.addWidget(self.state)
+        self.thumbs = QListWidget()
+        self.thumbs.setViewMode(QListView.ViewMode.IconMode)
+        self.thumbs.setIconSize(QSize(THUMB_PX, THUMB_PX))
+        self.thumbs.setResizeMode(QListView.ResizeMode.Adjust)
+        self.thumbs.setMinimumHeight(260)
+        layout.addWidget(self.thumbs)
+        self.log = QPlainTextEdit()
+        self.log.setReadOnly(True)
+        self.log.setMaximumBlockCount(500)
+        self.log.setMaximumHeight(120)
+        layout.addWidget(self.log)
+
+        self.process = RenderProcess(self)
+        self.process.event.connect(self.on_event)
+        self.process.output.connect(self.log.appendPlainText)
+        self.process.finished.connect(self._finished)
+        self.sync.stations_changed.connect(self._cost)
+        self.frames_done: dict[int, float] = {}
+        self.n_frames = 0
+        self.out_dir: Path | None = None
+
+    # ------------------------------------------------------------------ readouts
+    def refresh(self) -> None:
+        super().refresh()
+        self._cost()
+
+    def _cost(self) -> None:
+        stations = self.sync.stations
+        if stations is None:
+            self.cost.setText("– (no stations yet)")
+            return
+        lines = []
+        for preset, spp in m.PRESET_SAMPLES.items():
+            per = derived.render_seconds_per_image(self.project, stations.interior, preset)
+            total = per * stations.n_images
+            lines.append(f"{preset}: {spp} samples, {per:.1f} s/image, "
+                         f"{total / 60:.1f} min for {stations.n_images}")
+        self.cost.setText("\n".join(lines) + "\n(2-core reference machine, designer bench "
+                          "render)")
+
+    # ------------------------------------------------------------------ run
+    def start(self) -> None:
+        doc = self.editor.document
+        window = self.window()
+        if doc.dirty or doc.path is None:
+            if not hasattr(window, "file_actions") or not window.file_actions.save():
+                self.state.setText("save the project (without problems) before rendering")
+                return
+        project_path = doc.path
+        self.out_dir = (project_path.parent / self.project.outputs.directory).resolve()
+        self.frames_done = {}
+        self.n_frames = self.sync.stations.n_images if self.sync.stations else 0
+        self.progress.setRange(0, max(1, self.n_frames))
+        self.progress.setValue(0)
+        self.thumbs.clear()
+        self.log.clear()
+        self._t0 = time.perf_counter()
+        argv = RenderProcess.command(project_path, self.out_dir, resume=self.resume.isChecked())
+        self.process.start(argv, cwd=project_path.parent)
+        self.start_button.setEnabled(False)
+        self.cancel_button.setEnabled(True)
+        self.state.setText(f"rendering into {self.out_dir} …")
+
+    def cancel(self) -> None:
+        self.process.cancel()
+        self.state.setText("stopping: workers finish cleanly, only complete images stay")
+
+    def on_event(self, event: dict) -> None:
+        kind = event.get("event")
+        if kind == "worker_started":
+            self.log.appendPlainText(f"worker {event.get('worker')} started "
+                                     f"({len(event.get('frames', []))} frames)")
+        elif kind == "scene_ready":
+            self.log.appendPlainText(f"scene ready in {float(event.get('seconds', 0)):.1f} s")
+        elif kind in ("frame_done", "frame_skipped"):
+            index = int(event["index"])
+            self.frames_done[index] = float(event.get("seconds", 0.0))
+            self.progress.setValue(len(self.frames_done))
+            if kind == "frame_done" and event.get("path"):
+                self._add_thumbnail(index, event["path"], self.frames_done[index])
+            elif kind == "frame_skipped":
+                self._add_thumbnail(index, None, 0.0)
+            rendered = [s for s in self.frames_done.values() if s > 0]
+            mean = sum(rendered) / len(rendered) if rendered else 0.0
+            self.state.setText(f"{len(self.frames_done)} / {self.n_frames} images; "
+                               f"{mean:.1f} s per image measured")
+        elif kind == "retry":
+            self.log.appendPlainText(f"retrying frames {event.get('frames')}")
+
+    def _add_thumbnail(self, index: int, path: str | None, seconds: float) -> None:
+        label = f"#{index}" + (f"\n{seconds:.1f} s" if seconds else "\n(complete)")
+        item = QListWidgetItem(label)
+        item.setData(Qt.ItemDataRole.UserRole, index)
+        self.thumbs.addItem(item)
+        if path is None and self.out_dir is not None:
+            return
+
+        def show(image: QImage) -> None:
+            if not image.isNull():
+                item.setIcon(QIcon(QPixmap.fromImage(image)))
+
+        self.sync.tasks.submit(f"thumb-{index}", _thumbnail, path, on_done=show,
+                               on_error=lambda _e: None)
+
+    def _finished(self, code: int, stderr_tail: str) -> None:
+        self.start_button.setEnabled(True)
+        self.cancel_button.setEnabled(False)
+        seconds = time.perf_counter() - getattr(self, "_t0", time.perf_counter())
+        if code == 0:
+            self.state.setText(f"done: {len(self.frames_done)} images in {seconds:.0f} s; "
+                               f"ground truth in {self.out_dir / 'ground-truth'}")
+        elif code == 130 or self.process.cancelled:
+            self.state.setText(f"cancelled after {len(self.frames_done)} images; tick "
+                               "'resume' to continue later")
+        else:
+            self.state.setText(f"render failed (exit {code}): {stderr_tail.splitlines()[-1:]}")
+
+    def shutdown(self) -> None:
+        if self.process.running:
+            self.process.cancel()
+            if not self.process.process.waitForFinished(15000):
+                self.process.kill()

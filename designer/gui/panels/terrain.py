@@ -1,0 +1,185 @@
+"""Terrain: generate procedural hills (live preview) or a flat plane; import a DEM or a mesh."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+from PySide6.QtWidgets import (
+    QFileDialog,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+)
+
+from designer.gui.panels.base import Panel
+from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.project import model as m
+
+KINDS = [("procedural hills", "procedural"), ("flat plane", "flat"),
+         ("DEM file (GeoTIFF, ESRI ASCII)", "dem"), ("mesh file (PLY, OBJ, STL)", "mesh")]
+
+
+def default_source(kind: str, terrain: m.Terrain) -> m.TerrainSource:
+    e = terrain.extent
+    if kind == "flat":
+        return m.FlatTerrain(0.0)
+    spacing = min(e.width_m, e.length_m) / 200
+    if any(abs(size / spacing - round(size / spacing)) > 1e-9 for size in (e.width_m,
+                                                                          e.length_m)):
+        spacing = 1.0  # a whole number of cells along both sides is required
+    return m.ProceduralTerrain(seed=1, grid_spacing_m=spacing, roughness=0.3,
+                               min_height_m=-5.0, max_height_m=5.0)
+
+
+class TerrainPanel(Panel):
+    title = "Terrain"
+    parts = frozenset({"terrain"})
+
+    def build(self, layout) -> None:
+        self.kind = combo(KINDS)
+        self.kind.currentIndexChanged.connect(self._kind_changed)
+        top = form()
+        top.addRow("source", self.kind)
+        layout.addLayout(top)
+
+        extent = QGroupBox("extent (world X east, Y north; m)")
+        f = form(extent)
+        for name, label in (("min_X", "min X"), ("min_Y", "min Y"), ("max_X", "max X"),
+                            ("max_Y", "max Y")):
+            f.addRow(label, self.bindings.bind(dspin(-1e8, 1e8, 3, 10, "m"),
+                                               f"scene.terrain.extent.{name}",
+                                               f"Terrain extent {label}"))
+        layout.addWidget(extent)
+
+        self.procedural = QGroupBox("procedural hills")
+        f = form(self.procedural)
+        src = "scene.terrain.source"
+        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{src}.seed", "Terrain seed"))
+        f.addRow("grid spacing", self.bindings.bind(
+            dspin(0.01, 1000, 3, 0.1, "m"), f"{src}.grid_spacing_m", "Terrain grid spacing"))
+        f.addRow("roughness", self.bindings.bind(
+            dspin(0, 1, 2, 0.05), f"{src}.roughness", "Terrain roughness"))
+        f.addRow("lowest", self.bindings.bind(
+            dspin(-1e4, 1e4, 2, 1, "m"), f"{src}.min_height_m", "Terrain lowest height"))
+        f.addRow("highest", self.bindings.bind(
+            dspin(-1e4, 1e4, 2, 1, "m"), f"{src}.max_height_m", "Terrain highest height"))
+        layout.addWidget(self.procedural)
+
+        self.flat = QGroupBox("flat plane")
+        f = form(self.flat)
+        f.addRow("height Z", self.bindings.bind(dspin(-1e4, 1e4, 3, 1, "m"),
+                                                "scene.terrain.source.height_m",
+                                                "Flat terrain height"))
+        layout.addWidget(self.flat)
+
+        self.file_box = QGroupBox("file")
+        row = QHBoxLayout(self.file_box)
+        self.file_label = QLabel("–")
+        self.file_label.setWordWrap(True)
+        browse = QPushButton("Import…")
+        browse.clicked.connect(self._import)
+        row.addWidget(self.file_label, 1)
+        row.addWidget(browse)
+        layout.addWidget(self.file_box)
+
+        info = form()
+        self.size_label = readout()
+        self.relief_label = readout()
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        info.addRow("grid", self.size_label)
+        info.addRow("relief", self.relief_label)
+        layout.addLayout(info)
+        layout.addWidget(self.error_label)
+        self.sync.terrain_changed.connect(self._show_result)
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        super().refresh()
+        terrain = self.project.scene.terrain
+        blocked = self.kind.blockSignals(True)
+        self.kind.setCurrentIndex(self.kind.findData(terrain.kind))
+        self.kind.blockSignals(blocked)
+        self.procedural.setVisible(terrain.kind == "procedural")
+        self.flat.setVisible(terrain.kind == "flat")
+        self.file_box.setVisible(terrain.kind in ("dem", "mesh"))
+        if terrain.kind in ("dem", "mesh"):
+            self.file_label.setText(terrain.source.file)
+
+    def _show_result(self) -> None:
+        result = self.sync.terrain
+        self.error_label.setText(self.sync.errors.get("terrain", ""))
+        if result is None:
+            self.size_label.setText("–")
+            self.relief_label.setText("–")
+            return
+        if result.heightfield is not None:
+            ny, nx = result.heightfield.heights_m.shape
+            shown = ("" if result.display.stride == 1
+                     else f"; shown every {result.display.stride}th node")
+            self.size_label.setText(f"{nx} × {ny} = {nx * ny:,} vertices{shown}")
+            z = result.heightfield.heights_m
+        else:
+            self.size_label.setText(f"mesh, {result.n_vertices:,} vertices")
+            z = result.mesh.vertices_world[:, 2]
+        self.relief_label.setText(f"{z.min():.2f} … {z.max():.2f} m")
+
+    # ------------------------------------------------------------------ view → model
+    def _kind_changed(self) -> None:
+        kind = self.kind.currentData()
+        terrain = self.project.scene.terrain
+        if kind == terrain.kind:
+            return
+        if kind in ("dem", "mesh"):
+            self._import(kind)
+            self.refresh()
+            return
+        source = default_source(kind, terrain)
+        self.editor.edit(self._with_terrain(dataclasses.replace(terrain, source=source)),
+                         f"Terrain: {kind}")
+
+    def _with_terrain(self, terrain: m.Terrain) -> m.Project:
+        scene = dataclasses.replace(self.project.scene, terrain=terrain)
+        return dataclasses.replace(self.project, scene=scene)
+
+    def _import(self, kind: str | None = None) -> None:
+        kind = kind or self.project.scene.terrain.kind
+        pattern = ("DEM (*.tif *.tiff *.asc)" if kind == "dem"
+                   else "mesh (*.ply *.obj *.stl)")
+        path, _ = QFileDialog.getOpenFileName(self, f"Import {kind.upper()}",
+                                              str(self.editor.document.base_dir), pattern)
+        if path:
+            self.import_file(kind, Path(path))
+
+    def import_file(self, kind: str, path: Path) -> None:
+        """Use a DEM or mesh file as terrain; the extent becomes the file's (off the UI
+        thread: a large DEM takes a while to read)."""
+        rel = self.relative_path(str(path))
+        project = self.project
+
+        def extent_of_file() -> m.Extent:
+            if kind == "dem":
+                from designer.scene.dem import load_dem
+
+                x0, x1, y0, y1 = load_dem(path).extent_m
+            else:
+                from designer.scene.mesh import load_mesh
+
+                v = load_mesh(path).vertices_world
+                o = project.origin
+                x0, y0 = v[:, 0].min() + o.E0, v[:, 1].min() + o.N0
+                x1, y1 = v[:, 0].max() + o.E0, v[:, 1].max() + o.N0
+            return m.Extent(float(x0), float(y0), float(x1), float(y1))
+
+        def done(extent: m.Extent) -> None:
+            source = m.DemTerrain(rel) if kind == "dem" else m.MeshTerrain(rel)
+            self.editor.edit(self._with_terrain(m.Terrain(extent, source)),
+                             f"Import {kind.upper()} {path.name}")
+
+        def failed(error: BaseException) -> None:
+            self.error_label.setText(f"{path.name}: {error}")
+
+        self.sync.tasks.submit("import-terrain", extent_of_file, on_done=done, on_error=failed)

@@ -1,0 +1,156 @@
+"""Texture: a procedural pattern or an image file, its tiling, texel size and interpolation."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QImage, QPixmap
+from PySide6.QtWidgets import QFileDialog, QGroupBox, QHBoxLayout, QLabel, QPushButton
+
+from designer.gui import derived
+from designer.gui.panels.base import Panel
+from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.project import model as m
+
+PATTERNS = ["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
+
+
+def rgb_pixmap(rgb: np.ndarray, side_px: int) -> QPixmap:
+    """A QPixmap of an (H, W, 3) uint8 image scaled to fit ``side_px``."""
+    step = max(1, math.ceil(max(rgb.shape[:2]) / (2 * side_px)))
+    small = np.ascontiguousarray(rgb[::step, ::step, :3])
+    h, w = small.shape[:2]
+    image = QImage(small.data, w, h, 3 * w, QImage.Format.Format_RGB888).copy()
+    return QPixmap.fromImage(image).scaled(side_px, side_px, Qt.AspectRatioMode.KeepAspectRatio,
+                                           Qt.TransformationMode.SmoothTransformation)
+
+
+class TexturePanel(Panel):
+    title = "Texture"
+    parts = frozenset({"texture", "terrain", "trajectory", "cameras"})
+
+    def build(self, layout) -> None:
+        top = form()
+        self.kind = combo([("procedural pattern", "procedural"), ("image file", "image")])
+        self.kind.currentIndexChanged.connect(self._kind_changed)
+        top.addRow("source", self.kind)
+        layout.addLayout(top)
+
+        self.procedural = QGroupBox("procedural")
+        f = form(self.procedural)
+        src = "scene.texture.source"
+        f.addRow("pattern", self.bindings.bind(combo([(p, p) for p in PATTERNS]),
+                                               f"{src}.pattern", "Texture pattern"))
+        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{src}.seed", "Texture seed"))
+        f.addRow("texel size", self.bindings.bind(dspin(0.0001, 10, 4, 0.001, "m"),
+                                                  f"{src}.texel_size_m", "Texel size"))
+        layout.addWidget(self.procedural)
+
+        self.image = QGroupBox("image")
+        row = QHBoxLayout(self.image)
+        self.file_label = QLabel("–")
+        self.file_label.setWordWrap(True)
+        browse = QPushButton("Choose…")
+        browse.clicked.connect(self._choose)
+        row.addWidget(self.file_label, 1)
+        row.addWidget(browse)
+        layout.addWidget(self.image)
+
+        tiling = QGroupBox("tiling and sampling")
+        f = form(tiling)
+        f.addRow("repeat X", self.bindings.bind(ispin(1, 10000), "scene.texture.repeat_X",
+                                                "Texture repeat X"))
+        f.addRow("repeat Y", self.bindings.bind(ispin(1, 10000), "scene.texture.repeat_Y",
+                                                "Texture repeat Y"))
+        f.addRow("interpolation", self.bindings.bind(
+            combo([("linear", "linear"), ("closest", "closest")]),
+            "scene.texture.interpolation", "Texture interpolation"))
+        layout.addWidget(tiling)
+
+        info = form()
+        self.tile_label, self.texel_label, self.ratio_label = readout(), readout(), readout()
+        info.addRow("tile", self.tile_label)
+        info.addRow("texel on the ground", self.texel_label)
+        info.addRow("texels per image pixel", self.ratio_label)
+        layout.addLayout(info)
+        self.preview = QLabel()
+        self.preview.setMinimumHeight(160)
+        self.preview.setAlignment(Qt.AlignmentFlag.AlignCenter)
+        layout.addWidget(self.preview)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        layout.addWidget(self.error_label)
+        self.sync.texture_changed.connect(self._show_texture)
+        self.sync.stations_changed.connect(self._readouts)
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        super().refresh()
+        tex = self.project.scene.texture
+        is_image = isinstance(tex.source, m.ImageTexture)
+        blocked = self.kind.blockSignals(True)
+        self.kind.setCurrentIndex(1 if is_image else 0)
+        self.kind.blockSignals(blocked)
+        self.procedural.setVisible(not is_image)
+        self.image.setVisible(is_image)
+        if is_image:
+            self.file_label.setText(tex.source.file)
+        self._readouts()
+
+    def _readouts(self) -> None:
+        project = self.project
+        e, tex = project.scene.terrain.extent, project.scene.texture
+        self.tile_label.setText(f"{e.width_m / tex.repeat_X:.3g} × "
+                                f"{e.length_m / tex.repeat_Y:.3g} m")
+        tx, ty = derived.texel_size_m(project, self.sync.texture_rgb)
+        if math.isnan(tx):
+            self.texel_label.setText("–")
+            self.ratio_label.setText("–")
+            return
+        size = "" if self.sync.texture_rgb is None else (
+            f" ({self.sync.texture_rgb.shape[1]} × {self.sync.texture_rgb.shape[0]} px)")
+        self.texel_label.setText(f"{1000 * tx:.2f} × {1000 * ty:.2f} mm{size}")
+        stations = self.sync.stations
+        if stations is not None and stations.calc is not None:
+            ratio = stations.calc.gsd_m / max(tx, ty)
+            hint = "" if ratio >= 2 else " — fewer than 2: the texture will look blurred"
+            self.ratio_label.setText(f"{ratio:.1f} at GSD {100 * stations.calc.gsd_m:.2f} cm"
+                                     f"{hint}")
+        else:
+            self.ratio_label.setText("–")
+
+    def _show_texture(self) -> None:
+        self.error_label.setText(self.sync.errors.get("texture", "")
+                                 if self.sync.texture_rgb is None else "")
+        if self.sync.texture_rgb is not None:
+            self.preview.setPixmap(rgb_pixmap(self.sync.texture_rgb, 160))
+        else:
+            self.preview.clear()
+        self._readouts()
+
+    # ------------------------------------------------------------------ view → model
+    def _set_source(self, source, text: str) -> None:
+        tex = dataclasses.replace(self.project.scene.texture, source=source)
+        scene = dataclasses.replace(self.project.scene, texture=tex)
+        self.editor.edit(dataclasses.replace(self.project, scene=scene), text)
+
+    def _kind_changed(self) -> None:
+        if self.kind.currentData() == "image":
+            if not self._choose():
+                self.refresh()
+        else:
+            self._set_source(m.ProceduralTexture("grass", 1, 0.01), "Texture: procedural")
+
+    def _choose(self) -> bool:
+        path, _ = QFileDialog.getOpenFileName(
+            self, "Texture image", str(self.editor.document.base_dir),
+            "images (*.png *.jpg *.jpeg *.tif *.tiff)")
+        if path:
+            self._set_source(m.ImageTexture(self.relative_path(path)),
+                             f"Texture image {Path(path).name}")
+        return bool(path)

@@ -1,0 +1,109 @@
+"""``designer render … --progress json`` in its own process (QProcess), read line by line.
+
+Blender runs in the render command's worker processes, never in the window's: the
+window only reads JSON events (``worker_started``, ``scene_ready``, ``frame_done``,
+``frame_skipped``, ``retry``, ``worker_done``) and forwards them as a Qt signal.
+Cancel sends SIGINT, on which the command stops its workers cleanly (exit code 130)
+and leaves only complete images.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import sys
+from pathlib import Path
+
+from PySide6.QtCore import QObject, QProcess, Signal
+
+
+class RenderProcess(QObject):
+    event = Signal(dict)
+    finished = Signal(int, str)  # exit code, last lines of stderr
+    output = Signal(str)         # any non-JSON line
+
+    def __init__(self, parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.process: QProcess | None = None
+        self._buffer = b""
+        self._stderr = b""
+        self.cancelled = False
+
+    @property
+    def running(self) -> bool:
+        return self.process is not None and self.process.state() != QProcess.ProcessState.NotRunning
+
+    @staticmethod
+    def command(project: Path, out_dir: Path, resume: bool = False,
+                quality: str | None = None, workers: int | None = None) -> list[str]:
+        args = ["-m", "designer", "render", str(project), "-o", str(out_dir),
+                "--progress", "json"]
+        if resume:
+            args.append("--resume")
+        if quality:
+            args += ["--quality", quality]
+        if workers:
+            args += ["--workers", str(workers)]
+        return [sys.executable, *args]
+
+    def start(self, argv: list[str], cwd: Path | None = None) -> None:
+        if self.running:
+            raise RuntimeError("a render is already running")
+        self._buffer, self._stderr, self.cancelled = b"", b"", False
+        proc = QProcess(self)
+        if cwd is not None:
+            proc.setWorkingDirectory(str(cwd))
+        proc.readyReadStandardOutput.connect(self._read_stdout)
+        proc.readyReadStandardError.connect(self._read_stderr)
+        proc.finished.connect(self._done)
+        self.process = proc
+        proc.start(argv[0], argv[1:])
+
+    def cancel(self) -> None:
+        """Ask the render to stop (SIGINT, like Ctrl-C); it exits after cleaning up."""
+        if not self.running:
+            return
+        self.cancelled = True
+        pid = self.process.processId()
+        if pid and hasattr(signal, "SIGINT") and os.name == "posix":
+            os.kill(pid, signal.SIGINT)
+        else:
+            self.process.terminate()
+
+    def kill(self) -> None:
+        if self.running:
+            self.process.kill()
+            self.process.waitForFinished(5000)
+
+    def _read_stdout(self) -> None:
+        self._buffer += bytes(self.process.readAllStandardOutput())
+        *lines, self._buffer = self._buffer.split(b"\n")
+        for raw in lines:
+            text = raw.decode("utf-8", "replace").strip()
+            if not text:
+                continue
+            try:
+                event = json.loads(text)
+            except json.JSONDecodeError:
+                self.output.emit(text)
+                continue
+            if isinstance(event, dict) and "event" in event:
+                self.event.emit(event)
+            else:
+                self.output.emit(text)
+
+    def _read_stderr(self) -> None:
+        chunk = bytes(self.process.readAllStandardError())
+        self._stderr = (self._stderr + chunk)[-20000:]
+        for line in chunk.decode("utf-8", "replace").splitlines():
+            if line.strip():
+                self.output.emit(line)
+
+    def _done(self, code: int, _status) -> None:
+        self._read_stdout()
+        if self._buffer.strip():
+            self._buffer += b"\n"
+            self._read_stdout()
+        tail = "\n".join(self._stderr.decode("utf-8", "replace").splitlines()[-10:])
+        self.finished.emit(int(code), tail)

@@ -1,0 +1,243 @@
+"""Keeps the 3D view in step with the document: model events in, view updates out.
+
+On each ``project`` event it looks at which parts changed and recomputes only what
+depends on them, in worker threads (:class:`~designer.gui.tasks.TaskRunner`):
+
+terrain → height field, ray caster, display mesh → targets, stations, coverage;
+texture → texture image (1–2 s for a procedural one) and the display UVs;
+cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
+
+Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
+the ``*_changed`` signals; errors arrive as messages (a half-typed flight plan is not an
+exception, it is a message in the Flight panel).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import QObject, Signal
+
+from designer.errors import DesignerError
+from designer.gui import derived
+from designer.gui.document import ProjectDocument
+from designer.gui.tasks import TaskRunner
+from designer.project import model as m
+
+TERRAIN_PARTS = {"terrain"}
+STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
+
+
+def _message(error: BaseException) -> str:
+    if isinstance(error, DesignerError | ValueError | KeyError | OSError):
+        return str(error)
+    return f"{type(error).__name__}: {error}"
+
+
+class SceneSync(QObject):
+    terrain_changed = Signal()
+    texture_changed = Signal()
+    targets_changed = Signal()
+    stations_changed = Signal()
+    coverage_changed = Signal()
+    message = Signal(str)
+
+    def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
+        super().__init__(view)
+        self.document, self.view, self.tasks = document, view, tasks
+        self.terrain: derived.TerrainResult | None = None
+        self.texture_rgb: np.ndarray | None = None
+        self.targets: derived.TargetsResult | None = None
+        self.stations: derived.StationsResult | None = None
+        self.coverage: derived.CoverageResult | None = None
+        self.errors: dict[str, str] = {}
+        self.coverage_enabled = False
+        self._tiles: tuple[int, int] | None = None
+        self._area_key: tuple | None = None
+        document.events.connect("project", self._on_project)
+        document.events.connect("reset", self._on_reset)
+        view.interaction.ground_picker = self._pick_ground
+
+    # ------------------------------------------------------------------ events
+    def _on_reset(self, project) -> None:
+        self.terrain = None
+        self.texture_rgb = None
+        self.stations = None
+        self.coverage = None
+        self._tiles = None
+        self._area_key = None
+
+    def _on_project(self, old, new, parts) -> None:
+        if parts & TERRAIN_PARTS or self.terrain is None:
+            self.refresh_terrain()
+        else:
+            if "texture" in parts:
+                self._retile()
+            if "targets" in parts:
+                self.refresh_targets()
+            if parts & STATION_PARTS:
+                self.refresh_stations()
+        procedural = isinstance(self.document.project.scene.texture.source,
+                                m.ProceduralTexture)
+        if "texture" in parts or (parts & TERRAIN_PARTS and procedural):
+            self.refresh_texture()
+        if "trajectory" in parts or "terrain" in parts:
+            self._show_area()
+
+    def _fail(self, key: str, error: BaseException) -> None:
+        self.errors[key] = _message(error)
+        self.message.emit(f"{key}: {self.errors[key]}")
+
+    # ------------------------------------------------------------------ terrain
+    def refresh_terrain(self) -> None:
+        project = self.document.project
+        self.tasks.submit("terrain", derived.compute_terrain, project, self.document.base_dir,
+                          self.view.max_display_nodes, on_done=self._terrain_done,
+                          on_error=lambda e: self._terrain_failed(e))
+
+    def _terrain_failed(self, error: BaseException) -> None:
+        self.terrain = None
+        self.view.remove_layer("terrain")
+        self._fail("terrain", error)
+        self.terrain_changed.emit()
+        self.refresh_targets()
+        self.refresh_stations()
+
+    def _terrain_done(self, result: derived.TerrainResult) -> None:
+        self.errors.pop("terrain", None)
+        first = self.terrain is None or not np.allclose(
+            self.view.offset[:2], result.centre_world[:2], atol=0.5 * max(
+                result.terrain.extent.width_m, result.terrain.extent.length_m))
+        self.terrain = result
+        if first:
+            self.view.set_offset(result.centre_world)
+        self.view.interaction.ground_picker = (
+            self._pick_ground if result.raycaster is not None else None)
+        p = self.document.project.scene.texture
+        self._tiles = (p.repeat_X, p.repeat_Y)
+        display = (result.display if self._tiles == result.tiles
+                   else derived.retile(result, self._tiles))
+        self.view.show_terrain(display.points_world, display.faces, display.uv,
+                               self.texture_rgb, p.interpolation == "linear")
+        if first:
+            self.view.reset_view()
+        self.terrain_changed.emit()
+        self.refresh_targets()
+        self.refresh_stations()
+        self._show_area()
+
+    def _retile(self) -> None:
+        tex = self.document.project.scene.texture
+        tiles = (tex.repeat_X, tex.repeat_Y)
+        if self.terrain is None or tiles == self._tiles:
+            return
+        self._tiles = tiles
+        display = derived.retile(self.terrain, tiles)
+        self.view.show_terrain(display.points_world, display.faces, display.uv,
+                               self.texture_rgb, tex.interpolation == "linear")
+
+    # ------------------------------------------------------------------ texture
+    def refresh_texture(self) -> None:
+        self.tasks.submit("texture", derived.compute_texture, self.document.project,
+                          self.document.base_dir, on_done=self._texture_done,
+                          on_error=self._texture_failed)
+
+    def _texture_done(self, rgb: np.ndarray) -> None:
+        self.errors.pop("texture", None)
+        self.texture_rgb = rgb
+        tex = self.document.project.scene.texture
+        self.view.set_texture(rgb, tex.interpolation == "linear")
+        self.texture_changed.emit()
+
+    def _texture_failed(self, error: BaseException) -> None:
+        self.texture_rgb = None
+        self.view.set_texture(None)
+        self._fail("texture", error)
+        self.texture_changed.emit()
+
+    # ------------------------------------------------------------------ targets
+    def refresh_targets(self) -> None:
+        project = self.document.project
+        hf = self.terrain.heightfield if self.terrain is not None else None
+        if self.terrain is None and project.targets:
+            return  # drawn once the terrain is there
+        try:
+            self.targets = derived.compute_targets(project, hf)
+            self.errors.pop("targets", None)
+        except (DesignerError, ValueError) as error:
+            self.targets = None
+            self._fail("targets", error)
+        t = self.targets
+        if t is None:
+            self.view.show_targets([], [], np.zeros((0, 3)))
+        else:
+            self.view.show_targets(t.ids, t.roles, t.true_xyz, t.plates)
+        self.targets_changed.emit()
+
+    # ------------------------------------------------------------------ stations
+    def refresh_stations(self) -> None:
+        project = self.document.project
+        if not project.cameras or (project.trajectory.flight_plan is None
+                                   and not project.trajectory.exterior_orientations):
+            self.tasks.cancel("stations")
+            self._stations_failed(DesignerError("no camera stations yet: set up a flight"))
+            return
+        self.tasks.submit("stations", derived.compute_stations, project, self.terrain,
+                          on_done=self._stations_done, on_error=self._stations_failed)
+
+    def _stations_done(self, result: derived.StationsResult) -> None:
+        self.errors.pop("stations", None)
+        self.stations = result
+        self.view.show_stations(result.geometry)
+        self.stations_changed.emit()
+        if self.coverage_enabled:
+            self.refresh_coverage()
+
+    def _stations_failed(self, error: BaseException) -> None:
+        self.stations = None
+        self.view.show_stations(None)
+        self.errors["stations"] = _message(error)
+        self.stations_changed.emit()
+
+    # ------------------------------------------------------------------ coverage
+    def set_coverage_enabled(self, enabled: bool) -> None:
+        self.coverage_enabled = enabled
+        if enabled:
+            self.refresh_coverage()
+        else:
+            self.view.remove_layer("coverage")
+            self.view.request_render()
+
+    def refresh_coverage(self) -> None:
+        if self.terrain is None or self.stations is None:
+            return
+        self.message.emit("computing the coverage map…")
+        self.tasks.submit("coverage", derived.compute_coverage, self.document.project,
+                          self.terrain, self.stations, on_done=self._coverage_done,
+                          on_error=lambda e: self._fail("coverage", e))
+
+    def _coverage_done(self, result: derived.CoverageResult) -> None:
+        self.coverage = result
+        if self.coverage_enabled:
+            self.view.show_coverage(result.points_world, result.shape, result.count)
+            shares = ", ".join(f"{100 * v:.0f} % by ≥ {k}" for k, v in result.shares.items())
+            self.message.emit(f"coverage: area seen {shares}")
+        self.coverage_changed.emit()
+
+    # ------------------------------------------------------------------ area, picking
+    def _show_area(self) -> None:
+        plan = self.document.project.trajectory.flight_plan
+        key = (None if plan is None else plan.area, id(self.terrain), self.view.offset.tobytes())
+        if key == self._area_key:
+            return  # unchanged: no frame for nothing
+        self._area_key = key
+        if plan is None or len(plan.area) < 3:
+            self.view.show_polygon("area", None)
+            return
+        self.view.show_polygon("area", derived.draped_polygon(np.array(plan.area),
+                                                              self.terrain))
+
+    def _pick_ground(self, origin: np.ndarray, direction: np.ndarray):
+        if self.terrain is None or self.terrain.raycaster is None:
+            return None
+        hit = self.terrain.raycaster.first_hit(origin[None, :], direction[None, :])[0]
+        return hit if np.all(np.isfinite(hit)) else None

@@ -1,0 +1,64 @@
+"""Undo/redo: every edit replaces the whole (immutable) project value on a QUndoStack.
+
+:class:`Editor` is what panels call: ``editor.edit(new_project, "Flight altitude",
+merge="flight.altitude")``. Consecutive edits with the same ``merge`` key (a spin box
+stepped ten times, a target dragged) become one undo step.
+"""
+
+from __future__ import annotations
+
+from PySide6.QtGui import QUndoCommand, QUndoStack
+
+from designer.gui.document import ProjectDocument
+from designer.project import model as m
+
+_MERGE_IDS: dict[str, int] = {}
+
+
+def _merge_id(key: str | None) -> int:
+    if key is None:
+        return -1
+    return _MERGE_IDS.setdefault(key, len(_MERGE_IDS) + 1)
+
+
+class ReplaceProject(QUndoCommand):
+    """Swap the document's project between two values."""
+
+    def __init__(self, document: ProjectDocument, old: m.Project, new: m.Project,
+                 text: str, merge: str | None = None) -> None:
+        super().__init__(text)
+        self.document, self.old, self.new = document, old, new
+        self._id = _merge_id(merge)
+
+    def id(self) -> int:
+        return self._id
+
+    def mergeWith(self, other: QUndoCommand) -> bool:
+        if not isinstance(other, ReplaceProject) or other.id() != self.id() or self._id < 0:
+            return False
+        self.new = other.new
+        return True
+
+    def redo(self) -> None:
+        self.document.set_project(self.new)
+
+    def undo(self) -> None:
+        self.document.set_project(self.old)
+
+
+class Editor:
+    """The one way panels and the 3D view change the project."""
+
+    def __init__(self, document: ProjectDocument, stack: QUndoStack) -> None:
+        self.document = document
+        self.stack = stack
+
+    @property
+    def project(self) -> m.Project:
+        return self.document.project
+
+    def edit(self, new: m.Project, text: str, merge: str | None = None) -> None:
+        """Apply ``new`` as an undoable step (nothing happens if it equals the current)."""
+        if new == self.document.project:
+            return
+        self.stack.push(ReplaceProject(self.document, self.document.project, new, text, merge))

@@ -1,0 +1,188 @@
+"""What the 3D view draws, as plain arrays: terrain display mesh, camera frusta,
+ground footprints, flight lines. Qt-free and VTK-free (numpy only), so it is tested
+and benchmarked without a display.
+
+Everything is in **world** coordinates (m, X east, Y north, Z up, float64); the view
+subtracts its display offset before handing points to VTK (float32 inside, which at
+UTM-sized coordinates would be off by decimetres). Lines are returned in VTK's flat
+cell layout ``[n, i0, …, i(n−1), n, …]`` so the view can use them as they are.
+
+Frusta and footprints use the pinhole part of the camera (distortion ignored): they
+are pictures of where a camera looks, not measurements; ``designer plan`` measures.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+from designer.core.interior import InteriorOrientation
+from designer.scene.mesh import TerrainMesh
+
+#: the display mesh of a height field keeps at most this many nodes per side
+MAX_DISPLAY_NODES_PER_SIDE = 400
+#: station count above which footprints use only the 4 image corners
+DENSE_FOOTPRINT_LIMIT = 400
+
+
+@dataclass(frozen=True, eq=False)
+class TerrainDisplay:
+    """A triangle mesh to show: ``points_world`` (N, 3), ``faces`` (M, 3), ``uv`` (N, 2)
+    in texture repeats (u east, v north, the texture's bottom-left at (0, 0)),
+    ``stride`` the height-field nodes per display cell (1 = full resolution)."""
+
+    points_world: np.ndarray
+    faces: np.ndarray
+    uv: np.ndarray
+    stride: int = 1
+
+
+def terrain_display(hf: Heightfield | None, mesh: TerrainMesh | None,
+                    tiles: tuple[int, int] = (1, 1),
+                    max_nodes_per_side: int = MAX_DISPLAY_NODES_PER_SIDE) -> TerrainDisplay:
+    """The terrain as drawn: a height field thinned to ``max_nodes_per_side`` (every
+    s-th node, the last row and column always kept), or a mesh terrain as it is."""
+    if hf is None:
+        if mesh is None:
+            raise ValueError("terrain_display needs a height field or a mesh")
+        return TerrainDisplay(mesh.vertices_world, mesh.faces,
+                              mesh.uv * np.asarray(tiles, dtype=float), 1)
+    z = hf.heights_m
+    ny, nx = z.shape
+    stride = max(1, math.ceil((max(nx, ny) - 1) / (max_nodes_per_side - 1)))
+    cols = np.unique(np.r_[np.arange(0, nx, stride), nx - 1])
+    rows = np.unique(np.r_[np.arange(0, ny, stride), ny - 1])
+    X, Y = np.meshgrid(hf.x0_m + hf.dx_m * cols, hf.y0_m + hf.dy_m * rows)
+    Z = z[np.ix_(rows, cols)]
+    points = np.column_stack([X.ravel(), Y.ravel(), Z.ravel()])
+    uv = np.column_stack([(cols / (nx - 1))[None, :].repeat(len(rows), 0).ravel() * tiles[0],
+                          (rows / (ny - 1))[:, None].repeat(len(cols), 1).ravel() * tiles[1]])
+    return TerrainDisplay(points, grid_faces(len(rows), len(cols)), uv, stride)
+
+
+def grid_faces(ny: int, nx: int) -> np.ndarray:
+    """Two counter-clockwise triangles per cell of a row-major ny × nx node grid."""
+    sw = (np.arange(ny - 1)[:, None] * nx + np.arange(nx - 1)[None, :]).ravel()
+    faces = np.empty((2 * len(sw), 3), dtype=np.int64)
+    faces[0::2] = np.column_stack([sw, sw + 1, sw + nx + 1])
+    faces[1::2] = np.column_stack([sw, sw + nx + 1, sw + nx])
+    return faces
+
+
+# ----------------------------------------------------------------------- stations
+@dataclass(frozen=True, eq=False)
+class StationGeometry:
+    """Cameras as drawn. ``C_world`` (N, 3); frusta: pyramids of height ``glyph_m``;
+    footprints: closed polylines where the image border meets the ground; flight lines:
+    polylines through the perspective centres of each line in flight order."""
+
+    C_world: np.ndarray
+    line_index: np.ndarray
+    frustum_points: np.ndarray
+    frustum_lines: np.ndarray
+    footprint_points: np.ndarray
+    footprint_lines: np.ndarray
+    flight_points: np.ndarray
+    flight_lines: np.ndarray
+    glyph_m: float
+
+    @property
+    def n_stations(self) -> int:
+        return len(self.C_world)
+
+
+def border_pixels(interior: InteriorOrientation, per_edge: int = 1) -> np.ndarray:
+    """Points (4·per_edge, 2) around the image border, clockwise from the top-left."""
+    W, H = interior.image_size_px
+    s = np.arange(per_edge) / per_edge
+    top = np.column_stack([s * W, np.zeros(per_edge)])
+    right = np.column_stack([np.full(per_edge, W), s * H])
+    bottom = np.column_stack([W - s * W, np.full(per_edge, H)])
+    left = np.column_stack([np.zeros(per_edge), H - s * H])
+    return np.vstack([top, right, bottom, left])
+
+
+def pinhole_directions_cam(interior: InteriorOrientation, uv_px: np.ndarray) -> np.ndarray:
+    """Directions (K, 3) in the photogrammetric camera frame (z backwards, so z = −1) of
+    pixels, ignoring distortion."""
+    uv = np.asarray(uv_px, dtype=float).reshape(-1, 2)
+    x = (uv[:, 0] - interior.cx_px) / interior.fx_px
+    y = -(uv[:, 1] - interior.cy_px) / interior.fy_px
+    return np.column_stack([x, y, -np.ones(len(uv))])
+
+
+def polyline_cells(n_lines: int, points_per_line: int, closed: bool = False) -> np.ndarray:
+    """VTK line cells for ``n_lines`` consecutive runs of ``points_per_line`` points."""
+    k = points_per_line + (1 if closed else 0)
+    ids = np.arange(points_per_line)
+    if closed:
+        ids = np.r_[ids, 0]
+    cells = np.empty((n_lines, k + 1), dtype=np.int64)
+    cells[:, 0] = k
+    cells[:, 1:] = ids[None, :] + points_per_line * np.arange(n_lines)[:, None]
+    return cells.ravel()
+
+
+def station_geometry(
+    C_world: np.ndarray, R_cam_to_world: np.ndarray, line_index: np.ndarray,
+    interior: InteriorOrientation, first_hit=None, ground_z_m: float = 0.0,
+    glyph_m: float | None = None,
+) -> StationGeometry:
+    """Frusta, footprints and flight lines of N stations.
+
+    ``first_hit(origins, directions) -> (K, 3)`` finds where rays meet the terrain (NaN
+    for a miss, e.g. :meth:`TerrainRaycaster.first_hit`); rays that miss fall back to the
+    plane Z = ``ground_z_m``; a footprint with a corner above the horizon is left out.
+    """
+    C = np.asarray(C_world, dtype=float).reshape(-1, 3)
+    R = np.asarray(R_cam_to_world, dtype=float).reshape(-1, 3, 3)
+    line = np.asarray(line_index, dtype=int).reshape(-1)
+    n = len(C)
+    if glyph_m is None:
+        height = np.median(C[:, 2]) - ground_z_m if n else 1.0
+        glyph_m = float(max(0.08 * abs(height), 0.5))
+
+    # Frusta: apex + 4 corners at depth glyph_m; lines apex→corner and the rectangle.
+    corners_cam = pinhole_directions_cam(interior, border_pixels(interior, 1)) * glyph_m
+    corners = C[:, None, :] + np.einsum("nij,kj->nki", R, corners_cam)
+    fr_points = np.concatenate([C[:, None, :], corners], axis=1).reshape(-1, 3)
+    # cells [2, apex, c1] … [2, apex, c4], [5, c1, c2, c3, c4, c1]; local ids apex 0, c 1–4
+    pattern = np.array([2, 0, 1, 2, 0, 2, 2, 0, 3, 2, 0, 4, 5, 1, 2, 3, 4, 1])
+    is_count = np.zeros(len(pattern), bool)
+    is_count[[0, 3, 6, 9, 12]] = True
+    base = np.where(is_count[None, :], 0, 5 * np.arange(n)[:, None])
+    fr_lines = (pattern[None, :] + base).ravel().astype(np.int64)
+
+    # Footprints on the ground.
+    per_edge = 4 if n <= DENSE_FOOTPRINT_LIMIT else 1
+    dirs_cam = pinhole_directions_cam(interior, border_pixels(interior, per_edge))
+    k = len(dirs_cam)
+    dirs = np.einsum("nij,kj->nki", R, dirs_cam).reshape(-1, 3)
+    origins = np.repeat(C, k, axis=0)
+    hits = (first_hit(origins, dirs) if first_hit is not None and n
+            else np.full((n * k, 3), np.nan))
+    miss = ~np.isfinite(hits[:, 0])
+    if miss.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (ground_z_m - origins[miss, 2]) / dirs[miss, 2]
+        t = np.where(t > 0, t, np.nan)
+        hits[miss] = origins[miss] + t[:, None] * dirs[miss]
+    hits = hits.reshape(n, k, 3)
+    ok = np.all(np.isfinite(hits[:, :, 0]), axis=1)
+    fp_points = hits[ok].reshape(-1, 3)
+    fp_lines = polyline_cells(int(ok.sum()), k, closed=True)
+
+    # Flight lines: runs of consecutive stations with the same line index.
+    if n:
+        breaks = np.flatnonzero(np.diff(line)) + 1
+        starts, stops = np.r_[0, breaks], np.r_[breaks, n]
+        cells = [np.r_[stop - start, np.arange(start, stop)]
+                 for start, stop in zip(starts, stops, strict=True) if stop - start >= 2]
+        fl_lines = np.concatenate(cells) if cells else np.zeros(0, np.int64)
+    else:
+        fl_lines = np.zeros(0, np.int64)
+    return StationGeometry(C, line, fr_points, fr_lines, fp_points, fp_lines, C.copy(),
+                           fl_lines.astype(np.int64), glyph_m)

@@ -1,0 +1,64 @@
+"""GUI tests run on a real X server: Xvfb is started here when DISPLAY is unset.
+
+Qt's offscreen platform cannot host VTK's OpenGL widget, so tests marked ``gui`` get a
+virtual display (``Xvfb :N -screen 0 1600x1000x24``) for the whole session and the
+``xcb`` platform. Tests without the marker (the Qt-free modules) need neither.
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from designer.gui.xvfb import start_xvfb, stop_xvfb
+from tests.gui.helpers import wait_idle
+
+
+@pytest.fixture(scope="session")
+def x_display():
+    os.environ["QT_QPA_PLATFORM"] = "xcb"
+    proc = None
+    if not os.environ.get("DISPLAY"):
+        proc, display = start_xvfb()
+        os.environ["DISPLAY"] = display
+    yield os.environ["DISPLAY"]
+    if proc is not None:
+        # Qt holds its X connection until the application object is gone.
+        from PySide6.QtWidgets import QApplication
+
+        if QApplication.instance() is not None:
+            QApplication.instance().shutdown()
+        stop_xvfb(proc)
+
+
+@pytest.fixture(scope="session")
+def qapp_args(x_display):
+    """pytest-qt's QApplication is made on the display (overrides its fixture)."""
+    return ["designer-gui-tests"]
+
+
+@pytest.fixture
+def settings(tmp_path):
+    from PySide6.QtCore import QSettings
+
+    return QSettings(str(tmp_path / "designer-gui.ini"), QSettings.Format.IniFormat)
+
+
+@pytest.fixture
+def window(qtbot, settings, tmp_path, monkeypatch):
+    """The designer window, shown, on a blank project; closed without prompts."""
+    from PySide6.QtWidgets import QMessageBox
+
+    from designer.gui.main_window import MainWindow
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(QMessageBox, "question",
+                        staticmethod(lambda *a, **k: QMessageBox.StandardButton.Discard))
+    w = MainWindow(settings=settings)
+    qtbot.addWidget(w)
+    w.show()
+    qtbot.waitExposed(w)
+    wait_idle(qtbot, w)
+    yield w
+    w.close()

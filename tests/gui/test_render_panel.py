@@ -1,0 +1,125 @@
+"""Render panel: progress, thumbnails and cancel, reading ``designer render``'s JSON lines.
+
+The first tests stand a small script in for ``designer render`` (same events, same exit
+code 130 on SIGINT) so they need no Blender; the last renders for real with Cycles.
+"""
+
+from __future__ import annotations
+
+import sys
+import textwrap
+
+import pytest
+from PySide6.QtCore import Qt
+
+from designer.gui import edits
+from designer.gui.render_process import RenderProcess
+from designer.project import model as m
+from tests.gui.helpers import problems, wait_idle
+
+pytestmark = pytest.mark.gui
+
+FAKE_RENDER = textwrap.dedent("""
+    import json, signal, sys, time
+    from pathlib import Path
+    import numpy as np, cv2
+    out, n, delay = Path(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
+    out.mkdir(parents=True, exist_ok=True)
+    def stop(*_):
+        print("interrupted", file=sys.stderr, flush=True)
+        sys.exit(130)
+    signal.signal(signal.SIGINT, stop)
+    print(json.dumps({"event": "worker_started", "worker": 0, "pid": 1,
+                      "frames": list(range(n))}), flush=True)
+    print(json.dumps({"event": "scene_ready", "seconds": 0.1}), flush=True)
+    for i in range(n):
+        time.sleep(delay)
+        path = out / f"IMG_{i + 1:05d}.png"
+        image = np.zeros((60, 90, 3), np.uint8)
+        image[:, : 10 * (i + 1)] = (0, 200, 0)
+        cv2.imwrite(str(path), image)
+        print(json.dumps({"event": "frame_done", "index": i, "path": str(path),
+                          "seconds": delay}), flush=True)
+    print(json.dumps({"event": "worker_done"}), flush=True)
+""")
+
+
+@pytest.fixture
+def saved_project(qtbot, window, tmp_path):
+    w = window
+    project = edits.ensure_flight_plan(w.document.project)
+    project = edits.set_flight(project, area=((-20.0, -20.0), (20.0, -20.0), (20.0, 20.0),
+                                              (-20.0, 20.0)), altitude_agl_m=60.0)
+    w.editor.edit(project, "small flight")
+    wait_idle(qtbot, w)
+    assert w.file_actions.save_to(tmp_path / "small.xml"), problems(w)
+    return w
+
+
+def _fake(monkeypatch, tmp_path, n: int, delay: float) -> None:
+    script = tmp_path / "fake_render.py"
+    script.write_text(FAKE_RENDER)
+    monkeypatch.setattr(RenderProcess, "command", staticmethod(
+        lambda project, out_dir, resume=False, quality=None, workers=None:
+        [sys.executable, str(script), str(out_dir), str(n), str(delay)]))
+
+
+def test_progress_and_thumbnails(qtbot, saved_project, monkeypatch, tmp_path):
+    w = saved_project
+    _fake(monkeypatch, tmp_path, n=4, delay=0.05)
+    panel = w.panels["Render"]
+    panel.n_frames = 4
+    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    assert not panel.start_button.isEnabled() and panel.cancel_button.isEnabled()
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=20000)
+    wait_idle(qtbot, w)
+    assert panel.progress.value() == 4
+    assert panel.thumbs.count() == 4
+    assert all(not panel.thumbs.item(i).icon().isNull() for i in range(4))
+    assert panel.state.text().startswith("done: 4 images")
+    assert (tmp_path / "output" / "IMG_00004.png").is_file()
+
+
+def test_cancel_stops_the_render_cleanly(qtbot, saved_project, monkeypatch, tmp_path):
+    w = saved_project
+    _fake(monkeypatch, tmp_path, n=50, delay=0.2)
+    panel = w.panels["Render"]
+    panel.start()
+    qtbot.waitUntil(lambda: len(panel.frames_done) >= 2, timeout=20000)
+    qtbot.mouseClick(panel.cancel_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=20000)
+    assert 2 <= len(panel.frames_done) < 50
+    assert panel.state.text().startswith("cancelled after")
+
+
+def test_render_needs_a_valid_saved_project(qtbot, window, monkeypatch, tmp_path):
+    w = window  # a blank project: no flight, so saving reports problems
+    from PySide6.QtWidgets import QFileDialog
+
+    monkeypatch.setattr(QFileDialog, "getSaveFileName",
+                        staticmethod(lambda *a, **k: (str(tmp_path / "blank.xml"), "")))
+    panel = w.panels["Render"]
+    panel.start()
+    assert not panel.process.running
+    assert "save the project" in panel.state.text()
+    assert not (tmp_path / "blank.xml").exists()
+    assert w.docks["Problems"].isVisibleTo(w) and problems(w)
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_real_render(qtbot, saved_project, tmp_path):
+    pytest.importorskip("bpy")
+    w = saved_project
+    project = w.document.project
+    w.editor.edit(edits.replace_path(project, "render", m.Render(
+        preset="draft", resolution_scale=0.0625, workers=1)), "tiny draft")
+    wait_idle(qtbot, w)
+    n = w.sync.stations.n_images
+    panel = w.panels["Render"]
+    panel.start()
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=300000)
+    wait_idle(qtbot, w)
+    assert panel.state.text().startswith(f"done: {n} images"), panel.log.toPlainText()
+    assert panel.thumbs.count() == n
+    assert (tmp_path / "output" / "ground-truth" / "colmap" / "images.txt").is_file()
