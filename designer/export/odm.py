@@ -57,6 +57,13 @@ _UTM = re.compile(r"^WGS84 UTM \d{1,2}[NS]$", re.IGNORECASE)
 _EPSG = re.compile(r"^EPSG:\d+$", re.IGNORECASE)
 
 
+def odm_crs(crs: str) -> str:
+    """The CRS token OpenDroneMap understands from a project's CRS label: a leading
+    'EPSG:n' of a longer label such as 'EPSG:32632 (WGS 84 / UTM zone 32N)'."""
+    match = re.match(r"\s*(EPSG:\d+)", crs)
+    return match.group(1) if match else crs
+
+
 def check_odm_crs(crs: object) -> str:
     """The CRS line if OpenDroneMap can parse it, else ExportError naming the forms."""
     line = check_crs(crs)

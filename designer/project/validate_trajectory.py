@@ -226,4 +226,15 @@ def render_output_issues(project: m.Project) -> list[Issue]:
             out.append(Issue(outputs, "ground-truth", f"ground-truth format '{fmt}' is listed "
                              "twice; remove one", key=f"ground-truth:{i}", attr="format"))
         seen.add(fmt)
+    if "odm" in seen:
+        from designer.export.odm import check_odm_crs, odm_crs
+
+        try:
+            check_odm_crs(odm_crs(project.crs))
+        except ValueError:
+            i = outputs.ground_truth.index("odm")
+            out.append(Issue(outputs, "ground-truth", f"OpenDroneMap cannot read the CRS "
+                             f"'{project.crs}'; start <crs> with 'EPSG:<code>', 'WGS84 UTM "
+                             "<zone><N|S>' or a +proj string, or drop the odm format",
+                             key=f"ground-truth:{i}", attr="format"))
     return out

@@ -27,6 +27,7 @@ from designer.atomic import write_text_atomic
 from designer.errors import DesignerError
 from designer.export.dispatch import write_all
 from designer.export.groundtruth import GcpObservation, GroundControlPoint
+from designer.export.odm import odm_crs
 from designer.project import load_project
 from designer.render.job import PreparedJob, prepare_job
 from designer.render.runner import ProgressCallback, RenderReport, render_frames
@@ -65,12 +66,6 @@ def parse_frames(text: str | None, n_frames: int) -> list[int]:
                 f"0-{n_frames - 1}")
         frames.extend(range(lo, hi + 1))
     return sorted(set(frames))
-
-
-def odm_crs(crs: str) -> str:
-    """The CRS token OpenDroneMap understands (a leading 'EPSG:n' of a longer label)."""
-    match = re.match(r"\s*(EPSG:\d+)", crs)
-    return match.group(1) if match else crs
 
 
 def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:

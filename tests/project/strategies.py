@@ -199,8 +199,12 @@ def projects(draw) -> m.Project:
         for name in draw(st.lists(identifiers, max_size=3, unique=True)))
     formats = draw(st.lists(st.sampled_from(["colmap", "odm", "metashape", "opk", "gcp"]),
                             unique=True))
+    # OpenDroneMap needs a CRS it can parse; other formats take any label.
+    crs = (draw(st.integers(1000, 32767).map(lambda c: f"EPSG:{c}"))
+           + draw(st.sampled_from(["", " (a projected CRS)"])) if "odm" in formats
+           else draw(texts))
     return m.Project(
-        name=draw(texts), description=draw(st.none() | texts), crs=draw(texts),
+        name=draw(texts), description=draw(st.none() | texts), crs=crs,
         origin=m.Origin(draw(reals(-1e7, 1e7)), draw(reals(-1e7, 1e7)), draw(reals(-1e3, 1e4))),
         scene=m.Scene(terrain, texture, draw(lightings()),
                       draw(target_sets(terrain.extent)), objects),
