@@ -13,7 +13,6 @@ BENCHMARKS = {
     "render": "designer.bench.render",
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",
-    "accuracy": "designer.bench.accuracy",
 }
 
 

@@ -22,11 +22,10 @@ COMMAND_MODULES = [
     "designer.cli.plan",
     "designer.cli.render",
     "designer.cli.reconstruct",
-    "designer.cli.demo",
-    "designer.cli.bench",
     "designer.cli.compare",
     "designer.cli.gui",
-    "designer.cli.validate",
+    "designer.cli.demo",
+    "designer.cli.bench",
 ]
 
 
