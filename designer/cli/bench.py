@@ -13,6 +13,8 @@ BENCHMARKS = {
     "render": "designer.bench.render",
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",
+    "accuracy": "designer.bench.accuracy",
+    "accuracy": "designer.bench.accuracy",
 }
 
 

@@ -23,9 +23,11 @@ COMMAND_MODULES = [
     "designer.cli.render",
     "designer.cli.reconstruct",
     "designer.cli.compare",
+    "designer.cli.validate",
     "designer.cli.gui",
     "designer.cli.demo",
     "designer.cli.bench",
+    "designer.cli.validate",
 ]
 
 
