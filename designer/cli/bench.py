@@ -14,7 +14,6 @@ BENCHMARKS = {
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",
     "accuracy": "designer.bench.accuracy",
-    "accuracy": "designer.bench.accuracy",
 }
 
 

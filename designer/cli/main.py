@@ -27,7 +27,6 @@ COMMAND_MODULES = [
     "designer.cli.gui",
     "designer.cli.demo",
     "designer.cli.bench",
-    "designer.cli.validate",
 ]
 
 
