@@ -23,8 +23,9 @@ def register(subparsers) -> None:
     parser.add_argument("--frames", default=None,
                         help="0-based frames to render, e.g. 0-99,120 (default: all)")
     parser.add_argument("--quality", choices=["draft", "survey", "metrology"], default=None,
-                        help="samples preset: draft 4, survey 16, metrology 64 samples per "
-                             "pixel (default: the project's render settings)")
+                        help="samples preset: draft 4, survey 16 samples per pixel, "
+                             "metrology adaptive sampling up to 64 (default: the project's "
+                             "render settings); costs and accuracy in docs/validation.md")
     parser.add_argument("--resume", action="store_true",
                         help="skip images that are already complete and readable")
     parser.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",

@@ -98,6 +98,7 @@ def prepare_job(
 
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
+    preset = quality or (render.preset if render.samples is None else None)
     cam = blender_camera(render_camera).to_dict()
     contexts = _frame_contexts(stations, interior, scene)
     job = {
@@ -109,7 +110,11 @@ def prepare_job(
                    "pixel_filter": PIXEL_FILTERS[render.pixel_filter_type],
                    "filter_width_px": render.pixel_filter_width_px,
                    "format": "tiff" if render.output_format == "tiff" else "png",
-                   "bit_depth": render.bit_depth, "quality": quality},
+                   "bit_depth": render.bit_depth, "quality": quality,
+                   # metrology: plain 64 spp's corner accuracy in a third of its time, from
+                   # the sweep in docs/validation.md (designer bench accuracy)
+                   "adaptive_sampling": ({"threshold": 0.01, "min_samples": 4}
+                                         if preset == "metrology" else None)},
         "lighting": {"mode": "emission"},
         "camera": cam,
         "output": {"width_px": interior.image_width_px, "height_px": interior.image_height_px},
