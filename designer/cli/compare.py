@@ -68,7 +68,7 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
         read_gcp_estimates_csv,
         triangulate_gcps,
     )
-    from designer.evaluate.colmap_model import model_files
+    from designer.export.colmap_read import model_files
     from designer.export.tables import (
         read_gcp_observations_csv,
         read_gcp_truth_csv,

@@ -23,7 +23,6 @@ import numpy as np
 
 from designer.core.rotation import (
     R_CV_FROM_PHOTO,
-    photo_pose_from_colmap,
     rotation_from_opk,
     rotation_from_rotvec,
     rotvec_from_rotation,
@@ -148,18 +147,14 @@ def read_camera_poses(path: str | os.PathLike, *, offset_world=None) -> list[Cam
     = Rodrigues vector of world → camera in the CV frame. ``offset_world`` is added to
     every centre.
     """
-    from designer.evaluate.colmap_model import model_files, read_images
+    from designer.export.colmap_read import camera_poses, model_files, read_images
 
     path = Path(path)
     offset = np.zeros(3) if offset_world is None else np.asarray(offset_world, np.float64)
     if path.is_dir():
         if model_files(path) is None:
             raise DesignerError(f"{path} is not a COLMAP model (no cameras/images .txt/.bin)")
-        poses = []
-        for im in read_images(path):
-            R, C = photo_pose_from_colmap(im.q_wxyz, im.t)
-            poses.append(CameraPose(im.name, C + offset, R))
-        return poses
+        return camera_poses(read_images(path), offset)
     if not path.is_file():
         raise DesignerError(f"camera poses {path} do not exist")
     if path.suffix.lower() in (".geojson", ".json"):

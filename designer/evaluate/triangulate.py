@@ -18,7 +18,7 @@ import numpy as np
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.errors import DesignerError
-from designer.evaluate.colmap_model import ColmapCamera, read_cameras, read_images
+from designer.export.colmap_read import ColmapCamera, read_cameras, read_images
 from designer.export.groundtruth import GcpObservation
 
 

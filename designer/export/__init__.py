@@ -6,6 +6,8 @@ units and coefficient swaps at the top):
 * :mod:`~designer.export.groundtruth` — the data: CameraPose, GroundControlPoint,
   GcpObservation, and observe_gcps (true GCPs projected into the images);
 * :mod:`~designer.export.colmap` — COLMAP text model (and a reader for round trips);
+* :mod:`~designer.export.colmap_read` — the COLMAP model reader (text and binary),
+  shared by the round trip and the accuracy assessment;
 * :mod:`~designer.export.odm` — OpenDroneMap gcp_list.txt and geo.txt;
 * :mod:`~designer.export.metashape` — Metashape calibration XML and reference CSVs;
 * :mod:`~designer.export.tables` — designer's own CSV tables (ω φ κ, GCP truth,

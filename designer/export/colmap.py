@@ -33,11 +33,9 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
-from designer.core.rotation import colmap_pose_from_photo, photo_pose_from_colmap
+from designer.core.rotation import colmap_pose_from_photo
 from designer.export._text import (
     ExportError,
     check_offset,
@@ -45,6 +43,7 @@ from designer.export._text import (
     fmt,
     write_texts,
 )
+from designer.export.colmap_read import camera_poses, read_images_text
 from designer.export.groundtruth import CameraPose
 
 CAMERA_ID = 1
@@ -144,25 +143,13 @@ def write_colmap_text_model(
 def read_colmap_text_poses(folder: str | os.PathLike, offset_world=None) -> list[CameraPose]:
     """Camera poses from ``folder``/images.txt, in file order, ``offset_world`` added back.
 
-    Follows COLMAP's reader: blank and '#' lines are skipped before an image line;
-    the line right after each image line holds its 2D points and is not parsed.
+    Parsed by :func:`designer.export.colmap_read.read_images_text` (COLMAP's rules:
+    comments and blank lines skipped, each image's 2D-points line not parsed).
     """
     offset = check_offset(offset_world)
     path = Path(folder) / "images.txt"
-    lines = path.read_text(encoding="utf-8").splitlines()
-    poses: list[CameraPose] = []
-    i = 0
-    while i < len(lines):
-        line = lines[i].strip()
-        i += 1
-        if not line or line.startswith("#"):
-            continue
-        parts = line.split()
-        if len(parts) < 10:
-            raise ExportError(f"{path}: malformed image line {line!r}")
-        q = np.array([float(v) for v in parts[1:5]])
-        t = np.array([float(v) for v in parts[5:8]])
-        R, C = photo_pose_from_colmap(q, t)
-        poses.append(CameraPose(parts[9], C + offset, R))
-        i += 1  # the POINTS2D line
-    return poses
+    try:
+        images = read_images_text(path)
+    except ValueError as exc:
+        raise ExportError(f"{path}: {exc}") from None
+    return camera_poses(images, offset)

@@ -4,7 +4,7 @@ from plyfile import PlyData, PlyElement
 
 from designer.errors import DesignerError
 from designer.evaluate import read_point_cloud
-from designer.evaluate.colmap_model import read_points3d
+from designer.export.colmap_read import read_points3d
 
 UTM = np.array([512000.123456, 5406000.654321, 312.5])
 

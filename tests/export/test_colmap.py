@@ -1,13 +1,14 @@
 import numpy as np
 import pytest
 
-from designer.export import CameraPose
+from designer.export import CameraPose, ExportError
 from designer.export.colmap import (
     colmap_camera_model,
     colmap_images_text,
     read_colmap_text_poses,
     write_colmap_text_model,
 )
+from designer.export.colmap_read import camera_poses, read_cameras, read_images
 from designer.export.odm import odm_gcp_list_text
 from tests.export.scene import LENSES, UTM, interior_for, survey
 
@@ -112,3 +113,27 @@ def test_points3d_is_empty_and_files_are_complete(tmp_path):
     body = [ln for ln in (folder / "points3D.txt").read_text().splitlines()
             if not ln.startswith("#")]
     assert body == []
+
+
+def test_the_reader_gives_the_same_model_from_text_and_binary(tmp_path):
+    interior, poses, _gcps, _obs, folder, rec = _model(tmp_path, 15, "full_opencv", UTM)
+    binary = tmp_path / "binary"
+    binary.mkdir()
+    rec.write_binary(str(binary))
+    text_poses = read_colmap_text_poses(folder, offset_world=UTM)
+    for model in (folder, binary):
+        (camera,) = read_cameras(model).values()
+        assert (camera.model, camera.width, camera.height) == ("FULL_OPENCV",
+                                                               *interior.image_size_px)
+        np.testing.assert_array_equal(camera.params, colmap_camera_model(interior)[1])
+        images = read_images(model)
+        assert [im.name for im in images] == [p.image_name for p in poses]
+        for a, b in zip(camera_poses(images, UTM), text_poses, strict=True):
+            assert np.abs(a.C_world - b.C_world).max() < 1e-6
+            np.testing.assert_allclose(a.R_cam_to_world, b.R_cam_to_world, rtol=0, atol=1e-12)
+
+
+def test_a_malformed_image_line_is_an_export_error(tmp_path):
+    (tmp_path / "images.txt").write_text("# header\n1 1 0 0 0 0 0 0 1\n\n")
+    with pytest.raises(ExportError, match="malformed image line"):
+        read_colmap_text_poses(tmp_path)

@@ -1,5 +1,8 @@
 """Read a COLMAP sparse model — text (``*.txt``) or binary (``*.bin``) — into plain arrays.
 
+The one COLMAP reader: the round trip of :mod:`designer.export.colmap` and the
+accuracy assessment (:mod:`designer.evaluate`) both read through it.
+
 Conventions at this boundary (COLMAP doc/format.rst, "Output Format"; the binary layout
 of COLMAP's src/colmap/scene/reconstruction_io.cc, little-endian):
 
@@ -24,7 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.core.rotation import photo_pose_from_colmap
 from designer.errors import DesignerError
+from designer.export.groundtruth import CameraPose
 
 #: COLMAP camera model ids (binary files) → (name, number of parameters)
 CAMERA_MODELS = {
@@ -123,20 +128,7 @@ def read_images(folder: str | os.PathLike) -> list[ColmapImage]:
     out: list[ColmapImage] = []
     try:
         if ext == ".txt":
-            lines = path.read_text(encoding="utf-8").splitlines()
-            i = 0
-            while i < len(lines):
-                line = lines[i].strip()
-                i += 1
-                if not line or line.startswith("#"):
-                    continue
-                p = line.split()
-                if len(p) < 10:
-                    raise ValueError(f"malformed image line {line!r}")
-                out.append(ColmapImage(int(p[0]), p[9], np.array(p[1:5], float),
-                                       np.array(p[5:8], float), int(p[8])))
-                i += 1  # the POINTS2D line
-            return out
+            return read_images_text(path)
         data = path.read_bytes()
         (n,), pos = struct.unpack_from("<Q", data, 0), 8
         for _ in range(n):
@@ -151,6 +143,39 @@ def read_images(folder: str | os.PathLike) -> list[ColmapImage]:
     except (ValueError, IndexError, UnicodeDecodeError, struct.error) as exc:
         raise _fail(path, str(exc) or type(exc).__name__) from None
     return sorted(out, key=lambda im: im.image_id)
+
+
+def read_images_text(path: str | os.PathLike) -> list[ColmapImage]:
+    """Images of one ``images.txt``, in file order (ValueError on a malformed line).
+
+    Follows COLMAP's reader: blank and '#' lines are skipped before an image line;
+    the line right after each image line holds its 2D points and is not parsed.
+    """
+    lines = Path(path).read_text(encoding="utf-8").splitlines()
+    out: list[ColmapImage] = []
+    i = 0
+    while i < len(lines):
+        line = lines[i].strip()
+        i += 1
+        if not line or line.startswith("#"):
+            continue
+        p = line.split()
+        if len(p) < 10:
+            raise ValueError(f"malformed image line {line!r}")
+        out.append(ColmapImage(int(p[0]), p[9], np.array([float(v) for v in p[1:5]]),
+                               np.array([float(v) for v in p[5:8]]), int(p[8])))
+        i += 1  # the POINTS2D line
+    return out
+
+
+def camera_poses(images: list[ColmapImage], offset_world: np.ndarray) -> list[CameraPose]:
+    """designer's poses (R_cam_to_world, C_world) of COLMAP images, ``offset_world`` (3,)
+    in metres added back to every centre."""
+    poses = []
+    for im in images:
+        R, C = photo_pose_from_colmap(im.q_wxyz, im.t)
+        poses.append(CameraPose(im.name, C + offset_world, R))
+    return poses
 
 
 def read_points3d(path: str | os.PathLike) -> ColmapPoints:
