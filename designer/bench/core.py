@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
+from designer.bench.timing import best_of
 from designer.core.distortion import BrownConrady
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
@@ -19,15 +18,6 @@ def _survey_camera() -> InteriorOrientation:
         principal_point_x_mm=0.012, principal_point_y_mm=-0.008,
         distortion=BrownConrady(k1=-0.12, k2=0.05, k3=-0.01, p1=4e-4, p2=-2e-4),
     )
-
-
-def _best_of(repeats: int, func) -> float:
-    best = float("inf")
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
@@ -45,7 +35,7 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
             np.full(n_cameras, 100.0)])
         R = rotation_from_opk(*np.radians(rng.normal(0, 3, size=(3, n_cameras))))
         for model, cam in (("pinhole", _pinhole(camera)), ("pinhole + Brown", camera)):
-            seconds = _best_of(
+            seconds, _ = best_of(
                 repeats, lambda p=points, c=C, r=R, cam=cam: project_points(p, c, r, cam))
             total = n_points * n_cameras
             rows.append({"case": label, "model": model, "seconds": seconds,

@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 if __package__ in (None, ""):  # run as a script from the repository root
@@ -18,6 +17,7 @@ if __package__ in (None, ""):  # run as a script from the repository root
 
 import numpy as np
 
+from designer.bench.timing import best_of
 from designer.project import load_project, template, write_project
 from designer.project import model as m
 from designer.project.validate import semantic_problems
@@ -45,15 +45,6 @@ def large_project(n_photos: int = 10_000, n_gcps: int = 1_000, seed: int = 1) ->
     return dataclasses.replace(base, scene=scene, trajectory=m.Trajectory(photos, None))
 
 
-def _best_of(repeats: int, func) -> float:
-    best = float("inf")
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
 def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     """Seconds for each stage; ``scale`` shrinks the project (tests use a small one)."""
     n_photos, n_gcps = max(1, int(10_000 * scale)), max(1, int(1_000 * scale))
@@ -61,16 +52,16 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     label = f"{n_photos} poses + {n_gcps} GCPs"
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "large.xml"
-        write_s = _best_of(repeats, lambda: write_project(project, path))
+        write_s, _ = best_of(repeats, lambda: write_project(project, path))
         size_mb = path.stat().st_size / 1e6
         parsed, smap = read_project_file(path)
         assert parsed == project
         rows = [
             ("write (model -> XML, atomic)", write_s),
-            ("read + XSD (lxml) -> model", _best_of(repeats, lambda: read_project_file(path))),
-            ("semantic checks", _best_of(repeats,
-                                         lambda: semantic_problems(parsed, path.parent, smap))),
-            ("read + validate (load_project)", _best_of(repeats, lambda: load_project(path))),
+            ("read + XSD (lxml) -> model", best_of(repeats, lambda: read_project_file(path))[0]),
+            ("semantic checks", best_of(repeats,
+                                        lambda: semantic_problems(parsed, path.parent, smap))[0]),
+            ("read + validate (load_project)", best_of(repeats, lambda: load_project(path))[0]),
         ]
     return [{"case": label, "stage": stage, "seconds": s, "size_mb": size_mb}
             for stage, s in rows]

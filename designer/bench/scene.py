@@ -4,21 +4,12 @@ from __future__ import annotations
 
 import math
 import tempfile
-import time
 from pathlib import Path
 
+from designer.bench.timing import best_of
 from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
 from designer.scene.terrain import procedural_terrain
 from designer.scene.texture import procedural_texture
-
-
-def _best_of(repeats: int, func) -> tuple[float, object]:
-    best, result = float("inf"), None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        result = func()
-        best = min(best, time.perf_counter() - t0)
-    return best, result
 
 
 def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
@@ -33,26 +24,26 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     tex_px = max(64, round(4096 * math.sqrt(scale)))
     rows = []
 
-    seconds, hf = _best_of(repeats, lambda: procedural_terrain(
+    seconds, hf = best_of(repeats, lambda: procedural_terrain(
         side_m, side_m, spacing_m, 25.0, seed=1, x0_m=500000.0, y0_m=5000000.0,
         base_height_m=300.0))
     n_vertices = hf.heights_m.size
     rows.append({"step": "procedural terrain", "size": f"{n_vertices / 1e6:.2f} M vertices",
                  "seconds": seconds, "rate": f"{n_vertices / seconds / 1e6:.1f} M vertices/s"})
 
-    seconds, mesh = _best_of(repeats, lambda: heightfield_to_mesh(hf))
+    seconds, mesh = best_of(repeats, lambda: heightfield_to_mesh(hf))
     n_faces = len(mesh.faces)
     rows.append({"step": "mesh height field", "size": f"{n_faces / 1e6:.2f} M triangles",
                  "seconds": seconds, "rate": f"{n_faces / seconds / 1e6:.1f} M triangles/s"})
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "terrain.ply"
-        seconds, _ = _best_of(repeats, lambda: write_mesh_ply(mesh, path))
+        seconds, _ = best_of(repeats, lambda: write_mesh_ply(mesh, path))
         megabytes = path.stat().st_size / 1e6
     rows.append({"step": "write binary PLY", "size": f"{megabytes:.0f} MB",
                  "seconds": seconds, "rate": f"{megabytes / seconds:.0f} MB/s"})
 
-    seconds, _ = _best_of(repeats, lambda: procedural_texture(tex_px, seed=1, kind="grass"))
+    seconds, _ = best_of(repeats, lambda: procedural_texture(tex_px, seed=1, kind="grass"))
     megatexels = tex_px * tex_px / 1e6
     rows.append({"step": "procedural texture", "size": f"{tex_px}² texels",
                  "seconds": seconds, "rate": f"{megatexels / seconds:.1f} M texels/s"})

@@ -10,10 +10,10 @@ keeps its 1 m spacing) so tests can run it quickly.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
+from designer.bench.timing import best_of
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.survey import area as survey_area
@@ -39,15 +39,6 @@ def _camera() -> InteriorOrientation:
                                image_height_px=3648)
 
 
-def _best_of(repeats: int, func):
-    best, result = math.inf, None
-    for _ in range(max(1, repeats)):
-        t0 = time.perf_counter()
-        result = func()
-        best = min(best, time.perf_counter() - t0)
-    return best, result
-
-
 def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     """Time each step of ``designer plan`` on the standard case (best of ``repeats``)."""
     side = 1000.0 * math.sqrt(scale)
@@ -58,24 +49,24 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     gcp_xyz = gcp_layout.true_gcp_xyz(gcp_xy, hf)
 
     rows = []
-    secs, plan = _best_of(repeats, lambda: plan_flight(
+    secs, plan = best_of(repeats, lambda: plan_flight(
         area, camera, altitude_agl_m=100.0, front_overlap_fraction=0.85,
         side_overlap_fraction=0.75, heightfield=hf, altitude_mode="terrain_following"))
     M = len(plan.stations)
     rows.append({"step": "flight plan", "images": M, "seconds": secs})
-    secs, rc = _best_of(repeats, lambda: TerrainRaycaster(hf))
+    secs, rc = best_of(repeats, lambda: TerrainRaycaster(hf))
     rows.append({"step": "terrain bounds (ray caster)", "images": M, "seconds": secs})
-    secs, _ = _best_of(repeats, lambda: coverage.analyse_stations(plan.stations, camera, rc))
+    secs, _ = best_of(repeats, lambda: coverage.analyse_stations(plan.stations, camera, rc))
     rows.append({"step": "station GSD + overlaps", "images": M, "seconds": secs})
     grid = coverage.ground_grid(hf, area)
-    secs, _ = _best_of(repeats, lambda: coverage.coverage_map(
+    secs, _ = best_of(repeats, lambda: coverage.coverage_map(
         grid, plan.C_world, plan.R_cam_to_world, camera, rc))
     rows.append({"step": f"coverage map {grid.shape[1]}x{grid.shape[0]}, occlusion",
                  "images": M, "seconds": secs})
-    secs, _ = _best_of(repeats, lambda: coverage.gcp_visibility(
+    secs, _ = best_of(repeats, lambda: coverage.gcp_visibility(
         gcp_xyz, plan.C_world, plan.R_cam_to_world, camera, rc))
     rows.append({"step": "GCP visibility (20 GCPs)", "images": M, "seconds": secs})
-    secs, _ = _best_of(repeats, lambda: coverage.analyse_plan(
+    secs, _ = best_of(repeats, lambda: coverage.analyse_plan(
         plan_flight(area, camera, altitude_agl_m=100.0, front_overlap_fraction=0.85,
                     side_overlap_fraction=0.75, heightfield=hf,
                     altitude_mode="terrain_following"),
