@@ -28,7 +28,14 @@ from designer.atomic import atomic_path, write_bytes_atomic
 from designer.effects.base import Domain, Effect, FrameContext
 from designer.effects.distortion_render import DistortionWarp, LensDistortion
 from designer.effects.jpeg import JpegCompression
-from designer.effects.srgb import decode_image, linear_to_srgb, max_code, quantise, srgb_to_linear
+from designer.effects.srgb import (
+    decode_image,
+    encode_image,
+    linear_to_srgb,
+    max_code,
+    quantise,
+    srgb_to_linear,
+)
 from designer.errors import DesignerError
 
 _JPEG_SUFFIXES = {".jpg", ".jpeg"}
@@ -135,8 +142,7 @@ def _convert(image: np.ndarray, src: Domain, dst: Domain, dtype: np.dtype) -> np
             return decode_image(image)
         return image.astype(np.float32) / np.float32(max_code(dtype))
     if src == "linear":
-        encoded = linear_to_srgb(image)
-        return encoded if dst == "encoded" else quantise(encoded, dtype)
+        return linear_to_srgb(image) if dst == "encoded" else encode_image(image, dtype)
     # src == "encoded"
     if dst == "integer":
         return quantise(image, dtype)

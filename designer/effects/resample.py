@@ -1,31 +1,33 @@
 """Resampling an image at arbitrary continuous pixel positions, to float64 precision.
 
 Positions are continuous pixel coordinates (docs/conventions.md): array element
-[k, l] has its centre at (u, v) = (l + 0.5, k + 0.5), so the array index sampled is
-(v − 0.5, u − 0.5).
+[k, l] has its centre at (u, v) = (l + 0.5, k + 0.5).
 
-Why scipy.ndimage.map_coordinates and not cv2.remap: remap quantises every sub-pixel
-position to 1/32 px (INTER_BITS = 5). Measured on a ramp whose value is the pixel's own
-u coordinate, sampled at the positions of a real lens warp (barrel k1 = −0.3 and a 149°
-fisheye, 800 × 600 px): cv2.remap INTER_LINEAR is off by up to 0.0157 px (RMS 0.0090),
-INTER_CUBIC by up to 0.064 px (RMS 0.036), against the 0.001 px this project allows;
-map_coordinates (float64 positions) by ≤ 5e-13 px bilinear and ≤ 5e-7 px cubic.
+The kernels (designer/effects/_resample_kernels.py, numba, all cores) take positions as
+float64, so a sub-pixel position is used as it is. Why not cv2.remap: it quantises every
+sub-pixel position to 1/32 px (INTER_BITS = 5). Measured on a ramp whose value is the
+pixel's own u coordinate, sampled at the positions of a real lens warp (barrel
+k1 = −0.3 and a 149° fisheye, 800 × 600 px): cv2.remap INTER_LINEAR is off by up to
+0.0157 px (RMS 0.0090), INTER_CUBIC by up to 0.064 px (RMS 0.036), against the 0.001 px
+this project allows; these kernels take positions exactly (float64 fractions) and sum
+in float32, ~2e-7 of full scale (tests/effects/test_resample.py).
 Cubic B-splines (order 3, prefiltered, so they interpolate) are the default: on warped
 area-sampled checkerboards bilinear interpolation shifted corners systematically by up to
 0.021 px (it blurs box-filtered edges asymmetrically at a fractional offset), cubic by
-≤ 0.011 px. Cost for one 20 MP channel (33 MP source): remap 0.25 s, map_coordinates
-order 1 ≈ 1 s, order 3 ≈ 2–3 s (prefilter 0.7 s); ndimage holds the GIL, so threads
-do not help: parallelise over frames.
+≤ 0.011 px. They agree with scipy.ndimage.map_coordinates (order 3) to 2e-7 of the
+values away from the edges; the prefilter's mirror boundary differs from scipy's there.
+Cost: `designer bench effects`.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
+
+from designer.effects._resample_kernels import bspline_coefficients, sample_cubic, sample_linear
 
 #: how far (px) from the image edge a position must be for the interpolation to be exact:
 #: bilinear reaches 1 px; the cubic B-spline reaches 2 px, and its prefilter's boundary
-#: condition (edge repeated) disturbs values near the edge by a factor 0.268 per px
+#: condition (mirror) disturbs values near the edge by a factor 0.268 per px
 #: (a linear ramp is off by 1.2e-3 px 4 px from the edge, < 1e-5 px at 8 px)
 SUPPORT_PX = {1: 1.0, 3: 8.0}
 
@@ -41,17 +43,38 @@ def sample_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: i
     """Sample ``image`` (H, W) or (H, W, C) at continuous positions ``u_px``, ``v_px``
     (same shape S, float64) → float32 (S) or (S + (C,)).
 
-    Outside the image the nearest edge pixel is repeated (mode 'nearest').
+    Beyond the centres of the edge pixels the image is mirrored (cubic) or the edge
+    value repeated (bilinear).
     """
+    u = np.asarray(u_px, dtype=np.float64)
+    v = np.asarray(v_px, dtype=np.float64)
+    if u.shape != v.shape:
+        raise ValueError(f"u_px {u.shape} and v_px {v.shape} must have the same shape")
+    out = warp_image(image, u.reshape(1, -1), v.reshape(1, -1), order)
+    return out.reshape(u.shape + np.shape(image)[2:])
+
+
+def warp_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: int = 3,
+               oversample: int = 1) -> np.ndarray:
+    """Resample ``image`` (H_s, W_s[, C]) at the positions (u_px, v_px), two (H·oversample,
+    W·oversample) float64 maps, averaging oversample × oversample samples per output
+    pixel → float32 (H, W[, C])."""
     check_order(order)
-    coords = np.stack([v_px - 0.5, u_px - 0.5])
+    if u_px.shape != v_px.shape or u_px.ndim != 2:
+        raise ValueError("u_px and v_px must be 2-D maps of the same shape")
+    if u_px.shape[0] % oversample or u_px.shape[1] % oversample:
+        raise ValueError(f"the maps {u_px.shape} are not a multiple of oversample = "
+                         f"{oversample}")
     src = np.asarray(image)
-    if not np.issubdtype(src.dtype, np.floating):
-        src = src.astype(np.float32)
-    planes = [src] if src.ndim == 2 else [src[:, :, c] for c in range(src.shape[2])]
-    out = [ndimage.map_coordinates(p, coords, order=order, mode="nearest", output=np.float32)
-           for p in planes]
-    return out[0] if src.ndim == 2 else np.stack(out, axis=-1)
+    planes = src[:, :, None] if src.ndim == 2 else src
+    planes = np.ascontiguousarray(planes, dtype=np.float32)
+    u = np.ascontiguousarray(u_px, dtype=np.float64)
+    v = np.ascontiguousarray(v_px, dtype=np.float64)
+    if order == 3:
+        out = sample_cubic(bspline_coefficients(planes), u, v, oversample)
+    else:
+        out = sample_linear(planes, u, v, oversample)
+    return out[:, :, 0] if src.ndim == 2 else out
 
 
 def block_mean(image: np.ndarray, factor: int) -> np.ndarray:

@@ -17,6 +17,8 @@ import functools
 
 import numpy as np
 
+from designer.effects._pixel_kernels import look_up, search_codes
+
 _DECODE_KNEE = 0.04045
 _ENCODE_KNEE = 0.0031308
 
@@ -58,15 +60,33 @@ def max_code(dtype: np.dtype) -> int:
     return int(np.iinfo(dtype).max)
 
 
+@functools.lru_cache(maxsize=2)
+def _code_thresholds(bits: int) -> np.ndarray:
+    """Linear light half-way (in encoded value) between consecutive codes, float64."""
+    top = 2**bits - 1
+    thresholds = srgb_to_linear((np.arange(top, dtype=np.float64) + 0.5) / top)
+    thresholds.flags.writeable = False
+    return thresholds
+
+
 def decode_image(image: np.ndarray) -> np.ndarray:
     """uint8/uint16 sRGB image → float32 linear light on 0 … 1 (table look-up, exact)."""
     bits = 8 if max_code(image.dtype) == 255 else 16
-    return _decode_table(bits)[image]
+    return look_up(np.ascontiguousarray(image), _decode_table(bits))
 
 
 def encode_image(linear: np.ndarray, dtype: np.dtype) -> np.ndarray:
-    """Linear light → sRGB-encoded uint8/uint16 (clipped, rounded to the nearest code)."""
-    return quantise(linear_to_srgb(linear), dtype)
+    """Linear light → sRGB-encoded uint8/uint16: the nearest code, clipped to the range.
+
+    Exact: the code is found by binary search among the linear values half-way between
+    codes (computed in float64), not through a float32 power function.
+    """
+    dtype = np.dtype(dtype)
+    bits = 8 if max_code(dtype) == 255 else 16
+    values = np.ascontiguousarray(linear, dtype=np.float32)
+    out = np.empty(values.shape, dtype=dtype)
+    search_codes(values, _code_thresholds(bits), out)
+    return out
 
 
 def quantise(encoded: np.ndarray, dtype: np.dtype) -> np.ndarray:
