@@ -14,6 +14,7 @@ BENCHMARKS = {
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",
     "accuracy": "designer.bench.accuracy",
+    "effects": "designer.bench.effects",
 }
 
 

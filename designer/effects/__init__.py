@@ -21,7 +21,7 @@ Use, per camera and frame::
                  FrameContext(gsd_m=gsd, flight_direction_uv=direction))
 """
 
-from designer.effects.base import EFFECT_ORDER, Effect, FrameContext, frame_rng
+from designer.effects.base import EFFECT_ORDER, Effect, FrameContext, frame_key
 from designer.effects.chain import EffectChain, process_file
 from designer.effects.distortion_render import DistortionWarp, LensDistortion, pinhole_render_camera
 from designer.effects.from_model import effects_from_model
@@ -41,7 +41,7 @@ __all__ = [
     "EFFECT_ORDER", "Defocus", "DistortionWarp", "Effect", "EffectChain", "FrameContext",
     "GaussianBlur", "GaussianNoiseDN", "JpegCompression", "LensDistortion", "LinearMotionBlur",
     "NaturalVignetting", "RadialVignetting", "SensorModel", "effects_from_model",
-    "encode_jpeg", "frame_rng", "gaussian_blur", "jpeg_roundtrip", "linear_motion_kernel",
+    "encode_jpeg", "frame_key", "gaussian_blur", "jpeg_roundtrip", "linear_motion_kernel",
     "linear_to_srgb", "motion_blur", "pinhole_render_camera", "process_file",
     "simulate_sensor", "srgb_to_linear", "write_jpeg",
 ]

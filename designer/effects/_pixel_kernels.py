@@ -22,28 +22,38 @@ def look_up(codes: np.ndarray, table: np.ndarray) -> np.ndarray:
     return out.reshape(codes.shape)
 
 
-@njit(cache=True, parallel=True)
-def search_codes(values: np.ndarray, thresholds: np.ndarray, out: np.ndarray) -> None:
-    """out[k] = the number of ``thresholds`` (ascending) ≤ values[k] (binary search).
+@njit(cache=True, inline="always")
+def code_of(v: float, thresholds: np.ndarray, first: np.ndarray) -> int:
+    """The number of ``thresholds`` (ascending, on 0 … 1) that are ≤ v.
 
-    With thresholds[c] the value half-way between codes c and c + 1 this rounds each
-    value to its nearest code, clipped to 0 … len(thresholds).
+    ``first[b]`` is the number of thresholds below b / len(first): the search starts
+    there, in v's bin, and steps past the (at most few) thresholds inside the bin.
+    NaN counts as 0.
     """
+    n_bins = first.size
+    if not v > 0.0:
+        return 0
+    b = int(v * n_bins)
+    if b >= n_bins:
+        b = n_bins - 1
+    code = first[b]
+    m = thresholds.size
+    while code < m and thresholds[code] <= v:
+        code += 1
+    return code
+
+
+@njit(cache=True, parallel=True)
+def search_codes(values: np.ndarray, thresholds: np.ndarray, first: np.ndarray,
+                 out: np.ndarray) -> None:
+    """out[k] = code_of(values[k]): with thresholds[c] the value half-way between codes
+    c and c + 1 this rounds each value to its nearest code, clipped to the range."""
     flat = values.ravel()
     dst = out.ravel()
     n = flat.size
-    m = thresholds.size
     for b in prange((n + _BLOCK - 1) // _BLOCK):
         for k in range(b * _BLOCK, min(n, (b + 1) * _BLOCK)):
-            v = flat[k]
-            lo, hi = 0, m  # answer in [lo, hi]
-            while lo < hi:
-                mid = (lo + hi) >> 1
-                if thresholds[mid] <= v:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            dst[k] = lo
+            dst[k] = code_of(flat[k], thresholds, first)
 
 
 @njit(cache=True, parallel=True)

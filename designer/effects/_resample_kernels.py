@@ -34,32 +34,37 @@ def bspline_coefficients(image: np.ndarray) -> np.ndarray:
     together), the y pass filters a band of whole columns at once, row after row.
     """
     h, w, c = image.shape
-    out = image.copy()
+    out = np.empty_like(image)
     z = np.float32(_POLE)
-    gain = np.float32(_GAIN)
+    # both passes' gains, applied in the first: 6 per axis longer than one sample
+    gain = np.float32((_GAIN if w > 1 else 1.0) * (_GAIN if h > 1 else 1.0))
     end = np.float32(_POLE / (_POLE * _POLE - 1.0))
-    if w > 1:
-        horizon = min(_HORIZON, w)
-        for i in prange(h):
-            row = out[i]
-            for ch in range(c):  # causal init, mirror boundary
-                acc = np.float32(0.0)
-                zk = np.float32(1.0)
-                for k in range(horizon):
-                    acc += zk * row[k, ch]
-                    zk *= z
-                row[0, ch] = acc
-            for k in range(1, w):
-                for ch in range(c):
-                    row[k, ch] += z * row[k - 1, ch]
+    horizon = min(_HORIZON, w)
+    for i in prange(h):
+        src = image[i]
+        row = out[i]
+        if w == 1:
             for ch in range(c):
-                row[w - 1, ch] = end * (row[w - 1, ch] + z * row[w - 2, ch])
-            for k in range(w - 2, -1, -1):
-                for ch in range(c):
-                    row[k, ch] = z * (row[k + 1, ch] - row[k, ch])
-            for k in range(w):
-                for ch in range(c):
-                    row[k, ch] *= gain
+                row[0, ch] = src[0, ch] * gain
+            continue
+        for ch in range(c):  # causal init, mirror boundary
+            acc = np.float32(0.0)
+            zk = np.float32(1.0)
+            for k in range(horizon):
+                acc += zk * src[k, ch]
+                zk *= z
+            row[0, ch] = acc
+        for k in range(1, w):
+            for ch in range(c):
+                row[k, ch] = src[k, ch] + z * row[k - 1, ch]
+        for ch in range(c):
+            row[w - 1, ch] = end * (row[w - 1, ch] + z * row[w - 2, ch])
+        for k in range(w - 2, -1, -1):
+            for ch in range(c):
+                row[k, ch] = z * (row[k + 1, ch] - row[k, ch])
+        for k in range(w):
+            for ch in range(c):
+                row[k, ch] *= gain
     if h > 1:
         flat = out.reshape(h, w * c)  # a column band of the image is a band of this
         horizon = min(_HORIZON, h)
@@ -82,9 +87,6 @@ def bspline_coefficients(image: np.ndarray) -> np.ndarray:
             for i in range(h - 2, -1, -1):
                 for j in range(j0, j1):
                     flat[i, j] = z * (flat[i + 1, j] - flat[i, j])
-            for i in range(h):
-                for j in range(j0, j1):
-                    flat[i, j] *= gain
     return out
 
 
@@ -148,33 +150,75 @@ def sample_cubic(coeffs: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, factor:
                     wr0, wr1, wr2, wr3 = _bspline_weights(tr)
                     wq0, wq1, wq2, wq3 = _bspline_weights(tq)
                     ir0, iq0 = int(r0) - 1, int(q0) - 1
-                    if 0 <= ir0 and ir0 + 3 < hs and 0 <= iq0 and iq0 + 3 < ws:
+                    inside = 0 <= ir0 and ir0 + 3 < hs and 0 <= iq0 and iq0 + 3 < ws
+                    q_0 = iq0 if inside else _mirror(iq0, ws)
+                    q_1 = iq0 + 1 if inside else _mirror(iq0 + 1, ws)
+                    q_2 = iq0 + 2 if inside else _mirror(iq0 + 2, ws)
+                    q_3 = iq0 + 3 if inside else _mirror(iq0 + 3, ws)
+                    for dr in range(4):
+                        rr = ir0 + dr if inside else _mirror(ir0 + dr, hs)
+                        wr = wr0 if dr == 0 else (wr1 if dr == 1 else (wr2 if dr == 2 else wr3))
                         for ch in range(c):
-                            s = np.float32(0.0)
-                            for dr in range(4):
-                                line = coeffs[ir0 + dr]
-                                h = (wq0 * line[iq0, ch] + wq1 * line[iq0 + 1, ch]
-                                     + wq2 * line[iq0 + 2, ch] + wq3 * line[iq0 + 3, ch])
-                                wr = wr0 if dr == 0 else (wr1 if dr == 1 else
-                                                          (wr2 if dr == 2 else wr3))
-                                s += wr * h
-                            row_acc[j, ch] += s
-                    else:  # near the edge: the coefficients mirrored
-                        for ch in range(c):
-                            s = np.float32(0.0)
-                            for dr in range(4):
-                                line = coeffs[_mirror(ir0 + dr, hs)]
-                                h = (wq0 * line[_mirror(iq0, ws), ch]
-                                     + wq1 * line[_mirror(iq0 + 1, ws), ch]
-                                     + wq2 * line[_mirror(iq0 + 2, ws), ch]
-                                     + wq3 * line[_mirror(iq0 + 3, ws), ch])
-                                wr = wr0 if dr == 0 else (wr1 if dr == 1 else
-                                                          (wr2 if dr == 2 else wr3))
-                                s += wr * h
-                            row_acc[j, ch] += s
+                            row_acc[j, ch] += wr * (wq0 * coeffs[rr, q_0, ch]
+                                                    + wq1 * coeffs[rr, q_1, ch]
+                                                    + wq2 * coeffs[rr, q_2, ch]
+                                                    + wq3 * coeffs[rr, q_3, ch])
         for j in range(wo):
             for ch in range(c):
                 out[i, j, ch] = row_acc[j, ch] * norm
+    return out
+
+
+@njit(cache=True, inline="always")
+def _cubic_at_edge(coeffs: np.ndarray, ir0: int, iq0: int, wr: tuple, wq: tuple,
+                   ch: int) -> float:
+    """One channel of the 4 × 4 cubic sum with mirrored indices (near the edges)."""
+    hs, ws = coeffs.shape[0], coeffs.shape[1]
+    total = np.float32(0.0)
+    for dr in range(4):
+        rr = _mirror(ir0 + dr, hs)
+        row = np.float32(0.0)
+        for dq in range(4):
+            row += wq[dq] * coeffs[rr, _mirror(iq0 + dq, ws), ch]
+        total += wr[dr] * row
+    return total
+
+
+@njit(cache=True, parallel=True, fastmath=True)
+def sample_cubic_rgb(coeffs: np.ndarray, u_px: np.ndarray, v_px: np.ndarray) -> np.ndarray:
+    """``sample_cubic`` for three channels and one sample per output pixel, the common
+    case, written out (scalar sums, no index checks inside the image): ~2× faster."""
+    hs, ws = coeffs.shape[0], coeffs.shape[1]
+    ho, wo = u_px.shape
+    out = np.empty((ho, wo, 3), dtype=np.float32)
+    for i in prange(ho):
+        for j in range(wo):
+            r = v_px[i, j] - 0.5
+            q = u_px[i, j] - 0.5
+            r0 = math.floor(r)
+            q0 = math.floor(q)
+            wr = _bspline_weights(np.float32(r - r0))
+            wq = _bspline_weights(np.float32(q - q0))
+            ir0, iq0 = int(r0) - 1, int(q0) - 1
+            if not (0 <= ir0 and ir0 + 3 < hs and 0 <= iq0 and iq0 + 3 < ws):
+                for ch in range(3):
+                    out[i, j, ch] = _cubic_at_edge(coeffs, ir0, iq0, wr, wq, ch)
+                continue
+            a0 = np.float32(0.0)
+            a1 = np.float32(0.0)
+            a2 = np.float32(0.0)
+            for dr in range(4):
+                rr = ir0 + dr
+                w = wr[0] if dr == 0 else (wr[1] if dr == 1 else (wr[2] if dr == 2 else wr[3]))
+                a0 += w * (wq[0] * coeffs[rr, iq0, 0] + wq[1] * coeffs[rr, iq0 + 1, 0]
+                           + wq[2] * coeffs[rr, iq0 + 2, 0] + wq[3] * coeffs[rr, iq0 + 3, 0])
+                a1 += w * (wq[0] * coeffs[rr, iq0, 1] + wq[1] * coeffs[rr, iq0 + 1, 1]
+                           + wq[2] * coeffs[rr, iq0 + 2, 1] + wq[3] * coeffs[rr, iq0 + 3, 1])
+                a2 += w * (wq[0] * coeffs[rr, iq0, 2] + wq[1] * coeffs[rr, iq0 + 1, 2]
+                           + wq[2] * coeffs[rr, iq0 + 2, 2] + wq[3] * coeffs[rr, iq0 + 3, 2])
+            out[i, j, 0] = a0
+            out[i, j, 1] = a1
+            out[i, j, 2] = a2
     return out
 
 

@@ -90,17 +90,20 @@ class Effect:
         raise NotImplementedError
 
 
-def frame_rng(seed: int, frame_index: int, stream: int = 0) -> np.random.Generator:
-    """A generator for one frame: SeedSequence([seed, frame_index]) (+ [stream] if > 0).
+def frame_key(seed: int, frame_index: int, stream: int = 0) -> np.uint64:
+    """The 64-bit key of one frame's random numbers: the first word NumPy's
+    SeedSequence([seed, frame_index]) (+ [stream] if > 0) generates.
 
-    The same (seed, frame, stream) always gives the same numbers; different frames get
-    independent streams. ``stream`` separates effects that share a seed.
+    The same (seed, frame, stream) always gives the same numbers; different frames and
+    streams get unrelated keys. ``stream`` separates effects that share a seed. The
+    compiled kernels draw counter-based numbers from it (designer/effects/_sensor_kernels.py),
+    so an image's noise does not depend on the number of threads.
     """
     for name, value in (("seed", seed), ("frame_index", frame_index), ("stream", stream)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
             raise ValueError(f"{name} = {value!r} must be a whole number >= 0")
     key = [int(seed), int(frame_index)] + ([int(stream)] if stream else [])
-    return np.random.default_rng(np.random.SeedSequence(key))
+    return np.random.SeedSequence(key).generate_state(1, np.uint64)[0]
 
 
 def channels_last(image: np.ndarray) -> np.ndarray:

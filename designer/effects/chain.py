@@ -9,8 +9,11 @@ Images are uint8 or uint16, (H, W) or (H, W, 3), sRGB-encoded as Blender writes 
 channels in OpenCV's B, G, R order unless ``FrameContext.channel_order`` says "RGB".
 The chain decodes to float32 linear light for the physical effects, encodes back to
 sRGB (still float) for DN noise, and rounds to the input's type once at the end (or
-before JPEG). An empty chain returns the image object untouched, and ``process_file``
-copies (or links, or moves) the file byte for byte without decoding it.
+before JPEG). Vignetting directly followed by the sensor runs in the sensor's pass, and
+a sensor followed by nothing or JPEG writes the stored codes in its pass (the same
+numbers, two passes over the image less). An empty chain returns the image object
+untouched, and ``process_file`` copies (or links, or moves) the file byte for byte
+without decoding it.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from designer.atomic import atomic_path, write_bytes_atomic
 from designer.effects.base import Domain, Effect, FrameContext
 from designer.effects.distortion_render import DistortionWarp, LensDistortion
 from designer.effects.jpeg import JpegCompression
+from designer.effects.sensor import SensorModel
 from designer.effects.srgb import (
     decode_image,
     encode_image,
@@ -120,11 +124,30 @@ class EffectChain:
         _check_image(image)
         dtype = image.dtype
         current, domain = image, "integer"
-        for effect in effects:
+        k = 0
+        while k < len(effects):
+            effect = effects[k]
             current = _convert(current, domain, effect.domain, dtype)
             domain = effect.domain
-            current = effect.apply(current, frame_index, context)
+            gain = None
+            if effect.kind == "vignetting" and isinstance(_at(effects, k + 1), SensorModel):
+                gain, k = effect.gain, k + 1  # the sensor multiplies by it in its pass
+                effect = effects[k]
+            following = _at(effects, k + 1)
+            if isinstance(effect, SensorModel) and (following is None
+                                                    or following.domain == "integer"):
+                # the sensor writes the stored codes in its pass
+                current = effect.apply(current, frame_index, context, gain=gain, codes=dtype)
+                domain = "integer"
+            else:
+                current = effect.apply(current, frame_index, context,
+                                       **({} if gain is None else {"gain": gain}))
+            k += 1
         return _convert(current, domain, "integer", dtype)
+
+
+def _at(effects: tuple[Effect, ...], k: int) -> Effect | None:
+    return effects[k] if k < len(effects) else None
 
 
 def _check_image(image: np.ndarray) -> None:

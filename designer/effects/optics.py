@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
+from designer.effects._pixel_kernels import times_gain
 from designer.effects.base import Effect, FrameContext, channels_last
 
 #: how images are extended beyond their edges by the blurs (mirror about the edge)
@@ -112,7 +113,7 @@ def _times_gain(image: np.ndarray, gain: np.ndarray) -> np.ndarray:
     if image.shape[:2] != gain.shape:
         raise ValueError(f"vignetting for {gain.shape[1]} x {gain.shape[0]} px images got "
                          f"{image.shape[1]} x {image.shape[0]} px")
-    out = channels_last(image) * gain[:, :, None]
+    out = times_gain(np.ascontiguousarray(channels_last(image), dtype=np.float32), gain)
     return out.reshape(image.shape)
 
 

@@ -23,7 +23,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.effects._resample_kernels import bspline_coefficients, sample_cubic, sample_linear
+from designer.effects._resample_kernels import (
+    bspline_coefficients,
+    sample_cubic,
+    sample_cubic_rgb,
+    sample_linear,
+)
 
 #: how far (px) from the image edge a position must be for the interpolation to be exact:
 #: bilinear reaches 1 px; the cubic B-spline reaches 2 px, and its prefilter's boundary
@@ -70,7 +75,9 @@ def warp_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: int
     planes = np.ascontiguousarray(planes, dtype=np.float32)
     u = np.ascontiguousarray(u_px, dtype=np.float64)
     v = np.ascontiguousarray(v_px, dtype=np.float64)
-    if order == 3:
+    if order == 3 and oversample == 1 and planes.shape[2] == 3:
+        out = sample_cubic_rgb(bspline_coefficients(planes), u, v)
+    elif order == 3:
         out = sample_cubic(bspline_coefficients(planes), u, v, oversample)
     else:
         out = sample_linear(planes, u, v, oversample)

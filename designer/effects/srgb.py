@@ -61,12 +61,19 @@ def max_code(dtype: np.dtype) -> int:
 
 
 @functools.lru_cache(maxsize=2)
-def _code_thresholds(bits: int) -> np.ndarray:
-    """Linear light half-way (in encoded value) between consecutive codes, float64."""
+def code_thresholds(bits: int) -> tuple[np.ndarray, np.ndarray]:
+    """(thresholds, first): the linear light half-way (in encoded value) between
+    consecutive codes (float64), and for 2^(bits + 4) equal bins of 0 … 1 the number of
+    thresholds below each bin's start (no bin holds more than one threshold, the
+    narrowest gap being 1 / (12.92 · (2^bits − 1)))."""
     top = 2**bits - 1
     thresholds = srgb_to_linear((np.arange(top, dtype=np.float64) + 0.5) / top)
+    n_bins = 2 ** (bits + 4)
+    first = np.searchsorted(thresholds, np.arange(n_bins) / n_bins, side="left")
+    first = first.astype(np.int32)
     thresholds.flags.writeable = False
-    return thresholds
+    first.flags.writeable = False
+    return thresholds, first
 
 
 def decode_image(image: np.ndarray) -> np.ndarray:
@@ -78,14 +85,14 @@ def decode_image(image: np.ndarray) -> np.ndarray:
 def encode_image(linear: np.ndarray, dtype: np.dtype) -> np.ndarray:
     """Linear light → sRGB-encoded uint8/uint16: the nearest code, clipped to the range.
 
-    Exact: the code is found by binary search among the linear values half-way between
-    codes (computed in float64), not through a float32 power function.
+    Exact: the code is found among the linear values half-way between codes (computed
+    in float64), not through a float32 power function.
     """
     dtype = np.dtype(dtype)
     bits = 8 if max_code(dtype) == 255 else 16
     values = np.ascontiguousarray(linear, dtype=np.float32)
     out = np.empty(values.shape, dtype=dtype)
-    search_codes(values, _code_thresholds(bits), out)
+    search_codes(values, *code_thresholds(bits), out)
     return out
 
 

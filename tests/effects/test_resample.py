@@ -86,3 +86,18 @@ def test_result_does_not_depend_on_the_number_of_threads():
     finally:
         numba.set_num_threads(before)
     assert np.array_equal(one, many)
+
+
+def test_the_rgb_fast_path_equals_the_general_kernel():
+    from designer.effects._resample_kernels import (
+        bspline_coefficients,
+        sample_cubic,
+        sample_cubic_rgb,
+    )
+
+    coeffs = bspline_coefficients(smooth_image(90, 110))
+    rng = np.random.default_rng(5)
+    u = rng.uniform(-3, 113, (70, 80))  # also beyond the edges
+    v = rng.uniform(-3, 93, (70, 80))
+    np.testing.assert_allclose(sample_cubic_rgb(coeffs, u, v), sample_cubic(coeffs, u, v, 1),
+                               atol=2e-6)
