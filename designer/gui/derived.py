@@ -23,10 +23,17 @@ from designer.gui.view_geometry import (
     TerrainDisplay,
     station_geometry,
     terrain_display,
+    vertex_normals,
 )
 from designer.project import model as m
 from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
 from designer.scene.build import build_texture as _build_texture
+from designer.scene.lighting import (
+    irradiance,
+    sun_direction_world,
+    sun_position_deg,
+    surface_normals,
+)
 from designer.scene.mesh import TerrainMesh
 from designer.survey.flight import CameraCalc, camera_calc
 from designer.survey.raycast import TerrainRaycaster
@@ -34,6 +41,9 @@ from designer.survey.raycast import TerrainRaycaster
 
 @dataclass(frozen=True, eq=False)
 class TerrainResult:
+    """The terrain as computed for the view; ``irradiance`` (N,) is the light at each
+    display vertex (relative, 1 = flat ground in full sun, see :func:`display_irradiance`)."""
+
     terrain: m.Terrain
     heightfield: Heightfield | None
     mesh: TerrainMesh | None
@@ -44,6 +54,7 @@ class TerrainResult:
     n_vertices: int
     tiles: tuple[int, int]
     max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE
+    irradiance: np.ndarray | None = None
 
 
 def compute_terrain(project: m.Project, base_dir: Path,
@@ -66,8 +77,42 @@ def compute_terrain(project: m.Project, base_dir: Path,
     display = terrain_display(hf, mesh, tiles, max_display_nodes)
     lo, hi = display.points_world.min(axis=0), display.points_world.max(axis=0)
     centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(np.mean(z))])
+    light = display_irradiance(project.scene.lighting, display, hf, rc)
     return TerrainResult(terrain, hf, mesh, rc, display, float(np.mean(z)), centre, n, tiles,
-                         max_display_nodes)
+                         max_display_nodes, light)
+
+
+def sun_angles_deg(lighting: m.Lighting) -> tuple[float, float]:
+    """(azimuth clockwise from grid north, elevation) of the project's sun, degrees."""
+    sun = lighting.sun
+    if isinstance(sun, m.Sun):
+        return float(sun.azimuth_deg), float(sun.elevation_deg)
+    return sun_position_deg(sun.date_time, sun.latitude_deg, sun.longitude_deg)
+
+
+def display_irradiance(lighting: m.Lighting, display: TerrainDisplay,
+                       heightfield: Heightfield | None = None,
+                       raycaster: TerrainRaycaster | None = None) -> np.ndarray:
+    """Light (N,) at the display mesh's vertices, by the renderer's own model
+    (:func:`designer.scene.lighting.irradiance`: Lambert sun with cast shadows plus an
+    isotropic sky, 1 = flat ground in full sun). Normals of a height field are taken over
+    one display cell (the surface as drawn); shadows are cast by the full height field.
+    A mesh terrain gets its vertex normals and no cast shadows."""
+    azimuth, elevation = sun_angles_deg(lighting)
+    sun = sun_direction_world(azimuth, elevation)
+    points = display.points_world
+    lit = np.ones(len(points))
+    if heightfield is not None:
+        step = display.stride * min(heightfield.dx_m, heightfield.dy_m)
+        normals = surface_normals(heightfield, points[:, 0], points[:, 1], step)
+        facing = np.flatnonzero(normals @ sun > 0)
+        if raycaster is not None and sun[2] > 0 and len(facing):
+            start = points[facing] + 0.01 * normals[facing]
+            hits = raycaster.first_hit(start, np.tile(sun, (len(facing), 1)))
+            lit[facing[np.isfinite(hits[:, 0])]] = 0.0
+    else:
+        normals = vertex_normals(points, display.faces)
+    return irradiance(normals, lit, sun, lighting.sun_strength, lighting.sky_strength)
 
 
 def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:

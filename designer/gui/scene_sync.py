@@ -14,6 +14,8 @@ exception, it is a message in the Flight panel).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from PySide6.QtCore import QObject, Signal
 
@@ -39,6 +41,7 @@ class SceneSync(QObject):
     targets_changed = Signal()
     stations_changed = Signal()
     coverage_changed = Signal()
+    lighting_changed = Signal()
     message = Signal(str)
 
     def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
@@ -80,6 +83,8 @@ class SceneSync(QObject):
                                 m.ProceduralTexture)
         if "texture" in parts or (parts & TERRAIN_PARTS and procedural):
             self.refresh_texture()
+        if "lighting" in parts and not parts & TERRAIN_PARTS and self.terrain is not None:
+            self.refresh_lighting()
         if "trajectory" in parts or "terrain" in parts:
             self._show_area()
 
@@ -117,7 +122,8 @@ class SceneSync(QObject):
         display = (result.display if self._tiles == result.tiles
                    else derived.retile(result, self._tiles))
         self.view.show_terrain(display.points_world, display.faces, display.uv,
-                               self.texture_rgb, p.interpolation == "linear")
+                               self.texture_rgb, p.interpolation == "linear",
+                               result.irradiance)
         if first:
             self.view.reset_view()
         self.terrain_changed.emit()
@@ -133,7 +139,26 @@ class SceneSync(QObject):
         self._tiles = tiles
         display = derived.retile(self.terrain, tiles)
         self.view.show_terrain(display.points_world, display.faces, display.uv,
-                               self.texture_rgb, tex.interpolation == "linear")
+                               self.texture_rgb, tex.interpolation == "linear",
+                               self.terrain.irradiance)
+
+    # ------------------------------------------------------------------ lighting
+    def refresh_lighting(self) -> None:
+        """Light the drawn terrain anew (sun, sky) without recomputing the terrain."""
+        terrain = self.terrain
+        self.tasks.submit("lighting", derived.display_irradiance,
+                          self.document.project.scene.lighting, terrain.display,
+                          terrain.heightfield, terrain.raycaster,
+                          on_done=lambda light: self._lighting_done(terrain, light),
+                          on_error=lambda e: self._fail("lighting", e))
+
+    def _lighting_done(self, terrain: derived.TerrainResult, light: np.ndarray) -> None:
+        if terrain is not self.terrain:
+            return  # the terrain changed meanwhile; its own result carries its light
+        self.errors.pop("lighting", None)
+        self.terrain = dataclasses.replace(terrain, irradiance=light)
+        self.view.set_terrain_irradiance(light)
+        self.lighting_changed.emit()
 
     # ------------------------------------------------------------------ texture
     def refresh_texture(self) -> None:

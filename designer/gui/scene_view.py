@@ -21,13 +21,15 @@ from designer.gui.interaction import ViewInteraction
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
 LAYER_STYLE = {
     "frusta": {"color": (0.95, 0.75, 0.1), "line_width": 1.0},
-    "footprints": {"color": (1.0, 1.0, 1.0), "line_width": 1.0, "opacity": 0.3},
+    # opaque: a translucent layer costs a full-window compositing pass every frame
+    "footprints": {"color": (0.82, 0.84, 0.86), "line_width": 1.0},
     "flight": {"color": (0.1, 0.9, 0.9), "line_width": 2.0},
     "area": {"color": (1.0, 0.3, 1.0), "line_width": 3.0},
     "draft": {"color": (1.0, 0.5, 0.0), "line_width": 3.0},
 }
 #: largest texture side sent to the GPU (px); the full image stays in the model's hands
 MAX_DISPLAY_TEXTURE_PX = 2048
+TERRAIN_COLOUR = (0.55, 0.6, 0.45)
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
 
@@ -64,6 +66,7 @@ class SceneView(QWidget):
         self._meshes: dict[str, object] = {}
         self._visible: dict[str, bool] = {}
         self._texture = None
+        self._irradiance: np.ndarray | None = None
         self._terrain_bounds: np.ndarray | None = None
         self._targets: list[tuple[str, np.ndarray, float]] = []
         self.frames = 0
@@ -142,7 +145,11 @@ class SceneView(QWidget):
 
     # ------------------------------------------------------------------ layers
     def show_terrain(self, points_world: np.ndarray, faces: np.ndarray, uv: np.ndarray,
-                     texture_rgb: np.ndarray | None = None, linear: bool = True) -> None:
+                     texture_rgb: np.ndarray | None = None, linear: bool = True,
+                     irradiance: np.ndarray | None = None) -> None:
+        """The terrain mesh, textured; with ``irradiance`` (relative light per vertex,
+        :func:`~designer.gui.view_geometry.shade_rgb`) it is drawn lit by the project's
+        sun and sky, else by the view's own lights."""
         pv = self._pv
         faces = np.asarray(faces, dtype=np.int64)
         cells = np.column_stack([np.full(len(faces), 3), faces]).ravel()
@@ -153,10 +160,39 @@ class SceneView(QWidget):
         if texture_rgb is not None:
             self._texture = self._make_texture(texture_rgb, linear)
         style = ({"texture": self._texture} if self._texture is not None
-                 else {"color": (0.55, 0.6, 0.45)})
+                 else {"color": TERRAIN_COLOUR})
         self._show("terrain", mesh, smooth_shading=False, **style)
+        self.set_terrain_irradiance(irradiance)
         if first:
             self.reset_view()
+
+    def set_terrain_irradiance(self, irradiance: np.ndarray | None) -> None:
+        """Shade the terrain by a light value per vertex (None: the view's own lights).
+
+        The colours are multiplied with the texture by the GPU, so no per-pixel lighting
+        is left to compute: on a software OpenGL that is most of a frame's terrain cost.
+        """
+        from designer.gui.view_geometry import shade_rgb
+
+        mesh, actor = self._meshes.get("terrain"), self.plotter.actors.get("terrain")
+        if irradiance is not None and (mesh is None or len(irradiance) != mesh.n_points):
+            irradiance = None  # computed for another mesh: wait for the matching one
+        self._irradiance = irradiance
+        if mesh is None or actor is None:
+            return
+        mapper = actor.GetMapper()
+        if irradiance is None:
+            mapper.ScalarVisibilityOff()
+            actor.prop.lighting = True
+        else:
+            base = (1.0, 1.0, 1.0) if self._texture is not None else TERRAIN_COLOUR
+            mesh.point_data["shade"] = shade_rgb(irradiance, base)
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray("shade")
+            mapper.SetColorModeToDirectScalars()
+            mapper.ScalarVisibilityOn()
+            actor.prop.lighting = False
+        self.request_render()
 
     def _make_texture(self, rgb: np.ndarray, linear: bool):
         step = max(1, int(np.ceil(max(rgb.shape[:2]) / MAX_DISPLAY_TEXTURE_PX)))
@@ -175,10 +211,11 @@ class SceneView(QWidget):
             return
         if self._texture is None:
             actor.texture = None
-            actor.prop.color = (0.55, 0.6, 0.45)
+            actor.prop.color = TERRAIN_COLOUR
         else:
             actor.prop.color = (1.0, 1.0, 1.0)
             actor.texture = self._texture
+        self.set_terrain_irradiance(self._irradiance)
         self.request_render()
 
     def show_targets(self, ids: list[str], roles: list[str], xyz_world: np.ndarray,

@@ -26,6 +26,9 @@ from designer.scene.mesh import TerrainMesh
 MAX_DISPLAY_NODES_PER_SIDE = 400
 #: station count above which footprints use only the 4 image corners
 DENSE_FOOTPRINT_LIMIT = 400
+#: drawn brightness of flat ground in full sun (relative irradiance 1); slopes facing the
+#: sun reach the texture's own colour at irradiance 1 / DISPLAY_GAIN
+DISPLAY_GAIN = 0.8
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,6 +64,29 @@ def terrain_display(hf: Heightfield | None, mesh: TerrainMesh | None,
     uv = np.column_stack([(cols / (nx - 1))[None, :].repeat(len(rows), 0).ravel() * tiles[0],
                           (rows / (ny - 1))[:, None].repeat(len(cols), 1).ravel() * tiles[1]])
     return TerrainDisplay(points, grid_faces(len(rows), len(cols)), uv, stride)
+
+
+def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Unit normals (N, 3) of a triangle mesh's vertices: the area-weighted mean of the
+    normals of the faces around each (counter-clockwise faces: outwards / upwards)."""
+    v = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    face_n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    n = np.zeros_like(v)
+    for k in range(3):
+        np.add.at(n, f[:, k], face_n)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    return np.divide(n, length, out=np.tile([0.0, 0.0, 1.0], (len(v), 1)), where=length > 0)
+
+
+def shade_rgb(irradiance: np.ndarray, base_rgb=(1.0, 1.0, 1.0)) -> np.ndarray:
+    """Vertex colours (N, 3) uint8 for a relative irradiance (1 = flat ground in full sun):
+    ``base · clip(DISPLAY_GAIN · irradiance, 0, 1)``. The view multiplies the texture by
+    them, so the terrain is drawn lit as the renderer lights it, without per-pixel
+    lighting (which a software OpenGL pays for on every pixel of every frame)."""
+    g = np.clip(DISPLAY_GAIN * np.asarray(irradiance, dtype=float), 0.0, 1.0)
+    return np.rint(255 * g[:, None] * np.asarray(base_rgb, dtype=float)[None, :]).astype(
+        np.uint8)
 
 
 def grid_faces(ny: int, nx: int) -> np.ndarray:
