@@ -184,6 +184,21 @@ def render_seconds_per_image(project: m.Project, interior: InteriorOrientation,
     return W * H / 1e6 * (spp * SECONDS_PER_MEGAPIXEL_SAMPLE + SECONDS_PER_MEGAPIXEL)
 
 
+def rendered_size_px(interior: InteriorOrientation, resolution_scale: float) -> tuple[int, int]:
+    """Width and height (px) of the rendered images, rounded as the renderer rounds them
+    (:func:`designer.survey.project_poses.render_interior`)."""
+    if resolution_scale == 1.0:
+        return interior.image_width_px, interior.image_height_px
+    return (round(interior.image_width_px * resolution_scale),
+            round(interior.image_height_px * resolution_scale))
+
+
+def rendered_gsd_m(gsd_m: float, interior: InteriorOrientation,
+                   resolution_scale: float) -> float:
+    """The GSD (m) of the rendered image: the same sensor and lens, fewer pixels across."""
+    return gsd_m * interior.image_width_px / rendered_size_px(interior, resolution_scale)[0]
+
+
 def compute_stations(project: m.Project, terrain: TerrainResult | None) -> StationsResult:
     """Stations of the flight plan and explicit photos, drawn over the terrain."""
     from designer.survey.project_poses import interior_from_camera, project_stations

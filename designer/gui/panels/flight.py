@@ -16,7 +16,7 @@ from PySide6.QtWidgets import (
     QTableWidgetItem,
 )
 
-from designer.gui import edits
+from designer.gui import derived, edits
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, dspin, form, ispin, readout
 from designer.project import model as m
@@ -177,8 +177,16 @@ class FlightPanel(Panel):
         self.images_label.setText(f"{stations.n_images}")
         c = stations.calc
         if c is not None:
+            ii = stations.interior
+            scale = self.project.render.resolution_scale
+            W, H = derived.rendered_size_px(ii, scale)
+            rendered = (
+                "" if scale == 1.0 else
+                f"; rendered image ({W} × {H} px): GSD "
+                f"{100 * derived.rendered_gsd_m(c.gsd_m, ii, scale):.2f} cm")
             self.calc_label.setText(
-                f"{c.altitude_agl_m:.1f} m above ground, GSD {100 * c.gsd_m:.2f} cm; "
+                f"{c.altitude_agl_m:.1f} m above ground; GSD {100 * c.gsd_m:.2f} cm for the "
+                f"camera's {ii.image_width_px} × {ii.image_height_px} px{rendered}; "
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
         if stations.render_time_s is not None:

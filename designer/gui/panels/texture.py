@@ -31,7 +31,7 @@ def rgb_pixmap(rgb: np.ndarray, side_px: int) -> QPixmap:
 
 class TexturePanel(Panel):
     title = "Texture"
-    parts = frozenset({"texture", "terrain", "trajectory", "cameras"})
+    parts = frozenset({"texture", "terrain", "trajectory", "cameras", "render"})
 
     def build(self, layout) -> None:
         top = form()
@@ -117,10 +117,14 @@ class TexturePanel(Panel):
         self.texel_label.setText(f"{1000 * tx:.2f} × {1000 * ty:.2f} mm{size}")
         stations = self.sync.stations
         if stations is not None and stations.calc is not None:
-            ratio = stations.calc.gsd_m / max(tx, ty)
+            # the images are rendered at the render's resolution scale: their GSD counts
+            scale = project.render.resolution_scale
+            gsd = derived.rendered_gsd_m(stations.calc.gsd_m, stations.interior, scale)
+            ratio = gsd / max(tx, ty)
             hint = "" if ratio >= 2 else " — fewer than 2: the texture will look blurred"
-            self.ratio_label.setText(f"{ratio:.1f} at GSD {100 * stations.calc.gsd_m:.2f} cm"
-                                     f"{hint}")
+            where = "" if scale == 1.0 else f" (render scale {scale:g})"
+            self.ratio_label.setText(f"{ratio:.1f} at the rendered image's GSD "
+                                     f"{100 * gsd:.2f} cm{where}{hint}")
         else:
             self.ratio_label.setText("–")
 
