@@ -72,6 +72,10 @@ class MainWindow(QMainWindow):
         for side, cls in [("left", c) for c in left] + [("right", c) for c in right] + \
                 _extra_panels():
             self._add_panel(cls, side)
+        if "Render" in self.panels and "Results" in self.panels:
+            # a finished render is something to reconstruct
+            self.panels["Render"].process.finished.connect(
+                lambda *_: self.panels["Results"].survey_readout())
         self._tabify(["Terrain", "Texture", "GCPs"])
         self._tabify(["Camera", "Flight", "Effects", "Render", "Results"])
         self.docks["Terrain"].raise_()

@@ -1,10 +1,13 @@
-"""``designer render … --progress json`` in its own process (QProcess), read line by line.
+"""``designer`` commands in their own process (QProcess), read line by line.
 
-Blender runs in the render command's worker processes, never in the window's: the
-window only reads JSON events (``worker_started``, ``scene_ready``, ``frame_done``,
-``frame_skipped``, ``retry``, ``worker_done``) and forwards them as a Qt signal.
-Cancel sends SIGINT, on which the command stops its workers cleanly (exit code 130)
-and leaves only complete images.
+:class:`CommandProcess` runs any command and forwards each JSON object it prints as the
+``event`` signal and every other line (stdout or stderr) as ``output``.
+
+:class:`RenderProcess` runs ``designer render … --progress json``. Blender runs in the
+render command's worker processes, never in the window's: the window only reads JSON
+events (``worker_started``, ``scene_ready``, ``frame_done``, ``frame_skipped``,
+``retry``, ``worker_done``). Cancel sends SIGINT, on which the command stops its workers
+cleanly (exit code 130) and leaves only complete images.
 """
 
 from __future__ import annotations
@@ -18,10 +21,13 @@ from pathlib import Path
 from PySide6.QtCore import QObject, QProcess, Signal
 
 
-class RenderProcess(QObject):
+class CommandProcess(QObject):
+    """One command in a QProcess; ``cancel_signal`` is what Cancel sends it."""
+
     event = Signal(dict)
     finished = Signal(int, str)  # exit code, last lines of stderr
     output = Signal(str)         # any non-JSON line
+    cancel_signal = signal.SIGINT
 
     def __init__(self, parent: QObject | None = None) -> None:
         super().__init__(parent)
@@ -34,22 +40,9 @@ class RenderProcess(QObject):
     def running(self) -> bool:
         return self.process is not None and self.process.state() != QProcess.ProcessState.NotRunning
 
-    @staticmethod
-    def command(project: Path, out_dir: Path, resume: bool = False,
-                quality: str | None = None, workers: int | None = None) -> list[str]:
-        args = ["-m", "designer", "render", str(project), "-o", str(out_dir),
-                "--progress", "json"]
-        if resume:
-            args.append("--resume")
-        if quality:
-            args += ["--quality", quality]
-        if workers:
-            args += ["--workers", str(workers)]
-        return [sys.executable, *args]
-
     def start(self, argv: list[str], cwd: Path | None = None) -> None:
         if self.running:
-            raise RuntimeError("a render is already running")
+            raise RuntimeError("a command is already running")
         self._buffer, self._stderr, self.cancelled = b"", b"", False
         proc = QProcess(self)
         if cwd is not None:
@@ -61,13 +54,13 @@ class RenderProcess(QObject):
         proc.start(argv[0], argv[1:])
 
     def cancel(self) -> None:
-        """Ask the render to stop (SIGINT, like Ctrl-C); it exits after cleaning up."""
+        """Ask the command to stop (``cancel_signal``); it exits after cleaning up."""
         if not self.running:
             return
         self.cancelled = True
         pid = self.process.processId()
-        if pid and hasattr(signal, "SIGINT") and os.name == "posix":
-            os.kill(pid, signal.SIGINT)
+        if pid and os.name == "posix":
+            os.kill(pid, self.cancel_signal)
         else:
             self.process.terminate()
 
@@ -107,3 +100,20 @@ class RenderProcess(QObject):
             self._read_stdout()
         tail = "\n".join(self._stderr.decode("utf-8", "replace").splitlines()[-10:])
         self.finished.emit(int(code), tail)
+
+
+class RenderProcess(CommandProcess):
+    """``designer render … --progress json``; Cancel sends SIGINT (clean stop)."""
+
+    @staticmethod
+    def command(project: Path, out_dir: Path, resume: bool = False,
+                quality: str | None = None, workers: int | None = None) -> list[str]:
+        args = ["-m", "designer", "render", str(project), "-o", str(out_dir),
+                "--progress", "json"]
+        if resume:
+            args.append("--resume")
+        if quality:
+            args += ["--quality", quality]
+        if workers:
+            args += ["--workers", str(workers)]
+        return [sys.executable, *args]

@@ -100,3 +100,13 @@ def evaluate_gcps(path: Path, project: m.Project, heightfield) -> dict:
     from designer.evaluate import gcp_errors, read_gcp_estimates_csv
 
     return gcp_errors(read_gcp_estimates_csv(path), gcp_truth(project, heightfield))
+
+
+def load_compared_cloud(path: Path, reference: str = "") -> CloudResult:
+    """The cloud and distances ``designer compare`` wrote (``distances.ply``)."""
+    from designer.gui.reconstruct_job import read_compared_cloud
+
+    xyz, d = read_compared_cloud(Path(path))
+    if len(xyz) == 0:
+        raise DesignerError(f"{path}: the compared cloud has no points")
+    return cloud_from_arrays(xyz, d, Path(path).parent.parent.name + "/cloud.ply", reference)

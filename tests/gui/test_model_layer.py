@@ -27,6 +27,7 @@ from designer.survey.flight import camera_calc
 QT_FREE = ["designer.gui", "designer.gui.document", "designer.gui.edits",
            "designer.gui.view_geometry", "designer.gui.derived", "designer.gui.files",
            "designer.gui.camera_presets", "designer.gui.results_data", "designer.gui.xvfb",
+           "designer.gui.reconstruct_job",
            "designer.cli.gui"]
 
 
@@ -203,3 +204,48 @@ def test_blank_project_with_a_flight_is_valid(tmp_path):
     plan = files.plan_save(project, tmp_path / "p.xml", tmp_path)
     assert plan.ok, plan.problems
     assert dataclasses.replace(plan.project) == project
+
+
+# ------------------------------------------------------------------- reconstruction
+def test_reconstruct_job_commands_and_stages(tmp_path):
+    from designer.cli.main import build_parser
+    from designer.gui.reconstruct_job import COMPARE_STAGE, STAGES, ReconstructJob, stage_of_line
+
+    job = ReconstructJob(tmp_path / "s.xml", tmp_path / "out", "free", 2048)
+    reconstruct, compare = job.commands()
+    assert reconstruct[:3] == [sys.executable, "-m", "designer"]
+    args = build_parser().parse_args(reconstruct[3:])  # the real command line parses
+    assert (args.survey, args.output, args.mode, args.max_features) == (
+        tmp_path / "out", tmp_path / "out" / "reconstruction-free", "free", 2048)
+    args = build_parser().parse_args(compare[3:])
+    assert args.cloud == job.out_dir / "cloud.ply" and args.reference == tmp_path / "s.xml"
+    assert args.output == job.compare_dir and args.truth == tmp_path / "out"
+    assert job.distances_ply == job.compare_dir / "distances.ply"
+    # the log lines designer reconstruct prints, in order, give increasing stages
+    lines = ["features: 12 images", "matching: 66 image pairs",
+             "triangulating with the true poses", "12/12 images registered, 2000 points",
+             "some other line"]
+    assert [stage_of_line(t) for t in lines] == [0, 1, 2, 3, None]
+    assert stage_of_line("incremental SfM") == 2
+    assert COMPARE_STAGE == len(STAGES) - 1
+
+
+def test_compared_cloud_is_read_back(tmp_path):
+    from designer.evaluate import write_distances_ply
+    from designer.gui.reconstruct_job import read_compared_cloud, survey_status
+    from designer.gui.results_data import load_compared_cloud
+
+    rng = np.random.default_rng(2)
+    xyz = rng.normal(size=(50, 3)) + [512000.0, 5406000.0, 300.0]
+    d = rng.normal(scale=0.01, size=50)
+    d[3] = np.nan  # beyond a maximum distance: left out
+    (tmp_path / "r" / "compare").mkdir(parents=True)
+    path = write_distances_ply(tmp_path / "r" / "compare" / "distances.ply", xyz, d)
+    got_xyz, got_d = read_compared_cloud(path)
+    keep = np.isfinite(d)
+    np.testing.assert_array_equal(got_xyz, xyz[keep])
+    np.testing.assert_array_equal(got_d, d[keep])
+    result = load_compared_cloud(path, "truth")
+    assert result.name == "r/cloud.ply" and len(result.distances_m) == 49
+    n, text = survey_status(tmp_path)
+    assert n == 0 and "no ground truth" in text

@@ -1,6 +1,7 @@
-"""Results: a reconstructed point cloud coloured by signed distance to the true terrain
-(diverging map, colour bar in the view), histogram and statistics, GCP error table.
-Reading the cloud and computing distances run off the UI thread."""
+"""Results: reconstruct the rendered survey (COLMAP, then the comparison with the truth,
+in other processes), or open any point cloud; the cloud is coloured by its signed
+distance to the true terrain (diverging map, colour bar in the view), with a histogram,
+statistics and the GCP error table. Reading clouds and distances run off the UI thread."""
 
 from __future__ import annotations
 
@@ -12,6 +13,8 @@ from PySide6.QtWidgets import (
     QGroupBox,
     QHBoxLayout,
     QLabel,
+    QPlainTextEdit,
+    QProgressBar,
     QPushButton,
     QTableWidget,
     QTableWidgetItem,
@@ -20,15 +23,19 @@ from PySide6.QtWidgets import (
 
 from designer.gui import results_data
 from designer.gui.panels.base import Panel
+from designer.gui.reconstruct_job import MODES, STAGES, ReconstructJob, survey_status
+from designer.gui.reconstruct_process import ReconstructRun
+from designer.gui.widgets import combo, form, ispin, readout
 
 CMAP = "RdBu_r"
 
 
 class ResultsPanel(Panel):
     title = "Results"
-    parts = frozenset()
+    parts = frozenset({"outputs"})
 
     def build(self, layout) -> None:
+        self._build_reconstruct(layout)
         row = QHBoxLayout()
         open_cloud = QPushButton("Open point cloud…")
         open_cloud.clicked.connect(self._choose_cloud)
@@ -40,8 +47,9 @@ class ResultsPanel(Panel):
         row.addWidget(open_gcps)
         row.addWidget(clear)
         layout.addLayout(row)
-        self.state = QLabel("open the cloud of a reconstruction (designer sfm writes "
-                            "cloud.ply and gcp_residuals.csv)")
+        self.state = QLabel("reconstruct the rendered survey above, or open the cloud of "
+                            "a reconstruction (designer reconstruct writes cloud.ply and "
+                            "gcp_residuals.csv)")
         self.state.setWordWrap(True)
         layout.addWidget(self.state)
 
@@ -73,6 +81,127 @@ class ResultsPanel(Panel):
         v.addWidget(self.rmse)
         layout.addWidget(gcps)
         self.result: results_data.CloudResult | None = None
+
+    def _build_reconstruct(self, layout) -> None:
+        box = QGroupBox("reconstruct the rendered survey")
+        f = form(box)
+        self.survey_label = readout()
+        f.addRow("survey", self.survey_label)
+        self.mode = combo([(text, mode) for text, mode in MODES])
+        f.addRow("poses", self.mode)
+        self.features = ispin(256, 65536, "per image")
+        self.features.setValue(4096)
+        f.addRow("SIFT features", self.features)
+        row = QHBoxLayout()
+        self.reconstruct_button = QPushButton("Reconstruct")
+        self.reconstruct_button.setToolTip(
+            "designer reconstruct, then designer compare with the true surface, in other "
+            "processes; the cloud then appears coloured by its error")
+        self.reconstruct_button.clicked.connect(self.reconstruct)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.setEnabled(False)
+        self.cancel_button.clicked.connect(self.cancel_reconstruction)
+        row.addWidget(self.reconstruct_button)
+        row.addWidget(self.cancel_button)
+        f.addRow(row)
+        self.progress = QProgressBar()
+        self.progress.setRange(0, len(STAGES))
+        self.progress.setValue(0)
+        self.progress.setFormat("%v / %m stages")
+        f.addRow(self.progress)
+        self.stage_label = QLabel("")
+        self.stage_label.setWordWrap(True)
+        f.addRow(self.stage_label)
+        self.log = QPlainTextEdit()
+        self.log.setReadOnly(True)
+        self.log.setMaximumBlockCount(500)
+        self.log.setMaximumHeight(90)
+        f.addRow(self.log)
+        layout.addWidget(box)
+        self.run = ReconstructRun(self)
+        self.run.stage.connect(self._stage)
+        self.run.output.connect(self.log.appendPlainText)
+        self.run.finished.connect(self._reconstructed)
+        self.job: ReconstructJob | None = None
+        self.editor.document.events.connect("file", lambda **_: self.survey_readout())
+
+    # ------------------------------------------------------------------ reconstruct
+    def refresh(self) -> None:
+        super().refresh()
+        self.survey_readout()
+
+    def showEvent(self, event) -> None:  # a render may have finished meanwhile
+        super().showEvent(event)
+        self.survey_readout()
+
+    def survey_dir(self) -> Path | None:
+        """The render output folder of the saved project (None while never saved)."""
+        path = self.editor.document.path
+        if path is None:
+            return None
+        return (path.parent / self.project.outputs.directory).resolve()
+
+    def survey_readout(self) -> None:
+        folder = self.survey_dir()
+        if folder is None:
+            self.survey_label.setText("– (save the project and render it first)")
+            return
+        n, text = survey_status(folder)
+        self.survey_label.setText(text if n else f"{folder}: not rendered yet")
+
+    def reconstruct(self) -> None:
+        """Run designer reconstruct and designer compare on the rendered survey."""
+        doc = self.editor.document
+        if doc.dirty or doc.path is None:
+            window = self.window()
+            if not hasattr(window, "file_actions") or not window.file_actions.save():
+                self.stage_label.setText("save the project (without problems) first: the "
+                                         "comparison reads the saved file")
+                return
+        folder = self.survey_dir()
+        n, text = survey_status(folder)
+        self.survey_readout()
+        if not n:
+            self.stage_label.setText(f"{text}. Render the survey first (Render panel).")
+            return
+        self.job = ReconstructJob(doc.path, folder, self.mode.currentData(),
+                                  self.features.value())
+        self.log.clear()
+        self.progress.setValue(0)
+        self.stage_label.setText(f"reconstructing {n} images into {self.job.out_dir} …")
+        self.reconstruct_button.setEnabled(False)
+        self.cancel_button.setEnabled(True)
+        self.run.start(self.job)
+
+    def cancel_reconstruction(self) -> None:
+        self.run.cancel()
+        self.stage_label.setText("stopping…")
+
+    def _stage(self, index: int, title: str) -> None:
+        self.progress.setValue(index)
+        self.stage_label.setText(f"stage {index + 1} of {len(STAGES)}: {title} …")
+
+    def _reconstructed(self, code: int, message: str) -> None:
+        self.reconstruct_button.setEnabled(True)
+        self.cancel_button.setEnabled(False)
+        if code != 0:
+            self.stage_label.setText("cancelled" if code == 130 else message)
+            return
+        self.progress.setValue(len(STAGES))
+        job = self.job
+        self.stage_label.setText(f"done: {job.out_dir}; report {job.compare_dir / 'report.html'}")
+        reference = f"terrain and targets of {job.project_path.name} (designer compare)"
+        self.state.setText(f"reading {job.distances_ply} …")
+        self.sync.tasks.submit(
+            "cloud", results_data.load_compared_cloud, job.distances_ply, reference,
+            on_done=self.show_result,
+            on_error=lambda e: self.state.setText(f"{job.distances_ply}: {e}"))
+        if job.gcp_residuals_csv.is_file():
+            self.open_residuals(job.gcp_residuals_csv)
+
+    def shutdown(self) -> None:
+        if self.run.running:
+            self.run.kill()
 
     # ------------------------------------------------------------------ actions
     def _choose_cloud(self) -> None:
