@@ -32,8 +32,9 @@ from designer.gui.scene_view import SceneView
 from designer.gui.tasks import TaskRunner
 from designer.gui.undo import Editor
 
-LAYERS = [("terrain", "Terrain"), ("targets", "GCP targets"), ("frusta", "Camera frusta"),
-          ("footprints", "Ground footprints"), ("flight", "Flight lines"),
+LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("targets", "GCP targets"),
+          ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
+          ("flight", "Flight lines"),
           ("area", "Survey area"), ("cloud", "Point cloud")]
 
 

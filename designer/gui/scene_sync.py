@@ -3,8 +3,9 @@
 On each ``project`` event it looks at which parts changed and recomputes only what
 depends on them, in worker threads (:class:`~designer.gui.tasks.TaskRunner`):
 
-terrain → height field, ray caster, display mesh → targets, stations, coverage;
-texture → texture image (1–2 s for a procedural one) and the display UVs;
+terrain → height field, ray caster, display mesh and its light → targets, stations,
+coverage; texture → texture image (1–2 s for a procedural one) and the display UVs;
+lighting → the light on the drawn terrain and objects; objects → the placed meshes;
 cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
 
 Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
@@ -52,6 +53,7 @@ class SceneSync(QObject):
         self.targets: derived.TargetsResult | None = None
         self.stations: derived.StationsResult | None = None
         self.coverage: derived.CoverageResult | None = None
+        self.objects: derived.ObjectsResult | None = None
         self.errors: dict[str, str] = {}
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
@@ -85,6 +87,8 @@ class SceneSync(QObject):
             self.refresh_texture()
         if "lighting" in parts and not parts & TERRAIN_PARTS and self.terrain is not None:
             self.refresh_lighting()
+        if parts & {"objects", "lighting"}:
+            self.refresh_objects()
         if "trajectory" in parts or "terrain" in parts:
             self._show_area()
 
@@ -114,7 +118,9 @@ class SceneSync(QObject):
                 result.terrain.extent.width_m, result.terrain.extent.length_m))
         self.terrain = result
         if first:
-            self.view.set_offset(result.centre_world)
+            self.view.set_offset(result.centre_world)  # drops every layer: draw them anew
+            if self.objects is not None:
+                self._objects_done(self.objects)
         self.view.interaction.ground_picker = (
             self._pick_ground if result.raycaster is not None else None)
         p = self.document.project.scene.texture
@@ -141,6 +147,31 @@ class SceneSync(QObject):
         self.view.show_terrain(display.points_world, display.faces, display.uv,
                                self.texture_rgb, tex.interpolation == "linear",
                                self.terrain.irradiance)
+
+    # ------------------------------------------------------------------ objects
+    def refresh_objects(self) -> None:
+        """Read and place the scene's mesh objects (a worker thread: files are read)."""
+        if not self.document.project.scene.objects:
+            self.tasks.cancel("objects")
+            self._objects_done(None)
+            return
+        self.tasks.submit("objects", derived.compute_objects, self.document.project,
+                          self.document.base_dir, on_done=self._objects_done,
+                          on_error=self._objects_failed)
+
+    def _objects_done(self, result: derived.ObjectsResult | None) -> None:
+        self.errors.pop("objects", None)
+        self.objects = result
+        if result is None:
+            self.view.show_objects(None)
+        else:
+            self.view.show_objects(result.vertices_world, result.faces,
+                                   result.face_irradiance)
+
+    def _objects_failed(self, error: BaseException) -> None:
+        self.objects = None
+        self.view.show_objects(None)
+        self._fail("objects", error)
 
     # ------------------------------------------------------------------ lighting
     def refresh_lighting(self) -> None:

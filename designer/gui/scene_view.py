@@ -5,7 +5,7 @@ arrays (world coordinates) per layer and it maps layer names to VTK actors, upda
 an existing actor's data in place where it can. World coordinates are shifted by a
 display offset (the terrain's centre) before they reach VTK, which renders in float32.
 
-Layers: ``terrain``, ``targets`` (markers, checker plates, labels), ``frusta``,
+Layers: ``terrain``, ``objects``, ``targets`` (markers, checker plates, labels), ``frusta``,
 ``footprints``, ``flight``, ``area``, ``coverage``, ``cloud``, plus the interaction
 overlays of :mod:`designer.gui.interaction`.
 """
@@ -30,6 +30,7 @@ LAYER_STYLE = {
 #: largest texture side sent to the GPU (px); the full image stays in the model's hands
 MAX_DISPLAY_TEXTURE_PX = 2048
 TERRAIN_COLOUR = (0.55, 0.6, 0.45)
+OBJECT_COLOUR = (0.85, 0.82, 0.78)
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
 
@@ -255,6 +256,26 @@ class SceneView(QWidget):
         for name in ("targets", "targets:labels", "targets:plates"):
             if name in self.plotter.actors:
                 self.plotter.actors[name].SetVisibility(self._visible.get("targets", True))
+        self.request_render()
+
+    def show_objects(self, vertices_world: np.ndarray | None, faces: np.ndarray | None = None,
+                     face_irradiance: np.ndarray | None = None) -> None:
+        """The scene's mesh objects (one merged mesh), each face shaded by its light."""
+        from designer.gui.view_geometry import shade_rgb
+
+        if vertices_world is None or not len(faces):
+            self.remove_layer("objects")
+            self.request_render()
+            return
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = self._pv.PolyData(self.local(vertices_world),
+                                 np.column_stack([np.full(len(f), 3), f]).ravel())
+        mesh.cell_data["rgb"] = shade_rgb(face_irradiance, OBJECT_COLOUR)
+        self.remove_layer("objects")
+        self.plotter.add_mesh(mesh, name="objects", scalars="rgb", rgb=True, lighting=False,
+                              reset_camera=False, render=False)
+        self._meshes["objects"] = mesh
+        self.plotter.actors["objects"].SetVisibility(self._visible.get("objects", True))
         self.request_render()
 
     def target_positions(self) -> list[tuple[str, np.ndarray]]:
