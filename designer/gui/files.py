@@ -147,6 +147,7 @@ PANEL_KEYWORDS = (
                 "image-height", "brown", "fisheye")),
     ("GCPs", ("target", "true", "surveyed", "survey-accuracy", "sigma")),
     ("Texture", ("texture", "tiling", "image", "procedural-texture")),
+    ("Lighting", ("lighting", "sun", "sky")),
     ("Terrain", ("terrain", "extent", "procedural", "dem", "mesh", "flat")),
     ("Effects", ("effects", "vignetting", "noise", "blur", "jpeg", "motion")),
     ("Render", ("render", "samples", "pixel-filter", "output", "resolution")),

@@ -197,6 +197,7 @@ def test_problems_point_at_panels():
     assert files.panel_for_problem("x.xml:3:5: <focal-length-mm>: must be > 0") == "Camera"
     assert files.panel_for_problem("x.xml:3:5: <target>: GCP 'A' …") == "GCPs"
     assert files.panel_for_problem("x.xml:3:5: <extent>: min-X …") == "Terrain"
+    assert files.panel_for_problem("x.xml:9:5: <sun>: elevation-deg …") == "Lighting"
 
 
 def test_blank_project_with_a_flight_is_valid(tmp_path):

@@ -1,0 +1,133 @@
+"""Lighting: the sun (a direction, or computed for a moment and a place) and the strengths
+of sun and sky. The 3D view draws the terrain and objects under this light, as the
+renderer bakes it (Lambert sun with cast shadows plus an isotropic sky)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
+
+from designer.errors import DesignerError
+from designer.gui import derived
+from designer.gui.panels.base import Panel
+from designer.gui.widgets import combo, dspin, form, readout
+from designer.project import model as m
+
+SUN = "scene.lighting.sun"
+#: a moment and place to start from when the sun is switched to "computed"
+DEFAULT_SUN_POSITION = m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54)
+
+
+class LightingPanel(Panel):
+    title = "Lighting"
+    parts = frozenset({"lighting"})
+
+    def build(self, layout) -> None:
+        top = form()
+        self.kind = combo([("direction (azimuth, elevation)", "direction"),
+                           ("computed for a date, time and place", "position")])
+        self.kind.currentIndexChanged.connect(self._kind_chosen)
+        top.addRow("sun given by", self.kind)
+        layout.addLayout(top)
+
+        self.direction = QGroupBox("sun direction")
+        f = form(self.direction)
+        f.addRow("azimuth", self.bindings.bind(
+            dspin(0, 359.9, 1, 5, "°"), f"{SUN}.azimuth_deg", "Sun azimuth"))
+        f.addRow("elevation", self.bindings.bind(
+            dspin(0.1, 90, 1, 5, "°"), f"{SUN}.elevation_deg", "Sun elevation"))
+        note = QLabel("azimuth clockwise from grid north; elevation above the horizon")
+        note.setWordWrap(True)
+        f.addRow(note)
+        layout.addWidget(self.direction)
+
+        self.position = QGroupBox("sun computed for")
+        f = form(self.position)
+        self.date_time = QLineEdit()
+        self.date_time.setPlaceholderText("2024-06-21T11:00:00+02:00")
+        f.addRow("date, time", self.bindings.bind(self.date_time, f"{SUN}.date_time",
+                                                  "Sun date and time"))
+        f.addRow("latitude", self.bindings.bind(
+            dspin(-90, 90, 5, 0.1, "°"), f"{SUN}.latitude_deg", "Sun latitude"))
+        f.addRow("longitude", self.bindings.bind(
+            dspin(-180, 180, 5, 0.1, "°"), f"{SUN}.longitude_deg", "Sun longitude"))
+        note = QLabel("ISO 8601 with a time zone; the azimuth is from true north (add the "
+                      "grid convergence of a projected CRS yourself)")
+        note.setWordWrap(True)
+        f.addRow(note)
+        layout.addWidget(self.position)
+
+        strengths = QGroupBox("strengths")
+        f = form(strengths)
+        f.addRow("sun", self.bindings.bind(dspin(0, 1000, 2, 0.5), "scene.lighting.sun_strength",
+                                           "Sun strength"))
+        f.addRow("sky", self.bindings.bind(dspin(0, 1000, 2, 0.25),
+                                           "scene.lighting.sky_strength", "Sky strength"))
+        layout.addWidget(strengths)
+
+        info = form()
+        self.sun_label, self.contrast_label = readout(), readout()
+        info.addRow("sun", self.sun_label)
+        info.addRow("shadows", self.contrast_label)
+        layout.addLayout(info)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        layout.addWidget(self.error_label)
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        super().refresh()
+        sun = self.project.scene.lighting.sun
+        computed = isinstance(sun, m.SunPosition)
+        blocked = self.kind.blockSignals(True)
+        self.kind.setCurrentIndex(self.kind.findData("position" if computed else "direction"))
+        self.kind.blockSignals(blocked)
+        self.direction.setVisible(not computed)
+        self.position.setVisible(computed)
+        self._readouts()
+
+    def _readouts(self) -> None:
+        lighting = self.project.scene.lighting
+        try:
+            azimuth, elevation = derived.sun_angles_deg(lighting)
+        except (DesignerError, ValueError) as error:
+            self.sun_label.setText("–")
+            self.contrast_label.setText("–")
+            self.error_label.setText(str(error))
+            return
+        self.error_label.setText("" if elevation > 0 else
+                                 "the sun is below the horizon at that moment and place")
+        where = " (computed)" if isinstance(lighting.sun, m.SunPosition) else ""
+        self.sun_label.setText(f"azimuth {azimuth:.1f}°, elevation {elevation:.1f}°{where}")
+        flat = lighting.sun_strength * max(math.sin(math.radians(elevation)), 0.0) + \
+            lighting.sky_strength
+        if flat > 0:
+            self.contrast_label.setText(
+                f"flat ground in shadow gets {100 * lighting.sky_strength / flat:.0f} % of "
+                "the light of flat ground in full sun")
+        else:
+            self.contrast_label.setText("no light at all: raise the sun or sky strength")
+
+    # ------------------------------------------------------------------ view → model
+    def _kind_chosen(self) -> None:
+        lighting = self.project.scene.lighting
+        computed = self.kind.currentData() == "position"
+        if computed == isinstance(lighting.sun, m.SunPosition):
+            return
+        if computed:
+            sun = DEFAULT_SUN_POSITION
+        else:
+            # keep the light where it was: the computed direction, rounded to 0.1°
+            try:
+                azimuth, elevation = derived.sun_angles_deg(lighting)
+            except (DesignerError, ValueError):
+                azimuth, elevation = 135.0, 50.0
+            sun = m.Sun(round(azimuth % 360, 1) % 360, round(min(max(elevation, 0.1), 90), 1))
+        scene = dataclasses.replace(self.project.scene,
+                                    lighting=dataclasses.replace(lighting, sun=sun))
+        self.editor.edit(dataclasses.replace(self.project, scene=scene),
+                         "Sun " + ("computed for a moment and place" if computed
+                                   else "given by its direction"))
