@@ -56,11 +56,14 @@ class FrameContext:
         flight_direction_uv: direction of the camera's motion in the image, a vector
             (du, dv) in pixel axes (u right, v down); normalised by the effect.
         channel_order: "BGR" (OpenCV, the default) or "RGB" for 3-channel images.
+        distance_m: distance (m) along the optical axis from the camera to the ground at
+            the principal point, for defocus.
     """
 
     gsd_m: float | None = None
     flight_direction_uv: tuple[float, float] | None = None
     channel_order: ChannelOrder = "BGR"
+    distance_m: float | None = None
 
 
 class Effect:

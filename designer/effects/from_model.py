@@ -10,7 +10,7 @@ from designer.effects.chain import EffectChain
 from designer.effects.distortion_render import DistortionWarp, LensDistortion, pinhole_render_camera
 from designer.effects.jpeg import JpegCompression
 from designer.effects.motion import LinearMotionBlur
-from designer.effects.optics import GaussianBlur, RadialVignetting
+from designer.effects.optics import GaussianBlur, RadialVignetting, ThinLensDefocus
 from designer.effects.sensor import GaussianNoiseDN, SensorModel
 
 if TYPE_CHECKING:  # the model is only read here; importing designer.project pulls in lxml
@@ -30,9 +30,10 @@ def effects_from_model(
     warp from the pinhole render (``warp``, e.g. loaded from a cache, must have been made
     for ``interior``; otherwise it is computed here with ``oversample``). The images
     given to the chain are then renders of ``chain.warp.render_interior``.
-    Vignetting's ``corner_falloff`` gives gain 1 − c ρ² (ρ = 1 at the farthest image
-    corner); ``sigma_dn`` is in 8-bit digital numbers; motion blur needs the frame's GSD
-    and flight direction in the FrameContext.
+    Vignetting gives gain [cos⁴ θ] × (1 − corner_falloff ρ² + rho4 ρ⁴ + rho6 ρ⁶) (ρ = 1 at
+    the farthest image corner); ``sigma_dn`` is in 8-bit digital numbers; motion blur
+    needs the frame's GSD and flight direction in the FrameContext, defocus its distance
+    to the ground (unless the project fixes one).
     """
     chain = []
     if warp is None:
@@ -44,8 +45,13 @@ def effects_from_model(
     if effects is None:
         return EffectChain(chain)
     if effects.vignetting is not None:
-        chain.append(RadialVignetting.from_corner_falloff(interior,
-                                                          effects.vignetting.corner_falloff))
+        v = effects.vignetting
+        chain.append(RadialVignetting(interior, (-v.corner_falloff, v.rho4, v.rho6),
+                                      natural_cos4=v.natural_cos4))
+    if effects.defocus is not None:
+        d = effects.defocus
+        chain.append(ThinLensDefocus(interior, d.f_number, d.focus_distance_m,
+                                     d.object_distance_m))
     if effects.blur is not None:
         chain.append(GaussianBlur(effects.blur.sigma_px))
     if effects.motion_blur is not None:

@@ -18,6 +18,7 @@ import numpy as np
 from designer.core.interior import InteriorOrientation
 from designer.effects._pixel_kernels import times_gain
 from designer.effects.base import Effect, FrameContext, channels_last
+from designer.errors import DesignerError
 
 #: how images are extended beyond their edges by the blurs (mirror about the edge)
 BORDER = cv2.BORDER_REFLECT
@@ -62,7 +63,8 @@ def natural_vignetting_gain(interior: InteriorOrientation, u_px: np.ndarray,
 
 @dataclass(frozen=True)
 class RadialVignetting(Effect):
-    """Multiply by the radial polynomial gain of ``radial_vignetting_gain``.
+    """Multiply by the radial polynomial gain of ``radial_vignetting_gain``, and with
+    ``natural_cos4`` also by cos⁴ θ (``natural_vignetting_gain``).
 
     ``from_corner_falloff(interior, c)`` gives gain = 1 − c ρ², the leading term of a
     cos⁴-like fall-off: 1 at the principal point, 1 − c at the farthest image corner.
@@ -70,6 +72,7 @@ class RadialVignetting(Effect):
 
     interior: InteriorOrientation
     coefficients: tuple[float, ...]
+    natural_cos4: bool = False
     kind: ClassVar[str] = "vignetting"
 
     @classmethod
@@ -81,13 +84,16 @@ class RadialVignetting(Effect):
 
     @property
     def is_identity(self) -> bool:
-        return not any(self.coefficients)
+        return not any(self.coefficients) and not self.natural_cos4
 
     @functools.cached_property
     def gain(self) -> np.ndarray:
         """(H, W) float32 gain at the pixel centres."""
-        return radial_vignetting_gain(self.interior, self.coefficients,
-                                      *pixel_centres(self.interior)).astype(np.float32)
+        u, v = pixel_centres(self.interior)
+        gain = radial_vignetting_gain(self.interior, self.coefficients, u, v)
+        if self.natural_cos4:
+            gain *= natural_vignetting_gain(self.interior, u, v)
+        return gain.astype(np.float32)
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
         return _times_gain(image, self.gain)
@@ -209,3 +215,38 @@ class Defocus(Effect):
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
         return defocus_blur(image, self.diameter_x_px, self.diameter_y_px)
+
+
+@dataclass(frozen=True)
+class ThinLensDefocus(Effect):
+    """Thin-lens defocus of a camera focused at ``focus_distance_m``: a uniform disc PSF
+    whose diameter follows each frame's object distance (``context.distance_m``, the
+    distance along the optical axis to the ground at the principal point) unless
+    ``object_distance_m`` fixes it for every frame."""
+
+    interior: InteriorOrientation
+    f_number: float
+    focus_distance_m: float
+    object_distance_m: float | None = None
+    kind: ClassVar[str] = "defocus"
+
+    def __post_init__(self) -> None:
+        if not self.focus_distance_m * 1000.0 > self.interior.focal_length_mm:
+            raise DesignerError(
+                f"the focus distance {self.focus_distance_m:g} m must exceed the focal length "
+                f"{self.interior.focal_length_mm:g} mm")
+
+    def diameter_px(self, context: FrameContext) -> tuple[float, float]:
+        """Blur-circle diameter in pixels (x, y) for this frame."""
+        d = self.object_distance_m if self.object_distance_m is not None else \
+            context.distance_m
+        if d is None:
+            raise DesignerError("defocus needs the frame's object distance "
+                                "(FrameContext.distance_m) or a fixed object-distance-m")
+        c_mm = defocus_diameter_mm(self.interior.focal_length_mm, self.f_number,
+                                   self.focus_distance_m, d)
+        return c_mm / self.interior.pixel_pitch_x_mm, c_mm / self.interior.pixel_pitch_y_mm
+
+    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
+        dx, dy = self.diameter_px(context)
+        return defocus_blur(image, dx, dy)

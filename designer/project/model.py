@@ -349,7 +349,22 @@ class Trajectory:
 # ---------------------------------------------------------------------- effects, render
 @dataclass(frozen=True)
 class Vignetting:
-    corner_falloff: float
+    """Gain [cos⁴ θ if natural_cos4] × (1 − corner_falloff ρ² + rho4 ρ⁴ + rho6 ρ⁶), ρ = 1
+    at the farthest image corner (see the schema)."""
+
+    corner_falloff: float = 0.0
+    rho4: float = 0.0
+    rho6: float = 0.0
+    natural_cos4: bool = False
+
+
+@dataclass(frozen=True)
+class Defocus:
+    """Thin-lens defocus; ``object_distance_m`` None: each image's distance to the ground."""
+
+    f_number: float
+    focus_distance_m: float
+    object_distance_m: float | None = None
 
 
 @dataclass(frozen=True)
@@ -398,6 +413,7 @@ class Effects:
     blur: Blur | None = None
     motion_blur: MotionBlur | None = None
     jpeg: Jpeg | None = None
+    defocus: Defocus | None = None
 
 
 @dataclass(frozen=True)
@@ -410,6 +426,7 @@ class Render:
     workers: int = 1
     output_format: ImageFormat = "png"
     bit_depth: int = 8
+    distortion_oversample: int = 1
 
     @property
     def effective_samples(self) -> int:

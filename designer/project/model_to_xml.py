@@ -192,7 +192,15 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
 def _effects(parent: etree._Element, fx: m.Effects) -> None:
     el = _sub(parent, "effects")
     if fx.vignetting is not None:
-        _sub(el, "vignetting", corner_falloff=_num(fx.vignetting.corner_falloff))
+        v = fx.vignetting
+        extra = {}  # the optional terms only when used, so older files stay as they were
+        if v.rho4:
+            extra["rho4"] = _num(v.rho4)
+        if v.rho6:
+            extra["rho6"] = _num(v.rho6)
+        if v.natural_cos4:
+            extra["natural_cos4"] = "true"
+        _sub(el, "vignetting", corner_falloff=_num(v.corner_falloff), **extra)
     if fx.sensor_noise is not None:
         _sub(el, "sensor-noise", sigma_dn=_num(fx.sensor_noise.sigma_dn),
              seed=_num(fx.sensor_noise.seed))
@@ -209,6 +217,12 @@ def _effects(parent: etree._Element, fx: m.Effects) -> None:
              speed_m_s=_num(fx.motion_blur.speed_m_s))
     if fx.jpeg is not None:
         _sub(el, "jpeg", quality=_num(fx.jpeg.quality))
+    if fx.defocus is not None:
+        d = fx.defocus
+        extra = {} if d.object_distance_m is None else {
+            "object_distance_m": _num(d.object_distance_m)}
+        _sub(el, "defocus", f_number=_num(d.f_number),
+             focus_distance_m=_num(d.focus_distance_m), **extra)
 
 
 def _render(parent: etree._Element, r: m.Render) -> None:
@@ -220,6 +234,8 @@ def _render(parent: etree._Element, r: m.Render) -> None:
     _sub(el, "resolution-scale", _num(r.resolution_scale))
     _sub(el, "workers", _num(r.workers))
     _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
+    if r.distortion_oversample != 1:
+        _sub(el, "distortion-oversample", _num(r.distortion_oversample))
 
 
 def project_to_tree(project: m.Project) -> etree._Element:

@@ -167,8 +167,16 @@ def effects_issues(fx: m.Effects | None) -> list[Issue]:
         return []
     checks = []
     if fx.vignetting is not None:
-        checks.append((fx.vignetting, "vignetting", "corner-falloff",
-                       fx.vignetting.corner_falloff, 0, 1))
+        v = fx.vignetting
+        checks += [(v, "vignetting", "corner-falloff", v.corner_falloff, 0, 1),
+                   (v, "vignetting", "rho4", v.rho4, -1, 1),
+                   (v, "vignetting", "rho6", v.rho6, -1, 1)]
+    if fx.defocus is not None:
+        d = fx.defocus
+        checks += [(d, "defocus", "f-number", d.f_number, 0.5, 64),
+                   (d, "defocus", "focus-distance-m", d.focus_distance_m, 0.1, 1e6)]
+        if d.object_distance_m is not None:
+            checks.append((d, "defocus", "object-distance-m", d.object_distance_m, 0.1, 1e6))
     if fx.sensor_noise is not None:
         checks.append((fx.sensor_noise, "sensor-noise", "sigma-dn", fx.sensor_noise.sigma_dn,
                        0, 100))
@@ -189,9 +197,25 @@ def effects_issues(fx: m.Effects | None) -> list[Issue]:
                        0, 100))
     if fx.jpeg is not None:
         checks.append((fx.jpeg, "jpeg", "quality", fx.jpeg.quality, 1, 100))
-    return [Issue(obj, tag, f"{attr} = {value!r} must be from {lo} to {hi}", attr=attr)
-            for obj, tag, attr, value, lo, hi in checks
-            if not (math.isfinite(value) and lo <= value <= hi)]
+    out = [Issue(obj, tag, f"{attr} = {value!r} must be from {lo} to {hi}", attr=attr)
+           for obj, tag, attr, value, lo, hi in checks
+           if not (math.isfinite(value) and lo <= value <= hi)]
+    if fx.vignetting is not None and not out:
+        out += _vignetting_gain_issues(fx.vignetting)
+    return out
+
+
+def _vignetting_gain_issues(v) -> list[Issue]:
+    """The radial polynomial must keep the gain within 0 … 1 for ρ in 0 … 1."""
+    rho2 = [(k / 200) ** 2 for k in range(201)]
+    gains = [1 - v.corner_falloff * r + v.rho4 * r * r + v.rho6 * r ** 3 for r in rho2]
+    worst = min(range(201), key=lambda k: min(gains[k], 1 - gains[k]))
+    g = gains[worst]
+    if 0 <= g <= 1 + 1e-12:
+        return []
+    return [Issue(v, "vignetting", f"the gain 1 - corner-falloff·ρ² + rho4·ρ⁴ + rho6·ρ⁶ is "
+                  f"{g:.4g} at ρ = {worst / 200:g}; choose coefficients that keep it between "
+                  f"0 and 1 from the centre (ρ = 0) to the corners (ρ = 1)", attr="rho4")]
 
 
 def render_output_issues(project: m.Project) -> list[Issue]:

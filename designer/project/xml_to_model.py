@@ -264,7 +264,9 @@ class _Reader:
             return None if child is None else self.note(build(child), child)
 
         effects = m.Effects(
-            vignetting=one("vignetting", lambda c: m.Vignetting(_f(c, "corner-falloff"))),
+            vignetting=one("vignetting", lambda c: m.Vignetting(
+                _opt_f(c, "corner-falloff") or 0.0, _opt_f(c, "rho4") or 0.0,
+                _opt_f(c, "rho6") or 0.0, _bool(c.get("natural-cos4", "false")))),
             sensor_noise=one("sensor-noise",
                              lambda c: m.SensorNoise(_f(c, "sigma-dn"), int(c.get("seed")))),
             sensor=one("sensor", lambda c: m.Sensor(
@@ -275,6 +277,9 @@ class _Reader:
             motion_blur=one("motion-blur", lambda c: m.MotionBlur(
                 _f(c, "exposure-time-s"), _f(c, "speed-m-s"))),
             jpeg=one("jpeg", lambda c: m.Jpeg(int(c.get("quality")))),
+            defocus=one("defocus", lambda c: m.Defocus(
+                _f(c, "f-number"), _f(c, "focus-distance-m"),
+                _opt_f(c, "object-distance-m"))),
         )
         return self.note(effects, el)
 
@@ -291,6 +296,7 @@ class _Reader:
             workers=int(_text(el.find(q("workers")))),
             output_format=out.get("format"),
             bit_depth=int(out.get("bit-depth")),
+            distortion_oversample=int(_text(el.find(q("distortion-oversample"))) or 1),
         )
         self.note(render, el)
         self.child_lines(render, el)

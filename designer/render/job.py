@@ -69,7 +69,8 @@ def prepare_job(
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
     # A distorted camera is rendered as a pinhole just large enough to cover its field,
     # then warped through the exact inverse (designer.effects): the warp is made once.
-    render_camera, warp = pinhole_render_camera(interior)
+    render_camera, warp = pinhole_render_camera(interior,
+                                                project.render.distortion_oversample)
     effects = None
     if not effects_from_model(project.effects, interior, warp=warp).is_empty:
         write_project(project, job_dir / "project.xml")
@@ -132,7 +133,8 @@ def prepare_job(
 
 
 def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) -> list[dict]:
-    """Per frame: GSD at the principal point (m/px) and the flight direction in the image."""
+    """Per frame: GSD at the principal point (m/px), the flight direction in the image and
+    the distance along the optical axis to the ground there (m)."""
     out = []
     centre = np.array([[interior.cx_px, interior.cy_px]])
     for st in stations:
@@ -148,7 +150,8 @@ def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) 
         velocity = np.array([np.sin(az), np.cos(az), 0.0])
         du, dv = flight_direction_uv(velocity, st.R_cam_to_world)
         out.append({"gsd_m": float(ground_sample_distance_m(interior, abs(depth))),
-                    "flight_direction_uv": [float(du), float(dv)]})
+                    "flight_direction_uv": [float(du), float(dv)],
+                    "distance_m": float(abs(depth))})
     return out
 
 

@@ -219,7 +219,8 @@ def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None
         ctx = frame.get("context") or {}
         direction = ctx.get("flight_direction_uv")
         context = FrameContext(gsd_m=ctx.get("gsd_m"),
-                               flight_direction_uv=tuple(direction) if direction else None)
+                               flight_direction_uv=tuple(direction) if direction else None,
+                               distance_m=ctx.get("distance_m"))
         try:
             process_file(tmp, final, chain, int(frame["index"]), context)
         finally:

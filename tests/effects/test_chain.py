@@ -174,6 +174,15 @@ def test_effects_from_model():
     assert motion.pixels_per_output_px == 2.0  # it runs on the 2× render
     with pytest.raises(ValueError, match="another camera"):
         effects_from_model(full, PLAIN, warp=warp)
+    # the vignetting's polynomial and cos⁴ terms, and thin-lens defocus
+    more = m.Effects(vignetting=m.Vignetting(0.1, 0.02, 0.0, natural_cos4=True),
+                     defocus=m.Defocus(2.8, 30.0, 60.0))
+    chain = effects_from_model(more, PLAIN)
+    assert chain.kinds == ("vignetting", "defocus")
+    vignetting, defocus = chain.effects
+    assert vignetting.coefficients == (-0.1, 0.02, 0.0) and vignetting.natural_cos4
+    assert (defocus.f_number, defocus.focus_distance_m, defocus.object_distance_m) == (
+        2.8, 30.0, 60.0)
 
 
 def test_images_the_chain_refuses():

@@ -12,11 +12,13 @@ from designer.effects.optics import (
     GaussianBlur,
     NaturalVignetting,
     RadialVignetting,
+    ThinLensDefocus,
     defocus_diameter_mm,
     disc_kernel,
     gaussian_blur,
     radial_vignetting_gain,
 )
+from designer.errors import DesignerError
 from tests.effects.synthetic import camera
 
 CTX = FrameContext()
@@ -105,3 +107,39 @@ def test_disc_kernel_area_and_second_moment(diameter):
         # fully covered pixels hold 1 / (π R²); the support ends at the disc's radius
         assert k[h, h] * math.pi * (diameter / 2) ** 2 == pytest.approx(1.0, rel=0.01)
         assert k[h, h + math.ceil(diameter / 2 + 0.5)] == 0
+
+
+def test_polynomial_and_cos4_vignetting_profile():
+    """gain = cos⁴θ · (1 − c ρ² + a4 ρ⁴ + a6 ρ⁶), measured on a flat field within 1e-6."""
+    interior = camera(300, 200, 250.0, None)
+    effect = RadialVignetting(interior, (-0.3, 0.1, -0.05), natural_cos4=True)
+    out = effect.apply(np.full((200, 300, 3), 0.6, np.float32), 0, CTX)[..., 0]
+    v, u = np.mgrid[0:200, 0:300] + 0.5
+    rho2 = ((u - 150) ** 2 + (v - 100) ** 2) / (150**2 + 100**2)
+    cos4 = 1 / (1 + ((u - 150) ** 2 + (v - 100) ** 2) / 250.0**2) ** 2
+    expect = 0.6 * cos4 * (1 - 0.3 * rho2 + 0.1 * rho2**2 - 0.05 * rho2**3)
+    np.testing.assert_allclose(out, expect, rtol=1e-6)
+    assert not RadialVignetting(interior, (0.0,), natural_cos4=True).is_identity
+    assert RadialVignetting(interior, (0.0, 0.0)).is_identity
+
+
+def test_thin_lens_defocus_follows_each_frames_distance():
+    interior = camera(200, 200, 2000.0, None, f_mm=8.0)  # pitch 0.004 mm
+    effect = ThinLensDefocus(interior, 2.0, 20.0)
+    near, far = FrameContext(distance_m=2.0), FrameContext(distance_m=20.0)
+    expect = defocus_diameter_mm(8.0, 2.0, 20.0, 2.0) / 0.004  # 3.6 px
+    assert effect.diameter_px(near) == pytest.approx((expect, expect))
+    assert effect.diameter_px(far) == (0.0, 0.0)  # in focus
+    point = np.zeros((61, 61), np.float32)
+    point[30, 30] = 1.0
+    psf = effect.apply(point, 0, near).astype(np.float64)
+    _, u = np.mgrid[0:61, 0:61] - 30
+    # a uniform disc of radius R has second moment R²/4 per axis; area-sampling it over
+    # the pixels adds a pixel's 1/12
+    assert (psf * u * u).sum() == pytest.approx((expect / 2) ** 2 / 4 + 1 / 12, rel=0.02)
+    fixed = ThinLensDefocus(interior, 2.0, 20.0, object_distance_m=2.0)
+    assert fixed.diameter_px(CTX) == pytest.approx((expect, expect))
+    with pytest.raises(DesignerError, match="object distance"):
+        effect.diameter_px(CTX)
+    with pytest.raises(DesignerError, match="focal length"):
+        ThinLensDefocus(interior, 2.0, 0.005)

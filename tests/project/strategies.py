@@ -151,14 +151,17 @@ def effects(draw) -> m.Effects | None:
     if draw(st.booleans()):
         return None
     return m.Effects(
-        vignetting=draw(st.none() | st.builds(m.Vignetting, reals(0, 1))),
+        vignetting=draw(st.none() | st.builds(m.Vignetting, reals(0, 0.7), st.just(0.0),
+                                              st.sampled_from([0.0, -0.25]), st.booleans())),
         sensor_noise=draw(st.none() | st.builds(m.SensorNoise, reals(0, 100), seeds)),
         sensor=draw(st.none() | st.builds(m.Sensor, reals(1, 1e7), reals(0, 1e4), reals(0, 1e6),
                                           reals(0, 60), st.integers(1, 16), reals(0, 100),
                                           seeds)),
         blur=draw(st.none() | st.builds(m.Blur, reals(0, 50))),
         motion_blur=draw(st.none() | st.builds(m.MotionBlur, reals(0, 1), reals(0, 100))),
-        jpeg=draw(st.none() | st.builds(m.Jpeg, st.integers(1, 100))))
+        jpeg=draw(st.none() | st.builds(m.Jpeg, st.integers(1, 100))),
+        defocus=draw(st.none() | st.builds(m.Defocus, reals(0.5, 64), reals(0.1, 1e6),
+                                           st.none() | reals(0.1, 1e6))))
 
 
 @st.composite
@@ -171,7 +174,8 @@ def renders(draw) -> m.Render:
         pixel_filter_type=draw(st.sampled_from(["box", "gaussian", "blackman-harris"])),
         pixel_filter_width_px=draw(reals(0.01, 10)),
         resolution_scale=draw(st.sampled_from([1.0, 0.5, 0.25])),
-        workers=draw(st.integers(1, 256)), output_format=fmt, bit_depth=depth)
+        workers=draw(st.integers(1, 256)), output_format=fmt, bit_depth=depth,
+        distortion_oversample=draw(st.integers(1, 4)))
 
 
 @st.composite

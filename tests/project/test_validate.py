@@ -109,6 +109,21 @@ def test_effects_and_render_ranges():
     assert any("exr images cannot have 8 bits per channel" in f for f in found)
 
 
+def test_vignetting_gain_must_stay_between_0_and_1():
+    ok = m.Effects(vignetting=m.Vignetting(0.4, 0.1, -0.05, natural_cos4=True),
+                   defocus=m.Defocus(2.8, 50.0))
+    assert messages(dataclasses.replace(survey(), effects=ok)) == []
+    brighter = m.Effects(vignetting=m.Vignetting(0.0, 0.5))
+    darker = m.Effects(vignetting=m.Vignetting(0.9, 0.0, -0.5))
+    for fx, value in ((brighter, "1.5 at ρ = 1"), (darker, "-0.4 at ρ = 1")):
+        found = messages(dataclasses.replace(survey(), effects=fx))
+        assert any(value in f and "between 0 and 1" in f for f in found), found
+    bad = m.Effects(defocus=m.Defocus(0.1, 50.0, 0.0))
+    found = messages(dataclasses.replace(survey(), effects=bad))
+    assert any("f-number = 0.1 must be from 0.5 to 64" in f for f in found)
+    assert any("object-distance-m = 0.0 must be from 0.1" in f for f in found)
+
+
 def test_polygon_geometry():
     square = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]
     assert polygon_area(square) == 100.0

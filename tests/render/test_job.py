@@ -1,0 +1,34 @@
+"""The render job: the distortion render's oversampling and the per-frame effect context
+(no Blender needed)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from designer.effects.distortion_render import DistortionWarp
+from designer.project import load_project
+from designer.project import model as m
+from designer.render.job import prepare_job
+from tests.render.conftest import replace, small_survey, write
+
+
+@pytest.mark.parametrize("oversample", [1, 2])
+def test_distortion_oversample_renders_finer(tmp_path, oversample):
+    project = small_survey(n_photos=2, distortion=m.BrownConradyDistortion(k1=-0.05),
+                           effects=m.Effects(defocus=m.Defocus(2.8, 25.0)))
+    project = replace(project, render=replace(project.render,
+                                              distortion_oversample=oversample))
+    path = write(project, tmp_path / "p")
+    prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
+    job = json.loads(prepared.job_path.read_text())
+    warp = DistortionWarp.load(prepared.job_path.parent / job["effects"]["warp"])
+    assert warp.oversample == oversample
+    assert warp.output_size_px == (640, 480)
+    # the pinhole render covers the distorted field at oversample × the output's pixels
+    assert warp.render_size_px[0] > 640 * oversample
+    assert warp.render_size_px[0] < 1.1 * 640 * oversample
+    # every frame knows its distance to the ground (for defocus): ~30 m flying height
+    for frame in job["frames"]:
+        assert frame["context"]["distance_m"] == pytest.approx(30.0, abs=2.0)
