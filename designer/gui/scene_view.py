@@ -371,7 +371,12 @@ class SceneView(QWidget):
     # ------------------------------------------------------------------ output
     def render_now(self) -> None:
         """Render synchronously (screenshots, benchmarks)."""
+        before = self.frames
         self.plotter.repaint()
+        if self.frames == before:
+            # Qt skipped the paint (the window not exposed at this moment): render anyway,
+            # so that what is read back afterwards is the current scene
+            self.plotter.ren_win.Render()
 
     def ray_through(self, x_px: float, y_px: float) -> tuple[np.ndarray, np.ndarray]:
         """World ray (origin, unit direction) through widget pixel (x, y), y down."""
