@@ -54,17 +54,38 @@ def bspline_coefficients(image: np.ndarray) -> np.ndarray:
                 acc += zk * src[k, ch]
                 zk *= z
             row[0, ch] = acc
-        for k in range(1, w):
-            for ch in range(c):
-                row[k, ch] = src[k, ch] + z * row[k - 1, ch]
+        if c == 3:  # the values carried in registers, not reloaded from memory
+            p0, p1, p2 = row[0, 0], row[0, 1], row[0, 2]
+            for k in range(1, w):
+                p0 = src[k, 0] + z * p0
+                p1 = src[k, 1] + z * p1
+                p2 = src[k, 2] + z * p2
+                row[k, 0] = p0
+                row[k, 1] = p1
+                row[k, 2] = p2
+        else:
+            for k in range(1, w):
+                for ch in range(c):
+                    row[k, ch] = src[k, ch] + z * row[k - 1, ch]
+        # anticausal sweep, the gains applied as each value is written
+        following = np.empty(c, dtype=np.float32)
         for ch in range(c):
-            row[w - 1, ch] = end * (row[w - 1, ch] + z * row[w - 2, ch])
-        for k in range(w - 2, -1, -1):
-            for ch in range(c):
-                row[k, ch] = z * (row[k + 1, ch] - row[k, ch])
-        for k in range(w):
-            for ch in range(c):
-                row[k, ch] *= gain
+            following[ch] = end * (row[w - 1, ch] + z * row[w - 2, ch])
+            row[w - 1, ch] = gain * following[ch]
+        if c == 3:
+            f0, f1, f2 = following[0], following[1], following[2]
+            for k in range(w - 2, -1, -1):
+                f0 = z * (f0 - row[k, 0])
+                f1 = z * (f1 - row[k, 1])
+                f2 = z * (f2 - row[k, 2])
+                row[k, 0] = gain * f0
+                row[k, 1] = gain * f1
+                row[k, 2] = gain * f2
+        else:
+            for k in range(w - 2, -1, -1):
+                for ch in range(c):
+                    following[ch] = z * (following[ch] - row[k, ch])
+                    row[k, ch] = gain * following[ch]
     if h > 1:
         flat = out.reshape(h, w * c)  # a column band of the image is a band of this
         horizon = min(_HORIZON, h)

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from designer.effects._pixel_kernels import code_of
+from designer.effects._pixel_kernels import code_from_encoded, code_of, encode_value
 
 _GAMMA = np.uint64(0x9E3779B97F4A7C15)
 _M1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -197,7 +197,7 @@ def poisson(lam: float, key: np.uint64, element: np.uint64, first_draw: int) -> 
 def sensor(linear: np.ndarray, gain: np.ndarray, key: np.uint64, electrons_per_unit: float,
            full_well_e: float, dark_e: float, read_noise_e: float, levels: float,
            shot_noise: bool, gaussian_above_e: float, thresholds: np.ndarray,
-           first: np.ndarray, out: np.ndarray) -> None:
+           first: np.ndarray, encode_table: np.ndarray, out: np.ndarray) -> None:
     """Linear light (H, W, C) float32 → ``out`` (H, W, C) after the sensor.
 
     ``gain`` (H, W) float32 multiplies the light first (vignetting; ones for none).
@@ -207,13 +207,15 @@ def sensor(linear: np.ndarray, gain: np.ndarray, key: np.uint64, electrons_per_u
     below 1/√gaussian_above_e). Read noise adds N(0, read_noise_e²). Then clip to
     0 … full_well_e, and with levels > 0 quantise to round(e / full_well_e · levels) /
     levels; levels = 0 keeps e / full_well_e unquantised.
-    With empty ``thresholds`` ``out`` (float32) receives that linear value; otherwise
+    With empty ``thresholds`` ``out`` (float32) receives that linear value (with a
+    non-empty ``encode_table``: its sRGB-encoded value, ``encode_value``); otherwise
     ``out`` (uint8/uint16) receives its code (``code_of`` with thresholds and first).
     """
     h, w, c = linear.shape
     inv_fw = 1.0 / full_well_e
     inv_levels = 1.0 / levels if levels > 0.0 else 0.0
     to_codes = thresholds.size > 0
+    encode = encode_table.size > 0
     for i in prange(h):
         for j in range(w):
             g = gain[i, j]
@@ -232,6 +234,8 @@ def sensor(linear: np.ndarray, gain: np.ndarray, key: np.uint64, electrons_per_u
                     v = np.rint(v * levels) * inv_levels
                 if to_codes:
                     out[i, j, ch] = code_of(v, thresholds, first)
+                elif encode:
+                    out[i, j, ch] = encode_value(v, encode_table)
                 else:
                     out[i, j, ch] = v
 
@@ -247,3 +251,18 @@ def add_normal(image: np.ndarray, key: np.uint64, sigma: float) -> np.ndarray:
         for k in range(b * block, min(n, (b + 1) * block)):
             out[k] = flat[k] + sigma * normal(key, np.uint64(k), 0)
     return out.reshape(image.shape)
+
+
+@njit(cache=True, parallel=True)
+def add_normal_codes(image: np.ndarray, key: np.uint64, sigma: float, top: int,
+                     out: np.ndarray) -> None:
+    """out = the codes of image + N(0, σ²) (``add_normal`` then rounding and clipping to
+    0 … top, in one pass; the same numbers)."""
+    flat = image.ravel()
+    dst = out.ravel()
+    n = flat.size
+    block = 1 << 16
+    for b in prange((n + block - 1) // block):
+        for k in range(b * block, min(n, (b + 1) * block)):
+            x = np.float32(flat[k] + np.float32(sigma * normal(key, np.uint64(k), 0)))
+            dst[k] = code_from_encoded(float(x), top)

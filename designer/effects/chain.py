@@ -10,8 +10,9 @@ channels in OpenCV's B, G, R order unless ``FrameContext.channel_order`` says "R
 The chain decodes to float32 linear light for the physical effects, encodes back to
 sRGB (still float) for DN noise, and rounds to the input's type once at the end (or
 before JPEG). Vignetting directly followed by the sensor runs in the sensor's pass, and
-a sensor followed by nothing or JPEG writes the stored codes in its pass (the same
-numbers, two passes over the image less). An empty chain returns the image object
+the sensor and DN noise write the next domain's values (sRGB-encoded, or the stored
+codes when nothing or JPEG follows) in their own pass: the same numbers, fewer passes
+over the image. An empty chain returns the image object
 untouched, and ``process_file`` copies (or links, or moves) the file byte for byte
 without decoding it.
 """
@@ -31,7 +32,7 @@ from designer.atomic import atomic_path, write_bytes_atomic
 from designer.effects.base import Domain, Effect, FrameContext
 from designer.effects.distortion_render import DistortionWarp, LensDistortion
 from designer.effects.jpeg import JpegCompression
-from designer.effects.sensor import SensorModel
+from designer.effects.sensor import GaussianNoiseDN, SensorModel
 from designer.effects.srgb import (
     decode_image,
     encode_image,
@@ -134,10 +135,16 @@ class EffectChain:
                 gain, k = effect.gain, k + 1  # the sensor multiplies by it in its pass
                 effect = effects[k]
             following = _at(effects, k + 1)
-            if isinstance(effect, SensorModel) and (following is None
-                                                    or following.domain == "integer"):
+            ends = following is None or following.domain == "integer"
+            if isinstance(effect, SensorModel) and ends:
                 # the sensor writes the stored codes in its pass
                 current = effect.apply(current, frame_index, context, gain=gain, codes=dtype)
+                domain = "integer"
+            elif isinstance(effect, SensorModel) and following.domain == "encoded":
+                current = effect.apply(current, frame_index, context, gain=gain, encoded=True)
+                domain = "encoded"
+            elif isinstance(effect, GaussianNoiseDN) and ends:
+                current = effect.apply(current, frame_index, context, codes=dtype)
                 domain = "integer"
             else:
                 current = effect.apply(current, frame_index, context,

@@ -38,7 +38,7 @@ import numpy as np
 
 from designer.effects import _sensor_kernels
 from designer.effects.base import Effect, FrameContext, channels_last, frame_key
-from designer.effects.srgb import code_thresholds, max_code
+from designer.effects.srgb import code_thresholds, encode_table, max_code
 
 #: expected electrons from which shot noise is drawn as a normal of the same mean and
 #: variance (see the module docstring)
@@ -60,13 +60,15 @@ def simulate_sensor(
     adc_bits: int | None = 12,
     gain: np.ndarray | None = None,
     codes: np.dtype | None = None,
+    encoded: bool = False,
 ) -> np.ndarray:
     """Linear light → linear light after the sensor (steps 1–5 of the module docstring).
 
     ``key`` seeds the random numbers (``frame_key``); ``gain`` (H, W) multiplies the light
     first. Returns float32 linear light of the input's shape (with ``adc_bits=None`` not
-    quantised), or with ``codes`` (uint8/uint16) the sRGB-encoded image of that type
-    (``designer.effects.srgb.encode_image`` of it, in the same pass).
+    quantised; ``encoded``: its sRGB-encoded values), or with ``codes`` (uint8/uint16)
+    the sRGB-encoded image of that type (``designer.effects.srgb.encode_image`` of it, in
+    the same pass).
     """
     if not full_well_e > 0 or not exposure_scale >= 0:
         raise ValueError("full_well_e must be > 0 and exposure_scale >= 0")
@@ -92,7 +94,7 @@ def simulate_sensor(
         np.uint64(key), float(full_well_e * exposure_scale), float(full_well_e),
         float(dark_current_e_per_s * exposure_time_s), float(read_noise_e),
         0.0 if adc_bits is None else float(2**adc_bits - 1), bool(shot_noise),
-        GAUSSIAN_ABOVE_E, thresholds, first, out,
+        GAUSSIAN_ABOVE_E, thresholds, first, encode_table() if encoded else np.empty(0), out,
     )
     return out.reshape(src.shape)
 
@@ -123,11 +125,14 @@ class SensorModel(Effect):
     kind: ClassVar[str] = "sensor"
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext,
-              gain: np.ndarray | None = None, codes: np.dtype | None = None) -> np.ndarray:
+              gain: np.ndarray | None = None, codes: np.dtype | None = None,
+              encoded: bool = False) -> np.ndarray:
         """``gain`` (H, W): a vignetting the chain folds into this pass; ``codes``: return
-        the stored image of that type (the chain's final encoding, in the same pass)."""
+        the stored image of that type, ``encoded``: the sRGB-encoded values (the chain's
+        next conversion, in the same pass)."""
         return simulate_sensor(
             image, frame_key(self.seed, frame_index, _STREAM_SENSOR), gain=gain, codes=codes,
+            encoded=encoded,
             full_well_e=self.full_well_e, exposure_scale=self.exposure_scale,
             shot_noise=self.shot_noise, dark_current_e_per_s=self.dark_current_e_per_s,
             exposure_time_s=self.exposure_time_s, read_noise_e=self.read_noise_e,
@@ -152,7 +157,13 @@ class GaussianNoiseDN(Effect):
     def is_identity(self) -> bool:
         return self.sigma_dn == 0
 
-    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
+    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext,
+              codes: np.dtype | None = None) -> np.ndarray:
+        """``codes``: return the stored image of that type (rounded in the same pass)."""
         key = frame_key(self.seed, frame_index, _STREAM_DN)
-        return _sensor_kernels.add_normal(np.ascontiguousarray(image, dtype=np.float32), key,
-                                          self.sigma_dn / 255.0)
+        src = np.ascontiguousarray(image, dtype=np.float32)
+        if codes is None:
+            return _sensor_kernels.add_normal(src, key, self.sigma_dn / 255.0)
+        out = np.empty(src.shape, dtype=codes)
+        _sensor_kernels.add_normal_codes(src, key, self.sigma_dn / 255.0, max_code(codes), out)
+        return out

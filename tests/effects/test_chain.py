@@ -193,3 +193,23 @@ def test_images_the_chain_refuses():
         chain.apply(np.zeros((4, 4, 4), np.uint8), 0)
     grey = chain.apply(np.full((20, 30), 77, np.uint8), 0)
     assert grey.shape == (20, 30) and (grey == 77).all()
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+def test_every_code_survives_the_chain_without_clipping_or_rounding(dtype):
+    """Every code of the type, from black to full white, through decode → linear-light
+    effect → encode: an effect that changes nothing (a blur narrower than a pixel's
+    kernel) gives back the very same codes, and a plain gain moves every code to the
+    nearest code of the scaled light (none clipped, none off by one)."""
+    top = np.iinfo(dtype).max
+    codes = np.arange(top + 1, dtype=dtype).reshape(-1, 256)
+    codes = np.stack([codes] * 3, axis=-1)
+    same = EffectChain([GaussianBlur(1e-6)]).apply(codes, 0)
+    np.testing.assert_array_equal(same, codes)
+    interior = camera(256, codes.shape[0], 300.0, None)  # gain 1 at the centre, ½ in corners
+    vignetting = RadialVignetting(interior, (-0.5,))
+    half = EffectChain([vignetting]).apply(codes, 0)
+    expected = encode_image(decode_image(codes).astype(np.float64)
+                            * vignetting.gain[:, :, None].astype(np.float64), dtype)
+    np.testing.assert_array_equal(half, expected)
+    assert half[0, 0, 0] == 0 and half[-1, -1, 0] < top  # the brightest code lies in a corner

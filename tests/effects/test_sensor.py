@@ -213,3 +213,33 @@ def test_counter_based_normals_are_standard_normal():
     for k, rel in ((3.5, 0.1), (4.5, 0.6)):
         expected = 2 * stats.norm.sf(k) * z.size
         assert np.sum(np.abs(z) > k) == pytest.approx(expected, rel=rel)
+
+
+def test_compiled_srgb_encoding_and_rounding_match_the_reference():
+    from designer.effects._pixel_kernels import srgb_encode
+    from designer.effects.srgb import encode_table, quantise
+
+    rng = np.random.default_rng(11)
+    v = np.concatenate([rng.random(100_000), rng.random(10_000) * 0.005,
+                        [-1.0, 0.0, 0.0031308, 1.0, 2.0]]).astype(np.float32)
+    reference = linear_to_srgb(v.astype(np.float64))  # the float64 numpy path
+    np.testing.assert_allclose(srgb_encode(v, encode_table()), reference, atol=1.5e-7)
+    encoded = rng.random(100_000).astype(np.float32) * 1.2 - 0.1
+    for dtype in (np.uint8, np.uint16):
+        top = np.iinfo(dtype).max
+        expected = np.clip(np.rint(encoded.astype(np.float64) * top), 0, top).astype(dtype)
+        np.testing.assert_array_equal(quantise(encoded, dtype), expected)
+
+
+def test_sensor_then_dn_noise_fused_equals_the_steps():
+    from designer.effects.chain import EffectChain
+    from designer.effects.srgb import quantise
+
+    sensor = SensorModel(full_well_e=6000.0, read_noise_e=2.0, seed=1)
+    dn = GaussianNoiseDN(1.5, seed=2)
+    img = (np.random.default_rng(3).random((40, 50, 3)) * 255).astype(np.uint8)
+    fused = EffectChain([sensor, dn]).apply(img, 4)
+    encoded = linear_to_srgb(sensor.apply(decode_image(img), 4, CTX))
+    steps = quantise(dn.apply(encoded, 4, CTX), np.uint8)
+    diff = np.abs(fused.astype(np.int64) - steps)
+    assert diff.max() <= 1 and np.mean(diff == 0) > 0.99
