@@ -193,6 +193,26 @@ def poisson(lam: float, key: np.uint64, element: np.uint64, first_draw: int) -> 
                                + 0.5))
 
 
+@njit(cache=True, inline="always")
+def _sensor_value(light: float, g: float, key: np.uint64, element: np.uint64,
+                  electrons_per_unit: float, full_well_e: float, dark_e: float,
+                  read_noise_e: float, levels: float, inv_levels: float, shot_noise: bool,
+                  gaussian_above_e: float) -> float:
+    """One value through the sensor (see ``sensor``): linear light out, 0 … 1."""
+    lam = max(light * g, 0.0) * electrons_per_unit + dark_e
+    if shot_noise and lam < gaussian_above_e:
+        e = poisson(lam, key, element, 0)
+        if read_noise_e > 0.0:
+            e += read_noise_e * normal(key, element, 32)
+    else:  # one normal for shot and read noise together
+        var = read_noise_e * read_noise_e + (lam if shot_noise else 0.0)
+        e = lam + math.sqrt(var) * normal(key, element, 32) if var > 0.0 else lam
+    v = min(max(e, 0.0), full_well_e) / full_well_e
+    if levels > 0.0:
+        v = np.rint(v * levels) * inv_levels
+    return v
+
+
 @njit(cache=True, parallel=True)
 def sensor(linear: np.ndarray, gain: np.ndarray, key: np.uint64, electrons_per_unit: float,
            full_well_e: float, dark_e: float, read_noise_e: float, levels: float,
@@ -212,32 +232,47 @@ def sensor(linear: np.ndarray, gain: np.ndarray, key: np.uint64, electrons_per_u
     ``out`` (uint8/uint16) receives its code (``code_of`` with thresholds and first).
     """
     h, w, c = linear.shape
-    inv_fw = 1.0 / full_well_e
     inv_levels = 1.0 / levels if levels > 0.0 else 0.0
     to_codes = thresholds.size > 0
     encode = encode_table.size > 0
     for i in prange(h):
         for j in range(w):
-            g = gain[i, j]
+            g = float(gain[i, j])
             for ch in range(c):
                 element = np.uint64((i * w + j) * c + ch)
-                lam = max(float(linear[i, j, ch]) * g, 0.0) * electrons_per_unit + dark_e
-                if shot_noise and lam < gaussian_above_e:
-                    e = poisson(lam, key, element, 0)
-                    if read_noise_e > 0.0:
-                        e += read_noise_e * normal(key, element, 32)
-                else:  # one normal for shot and read noise together
-                    var = read_noise_e * read_noise_e + (lam if shot_noise else 0.0)
-                    e = lam + math.sqrt(var) * normal(key, element, 32) if var > 0.0 else lam
-                v = min(max(e, 0.0), full_well_e) * inv_fw
-                if levels > 0.0:
-                    v = np.rint(v * levels) * inv_levels
+                v = _sensor_value(float(linear[i, j, ch]), g, key, element,
+                                  electrons_per_unit, full_well_e, dark_e, read_noise_e,
+                                  levels, inv_levels, shot_noise, gaussian_above_e)
                 if to_codes:
                     out[i, j, ch] = code_of(v, thresholds, first)
                 elif encode:
                     out[i, j, ch] = encode_value(v, encode_table)
                 else:
                     out[i, j, ch] = v
+
+
+@njit(cache=True, parallel=True)
+def sensor_dn_codes(linear: np.ndarray, gain: np.ndarray, key: np.uint64,
+                    electrons_per_unit: float, full_well_e: float, dark_e: float,
+                    read_noise_e: float, levels: float, shot_noise: bool,
+                    gaussian_above_e: float, encode_table: np.ndarray, dn_sigma: float,
+                    dn_key: np.uint64, top: int, out: np.ndarray) -> None:
+    """``sensor``, then N(0, dn_sigma²) from ``dn_key`` added to the encoded value and the
+    codes 0 … top written to ``out``: ``add_normal_codes`` in the same pass, the same
+    numbers."""
+    h, w, c = linear.shape
+    inv_levels = 1.0 / levels if levels > 0.0 else 0.0
+    for i in prange(h):
+        for j in range(w):
+            g = float(gain[i, j])
+            for ch in range(c):
+                element = np.uint64((i * w + j) * c + ch)
+                v = _sensor_value(float(linear[i, j, ch]), g, key, element,
+                                  electrons_per_unit, full_well_e, dark_e, read_noise_e,
+                                  levels, inv_levels, shot_noise, gaussian_above_e)
+                x = np.float32(np.float32(encode_value(v, encode_table))
+                               + np.float32(dn_sigma * normal(dn_key, element, 0)))
+                out[i, j, ch] = code_from_encoded(float(x), top)
 
 
 @njit(cache=True, parallel=True)

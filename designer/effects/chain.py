@@ -9,10 +9,11 @@ Images are uint8 or uint16, (H, W) or (H, W, 3), sRGB-encoded as Blender writes 
 channels in OpenCV's B, G, R order unless ``FrameContext.channel_order`` says "RGB".
 The chain decodes to float32 linear light for the physical effects, encodes back to
 sRGB (still float) for DN noise, and rounds to the input's type once at the end (or
-before JPEG). Vignetting directly followed by the sensor runs in the sensor's pass, and
-the sensor and DN noise write the next domain's values (sRGB-encoded, or the stored
-codes when nothing or JPEG follows) in their own pass: the same numbers, fewer passes
-over the image. An empty chain returns the image object
+before JPEG). Passes are fused where the numbers stay the same: vignetting runs in the
+sensor's pass when the sensor follows it, else in the warp's; the sensor and DN noise
+write the next domain's values (sRGB-encoded, or the stored codes when nothing or JPEG
+follows) in their own pass, the DN noise in the sensor's when it follows it. An empty
+chain returns the image object
 untouched, and ``process_file`` copies (or links, or moves) the file byte for byte
 without decoding it.
 """
@@ -130,16 +131,30 @@ class EffectChain:
             effect = effects[k]
             current = _convert(current, domain, effect.domain, dtype)
             domain = effect.domain
-            gain = None
-            if effect.kind == "vignetting" and isinstance(_at(effects, k + 1), SensorModel):
-                gain, k = effect.gain, k + 1  # the sensor multiplies by it in its pass
-                effect = effects[k]
             following = _at(effects, k + 1)
+            if (isinstance(effect, LensDistortion) and _is_vignetting(following)
+                    and not isinstance(_at(effects, k + 2), SensorModel)):
+                # the warp multiplies by the vignetting gain as it writes each pixel
+                current = effect.apply(current, frame_index, context, gain=following.gain)
+                k += 2
+                continue
+            gain = None
+            if _is_vignetting(effect) and isinstance(following, SensorModel):
+                gain, k = effect.gain, k + 1  # the sensor multiplies by it in its pass
+                effect, following = effects[k], _at(effects, k + 2)
             ends = following is None or following.domain == "integer"
+            after = _at(effects, k + 2)
             if isinstance(effect, SensorModel) and ends:
                 # the sensor writes the stored codes in its pass
                 current = effect.apply(current, frame_index, context, gain=gain, codes=dtype)
                 domain = "integer"
+            elif (isinstance(effect, SensorModel) and isinstance(following, GaussianNoiseDN)
+                  and (after is None or after.domain == "integer")):
+                # … and the DN noise too
+                current = effect.apply(current, frame_index, context, gain=gain, codes=dtype,
+                                       dn_noise=following)
+                domain = "integer"
+                k += 1
             elif isinstance(effect, SensorModel) and following.domain == "encoded":
                 current = effect.apply(current, frame_index, context, gain=gain, encoded=True)
                 domain = "encoded"
@@ -155,6 +170,10 @@ class EffectChain:
 
 def _at(effects: tuple[Effect, ...], k: int) -> Effect | None:
     return effects[k] if k < len(effects) else None
+
+
+def _is_vignetting(effect: Effect | None) -> bool:
+    return effect is not None and effect.kind == "vignetting"
 
 
 def _check_image(image: np.ndarray) -> None:

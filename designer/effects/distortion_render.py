@@ -288,17 +288,19 @@ class DistortionWarp:
         """True if this warp was made for ``interior`` (same camera and lens)."""
         return self.source_key == _interior_key(interior)
 
-    def apply(self, image: np.ndarray) -> np.ndarray:
+    def apply(self, image: np.ndarray, gain: np.ndarray | None = None) -> np.ndarray:
         """Pinhole render (H_r, W_r[, C]) → distorted output image (H, W[, C]).
 
         Float images give float32; uint8/uint16 are rounded and clipped back to their
-        type. Resampling is linear in the values given: pass linear light.
+        type. Resampling is linear in the values given: pass linear light. ``gain``
+        (H, W) multiplies the output (a vignetting, in the same pass).
         """
         W_r, H_r = self.render_size_px
         if image.shape[:2] != (H_r, W_r):
             raise ValueError(f"the warp expects a {W_r} x {H_r} px render, got "
                              f"{image.shape[1]} x {image.shape[0]} px")
-        out = warp_image(image, self.map_u_px, self.map_v_px, self.order, self.oversample)
+        out = warp_image(image, self.map_u_px, self.map_v_px, self.order, self.oversample,
+                         gain=gain)
         if np.issubdtype(image.dtype, np.integer):
             info = np.iinfo(image.dtype)
             return np.clip(np.rint(out), info.min, info.max).astype(image.dtype)
@@ -342,8 +344,9 @@ class LensDistortion(Effect):
     warp: DistortionWarp
     kind: ClassVar[str] = "distortion"
 
-    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
-        return self.warp.apply(image)
+    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext,
+              gain: np.ndarray | None = None) -> np.ndarray:
+        return self.warp.apply(image, gain)
 
 
 # ------------------------------------------------------------------- interior ↔ JSON

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.effects._pixel_kernels import times_gain
 from designer.effects._resample_kernels import (
     bspline_coefficients,
     sample_cubic,
@@ -60,10 +61,11 @@ def sample_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: i
 
 
 def warp_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: int = 3,
-               oversample: int = 1) -> np.ndarray:
+               oversample: int = 1, gain: np.ndarray | None = None) -> np.ndarray:
     """Resample ``image`` (H_s, W_s[, C]) at the positions (u_px, v_px), two (H·oversample,
     W·oversample) float64 maps, averaging oversample × oversample samples per output
-    pixel → float32 (H, W[, C])."""
+    pixel → float32 (H, W[, C]); then multiply by ``gain`` (H, W) float32 if given (in
+    the same pass where the kernel allows)."""
     check_order(order)
     if u_px.shape != v_px.shape or u_px.ndim != 2:
         raise ValueError("u_px and v_px must be 2-D maps of the same shape")
@@ -75,12 +77,21 @@ def warp_image(image: np.ndarray, u_px: np.ndarray, v_px: np.ndarray, order: int
     planes = np.ascontiguousarray(planes, dtype=np.float32)
     u = np.ascontiguousarray(u_px, dtype=np.float64)
     v = np.ascontiguousarray(v_px, dtype=np.float64)
+    if gain is not None:
+        gain = np.ascontiguousarray(gain, dtype=np.float32)
+        if gain.shape != (u.shape[0] // oversample, u.shape[1] // oversample):
+            raise ValueError(f"gain {gain.shape} does not fit the output")
     if order == 3 and oversample == 1 and planes.shape[2] == 3:
-        out = sample_cubic_rgb(bspline_coefficients(planes), u, v)
+        no_gain = np.empty((0, 0), np.float32)
+        out = sample_cubic_rgb(bspline_coefficients(planes), u, v,
+                               no_gain if gain is None else gain)
+        gain = None
     elif order == 3:
         out = sample_cubic(bspline_coefficients(planes), u, v, oversample)
     else:
         out = sample_linear(planes, u, v, oversample)
+    if gain is not None:
+        out = times_gain(out, gain)
     return out[:, :, 0] if src.ndim == 2 else out
 
 

@@ -61,6 +61,7 @@ def simulate_sensor(
     gain: np.ndarray | None = None,
     codes: np.dtype | None = None,
     encoded: bool = False,
+    dn_noise: tuple[float, np.uint64] | None = None,
 ) -> np.ndarray:
     """Linear light → linear light after the sensor (steps 1–5 of the module docstring).
 
@@ -68,7 +69,8 @@ def simulate_sensor(
     first. Returns float32 linear light of the input's shape (with ``adc_bits=None`` not
     quantised; ``encoded``: its sRGB-encoded values), or with ``codes`` (uint8/uint16)
     the sRGB-encoded image of that type (``designer.effects.srgb.encode_image`` of it, in
-    the same pass).
+    the same pass; with ``dn_noise`` = (σ on 0 … 1, key) Gaussian noise added to the
+    encoded values first, as ``GaussianNoiseDN`` does).
     """
     if not full_well_e > 0 or not exposure_scale >= 0:
         raise ValueError("full_well_e must be > 0 and exposure_scale >= 0")
@@ -83,19 +85,28 @@ def simulate_sensor(
     elif gain.shape != planes.shape[:2]:
         raise ValueError(f"gain {gain.shape} does not fit the image {planes.shape[:2]}")
     planes = np.ascontiguousarray(planes)
-    if codes is None:
-        thresholds, first = np.empty(0), np.empty(0, np.int32)
-        out = np.empty(planes.shape, np.float32)
-    else:
-        thresholds, first = code_thresholds(8 if max_code(codes) == 255 else 16)
+    gain = np.ascontiguousarray(gain, dtype=np.float32)
+    common = (np.uint64(key), float(full_well_e * exposure_scale), float(full_well_e),
+              float(dark_current_e_per_s * exposure_time_s), float(read_noise_e),
+              0.0 if adc_bits is None else float(2**adc_bits - 1), bool(shot_noise),
+              GAUSSIAN_ABOVE_E)
+    if dn_noise is not None and dn_noise[0] > 0:
+        if codes is None:
+            raise ValueError("DN noise in the sensor's pass needs codes")
         out = np.empty(planes.shape, codes)
-    _sensor_kernels.sensor(
-        planes, np.ascontiguousarray(gain, dtype=np.float32),
-        np.uint64(key), float(full_well_e * exposure_scale), float(full_well_e),
-        float(dark_current_e_per_s * exposure_time_s), float(read_noise_e),
-        0.0 if adc_bits is None else float(2**adc_bits - 1), bool(shot_noise),
-        GAUSSIAN_ABOVE_E, thresholds, first, encode_table() if encoded else np.empty(0), out,
-    )
+        _sensor_kernels.sensor_dn_codes(planes, gain, *common, encode_table(),
+                                        float(dn_noise[0]), np.uint64(dn_noise[1]),
+                                        max_code(codes), out)
+        return out.reshape(src.shape)
+    no_table = np.empty(0)
+    thresholds, first, table = no_table, np.empty(0, np.int32), no_table
+    if codes is None:
+        out = np.empty(planes.shape, np.float32)
+        table = encode_table() if encoded else no_table
+    else:
+        out = np.empty(planes.shape, codes)
+        thresholds, first = code_thresholds(8 if max_code(codes) == 255 else 16)
+    _sensor_kernels.sensor(planes, gain, *common, thresholds, first, table, out)
     return out.reshape(src.shape)
 
 
@@ -126,13 +137,15 @@ class SensorModel(Effect):
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext,
               gain: np.ndarray | None = None, codes: np.dtype | None = None,
-              encoded: bool = False) -> np.ndarray:
+              encoded: bool = False, dn_noise: GaussianNoiseDN | None = None) -> np.ndarray:
         """``gain`` (H, W): a vignetting the chain folds into this pass; ``codes``: return
         the stored image of that type, ``encoded``: the sRGB-encoded values (the chain's
-        next conversion, in the same pass)."""
+        next conversion, in the same pass); ``dn_noise``: the DN noise that follows, also
+        in this pass (with ``codes``)."""
+        dn = None if dn_noise is None else dn_noise.pass_parameters(frame_index)
         return simulate_sensor(
             image, frame_key(self.seed, frame_index, _STREAM_SENSOR), gain=gain, codes=codes,
-            encoded=encoded,
+            encoded=encoded, dn_noise=dn,
             full_well_e=self.full_well_e, exposure_scale=self.exposure_scale,
             shot_noise=self.shot_noise, dark_current_e_per_s=self.dark_current_e_per_s,
             exposure_time_s=self.exposure_time_s, read_noise_e=self.read_noise_e,
@@ -156,6 +169,10 @@ class GaussianNoiseDN(Effect):
     @property
     def is_identity(self) -> bool:
         return self.sigma_dn == 0
+
+    def pass_parameters(self, frame_index: int) -> tuple[float, np.uint64]:
+        """(σ on the 0 … 1 scale, random key) for a kernel that adds this noise."""
+        return self.sigma_dn / 255.0, frame_key(self.seed, frame_index, _STREAM_DN)
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext,
               codes: np.dtype | None = None) -> np.ndarray:

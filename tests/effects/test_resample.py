@@ -99,5 +99,22 @@ def test_the_rgb_fast_path_equals_the_general_kernel():
     rng = np.random.default_rng(5)
     u = rng.uniform(-3, 113, (70, 80))  # also beyond the edges
     v = rng.uniform(-3, 93, (70, 80))
-    np.testing.assert_allclose(sample_cubic_rgb(coeffs, u, v), sample_cubic(coeffs, u, v, 1),
-                               atol=2e-6)
+    no_gain = np.empty((0, 0), np.float32)
+    np.testing.assert_allclose(sample_cubic_rgb(coeffs, u, v, no_gain),
+                               sample_cubic(coeffs, u, v, 1), atol=2e-6)
+
+
+def test_a_gain_in_the_warps_pass_equals_a_separate_multiplication():
+    img = smooth_image(90, 110)
+    rng = np.random.default_rng(6)
+    u = rng.uniform(0, 110, (70, 80))
+    v = rng.uniform(0, 90, (70, 80))
+    gain = rng.uniform(0.5, 1.0, (70, 80)).astype(np.float32)
+    for oversample_maps in (False, True):
+        if oversample_maps:  # the general kernel (grey) multiplies afterwards
+            fused = warp_image(img[:, :, 0], u, v, gain=gain)
+            separate = warp_image(img[:, :, 0], u, v) * gain
+        else:
+            fused = warp_image(img, u, v, gain=gain)
+            separate = warp_image(img, u, v) * gain[:, :, None]
+        np.testing.assert_array_equal(fused, separate)
