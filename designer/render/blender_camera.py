@@ -36,15 +36,27 @@ class BlenderCamera:
         return asdict(self)
 
 
+#: Blender's smallest focal length and sensor width (bpy.types.Camera: lens and
+#: sensor_width are floats in [1, inf]); smaller values are clamped silently.
+BLENDER_MIN_MM = 1.0
+
+
 def blender_camera(interior: InteriorOrientation) -> BlenderCamera:
-    """Blender camera settings that render exactly the pinhole part of ``interior``."""
+    """Blender camera settings that render exactly the pinhole part of ``interior``.
+
+    A pinhole image depends only on focal length / sensor width, so where either is
+    below Blender's 1 mm minimum both are scaled up together (a 0.8 mm sensor with a
+    1.2 mm lens renders as 1 mm and 1.5 mm): the image is the same, nothing is clamped.
+    """
     W, H = interior.image_size_px
     aspect = interior.pixel_pitch_y_mm / interior.pixel_pitch_x_mm
+    scale = max(1.0, BLENDER_MIN_MM / interior.focal_length_mm,
+                BLENDER_MIN_MM / interior.sensor_width_mm)
     # Blender normalises the pixel aspect so the larger of the two is 1... either way
     # only the ratio y/x matters for the projection.
     return BlenderCamera(
-        lens_mm=float(interior.focal_length_mm),
-        sensor_width_mm=float(interior.sensor_width_mm),
+        lens_mm=float(interior.focal_length_mm * scale),
+        sensor_width_mm=float(interior.sensor_width_mm * scale),
         sensor_fit="HORIZONTAL",
         shift_x=(W / 2 - interior.cx_px) / W,
         shift_y=(interior.cy_px - H / 2) / W,
