@@ -14,12 +14,14 @@ from designer.project import write_project
 def small_survey(
     origin=(0.0, 0.0, 0.0), principal_point_mm=(0.0, 0.0), n_photos=4, samples=16,
     effects=None, distortion=None, size_px=(640, 480), focal_length_mm=5.0,
+    pixel_pitch_mm=0.01,
 ) -> m.Project:
     """A 40 x 40 m gentle terrain, 9 large checker targets, a few photos from 30 m."""
     E0, N0, H0 = origin
     W, H = size_px
-    cam = m.Camera(id="cam", focal_length_mm=focal_length_mm, sensor_width_mm=W * 0.01,
-                   sensor_height_mm=H * 0.01, image_width_px=W, image_height_px=H,
+    cam = m.Camera(id="cam", focal_length_mm=focal_length_mm,
+                   sensor_width_mm=W * pixel_pitch_mm, sensor_height_mm=H * pixel_pitch_mm,
+                   image_width_px=W, image_height_px=H,
                    principal_point_x_mm=principal_point_mm[0],
                    principal_point_y_mm=principal_point_mm[1], distortion=distortion)
     targets = tuple(

@@ -19,6 +19,8 @@ CASES = {
     "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0)),
     "principal point offset": dict(origin=(500000.0, 5000000.0, 250.0),
                                    principal_point_mm=(0.31, -0.17)),
+    # below Blender's 1 mm minimum lens and sensor width: both are scaled, not clamped
+    "sub-millimetre sensor": dict(focal_length_mm=0.5, pixel_pitch_mm=0.001),
     # Distorted cameras: rendered as an enlarged pinhole and warped (designer.effects).
     "barrel k1=-0.3": dict(focal_length_mm=8.0,
                            distortion=m.BrownConradyDistortion(k1=-0.3, k2=0.05)),
