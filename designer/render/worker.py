@@ -23,6 +23,8 @@ import bpy  # the one place in designer that imports bpy
 import numpy as np
 from mathutils import Matrix
 
+from designer.render.png_text import move_without_text
+
 FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
 
 
@@ -81,6 +83,11 @@ def configure_render(scene: bpy.types.Scene, job: dict) -> None:
     elif fmt == "TIFF":
         settings.tiff_codec = "DEFLATE"
     scene.render.use_file_extension = False
+    # No metadata in the files (date, render time, host…): the same job then writes the
+    # same bytes every time, and nothing about the machine leaks into the images.
+    for name in dir(scene.render):
+        if name.startswith("use_stamp"):
+            setattr(scene.render, name, False)
     camera = job["camera"]
     scene.render.resolution_x = int(camera["resolution_x_px"])
     scene.render.resolution_y = int(camera["resolution_y_px"])
@@ -210,7 +217,9 @@ def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None
     t0, cpu0 = time.perf_counter(), time.process_time()
     bpy.ops.render.render(write_still=True)
     t1, cpu = time.perf_counter(), time.process_time() - cpu0
-    if chain is None:
+    if chain is None and final.suffix.lower() == ".png":
+        move_without_text(tmp, final)  # Blender's render-time and date text only
+    elif chain is None:
         os.replace(tmp, final)
     else:
         from designer.effects.base import FrameContext
