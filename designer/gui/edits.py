@@ -134,13 +134,17 @@ def terrain_rectangle(project: m.Project) -> tuple[tuple[float, float], ...]:
     return ((e.min_X, e.min_Y), (e.max_X, e.min_Y), (e.max_X, e.max_Y), (e.min_X, e.max_Y))
 
 
-def ensure_flight_plan(project: m.Project) -> m.Project:
-    """The project with a flight plan: a 50 m, 80/70 % grid over the terrain if none."""
+def ensure_flight_plan(project: m.Project, reference_height_m: float | None = None
+                       ) -> m.Project:
+    """The project with a flight plan: a 50 m, 80/70 % grid over the terrain if none,
+    flown above the terrain's mean height — or above ``reference_height_m`` (m), which a
+    mesh terrain needs (the planner takes mean/highest/lowest from height fields only)."""
     if project.trajectory.flight_plan is not None:
         return project
     camera = project.cameras[0].id if project.cameras else "camera"
+    reference = "mean" if reference_height_m is None else round(float(reference_height_m), 3)
     plan = m.FlightPlan(camera=camera, image_prefix="IMG_", area=terrain_rectangle(project),
-                        altitude_agl_m=50.0)
+                        altitude_agl_m=50.0, altitude_reference=reference)
     return replace_path(project, "trajectory.flight_plan", plan)
 
 

@@ -47,3 +47,22 @@ def ground_pixels(window, n: int, margin: float = 0.3) -> list[tuple[int, int, n
 def problems(window) -> list[str]:
     """The lines of the Problems panel."""
     return [window.problems.item(i).text() for i in range(window.problems.count())]
+
+
+def answer_file_dialog(path) -> None:
+    """Choose ``path`` in the next file dialog the window opens (Qt's own dialog, as on a
+    desktop without a native one): select the file and press Open."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog, QLineEdit
+
+    def answer() -> None:
+        dialog = QApplication.activeModalWidget()
+        if not isinstance(dialog, QFileDialog):
+            QTimer.singleShot(50, answer)
+            return
+        # typed into the file name field, as a person would (selectFile() waits for the
+        # dialog's folder listing, which is read in a thread)
+        dialog.findChild(QLineEdit, "fileNameEdit").setText(str(path))
+        dialog.accept()
+
+    QTimer.singleShot(50, answer)

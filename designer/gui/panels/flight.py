@@ -39,7 +39,8 @@ class FlightPanel(Panel):
     def build(self, layout) -> None:
         self.create = QPushButton("Add a grid flight over the terrain")
         self.create.clicked.connect(lambda: self.editor.edit(
-            edits.ensure_flight_plan(self.project), "Add flight plan"))
+            edits.ensure_flight_plan(self.project, self._mesh_reference_m()),
+            "Add flight plan"))
         layout.addWidget(self.create)
 
         info = QGroupBox("what this flight delivers")
@@ -106,8 +107,16 @@ class FlightPanel(Panel):
                                         f"{FP}.terrain_following", "Terrain following"))
         f.addRow("altitude above", self.bindings.bind(
             combo([("mean terrain", "mean"), ("highest terrain", "max"),
-                   ("lowest terrain", "min")]), f"{FP}.altitude_reference",
+                   ("lowest terrain", "min"), ("a given height", "given")]), (
+                lambda p: _reference_kind(p.trajectory.flight_plan.altitude_reference),
+                lambda p, v: edits.set_flight(p, altitude_reference=(
+                    v if v != "given" else self._given_reference_m()))),
             "Altitude reference"))
+        f.addRow("given height", self.bindings.bind(dspin(-1e4, 1e5, 3, 1, "m"), (
+            lambda p: (None if isinstance(p.trajectory.flight_plan.altitude_reference, str)
+                       else p.trajectory.flight_plan.altitude_reference),
+            lambda p, v: edits.set_flight(p, altitude_reference=float(v))),
+            "Altitude reference height"))
         f.addRow("image", self.bindings.bind(
             combo([("landscape", "landscape"), ("portrait", "portrait")]),
             f"{FP}.orientation", "Image orientation"))
@@ -196,6 +205,17 @@ class FlightPanel(Panel):
                 f"{self.project.render.effective_samples} samples, reference machine)")
 
     # ------------------------------------------------------------------ view → model
+    def _mesh_reference_m(self) -> float | None:
+        """A mesh terrain's mean height (a flight over it needs a given reference)."""
+        terrain = self.sync.terrain
+        if terrain is None or terrain.heightfield is not None:
+            return None
+        return terrain.z_mean_m
+
+    def _given_reference_m(self) -> float:
+        terrain = self.sync.terrain
+        return round(terrain.z_mean_m, 3) if terrain is not None else 0.0
+
     def set_area(self, vertices) -> None:
         self._set_checked_draw(False)
         area = tuple((float(x), float(y)) for x, y in vertices)
@@ -246,6 +266,10 @@ def _check(button, on: bool) -> None:
     blocked = button.blockSignals(True)
     button.setChecked(on)
     button.blockSignals(blocked)
+
+
+def _reference_kind(reference) -> str:
+    return reference if isinstance(reference, str) else "given"
 
 
 def _line() -> QLineEdit:
