@@ -11,8 +11,10 @@ stack, the document event, the stations job in a worker thread and the view upda
 The height field keeps every vertex for ray casts, picking and footprints. On a
 software OpenGL (Mesa llvmpipe under Xvfb, as in CI) the 3D view draws every 4th node
 (251 × 251) and skips FXAA, as every pixel costs CPU there; on a GPU it draws up to 1024
-nodes per side with FXAA. The frame time of the full-resolution terrain with FXAA is
-measured too. ``scale`` shrinks the area's side by √scale (tests run it small).
+nodes per side with FXAA. Either way the terrain is lit by a colour per vertex (the
+project's sun and sky, computed with the terrain in a worker thread), not per pixel.
+The frame time of the full-resolution terrain with FXAA is measured too. ``scale``
+shrinks the area's side by √scale (tests run it small).
 """
 
 from __future__ import annotations
@@ -97,13 +99,17 @@ def _run(scale: float) -> list[dict]:
 
     # One frame, as drawn, and with the terrain at full resolution for comparison.
     frame_s = _frame_seconds(app, view)
+    from designer.gui.derived import display_irradiance
     from designer.gui.view_geometry import terrain_display
 
-    full = terrain_display(sync.terrain.heightfield, None, sync.terrain.tiles,
-                           max_nodes_per_side=10**6)
+    t = sync.terrain
+    full = terrain_display(t.heightfield, None, t.tiles, max_nodes_per_side=10**6)
+    light = display_irradiance(window.document.project.scene.lighting, full, t.heightfield,
+                               t.raycaster)
     if view.software_gl:
         view.plotter.enable_anti_aliasing("fxaa")  # as on a GPU: full mesh and FXAA
-    view.show_terrain(full.points_world, full.faces, full.uv, sync.texture_rgb)
+    view.show_terrain(full.points_world, full.faces, full.uv, sync.texture_rgb,
+                      irradiance=light)
     full_frame_s = _frame_seconds(app, view)
     window.close_without_prompt()
 
