@@ -27,7 +27,8 @@ def complete_images(folder, size=(320, 240)):
 
 
 def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
-    project = write(small_survey(n_photos=8, samples=64, size_px=(320, 240)), tmp_path)
+    # ~1 s per image, so the Ctrl-C after the first image always lands mid-job
+    project = write(small_survey(n_photos=8, samples=192, size_px=(320, 240)), tmp_path)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o", str(out),
            "--workers", "1", "--progress", "json"]
