@@ -16,7 +16,6 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
-from designer.core.rotation import rotation_from_opk
 from designer.errors import DesignerError
 from designer.gui.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
@@ -36,6 +35,7 @@ from designer.scene.lighting import (
     surface_normals,
 )
 from designer.scene.mesh import TerrainMesh
+from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
 from designer.survey.raycast import TerrainRaycaster
 
@@ -138,56 +138,13 @@ def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[fl
     return e.width_m / tex.repeat_X / w, e.length_m / tex.repeat_Y / h
 
 
-@dataclass(frozen=True, eq=False)
-class ObjectsResult:
-    """The scene's mesh objects placed in the world: one merged triangle mesh
-    (``vertices_world`` (N, 3), ``faces`` (M, 3)), the light on each face (M,) as the
-    sun and sky give it (no cast shadows) and the object each face belongs to (M,)."""
-
-    names: list[str]
-    vertices_world: np.ndarray
-    faces: np.ndarray
-    face_irradiance: np.ndarray
-    face_object: np.ndarray
-
-
-def place_object(vertices: np.ndarray, placement: m.Placement) -> np.ndarray:
-    """Mesh vertices (N, 3) in the object's frame → world (m): ``position + scale · R · v``
-    with ``R = Rx(ω) · Ry(φ) · Rz(κ)`` (the project file's placement)."""
-    R = rotation_from_opk(*np.radians([placement.omega_deg, placement.phi_deg,
-                                       placement.kappa_deg]))
-    p = placement.position
-    return np.array([p.X, p.Y, p.Z]) + placement.scale * np.asarray(vertices, float) @ R.T
+#: the scene's objects as the renderer draws them (designer.scene.objects)
+ObjectsResult = PlacedObjects
 
 
 def compute_objects(project: m.Project, base_dir: Path) -> ObjectsResult:
     """Read and place every scene object (an unreadable file names itself)."""
-    from designer.project.files import resolve
-    from designer.scene.mesh import load_mesh
-
-    names, vertices, faces, owner = [], [], [], []
-    start = 0
-    for k, obj in enumerate(project.scene.objects):
-        mesh = load_mesh(resolve(Path(base_dir), obj.file))
-        v = place_object(mesh.vertices_world, obj.placement)
-        names.append(obj.name)
-        vertices.append(v)
-        faces.append(np.asarray(mesh.faces, dtype=np.int64) + start)
-        owner.append(np.full(len(mesh.faces), k))
-        start += len(v)
-    if not names:
-        empty = np.zeros((0, 3))
-        return ObjectsResult([], empty, np.zeros((0, 3), np.int64), np.zeros(0),
-                             np.zeros(0, int))
-    v, f = np.vstack(vertices), np.vstack(faces)
-    normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
-    lighting = project.scene.lighting
-    sun = sun_direction_world(*sun_angles_deg(lighting))
-    light = irradiance(normals, np.ones(len(f)), sun, lighting.sun_strength,
-                       lighting.sky_strength)
-    return ObjectsResult(names, v, f, light, np.concatenate(owner))
+    return build_objects(project, Path(base_dir), *sun_angles_deg(project.scene.lighting))
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,6 +17,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QVBoxLayout, QWidget
 
 from designer.gui.interaction import ViewInteraction
+from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
 LAYER_STYLE = {
@@ -30,7 +31,7 @@ LAYER_STYLE = {
 #: largest texture side sent to the GPU (px); the full image stays in the model's hands
 MAX_DISPLAY_TEXTURE_PX = 2048
 TERRAIN_COLOUR = (0.55, 0.6, 0.45)
-OBJECT_COLOUR = (0.85, 0.82, 0.78)
+OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
 

@@ -33,6 +33,7 @@ from designer.scene.lighting import (
     irradiance,
     sun_direction_world,
 )
+from designer.scene.objects import OBJECT_ALBEDO_RGB, PlacedObjects, build_objects
 from designer.survey.project_poses import project_stations, render_interior
 
 #: samples per pixel of each quality preset; measured costs in the README
@@ -96,6 +97,9 @@ def prepare_job(
     objects = [{"name": "terrain", "mesh": "terrain.npz", "materials": [terrain_material]}]
     if scene.targets:
         objects.append(_targets_object(scene, origin, job_dir))
+    placed = build_objects(project, base_dir, scene.sun_azimuth_deg, scene.sun_elevation_deg)
+    if not placed.is_empty:
+        objects.append(_scene_objects(placed, origin, job_dir))
 
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
@@ -182,6 +186,29 @@ def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> dic
               faces=np.concatenate(faces), material_index=np.concatenate(material_index))
     return {"name": "gcp_targets", "mesh": "targets.npz",
             "materials": [{"color": [TARGET_WHITE * e] * 3}, {"color": [TARGET_BLACK * e] * 3}]}
+
+
+#: light levels the scene objects' faces are drawn with (one emission material each)
+OBJECT_LIGHT_LEVELS = 64
+
+
+def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path) -> dict:
+    """The scene's mesh objects as one mesh, each face drawn with its light (quantised
+    to OBJECT_LIGHT_LEVELS levels between the darkest and brightest face, < 1 % steps for
+    the usual range) times the objects' albedo."""
+    light = placed.face_irradiance
+    lo, hi = float(light.min()), float(light.max())
+    n = OBJECT_LIGHT_LEVELS if hi > lo else 1
+    level = np.zeros(len(light), np.int64) if n == 1 else np.rint(
+        (light - lo) / (hi - lo) * (n - 1)).astype(np.int64)
+    used = np.unique(level)
+    index = np.searchsorted(used, level)
+    values = lo + used * ((hi - lo) / max(n - 1, 1))
+    _save_npz(job_dir / "objects.npz", vertices_local=placed.vertices_world - origin,
+              faces=placed.faces, material_index=index)
+    return {"name": "scene_objects", "mesh": "objects.npz",
+            "materials": [{"color": [c * float(e) for c in OBJECT_ALBEDO_RGB]}
+                          for e in values]}
 
 
 def _write_png(path: Path, image: np.ndarray) -> None:

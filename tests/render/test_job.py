@@ -32,3 +32,32 @@ def test_distortion_oversample_renders_finer(tmp_path, oversample):
     # every frame knows its distance to the ground (for defocus): ~30 m flying height
     for frame in job["frames"]:
         assert frame["context"]["distance_m"] == pytest.approx(30.0, abs=2.0)
+
+
+def test_scene_objects_are_in_the_render_job(tmp_path):
+    """The validation cube's mesh is placed (scale 4, on the plane) and each face lit by
+    the sun and sky: the top brighter than the shaded side."""
+    import numpy as np
+
+    from designer.project import template, write_project
+
+    folder = tmp_path / "cube"
+    folder.mkdir()
+    tpl = template("validation-cube")
+    path = folder / "validation-cube.xml"
+    write_project(tpl.project, path)
+    for name, data in tpl.files.items():
+        (folder / name).write_bytes(data)
+    prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
+    job = json.loads(prepared.job_path.read_text())
+    spec = next(o for o in job["objects"] if o["name"] == "scene_objects")
+    data = np.load(prepared.job_path.parent / spec["mesh"])
+    v = data["vertices_local"]
+    assert v.min(axis=0) == pytest.approx([-2.0, -2.0, 0.0], abs=1e-9)  # unit cube × 4
+    assert v.max(axis=0) == pytest.approx([2.0, 2.0, 4.0], abs=1e-9)
+    brightness = np.array([m["color"][0] for m in spec["materials"]])
+    face_light = brightness[data["material_index"]]
+    f = data["faces"]
+    normal_z = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])[:, 2]
+    top = face_light[normal_z > 0].mean()
+    assert top > face_light.min() and top == pytest.approx(face_light.max(), rel=0.05)
