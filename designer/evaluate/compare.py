@@ -10,7 +10,8 @@ data in, files out —
 * ``report.md`` and ``report.html``.
 
 :func:`reference_mesh` loads the mesh from a file (PLY/OBJ/STL) or builds it from a
-project XML (its terrain, plus the GCP target plates when ``with_targets``).
+project XML (its terrain and scene objects, plus the GCP target plates when
+``with_targets``).
 """
 
 from __future__ import annotations
@@ -40,11 +41,13 @@ class ReferenceMesh:
 
 
 def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True) -> ReferenceMesh:
-    """The true surface from a mesh file or a project XML (terrain + GCP targets)."""
+    """The true surface from a mesh file or a project XML (terrain, scene objects and
+    GCP targets)."""
     path = Path(path)
     if path.suffix.lower() == ".xml":
         from designer.project import load_project
         from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
+        from designer.scene.objects import place_objects
 
         project = load_project(path)
         terrain = project.scene.terrain
@@ -60,6 +63,9 @@ def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True) -> Ref
                 vertices.append(t.vertices_world)
                 faces.append(np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) + n)
                 n += len(t.vertices_world)
+        _, object_vertices, object_faces, _ = place_objects(project, path.parent)
+        vertices.append(object_vertices)
+        faces.append(object_faces + sum(len(v) for v in vertices[:-1]))
         return ReferenceMesh(np.vstack(vertices), np.vstack(faces), str(path), project.crs)
     from designer.scene.mesh import load_mesh
 

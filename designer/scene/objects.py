@@ -50,13 +50,15 @@ def place_object(vertices: np.ndarray, placement: m.Placement) -> np.ndarray:
     return np.array([p.X, p.Y, p.Z]) + placement.scale * np.asarray(vertices, float) @ R.T
 
 
-def build_objects(project: m.Project, base_dir: Path, sun_azimuth_deg: float,
-                  sun_elevation_deg: float) -> PlacedObjects:
-    """Read and place every scene object of ``project`` (file names relative to
-    ``base_dir``; an unreadable file raises an error naming it) and light its faces."""
+def place_objects(project: m.Project, base_dir: Path
+                  ) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+    """(names, vertices_world (N, 3), faces (M, 3), face_object (M,)) of every scene
+    object of ``project`` read from its file (relative to ``base_dir``; an unreadable file
+    raises an error naming it) and placed in the world."""
     from designer.project.files import resolve
 
-    names, vertices, faces, owner = [], [], [], []
+    names, vertices, faces, owner = [], [np.zeros((0, 3))], [np.zeros((0, 3), np.int64)], [
+        np.zeros(0, int)]
     start = 0
     for k, obj in enumerate(project.scene.objects):
         mesh = load_mesh(resolve(Path(base_dir), obj.file))
@@ -66,10 +68,15 @@ def build_objects(project: m.Project, base_dir: Path, sun_azimuth_deg: float,
         faces.append(np.asarray(mesh.faces, dtype=np.int64) + start)
         owner.append(np.full(len(mesh.faces), k))
         start += len(v)
+    return names, np.vstack(vertices), np.vstack(faces), np.concatenate(owner)
+
+
+def build_objects(project: m.Project, base_dir: Path, sun_azimuth_deg: float,
+                  sun_elevation_deg: float) -> PlacedObjects:
+    """``place_objects``, and each face's light from the project's sun and sky."""
+    names, v, f, owner = place_objects(project, base_dir)
     if not names:
-        return PlacedObjects([], np.zeros((0, 3)), np.zeros((0, 3), np.int64), np.zeros(0),
-                             np.zeros(0, int))
-    v, f = np.vstack(vertices), np.vstack(faces)
+        return PlacedObjects([], v, f, np.zeros(0), owner)
     normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
     length = np.linalg.norm(normals, axis=1, keepdims=True)
     normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
@@ -77,4 +84,4 @@ def build_objects(project: m.Project, base_dir: Path, sun_azimuth_deg: float,
     sun = sun_direction_world(sun_azimuth_deg, sun_elevation_deg)
     light = irradiance(normals, np.ones(len(f)), sun, lighting.sun_strength,
                        lighting.sky_strength)
-    return PlacedObjects(names, v, f, light, np.concatenate(owner))
+    return PlacedObjects(names, v, f, light, owner)
