@@ -101,6 +101,10 @@ def test_design_save_reopen(qtbot, window, tmp_path):
     assert w.sync.stations.n_images == expected
     assert w.panels["Flight"].images_label.text() == str(expected)
     assert w.view.layer_data("frusta").n_points == 5 * expected
+    # flown by height: the (read-only) GSD field shows the GSD that height gives
+    gsd_field = w.panels["Flight"].gsd_spin
+    assert not gsd_field.isEnabled()
+    assert gsd_field.value() == pytest.approx(100 * w.sync.stations.calc.gsd_m, abs=1e-3)
 
     # Save, then reopen: the file validates and holds what was designed.
     path = tmp_path / "walkthrough.xml"

@@ -89,12 +89,14 @@ class FlightPanel(Panel):
         group.addButton(self.by_altitude)
         group.addButton(self.by_gsd)
         self.by_altitude.toggled.connect(self._height_mode)
-        f.addRow(self.by_altitude, self.bindings.bind(
-            dspin(0.1, 1e5, 2, 5, "m"), f"{FP}.altitude_agl_m", "Flight height"))
-        f.addRow(self.by_gsd, self.bindings.bind(dspin(0.001, 1000, 3, 0.1, "cm"), (
+        self.altitude_spin = self.bindings.bind(
+            dspin(0.1, 1e5, 2, 5, "m"), f"{FP}.altitude_agl_m", "Flight height")
+        self.gsd_spin = self.bindings.bind(dspin(0.001, 1000, 3, 0.1, "cm"), (
             lambda p: None if p.trajectory.flight_plan.gsd_m is None
             else 100 * p.trajectory.flight_plan.gsd_m,
-            lambda p, v: edits.set_flight(p, gsd_m=v / 100)), "Flight GSD"))
+            lambda p, v: edits.set_flight(p, gsd_m=v / 100)), "Flight GSD")
+        f.addRow(self.by_altitude, self.altitude_spin)
+        f.addRow(self.by_gsd, self.gsd_spin)
         for label, field, box_ in (
                 ("front overlap", "front_overlap_percent", dspin(0, 99, 1, 5, "%")),
                 ("side overlap", "side_overlap_percent", dspin(0, 99, 1, 5, "%")),
@@ -186,6 +188,15 @@ class FlightPanel(Panel):
         self.images_label.setText(f"{stations.n_images}")
         c = stations.calc
         if c is not None:
+            # the field not chosen shows the value the chosen one implies (read-only)
+            plan = self.project.trajectory.flight_plan
+            derived_spin, value = ((self.gsd_spin, 100 * c.gsd_m)
+                                   if plan is not None and plan.altitude_agl_m is not None
+                                   else (self.altitude_spin, c.altitude_agl_m))
+            if not derived_spin.isEnabled():
+                derived_spin.blockSignals(True)
+                derived_spin.setValue(value)
+                derived_spin.blockSignals(False)
             ii = stations.interior
             scale = self.project.render.resolution_scale
             W, H = derived.rendered_size_px(ii, scale)
