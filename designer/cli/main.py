@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import signal
 import sys
 
 from designer import __version__
@@ -45,7 +46,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def listen_to_sigint() -> None:
+    """Stop cleanly on SIGINT even when started ignoring it.
+
+    A non-interactive shell starts background jobs (``cmd &``: scripts, cluster job
+    wrappers, a GUI launched that way) with SIGINT ignored, and Python then keeps it
+    ignored: Ctrl-C sent on purpose (``kill -INT``, the GUI's Cancel) would do nothing
+    and a render would run to its end. designer always turns SIGINT into its clean stop.
+    """
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 def main(argv: list[str] | None = None) -> int:
+    listen_to_sigint()
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):

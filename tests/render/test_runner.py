@@ -72,3 +72,20 @@ def test_a_killed_worker_has_its_frames_retried(tmp_path):
     assert report.failed == []
     assert sorted(report.rendered) == [0, 1, 2, 3]
     assert len(complete_images(tmp_path / "out")) == 4
+
+
+def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
+    """Started the way a script's `cmd &` starts it (SIGINT ignored), designer render still
+    stops cleanly on SIGINT."""
+    project = write(small_survey(n_photos=8, samples=192, size_px=(320, 240)), tmp_path)
+    cmd = [sys.executable, "-m", "designer", "render", str(project), "-o",
+           str(tmp_path / "out"), "--workers", "1", "--progress", "json"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    for line in proc.stdout:
+        if json.loads(line)["event"] == "frame_done":
+            proc.send_signal(signal.SIGINT)
+            break
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert 1 <= len(complete_images(tmp_path / "out")) < 8
