@@ -141,7 +141,7 @@ class EffectChain:
             gain = None
             if _is_vignetting(effect) and isinstance(following, SensorModel):
                 gain, k = effect.gain, k + 1  # the sensor multiplies by it in its pass
-                effect, following = effects[k], _at(effects, k + 2)
+                effect, following = effects[k], _at(effects, k + 1)
             ends = following is None or following.domain == "integer"
             after = _at(effects, k + 2)
             if isinstance(effect, SensorModel) and ends:

@@ -243,3 +243,25 @@ def test_sensor_then_dn_noise_fused_equals_the_steps():
     steps = quantise(dn.apply(encoded, 4, CTX), np.uint8)
     diff = np.abs(fused.astype(np.int64) - steps)
     assert diff.max() <= 1 and np.mean(diff == 0) > 0.99
+
+
+def test_vignetting_sensor_and_dn_noise_fused_equal_the_steps():
+    from designer.core.interior import InteriorOrientation
+    from designer.effects.chain import EffectChain
+    from designer.effects.optics import RadialVignetting
+    from designer.effects.srgb import quantise
+
+    interior = InteriorOrientation(focal_length_mm=8.8, sensor_width_mm=13.2,
+                                   sensor_height_mm=8.8, image_width_px=60,
+                                   image_height_px=40)
+    vignetting = RadialVignetting.from_corner_falloff(interior, 0.3)
+    sensor = SensorModel(full_well_e=6000.0, read_noise_e=2.0, seed=1)
+    dn = GaussianNoiseDN(1.5, seed=2)
+    img = (np.random.default_rng(3).random((40, 60, 3)) * 255).astype(np.uint8)
+    for tail in ([], [dn]):
+        fused = EffectChain([vignetting, sensor, *tail]).apply(img, 4)
+        linear = sensor.apply(vignetting.apply(decode_image(img), 4, CTX), 4, CTX)
+        encoded = linear_to_srgb(linear)
+        steps = quantise(dn.apply(encoded, 4, CTX) if tail else encoded, np.uint8)
+        diff = np.abs(fused.astype(np.int64) - steps)
+        assert diff.max() <= 1 and np.mean(diff == 0) > 0.99, tail
