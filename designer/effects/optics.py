@@ -100,19 +100,12 @@ class RadialVignetting(Effect):
 
 
 @dataclass(frozen=True)
-class NaturalVignetting(Effect):
-    """Multiply by cos⁴ θ (``natural_vignetting_gain``) at every pixel centre."""
+class NaturalVignetting(RadialVignetting):
+    """Multiply by cos⁴ θ (``natural_vignetting_gain``) at every pixel centre: a
+    ``RadialVignetting`` without polynomial terms."""
 
-    interior: InteriorOrientation
-    kind: ClassVar[str] = "vignetting"
-
-    @functools.cached_property
-    def gain(self) -> np.ndarray:
-        return natural_vignetting_gain(self.interior, *pixel_centres(self.interior)
-                                       ).astype(np.float32)
-
-    def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
-        return _times_gain(image, self.gain)
+    coefficients: tuple[float, ...] = ()
+    natural_cos4: bool = True
 
 
 def _times_gain(image: np.ndarray, gain: np.ndarray) -> np.ndarray:
@@ -236,17 +229,19 @@ class ThinLensDefocus(Effect):
                 f"the focus distance {self.focus_distance_m:g} m must exceed the focal length "
                 f"{self.interior.focal_length_mm:g} mm")
 
-    def diameter_px(self, context: FrameContext) -> tuple[float, float]:
-        """Blur-circle diameter in pixels (x, y) for this frame."""
+    def at_distance(self, context: FrameContext) -> Defocus:
+        """The fixed-diameter defocus of this frame (``Defocus.from_thin_lens``)."""
         d = self.object_distance_m if self.object_distance_m is not None else \
             context.distance_m
         if d is None:
             raise DesignerError("defocus needs the frame's object distance "
                                 "(FrameContext.distance_m) or a fixed object-distance-m")
-        c_mm = defocus_diameter_mm(self.interior.focal_length_mm, self.f_number,
-                                   self.focus_distance_m, d)
-        return c_mm / self.interior.pixel_pitch_x_mm, c_mm / self.interior.pixel_pitch_y_mm
+        return Defocus.from_thin_lens(self.interior, self.f_number, self.focus_distance_m, d)
+
+    def diameter_px(self, context: FrameContext) -> tuple[float, float]:
+        """Blur-circle diameter in pixels (x, y) for this frame."""
+        fixed = self.at_distance(context)
+        return fixed.diameter_x_px, fixed.diameter_y_px
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
-        dx, dy = self.diameter_px(context)
-        return defocus_blur(image, dx, dy)
+        return self.at_distance(context).apply(image, frame_index, context)
