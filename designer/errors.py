@@ -17,3 +17,8 @@ class CameraModelError(DesignerError, ValueError):
 
 class NotInvertibleError(DesignerError, ArithmeticError):
     """A distortion model that folds over, so some pixel has no unique undistorted ray."""
+
+
+class InvalidDataError(DesignerError, ValueError):
+    """A value a data type or an exchange format cannot hold (a name with a comma, a
+    non-finite coordinate, a repeated id); the message names the fix."""

@@ -21,27 +21,57 @@ Use, per camera and frame::
                  FrameContext(gsd_m=gsd, flight_direction_uv=direction))
 """
 
-from designer.effects.base import EFFECT_ORDER, Effect, FrameContext, frame_key
-from designer.effects.chain import EffectChain, process_file
-from designer.effects.distortion_render import DistortionWarp, LensDistortion, pinhole_render_camera
-from designer.effects.from_model import effects_from_model
-from designer.effects.jpeg import JpegCompression, encode_jpeg, jpeg_roundtrip, write_jpeg
-from designer.effects.motion import LinearMotionBlur, linear_motion_kernel, motion_blur
-from designer.effects.optics import (
-    Defocus,
-    GaussianBlur,
-    NaturalVignetting,
-    RadialVignetting,
-    gaussian_blur,
-)
-from designer.effects.sensor import GaussianNoiseDN, SensorModel, simulate_sensor
-from designer.effects.srgb import linear_to_srgb, srgb_to_linear
+from typing import TYPE_CHECKING
 
-__all__ = [
-    "EFFECT_ORDER", "Defocus", "DistortionWarp", "Effect", "EffectChain", "FrameContext",
-    "GaussianBlur", "GaussianNoiseDN", "JpegCompression", "LensDistortion", "LinearMotionBlur",
-    "NaturalVignetting", "RadialVignetting", "SensorModel", "effects_from_model",
-    "encode_jpeg", "frame_key", "gaussian_blur", "jpeg_roundtrip", "linear_motion_kernel",
-    "linear_to_srgb", "motion_blur", "pinhole_render_camera", "process_file",
-    "simulate_sensor", "srgb_to_linear", "write_jpeg",
-]
+from designer._lazy import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    "Defocus": "designer.effects.optics",
+    "DistortionWarp": "designer.effects.distortion_render",
+    "EFFECT_ORDER": "designer.effects.base",
+    "Effect": "designer.effects.base",
+    "EffectChain": "designer.effects.chain",
+    "FrameContext": "designer.effects.base",
+    "GaussianBlur": "designer.effects.optics",
+    "GaussianNoiseDN": "designer.effects.sensor",
+    "JpegCompression": "designer.effects.jpeg",
+    "LensDistortion": "designer.effects.distortion_render",
+    "LinearMotionBlur": "designer.effects.motion",
+    "NaturalVignetting": "designer.effects.optics",
+    "RadialVignetting": "designer.effects.optics",
+    "SensorModel": "designer.effects.sensor",
+    "effects_from_model": "designer.effects.from_model",
+    "encode_jpeg": "designer.effects.jpeg",
+    "frame_key": "designer.effects.base",
+    "gaussian_blur": "designer.effects.optics",
+    "jpeg_roundtrip": "designer.effects.jpeg",
+    "linear_motion_kernel": "designer.effects.motion",
+    "linear_to_srgb": "designer.effects.srgb",
+    "motion_blur": "designer.effects.motion",
+    "pinhole_render_camera": "designer.effects.distortion_render",
+    "process_file": "designer.effects.chain",
+    "simulate_sensor": "designer.effects.sensor",
+    "srgb_to_linear": "designer.effects.srgb",
+    "write_jpeg": "designer.effects.jpeg",
+})
+
+if TYPE_CHECKING:
+    from designer.effects.base import EFFECT_ORDER, Effect, FrameContext, frame_key
+    from designer.effects.chain import EffectChain, process_file
+    from designer.effects.distortion_render import (
+        DistortionWarp,
+        LensDistortion,
+        pinhole_render_camera,
+    )
+    from designer.effects.from_model import effects_from_model
+    from designer.effects.jpeg import JpegCompression, encode_jpeg, jpeg_roundtrip, write_jpeg
+    from designer.effects.motion import LinearMotionBlur, linear_motion_kernel, motion_blur
+    from designer.effects.optics import (
+        Defocus,
+        GaussianBlur,
+        NaturalVignetting,
+        RadialVignetting,
+        gaussian_blur,
+    )
+    from designer.effects.sensor import GaussianNoiseDN, SensorModel, simulate_sensor
+    from designer.effects.srgb import linear_to_srgb, srgb_to_linear

@@ -3,8 +3,6 @@ the model, so the model can grow without touching the effects)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from designer.core.interior import InteriorOrientation
 from designer.effects.chain import EffectChain
 from designer.effects.distortion_render import DistortionWarp, LensDistortion, pinhole_render_camera
@@ -12,9 +10,7 @@ from designer.effects.jpeg import JpegCompression
 from designer.effects.motion import LinearMotionBlur
 from designer.effects.optics import GaussianBlur, RadialVignetting, ThinLensDefocus
 from designer.effects.sensor import GaussianNoiseDN, SensorModel
-
-if TYPE_CHECKING:  # the model is only read here; importing designer.project pulls in lxml
-    from designer.project import model as m
+from designer.project import model as m
 
 
 def effects_from_model(

@@ -18,29 +18,53 @@ and writers:
   (:mod:`.compare`, :mod:`.report`).
 """
 
-from designer.evaluate.clouds import PointCloud, read_point_cloud
-from designer.evaluate.compare import ReferenceMesh, compare_cloud, reference_mesh
-from designer.evaluate.distance import MeshIndex, build_mesh_index, signed_distances
-from designer.evaluate.gcp import gcp_errors, read_gcp_estimates_csv
-from designer.evaluate.maps import (
-    ErrorGrid,
-    grid_errors,
-    write_error_map_geotiff,
-    write_error_map_npy,
-    write_error_map_png,
-    write_histogram_png,
-)
-from designer.evaluate.poses import camera_pose_errors, read_camera_poses, similarity_transform
-from designer.evaluate.report import format_summary, write_report
-from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics
-from designer.evaluate.triangulate import triangulate_gcps
-from designer.evaluate.writers import write_distances_ply
+from typing import TYPE_CHECKING
 
-__all__ = [
-    "DEFAULT_TOLERANCES_M", "ErrorGrid", "MeshIndex", "PointCloud", "ReferenceMesh",
-    "build_mesh_index", "camera_pose_errors", "compare_cloud", "distance_statistics",
-    "format_summary", "gcp_errors", "grid_errors", "read_camera_poses", "read_gcp_estimates_csv",
-    "read_point_cloud", "reference_mesh", "signed_distances", "similarity_transform",
-    "triangulate_gcps", "write_distances_ply", "write_error_map_geotiff", "write_error_map_npy",
-    "write_error_map_png", "write_histogram_png", "write_report",
-]
+from designer._lazy import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    "DEFAULT_TOLERANCES_M": "designer.evaluate.statistics",
+    "ErrorGrid": "designer.evaluate.maps",
+    "MeshIndex": "designer.evaluate.distance",
+    "PointCloud": "designer.evaluate.clouds",
+    "ReferenceMesh": "designer.evaluate.compare",
+    "build_mesh_index": "designer.evaluate.distance",
+    "camera_pose_errors": "designer.evaluate.poses",
+    "compare_cloud": "designer.evaluate.compare",
+    "distance_statistics": "designer.evaluate.statistics",
+    "format_summary": "designer.evaluate.report",
+    "gcp_errors": "designer.evaluate.gcp",
+    "grid_errors": "designer.evaluate.maps",
+    "read_camera_poses": "designer.evaluate.poses",
+    "read_gcp_estimates_csv": "designer.evaluate.gcp",
+    "read_point_cloud": "designer.evaluate.clouds",
+    "reference_mesh": "designer.evaluate.compare",
+    "signed_distances": "designer.evaluate.distance",
+    "similarity_transform": "designer.evaluate.poses",
+    "triangulate_gcps": "designer.evaluate.triangulate",
+    "write_distances_ply": "designer.evaluate.writers",
+    "write_error_map_geotiff": "designer.evaluate.maps",
+    "write_error_map_npy": "designer.evaluate.maps",
+    "write_error_map_png": "designer.evaluate.maps",
+    "write_histogram_png": "designer.evaluate.maps",
+    "write_report": "designer.evaluate.report",
+})
+
+if TYPE_CHECKING:
+    from designer.evaluate.clouds import PointCloud, read_point_cloud
+    from designer.evaluate.compare import ReferenceMesh, compare_cloud, reference_mesh
+    from designer.evaluate.distance import MeshIndex, build_mesh_index, signed_distances
+    from designer.evaluate.gcp import gcp_errors, read_gcp_estimates_csv
+    from designer.evaluate.maps import (
+        ErrorGrid,
+        grid_errors,
+        write_error_map_geotiff,
+        write_error_map_npy,
+        write_error_map_png,
+        write_histogram_png,
+    )
+    from designer.evaluate.poses import camera_pose_errors, read_camera_poses, similarity_transform
+    from designer.evaluate.report import format_summary, write_report
+    from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics
+    from designer.evaluate.triangulate import triangulate_gcps
+    from designer.evaluate.writers import write_distances_ply

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.core.truth import GroundControlPoint
 from designer.errors import DesignerError
-from designer.export.groundtruth import GroundControlPoint
 
 _ID_NAMES = ("gcp_id", "id", "label", "name", "marker", "point", "#label")
 _AXIS_NAMES = {"X": ("x", "e", "easting", "x_est", "est_x", "estimated_x", "x/east"),

@@ -1,7 +1,7 @@
 """Camera pose errors of a reconstruction against the true poses, optionally after a
 7-parameter similarity alignment (Umeyama 1991).
 
-Poses are designer's :class:`~designer.export.groundtruth.CameraPose`: perspective
+Poses are designer's :class:`~designer.core.truth.CameraPose`: perspective
 centre C (world, m) and R_cam_to_world (photogrammetric camera axes). Per camera:
 position error dX, dY, dZ (estimated − true, m) and the rotation error, the angle of
 R_trueᵀ·R_est in degrees (independent of Euler conventions). Cameras are matched by
@@ -27,8 +27,8 @@ from designer.core.rotation import (
     rotation_from_rotvec,
     rotvec_from_rotation,
 )
+from designer.core.truth import CameraPose
 from designer.errors import DesignerError
-from designer.export.groundtruth import CameraPose
 
 
 def similarity_transform(src, dst, *, with_scale: bool = True):

@@ -17,9 +17,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
+from designer.core.truth import GcpObservation
 from designer.errors import DesignerError
 from designer.export.colmap_read import ColmapCamera, read_cameras, read_images
-from designer.export.groundtruth import GcpObservation
 
 
 def normalised_rays(camera: ColmapCamera, uv_px: np.ndarray) -> np.ndarray:

@@ -3,8 +3,6 @@
 Modules, one per format (each documents its pixel origin, rotation convention,
 units and coefficient swaps at the top):
 
-* :mod:`~designer.export.groundtruth` — the data: CameraPose, GroundControlPoint,
-  GcpObservation, and observe_gcps (true GCPs projected into the images);
 * :mod:`~designer.export.colmap` — COLMAP text model (and a reader for round trips);
 * :mod:`~designer.export.colmap_read` — the COLMAP model reader (text and binary),
   shared by the round trip and the accuracy assessment;
@@ -14,26 +12,22 @@ units and coefficient swaps at the top):
   GCP image points), with readers;
 * :mod:`~designer.export.dispatch` — write_all, every format into one folder.
 
-Depends on numpy, lxml and designer.core only. Every file is written atomically.
+The data written (CameraPose, GroundControlPoint, GcpObservation) are value types of
+:mod:`designer.core.truth`. Depends on numpy, lxml and designer.core only. Every file
+is written atomically. The names below load their module on first use, so importing
+this package loads no exporter.
 """
 
-from designer.export._text import ExportError
-from designer.export.dispatch import FORMATS, write_all
-from designer.export.groundtruth import (
-    GCP_ROLES,
-    CameraPose,
-    GcpObservation,
-    GroundControlPoint,
-    observe_gcps,
-)
+from typing import TYPE_CHECKING
 
-__all__ = [
-    "FORMATS",
-    "GCP_ROLES",
-    "CameraPose",
-    "ExportError",
-    "GcpObservation",
-    "GroundControlPoint",
-    "observe_gcps",
-    "write_all",
-]
+from designer._lazy import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    "ExportError": "designer.export._text",
+    "FORMATS": "designer.export.dispatch",
+    "write_all": "designer.export.dispatch",
+})
+
+if TYPE_CHECKING:
+    from designer.export._text import ExportError
+    from designer.export.dispatch import FORMATS, write_all

@@ -10,16 +10,17 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from designer.atomic import write_text_atomic
-from designer.errors import DesignerError
+from designer.core.truth import check_name, check_unique  # noqa: F401 (used by exporters)
+from designer.errors import InvalidDataError
 
 
-class ExportError(DesignerError, ValueError):
+class ExportError(InvalidDataError):
     """Data that cannot be written to an exchange format (message names the fix)."""
 
 
@@ -29,34 +30,6 @@ def fmt(value: float) -> str:
     if not math.isfinite(x):
         raise ExportError(f"cannot write the non-finite number {x!r}; every value must be finite")
     return repr(x + 0.0)  # + 0.0 turns -0.0 into 0.0
-
-
-#: characters no identifier may contain: the formats split on whitespace (COLMAP, ODM)
-#: or commas (CSV), and quotes would need escaping some readers do not undo
-_FORBIDDEN = set(',"\'')
-
-
-def check_name(name: object, what: str) -> str:
-    """An image name or GCP id as a non-empty string without whitespace, commas or quotes."""
-    if not isinstance(name, str) or not name:
-        raise ExportError(f"{what} {name!r} must be a non-empty string")
-    bad = sorted({c for c in name if c.isspace() or c in _FORBIDDEN})
-    if bad:
-        raise ExportError(
-            f"{what} {name!r} contains {', '.join(repr(c) for c in bad)}; COLMAP and "
-            f"OpenDroneMap split lines on whitespace and CSV on commas: rename it"
-        )
-    if name.startswith("#"):
-        raise ExportError(f"{what} {name!r} starts with '#', which readers take as a comment")
-    return name
-
-
-def check_unique(names: Iterable[str], what: str) -> None:
-    seen: set[str] = set()
-    for n in names:
-        if n in seen:
-            raise ExportError(f"{what} {n!r} occurs more than once; names must be unique")
-        seen.add(n)
 
 
 def check_crs(crs: object) -> str:

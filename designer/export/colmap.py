@@ -36,6 +36,7 @@ from pathlib import Path
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import colmap_pose_from_photo
+from designer.core.truth import CameraPose
 from designer.export._text import (
     ExportError,
     check_offset,
@@ -44,7 +45,6 @@ from designer.export._text import (
     write_texts,
 )
 from designer.export.colmap_read import camera_poses, read_images_text
-from designer.export.groundtruth import CameraPose
 
 CAMERA_ID = 1
 FILES = ("cameras.txt", "images.txt", "points3D.txt")

@@ -28,8 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.rotation import photo_pose_from_colmap
+from designer.core.truth import CameraPose
 from designer.errors import DesignerError
-from designer.export.groundtruth import CameraPose
 
 #: COLMAP camera model ids (binary files) → (name, number of parameters)
 CAMERA_MODELS = {

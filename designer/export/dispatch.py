@@ -25,9 +25,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from designer.core.interior import InteriorOrientation
+from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint
 from designer.export import colmap, metashape, odm, tables
 from designer.export._text import ExportError, check_crs, check_unique, write_texts
-from designer.export.groundtruth import CameraPose, GcpObservation, GroundControlPoint
 
 FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
 

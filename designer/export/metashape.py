@@ -42,6 +42,7 @@ from lxml import etree
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import opk_from_rotation
+from designer.core.truth import CameraPose, GroundControlPoint
 from designer.export._text import (
     ExportError,
     check_crs,
@@ -49,7 +50,6 @@ from designer.export._text import (
     fmt,
     write_texts,
 )
-from designer.export.groundtruth import CameraPose, GroundControlPoint
 
 #: |fx − fy| / fy below this is rounding noise, not a pixel aspect: <b1> is left out
 #: (leaving it out moves no pixel by more than 1e-14·fy·|x'| < 1e-10 px)

@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.rotation import heading_tilt_roll_from_rotation
+from designer.core.truth import GCP_ROLES, CameraPose, GcpObservation, GroundControlPoint
 from designer.export._text import (
     ExportError,
     check_crs,
@@ -48,7 +49,6 @@ from designer.export._text import (
     fmt,
     write_texts,
 )
-from designer.export.groundtruth import GCP_ROLES, CameraPose, GcpObservation, GroundControlPoint
 
 #: designer's pixel coordinates minus this are OpenCV/OpenSfM pixel coordinates
 OPENCV_PIXEL_SHIFT = 0.5

@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.rotation import opk_from_rotation, rotation_from_opk
+from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint
 from designer.export._text import ExportError, check_crs, check_unique, fmt, write_texts
-from designer.export.groundtruth import CameraPose, GcpObservation, GroundControlPoint
 
 OPK_COLUMNS = ("image", "X", "Y", "Z", "omega_deg", "phi_deg", "kappa_deg")
 GCP_TRUTH_COLUMNS = (

@@ -87,7 +87,7 @@ def evaluate_cloud(path: Path, project_path: Path | None, dirty: bool, heightfie
 
 def gcp_truth(project: m.Project, heightfield) -> list:
     """The project's GCPs as ``GroundControlPoint`` (true and surveyed coordinates)."""
-    from designer.export.groundtruth import GroundControlPoint
+    from designer.core.truth import GroundControlPoint
     from designer.scene.build import build_targets
 
     return [GroundControlPoint(b.target.id, b.target.role, b.true_xyz, b.surveyed_xyz,

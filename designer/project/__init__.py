@@ -14,31 +14,36 @@ Public API::
 Frames and units: docs/conventions.md and the schema's documentation.
 """
 
-from designer.project.load import load_project, validate_project
-from designer.project.model import Project
-from designer.project.model_to_xml import project_to_bytes, write_project
-from designer.project.problems import Problem, ProjectError
-from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS, schema_path
-from designer.project.templates import TEMPLATE_NAMES, Template, template
-from designer.project.validate import semantic_problems
-from designer.project.xml_read import parse_project, read_project, read_project_file
+from typing import TYPE_CHECKING
 
-__all__ = [
-    "NAMESPACE",
-    "SUPPORTED_VERSIONS",
-    "TEMPLATE_NAMES",
-    "Problem",
-    "Project",
-    "ProjectError",
-    "Template",
-    "load_project",
-    "parse_project",
-    "project_to_bytes",
-    "read_project",
-    "read_project_file",
-    "schema_path",
-    "semantic_problems",
-    "template",
-    "validate_project",
-    "write_project",
-]
+from designer._lazy import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    "NAMESPACE": "designer.project.schema",
+    "Problem": "designer.project.problems",
+    "Project": "designer.project.model",
+    "ProjectError": "designer.project.problems",
+    "SUPPORTED_VERSIONS": "designer.project.schema",
+    "TEMPLATE_NAMES": "designer.project.templates",
+    "Template": "designer.project.templates",
+    "load_project": "designer.project.load",
+    "parse_project": "designer.project.xml_read",
+    "project_to_bytes": "designer.project.model_to_xml",
+    "read_project": "designer.project.xml_read",
+    "read_project_file": "designer.project.xml_read",
+    "schema_path": "designer.project.schema",
+    "semantic_problems": "designer.project.validate",
+    "template": "designer.project.templates",
+    "validate_project": "designer.project.load",
+    "write_project": "designer.project.model_to_xml",
+})
+
+if TYPE_CHECKING:
+    from designer.project.load import load_project, validate_project
+    from designer.project.model import Project
+    from designer.project.model_to_xml import project_to_bytes, write_project
+    from designer.project.problems import Problem, ProjectError
+    from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS, schema_path
+    from designer.project.templates import TEMPLATE_NAMES, Template, template
+    from designer.project.validate import semantic_problems
+    from designer.project.xml_read import parse_project, read_project, read_project_file

@@ -18,10 +18,10 @@ from designer import __version__
 from designer.atomic import atomic_path, write_text_atomic
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
+from designer.core.truth import CameraPose
 from designer.effects.distortion_render import pinhole_render_camera
 from designer.effects.from_model import effects_from_model
 from designer.effects.motion import flight_direction_uv
-from designer.export.groundtruth import CameraPose
 from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world

@@ -24,9 +24,9 @@ import numpy as np
 
 from designer import __version__
 from designer.atomic import write_text_atomic
+from designer.core.truth import GcpObservation, GroundControlPoint
 from designer.errors import DesignerError
 from designer.export.dispatch import write_all
-from designer.export.groundtruth import GcpObservation, GroundControlPoint
 from designer.export.odm import odm_crs
 from designer.project import load_project
 from designer.render.job import PreparedJob, prepare_job

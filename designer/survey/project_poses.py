@@ -16,8 +16,8 @@ from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import rotation_from_opk
+from designer.core.truth import CameraPose
 from designer.errors import DesignerError
-from designer.export.groundtruth import CameraPose
 from designer.project import model as m
 from designer.survey.flight import FlightPlan, Station, apply_pose_noise, plan_flight
 

@@ -5,7 +5,7 @@ import numpy as np
 from designer.core.distortion import BrownConrady
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import rotation_from_opk
-from designer.export.groundtruth import CameraPose, GroundControlPoint, observe_gcps
+from designer.core.truth import CameraPose, GroundControlPoint, observe_gcps
 
 ORIGIN = np.array([512000.0, 5406000.0, 300.0])
 

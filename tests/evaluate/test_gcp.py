@@ -1,10 +1,10 @@
 import numpy as np
 import pytest
 
+from designer.core.truth import GroundControlPoint
 from designer.errors import DesignerError
 from designer.evaluate import gcp_errors, read_gcp_estimates_csv, triangulate_gcps
 from designer.export.colmap import write_colmap_text_model
-from designer.export.groundtruth import GroundControlPoint
 from designer.export.tables import write_gcp_truth_csv
 from tests.evaluate import survey
 

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from designer.core.rotation import R_CV_FROM_PHOTO, opk_from_rotation, rotation_from_opk
+from designer.core.truth import CameraPose
 from designer.errors import DesignerError
 from designer.evaluate import camera_pose_errors, read_camera_poses, similarity_transform
 from designer.export.colmap import write_colmap_text_model
-from designer.export.groundtruth import CameraPose
 from designer.export.tables import write_opk_csv
 from tests.evaluate import survey
 

@@ -7,7 +7,7 @@ import numpy as np
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import rotation_from_heading_tilt_roll, rotation_from_opk
-from designer.export import CameraPose, GroundControlPoint, observe_gcps
+from designer.core.truth import CameraPose, GroundControlPoint, observe_gcps
 
 #: a UTM-sized world origin: float32 here would be off by decimetres
 UTM = np.array([500000.0, 5000000.0, 250.0])

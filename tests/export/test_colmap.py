@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from designer.export import CameraPose, ExportError
+from designer.core.truth import CameraPose
+from designer.export import ExportError
 from designer.export.colmap import (
     colmap_camera_model,
     colmap_images_text,

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import designer.atomic
-from designer.export import FORMATS, CameraPose, ExportError, GcpObservation, write_all
+from designer.core.truth import CameraPose, GcpObservation
+from designer.export import FORMATS, ExportError, write_all
 from designer.export.colmap import read_colmap_text_poses
 from designer.export.tables import read_opk_csv
 from tests.export.scene import UTM, survey

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from designer.core.rotation import rotation_from_heading_tilt_roll, rotation_from_opk
-from designer.export import CameraPose, ExportError, GroundControlPoint
+from designer.core.truth import CameraPose, GroundControlPoint
+from designer.export import ExportError
 from designer.export.odm import (
     odm_gcp_list_text,
     odm_geo_text,

@@ -4,7 +4,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from designer.core.rotation import rotation_from_opk
-from designer.export import CameraPose, ExportError
+from designer.core.truth import CameraPose
+from designer.export import ExportError
 from designer.export.tables import (
     gcp_observations_csv,
     read_gcp_observations_csv,

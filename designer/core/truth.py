@@ -1,4 +1,7 @@
-"""Ground truth of a virtual survey as plain data: camera poses, GCPs, GCP image points.
+"""Ground truth of a virtual survey as plain value types: camera poses, GCPs, GCP image points.
+
+The bottom layer (numpy and designer.core only): survey, evaluate, sfm, render and the
+exporters all use these types; nothing here knows a file format.
 
 Conventions (designer's own, docs/conventions.md; every exporter converts
 from these at its boundary):
@@ -18,7 +21,7 @@ never changes after construction.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,18 +29,48 @@ import numpy as np
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
 from designer.core.rotation import is_rotation_matrix
-from designer.export._text import ExportError, check_name, check_unique
+from designer.errors import InvalidDataError
 
 #: the roles a ground control point can play in an accuracy experiment
 GCP_ROLES = ("control", "check")
 
 
+#: characters no identifier may contain: the exchange formats split on whitespace
+#: (COLMAP, ODM) or commas (CSV), quotes would need escaping some readers do not undo,
+#: and '#' starts a comment in readers that strip comments anywhere on a line
+_FORBIDDEN = set(',"\'#')
+
+
+def check_name(name: object, what: str) -> str:
+    """An image name or GCP id as a non-empty string without whitespace, commas, quotes
+    or '#'."""
+    if not isinstance(name, str) or not name:
+        raise InvalidDataError(f"{what} {name!r} must be a non-empty string")
+    bad = sorted({c for c in name if c.isspace() or c in _FORBIDDEN})
+    if bad:
+        raise InvalidDataError(
+            f"{what} {name!r} contains {', '.join(repr(c) for c in bad)}; COLMAP and "
+            f"OpenDroneMap split lines on whitespace, CSV on commas, and '#' starts a "
+            f"comment: rename it"
+        )
+    return name
+
+
+def check_unique(names: Iterable[str], what: str) -> None:
+    """Raise InvalidDataError naming the first repeated name."""
+    seen: set[str] = set()
+    for n in names:
+        if n in seen:
+            raise InvalidDataError(f"{what} {n!r} occurs more than once; names must be unique")
+        seen.add(n)
+
+
 def _frozen_array(value, shape: tuple[int, ...], what: str) -> np.ndarray:
     arr = np.array(value, dtype=np.float64)  # a copy: the caller's array stays theirs
     if arr.shape != shape:
-        raise ExportError(f"{what} must have shape {shape}, got {arr.shape}")
+        raise InvalidDataError(f"{what} must have shape {shape}, got {arr.shape}")
     if not np.isfinite(arr).all():
-        raise ExportError(f"{what} must be finite, got {arr.tolist()}")
+        raise InvalidDataError(f"{what} must be finite, got {arr.tolist()}")
     arr.flags.writeable = False
     return arr
 
@@ -61,7 +94,7 @@ class CameraPose:
         object.__setattr__(self, "C_world", _frozen_array(self.C_world, (3,), "C_world"))
         R = _frozen_array(self.R_cam_to_world, (3, 3), "R_cam_to_world")
         if not is_rotation_matrix(R):
-            raise ExportError(
+            raise InvalidDataError(
                 f"R_cam_to_world of {self.image_name!r} is not a rotation matrix "
                 "(orthonormal, det +1, to 1e-9)"
             )
@@ -90,13 +123,13 @@ class GroundControlPoint:
     def __post_init__(self) -> None:
         check_name(self.gcp_id, "GCP id")
         if self.role not in GCP_ROLES:
-            raise ExportError(
+            raise InvalidDataError(
                 f"GCP {self.gcp_id!r} has role {self.role!r}; use one of {', '.join(GCP_ROLES)}"
             )
         for name in ("true_xyz", "surveyed_xyz", "sigma_xyz"):
             object.__setattr__(self, name, _frozen_array(getattr(self, name), (3,), name))
         if (self.sigma_xyz < 0).any():
-            raise ExportError(f"GCP {self.gcp_id!r}: sigma_xyz must be >= 0 m")
+            raise InvalidDataError(f"GCP {self.gcp_id!r}: sigma_xyz must be >= 0 m")
 
 
 @dataclass(frozen=True, eq=False)

@@ -3,14 +3,13 @@ import pytest
 
 from designer.core.projection import project_points
 from designer.core.rotation import rotation_from_opk
-from designer.errors import DesignerError
-from designer.export import (
+from designer.core.truth import (
     CameraPose,
-    ExportError,
     GcpObservation,
     GroundControlPoint,
     observe_gcps,
 )
+from designer.errors import DesignerError, InvalidDataError
 from tests.export.scene import UTM, interior_for, random_gcps, random_poses, survey
 
 
@@ -136,14 +135,14 @@ def test_data_classes_copy_and_freeze_their_arrays():
     ],
 )
 def test_bad_ground_truth_is_rejected_with_a_message(make, fragment):
-    with pytest.raises(ExportError, match=fragment) as info:
+    with pytest.raises(InvalidDataError, match=fragment) as info:
         make()
     assert isinstance(info.value, DesignerError)
 
 
 def test_duplicate_names_are_rejected():
     interior, poses, gcps, _ = survey(6)
-    with pytest.raises(ExportError, match="more than once"):
+    with pytest.raises(InvalidDataError, match="more than once"):
         observe_gcps(gcps, [*poses, poses[0]], interior)
-    with pytest.raises(ExportError, match="more than once"):
+    with pytest.raises(InvalidDataError, match="more than once"):
         observe_gcps([*gcps, gcps[0]], poses, interior)
