@@ -1,0 +1,271 @@
+"""Dense point cloud on the CPU: semi-global matching depth maps fused by COLMAP.
+
+Stages (each timed in :attr:`DenseCloud.stage_seconds`):
+
+1. ``undistort`` — ``pycolmap.undistort_images`` writes COLMAP's dense workspace
+   (``images/``, ``sparse/``, ``stereo/``) with pinhole cameras; with
+   ``max_image_size_px`` the images and cameras are then scaled down (area averaging).
+2. ``pairs`` — each image gets up to two source images among those sharing sparse
+   points with it, preferring wide baselines and different epipolar directions
+   (:func:`designer.sfm.stereo_pairs.choose_pairs`).
+3. ``depth_maps`` — every pair is rectified with the known poses and matched with
+   OpenCV's semi-global matcher (``StereoSGBM``); the disparity search range comes from
+   the sparse points the image sees. The pair depths are combined per pixel, normals are
+   taken from the depth map, and both are written as COLMAP ``*.geometric.bin`` maps.
+4. ``fusion`` — ``pycolmap.stereo_fusion`` (COLMAP's geometric-consistency fusion, CPU):
+   a pixel becomes a point only when the depth maps of at least
+   ``FUSION_MIN_PIXELS`` − 1 other images agree with it.
+
+COLMAP's own PatchMatch stereo would replace stage 3 but needs CUDA; it is not used.
+
+Numerical care: the sparse model is in a LOCAL frame (world − ``origin_world``);
+COLMAP's dense workspace (depth maps, fused points) is float32, so it only ever sees
+local coordinates. The origin is added back in float64 at the end.
+
+Resuming: a run writes ``dense.json`` (its settings and a digest of the sparse model);
+a rerun with the same settings reuses the undistorted workspace and every depth map
+already written (each is written atomically).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from designer.atomic import write_text_atomic
+from designer.errors import DesignerError
+
+MATCHER = "opencv-sgbm + colmap stereo_fusion"
+#: pixels (images) a fused point needs, itself included (COLMAP's default: 5)
+FUSION_MIN_PIXELS = 3
+#: largest angle (deg) between the normals of pixels fused into one point
+FUSION_MAX_NORMAL_ERROR_DEG = 30.0
+#: source images per reference image
+N_NEIGHBOURS = 2
+
+
+@dataclass(frozen=True, eq=False)
+class DenseCloud:
+    """Fused points: ``points_world`` (N, 3) float64 metres in the world frame,
+    ``colors_rgb`` (N, 3) uint8, the ``matcher`` used and seconds per stage."""
+
+    points_world: np.ndarray
+    colors_rgb: np.ndarray
+    matcher: str = MATCHER
+    stage_seconds: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.points_world)
+
+
+def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
+                origin_world: np.ndarray, max_image_size_px: int | None = None,
+                log: Callable[[str], None] = print,
+                cancel: Callable[[], bool] | None = None) -> DenseCloud:
+    """Depth maps and fusion for the images of a sparse model (local frame).
+
+    ``image_dir`` holds the images named in ``sparse_model_dir`` (a COLMAP model in
+    local coordinates: world − ``origin_world`` (3,)); ``work_dir`` receives the dense
+    workspace. ``max_image_size_px`` limits the longer image side used for matching.
+    ``cancel`` is polled between images; when it returns True the run stops with a
+    :class:`DesignerError` and a rerun resumes. Raises :class:`DesignerError` when no
+    image pair overlaps or fusion yields no point.
+    """
+    import pycolmap
+
+    from designer.sfm.depth_maps import normals_from_depth, write_colmap_array
+
+    image_dir, sparse_model_dir, work = Path(image_dir), Path(sparse_model_dir), Path(work_dir)
+    origin = np.asarray(origin_world, dtype=np.float64).reshape(3)
+    seconds: dict[str, float] = {}
+    ws = work / "workspace"
+    settings = {"version": 1, "max_image_size_px": max_image_size_px,
+                "n_neighbours": N_NEIGHBOURS, "model": _model_digest(sparse_model_dir)}
+    stamp = work / "dense.json"
+    resume = stamp.is_file() and json.loads(stamp.read_text()) == settings \
+        and (ws / "sparse").is_dir()
+
+    t = time.perf_counter()
+    if not resume:
+        if ws.exists():
+            shutil.rmtree(ws)
+        work.mkdir(parents=True, exist_ok=True)
+        log("dense: undistorting images")
+        pycolmap.undistort_images(ws, sparse_model_dir, image_dir, output_type="COLMAP")
+        if max_image_size_px:
+            _downscale_workspace(pycolmap, ws, int(max_image_size_px))
+        write_text_atomic(stamp, json.dumps(settings, indent=1))
+    else:
+        log("dense: resuming in the existing workspace")
+    seconds["undistort_s"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    rec = pycolmap.Reconstruction(str(ws / "sparse"))
+    views, point_ids, xyz_by_id = _views(rec)
+    pairs = _choose(views, point_ids, xyz_by_id)
+    n_pairs = sum(len(p) for p in pairs)
+    if n_pairs == 0:
+        raise DesignerError(
+            f"{sparse_model_dir}: no two images share enough sparse points for dense "
+            "matching; give overlapping images (a survey with front and side overlap)")
+    seconds["pairs_s"] = time.perf_counter() - t
+    log(f"dense: {n_pairs} stereo pairs for {len(views)} images")
+
+    import cv2
+
+    t = time.perf_counter()
+    depth_dir, normal_dir = ws / "stereo" / "depth_maps", ws / "stereo" / "normal_maps"
+    depth_dir.mkdir(parents=True, exist_ok=True)
+    normal_dir.mkdir(parents=True, exist_ok=True)
+    gray_cache: dict[int, np.ndarray] = {}
+
+    def gray(k: int) -> np.ndarray:
+        if k not in gray_cache:
+            gray_cache[k] = cv2.imread(str(ws / "images" / views[k].name),
+                                       cv2.IMREAD_GRAYSCALE)
+        return gray_cache[k]
+
+    from designer.sfm.stereo_pairs import (
+        combine_depths,
+        disparity_range,
+        rectify,
+        sgbm_depth,
+    )
+
+    for i, view in enumerate(views):
+        if cancel is not None and cancel():
+            raise DesignerError(f"{work}: dense matching cancelled; run again to resume")
+        depth_path = depth_dir / f"{view.name}.geometric.bin"
+        normal_path = normal_dir / f"{view.name}.geometric.bin"
+        if depth_path.is_file() and normal_path.is_file():
+            continue
+        depths = []
+        seen = np.array([xyz_by_id[p] for p in point_ids[i]]).reshape(-1, 3)
+        for j in pairs[i]:
+            pair = rectify(view, views[j])
+            rng = None if pair is None else disparity_range(pair, seen, view)
+            if rng is not None:
+                depths.append(sgbm_depth(gray(i), gray(j), view, views[j], pair, rng))
+        depth = combine_depths(depths) if depths else \
+            np.zeros((view.height_px, view.width_px), np.float32)
+        write_colmap_array(normal_path, normals_from_depth(depth, view.K))
+        write_colmap_array(depth_path, depth)
+        gray_cache.pop(i - 2, None)  # images are visited in order; neighbours are near
+        log(f"dense: depth map {i + 1}/{len(views)} {view.name}: "
+            f"{np.count_nonzero(depth)} pixels")
+    seconds["depth_maps_s"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    _write_fusion_config(ws, views)
+    options = pycolmap.StereoFusionOptions()
+    options.min_num_pixels = FUSION_MIN_PIXELS
+    options.max_normal_error = FUSION_MAX_NORMAL_ERROR_DEG
+    options.num_threads = -1
+    fused = work / "fused.ply"
+    log("dense: fusing depth maps (COLMAP stereo_fusion)")
+    pycolmap.stereo_fusion(fused, ws, input_type="geometric", options=options,
+                           output_type="PLY")
+    xyz_local, rgb = _read_fused_ply(fused)
+    seconds["fusion_s"] = time.perf_counter() - t
+    if len(xyz_local) == 0:
+        raise DesignerError(
+            f"{work}: fusion kept no point: the depth maps do not agree between images "
+            "(too little overlap or texture)")
+    log(f"dense: {len(xyz_local)} points")
+    points_world = xyz_local.astype(np.float64) + origin
+    return DenseCloud(points_world, rgb, MATCHER, seconds)
+
+
+def _model_digest(model_dir: Path) -> str:
+    h = hashlib.sha1()
+    for p in sorted(Path(model_dir).glob("*")):
+        if p.suffix in (".bin", ".txt"):
+            h.update(p.name.encode())
+            h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def _downscale_workspace(pycolmap, ws: Path, max_size_px: int) -> None:
+    """Scale the undistorted images and their cameras so the longer side is at most
+    ``max_size_px`` (COLMAP's camera rescale keeps the corner-origin pixel frame)."""
+    import cv2
+
+    rec = pycolmap.Reconstruction(str(ws / "sparse"))
+    scaled = set()
+    for image in rec.images.values():
+        cam = rec.cameras[image.camera_id]
+        w, h = int(cam.width), int(cam.height)
+        scale = max_size_px / max(w, h)
+        if scale >= 1:
+            continue
+        new_w, new_h = max(1, round(w * scale)), max(1, round(h * scale))
+        path = ws / "images" / image.name
+        img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+        img = cv2.resize(img, (new_w, new_h), interpolation=cv2.INTER_AREA)
+        if not cv2.imwrite(str(path), img):
+            raise DesignerError(f"{path}: could not write the scaled image")
+        if image.camera_id not in scaled:
+            cam.rescale(new_w, new_h)
+            rec.cameras[image.camera_id] = cam
+            scaled.add(image.camera_id)
+    rec.write(str(ws / "sparse"))
+
+
+def _views(rec):
+    """Views in image order, each view's observed point ids, and point coordinates."""
+    from designer.sfm.stereo_pairs import View
+
+    views, point_ids = [], []
+    for image_id in sorted(rec.reg_image_ids()):
+        image = rec.images[image_id]
+        cam = rec.cameras[image.camera_id]
+        pose = image.cam_from_world()
+        M = pose.matrix()
+        views.append(View(image.name, np.asarray(cam.calibration_matrix(), dtype=float),
+                          M[:, :3].copy(), M[:, 3].copy(), int(cam.width), int(cam.height)))
+        point_ids.append([p.point3D_id for p in image.points2D if p.has_point3D()])
+    xyz_by_id = {pid: np.asarray(p.xyz, dtype=float) for pid, p in rec.points3D.items()}
+    return views, point_ids, xyz_by_id
+
+
+def _choose(views, point_ids, xyz_by_id) -> list[list[int]]:
+    from designer.sfm.stereo_pairs import choose_pairs
+
+    n = len(views)
+    shared = np.zeros((n, n), dtype=np.int64)
+    owners: dict[int, list[int]] = {}
+    for i, ids in enumerate(point_ids):
+        for pid in set(ids):
+            owners.setdefault(pid, []).append(i)
+    for images in owners.values():
+        idx = np.array(images)
+        shared[np.ix_(idx, idx)] += 1
+    depth = np.zeros(n)
+    for i, ids in enumerate(point_ids):
+        if ids:
+            X = np.array([xyz_by_id[p] for p in ids])
+            depth[i] = float(np.median((views[i].R @ X.T)[2] + views[i].t[2]))
+    return choose_pairs(views, shared, depth, n_neighbours=N_NEIGHBOURS)
+
+
+def _write_fusion_config(ws: Path, views) -> None:
+    write_text_atomic(ws / "stereo" / "fusion.cfg", "".join(f"{v.name}\n" for v in views))
+
+
+def _read_fused_ply(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    from plyfile import PlyData
+
+    if not path.is_file():
+        return np.zeros((0, 3)), np.zeros((0, 3), np.uint8)
+    v = PlyData.read(str(path))["vertex"]
+    xyz = np.column_stack([np.asarray(v[c], dtype=np.float64) for c in "xyz"])
+    rgb = np.column_stack([np.asarray(v[c], dtype=np.uint8)
+                           for c in ("red", "green", "blue")])
+    return xyz, rgb
