@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import shutil
 import time
 from collections.abc import Callable
@@ -39,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.atomic import write_text_atomic
+from designer.atomic import atomic_path, write_text_atomic
 from designer.errors import DesignerError
 
 MATCHER = "opencv-sgbm + colmap stereo_fusion"
@@ -269,3 +270,61 @@ def _read_fused_ply(path: Path) -> tuple[np.ndarray, np.ndarray]:
     rgb = np.column_stack([np.asarray(v[c], dtype=np.uint8)
                            for c in ("red", "green", "blue")])
     return xyz, rgb
+
+
+def write_dense_ply(path: str | os.PathLike, cloud: DenseCloud) -> Path:
+    """The cloud as binary PLY: double x, y, z (world metres, full UTM precision) and
+    uchar red, green, blue; written atomically."""
+    from plyfile import PlyData, PlyElement
+
+    data = np.empty(len(cloud), dtype=[("x", "f8"), ("y", "f8"), ("z", "f8"),
+                                       ("red", "u1"), ("green", "u1"), ("blue", "u1")])
+    data["x"], data["y"], data["z"] = np.asarray(cloud.points_world, dtype=np.float64).T
+    data["red"], data["green"], data["blue"] = np.asarray(cloud.colors_rgb, np.uint8).T
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        PlyData([PlyElement.describe(data, "vertex")],
+                comments=[f"dense cloud: {cloud.matcher}"]).write(str(tmp))
+    return path
+
+
+def write_las(path: str | os.PathLike, cloud: DenseCloud, crs_epsg: int | None,
+              offset_world) -> Path:
+    """The cloud as LAS 1.4 (point format 7: XYZ and 16-bit RGB), LAZ-compressed when
+    ``path`` ends in .laz (laspy with lazrs).
+
+    Coordinates are stored as integers of 0.1 mm around ``offset_world`` (3,), rounded
+    to whole metres: ±214 km around it fit. The CRS (EPSG code) goes into an OGC WKT
+    coordinate-system VLR (WKT from GDAL via rasterio). Colours are scaled 8 → 16 bit
+    (×257), so reading back and taking the high byte gives the original values."""
+    import laspy
+    from laspy.vlrs.known import WktCoordinateSystemVlr
+
+    xyz = np.asarray(cloud.points_world, dtype=np.float64)
+    offset = np.round(np.asarray(offset_world, dtype=np.float64).reshape(3))
+    scale = 1e-4
+    if len(xyz) and np.abs(xyz - offset).max() / scale >= 2**31 - 1:
+        raise DesignerError(f"{path}: points lie more than 214 km from the LAS offset "
+                            f"{offset.tolist()}; give an offset inside the survey")
+    header = laspy.LasHeader(version="1.4", point_format=7)
+    header.offsets = offset
+    header.scales = np.full(3, scale)
+    if crs_epsg is not None:
+        import rasterio.crs
+        from rasterio.errors import CRSError
+
+        try:
+            wkt = rasterio.crs.CRS.from_epsg(int(crs_epsg)).to_wkt()
+        except (CRSError, ValueError):
+            raise DesignerError(f"{path}: EPSG:{crs_epsg} is not a CRS GDAL knows; give "
+                                "the project's EPSG code") from None
+        header.vlrs.append(WktCoordinateSystemVlr(wkt))
+        header.global_encoding.wkt = True
+    las = laspy.LasData(header)
+    las.x, las.y, las.z = xyz[:, 0], xyz[:, 1], xyz[:, 2]
+    rgb = np.asarray(cloud.colors_rgb, dtype=np.uint16) * 257
+    las.red, las.green, las.blue = rgb[:, 0], rgb[:, 1], rgb[:, 2]
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        las.write(str(tmp), do_compress=path.suffix.lower() == ".laz")
+    return path

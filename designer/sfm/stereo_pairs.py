@@ -86,7 +86,7 @@ def choose_pairs(views: list[View], shared_points: np.ndarray, depth_m: np.ndarr
         direction = np.arctan2(d_cam[:, 1], d_cam[:, 0]) % np.pi
         picked: list[int] = []
         spare: list[int] = []
-        for k, j in enumerate(candidates):
+        for k in range(len(candidates)):
             if len(picked) == n_neighbours:
                 break
             gap = [abs((direction[k] - direction[m] + np.pi / 2) % np.pi - np.pi / 2)
