@@ -29,6 +29,7 @@ already written (each is written atomically).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -69,119 +70,161 @@ class DenseCloud:
 def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
                 origin_world: np.ndarray, max_image_size_px: int | None = None,
                 log: Callable[[str], None] = print,
-                cancel: Callable[[], bool] | None = None) -> DenseCloud:
+                bounds_world: tuple[np.ndarray, np.ndarray] | None = None,
+                cancel: Callable[[], bool] | None = None,
+                threads: int = 2) -> DenseCloud:
     """Depth maps and fusion for the images of a sparse model (local frame).
 
     ``image_dir`` holds the images named in ``sparse_model_dir`` (a COLMAP model in
     local coordinates: world − ``origin_world`` (3,)); ``work_dir`` receives the dense
     workspace. ``max_image_size_px`` limits the longer image side used for matching.
-    ``cancel`` is polled between images; when it returns True the run stops with a
-    :class:`DesignerError` and a rerun resumes. Raises :class:`DesignerError` when no
-    image pair overlaps or fusion yields no point.
+    ``bounds_world`` ((3,) min, (3,) max corner, world metres) keeps only fused points
+    inside that box — the area of interest, e.g. the modelled scene. ``cancel`` is
+    polled between images; when it returns True the run stops with a
+    :class:`DesignerError` and a rerun resumes. ``threads`` depth maps are computed at
+    a time. Raises :class:`DesignerError` when no image pair overlaps or fusion yields
+    no point. ``stage_seconds`` holds wall-clock (``*_s``) and this process's CPU
+    (``*_cpu_s``) seconds per stage.
     """
     import pycolmap
-
-    from designer.sfm.depth_maps import normals_from_depth, write_colmap_array
 
     image_dir, sparse_model_dir, work = Path(image_dir), Path(sparse_model_dir), Path(work_dir)
     origin = np.asarray(origin_world, dtype=np.float64).reshape(3)
     seconds: dict[str, float] = {}
     ws = work / "workspace"
-    settings = {"version": 1, "max_image_size_px": max_image_size_px,
+    settings = {"version": 2, "max_image_size_px": max_image_size_px,
                 "n_neighbours": N_NEIGHBOURS, "model": _model_digest(sparse_model_dir)}
     stamp = work / "dense.json"
     resume = stamp.is_file() and json.loads(stamp.read_text()) == settings \
         and (ws / "sparse").is_dir()
 
-    t = time.perf_counter()
-    if not resume:
-        if ws.exists():
-            shutil.rmtree(ws)
-        work.mkdir(parents=True, exist_ok=True)
-        log("dense: undistorting images")
-        pycolmap.undistort_images(ws, sparse_model_dir, image_dir, output_type="COLMAP")
-        if max_image_size_px:
-            _downscale_workspace(pycolmap, ws, int(max_image_size_px))
-        write_text_atomic(stamp, json.dumps(settings, indent=1))
-    else:
-        log("dense: resuming in the existing workspace")
-    seconds["undistort_s"] = time.perf_counter() - t
+    with _stage(seconds, "undistort"):
+        if not resume:
+            stamp.unlink(missing_ok=True)
+            if ws.exists():
+                shutil.rmtree(ws)
+            work.mkdir(parents=True, exist_ok=True)
+            log("dense: undistorting images")
+            undistort = pycolmap.UndistortCameraOptions()
+            if max_image_size_px:
+                undistort.max_image_size = int(max_image_size_px)
+            pycolmap.undistort_images(ws, sparse_model_dir, image_dir, output_type="COLMAP",
+                                      undistort_options=undistort)
+            write_text_atomic(stamp, json.dumps(settings, indent=1))
+        else:
+            log("dense: resuming in the existing workspace")
 
-    t = time.perf_counter()
-    rec = pycolmap.Reconstruction(str(ws / "sparse"))
-    views, point_ids, xyz_by_id = _views(rec)
-    pairs = _choose(views, point_ids, xyz_by_id)
+    with _stage(seconds, "pairs"):
+        rec = pycolmap.Reconstruction(str(ws / "sparse"))
+        views, point_ids, xyz_by_id = _views(rec)
+        pairs = _choose(views, point_ids, xyz_by_id)
     n_pairs = sum(len(p) for p in pairs)
     if n_pairs == 0:
         raise DesignerError(
             f"{sparse_model_dir}: no two images share enough sparse points for dense "
             "matching; give overlapping images (a survey with front and side overlap)")
-    seconds["pairs_s"] = time.perf_counter() - t
     log(f"dense: {n_pairs} stereo pairs for {len(views)} images")
 
-    import cv2
+    with _stage(seconds, "depth_maps"):
+        _depth_maps(ws, views, pairs, point_ids, xyz_by_id, log, cancel, threads)
 
-    t = time.perf_counter()
-    depth_dir, normal_dir = ws / "stereo" / "depth_maps", ws / "stereo" / "normal_maps"
-    depth_dir.mkdir(parents=True, exist_ok=True)
-    normal_dir.mkdir(parents=True, exist_ok=True)
-    gray_cache: dict[int, np.ndarray] = {}
-
-    def gray(k: int) -> np.ndarray:
-        if k not in gray_cache:
-            gray_cache[k] = cv2.imread(str(ws / "images" / views[k].name),
-                                       cv2.IMREAD_GRAYSCALE)
-        return gray_cache[k]
-
-    from designer.sfm.stereo_pairs import (
-        combine_depths,
-        disparity_range,
-        rectify,
-        sgbm_depth,
-    )
-
-    for i, view in enumerate(views):
-        if cancel is not None and cancel():
-            raise DesignerError(f"{work}: dense matching cancelled; run again to resume")
-        depth_path = depth_dir / f"{view.name}.geometric.bin"
-        normal_path = normal_dir / f"{view.name}.geometric.bin"
-        if depth_path.is_file() and normal_path.is_file():
-            continue
-        depths = []
-        seen = np.array([xyz_by_id[p] for p in point_ids[i]]).reshape(-1, 3)
-        for j in pairs[i]:
-            pair = rectify(view, views[j])
-            rng = None if pair is None else disparity_range(pair, seen, view)
-            if rng is not None:
-                depths.append(sgbm_depth(gray(i), gray(j), view, views[j], pair, rng))
-        depth = combine_depths(depths) if depths else \
-            np.zeros((view.height_px, view.width_px), np.float32)
-        write_colmap_array(normal_path, normals_from_depth(depth, view.K))
-        write_colmap_array(depth_path, depth)
-        gray_cache.pop(i - 2, None)  # images are visited in order; neighbours are near
-        log(f"dense: depth map {i + 1}/{len(views)} {view.name}: "
-            f"{np.count_nonzero(depth)} pixels")
-    seconds["depth_maps_s"] = time.perf_counter() - t
-
-    t = time.perf_counter()
-    _write_fusion_config(ws, views)
-    options = pycolmap.StereoFusionOptions()
-    options.min_num_pixels = FUSION_MIN_PIXELS
-    options.max_normal_error = FUSION_MAX_NORMAL_ERROR_DEG
-    options.num_threads = -1
-    fused = work / "fused.ply"
-    log("dense: fusing depth maps (COLMAP stereo_fusion)")
-    pycolmap.stereo_fusion(fused, ws, input_type="geometric", options=options,
-                           output_type="PLY")
-    xyz_local, rgb = _read_fused_ply(fused)
-    seconds["fusion_s"] = time.perf_counter() - t
+    with _stage(seconds, "fusion"):
+        _write_fusion_config(ws, views)
+        options = pycolmap.StereoFusionOptions()
+        options.min_num_pixels = FUSION_MIN_PIXELS
+        options.max_normal_error = FUSION_MAX_NORMAL_ERROR_DEG
+        options.num_threads = max(1, int(threads))
+        if bounds_world is not None:
+            lo, hi = (np.asarray(b, dtype=np.float64).reshape(3) - origin
+                      for b in bounds_world)
+            options.bounding_box = (lo.astype(np.float32), hi.astype(np.float32))
+        fused = work / "fused.ply"
+        fused.unlink(missing_ok=True)
+        log("dense: fusing depth maps (COLMAP stereo_fusion)")
+        pycolmap.stereo_fusion(fused, ws, input_type="geometric", options=options,
+                               output_type="PLY")
+        xyz_local, rgb = _read_fused_ply(fused)
     if len(xyz_local) == 0:
         raise DesignerError(
-            f"{work}: fusion kept no point: the depth maps do not agree between images "
-            "(too little overlap or texture)")
+            f"{work}: fusion kept no point: the depth maps of different images do not "
+            f"agree (each point needs {FUSION_MIN_PIXELS} overlapping images with texture)")
     log(f"dense: {len(xyz_local)} points")
     points_world = xyz_local.astype(np.float64) + origin
     return DenseCloud(points_world, rgb, MATCHER, seconds)
+
+
+@contextlib.contextmanager
+def _stage(seconds: dict, name: str):
+    wall, cpu = time.perf_counter(), time.process_time()
+    try:
+        yield
+    finally:
+        seconds[f"{name}_s"] = time.perf_counter() - wall
+        seconds[f"{name}_cpu_s"] = time.process_time() - cpu
+
+
+def _depth_maps(ws: Path, views, pairs, point_ids, xyz_by_id, log, cancel, threads) -> None:
+    """Compute and write every missing depth and normal map, ``threads`` at a time
+    (OpenCV and numpy release the interpreter lock in their heavy parts)."""
+    from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+
+    depth_dir, normal_dir = ws / "stereo" / "depth_maps", ws / "stereo" / "normal_maps"
+    depth_dir.mkdir(parents=True, exist_ok=True)
+    normal_dir.mkdir(parents=True, exist_ok=True)
+    todo = [i for i, v in enumerate(views)
+            if not ((depth_dir / f"{v.name}.geometric.bin").is_file()
+                    and (normal_dir / f"{v.name}.geometric.bin").is_file())]
+    done = len(views) - len(todo)
+    with ThreadPoolExecutor(max_workers=max(1, int(threads))) as pool:
+        running = set()
+        queue = list(todo)
+        while queue or running:
+            while queue and len(running) < max(1, int(threads)):
+                if cancel is not None and cancel():
+                    for f in running:
+                        f.cancel()
+                    wait(running)
+                    raise DesignerError(f"{ws.parent}: dense matching cancelled; run again "
+                                        "to resume")
+                i = queue.pop(0)
+                running.add(pool.submit(_one_depth_map, ws, views, i, pairs[i],
+                                        point_ids[i], xyz_by_id))
+            finished, running = wait(running, return_when=FIRST_COMPLETED)
+            for f in finished:
+                name, n_pixels = f.result()
+                done += 1
+                log(f"dense: depth map {done}/{len(views)} {name}: {n_pixels} pixels")
+
+
+def _one_depth_map(ws: Path, views, i: int, sources: list[int], ids, xyz_by_id):
+    import cv2
+
+    from designer.sfm.depth_maps import normals_from_depth, write_colmap_array
+    from designer.sfm.stereo_pairs import combine_depths, disparity_range, rectify, sgbm_depth
+
+    view = views[i]
+
+    def gray(v):
+        img = cv2.imread(str(ws / "images" / v.name), cv2.IMREAD_GRAYSCALE)
+        if img is None:
+            raise DesignerError(f"{ws / 'images' / v.name}: cannot read the undistorted image")
+        return img
+
+    seen = np.array([xyz_by_id[p] for p in ids]).reshape(-1, 3)
+    depths = []
+    ref_gray = None
+    for j in sources:
+        pair = rectify(view, views[j])
+        rng = None if pair is None else disparity_range(pair, seen, view)
+        if rng is not None:
+            ref_gray = gray(view) if ref_gray is None else ref_gray
+            depths.append(sgbm_depth(ref_gray, gray(views[j]), view, views[j], pair, rng))
+    depth = combine_depths(depths) if depths else \
+        np.zeros((view.height_px, view.width_px), np.float32)
+    write_colmap_array(ws / "stereo" / "normal_maps" / f"{view.name}.geometric.bin",
+                       normals_from_depth(depth, view.K))
+    write_colmap_array(ws / "stereo" / "depth_maps" / f"{view.name}.geometric.bin", depth)
+    return view.name, int(np.count_nonzero(depth))
 
 
 def _model_digest(model_dir: Path) -> str:
@@ -191,32 +234,6 @@ def _model_digest(model_dir: Path) -> str:
             h.update(p.name.encode())
             h.update(p.read_bytes())
     return h.hexdigest()
-
-
-def _downscale_workspace(pycolmap, ws: Path, max_size_px: int) -> None:
-    """Scale the undistorted images and their cameras so the longer side is at most
-    ``max_size_px`` (COLMAP's camera rescale keeps the corner-origin pixel frame)."""
-    import cv2
-
-    rec = pycolmap.Reconstruction(str(ws / "sparse"))
-    scaled = set()
-    for image in rec.images.values():
-        cam = rec.cameras[image.camera_id]
-        w, h = int(cam.width), int(cam.height)
-        scale = max_size_px / max(w, h)
-        if scale >= 1:
-            continue
-        new_w, new_h = max(1, round(w * scale)), max(1, round(h * scale))
-        path = ws / "images" / image.name
-        img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-        img = cv2.resize(img, (new_w, new_h), interpolation=cv2.INTER_AREA)
-        if not cv2.imwrite(str(path), img):
-            raise DesignerError(f"{path}: could not write the scaled image")
-        if image.camera_id not in scaled:
-            cam.rescale(new_w, new_h)
-            rec.cameras[image.camera_id] = cam
-            scaled.add(image.camera_id)
-    rec.write(str(ws / "sparse"))
 
 
 def _views(rec):

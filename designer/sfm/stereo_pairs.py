@@ -156,12 +156,17 @@ def warp_to_rectified(image: np.ndarray, view: View, K_rect: np.ndarray, R_rect:
 def disparity_range(pair: RectifiedPair, points_local: np.ndarray, ref: View,
                     margin: float = 0.15) -> tuple[int, int] | None:
     """(minDisparity, numDisparities) covering the depths of ``points_local`` (N, 3),
-    the sparse points the reference view sees, widened by ``margin`` of their depth
-    range on each side; None when there are too few points."""
+    the sparse points the reference view sees (1-99 % quantiles of those within a
+    factor of two of the median depth), widened by ``margin`` of their depth range on
+    each side; None when there are too few points."""
     if len(points_local) < 5:
         return None
     Z = (pair.R_rect @ (points_local - ref.C_local).T)[2]
     Z = Z[Z > 0]
+    # badly conditioned sparse points (tiny triangulation angles) lie far off; a survey
+    # image's depths stay within a factor of two of the median
+    median = np.median(Z) if len(Z) else 0.0
+    Z = Z[(Z > 0.5 * median) & (Z < 2.0 * median)]
     if len(Z) < 5:
         return None
     z_lo, z_hi = np.quantile(Z, [0.01, 0.99])
