@@ -1,0 +1,181 @@
+"""Dense cloud (OpenCV SGBM + COLMAP fusion) on a small real render; PLY and LAZ files."""
+
+from __future__ import annotations
+
+import laspy
+import numpy as np
+import pycolmap
+import pytest
+import rasterio.crs
+from plyfile import PlyData
+
+from designer.errors import DesignerError
+from designer.evaluate.compare import reference_mesh
+from designer.evaluate.distance import signed_distances
+from designer.sfm.dense import DenseCloud, dense_cloud, write_dense_ply, write_las
+
+GSD_M = 0.06  # small_flight_survey: 30 m flying height, 10 um pixels, 5 mm lens
+UTM = np.array([512_345.0, 5_406_789.0, 250.0])
+
+render = [pytest.mark.blender, pytest.mark.slow]
+
+
+@pytest.fixture(scope="module")
+def survey(tmp_path_factory):
+    """A dozen rendered 640 x 480 images, their known-pose sparse model in a local frame
+    (world − origin) and the project (for the true mesh)."""
+    from designer.render.pipeline import render_project
+    from designer.sfm.reconstruct import reconstruct
+    from tests.render.conftest import small_flight_survey, write
+
+    folder = tmp_path_factory.mktemp("dense")
+    project = write(small_flight_survey(), folder)
+    render_project(project, folder / "out", workers=2)
+    reconstruct(folder / "out", folder / "sparse", mode="known-poses", log=lambda m: None)
+    rec = pycolmap.Reconstruction(str(folder / "sparse" / "model"))
+    origin = np.round(np.mean([i.projection_center() for i in rec.images.values()], axis=0))
+    rec.transform(pycolmap.Sim3d(1.0, pycolmap.Rotation3d(), -origin))
+    local = folder / "sparse-local"
+    local.mkdir()
+    rec.write(str(local))
+    return {"images": folder / "out", "model": local, "origin": origin, "project": project,
+            "n_sparse": rec.num_points3D(), "folder": folder}
+
+
+@pytest.fixture(scope="module")
+def dense(survey):
+    messages: list[str] = []
+    cloud = dense_cloud(survey["images"], survey["model"], survey["folder"] / "dense",
+                        origin_world=survey["origin"], log=messages.append)
+    return cloud, messages
+
+
+def _model_with(survey, tmp_path, keep) -> str:
+    """The local sparse model with only the images ``keep(names)`` chooses registered."""
+    rec = pycolmap.Reconstruction(str(survey["model"]))
+    names = sorted(img.name for img in rec.images.values())
+    kept = set(keep(names))
+    for img in list(rec.images.values()):
+        if img.name not in kept:
+            rec.deregister_frame(img.frame_id)
+    out = tmp_path / "model"
+    out.mkdir()
+    rec.write(str(out))
+    return out
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_dense_cloud_is_dense_and_lies_on_the_true_surface(survey, dense):
+    cloud, messages = dense
+    assert len(cloud) >= 20 * survey["n_sparse"]
+    assert cloud.points_world.dtype == np.float64
+    assert 499_970 < np.median(cloud.points_world[:, 0]) < 500_030  # world, not local
+    mesh = reference_mesh(survey["project"])
+    d = signed_distances(cloud.points_world, (mesh.vertices, mesh.faces))
+    assert np.median(np.abs(d)) <= GSD_M
+    assert abs(np.median(d)) <= 0.25 * GSD_M  # no vertical bias
+    assert cloud.colors_rgb.dtype == np.uint8 and cloud.colors_rgb.std() > 5
+    assert cloud.matcher == "opencv-sgbm + colmap stereo_fusion"
+    assert {"undistort_s", "pairs_s", "depth_maps_s", "fusion_s"} <= set(cloud.stage_seconds)
+    assert any("depth map 12/12" in m for m in messages)
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_a_rerun_resumes_from_the_written_depth_maps(survey, dense):
+    work = survey["folder"] / "dense"
+    maps = sorted((work / "workspace" / "stereo" / "depth_maps").glob("*.geometric.bin"))
+    stamps = [p.stat().st_mtime_ns for p in maps]
+    messages: list[str] = []
+    again = dense_cloud(survey["images"], survey["model"], work,
+                        origin_world=survey["origin"], log=messages.append)
+    assert any("resuming" in m for m in messages)
+    assert not any("depth map" in m for m in messages)
+    assert [p.stat().st_mtime_ns for p in maps] == stamps
+    assert abs(len(again) - len(dense[0])) <= 0.01 * len(dense[0])
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_the_area_of_interest_box_crops_the_cloud(survey, dense):
+    cloud = dense[0]
+    centre = np.median(cloud.points_world, axis=0)
+    box = (centre - [10, 10, 100], centre + [10, 10, 100])
+    cropped = dense_cloud(survey["images"], survey["model"], survey["folder"] / "dense",
+                          origin_world=survey["origin"], bounds_world=box, log=lambda m: None)
+    assert 0 < len(cropped) < 0.5 * len(cloud)
+    assert (cropped.points_world >= box[0] - 1e-3).all()
+    assert (cropped.points_world <= box[1] + 1e-3).all()
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_cancelling_stops_before_any_depth_map(survey, tmp_path):
+    with pytest.raises(DesignerError, match="cancelled; run again"):
+        dense_cloud(survey["images"], survey["model"], tmp_path / "w",
+                    origin_world=survey["origin"], cancel=lambda: True, log=lambda m: None)
+    assert not list((tmp_path / "w" / "workspace" / "stereo" / "depth_maps").glob("*.bin"))
+    assert not (tmp_path / "w" / "fused.ply").exists()
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
+    model = _model_with(survey, tmp_path, lambda names: [names[0], names[-1]])
+    with pytest.raises(DesignerError, match="no two images share"):
+        dense_cloud(survey["images"], model, tmp_path / "w", origin_world=survey["origin"],
+                    log=lambda m: None)
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_two_images_fuse_no_point_and_say_so(survey, tmp_path):
+    # every fused point needs three images that agree: two overlapping images give none
+    model = _model_with(survey, tmp_path, lambda names: names[:2])
+    with pytest.raises(DesignerError, match="fusion kept no point"):
+        dense_cloud(survey["images"], model, tmp_path / "w", origin_world=survey["origin"],
+                    log=lambda m: None)
+
+
+def _utm_cloud(n=5000, seed=0) -> DenseCloud:
+    rng = np.random.default_rng(seed)
+    xyz = UTM + rng.uniform([-300, -300, -20], [300, 300, 20], size=(n, 3))
+    rgb = rng.integers(0, 256, size=(n, 3), dtype=np.uint8)
+    return DenseCloud(xyz, rgb)
+
+
+def test_laz_reads_back_to_a_tenth_of_a_millimetre_at_utm_coordinates(tmp_path):
+    cloud = _utm_cloud()
+    path = write_las(tmp_path / "dense.laz", cloud, 32632, UTM + [0.4, -0.3, 0.2])
+    with laspy.open(path) as reader:
+        assert reader.header.are_points_compressed
+        las = reader.read()
+    xyz = np.column_stack([las.x, las.y, las.z])
+    assert np.abs(xyz - cloud.points_world).max() <= 0.5e-4 + 1e-9
+    assert np.allclose(las.header.offsets, np.round(UTM + [0.4, -0.3, 0.2]))
+    assert np.allclose(las.header.scales, 1e-4)
+    rgb = np.column_stack([las.red, las.green, las.blue]) >> 8
+    assert np.array_equal(rgb, cloud.colors_rgb)
+    wkt = next(v for v in las.header.vlrs if v.record_id == 2112).string
+    assert rasterio.crs.CRS.from_wkt(wkt).to_epsg() == 32632
+    assert las.header.global_encoding.wkt
+
+
+def test_las_without_crs_and_far_points(tmp_path):
+    cloud = _utm_cloud(100)
+    with laspy.open(write_las(tmp_path / "a.las", cloud, None, UTM)) as reader:
+        assert not reader.header.are_points_compressed
+        assert not [v for v in reader.header.vlrs if v.record_id == 2112]
+    with pytest.raises(DesignerError, match="214 km"):
+        write_las(tmp_path / "b.laz", cloud, 32632, (0.0, 0.0, 0.0))
+    assert not (tmp_path / "b.laz").exists()
+
+
+def test_dense_ply_keeps_doubles_and_colours(tmp_path):
+    cloud = _utm_cloud()
+    v = PlyData.read(str(write_dense_ply(tmp_path / "d.ply", cloud)))["vertex"]
+    assert v["x"].dtype == np.float64
+    xyz = np.column_stack([v["x"], v["y"], v["z"]])
+    assert np.array_equal(xyz, cloud.points_world)
+    assert np.array_equal(np.column_stack([v["red"], v["green"], v["blue"]]), cloud.colors_rgb)
