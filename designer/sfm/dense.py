@@ -144,6 +144,11 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
         pycolmap.stereo_fusion(fused, ws, input_type="geometric", options=options,
                                output_type="PLY")
         xyz_local, rgb = _read_fused_ply(fused)
+    if len(xyz_local) == 0 and bounds_world is not None:
+        lo, hi = (np.asarray(b, dtype=np.float64).reshape(3) for b in bounds_world)
+        raise DesignerError(
+            f"{work}: fusion kept no point inside the area-of-interest box {lo.tolist()} - "
+            f"{hi.tolist()}; give the box in world coordinates around the surveyed area")
     if len(xyz_local) == 0:
         raise DesignerError(
             f"{work}: fusion kept no point: the depth maps of different images do not "
