@@ -51,6 +51,10 @@ FUSION_MIN_PIXELS = 3
 FUSION_MAX_NORMAL_ERROR_DEG = 30.0
 #: source images per reference image
 N_NEIGHBOURS = 2
+#: COLMAP's fusion on several threads claims pixels in an order that depends on thread
+#: timing, so the cloud differs from run to run (by ~1 % of its points); one thread
+#: makes it repeatable bit for bit
+FUSION_THREADS = 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +137,7 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
         options = pycolmap.StereoFusionOptions()
         options.min_num_pixels = FUSION_MIN_PIXELS
         options.max_normal_error = FUSION_MAX_NORMAL_ERROR_DEG
-        options.num_threads = max(1, int(threads))
+        options.num_threads = FUSION_THREADS
         if bounds_world is not None:
             lo, hi = (np.asarray(b, dtype=np.float64).reshape(3) - origin
                       for b in bounds_world)
