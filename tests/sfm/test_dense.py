@@ -20,7 +20,6 @@ GSD_M = 0.06  # small_flight_survey: 30 m flying height, 10 um pixels, 5 mm lens
 UTM = np.array([512_345.0, 5_406_789.0, 250.0])
 
 
-
 @pytest.fixture(scope="module")
 def survey(tmp_path_factory):
     """A dozen rendered 640 x 480 images, their known-pose sparse model in a local frame
