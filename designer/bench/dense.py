@@ -31,10 +31,9 @@ GSD_M = 0.0548  # 50 m above the terrain, 13.2 mm / 1368 px sensor, 8.8 mm lens
 
 def _survey(folder: Path) -> tuple[Path, Path, Path, np.ndarray]:
     """(images, local sparse model, project, origin): rendered and triangulated once."""
-    import pycolmap
-
     from designer.project.new import write_template
     from designer.render.pipeline import render_project
+    from designer.sfm.dense import write_local_model
     from designer.sfm.reconstruct import reconstruct
 
     project = folder / "example.xml"
@@ -46,13 +45,9 @@ def _survey(folder: Path) -> tuple[Path, Path, Path, np.ndarray]:
             write_template(project, "survey", force=True)
         render_project(project, images, quality="draft", resume=True)
         reconstruct(images, recon, mode="known-poses", log=lambda m: None)
-    rec = pycolmap.Reconstruction(str(recon / "model"))
-    origin = np.round(np.mean([i.projection_center() for i in rec.images.values()], axis=0))
     local = folder / "sparse-local"
-    if not local.is_dir():
-        rec.transform(pycolmap.Sim3d(1.0, pycolmap.Rotation3d(), -origin))
-        local.mkdir()
-        rec.write(str(local))
+    shutil.rmtree(local, ignore_errors=True)
+    origin = write_local_model(recon / "model", local)
     return images, local, project, origin
 
 

@@ -236,6 +236,24 @@ def _one_depth_map(ws: Path, views, i: int, sources: list[int], ids, xyz_by_id):
     return view.name, int(np.count_nonzero(depth))
 
 
+def write_local_model(model_dir: Path, out_dir: Path,
+                      origin_world: np.ndarray | None = None) -> np.ndarray:
+    """Write the COLMAP model in ``model_dir`` (world coordinates) shifted into a local
+    frame (world − origin) to ``out_dir`` and return the origin (3,) float64: the given
+    one, or the rounded mean of the camera centres. The shift is exact in float64."""
+    import pycolmap
+
+    rec = pycolmap.Reconstruction(str(model_dir))
+    if origin_world is None:
+        origin_world = np.round(np.mean([img.projection_center()
+                                         for img in rec.images.values()], axis=0))
+    origin = np.asarray(origin_world, dtype=np.float64).reshape(3)
+    rec.transform(pycolmap.Sim3d(1.0, pycolmap.Rotation3d(), -origin))
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
+    rec.write(str(out_dir))
+    return origin
+
+
 def _model_digest(model_dir: Path) -> str:
     h = hashlib.sha1()
     for p in sorted(Path(model_dir).glob("*")):

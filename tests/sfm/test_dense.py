@@ -14,7 +14,13 @@ from plyfile import PlyData
 from designer.errors import DesignerError
 from designer.evaluate.compare import reference_mesh
 from designer.evaluate.distance import signed_distances
-from designer.sfm.dense import DenseCloud, dense_cloud, write_dense_ply, write_las
+from designer.sfm.dense import (
+    DenseCloud,
+    dense_cloud,
+    write_dense_ply,
+    write_las,
+    write_local_model,
+)
 
 GSD_M = 0.06  # small_flight_survey: 30 m flying height, 10 um pixels, 5 mm lens
 UTM = np.array([512_345.0, 5_406_789.0, 250.0])
@@ -32,12 +38,14 @@ def survey(tmp_path_factory):
     project = write(small_flight_survey(), folder)
     render_project(project, folder / "out", workers=2)
     reconstruct(folder / "out", folder / "sparse", mode="known-poses", log=lambda m: None)
-    rec = pycolmap.Reconstruction(str(folder / "sparse" / "model"))
-    origin = np.round(np.mean([i.projection_center() for i in rec.images.values()], axis=0))
-    rec.transform(pycolmap.Sim3d(1.0, pycolmap.Rotation3d(), -origin))
     local = folder / "sparse-local"
-    local.mkdir()
-    rec.write(str(local))
+    origin = write_local_model(folder / "sparse" / "model", local)
+    rec = pycolmap.Reconstruction(str(local))
+    # the local model is the world model shifted: camera centres differ by the origin
+    world = pycolmap.Reconstruction(str(folder / "sparse" / "model"))
+    name = next(iter(rec.images.values())).name
+    assert np.allclose(world.find_image_with_name(name).projection_center() - origin,
+                       rec.find_image_with_name(name).projection_center(), atol=1e-9)
     return {"images": folder / "out", "model": local, "origin": origin, "project": project,
             "n_sparse": rec.num_points3D(), "folder": folder}
 
