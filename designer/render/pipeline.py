@@ -17,7 +17,7 @@ import json
 import platform
 import re
 import time
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -142,8 +142,8 @@ def write_manifest(out_dir: Path, project_path: Path, prepared: PreparedJob,
     path = out_dir / "manifest.json"
     previous = json.loads(path.read_text()) if path.is_file() else {}
     images = previous.get("images", {})
-    job = json.loads(prepared.job_path.read_text())
-    names = {f["index"]: f["image_name"] for f in job["frames"]}
+    job = prepared.job
+    names = job.image_names
     for index, seconds in report.rendered.items():
         images[names[index]] = {"frame": index, "render_seconds": round(seconds, 4)}
     manifest = {
@@ -151,8 +151,8 @@ def write_manifest(out_dir: Path, project_path: Path, prepared: PreparedJob,
         "blender_version": report.blender_version or previous.get("blender_version"),
         "python": platform.python_version(),
         "project": str(project_path.resolve()),
-        "render": job["render"],
-        "camera_blender": job["camera"],
+        "render": asdict(job.render),
+        "camera_blender": asdict(job.camera),
         "image_size_px": list(prepared.interior.image_size_px),
         "frames_total": len(names),
         "prepare_seconds": round(prepare_seconds, 3),
