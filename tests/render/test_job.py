@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from designer.effects.distortion_render import DistortionWarp
@@ -10,7 +12,7 @@ from designer.project import load_project
 from designer.project import model as m
 from designer.render.job import prepare_job
 from designer.render.job_spec import RenderJob
-from tests.render.conftest import replace, small_survey, write
+from tests.synthetic import small_survey, write_project_file
 
 
 @pytest.mark.parametrize("oversample", [1, 2])
@@ -19,7 +21,7 @@ def test_distortion_oversample_renders_finer(tmp_path, oversample):
                            effects=m.Effects(defocus=m.Defocus(2.8, 25.0)))
     project = replace(project, render=replace(project.render,
                                               distortion_oversample=oversample))
-    path = write(project, tmp_path / "p")
+    path = write_project_file(project, tmp_path / "p")
     prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
     job = RenderJob.read(prepared.job_path)
     assert job == prepared.job
