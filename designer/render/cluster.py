@@ -14,6 +14,7 @@ import os
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from designer.errors import DesignerError
@@ -53,6 +54,7 @@ def render_frames_on_cluster(
     resume: bool = False,
     progress: ProgressCallback | None = None,
     retries: int = 1,
+    keep: Callable[[int], bool] | None = None,
 ) -> RenderReport:
     """Render ``frames`` on the Dask cluster at ``scheduler`` (e.g. tcp://10.0.0.5:8786)."""
     try:
@@ -69,7 +71,8 @@ def render_frames_on_cluster(
     todo = list(frames)
     if resume:
         report.skipped = [i for i in todo
-                          if image_is_complete(out_dir / names[i], job.width_px, job.height_px)]
+                          if image_is_complete(out_dir / names[i], job.width_px, job.height_px)
+                          and (keep is None or keep(i))]
         todo = [i for i in todo if i not in set(report.skipped)]
     try:
         client = Client(scheduler, timeout="10s")

@@ -67,8 +67,13 @@ def render_frames(
     resume: bool = False,
     progress: ProgressCallback | None = None,
     retries: int = 1,
+    keep: Callable[[int], bool] | None = None,
 ) -> RenderReport:
-    """Render ``frames`` of the job at ``job_path`` with local worker processes."""
+    """Render ``frames`` of the job at ``job_path`` with local worker processes.
+
+    With ``resume``, a frame whose image is complete is skipped when ``keep(index)`` is
+    true (by default always; the pipeline passes its provenance check).
+    """
     job_path = Path(job_path)
     job = RenderJob.read(job_path)
     out_dir = Path(job.output_dir)
@@ -85,7 +90,8 @@ def render_frames(
     todo = list(frames)
     if resume:
         done = [i for i in todo
-                if image_is_complete(out_dir / names[i], job.width_px, job.height_px)]
+                if image_is_complete(out_dir / names[i], job.width_px, job.height_px)
+                and (keep is None or keep(i))]
         report.skipped = done
         todo = [i for i in todo if i not in set(done)]
         for i in done:
