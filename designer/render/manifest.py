@@ -4,10 +4,15 @@ The manifest is rewritten (atomically) as soon as the ground truth is written an
 as each image lands, so an interrupted run leaves a record of exactly the images it
 finished; ``--resume`` then keeps those and re-renders only what is missing or was
 rendered from other inputs.
+
+Several processes may render slices of one folder at once (a cluster job array with
+``--frames … --resume``): each write locks ``.designer-job/manifest.lock``, re-reads the file and
+adds only the images this process finished, so no process erases another's record.
 """
 
 from __future__ import annotations
 
+import fcntl
 import json
 import platform
 from dataclasses import asdict
@@ -48,8 +53,10 @@ class Manifest:
             else {}
         # entries of images this project no longer has are dropped: their files are not
         # part of this survey (check-output lists such files)
+        self.names = set(names.values())
         self.recorded = {name: entry for name, entry in old_images.items()
-                         if name in names.values() and isinstance(entry, dict)}
+                         if name in self.names and isinstance(entry, dict)}
+        self.finished: dict[str, dict] = {}  # images this process rendered
         job = prepared.job
         self.data = {
             "designer_version": __version__,
@@ -82,7 +89,7 @@ class Manifest:
 
     def image_done(self, index: int, seconds: float) -> None:
         name = self.prepared.job.image_names[index]
-        self.recorded[name] = {"frame": index, "render_seconds": round(seconds, 4),
+        self.finished[name] = {"frame": index, "render_seconds": round(seconds, 4),
                                "inputs": self.provenance[index].to_json()}
         self._write()
 
@@ -96,5 +103,13 @@ class Manifest:
         return self.path
 
     def _write(self) -> None:
-        self.data["images"] = dict(sorted(self.recorded.items()))
-        write_text_atomic(self.path, json.dumps(self.data, indent=1))
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with open(self.prepared.job_path.parent / "manifest.lock", "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            on_disk = read_manifest(self.out_dir).get("images")
+            if isinstance(on_disk, dict):  # what other processes recorded meanwhile
+                self.recorded.update({k: v for k, v in on_disk.items()
+                                      if k in self.names and isinstance(v, dict)})
+            self.recorded.update(self.finished)
+            self.data["images"] = dict(sorted(self.recorded.items()))
+            write_text_atomic(self.path, json.dumps(self.data, indent=1))

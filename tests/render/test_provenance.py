@@ -185,3 +185,20 @@ def test_resume_rerenders_what_changed_and_check_output_agrees(tmp_path):
     status = check_output(out)
     assert status.extra == ["IMG_999.png"]
     assert status.ground_truth == "edited after rendering"
+
+
+def test_two_processes_rendering_slices_keep_each_others_records(tmp_path):
+    """A job array renders frames 0-3 and 4-7 of one folder at once: both manifests'
+    writers add their images; neither erases the other's."""
+    from designer.render.manifest import Manifest
+
+    path = write_project_file(base_project(), tmp_path)
+    prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
+    provenance = job_provenance(prepared.job, prepared.job_path.parent)
+    a = Manifest(tmp_path / "out", path, prepared, provenance, 0.1)
+    b = Manifest(tmp_path / "out", path, prepared, provenance, 0.1)
+    for k in range(4):
+        a.image_done(k, 1.0)
+        b.image_done(4 + k, 1.0)
+    data = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert sorted(data["images"]) == [f"IMG_{k:03d}.png" for k in range(8)]
