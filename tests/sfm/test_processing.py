@@ -119,7 +119,8 @@ def test_all_black_images_are_a_clear_error(survey, tmp_path):
     black = tmp_path / "black"
     shutil.copytree(survey / "ground-truth", black / "ground-truth")
     for image in sorted(survey.glob("IMG_*.png")):
-        size = Image.open(image).size
+        with Image.open(image) as im:
+            size = im.size
         Image.new("RGB", size).save(black / image.name)
     with pytest.raises(DesignerError, match="overlap enough or show too little texture"):
         reconstruct(black, tmp_path / "r", mode="free", log=lambda _: None,
