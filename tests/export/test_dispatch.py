@@ -8,7 +8,7 @@ from designer.core.truth import CameraPose, GcpObservation
 from designer.export import FORMATS, ExportError, write_all
 from designer.export.colmap import read_colmap_text_poses
 from designer.export.tables import read_opk_csv
-from tests.export.scene import UTM, survey
+from tests.synthetic import ORIGIN_WORLD, survey
 
 ALL_KEYS = {
     "colmap", "colmap_cameras", "colmap_images", "colmap_points3D",
@@ -44,10 +44,10 @@ def test_write_all_writes_every_format_and_leaves_no_temporary_files(tmp_path):
 def test_write_all_with_a_subset_and_an_offset(tmp_path):
     interior, poses, gcps, obs = survey(51)
     paths = write_all(tmp_path, interior, poses, gcps, obs, "EPSG:32632",
-                      formats=("colmap", "gcp"), colmap_offset_world=UTM)
+                      formats=("colmap", "gcp"), colmap_offset_world=ORIGIN_WORLD)
     assert set(paths) == {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D",
                           "gcp_truth", "gcp_observations"}
-    back = read_colmap_text_poses(paths["colmap"], offset_world=UTM)
+    back = read_colmap_text_poses(paths["colmap"], offset_world=ORIGIN_WORLD)
     for a, b in zip(poses, back, strict=True):
         assert np.abs(a.C_world - b.C_world).max() < 1e-9
 

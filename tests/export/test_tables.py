@@ -15,7 +15,7 @@ from designer.export.tables import (
     write_gcp_truth_csv,
     write_opk_csv,
 )
-from tests.export.scene import UTM, survey
+from tests.synthetic import ORIGIN_WORLD, survey
 
 
 def test_opk_csv_round_trips_through_rotation_from_opk(tmp_path):
@@ -26,7 +26,7 @@ def test_opk_csv_round_trips_through_rotation_from_opk(tmp_path):
     back = read_opk_csv(path)
     assert [p.image_name for p in back] == [p.image_name for p in poses]
     for a, b in zip(poses, back, strict=True):
-        np.testing.assert_array_equal(b.C_world, a.C_world)  # exact at UTM size
+        np.testing.assert_array_equal(b.C_world, a.C_world)  # exact at ORIGIN_WORLD size
         np.testing.assert_allclose(b.R_cam_to_world, a.R_cam_to_world, rtol=0, atol=1e-9)
 
 
@@ -38,7 +38,7 @@ def test_opk_csv_round_trips_through_rotation_from_opk(tmp_path):
 )
 def test_opk_round_trip_for_any_orientation(tmp_path_factory, omega, phi, kappa):
     R = rotation_from_opk(*np.radians([omega, phi, kappa]))
-    pose = CameraPose("a.png", UTM + [0.1, 0.2, 0.3], R)
+    pose = CameraPose("a.png", ORIGIN_WORLD + [0.1, 0.2, 0.3], R)
     path = write_opk_csv(tmp_path_factory.mktemp("opk") / "opk.csv", [pose], "EPSG:32632")
     (back,) = read_opk_csv(path)
     np.testing.assert_allclose(back.R_cam_to_world, R, rtol=0, atol=1e-9)

@@ -8,14 +8,14 @@ import pytest
 
 from designer.project import model as m
 from designer.render.pipeline import render_project
-from tests.render.conftest import small_flight_survey, write
+from tests.synthetic import small_flight_survey, write_project_file
 
 
 @pytest.fixture(scope="session")
 def survey(tmp_path_factory):
     """A dozen 640 × 480 nadir images at 30 m (GSD 6 cm) of hilly terrain with 7 GCPs."""
     folder = tmp_path_factory.mktemp("sfm")
-    project = write(small_flight_survey(), folder)
+    project = write_project_file(small_flight_survey(), folder)
     summary = render_project(project, folder / "out", workers=2)
     assert len(summary.prepared.poses) <= 12
     return folder / "out"
@@ -30,5 +30,5 @@ def convergent_survey(tmp_path_factory):
     plan = dataclasses.replace(project.trajectory.flight_plan, crosshatch=True, tilt_deg=20.0)
     project = dataclasses.replace(project, trajectory=m.Trajectory(flight_plan=plan))
     project = dataclasses.replace(project, render=m.Render(preset="draft", workers=2))
-    render_project(write(project, folder), folder / "out", workers=2)
+    render_project(write_project_file(project, folder), folder / "out", workers=2)
     return folder / "out"
