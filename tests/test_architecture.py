@@ -55,6 +55,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "vtk": ("gui",),
     "vtkmodules": ("gui",),
     "pycolmap": ("sfm",),
+    "pyceres": ("sfm",),
     "distributed": ("render.cluster",),
 }
 
