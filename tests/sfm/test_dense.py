@@ -27,17 +27,14 @@ UTM = np.array([512_345.0, 5_406_789.0, 250.0])
 
 
 @pytest.fixture(scope="module")
-def survey(tmp_path_factory):
-    """A dozen rendered 640 x 480 images, their known-pose sparse model in a local frame
-    (world − origin) and the project (for the true mesh)."""
-    from designer.render.pipeline import render_project
+def sparse(survey, tmp_path_factory):
+    """The session's rendered survey (``survey``, from conftest.py: a dozen 640 x 480
+    images) triangulated with its known poses, the model shifted into a local frame
+    (world − origin), and the project (for the true mesh)."""
     from designer.sfm.reconstruct import reconstruct
-    from tests.render.conftest import small_flight_survey, write
 
     folder = tmp_path_factory.mktemp("dense")
-    project = write(small_flight_survey(), folder)
-    render_project(project, folder / "out", workers=2)
-    reconstruct(folder / "out", folder / "sparse", mode="known-poses", log=lambda m: None)
+    reconstruct(survey, folder / "sparse", mode="known-poses", log=lambda m: None)
     local = folder / "sparse-local"
     origin = write_local_model(folder / "sparse" / "model", local)
     rec = pycolmap.Reconstruction(str(local))
@@ -46,21 +43,22 @@ def survey(tmp_path_factory):
     name = next(iter(rec.images.values())).name
     assert np.allclose(world.find_image_with_name(name).projection_center() - origin,
                        rec.find_image_with_name(name).projection_center(), atol=1e-9)
-    return {"images": folder / "out", "model": local, "origin": origin, "project": project,
+    return {"images": survey, "model": local, "origin": origin,
+            "project": survey.parent / "project.xml",
             "n_sparse": rec.num_points3D(), "folder": folder}
 
 
 @pytest.fixture(scope="module")
-def dense(survey):
+def dense(sparse):
     messages: list[str] = []
-    cloud = dense_cloud(survey["images"], survey["model"], survey["folder"] / "dense",
-                        origin_world=survey["origin"], log=messages.append)
+    cloud = dense_cloud(sparse["images"], sparse["model"], sparse["folder"] / "dense",
+                        origin_world=sparse["origin"], log=messages.append)
     return cloud, messages
 
 
-def _model_with(survey, tmp_path, keep) -> str:
+def _model_with(sparse, tmp_path, keep) -> str:
     """The local sparse model with only the images ``keep(names)`` chooses registered."""
-    rec = pycolmap.Reconstruction(str(survey["model"]))
+    rec = pycolmap.Reconstruction(str(sparse["model"]))
     names = sorted(img.name for img in rec.images.values())
     kept = set(keep(names))
     for img in list(rec.images.values()):
@@ -74,12 +72,12 @@ def _model_with(survey, tmp_path, keep) -> str:
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_dense_cloud_is_dense_and_lies_on_the_true_surface(survey, dense):
+def test_dense_cloud_is_dense_and_lies_on_the_true_surface(sparse, dense):
     cloud, messages = dense
-    assert len(cloud) >= 20 * survey["n_sparse"]
+    assert len(cloud) >= 20 * sparse["n_sparse"]
     assert cloud.points_world.dtype == np.float64
     assert 499_970 < np.median(cloud.points_world[:, 0]) < 500_030  # world, not local
-    mesh = reference_mesh(survey["project"])
+    mesh = reference_mesh(sparse["project"])
     d = signed_distances(cloud.points_world, (mesh.vertices, mesh.faces))
     assert np.median(np.abs(d)) <= GSD_M
     assert abs(np.median(d)) <= 0.25 * GSD_M  # no vertical bias
@@ -91,13 +89,13 @@ def test_dense_cloud_is_dense_and_lies_on_the_true_surface(survey, dense):
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_a_rerun_resumes_from_the_written_depth_maps(survey, dense):
-    work = survey["folder"] / "dense"
+def test_a_rerun_resumes_from_the_written_depth_maps(sparse, dense):
+    work = sparse["folder"] / "dense"
     maps = sorted((work / "workspace" / "stereo" / "depth_maps").glob("*.geometric.bin"))
     stamps = [p.stat().st_mtime_ns for p in maps]
     messages: list[str] = []
-    again = dense_cloud(survey["images"], survey["model"], work,
-                        origin_world=survey["origin"], log=messages.append)
+    again = dense_cloud(sparse["images"], sparse["model"], work,
+                        origin_world=sparse["origin"], log=messages.append)
     assert any("resuming" in m for m in messages)
     assert not any(re.match(r"dense: depth map \d", m) for m in messages)
     assert [p.stat().st_mtime_ns for p in maps] == stamps
@@ -108,12 +106,12 @@ def test_a_rerun_resumes_from_the_written_depth_maps(survey, dense):
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_the_area_of_interest_box_crops_the_cloud(survey, dense):
+def test_the_area_of_interest_box_crops_the_cloud(sparse, dense):
     cloud = dense[0]
     centre = np.median(cloud.points_world, axis=0)
     box = (centre - [10, 10, 100], centre + [10, 10, 100])
-    cropped = dense_cloud(survey["images"], survey["model"], survey["folder"] / "dense",
-                          origin_world=survey["origin"], bounds_world=box, log=lambda m: None)
+    cropped = dense_cloud(sparse["images"], sparse["model"], sparse["folder"] / "dense",
+                          origin_world=sparse["origin"], bounds_world=box, log=lambda m: None)
     assert 0 < len(cropped) < 0.5 * len(cloud)
     assert (cropped.points_world >= box[0] - 1e-3).all()
     assert (cropped.points_world <= box[1] + 1e-3).all()
@@ -121,31 +119,31 @@ def test_the_area_of_interest_box_crops_the_cloud(survey, dense):
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_cancelling_stops_before_any_depth_map(survey, tmp_path):
+def test_cancelling_stops_before_any_depth_map(sparse, tmp_path):
     with pytest.raises(DesignerError, match="cancelled; run again"):
-        dense_cloud(survey["images"], survey["model"], tmp_path / "w",
-                    origin_world=survey["origin"], cancel=lambda: True, log=lambda m: None)
+        dense_cloud(sparse["images"], sparse["model"], tmp_path / "w",
+                    origin_world=sparse["origin"], cancel=lambda: True, log=lambda m: None)
     assert not list((tmp_path / "w" / "workspace" / "stereo" / "depth_maps").glob("*.bin"))
     assert not (tmp_path / "w" / "fused.ply").exists()
 
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
-    model = _model_with(survey, tmp_path, lambda names: [names[0], names[-1]])
+def test_images_without_overlap_are_a_clear_error(sparse, tmp_path):
+    model = _model_with(sparse, tmp_path, lambda names: [names[0], names[-1]])
     with pytest.raises(DesignerError, match="no two images share"):
-        dense_cloud(survey["images"], model, tmp_path / "w", origin_world=survey["origin"],
+        dense_cloud(sparse["images"], model, tmp_path / "w", origin_world=sparse["origin"],
                     log=lambda m: None)
 
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_a_box_beside_the_survey_leaves_no_point_and_says_so(survey, dense):
+def test_a_box_beside_the_survey_leaves_no_point_and_says_so(sparse, dense):
     # a box given in local instead of world coordinates: nothing lies inside
     box = (np.array([-50.0, -50.0, -50.0]), np.array([50.0, 50.0, 50.0]))
     with pytest.raises(DesignerError, match="no point inside the area-of-interest box"):
-        dense_cloud(survey["images"], survey["model"], survey["folder"] / "dense",
-                    origin_world=survey["origin"], bounds_world=box, log=lambda m: None)
+        dense_cloud(sparse["images"], sparse["model"], sparse["folder"] / "dense",
+                    origin_world=sparse["origin"], bounds_world=box, log=lambda m: None)
 
 
 def _utm_cloud(n=5000, seed=0) -> DenseCloud:
