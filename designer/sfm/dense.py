@@ -51,6 +51,9 @@ FUSION_MIN_PIXELS = 3
 FUSION_MAX_NORMAL_ERROR_DEG = 30.0
 #: source images per reference image
 N_NEIGHBOURS = 2
+#: the farthest (m) a camera of the local model may be from its origin: float32 (COLMAP's
+#: dense workspace) resolves 2 mm there
+MAX_LOCAL_DISTANCE_M = 2.0e4
 #: COLMAP's fusion on several threads claims pixels in an order that depends on thread
 #: timing, so the cloud differs from run to run (by ~1 % of its points); one thread
 #: makes it repeatable bit for bit
@@ -94,6 +97,7 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
 
     image_dir, sparse_model_dir, work = Path(image_dir), Path(sparse_model_dir), Path(work_dir)
     origin = np.asarray(origin_world, dtype=np.float64).reshape(3)
+    _check_inputs(pycolmap, image_dir, sparse_model_dir)
     seconds: dict[str, float] = {}
     ws = work / "workspace"
     settings = {"version": 2, "max_image_size_px": max_image_size_px,
@@ -160,6 +164,29 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
     log(f"dense: {len(xyz_local)} points")
     points_world = xyz_local.astype(np.float64) + origin
     return DenseCloud(points_world, rgb, MATCHER, seconds)
+
+
+def _check_inputs(pycolmap, image_dir: Path, model_dir: Path) -> None:
+    """Clear errors for a missing folder, a folder without a model, and a model in world
+    (UTM-sized) coordinates, before anything is written."""
+    if not image_dir.is_dir():
+        raise DesignerError(f"{image_dir}: no such image folder; give the folder holding "
+                            "the images the sparse model names")
+    if not any((model_dir / f"{f}.{e}").is_file() for f in ("cameras", "images")
+               for e in ("bin", "txt")):
+        raise DesignerError(f"{model_dir}: no COLMAP model (cameras/images .bin or .txt); "
+                            "give the sparse model folder")
+    rec = pycolmap.Reconstruction(str(model_dir))
+    C = np.array([img.projection_center() for img in rec.images.values() if img.has_pose])
+    if len(C) == 0:
+        raise DesignerError(f"{model_dir}: the model has no registered image")
+    far = float(np.abs(C).max())
+    if far > MAX_LOCAL_DISTANCE_M:
+        raise DesignerError(
+            f"{model_dir}: cameras lie up to {far:.0f} m from the model's origin: it is in "
+            "world coordinates, which COLMAP's float32 dense workspace cannot hold to the "
+            "millimetre; write it in a local frame with write_local_model() and pass that "
+            "origin")
 
 
 @contextlib.contextmanager

@@ -146,6 +146,30 @@ def test_a_box_beside_the_survey_leaves_no_point_and_says_so(sparse, dense):
                     origin_world=sparse["origin"], bounds_world=box, log=lambda m: None)
 
 
+def _one_image_model(folder, C_world) -> None:
+    rec = pycolmap.Reconstruction()
+    rec.add_camera_with_trivial_rig(
+        pycolmap.Camera.create_from_model_name(1, "PINHOLE", 500.0, 640, 480))
+    pose = pycolmap.Rigid3d(pycolmap.Rotation3d(), -np.asarray(C_world, dtype=float))
+    rec.add_image_with_trivial_frame(pycolmap.Image(name="a.png", camera_id=1, image_id=1),
+                                     pose)
+    folder.mkdir()
+    rec.write(str(folder))
+
+
+def test_a_model_in_world_coordinates_is_refused_before_anything_is_written(tmp_path):
+    _one_image_model(tmp_path / "world", UTM)
+    (tmp_path / "images").mkdir()
+    with pytest.raises(DesignerError, match=r"world coordinates.*write_local_model"):
+        dense_cloud(tmp_path / "images", tmp_path / "world", tmp_path / "w",
+                    origin_world=np.zeros(3), log=lambda m: None)
+    assert not (tmp_path / "w").exists()
+    with pytest.raises(DesignerError, match="no COLMAP model"):
+        dense_cloud(tmp_path / "images", tmp_path, tmp_path / "w", origin_world=UTM)
+    with pytest.raises(DesignerError, match="no such image folder"):
+        dense_cloud(tmp_path / "nothing", tmp_path / "world", tmp_path / "w", origin_world=UTM)
+
+
 def _utm_cloud(n=5000, seed=0) -> DenseCloud:
     rng = np.random.default_rng(seed)
     xyz = UTM + rng.uniform([-300, -300, -20], [300, 300, 20], size=(n, 3))
