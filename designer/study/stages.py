@@ -127,6 +127,7 @@ def _process(survey: Path, project_path: Path, out: Path) -> dict:
     from designer.sfm.reconstruct import reconstruct
 
     project = load_project(project_path)
+    _quiet_colmap()
     t0 = time.perf_counter()
     rec = reconstruct(survey, out / "reconstruction", mode=MODE,
                       processing=project.processing, log=lambda _message: None)
@@ -152,3 +153,10 @@ def _process(survey: Path, project_path: Path, out: Path) -> dict:
                     "error_map": str((out / "compare" / "error_map.png").relative_to(out))})
     row["compare_s"] = time.perf_counter() - t1
     return row
+
+
+def _quiet_colmap() -> None:
+    """Keep COLMAP's per-step log lines out of the study's output (errors still show)."""
+    import pycolmap
+
+    pycolmap.logging.minloglevel = 2

@@ -96,8 +96,17 @@ TEMPLATE_NAMES = tuple(STUDIES)
 def template_base(name: str) -> m.Project:
     if name == "tiny":
         p = base_project(160, 120, samples=4)
-        plan = replace(p.trajectory.flight_plan, altitude_agl_m=40.0,
-                       front_overlap_percent=60.0, side_overlap_percent=50.0)
+        half = 7.0  # a 14 x 14 m flight at 12 m (GSD 10 cm), 3 lines of 3-4 images
+        targets = tuple(replace(t, size_m=1.0, true=m.TruePosition(
+            E0 + 0.5 * (t.true.X - E0), N0 + 0.5 * (t.true.Y - N0))) for t in p.targets)
+        p = replace(p, scene=replace(p.scene, targets=replace(p.scene.targets,
+                                                              targets=targets),
+                                     texture=replace(p.scene.texture, source=replace(
+                                         p.scene.texture.source, texel_size_m=0.05))))
+        plan = replace(p.trajectory.flight_plan, altitude_agl_m=12.0,
+                       area=((E0 - half, N0 - half), (E0 + half, N0 - half),
+                             (E0 + half, N0 + half), (E0 - half, N0 + half)),
+                       front_overlap_percent=70.0, side_overlap_percent=60.0)
         p = replace(p, trajectory=m.Trajectory(flight_plan=plan),
                     processing=replace(p.processing, gcps=replace(
                         p.processing.gcps, mode="similarity",
