@@ -107,6 +107,9 @@ def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
 
 def process_stage(survey_dir: str, project_path: str, out_dir: str) -> dict:
     """Reconstruct and compare one run; its metrics, or ``failed: reason``."""
+    # keep COLMAP's per-step log lines out of the study's output (errors still show);
+    # read by its logging library when pycolmap loads in this worker
+    os.environ.setdefault("GLOG_minloglevel", "2")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     result: dict = {}
@@ -127,7 +130,6 @@ def _process(survey: Path, project_path: Path, out: Path) -> dict:
     from designer.sfm.reconstruct import reconstruct
 
     project = load_project(project_path)
-    _quiet_colmap()
     t0 = time.perf_counter()
     rec = reconstruct(survey, out / "reconstruction", mode=MODE,
                       processing=project.processing, log=lambda _message: None)
@@ -154,9 +156,3 @@ def _process(survey: Path, project_path: Path, out: Path) -> dict:
     row["compare_s"] = time.perf_counter() - t1
     return row
 
-
-def _quiet_colmap() -> None:
-    """Keep COLMAP's per-step log lines out of the study's output (errors still show)."""
-    import pycolmap
-
-    pycolmap.logging.minloglevel = 2

@@ -36,15 +36,17 @@ def killed_and_resumed(tmp_path_factory):
     study = folder / "tiny.xml"
     write_template("tiny", study)
     out = folder / "out"
-    proc = _designer("study", "run", str(study), "-o", str(out), "--workers", "2",
-                     "--progress", "none", start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "designer", "study", "run", str(study), "-o", str(out),
+         "--workers", "2", "--progress", "none"], cwd=ROOT, stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL, start_new_session=True)
     deadline = time.monotonic() + 600
     while time.monotonic() < deadline and proc.poll() is None:
         if list(out.glob("runs/*/result.json")):
             break
         time.sleep(0.2)
     finished = {p.parent.name: p.read_bytes() for p in out.glob("runs/*/result.json")}
-    assert proc.poll() is None, proc.communicate()
+    assert proc.poll() is None, "the study ended before it could be killed"
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     finished = {p.parent.name: p.read_bytes() for p in out.glob("runs/*/result.json")}
@@ -66,8 +68,9 @@ def test_a_killed_study_resumes_without_losing_or_redoing_a_run(killed_and_resum
 
 
 def test_a_processing_only_factor_renders_once(killed_and_resumed):
-    out, _, _, second = killed_and_resumed
-    rows = list(csv.DictReader((out / "results.csv").open()))
+    out, *_ = killed_and_resumed
+    with (out / "results.csv").open() as table:
+        rows = list(csv.DictReader(table))
     assert len(rows) == 4
     marking = {r["factor:marking-sigma-px"]: r for r in rows
                if r["factor:sun-elevation-deg"] == "55"}
@@ -164,3 +167,23 @@ def test_the_cli_reports_a_bad_study_with_exit_code_2(tmp_path):
     assert proc.returncode == 2
     assert f"{path}:1:1: <study>: the root element must be" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_packaged_study_schema_is_the_canonical_one_and_compiles():
+    import filecmp
+
+    import xmlschema
+
+    from designer.study.xml import study_schema_path
+
+    canonical = ROOT / "schema" / "designer-study-1.0.xsd"
+    assert filecmp.cmp(study_schema_path(), canonical, shallow=False)
+    assert xmlschema.XMLSchema10(str(canonical)).target_namespace == "urn:designer:project:1"
+
+
+def test_every_example_study_plans(tmp_path):
+    from designer.study.templates import TEMPLATE_NAMES
+
+    for name in TEMPLATE_NAMES:
+        plan = plan_study(read_study(write_template(name, tmp_path / name / "s.xml")[0]))
+        assert plan.n_variants >= 3
