@@ -144,6 +144,8 @@ def run_study(plan: Plan, out_dir: Path, *, workers: int = 1, scheduler: str | N
     progress = progress or (lambda _event: None)
     out = Path(out_dir)
     _check_folder(out, plan, resume)
+    if scheduler:  # an unreachable cluster is an error before anything is written
+        _Dask(scheduler).close()
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     write_text_atomic(out / "study.json", json.dumps({

@@ -22,6 +22,8 @@ from designer.study.xml import parse_study, read_study
 
 ROOT = Path(__file__).resolve().parents[2]
 
+pytestmark = [pytest.mark.blender]
+
 
 def _designer(*args, **kw) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "designer", *args], cwd=ROOT,
