@@ -16,6 +16,7 @@ BENCHMARKS = {
     "accuracy": "designer.bench.accuracy",
     "effects": "designer.bench.effects",
     "dense": "designer.bench.dense",
+    "study": "designer.bench.study",
 }
 
 
