@@ -40,7 +40,12 @@ def register(subparsers) -> None:
     parser.add_argument("--pairs", choices=["footprint", "position", "exhaustive"],
                         help="which image pairs are matched")
     parser.add_argument("--min-track-length", type=int, help="tie points need this many images")
-    parser.add_argument("--dense", choices=["none", "cpu", "auto"], help="dense matching")
+    parser.add_argument("--dense", choices=["none", "cpu", "auto"],
+                        help="dense matching: OpenCV semi-global matching + COLMAP fusion on "
+                             "the CPU (auto = the best matcher this machine runs: cpu); writes "
+                             "dense.ply, dense.laz, dsm.tif, dod.tif, dod.png")
+    parser.add_argument("--dense-max-image-px", type=int, default=None, metavar="PX",
+                        help="longer image side for dense matching (default: full size)")
     parser.add_argument("--max-features", type=int, default=None,
                         help="SIFT features per image (default 8192)")
     parser.set_defaults(func=run)
@@ -63,7 +68,14 @@ def run(args) -> int:
         min_track_length=args.min_track_length, control_ids=ids, control_count=count,
         control_spread=args.control_spread)
     out = args.output or args.survey / f"reconstruction-{args.mode}"
-    result = reconstruct(args.survey, out, mode=args.mode, processing=processing)
+    if args.dense_max_image_px is not None and args.dense_max_image_px < 64:
+        from designer.errors import DesignerError
+
+        raise DesignerError(f"--dense-max-image-px {args.dense_max_image_px}: give at least "
+                            "64 px")
+    result = reconstruct(args.survey, out, mode=args.mode, processing=processing,
+                         project_path=args.project,
+                         dense_max_image_px=args.dense_max_image_px)
     s = result.summary
     line = (f"{out}: {result.n_registered}/{result.n_images} images registered, "
             f"{result.n_points} points")
@@ -74,4 +86,10 @@ def run(args) -> int:
     print(line)
     print(f"cloud {out / 'sparse.ply'}; GCP residuals {result.gcp_residuals_csv}; "
           f"summary {out / 'summary.json'}")
+    dense = s.get("dense") or {}
+    if dense.get("status") == "ok":
+        dome = dense.get("dome_amplitude_m")
+        print(f"dense cloud {out / 'dense.ply'} ({dense['points']} points, {dense['matcher']}); "
+              f"DoD {out / 'dod.tif'}; dome amplitude "
+              + (f"{dome:+.3f} m" if dome is not None else "none"))
     return 0

@@ -114,8 +114,12 @@ def reconstruct(
     max_features: int | None = None,
     log: Callable[[str], None] = _log_default,
     processing: m.Processing | None = None,
+    project_path: Path | None = None,
+    dense_max_image_px: int | None = None,
 ) -> ReconstructionResult:
-    """Features, matching, SfM or triangulation, adjustment; write model, cloud, report."""
+    """Features, matching, SfM or triangulation, adjustment; write model, cloud, report;
+    with ``dense`` on, the dense cloud, DSM and DEM of difference (designer.sfm.dense_stage;
+    ``project_path`` gives the true surface, default: the project the survey names)."""
     import pycolmap
 
     if mode not in MODES:
@@ -242,13 +246,33 @@ def reconstruct(
         "adjustment": None if adjustment is None else adjustment.as_dict(),
         "tie_points": tie, "pairs": len(pairs),
         "similarity": sim_info, "gcps": rows, "timings": timings, "stage_seconds": timings,
-        "dense": {"mode": p.dense, "status": "not run by this stage",
-                  "dome_amplitude_m": None},
+        "dense": {"mode": p.dense, "status": "off", "dome_amplitude_m": None},
     }
+    if p.dense != "none":
+        from designer.sfm.dense_stage import run_dense_stage
+        from designer.sfm.settings import project_of_survey
+
+        gsd_m = _gsd_m(truth, true_camera, offset, rec)
+        dense = run_dense_stage(survey, out, model_dir, project_path or project_of_survey(survey),
+                                offset, gsd_m, max_image_size_px=dense_max_image_px, log=log)
+        summary["dense"] = {"mode": p.dense, **dense}
+        timings["dense_s"] = dense["dense_s"]
+        timings["rasters_s"] = dense["rasters_s"]
     write_text_atomic(out / "summary.json", json.dumps(summary, indent=1))
     log(f"{rec.num_reg_images()}/{len(names)} images registered, {rec.num_points3D()} points")
     return ReconstructionResult(out, mode, len(names), rec.num_reg_images(),
                                 rec.num_points3D(), cloud, residuals, summary)
+
+
+def _gsd_m(truth, camera, offset: np.ndarray, rec) -> float:
+    """Median ground sample distance (m): camera height over the median tie-point height,
+    divided by the focal length in pixels (nadir approximation)."""
+    C = np.array([img.projection_center() for img in truth.images.values()]) + offset
+    if rec.num_points3D():
+        ground = float(np.median([p.xyz[2] for p in rec.points3D.values()]))
+    else:
+        ground = float(np.min(C[:, 2])) - 100.0
+    return float(np.median(np.abs(C[:, 2] - ground)) / camera.focal_length_x)
 
 
 def _gcp_inputs(survey: Path, p: m.Processing):
