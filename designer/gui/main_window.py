@@ -91,6 +91,12 @@ class MainWindow(QMainWindow):
         self.document.events.connect("file", self._file_state)
         self.sync.message.connect(lambda text: self.statusBar().showMessage(text, 8000))
         self.document.reset(self.document.project, None)
+        from PySide6.QtWidgets import QApplication
+
+        from designer.gui.input_guard import InputGuard
+
+        self.input_guard = InputGuard(self)
+        QApplication.instance().installEventFilter(self.input_guard)
 
     # ------------------------------------------------------------------ layout
     def _add_panel(self, cls, side: str) -> None:
@@ -149,6 +155,9 @@ class MainWindow(QMainWindow):
         undo.setShortcut(QKeySequence.StandardKey.Undo)
         redo = self.undo_stack.createRedoAction(self, "&Redo")
         redo.setShortcuts([QKeySequence.StandardKey.Redo, QKeySequence("Ctrl+Y")])
+        for action in (undo, redo):  # also from a floating panel
+            action.setShortcutContext(Qt.ShortcutContext.ApplicationShortcut)
+        self.undo_action, self.redo_action = undo, redo
         edit.addActions([undo, redo])
         edit.addSeparator()
         mode = self.view.interaction.set_mode
@@ -246,4 +255,7 @@ class MainWindow(QMainWindow):
                 panel.shutdown()
         self.tasks.shutdown()
         self.view.close_view()
+        from PySide6.QtWidgets import QApplication
+
+        QApplication.instance().removeEventFilter(self.input_guard)
         event.accept()

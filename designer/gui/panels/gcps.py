@@ -154,6 +154,7 @@ class GcpPanel(Panel):
 
     def _role_box(self, row: int, role: str) -> None:
         box = QComboBox()
+        box.setFocusPolicy(Qt.FocusPolicy.StrongFocus)  # the wheel alone must not flip it
         box.addItems(["control", "check"])
         box.setCurrentText(role)
         box.currentTextChanged.connect(lambda text, r=row: self._set_role(r, text))
