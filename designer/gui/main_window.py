@@ -127,14 +127,44 @@ class MainWindow(QMainWindow):
         self.addDockWidget(Qt.DockWidgetArea.BottomDockWidgetArea, dock)
         dock.hide()
         self.docks["Problems"] = dock
+        from PySide6.QtCore import QTimer
+
+        self._problems_timer = QTimer(self)
+        self._problems_timer.setSingleShot(True)
+        self._problems_timer.setInterval(300)
+        self._problems_timer.timeout.connect(self._recheck_now)
+        self.document.events.connect("project", self._recheck_problems)
 
     def show_problems(self, lines: list[str], headline: str = "") -> None:
-        """List problems inline (an empty list hides the Problems panel)."""
+        """List problems inline (an empty list hides the Problems panel); while listed they
+        are checked again after every change, so fixed ones (also by an undo) go away."""
+        from designer.gui.wording import humanize
+
+        lines = [humanize(line) for line in lines]
+        self._problems_project = self.document.project if lines else None
         self.problems.clear()
         self.problems.addItems(lines)
         self.docks["Problems"].setVisible(bool(lines))
         if lines and headline:
             self.statusBar().showMessage(headline, 10000)
+
+    def _recheck_problems(self, **_) -> None:
+        if getattr(self, "_problems_project", None) is None:
+            return
+        if self.document.project == self._problems_project:
+            return
+        self._problems_timer.start()
+
+    def _recheck_now(self) -> None:
+        if getattr(self, "_problems_project", None) is None:
+            return
+        doc = self.document
+        path = doc.path or doc.base_dir / "untitled.xml"
+        plan = files.plan_save(doc.project, path, doc.base_dir,
+                               self.file_actions.scratch_files)
+        self.show_problems(plan.problems)
+        if not plan.problems:
+            self.statusBar().showMessage("no problems left", 5000)
 
     def _problem_clicked(self, item) -> None:
         title = files.panel_for_problem(item.text())

@@ -31,9 +31,11 @@ STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
 
 
 def _message(error: BaseException) -> str:
+    from designer.gui.wording import humanize
+
     if isinstance(error, DesignerError | ValueError | KeyError | OSError):
-        return str(error)
-    return f"{type(error).__name__}: {error}"
+        return humanize(str(error))
+    return f"{type(error).__name__}: {humanize(str(error))}"
 
 
 class SceneSync(QObject):

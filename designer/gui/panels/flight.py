@@ -229,7 +229,8 @@ class FlightPanel(Panel):
 
     def set_area(self, vertices) -> None:
         self._set_checked_draw(False)
-        area = tuple((float(x), float(y)) for x, y in vertices)
+        area = tuple((round(float(x), edits.COORDINATE_DECIMALS),
+                      round(float(y), edits.COORDINATE_DECIMALS)) for x, y in vertices)
         self.editor.edit(edits.set_flight(self.project, area=area),
                          f"Flight area ({len(area)} vertices)")
 
