@@ -239,6 +239,9 @@ class MainWindow(QMainWindow):
         if xyz is None:
             self.coords.setText("")
             return
+        if len(xyz) == 0:
+            self.coords.setText("off the terrain")
+            return
         self.coords.setText(f"E {xyz[0]:,.3f}  N {xyz[1]:,.3f}  H {xyz[2]:.3f} m "
                             f"(world)".replace(",", " "))
 

@@ -27,6 +27,8 @@ from designer.gui.tasks import TaskRunner
 from designer.project import model as m
 
 TERRAIN_PARTS = {"terrain"}
+#: a picked point farther than this (m) from the terrain's top surface is not ground
+GROUND_TOLERANCE_M = 0.05
 STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
 
 
@@ -297,5 +299,15 @@ class SceneSync(QObject):
     def _pick_ground(self, origin: np.ndarray, direction: np.ndarray):
         if self.terrain is None or self.terrain.raycaster is None:
             return None
-        hit = self.terrain.raycaster.first_hit(origin[None, :], direction[None, :])[0]
-        return hit if np.all(np.isfinite(hit)) else None
+        rc = self.terrain.raycaster
+        hit = rc.first_hit(origin[None, :], direction[None, :])[0]
+        if not np.all(np.isfinite(hit)):
+            return None
+        x0, x1, y0, y1 = rc.heightfield.extent_m
+        if not (x0 <= hit[0] <= x1 and y0 <= hit[1] <= y1):
+            return None
+        # a ray passing beside the terrain meets the side of the solid block, below the
+        # surface: that is no ground to place anything on
+        if abs(hit[2] - float(rc.height(hit[0], hit[1]))) > GROUND_TOLERANCE_M:
+            return None
+        return hit

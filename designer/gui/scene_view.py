@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtCore import Signal
-from PySide6.QtWidgets import QVBoxLayout, QWidget
+from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from designer.gui.interaction import ViewInteraction
 from designer.scene.objects import OBJECT_ALBEDO_RGB
@@ -32,13 +32,19 @@ LAYER_STYLE = {
 MAX_DISPLAY_TEXTURE_PX = 2048
 TERRAIN_COLOUR = (0.55, 0.6, 0.45)
 OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
+MODE_TEXT = {
+    "place": "Placing GCPs: click the terrain to add one, drag a GCP to move it · "
+             "Esc: stop placing",
+    "area": "Drawing the survey area: click the corners, double-click or Enter to close · "
+            "Esc: cancel",
+}
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
 
 class SceneView(QWidget):
     """A QWidget holding the interactor; signals carry world coordinates (m)."""
 
-    ground_hovered = Signal(object)          # (X, Y, Z) or None
+    ground_hovered = Signal(object)          # (X, Y, Z), () off the terrain, None: left
     ground_clicked = Signal(float, float, float)
     target_moved = Signal(str, float, float)
     area_drawn = Signal(object)              # [(X, Y), …]
@@ -63,6 +69,15 @@ class SceneView(QWidget):
             self.plotter.enable_anti_aliasing("fxaa")
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(0)
+        # what a click does right now (shown only outside the navigate mode)
+        self.mode_banner = QLabel()
+        self.mode_banner.setObjectName("mode-banner")
+        self.mode_banner.setStyleSheet(
+            "QLabel { background: #f0b429; color: #1b1b1b; font-weight: bold; "
+            "padding: 4px 8px; }")
+        self.mode_banner.hide()
+        layout.addWidget(self.mode_banner)
         layout.addWidget(self.plotter)
         self.offset = np.zeros(3)
         self._meshes: dict[str, object] = {}
@@ -74,9 +89,14 @@ class SceneView(QWidget):
         self.frames = 0
         self.plotter.ren_win.AddObserver("EndEvent", self._on_frame)
         self.interaction = ViewInteraction(self)
+        self.interaction.mode_changed.connect(self._show_mode)
         self.plotter.add_axes(interactive=False, line_width=2, labels_off=False)
 
     # ------------------------------------------------------------------ basics
+    def _show_mode(self, mode: str) -> None:
+        self.mode_banner.setText(MODE_TEXT.get(mode, ""))
+        self.mode_banner.setVisible(mode in MODE_TEXT)
+
     def _on_frame(self, *_args) -> None:
         self.frames += 1
         self.frame_rendered.emit()
