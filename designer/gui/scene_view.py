@@ -81,6 +81,8 @@ class SceneView(QWidget):
         layout.addWidget(self.plotter)
         self.offset = np.zeros(3)
         self._meshes: dict[str, object] = {}
+        #: how to draw again the layers that survive a new display offset
+        self._kept: dict[str, object] = {}
         self._visible: dict[str, bool] = {}
         self._texture = None
         self._irradiance: np.ndarray | None = None
@@ -106,16 +108,22 @@ class SceneView(QWidget):
         self.plotter.update()
 
     def set_offset(self, offset_world: np.ndarray) -> None:
-        """Change the display offset; every layer must be set again afterwards."""
+        """Change the display offset. Layers of the model must be set again afterwards;
+        layers of results (the point cloud, GCP residuals) are redrawn here, as nothing
+        else would bring them back."""
         self.offset = np.asarray(offset_world, dtype=float).copy()
+        kept = dict(self._kept)
         for name in list(self._meshes):
             self.remove_layer(name)
+        for draw in kept.values():
+            draw()
 
     def local(self, points_world: np.ndarray) -> np.ndarray:
         return (np.asarray(points_world, dtype=float).reshape(-1, 3) - self.offset).astype(
             np.float32)
 
     def remove_layer(self, name: str) -> None:
+        self._kept.pop(name, None)
         if self._meshes.pop(name, None) is not None:
             self.plotter.remove_actor(name, render=False)
         if name == "cloud":
@@ -357,6 +365,8 @@ class SceneView(QWidget):
                               render=False, scalar_bar_args={"title": "signed distance (m)",
                                                              "fmt": "%.3f"})
         self._meshes["cloud"] = cloud
+        self._kept["cloud"] = lambda: self.show_cloud(points_world, distances_m, limit_m)
+        self.plotter.actors["cloud"].SetVisibility(self._visible.get("cloud", True))
         self.request_render()
 
     def cloud_lookup_table(self):
