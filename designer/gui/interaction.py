@@ -164,6 +164,8 @@ class ViewInteraction(QObject):
             ground = self.ground_at(x, y)
             if ground is not None:
                 self.view.ground_clicked.emit(*(float(v) for v in ground))
+        elif self.mode == "navigate" and clicked:
+            self.view.clicked.emit(x, y)
         return False
 
     def _double(self, event) -> bool:

@@ -48,6 +48,7 @@ class SceneView(QWidget):
     ground_clicked = Signal(float, float, float)
     target_moved = Signal(str, float, float)
     area_drawn = Signal(object)              # [(X, Y), …]
+    clicked = Signal(float, float)           # a click (no drag) in navigate mode, px
     frame_rendered = Signal()
 
     def __init__(self, parent: QWidget | None = None) -> None:
@@ -368,6 +369,42 @@ class SceneView(QWidget):
         self._kept["cloud"] = lambda: self.show_cloud(points_world, distances_m, limit_m)
         self.plotter.actors["cloud"].SetVisibility(self._visible.get("cloud", True))
         self.request_render()
+
+    def set_cloud_range(self, limit_m: float) -> None:
+        """Colour the cloud over ±limit_m (beyond: the end colours)."""
+        actor = self.plotter.actors.get("cloud")
+        if actor is None:
+            return
+        actor.mapper.scalar_range = (-limit_m, limit_m)
+        mesh = self._meshes["cloud"]
+        points = np.asarray(mesh.points, dtype=float) + self.offset
+        d = np.asarray(mesh["signed distance (m)"], dtype=float)
+        self._kept["cloud"] = lambda: self.show_cloud(points, d, limit_m)
+        self.request_render()
+
+    def cloud_point_at(self, x_px: float, y_px: float, radius_px: float = 6.0) -> int | None:
+        """Index of the cloud point drawn nearest a widget pixel (y down), within
+        ``radius_px``, or None."""
+        mesh = self._meshes.get("cloud")
+        if mesh is None or not self._visible.get("cloud", True):
+            return None
+        ren = self.plotter.renderer
+        w, h = self.plotter.width(), self.plotter.height()
+        m4 = ren.GetActiveCamera().GetCompositeProjectionTransformMatrix(
+            w / max(h, 1), -1, 1)
+        M = np.array([[m4.GetElement(i, j) for j in range(4)] for i in range(4)])
+        p = np.asarray(mesh.points, dtype=float)
+        clip = np.c_[p, np.ones(len(p))] @ M.T
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ndc = clip[:, :3] / clip[:, 3:4]
+        u = (ndc[:, 0] + 1) / 2 * w
+        v = (1 - ndc[:, 1]) / 2 * h
+        r = np.hypot(u - x_px, v - y_px)
+        near = np.flatnonzero((r <= radius_px) & (clip[:, 3] > 0) & (np.abs(ndc[:, 2]) <= 1))
+        if not near.size:
+            return None
+        # the nearest on screen; of points drawn on the same pixel, the one in front
+        return int(near[np.lexsort((ndc[near, 2], np.round(r[near])))[0]])
 
     def cloud_lookup_table(self):
         actor = self.plotter.actors.get("cloud")
