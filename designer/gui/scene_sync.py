@@ -47,6 +47,7 @@ class SceneSync(QObject):
     stations_changed = Signal()
     coverage_changed = Signal()
     lighting_changed = Signal()
+    plan_changed = Signal()
     message = Signal(str)
 
     def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
@@ -58,6 +59,8 @@ class SceneSync(QObject):
         self.stations: derived.StationsResult | None = None
         self.coverage: derived.CoverageResult | None = None
         self.objects: derived.ObjectsResult | None = None
+        #: the flight over the real terrain (designer.gui.plan_figures), or None
+        self.plan = None
         self.errors: dict[str, str] = {}
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
@@ -72,6 +75,7 @@ class SceneSync(QObject):
         self.texture_rgb = None
         self.stations = None
         self.coverage = None
+        self.plan = None
         self._tiles = None
         self._area_key = None
 
@@ -232,6 +236,8 @@ class SceneSync(QObject):
         else:
             self.view.show_targets(t.ids, t.roles, t.true_xyz, t.plates)
         self.targets_changed.emit()
+        if self.stations is not None and self.terrain is not None:
+            self.refresh_plan()
 
     # ------------------------------------------------------------------ stations
     def refresh_stations(self) -> None:
@@ -249,6 +255,7 @@ class SceneSync(QObject):
         self.stations = result
         self.view.show_stations(result.geometry)
         self.stations_changed.emit()
+        self.refresh_plan()
         if self.coverage_enabled:
             self.refresh_coverage()
 
@@ -257,6 +264,32 @@ class SceneSync(QObject):
         self.view.show_stations(None)
         self.errors["stations"] = _message(error)
         self.stations_changed.emit()
+        self.refresh_plan()
+
+    # ------------------------------------------------------------------ plan figures
+    def refresh_plan(self) -> None:
+        """Analyse the flight over the real terrain (as designer plan does), in a thread."""
+        from designer.gui.plan_figures import compute_plan_figures
+
+        terrain, stations = self.terrain, self.stations
+        if terrain is None or stations is None or terrain.heightfield is None:
+            self.tasks.cancel("plan")
+            self.plan = None
+            self.plan_changed.emit()
+            return
+        self.tasks.submit("plan", compute_plan_figures, self.document.project, terrain,
+                          stations, self.targets, on_done=self._plan_done,
+                          on_error=self._plan_failed)
+
+    def _plan_done(self, figures) -> None:
+        self.errors.pop("plan", None)
+        self.plan = figures
+        self.plan_changed.emit()
+
+    def _plan_failed(self, error: BaseException) -> None:
+        self.plan = None
+        self.errors["plan"] = _message(error)
+        self.plan_changed.emit()
 
     # ------------------------------------------------------------------ coverage
     def set_coverage_enabled(self, enabled: bool) -> None:

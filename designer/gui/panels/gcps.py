@@ -27,7 +27,9 @@ from designer.gui.widgets import combo, dspin, form, ispin
 from designer.project import model as m
 
 COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
-           "surveyed X", "surveyed Y", "surveyed Z"]
+           "surveyed X", "surveyed Y", "surveyed Z", "images"]
+#: the read-only column: images of the flight that see the GCP (over the real terrain)
+IMAGES_COLUMN = 9
 
 
 #: background of a cell whose typed text was refused
@@ -122,6 +124,7 @@ class GcpPanel(Panel):
         view.interaction.mode_changed.connect(
             lambda mode: self._set_checked(self.place, mode == "place"))
         self.sync.targets_changed.connect(self.refresh)
+        self.sync.plan_changed.connect(self._image_counts)
 
     @staticmethod
     def _set_checked(button, checked: bool) -> None:
@@ -165,11 +168,31 @@ class GcpPanel(Panel):
                     self.table.setItem(r, c, item)
         finally:
             self.table.blockSignals(False)
+        self._image_counts()
         self._cell_errors.clear()  # the table shows the project's values again
         self._show_cell_errors()
         if built is None and project.targets and "targets" in self.sync.errors:
             self.error_label.setText("\n".join(
                 [*self._cell_errors.values(), self.sync.errors["targets"]]))
+
+    def _image_counts(self) -> None:
+        """The images column: how many images of the flight see each GCP."""
+        from designer.gui.plan_figures import MIN_GCP_IMAGES
+
+        plan = self.sync.plan
+        counts = dict(zip(plan.gcp_ids, plan.gcp_images, strict=True)) if plan else {}
+        self.table.blockSignals(True)
+        try:
+            for r, t in enumerate(self.project.targets):
+                n = counts.get(t.id)
+                item = QTableWidgetItem("–" if n is None else str(int(n)))
+                item.setFlags(item.flags() & ~Qt.ItemFlag.ItemIsEditable)
+                if n is not None and n < MIN_GCP_IMAGES:
+                    item.setBackground(QColor(INVALID_CELL))
+                    item.setToolTip(f"seen by fewer than {MIN_GCP_IMAGES} images")
+                self.table.setItem(r, IMAGES_COLUMN, item)
+        finally:
+            self.table.blockSignals(False)
 
     def _role_box(self, row: int, role: str) -> None:
         box = QComboBox()
@@ -230,6 +253,8 @@ class GcpPanel(Panel):
                     raise ValueError(f"{wording.fixed(value)} is out of range; allowed: "
                                      "0.01 to 100 m")
                 new = dataclasses.replace(t, size_m=value)
+            elif c == IMAGES_COLUMN:
+                return
             else:
                 new = self._surveyed(t, r)
         except ValueError as error:
