@@ -45,6 +45,18 @@ class PlanFigures:
     gcp_images: np.ndarray             # (G,) images seeing each GCP
     area_seen: dict[int, float]
     warnings: tuple[str, ...]
+    gcp_image_index: tuple[np.ndarray, ...] = ()   # per GCP: the images that see it
+    gcp_uv_px: tuple[np.ndarray, ...] = ()         # per GCP: where (rendered image, px)
+
+    def observations(self, image: int) -> list[tuple[str, float, float]]:
+        """(GCP id, u, v) of the GCPs image ``image`` sees (rendered pixels; u right,
+        v down, from the top-left corner of the top-left pixel)."""
+        out = []
+        for gid, images, uv in zip(self.gcp_ids, self.gcp_image_index, self.gcp_uv_px,
+                                   strict=True):
+            for k in np.flatnonzero(np.asarray(images) == image):
+                out.append((gid, float(uv[k][0]), float(uv[k][1])))
+        return out
 
 
 def terrain_share(stations, interior, raycaster, k: int = SAMPLES_PER_AXIS) -> np.ndarray:
@@ -110,7 +122,10 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         images_over_terrain=int(np.count_nonzero(np.isfinite(st.centre_ground_xyz[:, 0]))),
         terrain_share=share, image_names=names, gcp_ids=ids, gcp_images=gcp_images,
         area_seen=dict(analysis.coverage.shares))
-    return PlanFigures(**figures, warnings=tuple(_warnings(figures, plan)))
+    vis = analysis.gcps
+    return PlanFigures(**figures, warnings=tuple(_warnings(figures, plan)),
+                       gcp_image_index=tuple(vis.images) if vis is not None else (),
+                       gcp_uv_px=tuple(vis.uv_px) if vis is not None else ())
 
 
 def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:

@@ -224,10 +224,15 @@ class FlightPanel(Panel):
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
         if stations.render_time_s is not None:
-            per = stations.render_time_s / max(1, stations.n_images)
+            from designer.gui import render_speed
+
+            settings = getattr(self.window(), "settings", None)
+            total = render_speed.calibrated(settings, stations.render_time_s)
+            per = total / max(1, stations.n_images)
             self.time_label.setText(
-                f"≈ {_fmt_time(stations.render_time_s)} ({per:.1f} s per image at "
-                f"{self.project.render.effective_samples} samples, reference machine)")
+                f"≈ {_fmt_time(total)} ({per:.1f} s per image at "
+                f"{self.project.render.effective_samples} samples; "
+                f"{render_speed.describe(settings)})")
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""
