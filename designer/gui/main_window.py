@@ -7,6 +7,7 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
+import numpy as np
 from PySide6.QtCore import QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence, QUndoStack
 from PySide6.QtWidgets import (
@@ -36,7 +37,7 @@ from designer.gui.undo import Editor
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("targets", "GCP targets"),
           ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
           ("flight", "Flight lines"),
-          ("area", "Survey area"), ("cloud", "Point cloud")]
+          ("area", "Survey area"), ("cloud", "Point cloud"), ("residuals", "GCP errors")]
 
 
 def _extra_panels():
@@ -198,6 +199,7 @@ class MainWindow(QMainWindow):
         view = bar.addMenu("&View")
         view.addAction(self._action("&Reset view", "R", self.view.reset_view))
         view.addAction(self._action("&Top view", "T", self.view.view_top))
+        view.addAction(self._action("&Frame all", "F", self.frame_all))
         view.addSeparator()
         for key, text in LAYERS:
             action = self._action(text, None, None)
@@ -244,6 +246,15 @@ class MainWindow(QMainWindow):
             return
         self.coords.setText(f"E {xyz[0]:,.3f}  N {xyz[1]:,.3f}  H {xyz[2]:.3f} m "
                             f"(world)".replace(",", " "))
+
+    def frame_all(self) -> None:
+        """Fit the view to the terrain, the cameras and the GCPs."""
+        points = [np.zeros((0, 3))]
+        if self.sync.stations is not None:
+            points.append(self.sync.stations.C_world)
+        if self.sync.targets is not None:
+            points.append(self.sync.targets.true_xyz)
+        self.view.frame_all(np.vstack(points))
 
     def _file_state(self, path, dirty) -> None:
         name = self.document.path.name if self.document.path else "untitled.xml"

@@ -254,6 +254,9 @@ class SceneSync(QObject):
         self.errors.pop("stations", None)
         self.stations = result
         self.view.show_stations(result.geometry)
+        if len(result.C_world) and not self.view.in_view(result.C_world).any():
+            # an edit moved every camera out of sight: show them with the terrain
+            self.view.frame_all(result.C_world)
         self.stations_changed.emit()
         self.refresh_plan()
         if self.coverage_enabled:

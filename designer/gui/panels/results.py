@@ -290,6 +290,7 @@ class ResultsPanel(Panel):
             on_error=lambda e: self.rmse.setText(f"{Path(path).name}: {e}"))
 
     def clear(self) -> None:
+        self.sync.view.remove_layer("residuals")
         self.result = None
         self.range_spin.setEnabled(False)
         self.outlier_table.setRowCount(0)
@@ -396,7 +397,30 @@ class ResultsPanel(Panel):
                              f"Z {1000 * s['rmse_Z']:.1f} mm, XYZ {1000 * s['rmse_XYZ']:.1f} mm")
         if result["missing"]:
             parts.append("no estimate for " + ", ".join(result["missing"]))
+        scale = self._draw_residuals(rows)
+        if scale is not None:
+            parts.append(f"in the view: yellow lines from each true GCP to its estimate, "
+                         f"errors drawn × {scale:g}")
         self.rmse.setText("\n".join(parts))
+
+    def _draw_residuals(self, rows: list[dict]) -> float | None:
+        """Lines from the true GCP to its estimate in the 3D view, exaggerated by a power
+        of ten so the largest is about 3 % of the terrain's size; the factor."""
+        if not rows:
+            self.sync.view.show_residuals(np.zeros((0, 3)), np.zeros((0, 3)), [], "")
+            return None
+        est = np.array([[g["X"], g["Y"], g["Z"]] for g in rows])
+        d = np.array([[g["dX"], g["dY"], g["dZ"]] for g in rows])
+        e = self.project.scene.terrain.extent
+        biggest = float(np.max(np.linalg.norm(d, axis=1)))
+        scale = 1.0
+        if biggest > 0:
+            scale = max(1.0, 10.0 ** round(np.log10(
+                0.03 * max(e.width_m, e.length_m) / biggest)))
+        true = est - d
+        labels = [f"{g['gcp_id']} {1000 * g['dXYZ']:.0f} mm" for g in rows]
+        self.sync.view.show_residuals(true, true + scale * d, labels, f"× {scale:g}")
+        return scale
 
 
 def _distance_text(d: float) -> str:
