@@ -115,7 +115,9 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         n_images=len(stations),
         gsd_min_m=float(gsd.min()) if gsd.size else float("nan"),
         gsd_max_m=float(gsd.max()) if gsd.size else float("nan"),
-        gsd_median_m=float(np.nanmedian(st.gsd_centre_m)) if len(stations) else float("nan"),
+        # over the stations looking at the area, as designer plan (a principal ray past
+        # the terrain's edge meets its side far away)
+        gsd_median_m=s["gsd_centre_m_median"],
         front_overlap_median=s["front_overlap_median"], front_overlap_p05=s["front_overlap_p05"],
         side_overlap_median=s["side_overlap_median"], side_overlap_p05=s["side_overlap_p05"],
         images_over_area=int(s["stations_over_area"]),

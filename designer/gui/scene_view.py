@@ -39,9 +39,9 @@ MODE_TEXT = {
             "Esc: cancel",
 }
 #: colour bars: light text with a shadow, readable on the dark background
-BAR_STYLE = {"color": "white", "shadow": True, "title_font_size": 18,
-             "label_font_size": 15, "vertical": True, "position_x": 0.88,
-             "position_y": 0.25, "height": 0.5, "width": 0.07}
+BAR_STYLE = {"color": "white", "shadow": True, "title_font_size": 16,
+             "label_font_size": 14, "vertical": False, "position_x": 0.3,
+             "position_y": 0.03, "height": 0.07, "width": 0.4}
 RESIDUAL_COLOUR = (1.0, 0.85, 0.1)
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
@@ -362,7 +362,7 @@ class SceneView(QWidget):
         self.plotter.add_mesh(grid, name="coverage", scalars="images", cmap="viridis",
                               opacity=0.6, reset_camera=False, render=False,
                               scalar_bar_args={"title": "images seeing the ground",
-                                               **BAR_STYLE, "position_x": 0.02})
+                                               **BAR_STYLE, "position_y": 0.12})
         self._meshes["coverage"] = grid
         self.request_render()
 

@@ -38,6 +38,7 @@ def test_flight_beyond_the_terrain_is_warned_about(qtbot, window, tmp_path):
     assert f.images_over_area == s["stations_over_area"] < f.n_images
     assert f.gsd_min_m == pytest.approx(s["gsd_terrain_m"]["min"])
     assert f.gsd_max_m == pytest.approx(s["gsd_terrain_m"]["max"])
+    assert f.gsd_median_m == pytest.approx(s["gsd_centre_m_median"])
     assert f"{100 * s['gsd_terrain_m']['min']:.2f} to" in flight.real_gsd.text()
     assert f"{s['stations_over_area']} of {s['n_images']} look at the area" in \
         flight.real_images.text()

@@ -246,8 +246,8 @@ class FlightPanel(Panel):
         scale = self.project.render.resolution_scale
         of = "" if scale == 1.0 else f" (rendered images, scale {scale:g})"
         self.real_gsd.setText(f"{100 * f.gsd_min_m:.2f} to {100 * f.gsd_max_m:.2f} cm over "
-                              f"the area, median {100 * f.gsd_median_m:.2f} cm at the image "
-                              f"centres{of}")
+                              f"the area, median {100 * f.gsd_median_m:.2f} cm at the centres "
+                              f"of the images over it{of}")
         self.real_overlap.setText(
             f"front {_pct(f.front_overlap_median)} (5 % of images below "
             f"{_pct(f.front_overlap_p05)}), side {_pct(f.side_overlap_median)} (5 % below "
