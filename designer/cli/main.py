@@ -22,6 +22,7 @@ COMMAND_MODULES = [
     "designer.cli.check",
     "designer.cli.plan",
     "designer.cli.render",
+    "designer.cli.check_output",
     "designer.cli.reconstruct",
     "designer.cli.compare",
     "designer.cli.validate",
