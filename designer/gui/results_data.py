@@ -215,3 +215,41 @@ def last_reconstruction(survey_dir: Path) -> Path | None:
              for _text, mode in MODES]
     found = [p for p in found if p.is_file()]
     return max(found, key=lambda p: p.stat().st_mtime) if found else None
+
+
+def draw_histogram(figure, d: np.ndarray, limit_m: float, cmap_name: str) -> tuple[int, int]:
+    """Draw the histogram of ``d`` (m) over ±limit_m into a matplotlib figure, in mm,
+    bars coloured as the cloud; returns the counts below and above the range."""
+    import matplotlib
+
+    edges, counts, below, above = clipped_histogram(d, limit_m)
+    edges = 1000 * edges
+    lim = 1000 * limit_m
+    figure.clear()
+    ax = figure.add_subplot()
+    centres = (edges[:-1] + edges[1:]) / 2
+    cmap = matplotlib.colormaps[cmap_name]
+    ax.bar(centres, counts, width=np.diff(edges),
+           color=[cmap(0.5 + 0.5 * np.clip(c / lim, -1, 1)) for c in centres])
+    ax.axvline(0, color="k", lw=0.8)
+    ax.set_xlim(-lim, lim)
+    ax.set_xlabel("signed distance (mm)")
+    ax.set_ylabel("points")
+    return below, above
+
+
+def residual_lines(rows: list[dict], extent: m.Extent
+                   ) -> tuple[np.ndarray, np.ndarray, list[str], float]:
+    """GCP errors (``gcp_errors`` rows) as lines from each true position to the estimate
+    exaggerated by a power of ten, so the largest is about 3 % of the terrain's size:
+    (start (N, 3), end (N, 3), labels, factor)."""
+    est = np.array([[g["X"], g["Y"], g["Z"]] for g in rows])
+    d = np.array([[g["dX"], g["dY"], g["dZ"]] for g in rows])
+    biggest = float(np.max(np.linalg.norm(d, axis=1)))
+    scale = 1.0
+    if biggest > 0:
+        scale = max(1.0, 10.0 ** round(np.log10(
+            0.03 * max(extent.width_m, extent.length_m) / biggest)))
+    true = est - d
+    labels = [f"{g['gcp_id']} {1000 * g['dXYZ']:.0f} mm" for g in rows]
+    return true, true + scale * d, labels, scale

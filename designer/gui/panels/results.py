@@ -357,22 +357,9 @@ class ResultsPanel(Panel):
             window.statusBar().showMessage(f"point {k}: {text}", 15000)
 
     def _histogram(self, result: results_data.CloudResult) -> None:
-        import matplotlib
-
+        below, above = results_data.draw_histogram(self.figure, result.distances_m,
+                                                   self.limit_m, CMAP)
         lim = 1000 * self.limit_m
-        edges, counts, below, above = results_data.clipped_histogram(
-            result.distances_m, self.limit_m)
-        edges = 1000 * edges
-        self.figure.clear()
-        ax = self.figure.add_subplot()
-        centres = (edges[:-1] + edges[1:]) / 2
-        cmap = matplotlib.colormaps[CMAP]
-        ax.bar(centres, counts, width=np.diff(edges),
-               color=[cmap(0.5 + 0.5 * np.clip(c / lim, -1, 1)) for c in centres])
-        ax.axvline(0, color="k", lw=0.8)
-        ax.set_xlim(-lim, lim)
-        ax.set_xlabel("signed distance (mm)")
-        ax.set_ylabel("points")
         self.histogram_range_mm = (-lim, lim)
         self.clipped_label.setText(
             f"histogram and colours over ±{lim:.1f} mm; outside: {below:,} below, "
@@ -404,24 +391,14 @@ class ResultsPanel(Panel):
         self.rmse.setText("\n".join(parts))
 
     def _draw_residuals(self, rows: list[dict]) -> float | None:
-        """Lines from the true GCP to its estimate in the 3D view, exaggerated by a power
-        of ten so the largest is about 3 % of the terrain's size; the factor."""
+        """GCP errors as lines in the 3D view (see results_data.residual_lines)."""
         if not rows:
             self.sync.view.show_residuals(np.zeros((0, 3)), np.zeros((0, 3)), [], "")
             return None
-        est = np.array([[g["X"], g["Y"], g["Z"]] for g in rows])
-        d = np.array([[g["dX"], g["dY"], g["dZ"]] for g in rows])
-        e = self.project.scene.terrain.extent
-        biggest = float(np.max(np.linalg.norm(d, axis=1)))
-        scale = 1.0
-        if biggest > 0:
-            scale = max(1.0, 10.0 ** round(np.log10(
-                0.03 * max(e.width_m, e.length_m) / biggest)))
-        true = est - d
-        labels = [f"{g['gcp_id']} {1000 * g['dXYZ']:.0f} mm" for g in rows]
-        self.sync.view.show_residuals(true, true + scale * d, labels, f"× {scale:g}")
+        true, end, labels, scale = results_data.residual_lines(
+            rows, self.project.scene.terrain.extent)
+        self.sync.view.show_residuals(true, end, labels, f"× {scale:g}")
         return scale
-
 
 def _distance_text(d: float) -> str:
     """A signed distance in mm below 10 m, else in m (fixed point)."""
