@@ -101,6 +101,9 @@ def take(out: Path) -> list[Path]:
             continue
         dock.show()
         dock.raise_()
+        if title == "GCPs":  # show the last columns: surveyed positions, images per GCP
+            bar = window.panels["GCPs"].table.horizontalScrollBar()
+            bar.setValue(bar.maximum())
         shot(f"gui-panel-{title.lower()}.png", dock)
     window.docks["Terrain"].raise_()
     window.docks["Flight"].raise_()
