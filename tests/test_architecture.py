@@ -36,12 +36,14 @@ MAY_IMPORT: dict[str, set[str]] = {
     "validate": {"core", "scene", "effects", "render"},
     "demo": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
              "render"},
+    "study": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
+              "render"},
     "gui": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
             "render"},
     "bench": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-              "render", "validate", "gui"},
+              "render", "validate", "gui", "study"},
     "cli": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-            "render", "validate", "demo", "gui", "bench"},
+            "render", "validate", "demo", "gui", "bench", "study"},
     "__main__": {"cli"},
 }
 
@@ -56,7 +58,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "vtkmodules": ("gui",),
     "pycolmap": ("sfm",),
     "pyceres": ("sfm",),
-    "distributed": ("render.cluster",),
+    "distributed": ("render.cluster", "study.run"),
 }
 
 #: module imported in a fresh interpreter (P.* = every module of package P) → modules that

@@ -15,6 +15,7 @@ BENCHMARKS = {
     "gui": "designer.bench.gui",
     "accuracy": "designer.bench.accuracy",
     "effects": "designer.bench.effects",
+    "study": "designer.bench.study",
 }
 
 

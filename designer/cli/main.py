@@ -25,6 +25,7 @@ COMMAND_MODULES = [
     "designer.cli.check_output",
     "designer.cli.reconstruct",
     "designer.cli.compare",
+    "designer.cli.study",
     "designer.cli.validate",
     "designer.cli.gui",
     "designer.cli.demo",

@@ -67,8 +67,14 @@ def count_reasons(stale: dict) -> str:
     return "; ".join(f"{n} by {describe_parts([p])}" for p, n in counts.most_common())
 
 
-def check_output(out_dir: Path, project_path: Path | None = None) -> OutputStatus:
-    """Compare the images and ground truth in ``out_dir`` with what its project makes now."""
+def check_output(out_dir: Path, project_path: Path | None = None, *,
+                 project=None) -> OutputStatus:
+    """Compare the images and ground truth in ``out_dir`` with what its project makes now.
+
+    The project is read from ``project_path`` (default: the one the manifest names), or
+    given as a model in ``project`` (as the desktop designer holds it; its files are then
+    found next to ``project_path``).
+    """
     from designer.project import load_project
     from designer.render.job import prepare_job
     from designer.render.pipeline import write_ground_truth
@@ -79,13 +85,16 @@ def check_output(out_dir: Path, project_path: Path | None = None) -> OutputStatu
     if not manifest:
         raise DesignerError(f"{out_dir / MANIFEST}: no readable manifest; is {out_dir} an "
                             "output folder of 'designer render'?")
-    if project_path is None:
+    if project_path is None and project is None:
         recorded = manifest.get("project")
         if not recorded or not Path(recorded).is_file():
             raise DesignerError(f"{out_dir / MANIFEST}: the project it was rendered from "
                                 f"({recorded}) is not there; give it with --project")
         project_path = Path(recorded)
-    project = load_project(project_path)
+    if project_path is None:
+        project_path = Path(manifest.get("project") or out_dir / "project.xml")
+    if project is None:
+        project = load_project(project_path)
     quality = (manifest.get("render") or {}).get("quality")
     with tempfile.TemporaryDirectory(prefix="designer-check-") as tmp:
         scratch = Path(tmp)
