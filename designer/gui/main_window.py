@@ -47,6 +47,9 @@ def _extra_panels():
     from designer.gui.panels.render import RenderPanel
 
     out.append(("right", RenderPanel))
+    from designer.gui.panels.processing import ProcessingPanel
+
+    out.append(("right", ProcessingPanel))
     from designer.gui.panels.results import ResultsPanel
 
     out.append(("right", ResultsPanel))
@@ -80,7 +83,7 @@ class MainWindow(QMainWindow):
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
         self._tabify(["Terrain", "Texture", "Lighting", "GCPs"])
-        self._tabify(["Camera", "Flight", "Effects", "Render", "Results"])
+        self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results"])
         self.docks["Terrain"].raise_()
         self.docks["Flight"].raise_()
         self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
