@@ -88,6 +88,7 @@ class MainWindow(QMainWindow):
         self.docks["Flight"].raise_()
         self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
                          Qt.Orientation.Horizontal)
+        self._watch_outputs()
         self._build_problems()
         self._build_menus()
         self._build_status()
@@ -114,6 +115,20 @@ class MainWindow(QMainWindow):
         self.addDockWidget(area, dock)
         self.panels[panel.title] = panel
         self.docks[panel.title] = dock
+
+    def _watch_outputs(self) -> None:
+        """Render and Results say when what they show no longer matches the project."""
+        from designer.gui.stale_watch import StaleWatch
+
+        self.stale_watch = StaleWatch(self.document, self.tasks, self)
+        render, results = self.panels.get("Render"), self.panels.get("Results")
+        if render is None or results is None:
+            return
+        self.stale_watch.is_busy = lambda: render.process.running
+        self.stale_watch.render_state.connect(render.show_render_state)
+        self.stale_watch.render_state.connect(results.show_render_state)
+        render.process.finished.connect(lambda *_: self.stale_watch.check_now())
+        results.run.finished.connect(lambda *_: self.stale_watch.check_now())
 
     def _tabify(self, titles: list[str]) -> None:
         present = [t for t in titles if t in self.docks]

@@ -21,9 +21,10 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from designer.gui import results_data
+from designer.gui import output_state, results_data
 from designer.gui.panels.base import Panel
 from designer.gui.panels.dense_view import DenseView
+from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.reconstruct_job import (
     MODES,
     STAGES,
@@ -153,6 +154,8 @@ class ResultsPanel(Panel):
         self.log.setMaximumBlockCount(500)
         self.log.setMaximumHeight(90)
         f.addRow(self.log)
+        self.out_of_date = OutOfDate("results-out-of-date")
+        f.addRow(self.out_of_date)
         layout.addWidget(box)
         self.dense = DenseView()
         self.dense.show_cloud.connect(self.show_reconstructed_cloud)
@@ -205,6 +208,7 @@ class ResultsPanel(Panel):
             self.stage_label.setText(f"{text}. Render the survey first (Render panel).")
             return
         self.job = ReconstructJob(doc.path, folder, self.mode.currentData())
+        self._digests = output_state.manifest_digests(folder)  # the images it is made from
         self.log.clear()
         self.progress.setValue(0)
         self.stage_label.setText(f"reconstructing {n} images into {self.job.out_dir} …")
@@ -228,6 +232,7 @@ class ResultsPanel(Panel):
             return
         self.progress.setValue(len(STAGES))
         job = self.job
+        output_state.record_reconstruction_inputs(job.survey_dir, job.out_dir, self._digests)
         self.stage_label.setText(f"done: {job.out_dir}; report {job.compare_dir / 'report.html'}")
         self._compared = job.distances_ply
         dense = self.dense.load(job.out_dir)
@@ -250,6 +255,19 @@ class ResultsPanel(Panel):
         residuals = found.parent.parent / "gcp_residuals.csv"
         # the GCPs' truth needs the terrain, which is being computed right now
         self._pending_residuals = residuals if residuals.is_file() else None
+
+    def show_render_state(self, state) -> None:
+        """Out of date when the images changed after the reconstruction shown, or when
+        the rendered images no longer match the project."""
+        stale = None
+        if self._compared is not None and self.survey_dir() is not None:
+            stale = output_state.reconstruction_state(self.survey_dir(),
+                                                      self._compared.parent.parent)
+        if not stale and state is not None and not state.ok and self._compared is not None:
+            stale = f"the rendered images are ({state.text}); render, then reconstruct again"
+        self.out_of_date.show_state(stale, "reconstructed from the images rendered now"
+                                    if self._compared is not None and state is not None
+                                    else "")
 
     def show_reconstructed_cloud(self, dense_ply: Path | None) -> None:
         """The dense cloud coloured by its distance to the true surface (computed here, in
