@@ -188,11 +188,12 @@ def _render_then_edit(window, project: Path, timeout_s: float = 600.0) -> None:
     E0, N0 = p.origin.E0, p.origin.N0
     p = edits.set_flight(p, area=((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15),
                                   (E0 - 15, N0 + 15)))
-    p = edits.replace_path(p, "render", m.Render(preset="draft", resolution_scale=0.05,
+    p = edits.replace_path(p, "render", m.Render(preset="draft", resolution_scale=0.0625,
                                                  workers=2))
     window.editor.edit(p, "a quick draft render")
     if not window.file_actions.save_to(project):
-        raise SystemExit(f"cannot save {project}")
+        problems = [window.problems.item(i).text() for i in range(window.problems.count())]
+        raise SystemExit(f"cannot save {project}: {problems}")
     render = window.panels["Render"]
     render.start()
     deadline = time.monotonic() + timeout_s
