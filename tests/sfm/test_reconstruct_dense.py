@@ -39,6 +39,13 @@ def test_dense_products_from_the_command_line(survey, tmp_path):
     assert len(las.points) == dense["points"]
     assert np.median(np.asarray(las.x)) > 499000  # world (UTM) coordinates kept
     assert summary["stage_seconds"]["dense_s"] > 0
+    # the demo's report shows the DoD, every GCP with its role and the calibration
+    from designer.demo import _processing_text
+
+    text = _processing_text(summary)
+    assert "reconstruction/dod.png" in text and "Calibration, estimated − true" in text
+    for row in summary["gcps"]:
+        assert f"| {row['id']} | {row['role']} | {row['images']} |" in text
 
 
 def test_dense_max_image_px_below_64_is_refused(survey, tmp_path):
