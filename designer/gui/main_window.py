@@ -315,6 +315,8 @@ class MainWindow(QMainWindow):
         for panel in self.panels.values():
             if hasattr(panel, "shutdown"):
                 panel.shutdown()
+        if hasattr(self, "stale_watch"):
+            self.stale_watch.shutdown()
         self.tasks.shutdown()
         self.view.close_view()
         from PySide6.QtWidgets import QApplication

@@ -27,13 +27,22 @@ class StaleWatch(QObject):
         #: True while a render writes the folder (no check then)
         self.is_busy = lambda: False
         self.state = None
+        self._closed = False
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(DEBOUNCE_MS)
         self._timer.timeout.connect(self.check_now)
-        document.events.connect("project", lambda *a, **k: self._timer.start())
-        document.events.connect("file", lambda *a, **k: self._timer.start())
-        document.events.connect("reset", lambda *a, **k: self._timer.start())
+        for event in ("project", "file", "reset"):
+            document.events.connect(event, self._later)
+
+    def _later(self, *_args, **_kwargs) -> None:
+        if not self._closed:
+            self._timer.start()
+
+    def shutdown(self) -> None:
+        """No more checks (the window closes; its worker threads stop)."""
+        self._closed = True
+        self._timer.stop()
 
     @property
     def pending(self) -> bool:
@@ -48,6 +57,8 @@ class StaleWatch(QObject):
 
     def check_now(self) -> None:
         self._timer.stop()
+        if self._closed:
+            return
         out_dir = self.out_dir()
         if out_dir is None or self.is_busy():
             self.tasks.cancel("output-state")

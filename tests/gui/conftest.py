@@ -7,6 +7,7 @@ virtual display (``Xvfb :N -screen 0 1600x1000x24``) for the whole session and t
 
 from __future__ import annotations
 
+import gc
 import os
 
 import pytest
@@ -36,6 +37,16 @@ def x_display():
 def qapp_args(x_display):
     """pytest-qt's QApplication is made on the display (overrides its fixture)."""
     return ["designer-gui-tests"]
+
+
+@pytest.fixture(autouse=True)
+def _collect_on_the_main_thread():
+    """After each test (and after pytest-qt closed its widgets), collect the garbage on
+    the main thread: a closed window's VTK plotter freed by a collection that a later
+    test's worker thread happens to trigger would touch OpenGL from that thread while
+    the main thread draws, and both would wait for ever."""
+    yield
+    gc.collect()
 
 
 @pytest.fixture
