@@ -68,8 +68,6 @@ def grid_errors(xy_world, values, *, cell_m: float | None = None,
     NaN values are ignored. ``cell_m`` defaults to :func:`auto_cell_size`; ``max_gap_m``
     (default 2 cells) is the farthest a point may be from a cell centre to fill it.
     """
-    from scipy.spatial import cKDTree
-
     xy = np.asarray(xy_world, dtype=np.float64)[:, :2]
     values = np.asarray(values, dtype=np.float64)
     keep = np.isfinite(values)
@@ -88,15 +86,12 @@ def grid_errors(xy_world, values, *, cell_m: float | None = None,
     if rows * cols > 25_000_000:
         raise DesignerError(f"error map of {cols} x {rows} cells at {cell:g} m is too large; "
                             "give a larger cell size")
-    # local coordinates: the tree and the cell centres keep full precision at UTM size
-    tree = cKDTree(xy - [x_min, y_max])
-    cx = (np.arange(cols) + 0.5) * cell
-    cy = -(np.arange(rows) + 0.5) * cell
-    centres = np.column_stack([np.tile(cx, rows), np.repeat(cy, cols)])
-    dist, idx = tree.query(centres, distance_upper_bound=gap, workers=-1)
-    grid = np.full(rows * cols, np.nan)
-    hit = np.isfinite(dist)
-    grid[hit] = values[idx[hit]]
+    # local coordinates keep full precision at UTM size
+    from designer.evaluate._grid import nearest_point_grid
+
+    nearest = nearest_point_grid(np.ascontiguousarray(xy[:, 0] - x_min),
+                                 np.ascontiguousarray(xy[:, 1] - y_max), rows, cols, cell, gap)
+    grid = np.where(nearest >= 0, values[np.maximum(nearest, 0)], np.nan)
     return ErrorGrid(grid.reshape(rows, cols), float(x_min), float(y_max), float(cell))
 
 
