@@ -105,12 +105,13 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
 def run(args) -> int:
     from designer.evaluate import figures, kernels
 
-    # Start what does not depend on the inputs first: the figure helper processes import
-    # matplotlib on the other core, and a thread loads the compiled kernels, while the
-    # inputs are read.
-    figures.prestart()
+    # Start what does not depend on the inputs first: a thread loads the compiled
+    # kernels while the inputs are read, then the figure thread imports matplotlib
+    # while the kernels compute.
+    loader = kernels.load_in_background()
+    figures.prestart(after=loader.done)
     try:
-        return _compare(args, kernels.load_in_background())
+        return _compare(args, loader)
     finally:
         figures.discard_prestarted()
 

@@ -28,6 +28,7 @@ COMMAND_MODULES = [
     "designer.cli.gui",
     "designer.cli.demo",
     "designer.cli.bench",
+    "designer.cli.warmup",
 ]
 
 

@@ -13,17 +13,24 @@ import numpy as np
 from numba import njit, prange
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True, parallel=True)
+def _cell_keys(x, y, rows, cols, cell):
+    key = np.empty(x.shape[0], dtype=np.int64)
+    for p in prange(x.shape[0]):
+        j = min(cols - 1, max(0, int(np.floor(x[p] / cell))))
+        i = min(rows - 1, max(0, int(np.floor(-y[p] / cell))))
+        key[p] = i * cols + j
+    return key
+
+
+@njit(cache=True, nogil=True)
 def _buckets(x, y, rows, cols, cell):
     """(start (rows·cols + 1,), order (N,)): the points of cell k are
     order[start[k]:start[k + 1]]; points beyond the grid go to its edge cells."""
     n = x.shape[0]
-    key = np.empty(n, dtype=np.int64)
+    key = _cell_keys(x, y, rows, cols, cell)
     start = np.zeros(rows * cols + 1, dtype=np.int64)
     for p in range(n):
-        j = min(cols - 1, max(0, int(np.floor(x[p] / cell))))
-        i = min(rows - 1, max(0, int(np.floor(-y[p] / cell))))
-        key[p] = i * cols + j
         start[key[p] + 1] += 1
     for k in range(rows * cols):
         start[k + 1] += start[k]
@@ -35,7 +42,7 @@ def _buckets(x, y, rows, cols, cell):
     return start, order
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True, parallel=True)
 def nearest_point_grid(x, y, rows, cols, cell, gap):
     """Index (rows·cols,) of the point nearest to each cell centre, −1 where no point
     is closer than ``gap`` (m); row-major, row 0 at the north edge."""

@@ -118,8 +118,8 @@ def compare_cloud(
     files = {"distances": "distances.ply", "histogram": "histogram.png",
              "error_map": "error_map.png", "error_map_geotiff": "error_map.tif",
              "error_map_npy": "error_map.npy"}
-    # the figures are drawn by helper processes (started before the distances, so their
-    # imports overlap them) while this process writes the other products
+    # the figures are drawn in a thread (started before the distances, so its imports
+    # overlap them) while this thread writes the other products
     with take_figure_writer() as figures:
         t0 = time.perf_counter()
         index = build_mesh_index((mesh.vertices, mesh.faces))

@@ -45,12 +45,16 @@ class _Loader(threading.Thread):
     def __init__(self) -> None:
         super().__init__(name="designer-kernel-loader", daemon=True)
         self.error: BaseException | None = None
+        #: set when loading has ended (also on failure)
+        self.done = threading.Event()
 
     def run(self) -> None:
         try:
             warm_up()
         except BaseException as exc:  # reported by join()
             self.error = exc
+        finally:
+            self.done.set()
 
     def join(self, timeout: float | None = None) -> None:
         """Wait for the kernels; re-raise what loading them raised."""

@@ -159,7 +159,8 @@ def write_histogram_png(path: str | os.PathLike, stats: dict, *,
 def _save(fig, path) -> Path:
     path = Path(path)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png")
+        # fast zlib level: a third of the encoding time for a few percent more bytes
+        fig.savefig(tmp, format="png", pil_kwargs={"compress_level": 1})
     return path
 
 
