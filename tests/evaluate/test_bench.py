@@ -12,6 +12,7 @@ def _cell(line: str, column: int) -> str:
     return line.split()[column]
 
 
+@pytest.mark.slow
 def test_compare_benchmark_table_at_a_small_scale():
     rows = compare.run(repeats=1, scale=0.002)
     table = compare.format_table(rows)

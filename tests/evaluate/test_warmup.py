@@ -5,6 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from designer.bench import compare as bench
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -15,6 +17,7 @@ def _cache_files(folder: Path) -> dict[str, int]:
             for p in folder.rglob("*") if p.suffix in (".nbi", ".nbc")}
 
 
+@pytest.mark.slow
 def test_compare_after_warmup_compiles_nothing(tmp_path):
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"),
                MPLCONFIGDIR=str(tmp_path / "mpl"),
