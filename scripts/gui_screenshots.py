@@ -11,7 +11,13 @@ a virtual X display (Xvfb) when there is none:
 * ``gui-coverage.png`` — the 3D view with the coverage heat map (H);
 * ``gui-results-window.png`` — a synthetic cloud coloured by its signed distance to the
   true surface: 300,000 points on the terrain and targets, plus a smooth 3 cm bowl and
-  1 cm noise (seeded), with GCP estimates off by 1–2 cm.
+  1 cm noise (seeded), 25 gross outliers (up to 1.4 km below), with GCP estimates off by
+  1–2 cm (drawn in the view as exaggerated error lines);
+* ``gui-refused-input.png`` — the Flight panel refusing a front overlap of 150 %;
+* ``gui-place-mode.png`` — the window in the place-GCPs mode (banner) with the cursor
+  off the terrain (status bar);
+* ``gui-flight-beyond.png`` — the Flight panel warning about a flight that looks far
+  beyond the terrain (the same survey flown at 120 m).
 
 ``designer gui FILE.xml --screenshot OUT.png --panel NAME`` takes one such shot of the
 whole window from the command line.
@@ -49,6 +55,8 @@ def _synthetic_results(window, folder: Path) -> tuple[Path, Path]:
     r2 = np.sum((xy - centre) ** 2, axis=1) / radius**2
     # a bowl, 3 cm deep in the middle, flat beyond the radius
     dz = 0.03 * (np.minimum(r2, 1.0) - 0.5) + rng.normal(0.0, 0.01, len(xy))
+    # and a few gross outliers (mismatches), one of them 1.4 km below the ground
+    dz[rng.choice(len(xy), 25, replace=False)] = -rng.uniform(0.5, 1400.0, 25)
     xyz = np.column_stack([xy, hf.height_at_clamped(xy[:, 0], xy[:, 1]) + dz])
     cloud = folder / "cloud.ply"
     _write_cloud(cloud, xyz)
@@ -93,6 +101,9 @@ def take(out: Path) -> list[Path]:
             continue
         dock.show()
         dock.raise_()
+        if title == "GCPs":  # show the last columns: surveyed positions, images per GCP
+            bar = window.panels["GCPs"].table.horizontalScrollBar()
+            bar.setValue(bar.maximum())
         shot(f"gui-panel-{title.lower()}.png", dock)
     window.docks["Terrain"].raise_()
     window.docks["Flight"].raise_()
@@ -112,6 +123,36 @@ def take(out: Path) -> list[Path]:
     shot("gui-panel-results.png", window.docks["Results"])
     window.docks["GCPs"].raise_()
     shot("gui-results-window.png")
+    results.clear()
+
+    # a typed value out of range: refused, red, said why
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QDoubleSpinBox
+
+    window.docks["Flight"].raise_()
+    window.activateWindow()
+    box = window.findChild(QDoubleSpinBox, "trajectory.flight_plan.front_overlap_percent")
+    box.setFocus()
+    box.selectAll()
+    QTest.keyClicks(box.lineEdit(), "150")
+    QTest.keyClick(box.lineEdit(), Qt.Key.Key_Return)
+    shot("gui-refused-input.png", window.docks["Flight"])
+    window.undo_stack.undo()  # nothing to undo from the refusal; back to a clean field
+    box.setValue(window.document.project.trajectory.flight_plan.front_overlap_percent)
+
+    # the place-GCPs mode, the cursor over the background
+    window.panels["GCPs"].place.setChecked(True)
+    window.view.ground_hovered.emit(())
+    shot("gui-place-mode.png")
+    window.view.interaction.set_mode("navigate")
+
+    # the same survey flown high: images look beyond the terrain
+    from designer.gui import edits
+
+    window.editor.edit(edits.set_flight(window.document.project, altitude_agl_m=120.0),
+                       "Flight height")
+    shot("gui-flight-beyond.png", window.docks["Flight"])
     window.close_without_prompt()
     return written
 

@@ -26,7 +26,7 @@ from designer.bench.timing import best_of
 from designer.core.distortion import BrownConrady
 from designer.core.interior import InteriorOrientation
 from designer.effects.base import FrameContext
-from designer.effects.chain import EffectChain, _convert
+from designer.effects.chain import EffectChain, convert_domain
 from designer.effects.distortion_render import LensDistortion, pinhole_render_camera
 from designer.effects.jpeg import JpegCompression
 from designer.effects.motion import LinearMotionBlur
@@ -94,7 +94,7 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
         rows.append({"case": label, "size": f"{W}x{H}", "seconds": seconds, "mp": mp,
                      "note": " → ".join(chain.kinds), "bytes": len(data)})
     # each effect alone, on its input in its own domain
-    linear_render = _convert(render, "integer", "linear", np.uint8)
+    linear_render = convert_domain(render, "integer", "linear", np.uint8)
     linear = warp.apply(linear_render)
     for label, effect in effects.items():
         if label == "motion blur" or label == "distortion":
@@ -102,18 +102,18 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
         elif effect.domain == "linear":
             src = linear
         elif effect.domain == "encoded":
-            src = _convert(linear, "linear", "encoded", np.uint8)
+            src = convert_domain(linear, "linear", "encoded", np.uint8)
         else:
-            src = _convert(linear, "linear", "integer", np.uint8)
+            src = convert_domain(linear, "linear", "integer", np.uint8)
         if isinstance(effect, JpegCompression):
             seconds, _ = best_of(repeats, lambda e=effect, s=src: e.encode(s, CONTEXT))
         else:
             seconds, _ = best_of(repeats, lambda e=effect, s=src: e.apply(s, 1, CONTEXT))
         rows.append({"case": f"  {label} alone", "size": f"{src.shape[1]}x{src.shape[0]}",
                      "seconds": seconds, "mp": src.shape[0] * src.shape[1] / 1e6})
-    for label, conv in (("  decode sRGB → linear", lambda: _convert(render, "integer",
+    for label, conv in (("  decode sRGB → linear", lambda: convert_domain(render, "integer",
                                                                       "linear", np.uint8)),
-                        ("  encode linear → sRGB uint8", lambda: _convert(linear, "linear",
+                        ("  encode linear → sRGB uint8", lambda: convert_domain(linear, "linear",
                                                                             "integer",
                                                                             np.uint8))):
         src = render if "decode" in label else linear

@@ -15,6 +15,8 @@ BENCHMARKS = {
     "gui": "designer.bench.gui",
     "accuracy": "designer.bench.accuracy",
     "effects": "designer.bench.effects",
+    "dense": "designer.bench.dense",
+    "study": "designer.bench.study",
 }
 
 

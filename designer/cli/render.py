@@ -52,9 +52,16 @@ def run(args) -> int:
     finally:
         reporter.close()
     report = summary.report
-    print(f"{args.output}: {len(report.rendered)} images rendered, {len(report.skipped)} "
-          f"already complete, in {report.wall_seconds:.1f} s; ground truth in "
+    n = len(report.rendered)
+    per_image = f" ({report.wall_seconds / n:.1f} s per image)" if n else ""
+    print(f"{args.output}: {n} images rendered, {len(report.skipped)} already complete "
+          f"and up to date, in {report.wall_seconds:.1f} s{per_image}; ground truth in "
           f"{args.output / 'ground-truth'}")
+    if summary.stale:
+        from designer.render.check_output import count_reasons
+
+        print(f"{len(summary.stale)} of the rendered images replaced images made from other "
+              f"inputs: {count_reasons(summary.stale)}")
     return 0
 
 

@@ -129,7 +129,7 @@ class EffectChain:
         k = 0
         while k < len(effects):
             effect = effects[k]
-            current = _convert(current, domain, effect.domain, dtype)
+            current = convert_domain(current, domain, effect.domain, dtype)
             domain = effect.domain
             following = _at(effects, k + 1)
             if (isinstance(effect, LensDistortion) and _is_vignetting(following)
@@ -165,7 +165,7 @@ class EffectChain:
                 current = effect.apply(current, frame_index, context,
                                        **({} if gain is None else {"gain": gain}))
             k += 1
-        return _convert(current, domain, "integer", dtype)
+        return convert_domain(current, domain, "integer", dtype)
 
 
 def _at(effects: tuple[Effect, ...], k: int) -> Effect | None:
@@ -182,7 +182,7 @@ def _check_image(image: np.ndarray) -> None:
         raise ValueError(f"images must be (H, W) or (H, W, 3), got {image.shape}")
 
 
-def _convert(image: np.ndarray, src: Domain, dst: Domain, dtype: np.dtype) -> np.ndarray:
+def convert_domain(image: np.ndarray, src: Domain, dst: Domain, dtype: np.dtype) -> np.ndarray:
     """Between integer codes, float sRGB-encoded values and float linear light."""
     if src == dst:
         return image

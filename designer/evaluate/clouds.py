@@ -111,7 +111,7 @@ def read_point_cloud(
 def _read_ply(path: Path) -> PointCloud:
     from plyfile import PlyData, PlyElementParseError, PlyHeaderParseError
 
-    from designer.scene.mesh import _origin_from_comments
+    from designer.scene.mesh import origin_from_ply_comments
 
     try:
         try:
@@ -131,7 +131,7 @@ def _read_ply(path: Path) -> PointCloud:
     xyz = np.empty((len(vert), 3))
     for i, c in enumerate("xyz"):
         xyz[:, i] = vert[c]
-    origin = _origin_from_comments(path, ply.comments)
+    origin = origin_from_ply_comments(path, ply.comments)
     if origin is not None:
         xyz += origin
     rgb = None

@@ -34,12 +34,12 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
+from designer.core.crs import crs_token, odm_accepts_crs
 from designer.core.rotation import heading_tilt_roll_from_rotation
 from designer.core.truth import GCP_ROLES, CameraPose, GcpObservation, GroundControlPoint
 from designer.export._text import (
@@ -53,21 +53,18 @@ from designer.export._text import (
 #: designer's pixel coordinates minus this are OpenCV/OpenSfM pixel coordinates
 OPENCV_PIXEL_SHIFT = 0.5
 
-_UTM = re.compile(r"^WGS84 UTM \d{1,2}[NS]$", re.IGNORECASE)
-_EPSG = re.compile(r"^EPSG:\d+$", re.IGNORECASE)
 
 
 def odm_crs(crs: str) -> str:
     """The CRS token OpenDroneMap understands from a project's CRS label: a leading
     'EPSG:n' of a longer label such as 'EPSG:32632 (WGS 84 / UTM zone 32N)'."""
-    match = re.match(r"\s*(EPSG:\d+)", crs)
-    return match.group(1) if match else crs
+    return crs_token(crs)
 
 
 def check_odm_crs(crs: object) -> str:
     """The CRS line if OpenDroneMap can parse it, else ExportError naming the forms."""
     line = check_crs(crs)
-    if _EPSG.match(line) or _UTM.match(line) or "+proj" in line:
+    if odm_accepts_crs(line):
         return line
     raise ExportError(
         f"OpenDroneMap cannot read the CRS {line!r}; give 'EPSG:<code>', "

@@ -175,6 +175,7 @@ class StationsResult:
     render_time_s: float | None
     C_world: np.ndarray
     R_cam_to_world: np.ndarray
+    stations: tuple = ()
 
 
 def render_seconds_per_image(project: m.Project, interior: InteriorOrientation,
@@ -234,7 +235,8 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
                            side_overlap_fraction=plan.side_overlap_percent / 100,
                            orientation=plan.orientation)
     seconds = len(stations) * render_seconds_per_image(project, interior)
-    return StationsResult(geometry, len(stations), camera_id, interior, calc, seconds, C, R)
+    return StationsResult(geometry, len(stations), camera_id, interior, calc, seconds, C, R,
+                          tuple(stations))
 
 
 @dataclass(frozen=True, eq=False)

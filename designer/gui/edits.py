@@ -86,13 +86,21 @@ def default_target_size_m(project: m.Project) -> float:
     return float(np.clip(0.01 * min(e.width_m, e.length_m), 0.2, 2.0))
 
 
+#: decimals of coordinates placed or typed in the window (0.1 mm)
+COORDINATE_DECIMALS = 4
+
+
+def _coordinate(value: float) -> float:
+    return round(float(value), COORDINATE_DECIMALS)
+
+
 def add_target(project: m.Project, X: float, Y: float, role: m.Role = "control",
                target_id: str | None = None, size_m: float | None = None) -> m.Project:
     """A new checker target draped on the terrain at (X, Y)."""
     target = m.Target(
         id=target_id or next_target_id(project), role=role, shape="checker",
         size_m=size_m if size_m is not None else default_target_size_m(project),
-        true=m.TruePosition(float(X), float(Y)))
+        true=m.TruePosition(_coordinate(X), _coordinate(Y)))
     return set_targets(project, (*project.targets, target))
 
 
@@ -101,7 +109,8 @@ def move_target(project: m.Project, target_id: str, X: float, Y: float) -> m.Pro
     out = []
     for t in project.targets:
         if t.id == target_id:
-            t = dataclasses.replace(t, true=dataclasses.replace(t.true, X=float(X), Y=float(Y)))
+            t = dataclasses.replace(t, true=dataclasses.replace(t.true, X=_coordinate(X),
+                                                                Y=_coordinate(Y)))
         out.append(t)
     return set_targets(project, tuple(out))
 
@@ -122,7 +131,7 @@ def layout_targets(project: m.Project, xy: np.ndarray, roles, size_m: float,
     """Replace every target by targets at ``xy`` (N, 2) with ``roles`` (N,)."""
     targets = tuple(
         m.Target(id=f"{prefix}{k + 1:02d}", role=str(roles[k]), shape="checker",
-                 size_m=float(size_m), true=m.TruePosition(float(x), float(y)))
+                 size_m=float(size_m), true=m.TruePosition(_coordinate(x), _coordinate(y)))
         for k, (x, y) in enumerate(np.asarray(xy, dtype=float)))
     return set_targets(project, targets)
 

@@ -13,6 +13,9 @@ Modes:
 
 The ground point comes from ``ground_picker(origin, direction) -> (3,) | None`` (a
 height-field ray cast, set by the scene sync) or, without one, from the terrain actor.
+A click where the ray meets no terrain top (the sky, the background, the side of the
+terrain block) does nothing; the status bar then reads "off the terrain". Esc leaves
+any mode.
 """
 
 from __future__ import annotations
@@ -90,10 +93,11 @@ class ViewInteraction(QObject):
             return self._double(event)
         if kind == QEvent.Type.MouseButtonRelease:
             return self._released(event)
+        if kind == QEvent.Type.KeyPress and event.key() == Qt.Key.Key_Escape \
+                and self.mode != "navigate":
+            self.set_mode("navigate")  # Esc leaves any mode (and drops a half-drawn area)
+            return True
         if kind == QEvent.Type.KeyPress and self.mode == "area":
-            if event.key() == Qt.Key.Key_Escape:
-                self._cancel()
-                return True
             if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
                 self._finish_area()
                 return True
@@ -108,7 +112,8 @@ class ViewInteraction(QObject):
     def _move(self, event) -> bool:
         x, y = self._pos(event)
         ground = self.ground_at(x, y)
-        self.view.ground_hovered.emit(None if ground is None else tuple(ground))
+        # () : the cursor is over the view but not over the terrain
+        self.view.ground_hovered.emit(() if ground is None else tuple(ground))
         if self._dragging is not None:
             if ground is not None:
                 self.view.show_polygon("draft", np.array([ground, ground + [0, 0, 0.01]]),
@@ -159,6 +164,8 @@ class ViewInteraction(QObject):
             ground = self.ground_at(x, y)
             if ground is not None:
                 self.view.ground_clicked.emit(*(float(v) for v in ground))
+        elif self.mode == "navigate" and clicked:
+            self.view.clicked.emit(x, y)
         return False
 
     def _double(self, event) -> bool:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
+import numpy as np
 from PySide6.QtCore import QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence, QUndoStack
 from PySide6.QtWidgets import (
@@ -36,7 +37,7 @@ from designer.gui.undo import Editor
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("targets", "GCP targets"),
           ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
           ("flight", "Flight lines"),
-          ("area", "Survey area"), ("cloud", "Point cloud")]
+          ("area", "Survey area"), ("cloud", "Point cloud"), ("residuals", "GCP errors")]
 
 
 def _extra_panels():
@@ -91,6 +92,12 @@ class MainWindow(QMainWindow):
         self.document.events.connect("file", self._file_state)
         self.sync.message.connect(lambda text: self.statusBar().showMessage(text, 8000))
         self.document.reset(self.document.project, None)
+        from PySide6.QtWidgets import QApplication
+
+        from designer.gui.input_guard import InputGuard
+
+        self.input_guard = InputGuard(self)
+        QApplication.instance().installEventFilter(self.input_guard)
 
     # ------------------------------------------------------------------ layout
     def _add_panel(self, cls, side: str) -> None:
@@ -121,14 +128,44 @@ class MainWindow(QMainWindow):
         self.addDockWidget(Qt.DockWidgetArea.BottomDockWidgetArea, dock)
         dock.hide()
         self.docks["Problems"] = dock
+        from PySide6.QtCore import QTimer
+
+        self._problems_timer = QTimer(self)
+        self._problems_timer.setSingleShot(True)
+        self._problems_timer.setInterval(300)
+        self._problems_timer.timeout.connect(self._recheck_now)
+        self.document.events.connect("project", self._recheck_problems)
 
     def show_problems(self, lines: list[str], headline: str = "") -> None:
-        """List problems inline (an empty list hides the Problems panel)."""
+        """List problems inline (an empty list hides the Problems panel); while listed they
+        are checked again after every change, so fixed ones (also by an undo) go away."""
+        from designer.gui.wording import humanize
+
+        lines = [humanize(line) for line in lines]
+        self._problems_project = self.document.project if lines else None
         self.problems.clear()
         self.problems.addItems(lines)
         self.docks["Problems"].setVisible(bool(lines))
         if lines and headline:
             self.statusBar().showMessage(headline, 10000)
+
+    def _recheck_problems(self, **_) -> None:
+        if getattr(self, "_problems_project", None) is None:
+            return
+        if self.document.project == self._problems_project:
+            return
+        self._problems_timer.start()
+
+    def _recheck_now(self) -> None:
+        if getattr(self, "_problems_project", None) is None:
+            return
+        doc = self.document
+        path = doc.path or doc.base_dir / "untitled.xml"
+        plan = files.plan_save(doc.project, path, doc.base_dir,
+                               self.file_actions.scratch_files)
+        self.show_problems(plan.problems)
+        if not plan.problems:
+            self.statusBar().showMessage("no problems left", 5000)
 
     def _problem_clicked(self, item) -> None:
         title = files.panel_for_problem(item.text())
@@ -149,6 +186,9 @@ class MainWindow(QMainWindow):
         undo.setShortcut(QKeySequence.StandardKey.Undo)
         redo = self.undo_stack.createRedoAction(self, "&Redo")
         redo.setShortcuts([QKeySequence.StandardKey.Redo, QKeySequence("Ctrl+Y")])
+        for action in (undo, redo):  # also from a floating panel
+            action.setShortcutContext(Qt.ShortcutContext.ApplicationShortcut)
+        self.undo_action, self.redo_action = undo, redo
         edit.addActions([undo, redo])
         edit.addSeparator()
         mode = self.view.interaction.set_mode
@@ -159,6 +199,7 @@ class MainWindow(QMainWindow):
         view = bar.addMenu("&View")
         view.addAction(self._action("&Reset view", "R", self.view.reset_view))
         view.addAction(self._action("&Top view", "T", self.view.view_top))
+        view.addAction(self._action("&Frame all", "F", self.frame_all))
         view.addSeparator()
         for key, text in LAYERS:
             action = self._action(text, None, None)
@@ -200,8 +241,20 @@ class MainWindow(QMainWindow):
         if xyz is None:
             self.coords.setText("")
             return
+        if len(xyz) == 0:
+            self.coords.setText("off the terrain")
+            return
         self.coords.setText(f"E {xyz[0]:,.3f}  N {xyz[1]:,.3f}  H {xyz[2]:.3f} m "
                             f"(world)".replace(",", " "))
+
+    def frame_all(self) -> None:
+        """Fit the view to the terrain, the cameras and the GCPs."""
+        points = [np.zeros((0, 3))]
+        if self.sync.stations is not None:
+            points.append(self.sync.stations.C_world)
+        if self.sync.targets is not None:
+            points.append(self.sync.targets.true_xyz)
+        self.view.frame_all(np.vstack(points))
 
     def _file_state(self, path, dirty) -> None:
         name = self.document.path.name if self.document.path else "untitled.xml"
@@ -246,4 +299,7 @@ class MainWindow(QMainWindow):
                 panel.shutdown()
         self.tasks.shutdown()
         self.view.close_view()
+        from PySide6.QtWidgets import QApplication
+
+        QApplication.instance().removeEventFilter(self.input_guard)
         event.accept()

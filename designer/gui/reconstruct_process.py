@@ -1,24 +1,38 @@
 """Runs a :class:`~designer.gui.reconstruct_job.ReconstructJob`'s commands one after the
 other in their own processes; the window only reads their output.
 
-Cancel sends SIGTERM: COLMAP's feature extraction and matching run in C++ and do not
-look at Python's Ctrl-C flag, so SIGINT would wait for the current stage to end. The
-reconstruction folder is scratch (a new run starts it afresh) and every file in it is
-written atomically, so stopping at once leaves nothing half-written.
+Cancel sends SIGINT, on which a designer command stops cleanly; COLMAP's feature
+extraction and matching run in C++ and do not look at Python's Ctrl-C flag, so a
+command still running after :data:`CANCEL_GRACE_MS` is killed (SIGKILL). Not SIGTERM:
+COLMAP's logging library catches it and prints a native stack trace, which reads like
+a crash. The reconstruction folder is scratch (a new run starts it afresh) and every
+file in it is written atomically, so stopping at once leaves nothing half-written.
 """
 
 from __future__ import annotations
 
-import signal
-
-from PySide6.QtCore import QObject, Signal
+from PySide6.QtCore import QObject, QTimer, Signal
 
 from designer.gui.reconstruct_job import COMPARE_STAGE, STAGES, ReconstructJob, stage_of_line
 from designer.gui.render_process import CommandProcess
 
+#: how long (ms) a cancelled command may take to stop on SIGINT before it is killed
+CANCEL_GRACE_MS = 2000
 
-class _Terminating(CommandProcess):
-    cancel_signal = signal.SIGTERM
+
+class StoppingProcess(CommandProcess):
+    """A command that Cancel stops with SIGINT, then SIGKILL after CANCEL_GRACE_MS."""
+
+    def cancel(self) -> None:
+        if not self.running:
+            return
+        super().cancel()
+        process = self.process
+        QTimer.singleShot(CANCEL_GRACE_MS, lambda: self._kill_if(process))
+
+    def _kill_if(self, process) -> None:
+        if process is self.process and self.running:
+            self.process.kill()  # QProcess.kill: SIGKILL; finished() follows
 
 
 class ReconstructRun(QObject):
@@ -28,7 +42,7 @@ class ReconstructRun(QObject):
 
     def __init__(self, parent: QObject | None = None) -> None:
         super().__init__(parent)
-        self.process = _Terminating(self)
+        self.process = StoppingProcess(self)
         self.process.output.connect(self._line)
         self.process.finished.connect(self._step_done)
         self.job: ReconstructJob | None = None

@@ -27,13 +27,17 @@ from designer.gui.tasks import TaskRunner
 from designer.project import model as m
 
 TERRAIN_PARTS = {"terrain"}
+#: a picked point farther than this (m) from the terrain's top surface is not ground
+GROUND_TOLERANCE_M = 0.05
 STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
 
 
 def _message(error: BaseException) -> str:
+    from designer.gui.wording import humanize
+
     if isinstance(error, DesignerError | ValueError | KeyError | OSError):
-        return str(error)
-    return f"{type(error).__name__}: {error}"
+        return humanize(str(error))
+    return f"{type(error).__name__}: {humanize(str(error))}"
 
 
 class SceneSync(QObject):
@@ -43,6 +47,7 @@ class SceneSync(QObject):
     stations_changed = Signal()
     coverage_changed = Signal()
     lighting_changed = Signal()
+    plan_changed = Signal()
     message = Signal(str)
 
     def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
@@ -54,6 +59,8 @@ class SceneSync(QObject):
         self.stations: derived.StationsResult | None = None
         self.coverage: derived.CoverageResult | None = None
         self.objects: derived.ObjectsResult | None = None
+        #: the flight over the real terrain (designer.gui.plan_figures), or None
+        self.plan = None
         self.errors: dict[str, str] = {}
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
@@ -68,6 +75,7 @@ class SceneSync(QObject):
         self.texture_rgb = None
         self.stations = None
         self.coverage = None
+        self.plan = None
         self._tiles = None
         self._area_key = None
 
@@ -228,6 +236,8 @@ class SceneSync(QObject):
         else:
             self.view.show_targets(t.ids, t.roles, t.true_xyz, t.plates)
         self.targets_changed.emit()
+        if self.stations is not None and self.terrain is not None:
+            self.refresh_plan()
 
     # ------------------------------------------------------------------ stations
     def refresh_stations(self) -> None:
@@ -244,7 +254,11 @@ class SceneSync(QObject):
         self.errors.pop("stations", None)
         self.stations = result
         self.view.show_stations(result.geometry)
+        if len(result.C_world) and not self.view.in_view(result.C_world).any():
+            # an edit moved every camera out of sight: show them with the terrain
+            self.view.frame_all(result.C_world)
         self.stations_changed.emit()
+        self.refresh_plan()
         if self.coverage_enabled:
             self.refresh_coverage()
 
@@ -253,6 +267,32 @@ class SceneSync(QObject):
         self.view.show_stations(None)
         self.errors["stations"] = _message(error)
         self.stations_changed.emit()
+        self.refresh_plan()
+
+    # ------------------------------------------------------------------ plan figures
+    def refresh_plan(self) -> None:
+        """Analyse the flight over the real terrain (as designer plan does), in a thread."""
+        from designer.gui.plan_figures import compute_plan_figures
+
+        terrain, stations = self.terrain, self.stations
+        if terrain is None or stations is None or terrain.heightfield is None:
+            self.tasks.cancel("plan")
+            self.plan = None
+            self.plan_changed.emit()
+            return
+        self.tasks.submit("plan", compute_plan_figures, self.document.project, terrain,
+                          stations, self.targets, on_done=self._plan_done,
+                          on_error=self._plan_failed)
+
+    def _plan_done(self, figures) -> None:
+        self.errors.pop("plan", None)
+        self.plan = figures
+        self.plan_changed.emit()
+
+    def _plan_failed(self, error: BaseException) -> None:
+        self.plan = None
+        self.errors["plan"] = _message(error)
+        self.plan_changed.emit()
 
     # ------------------------------------------------------------------ coverage
     def set_coverage_enabled(self, enabled: bool) -> None:
@@ -295,5 +335,15 @@ class SceneSync(QObject):
     def _pick_ground(self, origin: np.ndarray, direction: np.ndarray):
         if self.terrain is None or self.terrain.raycaster is None:
             return None
-        hit = self.terrain.raycaster.first_hit(origin[None, :], direction[None, :])[0]
-        return hit if np.all(np.isfinite(hit)) else None
+        rc = self.terrain.raycaster
+        hit = rc.first_hit(origin[None, :], direction[None, :])[0]
+        if not np.all(np.isfinite(hit)):
+            return None
+        x0, x1, y0, y1 = rc.heightfield.extent_m
+        if not (x0 <= hit[0] <= x1 and y0 <= hit[1] <= y1):
+            return None
+        # a ray passing beside the terrain meets the side of the solid block, below the
+        # surface: that is no ground to place anything on
+        if abs(hit[2] - float(rc.height(hit[0], hit[1]))) > GROUND_TOLERANCE_M:
+            return None
+        return hit

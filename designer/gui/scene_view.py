@@ -14,9 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtCore import Signal
-from PySide6.QtWidgets import QVBoxLayout, QWidget
+from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from designer.gui.interaction import ViewInteraction
+from designer.gui.view_overlays import OverlayLayers
 from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
@@ -32,16 +33,23 @@ LAYER_STYLE = {
 MAX_DISPLAY_TEXTURE_PX = 2048
 TERRAIN_COLOUR = (0.55, 0.6, 0.45)
 OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
+MODE_TEXT = {
+    "place": "Placing GCPs: click the terrain to add one, drag a GCP to move it · "
+             "Esc: stop placing",
+    "area": "Drawing the survey area: click the corners, double-click or Enter to close · "
+            "Esc: cancel",
+}
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
 
-class SceneView(QWidget):
+class SceneView(OverlayLayers, QWidget):
     """A QWidget holding the interactor; signals carry world coordinates (m)."""
 
-    ground_hovered = Signal(object)          # (X, Y, Z) or None
+    ground_hovered = Signal(object)          # (X, Y, Z), () off the terrain, None: left
     ground_clicked = Signal(float, float, float)
     target_moved = Signal(str, float, float)
     area_drawn = Signal(object)              # [(X, Y), …]
+    clicked = Signal(float, float)           # a click (no drag) in navigate mode, px
     frame_rendered = Signal()
 
     def __init__(self, parent: QWidget | None = None) -> None:
@@ -63,9 +71,20 @@ class SceneView(QWidget):
             self.plotter.enable_anti_aliasing("fxaa")
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(0)
+        # what a click does right now (shown only outside the navigate mode)
+        self.mode_banner = QLabel()
+        self.mode_banner.setObjectName("mode-banner")
+        self.mode_banner.setStyleSheet(
+            "QLabel { background: #f0b429; color: #1b1b1b; font-weight: bold; "
+            "padding: 4px 8px; }")
+        self.mode_banner.hide()
+        layout.addWidget(self.mode_banner)
         layout.addWidget(self.plotter)
         self.offset = np.zeros(3)
         self._meshes: dict[str, object] = {}
+        #: how to draw again the layers that survive a new display offset
+        self._kept: dict[str, object] = {}
         self._visible: dict[str, bool] = {}
         self._texture = None
         self._irradiance: np.ndarray | None = None
@@ -74,9 +93,14 @@ class SceneView(QWidget):
         self.frames = 0
         self.plotter.ren_win.AddObserver("EndEvent", self._on_frame)
         self.interaction = ViewInteraction(self)
+        self.interaction.mode_changed.connect(self._show_mode)
         self.plotter.add_axes(interactive=False, line_width=2, labels_off=False)
 
     # ------------------------------------------------------------------ basics
+    def _show_mode(self, mode: str) -> None:
+        self.mode_banner.setText(MODE_TEXT.get(mode, ""))
+        self.mode_banner.setVisible(mode in MODE_TEXT)
+
     def _on_frame(self, *_args) -> None:
         self.frames += 1
         self.frame_rendered.emit()
@@ -86,22 +110,35 @@ class SceneView(QWidget):
         self.plotter.update()
 
     def set_offset(self, offset_world: np.ndarray) -> None:
-        """Change the display offset; every layer must be set again afterwards."""
+        """Change the display offset. Layers of the model must be set again afterwards;
+        layers of results (the point cloud, GCP residuals) are redrawn here, as nothing
+        else would bring them back."""
         self.offset = np.asarray(offset_world, dtype=float).copy()
+        kept = dict(self._kept)
         for name in list(self._meshes):
             self.remove_layer(name)
+        for draw in kept.values():
+            draw()
 
     def local(self, points_world: np.ndarray) -> np.ndarray:
         return (np.asarray(points_world, dtype=float).reshape(-1, 3) - self.offset).astype(
             np.float32)
 
     def remove_layer(self, name: str) -> None:
+        self._kept.pop(name, None)
         if self._meshes.pop(name, None) is not None:
             self.plotter.remove_actor(name, render=False)
         if name == "cloud":
             self._remove_scalar_bar("signed distance (m)")
         if name == "coverage":
             self._remove_scalar_bar("images seeing the ground")
+        if name == "residuals":
+            for part in ("residuals:tips", "residuals:labels"):
+                self._meshes.pop(part, None)
+            for part in ("residuals:tips", "residuals:labels-points",
+                         "residuals:labels-labels"):
+                if part in self.plotter.actors:
+                    self.plotter.remove_actor(part, render=False)
 
     def _remove_scalar_bar(self, title: str) -> None:
         if title in self.plotter.scalar_bars:
@@ -306,42 +343,6 @@ class SceneView(QWidget):
         n = len(xyz_world)
         ids = np.r_[np.arange(n), 0] if closed else np.arange(n)
         self._show(name, self._lines(xyz_world, np.r_[len(ids), ids]), **LAYER_STYLE[name])
-
-    def show_coverage(self, grid_xyz_world: np.ndarray, shape: tuple[int, int],
-                      counts: np.ndarray) -> None:
-        """The coverage heat map: images seeing each ground cell, draped 5 cm up."""
-        pv = self._pv
-        ny, nx = shape
-        pts = self.local(grid_xyz_world + [0.0, 0.0, 0.05])
-        grid = pv.StructuredGrid(pts[:, 0].reshape(ny, nx), pts[:, 1].reshape(ny, nx),
-                                 np.nan_to_num(pts[:, 2]).reshape(ny, nx))
-        grid["images"] = np.asarray(counts, dtype=float).ravel(order="C")
-        grid = grid.threshold(0.5, scalars="images")
-        self.remove_layer("coverage")
-        self.plotter.add_mesh(grid, name="coverage", scalars="images", cmap="viridis",
-                              opacity=0.6, reset_camera=False, render=False,
-                              scalar_bar_args={"title": "images seeing the ground"})
-        self._meshes["coverage"] = grid
-        self.request_render()
-
-    def show_cloud(self, points_world: np.ndarray, distances_m: np.ndarray,
-                   limit_m: float) -> None:
-        """A point cloud coloured by signed distance, diverging map centred on 0."""
-        pv = self._pv
-        cloud = pv.PolyData(self.local(points_world))
-        cloud["signed distance (m)"] = np.asarray(distances_m, dtype=float)
-        self.remove_layer("cloud")
-        self.plotter.add_mesh(cloud, name="cloud", scalars="signed distance (m)",
-                              cmap="RdBu_r", clim=(-limit_m, limit_m), point_size=3,
-                              render_points_as_spheres=False, reset_camera=False,
-                              render=False, scalar_bar_args={"title": "signed distance (m)",
-                                                             "fmt": "%.3f"})
-        self._meshes["cloud"] = cloud
-        self.request_render()
-
-    def cloud_lookup_table(self):
-        actor = self.plotter.actors.get("cloud")
-        return None if actor is None else actor.mapper.lookup_table
 
     # ------------------------------------------------------------------ camera
     def reset_view(self) -> None:

@@ -2,10 +2,14 @@
 
 :class:`Editor` is what panels call: ``editor.edit(new_project, "Flight altitude",
 merge="flight.altitude")``. Consecutive edits with the same ``merge`` key (a spin box
-stepped ten times, a target dragged) become one undo step.
+stepped ten times, a target dragged) become one undo step, as long as they follow each
+other within :data:`MERGE_WINDOW_S` with no undo or redo in between (a value typed
+again later is a step of its own).
 """
 
 from __future__ import annotations
+
+import time
 
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
@@ -13,6 +17,8 @@ from designer.gui.document import ProjectDocument
 from designer.project import model as m
 
 _MERGE_IDS: dict[str, int] = {}
+#: longest pause (s) between two edits of one field that still makes them one step
+MERGE_WINDOW_S = 2.0
 
 
 def _merge_id(key: str | None) -> int:
@@ -52,6 +58,7 @@ class Editor:
     def __init__(self, document: ProjectDocument, stack: QUndoStack) -> None:
         self.document = document
         self.stack = stack
+        self._last: tuple[str | None, int, float] = (None, -1, 0.0)
 
     @property
     def project(self) -> m.Project:
@@ -61,4 +68,13 @@ class Editor:
         """Apply ``new`` as an undoable step (nothing happens if it equals the current)."""
         if new == self.document.project:
             return
-        self.stack.push(ReplaceProject(self.document, self.document.project, new, text, merge))
+        key, index, when = self._last
+        now = time.monotonic()
+        mergeable = (merge is not None and merge == key and self.stack.index() == index
+                     and now - when <= MERGE_WINDOW_S)
+        self.stack.push(ReplaceProject(self.document, self.document.project, new, text,
+                                       merge if mergeable else None))
+        # the next edit may merge into this one only if it carries a merge id itself
+        if not mergeable and merge is not None:
+            self.stack.command(self.stack.index() - 1)._id = _merge_id(merge)
+        self._last = (merge, self.stack.index(), now)

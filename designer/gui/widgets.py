@@ -1,9 +1,14 @@
 """Small building blocks of the panels: unit-labelled fields bound to the model.
 
 A :class:`Bindings` ties each field to a getter and a setter of the project. A person's
-change becomes one undoable edit (consecutive changes of the same field merge into one
-undo step); a model change (undo, open, another panel) writes the field with its
+change becomes one undoable edit (quick consecutive changes of the same field merge into
+one undo step); a model change (undo, open, another panel) writes the field with its
 signals blocked, so views never echo edits back.
+
+Number fields never change a value behind the user's back: text that is not a number,
+or a number outside the field's range, is refused when typing is done (Enter, focus
+out): the field gets a red border, keeps the typed text and says what it accepts
+(``listener``); nothing reaches the project until the text is valid.
 """
 
 from __future__ import annotations
@@ -11,7 +16,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QValidator
 from PySide6.QtWidgets import (
+    QAbstractSpinBox,
     QCheckBox,
     QComboBox,
     QDoubleSpinBox,
@@ -29,26 +37,171 @@ Getter = Callable[[m.Project], Any]
 Setter = Callable[[m.Project, Any], m.Project]
 
 
+INVALID_STYLE = "border: 2px solid #d0302a; border-radius: 2px;"
+
+
+def format_number(value: float, decimals: int = 6) -> str:
+    """Fixed-point text without trailing zeros (``5405950.5``, never ``5.40595e+06``)."""
+    text = f"{value:.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+class _Checked:
+    """What both checked spin boxes share (mixed into QDoubleSpinBox / QSpinBox)."""
+
+    label = "value"
+    _integer = False
+    #: called with (field, message) when the field's verdict changes ("" = valid)
+    listener: Callable[[QWidget, str], None] | None = None
+
+    def _init_checked(self, label: str) -> None:
+        self.label = label
+        self.error = ""
+        self.setKeyboardTracking(False)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)  # the wheel alone gives no focus
+        self.setMinimumWidth(90)  # else the widest value of the range sets the panel's width
+        self.setCorrectionMode(QAbstractSpinBox.CorrectionMode.CorrectToPreviousValue)
+
+    # -------------------------------------------------------------- parsing
+    def _strip(self, text: str) -> str:
+        text = text.strip()
+        suffix, prefix = self.suffix().strip(), self.prefix().strip()
+        if suffix and text.endswith(suffix):
+            text = text[:-len(suffix)]
+        if prefix and text.startswith(prefix):
+            text = text[len(prefix):]
+        return text.strip().replace(",", ".").replace("−", "-")
+
+    def allowed(self) -> str:
+        """The accepted range as the user reads it (``0 to 99 %``)."""
+        digits = 0 if self._integer else self.decimals()
+        unit = self.suffix().strip()
+        return (f"{format_number(self.minimum(), digits)} to "
+                f"{format_number(self.maximum(), digits)}" + (f" {unit}" if unit else ""))
+
+    def problem(self, text: str) -> str:
+        """Why ``text`` cannot be applied ("" when it can)."""
+        raw = self._strip(text)
+        if raw == "":
+            return f"{self.label}: give a number from {self.allowed()}; not applied"
+        try:
+            value = int(raw) if self._integer else float(raw)
+        except ValueError:
+            kind = "a whole number" if self._integer else "a number"
+            return (f"{self.label}: “{text.strip()}” is not {kind} (allowed: "
+                    f"{self.allowed()}); not applied")
+        if not (self.minimum() <= value <= self.maximum()) or value != value:
+            return (f"{self.label}: {raw} is out of range; allowed: {self.allowed()}; "
+                    "not applied")
+        return ""
+
+    def _parse(self, text: str):
+        raw = self._strip(text)
+        return int(raw) if self._integer else float(raw)
+
+    # -------------------------------------------------------------- Qt hooks
+    def validate(self, text: str, pos: int):
+        # any text may be typed; whether it is applied is decided when typing is done
+        state = (QValidator.State.Acceptable if not self.problem(text)
+                 else QValidator.State.Intermediate)
+        return state, text, pos
+
+    def fixup(self, text: str) -> str:
+        return text
+
+    def keyPressEvent(self, event) -> None:
+        if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
+            if self._refuse():
+                event.accept()
+                return
+        super().keyPressEvent(event)
+
+    def focusOutEvent(self, event) -> None:
+        text = self.lineEdit().text()
+        refused = self._refuse()
+        super().focusOutEvent(event)
+        if refused:  # keep what was typed (and red) so it can be corrected
+            self.lineEdit().setText(text)
+
+    def stepBy(self, steps: int) -> None:
+        self._set_error("")
+        super().stepBy(steps)
+
+    def setValue(self, value) -> None:
+        self._set_error("")
+        super().setValue(value)
+
+    def _refuse(self) -> bool:
+        message = self.problem(self.lineEdit().text())
+        self._set_error(message)
+        return bool(message)
+
+    def _set_error(self, message: str) -> None:
+        if message == self.error:
+            return
+        self.error = message
+        self.setProperty("invalid", bool(message))
+        self.setStyleSheet(INVALID_STYLE if message else "")
+        self.setToolTip(message)
+        # a plain callback, not a signal: a field refreshed from the model (signals
+        # blocked) must still take its message away
+        if self.listener is not None:
+            self.listener(self, message)
+
+
+class CheckedDoubleSpin(_Checked, QDoubleSpinBox):
+    """A number field that refuses invalid or out-of-range text instead of clamping it."""
+
+
+    def __init__(self, label: str = "value") -> None:
+        QDoubleSpinBox.__init__(self)
+        self._init_checked(label)
+
+    def valueFromText(self, text: str) -> float:
+        try:
+            return self._parse(text)
+        except ValueError:
+            return self.value()
+
+    def textFromValue(self, value: float) -> str:
+        return format_number(value, self.decimals())
+
+
+class CheckedSpin(_Checked, QSpinBox):
+    """A whole-number field that refuses invalid or out-of-range text."""
+
+    _integer = True
+
+    def __init__(self, label: str = "value") -> None:
+        QSpinBox.__init__(self)
+        self._init_checked(label)
+
+    def valueFromText(self, text: str) -> int:
+        try:
+            return self._parse(text)
+        except ValueError:
+            return self.value()
+
+
 def dspin(lo: float, hi: float, decimals: int = 3, step: float = 1.0,
-          suffix: str = "") -> QDoubleSpinBox:
-    """A spin box that reports a value only when typing is done (Enter, focus out)."""
-    box = QDoubleSpinBox()
-    box.setRange(lo, hi)
+          suffix: str = "", label: str = "value") -> CheckedDoubleSpin:
+    """A number field that reports a value only when typing is done (Enter, focus out)
+    and refuses text outside [lo, hi] with a message."""
+    box = CheckedDoubleSpin(label)
     box.setDecimals(decimals)
+    box.setRange(lo, hi)
     box.setSingleStep(step)
-    box.setKeyboardTracking(False)
     box.setAccelerated(True)
-    box.setMinimumWidth(90)  # else the widest value of the range sets the panel's width
     if suffix:
         box.setSuffix(f" {suffix}")
     return box
 
 
-def ispin(lo: int, hi: int, suffix: str = "") -> QSpinBox:
-    box = QSpinBox()
+def ispin(lo: int, hi: int, suffix: str = "", label: str = "value") -> CheckedSpin:
+    box = CheckedSpin(label)
     box.setRange(lo, hi)
-    box.setKeyboardTracking(False)
-    box.setMinimumWidth(90)
     if suffix:
         box.setSuffix(f" {suffix}")
     return box
@@ -56,6 +209,7 @@ def ispin(lo: int, hi: int, suffix: str = "") -> QSpinBox:
 
 def combo(items: list[tuple[str, Any]]) -> QComboBox:
     box = QComboBox()
+    box.setFocusPolicy(Qt.FocusPolicy.StrongFocus)  # the wheel alone gives no focus
     box.setMinimumWidth(90)
     box.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
     for text, data in items:
@@ -87,6 +241,8 @@ class Bindings:
         get, put = path_accessors(access) if isinstance(access, str) else access
         merge = access if isinstance(access, str) else f"{text}@{id(widget)}"
         widget.setObjectName(access if isinstance(access, str) else text)
+        if isinstance(widget, _Checked) and widget.label == "value":
+            widget.label = text
 
         def changed(value: Any) -> None:
             project = self.editor.project

@@ -21,6 +21,17 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
+from designer.project.processing import (  # noqa: F401  (part of the model's face)
+    POSITION_PRIOR_SIGMAS_M,
+    Calibration,
+    ControlSelection,
+    GcpProcessing,
+    Matching,
+    PositionPrior,
+    PreCalibrationError,
+    Processing,
+)
+
 SCHEMA_VERSION = "1.0"
 
 Role = Literal["control", "check"]
@@ -454,6 +465,7 @@ class Project:
     outputs: Outputs = field(default_factory=Outputs)
     effects: Effects | None = None
     description: str | None = None
+    processing: Processing | None = None
     schema_version: str = SCHEMA_VERSION
 
     def camera(self, camera_id: str) -> Camera:

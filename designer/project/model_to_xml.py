@@ -238,6 +238,37 @@ def _render(parent: etree._Element, r: m.Render) -> None:
         _sub(el, "distortion-oversample", _num(r.distortion_oversample))
 
 
+def _processing(parent: etree._Element, p: m.Processing) -> None:
+    el = _sub(parent, "processing")
+    cal = _sub(el, "calibration", mode=p.calibration.mode)
+    pre = p.calibration.pre_calibration_error
+    if pre is not None:
+        _sub(cal, "pre-calibration-error", focal_px=_num(pre.focal_px),
+             principal_point_px=_num(pre.principal_point_px), k1=_num(pre.k1),
+             k2=_num(pre.k2), k3=_num(pre.k3), p1=_num(pre.p1), p2=_num(pre.p2),
+             seed=_num(pre.seed))
+    g = p.gcps
+    gcps = _sub(el, "gcps", mode=g.mode, marking_sigma_px=_num(g.marking_sigma_px),
+                seed=_num(g.seed))
+    if g.control is not None:
+        c = g.control
+        attrs = {"ids": " ".join(c.ids)} if c.ids else {}
+        if c.count is not None:
+            attrs["count"] = _num(c.count)
+        _sub(gcps, "control", **attrs, spread=c.spread, seed=_num(c.seed))
+    prior = p.position_prior
+    attrs = {}
+    if prior.sigma_horizontal_m is not None:
+        attrs["sigma_horizontal_m"] = _num(prior.sigma_horizontal_m)
+    if prior.sigma_vertical_m is not None:
+        attrs["sigma_vertical_m"] = _num(prior.sigma_vertical_m)
+    _sub(el, "position-prior", mode=prior.mode, **attrs, seed=_num(prior.seed))
+    mt = p.matching
+    _sub(el, "matching", max_features=_num(mt.max_features), pairs=mt.pairs,
+         min_track_length=_num(mt.min_track_length))
+    _sub(el, "dense", mode=p.dense)
+
+
 def project_to_tree(project: m.Project) -> etree._Element:
     """The ``<project>`` element of ``project`` (schema order, defaults explicit)."""
     root = etree.Element(q("project"), nsmap={None: NAMESPACE})
@@ -259,6 +290,8 @@ def project_to_tree(project: m.Project) -> etree._Element:
     outputs = _sub(root, "outputs", directory=project.outputs.directory)
     for fmt in project.outputs.ground_truth:
         _sub(outputs, "ground-truth", format=fmt)
+    if project.processing is not None:
+        _processing(root, project.processing)
     return root
 
 

@@ -14,6 +14,7 @@ from designer.project import model as m
 from designer.project.checks import finite_issues
 from designer.project.problems import Issue, Problem, SourceMap, unlocated
 from designer.project.validate_camera import camera_issues
+from designer.project.validate_processing import processing_issues
 from designer.project.validate_scene import scene_issues
 from designer.project.validate_trajectory import (
     effects_issues,
@@ -39,6 +40,7 @@ def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> l
     out += trajectory_issues(project)
     out += effects_issues(project.effects)
     out += render_output_issues(project)
+    out += processing_issues(project)
     return out
 
 

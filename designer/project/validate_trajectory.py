@@ -251,11 +251,9 @@ def render_output_issues(project: m.Project) -> list[Issue]:
                              "twice; remove one", key=f"ground-truth:{i}", attr="format"))
         seen.add(fmt)
     if "odm" in seen:
-        from designer.export.odm import check_odm_crs, odm_crs
+        from designer.core.crs import crs_token, odm_accepts_crs
 
-        try:
-            check_odm_crs(odm_crs(project.crs))
-        except ValueError:
+        if not odm_accepts_crs(crs_token(project.crs)):
             i = outputs.ground_truth.index("odm")
             out.append(Issue(outputs, "ground-truth", f"OpenDroneMap cannot read the CRS "
                              f"'{project.crs}'; start <crs> with 'EPSG:<code>', 'WGS84 UTM "

@@ -49,6 +49,7 @@ class _Reader:
         origin = self.note(m.Origin(_f(origin_el, "E0"), _f(origin_el, "N0"),
                                     _f(origin_el, "H0")), origin_el)
         effects_el = root.find(q("effects"))
+        processing_el = root.find(q("processing"))
         project = m.Project(
             name=_text(root.find(q("name"))),
             description=_text(root.find(q("description"))),
@@ -61,6 +62,7 @@ class _Reader:
             effects=None if effects_el is None else self.effects(effects_el),
             render=self.render(root.find(q("render"))),
             outputs=self.outputs(root.find(q("outputs"))),
+            processing=None if processing_el is None else self.processing(processing_el),
             schema_version=root.get("schema-version"),
         )
         self.note(project, root)
@@ -308,6 +310,54 @@ class _Reader:
         for i, g in enumerate(el.iterchildren(q("ground-truth"))):
             self.smap.add(outputs, f"ground-truth:{i}", g.sourceline)
         return outputs
+
+    def processing(self, el: etree._Element) -> m.Processing:
+        """``<processing>``; absent children and attributes take the model's defaults."""
+        cal_el = el.find(q("calibration"))
+        calibration = m.Calibration()
+        if cal_el is not None:
+            pre_el = cal_el.find(q("pre-calibration-error"))
+            pre = None
+            if pre_el is not None:
+                pre = self.note(m.PreCalibrationError(
+                    *(float(pre_el.get(k, "0")) for k in (
+                        "focal-px", "principal-point-px", "k1", "k2", "k3", "p1", "p2")),
+                    seed=int(pre_el.get("seed", "0"))), pre_el)
+            calibration = self.note(m.Calibration(cal_el.get("mode", "fixed"), pre), cal_el)
+        gcps_el = el.find(q("gcps"))
+        gcps = m.GcpProcessing()
+        if gcps_el is not None:
+            control_el = gcps_el.find(q("control"))
+            control = None
+            if control_el is not None:
+                count = control_el.get("count")
+                control = self.note(m.ControlSelection(
+                    ids=tuple((control_el.get("ids") or "").split()),
+                    count=None if count is None else int(count),
+                    spread=control_el.get("spread", "even"),
+                    seed=int(control_el.get("seed", "0"))), control_el)
+            gcps = self.note(m.GcpProcessing(
+                gcps_el.get("mode", "similarity"),
+                float(gcps_el.get("marking-sigma-px", "0")),
+                int(gcps_el.get("seed", "0")), control), gcps_el)
+        prior_el = el.find(q("position-prior"))
+        prior = m.PositionPrior()
+        if prior_el is not None:
+            prior = self.note(m.PositionPrior(
+                prior_el.get("mode", "none"), _opt_f(prior_el, "sigma-horizontal-m"),
+                _opt_f(prior_el, "sigma-vertical-m"), int(prior_el.get("seed", "0"))),
+                prior_el)
+        match_el = el.find(q("matching"))
+        matching = m.Matching()
+        if match_el is not None:
+            matching = self.note(m.Matching(
+                int(match_el.get("max-features", "8192")), match_el.get("pairs", "footprint"),
+                int(match_el.get("min-track-length", "3"))), match_el)
+        dense_el = el.find(q("dense"))
+        processing = m.Processing(
+            calibration, gcps, prior, matching,
+            "none" if dense_el is None else dense_el.get("mode", "none"))
+        return self.note(processing, el)
 
 
 def project_from_tree(root: etree._Element, smap: SourceMap) -> m.Project:

@@ -95,9 +95,13 @@ def _names(listing: str) -> list[str]:
     return [_local(n.strip()) for n in listing.split(",") if n.strip()]
 
 
-def translate_xsd_error(entry, root: etree._Element, smap: SourceMap) -> Problem:
-    """A located, plain-words :class:`Problem` for one lxml ``error_log`` entry."""
-    info = schema_info()
+def translate_xsd_error(entry, root: etree._Element, smap: SourceMap,
+                        info: SchemaInfo | None = None) -> Problem:
+    """A located, plain-words :class:`Problem` for one lxml ``error_log`` entry.
+
+    ``info`` describes the schema validated against (default: the project schema).
+    """
+    info = info or schema_info()
     msg = entry.message
     head = re.match(r"Element '([^']+)'(?:, attribute '([^']+)')?: (.*)", msg, re.S)
     if not head:

@@ -11,37 +11,17 @@ only local coordinates are handed to it.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
-
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
-
-
-@dataclass(frozen=True)
-class BlenderCamera:
-    """Blender camera-data settings, in Blender's own terms."""
-
-    lens_mm: float
-    sensor_width_mm: float
-    sensor_fit: str
-    shift_x: float
-    shift_y: float
-    resolution_x_px: int
-    resolution_y_px: int
-    pixel_aspect_x: float
-    pixel_aspect_y: float
-
-    def to_dict(self) -> dict:
-        return asdict(self)
-
+from designer.render.job_spec import CameraSpec
 
 #: Blender's smallest focal length and sensor width (bpy.types.Camera: lens and
 #: sensor_width are floats in [1, inf]); smaller values are clamped silently.
 BLENDER_MIN_MM = 1.0
 
 
-def blender_camera(interior: InteriorOrientation) -> BlenderCamera:
+def blender_camera(interior: InteriorOrientation) -> CameraSpec:
     """Blender camera settings that render exactly the pinhole part of ``interior``.
 
     A pinhole image depends only on focal length / sensor width, so where either is
@@ -54,7 +34,7 @@ def blender_camera(interior: InteriorOrientation) -> BlenderCamera:
                 BLENDER_MIN_MM / interior.sensor_width_mm)
     # Blender normalises the pixel aspect so the larger of the two is 1... either way
     # only the ratio y/x matters for the projection.
-    return BlenderCamera(
+    return CameraSpec(
         lens_mm=float(interior.focal_length_mm * scale),
         sensor_width_mm=float(interior.sensor_width_mm * scale),
         sensor_fit="HORIZONTAL",

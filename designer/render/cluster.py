@@ -14,9 +14,11 @@ import os
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from designer.errors import DesignerError
+from designer.render.job_spec import RenderJob
 from designer.render.runner import (
     ProgressCallback,
     RenderReport,
@@ -52,6 +54,7 @@ def render_frames_on_cluster(
     resume: bool = False,
     progress: ProgressCallback | None = None,
     retries: int = 1,
+    keep: Callable[[int], bool] | None = None,
 ) -> RenderReport:
     """Render ``frames`` on the Dask cluster at ``scheduler`` (e.g. tcp://10.0.0.5:8786)."""
     try:
@@ -60,15 +63,16 @@ def render_frames_on_cluster(
         raise DesignerError("--scheduler needs dask.distributed: pip install "
                             "'designer[cluster]'") from error
     job_path = Path(job_path).resolve()
-    job = json.loads(job_path.read_text())
-    out_dir = Path(job["output_dir"])
-    names = {int(f["index"]): f["image_name"] for f in job["frames"]}
+    job = RenderJob.read(job_path)
+    out_dir = Path(job.output_dir)
+    names = job.image_names
     report = RenderReport()
     t0 = time.perf_counter()
     todo = list(frames)
     if resume:
-        size = (job["output"]["width_px"], job["output"]["height_px"])
-        report.skipped = [i for i in todo if image_is_complete(out_dir / names[i], *size)]
+        report.skipped = [i for i in todo
+                          if image_is_complete(out_dir / names[i], job.width_px, job.height_px)
+                          and (keep is None or keep(i))]
         todo = [i for i in todo if i not in set(report.skipped)]
     try:
         client = Client(scheduler, timeout="10s")

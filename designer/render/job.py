@@ -7,15 +7,14 @@ to Blender is local — world minus the project origin — because Blender store
 
 from __future__ import annotations
 
-import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import cv2
 import numpy as np
 
 from designer import __version__
-from designer.atomic import atomic_path, write_text_atomic
+from designer.atomic import atomic_path
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
 from designer.core.truth import CameraPose
@@ -25,6 +24,15 @@ from designer.effects.motion import flight_direction_uv
 from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
+from designer.render.job_spec import (
+    AdaptiveSampling,
+    EffectsSpec,
+    FrameSpec,
+    MaterialSpec,
+    MeshSpec,
+    RenderJob,
+    RenderSpec,
+)
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.lighting import (
     LIGHTMAP_SCALE,
@@ -48,6 +56,7 @@ JOB_DIR = ".designer-job"
 @dataclass(frozen=True)
 class PreparedJob:
     job_path: Path
+    job: RenderJob
     interior: InteriorOrientation
     poses: tuple[CameraPose, ...]
     scene: BuiltScene
@@ -77,13 +86,14 @@ def prepare_job(
         write_project(project, job_dir / "project.xml")
         if warp is not None:
             warp.save(job_dir / "distortion_warp.npz")
-        effects = {"project": "project.xml", "camera_id": camera_id,
-                   "resolution_scale": project.render.resolution_scale,
-                   "warp": "distortion_warp.npz" if warp is not None else None}
+        effects = EffectsSpec(project="project.xml", camera_id=camera_id,
+                              resolution_scale=project.render.resolution_scale,
+                              warp="distortion_warp.npz" if warp is not None else None)
 
     _write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
-    terrain_material = {"texture": "texture.png", "uv_tiles": list(scene.texture_tiles),
-                        "interpolation": scene.interpolation.capitalize()}
+    terrain_material = MaterialSpec(texture="texture.png",
+                                    uv_tiles=tuple(float(t) for t in scene.texture_tiles),
+                                    interpolation=scene.interpolation.capitalize())
     if scene.heightfield is not None:
         x0, x1, y0, y1 = scene.heightfield.extent_m
         scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
@@ -91,10 +101,11 @@ def prepare_job(
         light = bake_lightmap(scene.heightfield, scene.sun_azimuth_deg, scene.sun_elevation_deg,
                               scene.sun_strength, scene.sky_strength, size_px=size)
         _write_png(job_dir / "lightmap.png", encode_lightmap_png16(light))
-        terrain_material.update(lightmap="lightmap.png", strength=LIGHTMAP_SCALE)
+        terrain_material = replace(terrain_material, lightmap="lightmap.png",
+                                   strength=LIGHTMAP_SCALE)
     _save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
               faces=scene.terrain.faces, uv=scene.terrain.uv)
-    objects = [{"name": "terrain", "mesh": "terrain.npz", "materials": [terrain_material]}]
+    objects = [MeshSpec("terrain", "terrain.npz", (terrain_material,))]
     if scene.targets:
         objects.append(_targets_object(scene, origin, job_dir))
     placed = build_objects(project, base_dir, scene.sun_azimuth_deg, scene.sun_elevation_deg)
@@ -104,36 +115,40 @@ def prepare_job(
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
     preset = quality or (render.preset if render.samples is None else None)
-    cam = blender_camera(render_camera).to_dict()
     contexts = _frame_contexts(stations, interior, scene)
-    job = {
-        "designer_version": __version__,
-        "project": project.name,
-        "output_dir": str(out_dir.resolve()),
-        "origin_world": origin.tolist(),
-        "render": {"samples": samples, "seed": 0,
-                   "pixel_filter": PIXEL_FILTERS[render.pixel_filter_type],
-                   "filter_width_px": render.pixel_filter_width_px,
-                   "format": "tiff" if render.output_format == "tiff" else "png",
-                   "bit_depth": render.bit_depth, "quality": quality,
-                   # metrology: plain 64 spp's corner accuracy in a third of its time, from
-                   # the sweep in docs/validation.md (designer bench accuracy)
-                   "adaptive_sampling": ({"threshold": 0.01, "min_samples": 4}
-                                         if preset == "metrology" else None)},
-        "lighting": {"mode": "emission"},
-        "camera": cam,
-        "output": {"width_px": interior.image_width_px, "height_px": interior.image_height_px},
-        "objects": objects,
-        "effects": effects,
-        "frames": [{"index": i, "image_name": p.image_name,
-                    "matrix_world_local": blender_matrix_world(
-                        p.C_world, p.R_cam_to_world, origin).tolist(),
-                    "context": contexts[i]}
-                   for i, p in enumerate(poses)],
-    }
-    job_path = job_dir / "job.json"
-    write_text_atomic(job_path, json.dumps(job, indent=1))
-    return PreparedJob(job_path=job_path, interior=interior, poses=tuple(poses), scene=scene)
+    job = RenderJob(
+        designer_version=__version__,
+        project=project.name,
+        output_dir=str(out_dir.resolve()),
+        origin_world=tuple(float(v) for v in origin),
+        render=RenderSpec(
+            samples=samples, seed=0,
+            pixel_filter=PIXEL_FILTERS[render.pixel_filter_type],
+            filter_width_px=float(render.pixel_filter_width_px),
+            format="tiff" if render.output_format == "tiff" else "png",
+            bit_depth=render.bit_depth, quality=quality,
+            # metrology: plain 64 spp's corner accuracy in a third of its time, from the
+            # sweep in docs/validation.md (designer bench accuracy)
+            adaptive_sampling=(AdaptiveSampling(threshold=0.01, min_samples=4)
+                               if preset == "metrology" else None)),
+        camera=blender_camera(render_camera),
+        width_px=interior.image_width_px,
+        height_px=interior.image_height_px,
+        objects=tuple(objects),
+        effects=effects,
+        frames=tuple(FrameSpec(index=i, image_name=p.image_name,
+                               matrix_world_local=_matrix_rows(blender_matrix_world(
+                                   p.C_world, p.R_cam_to_world, origin)),
+                               **contexts[i])
+                     for i, p in enumerate(poses)),
+    )
+    job_path = job.write(job_dir / "job.json")
+    return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
+                       scene=scene)
+
+
+def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:
+    return tuple(tuple(float(v) for v in row) for row in M)
 
 
 def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) -> list[dict]:
@@ -154,12 +169,12 @@ def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) 
         velocity = np.array([np.sin(az), np.cos(az), 0.0])
         du, dv = flight_direction_uv(velocity, st.R_cam_to_world)
         out.append({"gsd_m": float(ground_sample_distance_m(interior, abs(depth))),
-                    "flight_direction_uv": [float(du), float(dv)],
+                    "flight_direction_uv": (float(du), float(dv)),
                     "distance_m": float(abs(depth))})
     return out
 
 
-def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> dict:
+def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> MeshSpec:
     """All GCP targets as one mesh: material 0 white, 1 black, shaded like the ground."""
     vertices, faces, material_index, light = [], [], [], []
     sun = sun_direction_world(scene.sun_azimuth_deg, scene.sun_elevation_deg)
@@ -184,15 +199,16 @@ def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> dic
     e = float(np.median(light))
     _save_npz(job_dir / "targets.npz", vertices_local=np.concatenate(vertices),
               faces=np.concatenate(faces), material_index=np.concatenate(material_index))
-    return {"name": "gcp_targets", "mesh": "targets.npz",
-            "materials": [{"color": [TARGET_WHITE * e] * 3}, {"color": [TARGET_BLACK * e] * 3}]}
+    return MeshSpec("gcp_targets", "targets.npz",
+                    (MaterialSpec(color=(TARGET_WHITE * e,) * 3),
+                     MaterialSpec(color=(TARGET_BLACK * e,) * 3)))
 
 
 #: light levels the scene objects' faces are drawn with (one emission material each)
 OBJECT_LIGHT_LEVELS = 64
 
 
-def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path) -> dict:
+def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path) -> MeshSpec:
     """The scene's mesh objects as one mesh, each face drawn with its light (quantised
     to OBJECT_LIGHT_LEVELS levels between the darkest and brightest face, < 1 % steps for
     the usual range) times the objects' albedo."""
@@ -206,9 +222,9 @@ def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path) -> 
     values = lo + used * ((hi - lo) / max(n - 1, 1))
     _save_npz(job_dir / "objects.npz", vertices_local=placed.vertices_world - origin,
               faces=placed.faces, material_index=index)
-    return {"name": "scene_objects", "mesh": "objects.npz",
-            "materials": [{"color": [c * float(e) for c in OBJECT_ALBEDO_RGB]}
-                          for e in values]}
+    return MeshSpec("scene_objects", "objects.npz",
+                    tuple(MaterialSpec(color=tuple(float(c * e) for c in OBJECT_ALBEDO_RGB))
+                          for e in values))
 
 
 def _write_png(path: Path, image: np.ndarray) -> None:

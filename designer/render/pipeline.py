@@ -4,35 +4,36 @@ Output folder layout::
 
     OUT/IMAGE_NAME…            the images, each renamed into place when complete
     OUT/ground-truth/…         COLMAP, OpenDroneMap, Metashape, OPK and GCP tables
-    OUT/manifest.json          versions, settings and per-image render seconds
+    OUT/manifest.json          versions, settings, per-image render seconds and inputs
     OUT/.designer-job/         the job the workers read (scene files, logs)
 
 Ground truth comes from the project's exact poses and GCP coordinates, never from
-what Blender reports back.
+what Blender reports back. The manifest records, per image, the hashes of what it was
+rendered from (:mod:`designer.render.provenance`), updated as each image lands, and the
+hash of the ground truth: ``--resume`` keeps an image only if its inputs are unchanged,
+and :func:`check_output` tells whether a folder's images and ground truth still belong
+to its project.
 """
 
 from __future__ import annotations
 
-import json
-import platform
 import re
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from designer import __version__
-from designer.atomic import write_text_atomic
 from designer.core.truth import GcpObservation, GroundControlPoint
 from designer.errors import DesignerError
 from designer.export.dispatch import write_all
 from designer.export.odm import odm_crs
 from designer.project import load_project
 from designer.render.job import PreparedJob, prepare_job
+from designer.render.manifest import GROUND_TRUTH_DIR, Manifest
+from designer.render.provenance import job_provenance
 from designer.render.runner import ProgressCallback, RenderReport, render_frames
 
-GROUND_TRUTH_DIR = "ground-truth"
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
 
 
@@ -43,6 +44,8 @@ class RenderSummary:
     report: RenderReport
     ground_truth: dict[str, Path]
     manifest: Path
+    #: frames re-rendered although complete, with the parts of their inputs that changed
+    stale: dict[int, list[str]] = field(default_factory=dict)
 
 
 def parse_frames(text: str | None, n_frames: int) -> list[int]:
@@ -115,51 +118,41 @@ def render_project(
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     prepared = prepare_job(project, project_path.parent, out_dir, quality)
+    provenance = job_provenance(prepared.job, prepared.job_path.parent)
     prepare_seconds = time.perf_counter() - t0
-    ground_truth = write_ground_truth(project, prepared, out_dir)
     wanted = parse_frames(frames, len(prepared.poses))
+    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds)
+    ground_truth = write_ground_truth(project, prepared, out_dir)
+    manifest.ground_truth_written()
+    names = prepared.job.image_names
+    # complete-looking images rendered from other inputs (or with no record of them)
+    stale = {i: manifest.changed_parts(i) for i in wanted if (out_dir / names[i]).is_file()}
+    stale = {i: parts for i, parts in stale.items() if parts}
+
+    def keep(index: int) -> bool:
+        return index not in stale
+
+    def record(event: dict) -> None:
+        if event.get("event") == "frame_done":
+            manifest.image_done(int(event["index"]), float(event["seconds"]))
+        if progress is not None:
+            progress(event)
+
     if scheduler:
         from designer.render.cluster import render_frames_on_cluster
 
         report = render_frames_on_cluster(prepared.job_path, wanted, scheduler,
-                                          resume=resume, progress=progress)
+                                          resume=resume, progress=record, keep=keep)
     else:
         report = render_frames(prepared.job_path, wanted,
                                workers=workers or project.render.workers,
-                               resume=resume, progress=progress)
-    manifest = write_manifest(out_dir, project_path, prepared, report, prepare_seconds)
+                               resume=resume, progress=record, keep=keep)
+    manifest_path = manifest.finish(report)
     if report.failed:
         raise DesignerError(
             f"{len(report.failed)} of {len(wanted)} images failed twice (frames "
             f"{report.failed[:10]}); see {prepared.job_path.parent / 'logs'}; rerun with "
             "--resume to retry only those")
-    return RenderSummary(out_dir, prepared, report, ground_truth, manifest)
-
-
-def write_manifest(out_dir: Path, project_path: Path, prepared: PreparedJob,
-                   report: RenderReport, prepare_seconds: float) -> Path:
-    """OUT/manifest.json: versions, settings and per-image seconds, merged over resumes."""
-    path = out_dir / "manifest.json"
-    previous = json.loads(path.read_text()) if path.is_file() else {}
-    images = previous.get("images", {})
-    job = json.loads(prepared.job_path.read_text())
-    names = {f["index"]: f["image_name"] for f in job["frames"]}
-    for index, seconds in report.rendered.items():
-        images[names[index]] = {"frame": index, "render_seconds": round(seconds, 4)}
-    manifest = {
-        "designer_version": __version__,
-        "blender_version": report.blender_version or previous.get("blender_version"),
-        "python": platform.python_version(),
-        "project": str(project_path.resolve()),
-        "render": job["render"],
-        "camera_blender": job["camera"],
-        "image_size_px": list(prepared.interior.image_size_px),
-        "frames_total": len(names),
-        "prepare_seconds": round(prepare_seconds, 3),
-        "scene_build_seconds": report.scene_seconds,
-        "wall_seconds_last_run": round(report.wall_seconds, 3),
-        "images": dict(sorted(images.items())),
-        "failed_frames": report.failed,
-    }
-    write_text_atomic(path, json.dumps(manifest, indent=1))
-    return path
+    resumed = [i for i in stale if resume and i in report.rendered]
+    return RenderSummary(out_dir, prepared, report, ground_truth, manifest_path,
+                         stale={i: stale[i] for i in resumed})

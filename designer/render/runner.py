@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from designer.errors import DesignerError
+from designer.render.job_spec import RenderJob
 
 ProgressCallback = Callable[[dict], None]
 
@@ -66,14 +67,19 @@ def render_frames(
     resume: bool = False,
     progress: ProgressCallback | None = None,
     retries: int = 1,
+    keep: Callable[[int], bool] | None = None,
 ) -> RenderReport:
-    """Render ``frames`` of the job at ``job_path`` with local worker processes."""
+    """Render ``frames`` of the job at ``job_path`` with local worker processes.
+
+    With ``resume``, a frame whose image is complete is skipped when ``keep(index)`` is
+    true (by default always; the pipeline passes its provenance check).
+    """
     job_path = Path(job_path)
-    job = json.loads(job_path.read_text())
-    out_dir = Path(job["output_dir"])
+    job = RenderJob.read(job_path)
+    out_dir = Path(job.output_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     remove_partial_files(out_dir)
-    names = {int(f["index"]): f["image_name"] for f in job["frames"]}
+    names = job.image_names
     unknown = [i for i in frames if i not in names]
     if unknown:
         raise DesignerError(
@@ -83,8 +89,9 @@ def render_frames(
     t0 = time.perf_counter()
     todo = list(frames)
     if resume:
-        width, height = job["output"]["width_px"], job["output"]["height_px"]
-        done = [i for i in todo if image_is_complete(out_dir / names[i], width, height)]
+        done = [i for i in todo
+                if image_is_complete(out_dir / names[i], job.width_px, job.height_px)
+                and (keep is None or keep(i))]
         report.skipped = done
         todo = [i for i in todo if i not in set(done)]
         for i in done:
@@ -117,7 +124,6 @@ def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
     selector = selectors.DefaultSelector()
     procs = []
     finished: set[int] = set()
-    env = dict(os.environ, DESIGNER_RENDER_THREADS=str(threads))
     log_dir = Path(job_path).parent / "logs"
     log_dir.mkdir(exist_ok=True)
     try:
@@ -128,7 +134,7 @@ def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
                    "--frames", ",".join(map(str, batch)), "--progress-fd", str(write_fd),
                    "--threads", str(threads)]
             proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT,
-                                    pass_fds=(write_fd,), env=env)
+                                    pass_fds=(write_fd,))
             os.close(write_fd)
             _notify(progress, {"event": "worker_started", "worker": k, "pid": proc.pid,
                                "frames": batch})

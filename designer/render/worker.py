@@ -13,6 +13,7 @@ view transform (no filmic tone curve), and texture interpolation as configured.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import sys
@@ -23,9 +24,15 @@ import bpy  # the one place in designer that imports bpy
 import numpy as np
 from mathutils import Matrix
 
+from designer.render.job_spec import (
+    IMAGE_FORMATS,
+    CameraSpec,
+    FrameSpec,
+    MaterialSpec,
+    MeshSpec,
+    RenderJob,
+)
 from designer.render.png_text import move_without_text
-
-FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
 
 
 def reset_scene() -> bpy.types.Scene:
@@ -33,30 +40,29 @@ def reset_scene() -> bpy.types.Scene:
     return bpy.context.scene
 
 
-def configure_render(scene: bpy.types.Scene, job: dict) -> None:
-    render = job["render"]
+def configure_render(scene: bpy.types.Scene, job: RenderJob) -> None:
+    render = job.render
     scene.render.engine = "CYCLES"
     cycles = scene.cycles
     cycles.device = "CPU"
-    cycles.samples = int(render["samples"])
+    cycles.samples = render.samples
     cycles.use_adaptive_sampling = False
-    adaptive = render.get("adaptive_sampling")  # optional {"threshold", "min_samples"}
-    if adaptive:
+    if render.adaptive_sampling is not None:
         # Flat pixels (no edge inside) converge at once; samples go to the edges.
         cycles.use_adaptive_sampling = True
-        cycles.adaptive_threshold = float(adaptive.get("threshold", 0.01))
-        cycles.adaptive_min_samples = int(adaptive.get("min_samples", 0))
+        cycles.adaptive_threshold = render.adaptive_sampling.threshold
+        cycles.adaptive_min_samples = render.adaptive_sampling.min_samples
     cycles.use_denoising = False
-    cycles.seed = int(render.get("seed", 0))
+    cycles.seed = render.seed
     cycles.use_animated_seed = False
-    cycles.pixel_filter_type = render.get("pixel_filter", "BOX")
-    cycles.filter_width = float(render.get("filter_width_px", 1.0))
-    if job["lighting"]["mode"] == "emission":
-        # Everything visible is emissive: a camera ray's first hit is the answer.
-        cycles.max_bounces = 0
-        cycles.diffuse_bounces = cycles.glossy_bounces = 0
-        cycles.transmission_bounces = cycles.volume_bounces = cycles.transparent_max_bounces = 0
-    threads = int(render.get("threads", 0))
+    cycles.pixel_filter_type = render.pixel_filter
+    cycles.filter_width = render.filter_width_px
+    # Everything visible is emissive (light is baked): a camera ray's first hit is the
+    # answer, so no bounces.
+    cycles.max_bounces = 0
+    cycles.diffuse_bounces = cycles.glossy_bounces = 0
+    cycles.transmission_bounces = cycles.volume_bounces = cycles.transparent_max_bounces = 0
+    threads = render.threads
     scene.render.threads_mode = "FIXED" if threads > 0 else "AUTO"
     if threads > 0:
         scene.render.threads = threads
@@ -73,11 +79,11 @@ def configure_render(scene: bpy.types.Scene, job: dict) -> None:
     scene.view_settings.gamma = 1.0
     scene.display_settings.display_device = "sRGB"
     scene.sequencer_colorspace_settings.name = "sRGB"
-    fmt, _ = FORMATS[render.get("format", "png")]
+    fmt, _ = IMAGE_FORMATS[render.format]
     settings = scene.render.image_settings
     settings.file_format = fmt
     settings.color_mode = "RGB"
-    settings.color_depth = str(render.get("bit_depth", 8))
+    settings.color_depth = str(render.bit_depth)
     if fmt == "PNG":
         settings.compression = 15
     elif fmt == "TIFF":
@@ -88,25 +94,25 @@ def configure_render(scene: bpy.types.Scene, job: dict) -> None:
     for name in dir(scene.render):
         if name.startswith("use_stamp"):
             setattr(scene.render, name, False)
-    camera = job["camera"]
-    scene.render.resolution_x = int(camera["resolution_x_px"])
-    scene.render.resolution_y = int(camera["resolution_y_px"])
+    camera = job.camera
+    scene.render.resolution_x = camera.resolution_x_px
+    scene.render.resolution_y = camera.resolution_y_px
     scene.render.resolution_percentage = 100
-    scene.render.pixel_aspect_x = float(camera["pixel_aspect_x"])
-    scene.render.pixel_aspect_y = float(camera["pixel_aspect_y"])
+    scene.render.pixel_aspect_x = camera.pixel_aspect_x
+    scene.render.pixel_aspect_y = camera.pixel_aspect_y
 
 
-def add_camera(scene: bpy.types.Scene, camera: dict) -> bpy.types.Object:
+def add_camera(scene: bpy.types.Scene, camera: CameraSpec) -> bpy.types.Object:
     data = bpy.data.cameras.new("survey_camera")
     data.type = "PERSP"
     data.lens_unit = "MILLIMETERS"
-    data.lens = float(camera["lens_mm"])
-    data.sensor_fit = camera["sensor_fit"]
-    data.sensor_width = float(camera["sensor_width_mm"])
-    data.shift_x = float(camera["shift_x"])
-    data.shift_y = float(camera["shift_y"])
-    data.clip_start = float(camera.get("clip_start_m", 0.01))
-    data.clip_end = float(camera.get("clip_end_m", 1e5))
+    data.lens = camera.lens_mm
+    data.sensor_fit = camera.sensor_fit
+    data.sensor_width = camera.sensor_width_mm
+    data.shift_x = camera.shift_x
+    data.shift_y = camera.shift_y
+    data.clip_start = camera.clip_start_m
+    data.clip_end = camera.clip_end_m
     obj = bpy.data.objects.new("survey_camera", data)
     scene.collection.objects.link(obj)
     scene.camera = obj
@@ -119,7 +125,7 @@ def load_image(path: str, interpolation_colour: str) -> bpy.types.Image:
     return image
 
 
-def emission_material(name: str, spec: dict, base: Path) -> bpy.types.Material:
+def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Material:
     """Emission shader: colour = texture (tiled) × optional light map (one tile)."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
@@ -128,26 +134,26 @@ def emission_material(name: str, spec: dict, base: Path) -> bpy.types.Material:
     out = nodes.new("ShaderNodeOutputMaterial")
     emit = nodes.new("ShaderNodeEmission")
     # A light map stores L / strength so it fits 16 bits; strength scales it back.
-    emit.inputs["Strength"].default_value = float(spec.get("strength", 1.0))
+    emit.inputs["Strength"].default_value = spec.strength
     links.new(emit.outputs["Emission"], out.inputs["Surface"])
-    if "color" in spec:
-        emit.inputs["Color"].default_value = (*spec["color"], 1.0)
+    if spec.color is not None:
+        emit.inputs["Color"].default_value = (*spec.color, 1.0)
         return mat
     uv = nodes.new("ShaderNodeTexCoord")
     mapping = nodes.new("ShaderNodeMapping")
     mapping.vector_type = "POINT"
-    tiles = spec.get("uv_tiles", [1.0, 1.0])
+    tiles = spec.uv_tiles
     mapping.inputs["Scale"].default_value = (float(tiles[0]), float(tiles[1]), 1.0)
     links.new(uv.outputs["UV"], mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
-    tex.image = load_image(str(base / spec["texture"]), "sRGB")
-    tex.interpolation = spec.get("interpolation", "Closest")
+    tex.image = load_image(str(base / spec.texture), "sRGB")
+    tex.interpolation = spec.interpolation
     tex.extension = "REPEAT"
     links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
     colour = tex.outputs["Color"]
-    if spec.get("lightmap"):
+    if spec.lightmap:
         light = nodes.new("ShaderNodeTexImage")
-        light.image = load_image(str(base / spec["lightmap"]), "Non-Color")
+        light.image = load_image(str(base / spec.lightmap), "Non-Color")
         light.interpolation = "Linear"
         light.extension = "EXTEND"
         links.new(uv.outputs["UV"], light.inputs["Vector"])
@@ -162,11 +168,11 @@ def emission_material(name: str, spec: dict, base: Path) -> bpy.types.Material:
     return mat
 
 
-def add_mesh(scene: bpy.types.Scene, spec: dict, base: Path) -> bpy.types.Object:
-    data = np.load(base / spec["mesh"])
+def add_mesh(scene: bpy.types.Scene, spec: MeshSpec, base: Path) -> bpy.types.Object:
+    data = np.load(base / spec.mesh)
     verts = np.ascontiguousarray(data["vertices_local"], dtype=np.float32)
     faces = np.ascontiguousarray(data["faces"], dtype=np.int32)
-    mesh = bpy.data.meshes.new(spec["name"])
+    mesh = bpy.data.meshes.new(spec.name)
     mesh.vertices.add(len(verts))
     mesh.vertices.foreach_set("co", verts.ravel())
     n_faces = len(faces)
@@ -181,37 +187,36 @@ def add_mesh(scene: bpy.types.Scene, spec: dict, base: Path) -> bpy.types.Object
         layer = mesh.uv_layers.new(name="UVMap")
         loop_uv = np.asarray(data["uv"], dtype=np.float32)[faces.ravel()]
         layer.data.foreach_set("uv", loop_uv.ravel())
-    materials = spec["materials"]
-    for i, mspec in enumerate(materials):
-        mesh.materials.append(emission_material(f"{spec['name']}_{i}", mspec, base))
+    for i, mspec in enumerate(spec.materials):
+        mesh.materials.append(emission_material(f"{spec.name}_{i}", mspec, base))
     if "material_index" in data:
         mesh.polygons.foreach_set("material_index", np.asarray(data["material_index"], np.int32))
     mesh.update(calc_edges=True)
     mesh.validate(verbose=False)
-    obj = bpy.data.objects.new(spec["name"], mesh)
+    obj = bpy.data.objects.new(spec.name, mesh)
     scene.collection.objects.link(obj)
     return obj
 
 
-def build_scene(job: dict, base: Path) -> tuple[bpy.types.Scene, bpy.types.Object]:
+def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.Object]:
     scene = reset_scene()
     configure_render(scene, job)
     world = bpy.data.worlds.new("world")
     world.use_nodes = True
     background = world.node_tree.nodes.get("Background")
-    background.inputs["Color"].default_value = (*job.get("background_rgb", [0.0, 0.0, 0.0]), 1)
+    background.inputs["Color"].default_value = (*job.background_rgb, 1)
     background.inputs["Strength"].default_value = 1.0
     scene.world = world
-    for spec in job["objects"]:
+    for spec in job.objects:
         add_mesh(scene, spec, base)
-    camera = add_camera(scene, job["camera"])
+    camera = add_camera(scene, job.camera)
     return scene, camera
 
 
-def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None) -> dict:
+def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain=None) -> dict:
     """Render one frame; apply the camera effects (if any); rename the image into place."""
-    camera.matrix_world = Matrix(frame["matrix_world_local"])
-    final = out_dir / frame["image_name"]
+    camera.matrix_world = Matrix(frame.matrix_world_local)
+    final = out_dir / frame.image_name
     tmp = final.with_name(f".{final.stem}.rendering{ext}")
     scene.render.filepath = str(tmp)
     t0, cpu0 = time.perf_counter(), time.process_time()
@@ -225,13 +230,10 @@ def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None
         from designer.effects.base import FrameContext
         from designer.effects.chain import process_file
 
-        ctx = frame.get("context") or {}
-        direction = ctx.get("flight_direction_uv")
-        context = FrameContext(gsd_m=ctx.get("gsd_m"),
-                               flight_direction_uv=tuple(direction) if direction else None,
-                               distance_m=ctx.get("distance_m"))
+        context = FrameContext(gsd_m=frame.gsd_m, flight_direction_uv=frame.flight_direction_uv,
+                               distance_m=frame.distance_m)
         try:
-            process_file(tmp, final, chain, int(frame["index"]), context)
+            process_file(tmp, final, chain, frame.index, context)
         finally:
             tmp.unlink(missing_ok=True)
     return {"path": str(final), "seconds": time.perf_counter() - t0,
@@ -239,19 +241,19 @@ def render_frame(scene, camera, frame: dict, out_dir: Path, ext: str, chain=None
             "effects_seconds": time.perf_counter() - t1}
 
 
-def load_effects(job: dict, base: Path):
+def load_effects(job: RenderJob, base: Path):
     """The camera-effects chain of the job, or None when the images are final as rendered."""
-    spec = job.get("effects")
-    if not spec:
+    spec = job.effects
+    if spec is None:
         return None
     from designer.effects.distortion_render import DistortionWarp
     from designer.effects.from_model import effects_from_model
     from designer.project import read_project
     from designer.survey.project_poses import render_interior
 
-    project = read_project(base / spec["project"])
-    interior = render_interior(project.camera(spec["camera_id"]), spec["resolution_scale"])
-    warp = DistortionWarp.load(base / spec["warp"], interior) if spec.get("warp") else None
+    project = read_project(base / spec.project)
+    interior = render_interior(project.camera(spec.camera_id), spec.resolution_scale)
+    warp = DistortionWarp.load(base / spec.warp, interior) if spec.warp else None
     return effects_from_model(project.effects, interior, warp=warp)
 
 
@@ -262,16 +264,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--progress-fd", type=int, default=None)
     parser.add_argument("--threads", type=int, default=0, help="Cycles threads (0: all)")
     args = parser.parse_args(argv)
-    job = json.loads(args.job.read_text())
+    job = RenderJob.read(args.job)
     if args.threads:
-        job["render"]["threads"] = args.threads
+        job = dataclasses.replace(job, render=dataclasses.replace(job.render,
+                                                                  threads=args.threads))
     base = args.job.parent
     progress = os.fdopen(args.progress_fd, "w", buffering=1) if args.progress_fd else sys.stderr
     wanted = [int(i) for i in args.frames.split(",") if i != ""]
-    frames = {int(f["index"]): f for f in job["frames"]}
-    out_dir = Path(job["output_dir"])
+    frames = {f.index: f for f in job.frames}
+    out_dir = Path(job.output_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    _, ext = FORMATS[job["render"].get("format", "png")]
+    ext = job.render.extension
     t0 = time.perf_counter()
     scene, camera = build_scene(job, base)
     chain = load_effects(job, base)

@@ -255,7 +255,7 @@ def _read_ply(path: Path):
     vert = ply["vertex"].data
     fields = vert.dtype.names
     positions = np.column_stack([np.asarray(vert[c], dtype=np.float64) for c in "xyz"])
-    origin = _origin_from_comments(path, ply.comments)
+    origin = origin_from_ply_comments(path, ply.comments)
     if origin is not None:
         positions = positions + origin
     if "face" not in names:
@@ -291,7 +291,8 @@ def _face_array(column, width: int = 3) -> np.ndarray:
     return np.asarray(rows, dtype=np.float64).reshape(-1, width)
 
 
-def _origin_from_comments(path: Path, comments: list[str]) -> np.ndarray | None:
+def origin_from_ply_comments(path: Path, comments: list[str]) -> np.ndarray | None:
+    """The world origin (E, N, H) m a PLY's ``ORIGIN_COMMENT`` comment states, or None."""
     for c in comments:
         tokens = c.split()
         if tokens and tokens[0] == ORIGIN_COMMENT:

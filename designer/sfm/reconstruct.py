@@ -1,19 +1,23 @@
-"""Reconstruct a rendered survey with COLMAP (pycolmap) and georeference it by its GCPs.
+"""Reconstruct a rendered survey with COLMAP (pycolmap) as a practitioner processes it.
 
-Input: an output folder of ``designer render`` (images + ``ground-truth/``).
-Modes:
+Input: an output folder of ``designer render`` (images + ``ground-truth/``); the
+processing settings are the project's ``<processing>`` (designer.sfm.settings) with
+command-line overrides. Modes:
 
 * ``known-poses`` — the ideal case: SIFT features and matches, then triangulation with
   the true interior and exterior orientations (nothing is estimated but points);
-* ``free`` — full incremental SfM from the images alone (intrinsics fixed to the
-  camera's, as a calibrated survey camera would be), then georeferencing: each GCP is
-  triangulated from its observations in the registered images and a robust
-  7-parameter similarity maps the control points onto their surveyed coordinates.
+* ``free`` — incremental SfM from the images (starting from the pre-calibration), a
+  track-length filter, a first datum (camera-position priors or a similarity on the
+  control points), then the final bundle adjustment (designer.sfm.adjustment): control
+  points and camera positions as weighted observations, the interior orientation
+  estimated as the calibration mode says. With ``gcps = similarity`` a 7-parameter
+  similarity on the control points follows the adjustment instead.
 
-Image pairs are chosen by where the cameras are (the k nearest camera centres), as
-GPS-tagged survey images allow. Coordinates stay float64 throughout; COLMAP keeps
-poses and points in double precision, and the written PLY stores doubles.
-Only CPU features are used; dense patch-match stereo needs CUDA and is skipped.
+Check points are marked (with the same marking error) but only triangulated with the
+final cameras, never used. Everything is computed in a local frame (world − offset,
+offset = the rounded mean camera centre) in float64; outputs are in world coordinates:
+``summary.json``, ``sparse.ply`` (= ``cloud.ply``, doubles), ``gcp_residuals.csv``,
+``model/`` (COLMAP text model). Dense matching is another stage (``dense`` setting).
 """
 
 from __future__ import annotations
@@ -27,13 +31,27 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.atomic import atomic_path, write_text_atomic
+from designer.atomic import write_text_atomic
 from designer.errors import DesignerError
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
+from designer.project import model as m
+from designer.sfm import matching, report
+from designer.sfm.georeference import (
+    image_residuals_px,
+    translation,
+    triangulate_gcps,
+)
+from designer.sfm.settings import (
+    control_ids,
+    flight_positions,
+    marked_observations,
+    settings_dict,
+    start_params,
+)
 
 MODES = ("known-poses", "free")
-#: neighbours each image is matched with (by camera-centre distance)
-PAIR_NEIGHBOURS = 12
+#: tie points whose mean reprojection error exceeds this after the adjustment are outliers
+OUTLIER_PX = 4.0
 
 
 @dataclass(frozen=True)
@@ -72,38 +90,79 @@ def check_survey_folder(survey: Path) -> tuple[Path, list[str]]:
     return gt, present
 
 
+def _full_opencv(camera) -> np.ndarray:
+    """The true camera's parameters in FULL_OPENCV order."""
+    params = np.zeros(12)
+    p = np.asarray(camera.params, float)
+    name = camera.model.name
+    if name == "PINHOLE":
+        params[:4] = p
+    elif name == "OPENCV":
+        params[:8] = p
+    elif name == "FULL_OPENCV":
+        params[:] = p
+    else:
+        raise DesignerError(f"camera model {name}: processing supports pinhole and "
+                            "Brown–Conrady cameras; use a brown-conrady distortion")
+    return params
+
+
 def reconstruct(
     survey_dir: Path,
     out_dir: Path,
     mode: str = "known-poses",
-    max_features: int = 8192,
+    max_features: int | None = None,
     log: Callable[[str], None] = _log_default,
+    processing: m.Processing | None = None,
+    project_path: Path | None = None,
+    dense_max_image_px: int | None = None,
 ) -> ReconstructionResult:
-    """Run features, matching and triangulation or SfM; write the model, cloud and residuals."""
+    """Features, matching, SfM or triangulation, adjustment; write model, cloud, report;
+    with ``dense`` on, the dense cloud, DSM and DEM of difference (designer.sfm.dense_stage;
+    ``project_path`` gives the true surface, default: the project the survey names)."""
     import pycolmap
 
     if mode not in MODES:
         raise DesignerError(f"--mode {mode!r}: use one of {', '.join(MODES)}")
     survey, out = Path(survey_dir), Path(out_dir)
     gt_dir, names = check_survey_folder(survey)
+    p = processing or m.Processing()
+    if max_features is not None:
+        p = m.Processing(p.calibration, p.gcps, p.position_prior,
+                         m.Matching(max_features, p.matching.pairs, p.matching.min_track_length),
+                         p.dense)
     truth = pycolmap.Reconstruction(str(gt_dir))
-    # COLMAP triangulates on homogeneous coordinates: with UTM-sized values that loses
-    # centimetres. Work in a local frame (world − offset) and shift back at the end.
+    # Work in a local frame (world − offset): no UTM-sized numbers reach COLMAP.
     offset = np.round(np.mean([img.projection_center() for img in truth.images.values()],
                               axis=0))
-    truth.transform(_translation(pycolmap, -offset))
+    truth.transform(translation(-offset))
+    true_camera = next(iter(truth.cameras.values()))
+    true_params = _full_opencv(true_camera)
+    params0 = start_params(true_params, p.calibration.pre_calibration_error) \
+        if mode == "free" else true_params
+    size_px = (true_camera.width, true_camera.height)
+    gcps, marks = _gcp_inputs(survey, p)
+    control = control_ids(gcps, p.gcps.control)
+    true_C = {n: truth.find_image_with_name(n).projection_center() for n in names}
+    sh, sv = p.position_prior.sigmas_m if p.position_prior.mode != "none" else (2.5, 5.0)
+    measured = flight_positions(np.array([true_C[n] for n in names]), sh, sv,
+                                p.position_prior.seed)
+    flight_C = dict(zip(names, measured, strict=True))  # local frame, m
+
     out.mkdir(parents=True, exist_ok=True)
     timings: dict[str, float] = {}
     t = time.perf_counter()
-
     db_path = out / "database.db"
     db_path.unlink(missing_ok=True)
-    camera = next(iter(truth.cameras.values()))
     reader = pycolmap.ImageReaderOptions()
-    reader.camera_model = camera.model.name
-    reader.camera_params = ",".join(repr(float(v)) for v in camera.params)
+    if mode == "free":
+        reader.camera_model = "FULL_OPENCV"
+        reader.camera_params = ",".join(repr(float(v)) for v in params0)
+    else:  # the true camera, exactly as the ground truth states it
+        reader.camera_model = true_camera.model.name
+        reader.camera_params = ",".join(repr(float(v)) for v in true_camera.params)
     extraction = pycolmap.FeatureExtractionOptions()
-    extraction.sift.max_num_features = max_features
+    extraction.sift.max_num_features = p.matching.max_features
     extraction.use_gpu = False
     log(f"features: {len(names)} images")
     pycolmap.extract_features(db_path, survey, image_names=names,
@@ -112,16 +171,19 @@ def reconstruct(
     timings["features_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    pairs = _neighbour_pairs(truth, names)
+    pairs = _pairs(p.matching.pairs, names, truth, flight_C, params0, size_px, gcps, offset)
+    if not pairs:
+        raise DesignerError(f"{survey}: no two images overlap (by their predicted footprints); "
+                            "the images do not overlap enough for a reconstruction")
     pairs_file = out / "pairs.txt"
     write_text_atomic(pairs_file, "".join(f"{a} {b}\n" for a, b in pairs))
     pairing = pycolmap.ImportedPairingOptions()
     pairing.match_list_path = str(pairs_file)
-    matching = pycolmap.FeatureMatchingOptions()
-    matching.use_gpu = False
-    log(f"matching: {len(pairs)} image pairs")
-    pycolmap.match_image_pairs(db_path, matching_options=matching, pairing_options=pairing,
-                               device=pycolmap.Device.cpu)
+    match_options = pycolmap.FeatureMatchingOptions()
+    match_options.use_gpu = False
+    log(f"matching: {len(pairs)} image pairs ({p.matching.pairs})")
+    pycolmap.match_image_pairs(db_path, matching_options=match_options,
+                               pairing_options=pairing, device=pycolmap.Device.cpu)
     timings["matching_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -135,62 +197,162 @@ def reconstruct(
         rec = pycolmap.triangulate_points(rec, db_path, survey, sparse)
     else:
         log("incremental SfM")
-        options = pycolmap.IncrementalPipelineOptions()
-        options.num_threads = -1
-        # Nadir survey images have small baselines: the default 16° initial triangulation
-        # angle rejects every pair of a typical 80 % overlap flight.
-        options.mapper.init_min_tri_angle = 4.0
-        options.mapper.init_min_num_inliers = 50
-        # A calibrated survey camera: keep the interior orientation fixed.
-        options.ba_refine_focal_length = False
-        options.ba_refine_principal_point = False
-        options.ba_refine_extra_params = False
-        maps = pycolmap.incremental_mapping(db_path, survey, sparse, options=options)
-        if not maps:
-            raise DesignerError(
-                f"{survey}: COLMAP could not start a reconstruction: the images do not "
-                "overlap enough or show too little texture")
-        rec = max(maps.values(), key=lambda r: r.num_reg_images())
+        rec = _incremental(pycolmap, db_path, survey, sparse, p.calibration.mode)
     timings["reconstruction_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    gcp_rows, sim = _georeference(pycolmap, rec, survey, mode, offset, log)
-    rec.transform(_translation(pycolmap, offset))
-    timings["georeference_s"] = time.perf_counter() - t
+    tie = {"points_before_filters": rec.num_points3D()}
+    tie["removed_short_tracks"] = _drop_short_tracks(rec, p.matching.min_track_length)
+    adjustment = None
+    sim_info = None
+    if mode == "free":
+        from designer.sfm import process_free
 
+        adjustment, sim_info = process_free.georeference_and_adjust(
+            rec, p, gcps, marks, control, flight_C, offset, log, str(survey))
+    tie["removed_outliers"] = _drop_outliers(rec, OUTLIER_PX)
+    tie["points"] = rec.num_points3D()
+    tie["mean_track_length"] = float(rec.compute_mean_track_length()) if rec.num_points3D() \
+        else 0.0
+    timings["adjustment_s"] = time.perf_counter() - t
+
+    rows, skipped = _gcp_rows(rec, gcps, marks, control, offset)
+    est_params = _full_opencv(next(iter(rec.cameras.values())))
+    est_cams = {img.name: (img.projection_center() + offset,
+                           img.cam_from_world().rotation.matrix())
+                for img in rec.images.values() if img.has_pose}
+    true_cams = {n: (true_C[n] + offset,
+                     truth.find_image_with_name(n).cam_from_world().rotation.matrix())
+                 for n in names}
+    rec.transform(translation(offset))
     model_dir = out / "model"
     model_dir.mkdir(exist_ok=True)
     rec.write_text(str(model_dir))
     cloud = out / "cloud.ply"
-    write_cloud_ply(rec, cloud)
+    report.write_cloud_ply(rec, cloud, np.zeros(3))
+    shutil.copyfile(cloud, out / "sparse.ply")
     residuals = out / "gcp_residuals.csv"
-    write_gcp_residuals(gcp_rows, residuals)
+    report.write_gcp_residuals(rows, residuals)
     summary = {
         "mode": mode, "images": len(names), "registered": rec.num_reg_images(),
         "points": rec.num_points3D(),
         "mean_reprojection_error_px": float(rec.compute_mean_reprojection_error()),
-        "similarity": sim, "gcps": gcp_rows, "timings": timings,
-        "dense": "skipped: patch-match stereo needs CUDA, not available here",
+        "settings": settings_dict(p), "local_offset_m": offset.tolist(),
+        "control": report.rmse_stats([r for r in rows if r["role"] == "control"]),
+        "check": report.rmse_stats([r for r in rows if r["role"] == "check"]),
+        "gcps_not_triangulated": skipped,
+        "intrinsics": report.intrinsics_report(est_params, true_params, params0, size_px),
+        "cameras": report.camera_errors(est_cams, true_cams),
+        "adjustment": None if adjustment is None else adjustment.as_dict(),
+        "tie_points": tie, "pairs": len(pairs),
+        "similarity": sim_info, "gcps": rows, "timings": timings, "stage_seconds": timings,
+        "dense": {"mode": p.dense, "status": "off", "dome_amplitude_m": None},
     }
+    if p.dense != "none":
+        from designer.sfm.dense_stage import run_dense_stage
+        from designer.sfm.settings import project_of_survey
+
+        gsd_m = _gsd_m(truth, true_camera, offset, rec)
+        dense = run_dense_stage(survey, out, model_dir, project_path or project_of_survey(survey),
+                                offset, gsd_m, max_image_size_px=dense_max_image_px, log=log)
+        summary["dense"] = {"mode": p.dense, **dense}
+        timings["dense_s"] = dense["dense_s"]
+        timings["rasters_s"] = dense["rasters_s"]
     write_text_atomic(out / "summary.json", json.dumps(summary, indent=1))
     log(f"{rec.num_reg_images()}/{len(names)} images registered, {rec.num_points3D()} points")
     return ReconstructionResult(out, mode, len(names), rec.num_reg_images(),
                                 rec.num_points3D(), cloud, residuals, summary)
 
 
-def _neighbour_pairs(truth, names: list[str]) -> list[tuple[str, str]]:
-    """Each image with its PAIR_NEIGHBOURS nearest cameras (by centre), no duplicates."""
-    centres = []
-    for name in names:
-        centres.append(truth.find_image_with_name(name).projection_center())
-    C = np.array(centres)
-    d2 = ((C[:, None, :] - C[None, :, :]) ** 2).sum(axis=-1)
-    k = min(PAIR_NEIGHBOURS, len(names) - 1)
-    pairs = set()
-    for i in range(len(names)):
-        for j in np.argsort(d2[i])[1:k + 1]:
-            pairs.add((min(i, int(j)), max(i, int(j))))
-    return [(names[i], names[j]) for i, j in sorted(pairs)]
+def _gsd_m(truth, camera, offset: np.ndarray, rec) -> float:
+    """Median ground sample distance (m): camera height over the median tie-point height,
+    divided by the focal length in pixels (nadir approximation)."""
+    C = np.array([img.projection_center() for img in truth.images.values()]) + offset
+    if rec.num_points3D():
+        ground = float(np.median([p.xyz[2] for p in rec.points3D.values()]))
+    else:
+        ground = float(np.min(C[:, 2])) - 100.0
+    return float(np.median(np.abs(C[:, 2] - ground)) / camera.focal_length_x)
+
+
+def _gcp_inputs(survey: Path, p: m.Processing):
+    gt = survey / "ground-truth"
+    if not (gt / "gcp_truth.csv").is_file():
+        return [], []
+    gcps = read_gcp_truth_csv(gt / "gcp_truth.csv")
+    observations = read_gcp_observations_csv(gt / "gcp_observations.csv")
+    return gcps, marked_observations(observations, p.gcps.marking_sigma_px, p.gcps.seed)
+
+
+def _pairs(kind, names, truth, flight_C, params, size_px, gcps, offset):
+    C_local = np.array([flight_C[n] for n in names])
+    if kind == "exhaustive":
+        return matching.exhaustive_pairs(names)
+    if kind == "position":
+        return matching.neighbour_pairs(names, C_local)
+    ground = (float(np.median([g.true_xyz[2] for g in gcps])) - offset[2] if gcps
+              else float(np.min(C_local[:, 2])) - 50.0)
+    K = (params[0], params[1], params[2], params[3])
+    feet = [matching.footprint_xy(C, truth.find_image_with_name(n).cam_from_world()
+                                  .rotation.matrix(), K, size_px, ground)
+            for n, C in zip(names, C_local, strict=True)]
+    return matching.footprint_pairs(names, feet)
+
+
+def _incremental(pycolmap, db_path, survey, sparse, calibration: str):
+    options = pycolmap.IncrementalPipelineOptions()
+    options.num_threads = -1
+    # Nadir survey images have small baselines: the default 16° initial triangulation
+    # angle rejects every pair of a typical 80 % overlap flight.
+    options.mapper.init_min_tri_angle = 4.0
+    options.mapper.init_min_num_inliers = 50
+    # The mapper's own adjustments refine at most focal length and principal point;
+    # distortion is estimated in the final adjustment, with exactly the mode's terms.
+    options.ba_refine_focal_length = calibration != "fixed"
+    options.ba_refine_principal_point = calibration not in ("fixed", "focal")
+    options.ba_refine_extra_params = False
+    maps = pycolmap.incremental_mapping(db_path, survey, sparse, options=options)
+    if not maps:
+        raise DesignerError(
+            f"{survey}: COLMAP could not start a reconstruction: the images do not "
+            "overlap enough or show too little texture")
+    return max(maps.values(), key=lambda r: r.num_reg_images())
+
+
+def _drop_short_tracks(rec, min_length: int) -> int:
+    short = [pid for pid, pt in rec.points3D.items() if pt.track.length() < min_length]
+    for pid in short:
+        rec.delete_point3D(pid)
+    return len(short)
+
+
+def _drop_outliers(rec, max_px: float) -> int:
+    rec.update_point_3d_errors()
+    bad = [pid for pid, pt in rec.points3D.items() if pt.error > max_px]
+    for pid in bad:
+        rec.delete_point3D(pid)
+    return len(bad)
+
+
+def _gcp_rows(rec, gcps, marks, control: set[str], offset):
+    """One row per GCP seen in ≥ 2 registered images (triangulated from its marks with
+    the final cameras), and the ids seen by fewer."""
+    points, seen = triangulate_gcps(rec, marks)
+    rows, skipped = [], []
+    for g in gcps:
+        if g.gcp_id not in points:
+            skipped.append({"id": g.gcp_id, "images": seen.get(g.gcp_id, 0)})
+            continue
+        local = points[g.gcp_id]
+        own = [(o.image_name, o.uv_px) for o in marks if o.gcp_id == g.gcp_id]
+        px = image_residuals_px(rec, local, own)
+        estimated = local + offset
+        d = estimated - g.true_xyz
+        rows.append({"id": g.gcp_id, "role": "control" if g.gcp_id in control else "check",
+                     "images": seen[g.gcp_id], "estimated": [float(v) for v in estimated],
+                     "dx_m": float(d[0]), "dy_m": float(d[1]), "dz_m": float(d[2]),
+                     "image_residuals_px": px.tolist()})
+    return rows, skipped
 
 
 def _known_pose_reconstruction(pycolmap, truth, db_path: Path):
@@ -211,94 +373,3 @@ def _known_pose_reconstruction(pycolmap, truth, db_path: Path):
     finally:
         db.close()
     return rec
-
-
-def _translation(pycolmap, t: np.ndarray):
-    return pycolmap.Sim3d(1.0, pycolmap.Rotation3d(), np.asarray(t, dtype=float))
-
-
-def _georeference(pycolmap, rec, survey: Path, mode: str, offset: np.ndarray, log):
-    """Triangulate GCPs; in free mode fit a similarity on the control points first.
-
-    ``rec`` is in local coordinates (world − offset); the rows report world coordinates.
-    """
-    gt = survey / "ground-truth"
-    truth = {g.gcp_id: g for g in read_gcp_truth_csv(gt / "gcp_truth.csv")}
-    observations = read_gcp_observations_csv(gt / "gcp_observations.csv")
-    sim_info = None
-    points = _triangulate_gcps(pycolmap, rec, observations)
-    if mode == "free":
-        control = [g for g in truth if truth[g].role == "control" and g in points]
-        if len(control) < 3:
-            raise DesignerError(
-                f"{survey}: only {len(control)} control GCPs are seen in registered images; "
-                "georeferencing needs at least 3")
-        src = np.array([points[g] for g in control])
-        tgt = np.array([truth[g].surveyed_xyz for g in control]) - offset
-        ransac = pycolmap.RANSACOptions()
-        ransac.max_error = 0.5
-        sim = pycolmap.estimate_sim3d_robust(src, tgt, ransac)
-        if sim is None:
-            raise DesignerError(f"{survey}: no similarity fits the control GCPs")
-        sim = sim["tgt_from_src"] if isinstance(sim, dict) else sim
-        rec.transform(sim)
-        sim_info = {"scale": float(sim.scale), "control_gcps": control}
-        points = _triangulate_gcps(pycolmap, rec, observations)
-        log(f"georeferenced on {len(control)} control GCPs (scale {sim.scale:.6f})")
-    rows = []
-    for gcp_id, g in truth.items():
-        if gcp_id not in points:
-            continue
-        estimated = points[gcp_id] + offset
-        d = estimated - g.true_xyz
-        rows.append({"id": gcp_id, "role": g.role,
-                     "estimated": [float(v) for v in estimated],
-                     "dx_m": float(d[0]), "dy_m": float(d[1]), "dz_m": float(d[2])})
-    return rows, sim_info
-
-
-def _triangulate_gcps(pycolmap, rec, observations) -> dict[str, np.ndarray]:
-    """World coordinates of each GCP from its observations in registered images."""
-    by_name = {img.name: img for img in rec.images.values() if img.has_pose}
-    grouped: dict[str, list] = {}
-    for o in observations:
-        if o.image_name in by_name:
-            grouped.setdefault(o.gcp_id, []).append(o)
-    out = {}
-    for gcp_id, obs in grouped.items():
-        if len(obs) < 2:
-            continue
-        images = [by_name[o.image_name] for o in obs]
-        cams = [rec.cameras[img.camera_id] for img in images]
-        uv = np.array([o.uv_px for o in obs], dtype=float)
-        result = pycolmap.estimate_triangulation(
-            uv, [img.cam_from_world() for img in images], cams)
-        if result is not None:
-            out[gcp_id] = np.asarray(result["xyz"], dtype=float).reshape(3)
-    return out
-
-
-def write_cloud_ply(rec, path: Path) -> None:
-    """The sparse cloud as binary PLY with double coordinates and uchar colours."""
-    from plyfile import PlyData, PlyElement
-
-    pts = list(rec.points3D.values())
-    data = np.empty(len(pts), dtype=[("x", "f8"), ("y", "f8"), ("z", "f8"),
-                                     ("red", "u1"), ("green", "u1"), ("blue", "u1")])
-    if pts:
-        xyz = np.array([p.xyz for p in pts])
-        rgb = np.array([p.color for p in pts])
-        data["x"], data["y"], data["z"] = xyz.T
-        data["red"], data["green"], data["blue"] = rgb.T
-    with atomic_path(path) as tmp:
-        PlyData([PlyElement.describe(data, "vertex")]).write(str(tmp))
-
-
-def write_gcp_residuals(rows: list[dict], path: Path) -> None:
-    lines = ["# GCP residuals: estimated (triangulated) minus true coordinates, world m",
-             "id,role,X,Y,Z,dX,dY,dZ"]
-    for r in rows:
-        X, Y, Z = r["estimated"]
-        lines.append(f"{r['id']},{r['role']},{X!r},{Y!r},{Z!r},{r['dx_m']!r},{r['dy_m']!r},"
-                     f"{r['dz_m']!r}")
-    write_text_atomic(path, "\n".join(lines) + "\n")

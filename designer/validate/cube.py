@@ -20,6 +20,7 @@ import numpy as np
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
 from designer.core.rotation import rotation_from_quaternion
+from designer.render.job_spec import MaterialSpec
 from designer.scene.texture import checkerboard_texture
 from designer.validate.jobs import MeshObject
 
@@ -82,7 +83,7 @@ def cube_walls(texels_per_square: int = 1) -> MeshObject:
     texture = checkerboard_texture(SQUARES, texels_per_square)
     return MeshObject(name="walls", vertices_local=np.array(vertices), faces=np.array(faces),
                       uv=np.array(uv, float), textures={"checker.png": texture},
-                      materials=({"texture": "checker.png", "uv_tiles": [1, 1]},))
+                      materials=(MaterialSpec(texture="checker.png"),))
 
 
 def random_poses(n: int, rng: np.random.Generator, reach_m: float = 3.0

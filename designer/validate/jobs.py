@@ -13,7 +13,6 @@ encodes 8-bit sRGB again: area sampling with k² stratified positions per pixel.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -23,28 +22,29 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from designer.atomic import atomic_path, write_text_atomic
+from designer.atomic import atomic_path
 from designer.core.interior import InteriorOrientation
 from designer.effects.resample import block_mean
 from designer.effects.srgb import decode_image, encode_image
 from designer.errors import DesignerError
 from designer.render.blender_camera import blender_camera, blender_matrix_world
+from designer.render.job_spec import FrameSpec, MaterialSpec, MeshSpec, RenderJob
 from designer.render.runner import render_frames
 from designer.validate.settings import RenderSettings
 
 
 @dataclass(frozen=True)
 class MeshObject:
-    """One mesh in local coordinates (m) with emission materials (worker job format).
+    """One mesh in local coordinates (m) with emission materials.
 
-    ``materials`` are worker material dicts; a textured one names a key of ``textures``
-    (file name → (H, W, 3) uint8 RGB image) and gets the settings' interpolation.
+    A textured material names a key of ``textures`` (file name → (H, W, 3) uint8 RGB
+    image) and gets the settings' interpolation.
     """
 
     name: str
     vertices_local: np.ndarray
     faces: np.ndarray
-    materials: tuple[dict, ...]
+    materials: tuple[MaterialSpec, ...]
     uv: np.ndarray | None = None
     material_index: np.ndarray | None = None
     textures: dict[str, np.ndarray] = field(default_factory=dict)
@@ -120,29 +120,25 @@ def write_job(folder: Path, objects: Sequence[MeshObject], interior: InteriorOri
             with atomic_path(folder / name) as tmp:
                 if not cv2.imwrite(str(tmp), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)):
                     raise OSError(f"could not write {folder / name}")
-        materials = [dict(m, interpolation=settings.interpolation) if "texture" in m else dict(m)
-                     for m in obj.materials]
-        job_objects.append({"name": obj.name, "mesh": f"{obj.name}.npz", "materials": materials})
+        materials = tuple(replace(m, interpolation=settings.interpolation)
+                          if m.texture is not None else m for m in obj.materials)
+        job_objects.append(MeshSpec(obj.name, f"{obj.name}.npz", materials))
     W, H = render_interior.image_size_px
-    job = {
-        "output_dir": str(Path(out_dir).resolve()),
+    job = RenderJob(
+        output_dir=str(Path(out_dir).resolve()),
         # Oversampled renders are averaged in linear light: keep 16 bits until then.
-        "render": {**settings.job_render(seed),
-                   "bit_depth": 16 if settings.oversample > 1 else bit_depth},
-        "lighting": {"mode": "emission"},
-        "background_rgb": list(background_rgb),
-        "camera": blender_camera(render_interior).to_dict(),
-        "output": {"width_px": W, "height_px": H},
-        "objects": job_objects,
-        "effects": None,
-        "frames": [{"index": k, "image_name": _name(prefix, k, settings),
-                    "matrix_world_local": blender_matrix_world(C, R, np.zeros(3)).tolist(),
-                    "context": {}}
-                   for k, (C, R) in enumerate(poses)],
-    }
-    path = folder / "job.json"
-    write_text_atomic(path, json.dumps(job, indent=1))
-    return path
+        render=replace(settings.job_render(seed),
+                       bit_depth=16 if settings.oversample > 1 else bit_depth),
+        background_rgb=tuple(float(c) for c in background_rgb),
+        camera=blender_camera(render_interior),
+        width_px=W, height_px=H,
+        objects=tuple(job_objects),
+        frames=tuple(FrameSpec(index=k, image_name=_name(prefix, k, settings),
+                               matrix_world_local=tuple(tuple(float(v) for v in row) for row in
+                                                        blender_matrix_world(C, R, np.zeros(3))))
+                     for k, (C, R) in enumerate(poses)),
+    )
+    return job.write(folder / "job.json")
 
 
 def _name(prefix: str, k: int, settings: RenderSettings) -> str:

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
+from designer.render.job_spec import MaterialSpec
 from designer.validate import figures
 from designer.validate.jobs import MeshObject, render_views
 from designer.validate.report import Criterion, Report, write_report
@@ -88,7 +89,8 @@ def sphere(segments: int = 128) -> MeshObject:
         for k in range(n):
             a, b = 1 + r * n + k, 1 + r * n + (k + 1) % n
             faces += [[a, a + n, b + n], [a, b + n, b]]
-    return MeshObject("sphere", verts, np.array(faces), materials=({"color": [1.0, 1.0, 1.0]},))
+    return MeshObject("sphere", verts, np.array(faces),
+                      materials=(MaterialSpec(color=(1.0, 1.0, 1.0)),))
 
 
 def expected_disc_area_px(segments: int = 128) -> float:

@@ -10,7 +10,9 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
-PIXEL_FILTERS = ("BOX", "GAUSSIAN", "BLACKMAN_HARRIS")
+from designer.render.job_spec import PIXEL_FILTER_NAMES, AdaptiveSampling, RenderSpec
+
+PIXEL_FILTERS = PIXEL_FILTER_NAMES
 INTERPOLATIONS = ("Closest", "Linear")
 
 
@@ -47,14 +49,13 @@ class RenderSettings:
         if self.oversample < 1:
             raise ValueError(f"oversample = {self.oversample} must be >= 1")
 
-    def job_render(self, seed: int = 0) -> dict:
-        """The ``render`` section of a worker job (oversampling is done by the caller)."""
-        out = {"samples": self.samples, "seed": seed, "pixel_filter": self.pixel_filter,
-               "filter_width_px": self.filter_width_px, "format": "png", "bit_depth": 8}
-        if self.adaptive_threshold is not None:
-            out["adaptive_sampling"] = {"threshold": self.adaptive_threshold,
-                                        "min_samples": self.adaptive_min_samples}
-        return out
+    def job_render(self, seed: int = 0) -> RenderSpec:
+        """The Cycles settings of a worker job (oversampling is done by the caller)."""
+        adaptive = (None if self.adaptive_threshold is None else
+                    AdaptiveSampling(self.adaptive_threshold, self.adaptive_min_samples))
+        return RenderSpec(samples=self.samples, seed=seed, pixel_filter=self.pixel_filter,
+                          filter_width_px=float(self.filter_width_px), format="png",
+                          bit_depth=8, adaptive_sampling=adaptive)
 
     def label(self) -> str:
         """Short human-readable description, e.g. '16 spp, adaptive 0.01, box 1 px'."""

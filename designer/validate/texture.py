@@ -31,6 +31,7 @@ import numpy as np
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import R_cv_from_world
 from designer.effects.srgb import decode_image, encode_image
+from designer.render.job_spec import MaterialSpec
 from designer.scene.texture import checkerboard_texture
 from designer.validate import figures
 from designer.validate.jobs import MeshObject, render_views
@@ -72,7 +73,7 @@ def plane() -> MeshObject:
     """The 1 m × 1 m plane at Z = 0 with UV = (X, Y), textured 10 × 10 texels."""
     verts = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
     return MeshObject("plane", verts, np.array([[0, 1, 2, 3]]), uv=verts[:, :2].copy(),
-                      materials=({"texture": "checker.png", "uv_tiles": [1, 1]},),
+                      materials=(MaterialSpec(texture="checker.png"),),
                       textures={"checker.png": checkerboard_texture(TEXELS, 1)})
 
 

@@ -16,7 +16,7 @@ def test_help_lists_every_command():
     out = run_cli("--help")
     assert out.returncode == 0
     for module in COMMAND_MODULES:
-        assert module.rsplit(".", 1)[1] in out.stdout
+        assert module.rsplit(".", 1)[1].replace("_", "-") in out.stdout
 
 
 def test_version():

@@ -15,8 +15,7 @@ from designer.core.projection import (
     project_points,
 )
 from designer.core.rotation import opencv_rvec_tvec_from_photo, rotation_from_opk
-
-UTM = np.array([500000.0, 5000000.0, 250.0])
+from tests.synthetic import ORIGIN_WORLD
 
 
 def camera(distortion=None, x0=0.0, y0=0.0, f=8.8):
@@ -26,7 +25,7 @@ def camera(distortion=None, x0=0.0, y0=0.0, f=8.8):
         principal_point_x_mm=x0, principal_point_y_mm=y0, distortion=distortion)
 
 
-def random_pose(rng, centre=UTM, tilt_deg=15.0):
+def random_pose(rng, centre=ORIGIN_WORLD, tilt_deg=15.0):
     C = centre + rng.uniform([-30, -30, 80], [30, 30, 120])
     R = rotation_from_opk(*np.radians(rng.uniform(-tilt_deg, tilt_deg, 3)))
     return C, R
@@ -46,7 +45,7 @@ def cv2_project(points, C, R, cam, dist=None, fisheye=False):
     K = cam.K_px.copy()
     K[0, 2] -= 0.5
     K[1, 2] -= 0.5
-    # cv2 wants camera-relative values; passing UTM-sized points to its float math
+    # cv2 wants camera-relative values; passing ORIGIN_WORLD-sized points to its float math
     # is exactly what the conventions warn about, so shift both by C.
     local = (points - C).reshape(-1, 1, 3)
     tvec_local = np.zeros(3)
@@ -107,7 +106,7 @@ def test_utm_sized_coordinates_keep_sub_millipixel_precision():
     points, _ = points_in_view(rng, C, R, cam)
     uv_world = project_points(points, C, R, cam).uv_px[0]
     # the same scene in local coordinates (what the project origin is for)
-    uv_local = project_points(points - UTM, C - UTM, R, cam).uv_px[0]
+    uv_local = project_points(points - ORIGIN_WORLD, C - ORIGIN_WORLD, R, cam).uv_px[0]
     assert np.max(np.abs(uv_world - uv_local)) <= 1e-3
     # and float32 world coordinates would be off by far more: the hazard is real
     uv_f32 = project_points(points.astype(np.float32), C.astype(np.float32), R, cam).uv_px[0]
@@ -116,7 +115,7 @@ def test_utm_sized_coordinates_keep_sub_millipixel_precision():
 
 def test_points_behind_the_camera_are_flagged_and_never_projected():
     cam = camera(BrownConrady(k1=-0.3))
-    C = UTM.copy()
+    C = ORIGIN_WORLD.copy()
     R = np.eye(3)  # nadir: looks down
     points = np.array([
         C + [0, 0, -50],     # below: in front
@@ -134,7 +133,7 @@ def test_points_behind_the_camera_are_flagged_and_never_projected():
 
 def test_in_image_uses_the_half_open_image_rectangle():
     cam = camera()
-    C, R = UTM.copy(), np.eye(3)
+    C, R = ORIGIN_WORLD.copy(), np.eye(3)
     uv = np.array([[1e-6, 1e-6], [5471.999, 3647.999], [5472.0 + 1e-6, 100.0], [-1e-6, 10.0]])
     points = C + pixel_rays_world(uv, R, cam) * 100.0
     proj = project_points(points, C, R, cam)
@@ -148,7 +147,7 @@ def test_many_cameras_at_once_match_one_at_a_time():
     poses = [random_pose(rng) for _ in range(7)]
     C = np.array([p[0] for p in poses])
     R = np.array([p[1] for p in poses])
-    points = UTM + rng.uniform([-50, -50, -5], [50, 50, 5], size=(1000, 3))
+    points = ORIGIN_WORLD + rng.uniform([-50, -50, -5], [50, 50, 5], size=(1000, 3))
     together = project_points(points, C, R, cam)
     for m in range(7):
         alone = project_points(points, C[m], R[m], cam)
@@ -165,7 +164,7 @@ def test_many_cameras_at_once_match_one_at_a_time():
 def test_project_after_back_project_returns_the_pixel(omega, phi, kappa, k1, p1, u, v, depth):
     cam = camera(BrownConrady(k1=k1, k2=0.0, p1=p1), x0=0.03, y0=-0.02)
     R = rotation_from_opk(*np.radians([omega, phi, kappa]))
-    C = UTM
+    C = ORIGIN_WORLD
     ray = pixel_rays_world(np.array([[u, v]]), R, cam)
     point = C + ray * depth
     uv = project_points(point, C, R, cam).uv_px[0, 0]
@@ -181,14 +180,14 @@ def test_gsd_matches_the_flight_planning_formula():
 
 def test_nadir_footprint_is_image_size_times_gsd():
     cam = camera()
-    C = UTM + [0, 0, 100.0]
-    corners = footprint_on_plane(C, np.eye(3), cam, height_m=UTM[2])
+    C = ORIGIN_WORLD + [0, 0, 100.0]
+    corners = footprint_on_plane(C, np.eye(3), cam, height_m=ORIGIN_WORLD[2])
     gsd = ground_sample_distance_m(cam, 100.0)
     width = corners[1, 0] - corners[0, 0]
     height = corners[0, 1] - corners[3, 1]   # image top is north
     assert width == pytest.approx(5472 * gsd, rel=1e-9)
     assert height == pytest.approx(3648 * gsd, rel=1e-9)
-    assert np.allclose(corners[:, 2], UTM[2])
+    assert np.allclose(corners[:, 2], ORIGIN_WORLD[2])
 
 
 def test_rays_above_the_horizon_miss_the_plane():
@@ -202,15 +201,15 @@ def wavy_terrain():
     x = np.linspace(0, 100, 101)
     y = np.linspace(0, 80, 81)
     X, Y = np.meshgrid(x, y)
-    Z = UTM[2] + 10 * np.sin(X / 15) * np.cos(Y / 11)
-    return Heightfield(x0_m=UTM[0], y0_m=UTM[1], dx_m=1.0, dy_m=1.0, heights_m=Z)
+    Z = ORIGIN_WORLD[2] + 10 * np.sin(X / 15) * np.cos(Y / 11)
+    return Heightfield(x0_m=ORIGIN_WORLD[0], y0_m=ORIGIN_WORLD[1], dx_m=1.0, dy_m=1.0, heights_m=Z)
 
 
 def test_rays_hit_the_heightfield_on_its_surface():
     rng = np.random.default_rng(2)
     terrain = wavy_terrain()
     cam = camera(BrownConrady(k1=-0.1))
-    C = UTM + [50, 40, 45]
+    C = ORIGIN_WORLD + [50, 40, 45]
     R = rotation_from_opk(*np.radians([5, -4, 30]))
     uv = rng.uniform([0, 0], cam.image_size_px, size=(3000, 2))
     rays = pixel_rays_world(uv, R, cam)

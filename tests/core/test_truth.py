@@ -10,7 +10,7 @@ from designer.core.truth import (
     observe_gcps,
 )
 from designer.errors import DesignerError, InvalidDataError
-from tests.export.scene import UTM, interior_for, random_gcps, random_poses, survey
+from tests.synthetic import ORIGIN_WORLD, interior_for, random_gcps, random_poses, survey
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -67,12 +67,12 @@ def test_visible_fn_removes_occluded_observations():
 
 def test_points_behind_or_outside_are_not_observed():
     interior = interior_for("opencv")
-    C = UTM + [0, 0, 100]
+    C = ORIGIN_WORLD + [0, 0, 100]
     pose = CameraPose("a.png", C, np.eye(3))  # nadir
     gcps = [
-        GroundControlPoint("below", "control", UTM, UTM, [0.01] * 3),
+        GroundControlPoint("below", "control", ORIGIN_WORLD, ORIGIN_WORLD, [0.01] * 3),
         GroundControlPoint("above", "control", C + [0, 0, 10], C, [0.01] * 3),
-        GroundControlPoint("far", "check", UTM + [1000, 0, 0], UTM, [0.01] * 3),
+        GroundControlPoint("far", "check", ORIGIN_WORLD + [1000, 0, 0], ORIGIN_WORLD, [0.01] * 3),
     ]
     obs = observe_gcps(gcps, [pose], interior)
     assert [o.gcp_id for o in obs] == ["below"]
@@ -86,7 +86,7 @@ def test_utm_sized_coordinates_project_like_local_ones():
     interior = interior_for("full_opencv")
     poses = random_poses(rng)
     gcps = random_gcps(rng)
-    shift = -UTM
+    shift = -ORIGIN_WORLD
     local_poses = [CameraPose(p.image_name, p.C_world + shift, p.R_cam_to_world) for p in poses]
     local_gcps = [GroundControlPoint(g.gcp_id, g.role, g.true_xyz + shift, g.surveyed_xyz,
                                      g.sigma_xyz) for g in gcps]
@@ -105,11 +105,11 @@ def test_utm_sized_coordinates_project_like_local_ones():
 
 
 def test_data_classes_copy_and_freeze_their_arrays():
-    C = UTM.copy()
+    C = ORIGIN_WORLD.copy()
     R = rotation_from_opk(0.1, 0.2, 0.3)
     pose = CameraPose("a.png", C, R)
     C[0] = 0.0
-    assert pose.C_world[0] == UTM[0]
+    assert pose.C_world[0] == ORIGIN_WORLD[0]
     with pytest.raises(ValueError):
         pose.C_world[0] = 1.0
     uv = np.array([1.0, 2.0])
@@ -121,16 +121,18 @@ def test_data_classes_copy_and_freeze_their_arrays():
 @pytest.mark.parametrize(
     ("make", "fragment"),
     [
-        (lambda: CameraPose("a b.png", UTM, np.eye(3)), "whitespace"),
-        (lambda: CameraPose("a,b.png", UTM, np.eye(3)), "','"),
-        (lambda: CameraPose("", UTM, np.eye(3)), "non-empty"),
-        (lambda: CameraPose("a.png", UTM, 2 * np.eye(3)), "not a rotation"),
-        (lambda: CameraPose("a.png", UTM, np.diag([1.0, 1.0, -1.0])), "not a rotation"),
-        (lambda: CameraPose("a.png", UTM[:2], np.eye(3)), "shape"),
+        (lambda: CameraPose("a b.png", ORIGIN_WORLD, np.eye(3)), "whitespace"),
+        (lambda: CameraPose("a,b.png", ORIGIN_WORLD, np.eye(3)), "','"),
+        (lambda: CameraPose("", ORIGIN_WORLD, np.eye(3)), "non-empty"),
+        (lambda: CameraPose("a.png", ORIGIN_WORLD, 2 * np.eye(3)), "not a rotation"),
+        (lambda: CameraPose("a.png", ORIGIN_WORLD, np.diag([1.0, 1.0, -1.0])), "not a rotation"),
+        (lambda: CameraPose("a.png", ORIGIN_WORLD[:2], np.eye(3)), "shape"),
         (lambda: CameraPose("a.png", [np.nan, 0, 0], np.eye(3)), "finite"),
-        (lambda: GroundControlPoint("G1", "tie", UTM, UTM, [0, 0, 0]), "role"),
-        (lambda: GroundControlPoint("G1", "check", UTM, UTM, [0, -1, 0]), ">= 0"),
-        (lambda: GroundControlPoint("#G1", "check", UTM, UTM, [0, 0, 0]), "comment"),
+        (lambda: GroundControlPoint("G1", "tie", ORIGIN_WORLD, ORIGIN_WORLD, [0, 0, 0]), "role"),
+        (lambda: GroundControlPoint("G1", "check", ORIGIN_WORLD, ORIGIN_WORLD, [0, -1, 0]), ">= 0"),
+        (lambda: GroundControlPoint("#G1", "check", ORIGIN_WORLD, ORIGIN_WORLD, [0, 0, 0]),
+         "comment"),
+        (lambda: CameraPose("IMG#2.png", ORIGIN_WORLD, np.eye(3)), "comment"),
         (lambda: GcpObservation("G1", "a.png", [1, 2, 3]), "shape"),
     ],
 )

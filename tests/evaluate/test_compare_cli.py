@@ -8,11 +8,12 @@ from plyfile import PlyData
 
 from designer.cli.main import main
 from designer.core.heightfield import Heightfield
+from designer.core.truth import observe_gcps
 from designer.evaluate import reference_mesh
 from designer.export.colmap import write_colmap_text_model
 from designer.export.dispatch import write_all
 from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
-from tests.evaluate import survey
+from tests.synthetic import ORIGIN_WORLD, grid_gcps, grid_poses, mapping_camera
 
 EXAMPLE = "resources/examples/survey/survey.xml"
 
@@ -69,28 +70,28 @@ def test_compare_with_a_project_writes_the_report(tmp_path, capsys):
 
 def small_terrain():
     rng = np.random.default_rng(3)
-    z = survey.ORIGIN[2] + np.cumsum(rng.normal(0, 0.05, (41, 41)), axis=0)
-    hf = Heightfield(survey.ORIGIN[0] - 60, survey.ORIGIN[1] - 60, 3.0, 3.0, z)
+    z = ORIGIN_WORLD[2] + np.cumsum(rng.normal(0, 0.05, (41, 41)), axis=0)
+    hf = Heightfield(ORIGIN_WORLD[0] - 60, ORIGIN_WORLD[1] - 60, 3.0, 3.0, z)
     return heightfield_to_mesh(hf)
 
 
 def test_compare_a_colmap_model_with_ground_truth(tmp_path, capsys):
     """A perfect reconstruction in local coordinates: zero GCP and camera errors."""
     mesh = small_terrain()
-    write_mesh_ply(mesh, tmp_path / "mesh.ply", origin=survey.ORIGIN)  # local + comment
-    cam, poses, gcps = survey.camera(), survey.poses(), survey.gcps()
-    obs = survey.observations(cam, poses, gcps)
+    write_mesh_ply(mesh, tmp_path / "mesh.ply", origin=ORIGIN_WORLD)  # local + comment
+    cam, poses, gcps = mapping_camera(), grid_poses(), grid_gcps()
+    obs = observe_gcps(gcps, poses, cam)
     write_all(tmp_path / "render" / "ground-truth", cam, poses, gcps, obs, "EPSG:32632",
               formats=("opk", "gcp"))
     model = tmp_path / "model"
-    write_colmap_text_model(model, cam, poses, offset_world=survey.ORIGIN)
+    write_colmap_text_model(model, cam, poses, offset_world=ORIGIN_WORLD)
     rng = np.random.default_rng(4)
-    pts = points_on_mesh(mesh.vertices_world, mesh.faces, 500, -0.01, rng) - survey.ORIGIN
+    pts = points_on_mesh(mesh.vertices_world, mesh.faces, 500, -0.01, rng) - ORIGIN_WORLD
     lines = [f"{i + 1} {x!r} {y!r} {z!r} 128 128 128 0.5" for i, (x, y, z) in enumerate(pts)]
     (model / "points3D.txt").write_text("\n".join(lines) + "\n")
     out = tmp_path / "out"
     assert main(["compare", str(model), str(tmp_path / "mesh.ply"), "-o", str(out),
-                 "--offset", *map(str, survey.ORIGIN), "--truth", str(tmp_path / "render"),
+                 "--offset", *map(str, ORIGIN_WORLD), "--truth", str(tmp_path / "render"),
                  "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert abs(summary["distances"]["median"] + 0.01) < 1e-6  # text model: 15 digits
@@ -108,7 +109,7 @@ def test_user_errors_are_one_line_exit_2(tmp_path, capsys):
     assert main(["compare", str(tmp_path / "none.ply"), str(tmp_path / "mesh.ply"),
                  "-o", str(tmp_path / "o")]) == 2
     assert "does not exist" in capsys.readouterr().err
-    write_cloud(tmp_path / "local.ply", mesh.vertices_world[:100] - survey.ORIGIN)
+    write_cloud(tmp_path / "local.ply", mesh.vertices_world[:100] - ORIGIN_WORLD)
     assert main(["compare", str(tmp_path / "local.ply"), str(tmp_path / "mesh.ply"),
                  "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
@@ -123,14 +124,14 @@ def test_cloudcompare_reads_our_scalar_and_agrees_on_a_small_case(tmp_path):
     mesh = small_terrain()
     write_mesh_ply(mesh, tmp_path / "mesh.ply")
     rng = np.random.default_rng(5)
-    local = points_on_mesh(mesh.vertices_world, mesh.faces, 3000, 0.0, rng) - survey.ORIGIN
+    local = points_on_mesh(mesh.vertices_world, mesh.faces, 3000, 0.0, rng) - ORIGIN_WORLD
     local[:, 2] += rng.normal(0, 0.2, 3000)
     # float32-exact after the shift, so CloudCompare sees our geometry
-    xyz = local.astype(np.float32).astype(np.float64) + survey.ORIGIN
+    xyz = local.astype(np.float32).astype(np.float64) + ORIGIN_WORLD
     write_cloud(tmp_path / "cloud.ply", xyz)
     assert main(["compare", str(tmp_path / "cloud.ply"), str(tmp_path / "mesh.ply"),
                  "-o", str(tmp_path / "out")]) == 0
-    shift = [str(-v) for v in survey.ORIGIN]
+    shift = [str(-v) for v in ORIGIN_WORLD]
     subprocess.run(["xvfb-run", "-a", "CloudCompare", "-SILENT", "-AUTO_SAVE", "OFF",
                     "-O", "-GLOBAL_SHIFT", *shift, str(tmp_path / "out" / "distances.ply"),
                     "-O", "-GLOBAL_SHIFT", *shift, str(tmp_path / "mesh.ply"), "-C2M_DIST",

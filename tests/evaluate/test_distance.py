@@ -6,8 +6,7 @@ from designer.errors import DesignerError
 from designer.evaluate import build_mesh_index, signed_distances
 from designer.scene.mesh import heightfield_to_mesh
 from tests.evaluate.reference import brute_distances, exact_point_triangle_distance
-
-UTM = np.array([512000.0, 5406000.0, 300.0])
+from tests.synthetic import ORIGIN_WORLD
 
 
 def random_mesh(rng, n_vertices=30, n_faces=40):
@@ -101,7 +100,6 @@ def test_signs_on_an_open_terrain_follow_above_and_below():
 
 
 def test_points_beyond_the_boundary_take_the_boundary_faces_side():
-    rng = np.random.default_rng(4)
     flat = Heightfield(0.0, 0.0, 1.0, 1.0, np.zeros((5, 5)))
     mesh = heightfield_to_mesh(flat)
     pts = np.array([[-1.0, 2.0, 0.5], [-1.0, 2.0, -0.5], [6.0, 6.0, 1.0], [2.0, -3.0, -2.0]])
@@ -109,7 +107,6 @@ def test_points_beyond_the_boundary_take_the_boundary_faces_side():
     expected = np.array([np.hypot(1, 0.5), -np.hypot(1, 0.5), np.sqrt(4 + 4 + 1),
                          -np.sqrt(9 + 4)])
     assert np.allclose(d, expected, atol=1e-14)
-    assert rng is not None
 
 
 def test_split_vertices_are_welded_for_the_sign():
@@ -127,7 +124,7 @@ def test_split_vertices_are_welded_for_the_sign():
 
 
 def test_utm_offsets_lose_nothing():
-    """The same geometry at UTM size gives the same distances as near the origin."""
+    """The same geometry at ORIGIN_WORLD size gives the same distances as near the origin."""
     rng = np.random.default_rng(6)
     hf = terrain(rng, n=20, spacing=0.25)
     local = heightfield_to_mesh(hf)
@@ -135,7 +132,7 @@ def test_utm_offsets_lose_nothing():
                            rng.normal(0, 0.01, 3000) + 0.0])
     pts[:, 2] += surface_height(hf, pts[:, 0], pts[:, 1])
     d_local = signed_distances(pts, local)
-    d_utm = signed_distances(pts + UTM, (local.vertices_world + UTM, local.faces))
+    d_utm = signed_distances(pts + ORIGIN_WORLD, (local.vertices_world + ORIGIN_WORLD, local.faces))
     assert np.max(np.abs(d_local - d_utm)) < 1e-9
     # float32 at these coordinates would be off by decimetres; float64 by nanometres
     assert np.max(np.abs(d_local)) > 1e-3

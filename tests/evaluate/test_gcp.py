@@ -1,12 +1,12 @@
 import numpy as np
 import pytest
 
-from designer.core.truth import GroundControlPoint
+from designer.core.truth import GroundControlPoint, observe_gcps
 from designer.errors import DesignerError
 from designer.evaluate import gcp_errors, read_gcp_estimates_csv, triangulate_gcps
 from designer.export.colmap import write_colmap_text_model
 from designer.export.tables import write_gcp_truth_csv
-from tests.evaluate import survey
+from tests.synthetic import ORIGIN_WORLD, grid_gcps, grid_poses, mapping_camera
 
 
 def test_errors_and_rmse_split_by_role():
@@ -38,7 +38,7 @@ def test_estimates_csv_reads_common_layouts(tmp_path):
     (tmp_path / "b.csv").write_text("gcp_id;easting;northing;height\nG1;1.5;2.5;3.5\n")
     assert np.array_equal(read_gcp_estimates_csv(tmp_path / "a.csv")["G1"], [1.5, 2.5, 3.5])
     assert np.array_equal(read_gcp_estimates_csv(tmp_path / "b.csv")["G1"], [1.5, 2.5, 3.5])
-    gs = survey.gcps()
+    gs = grid_gcps()
     write_gcp_truth_csv(tmp_path / "gcp_truth.csv", gs, "EPSG:32632")
     back = read_gcp_estimates_csv(tmp_path / "gcp_truth.csv")
     assert np.array_equal(back["GCP3"], gs[3].true_xyz)
@@ -49,11 +49,11 @@ def test_estimates_csv_reads_common_layouts(tmp_path):
 
 @pytest.mark.parametrize("distortion", [False, True])
 def test_triangulation_from_a_colmap_model_recovers_the_truth(tmp_path, distortion):
-    cam, ps, gs = survey.camera(distortion), survey.poses(), survey.gcps()
-    obs = survey.observations(cam, ps, gs)
+    cam, ps, gs = mapping_camera(distortion), grid_poses(), grid_gcps()
+    obs = observe_gcps(gs, ps, cam)
     # a model in local coordinates, as SfM software writes it; the offset goes back on
-    write_colmap_text_model(tmp_path, cam, ps, offset_world=survey.ORIGIN)
-    est = triangulate_gcps(tmp_path, obs, offset_world=survey.ORIGIN)
+    write_colmap_text_model(tmp_path, cam, ps, offset_world=ORIGIN_WORLD)
+    est = triangulate_gcps(tmp_path, obs, offset_world=ORIGIN_WORLD)
     assert set(est) == {g.gcp_id for g in gs}
     r = gcp_errors(est, gs)
     assert r["summary"]["all"]["max_XYZ"] < 1e-6
@@ -61,11 +61,11 @@ def test_triangulation_from_a_colmap_model_recovers_the_truth(tmp_path, distorti
 
 def test_triangulation_from_a_binary_model(tmp_path):
     pycolmap = pytest.importorskip("pycolmap")
-    cam, ps, gs = survey.camera(), survey.poses(), survey.gcps()
+    cam, ps, gs = mapping_camera(), grid_poses(), grid_gcps()
     (tmp_path / "txt").mkdir()
     (tmp_path / "bin").mkdir()
-    write_colmap_text_model(tmp_path / "txt", cam, ps, offset_world=survey.ORIGIN)
+    write_colmap_text_model(tmp_path / "txt", cam, ps, offset_world=ORIGIN_WORLD)
     pycolmap.Reconstruction(str(tmp_path / "txt")).write_binary(str(tmp_path / "bin"))
-    est = triangulate_gcps(tmp_path / "bin", survey.observations(cam, ps, gs),
-                           offset_world=survey.ORIGIN)
+    est = triangulate_gcps(tmp_path / "bin", observe_gcps(gs, ps, cam),
+                           offset_world=ORIGIN_WORLD)
     assert gcp_errors(est, gs)["summary"]["all"]["max_XYZ"] < 1e-6

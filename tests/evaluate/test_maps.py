@@ -10,8 +10,9 @@ from designer.evaluate import (
     write_error_map_png,
     write_histogram_png,
 )
+from tests.synthetic import ORIGIN_WORLD
 
-UTM = np.array([512000.0, 5406000.0])
+UTM = ORIGIN_WORLD[:2]
 
 
 def test_nearest_neighbour_gridding_is_north_up_and_exact():

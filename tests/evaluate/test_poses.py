@@ -10,7 +10,7 @@ from designer.errors import DesignerError
 from designer.evaluate import camera_pose_errors, read_camera_poses, similarity_transform
 from designer.export.colmap import write_colmap_text_model
 from designer.export.tables import write_opk_csv
-from tests.evaluate import survey
+from tests.synthetic import ORIGIN_WORLD, grid_poses, mapping_camera
 
 
 def transformed(poses, s, R, t, noise=None):
@@ -23,7 +23,7 @@ def transformed(poses, s, R, t, noise=None):
 
 def test_similarity_is_recovered_at_utm_size():
     rng = np.random.default_rng(0)
-    src = survey.ORIGIN + rng.normal(0, 50, (20, 3))
+    src = ORIGIN_WORLD + rng.normal(0, 50, (20, 3))
     R = rotation_from_opk(0.1, -0.2, 0.3)
     s, t = 1.0003, np.array([12.0, -7.0, 3.0])
     dst = s * src @ R.T + t
@@ -36,7 +36,7 @@ def test_similarity_is_recovered_at_utm_size():
 
 
 def test_pose_errors_after_alignment():
-    truth = survey.poses()
+    truth = grid_poses()
     R = rotation_from_opk(0.02, 0.01, -0.5)
     moved = transformed(truth, 0.98, R, np.array([5.0, -3.0, 1.0]))
     r = camera_pose_errors(moved, truth)
@@ -64,10 +64,10 @@ def same_poses(a, b, tol=1e-6):
 
 
 def test_readers_colmap_opk_metashape_odm(tmp_path):
-    truth = survey.poses()
-    write_colmap_text_model(tmp_path / "colmap", survey.camera(), truth,
-                            offset_world=survey.ORIGIN)
-    same_poses(read_camera_poses(tmp_path / "colmap", offset_world=survey.ORIGIN), truth)
+    truth = grid_poses()
+    write_colmap_text_model(tmp_path / "colmap", mapping_camera(), truth,
+                            offset_world=ORIGIN_WORLD)
+    same_poses(read_camera_poses(tmp_path / "colmap", offset_world=ORIGIN_WORLD), truth)
     write_opk_csv(tmp_path / "opk.csv", truth, "EPSG:32632")
     same_poses(read_camera_poses(tmp_path / "opk.csv"), truth)
     # Metashape "Omega Phi Kappa" export: tab separated, header in the last comment line

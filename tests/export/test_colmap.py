@@ -11,7 +11,7 @@ from designer.export.colmap import (
 )
 from designer.export.colmap_read import camera_poses, read_cameras, read_images
 from designer.export.odm import odm_gcp_list_text
-from tests.export.scene import LENSES, UTM, interior_for, survey
+from tests.synthetic import LENSES, ORIGIN_WORLD, interior_for, survey
 
 pycolmap = pytest.importorskip("pycolmap", reason="pycolmap checks the COLMAP export")
 
@@ -74,7 +74,7 @@ def test_camera_img_from_cam_agrees_too(tmp_path, lens):
 
 
 def test_offset_model_projects_offset_points(tmp_path):
-    offset = UTM + [12.5, -7.25, 0.0]
+    offset = ORIGIN_WORLD + [12.5, -7.25, 0.0]
     _interior, _poses, gcps, obs, folder, rec = _model(tmp_path, 13, "full_opencv", offset)
     assert "minus offset" in (folder / "images.txt").read_text()
     true_xyz = {g.gcp_id: g.true_xyz for g in gcps}
@@ -83,7 +83,7 @@ def test_offset_model_projects_offset_points(tmp_path):
         np.testing.assert_allclose(uv, o.uv_px, rtol=0, atol=1e-7)
 
 
-@pytest.mark.parametrize("offset", [None, UTM])
+@pytest.mark.parametrize("offset", [None, ORIGIN_WORLD])
 def test_poses_round_trip_to_a_micrometre_at_utm_size(tmp_path, offset):
     _interior, poses, _gcps, _obs, folder, rec = _model(tmp_path, 14, "opencv", offset)
     back = read_colmap_text_poses(folder, offset_world=offset)
@@ -97,7 +97,8 @@ def test_poses_round_trip_to_a_micrometre_at_utm_size(tmp_path, offset):
 
 
 def test_images_txt_has_an_empty_points_line_after_each_image():
-    poses = [CameraPose("a.png", UTM, np.eye(3)), CameraPose("b.png", UTM + 1, np.eye(3))]
+    poses = [CameraPose("a.png", ORIGIN_WORLD, np.eye(3)),
+             CameraPose("b.png", ORIGIN_WORLD + 1, np.eye(3))]
     lines = [ln for ln in colmap_images_text(poses).splitlines() if not ln.startswith("#")]
     assert len(lines) == 4 and lines[1] == "" and lines[3] == ""
     fields = lines[0].split()
@@ -117,11 +118,11 @@ def test_points3d_is_empty_and_files_are_complete(tmp_path):
 
 
 def test_the_reader_gives_the_same_model_from_text_and_binary(tmp_path):
-    interior, poses, _gcps, _obs, folder, rec = _model(tmp_path, 15, "full_opencv", UTM)
+    interior, poses, _gcps, _obs, folder, rec = _model(tmp_path, 15, "full_opencv", ORIGIN_WORLD)
     binary = tmp_path / "binary"
     binary.mkdir()
     rec.write_binary(str(binary))
-    text_poses = read_colmap_text_poses(folder, offset_world=UTM)
+    text_poses = read_colmap_text_poses(folder, offset_world=ORIGIN_WORLD)
     for model in (folder, binary):
         (camera,) = read_cameras(model).values()
         assert (camera.model, camera.width, camera.height) == ("FULL_OPENCV",
@@ -129,7 +130,7 @@ def test_the_reader_gives_the_same_model_from_text_and_binary(tmp_path):
         np.testing.assert_array_equal(camera.params, colmap_camera_model(interior)[1])
         images = read_images(model)
         assert [im.name for im in images] == [p.image_name for p in poses]
-        for a, b in zip(camera_poses(images, UTM), text_poses, strict=True):
+        for a, b in zip(camera_poses(images, ORIGIN_WORLD), text_poses, strict=True):
             assert np.abs(a.C_world - b.C_world).max() < 1e-6
             np.testing.assert_allclose(a.R_cam_to_world, b.R_cam_to_world, rtol=0, atol=1e-12)
 

@@ -8,7 +8,7 @@ from designer.core.truth import CameraPose, GcpObservation
 from designer.export import FORMATS, ExportError, write_all
 from designer.export.colmap import read_colmap_text_poses
 from designer.export.tables import read_opk_csv
-from tests.export.scene import UTM, survey
+from tests.synthetic import ORIGIN_WORLD
 
 ALL_KEYS = {
     "colmap", "colmap_cameras", "colmap_images", "colmap_points3D",
@@ -22,8 +22,8 @@ def files_under(folder: pathlib.Path) -> list[str]:
     return sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file())
 
 
-def test_write_all_writes_every_format_and_leaves_no_temporary_files(tmp_path):
-    interior, poses, gcps, obs = survey(50)
+def test_write_all_writes_every_format_and_leaves_no_temporary_files(tmp_path, make_survey):
+    interior, poses, gcps, obs = make_survey(50)
     paths = write_all(tmp_path / "out", interior, poses, gcps, obs, "EPSG:32632")
     assert set(paths) == ALL_KEYS
     for key, path in paths.items():
@@ -41,13 +41,13 @@ def test_write_all_writes_every_format_and_leaves_no_temporary_files(tmp_path):
     assert [p.image_name for p in read_opk_csv(paths["opk"])] == [p.image_name for p in poses]
 
 
-def test_write_all_with_a_subset_and_an_offset(tmp_path):
-    interior, poses, gcps, obs = survey(51)
+def test_write_all_with_a_subset_and_an_offset(tmp_path, make_survey):
+    interior, poses, gcps, obs = make_survey(51)
     paths = write_all(tmp_path, interior, poses, gcps, obs, "EPSG:32632",
-                      formats=("colmap", "gcp"), colmap_offset_world=UTM)
+                      formats=("colmap", "gcp"), colmap_offset_world=ORIGIN_WORLD)
     assert set(paths) == {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D",
                           "gcp_truth", "gcp_observations"}
-    back = read_colmap_text_poses(paths["colmap"], offset_world=UTM)
+    back = read_colmap_text_poses(paths["colmap"], offset_world=ORIGIN_WORLD)
     for a, b in zip(poses, back, strict=True):
         assert np.abs(a.C_world - b.C_world).max() < 1e-9
 
@@ -63,8 +63,8 @@ def test_write_all_with_a_subset_and_an_offset(tmp_path):
          "unknown GCP"),
     ],
 )
-def test_bad_input_writes_nothing(tmp_path, change, fragment):
-    interior, poses, gcps, obs = survey(52)
+def test_bad_input_writes_nothing(tmp_path, change, fragment, make_survey):
+    interior, poses, gcps, obs = make_survey(52)
     args = dict(interior=interior, poses=poses, gcps=gcps, observations=obs, crs="EPSG:32632")
     args.update(change)
     with pytest.raises(ExportError, match=fragment):
@@ -72,8 +72,8 @@ def test_bad_input_writes_nothing(tmp_path, change, fragment):
     assert not (tmp_path / "out").exists()
 
 
-def test_a_failing_write_leaves_no_partial_file(tmp_path, monkeypatch):
-    interior, poses, gcps, obs = survey(53)
+def test_a_failing_write_leaves_no_partial_file(tmp_path, monkeypatch, make_survey):
+    interior, poses, gcps, obs = make_survey(53)
     out = tmp_path / "out"
     write_all(out, interior, poses, gcps, obs, "EPSG:32632", formats=("opk",))
     before = (out / "camera_poses_opk.csv").read_bytes()
@@ -101,8 +101,8 @@ def test_a_failing_write_leaves_no_partial_file(tmp_path, monkeypatch):
     assert files_under(out) == ["camera_poses_opk.csv"]  # no partial file, no temporary
 
 
-def test_a_failing_rewrite_keeps_the_old_file(tmp_path, monkeypatch):
-    interior, poses, gcps, obs = survey(54)
+def test_a_failing_rewrite_keeps_the_old_file(tmp_path, monkeypatch, make_survey):
+    interior, poses, gcps, obs = make_survey(54)
     paths = write_all(tmp_path, interior, poses, gcps, obs, "EPSG:32632", formats=("odm",))
     before = {k: p.read_bytes() for k, p in paths.items()}
 

@@ -11,7 +11,7 @@ from designer.export.metashape import (
     metashape_cameras_csv,
     metashape_markers_csv,
 )
-from tests.export.scene import LENSES, interior_for, survey
+from tests.synthetic import LENSES, interior_for, survey
 
 
 def parse_calibration(xml: str) -> dict[str, str]:

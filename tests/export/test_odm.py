@@ -12,7 +12,7 @@ from designer.export.odm import (
     odm_ypr_deg_from_rotation,
     write_odm_gcp_list,
 )
-from tests.export.scene import UTM, survey
+from tests.synthetic import ORIGIN_WORLD, survey
 
 
 def odm_rotation(yaw_deg, pitch_deg, roll_deg):
@@ -127,7 +127,7 @@ def test_yaw_follows_the_image_top_and_pitch_the_view():
 
 
 def test_geo_txt_accuracies_are_written_as_a_pair():
-    pose = CameraPose("a.png", UTM, np.eye(3))
+    pose = CameraPose("a.png", ORIGIN_WORLD, np.eye(3))
     line = odm_geo_text([pose], "EPSG:32632", 0.02, 0.05).splitlines()[1]
     assert line.split()[-2:] == ["0.02", "0.05"]
     with pytest.raises(ExportError, match="both"):

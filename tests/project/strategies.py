@@ -179,6 +179,38 @@ def renders(draw) -> m.Render:
 
 
 @st.composite
+def processings(draw, target_ids: list[str]) -> m.Processing | None:
+    if draw(st.booleans()):
+        return None
+    pre = draw(st.none() | st.builds(m.PreCalibrationError, reals(0, 100), reals(0, 50),
+                                     reals(0, 0.1), reals(0, 0.1), reals(0, 0.1),
+                                     reals(0, 0.01), reals(0, 0.01), seeds))
+    mode = draw(st.sampled_from(["none", "similarity", "bundle"]))
+    control = None
+    if target_ids and draw(st.booleans()):
+        if mode == "similarity" and len(target_ids) < 3:
+            mode = "bundle"
+        low = 3 if mode == "similarity" else 1
+        if draw(st.booleans()):
+            ids = draw(st.lists(st.sampled_from(target_ids), min_size=low, unique=True))
+            control = m.ControlSelection(tuple(ids), None, "even", draw(seeds))
+        else:
+            control = m.ControlSelection((), draw(st.integers(low, len(target_ids))),
+                                         draw(st.sampled_from(["even", "random"])), draw(seeds))
+    return m.Processing(
+        m.Calibration(draw(st.sampled_from(["fixed", "focal", "focal-principal-point",
+                                            "radial", "full"])), pre),
+        m.GcpProcessing(mode, draw(reals(0, 50)), draw(seeds), control),
+        m.PositionPrior(draw(st.sampled_from(["none", "gnss", "rtk"])),
+                        draw(st.none() | reals(1e-3, 1000)), draw(st.none() | reals(1e-3, 1000)),
+                        draw(seeds)),
+        m.Matching(draw(st.integers(100, 10**6)),
+                   draw(st.sampled_from(["footprint", "position", "exhaustive"])),
+                   draw(st.integers(2, 100))),
+        draw(st.sampled_from(["none", "cpu", "auto"])))
+
+
+@st.composite
 def projects(draw) -> m.Project:
     terrain = draw(terrains())
     repeat_X, repeat_Y = draw(st.integers(1, 50)), draw(st.integers(1, 50))
@@ -207,10 +239,13 @@ def projects(draw) -> m.Project:
     crs = (draw(st.integers(1000, 32767).map(lambda c: f"EPSG:{c}"))
            + draw(st.sampled_from(["", " (a projected CRS)"])) if "odm" in formats
            else draw(texts))
+    targets = draw(target_sets(terrain.extent))
+    target_ids = [t.id for t in targets.targets] if targets else []
     return m.Project(
         name=draw(texts), description=draw(st.none() | texts), crs=crs,
         origin=m.Origin(draw(reals(-1e7, 1e7)), draw(reals(-1e7, 1e7)), draw(reals(-1e3, 1e4))),
         scene=m.Scene(terrain, texture, draw(lightings()),
-                      draw(target_sets(terrain.extent)), objects),
+                      targets, objects),
         cameras=cams, trajectory=m.Trajectory(shots, plan), effects=draw(effects()),
-        render=draw(renders()), outputs=m.Outputs(draw(paths), tuple(formats)))
+        render=draw(renders()), outputs=m.Outputs(draw(paths), tuple(formats)),
+        processing=draw(processings(target_ids)))

@@ -9,6 +9,7 @@ import pytest
 import xmlschema
 from lxml import etree
 
+from designer.project import project_to_bytes, template
 from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS, schema_path, xml_schema
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -31,7 +32,11 @@ def test_schema_is_versioned_and_namespaced():
 
 
 def test_both_validators_compile_it():
-    assert xml_schema() is not None
+    schema = xml_schema()
+    good = etree.fromstring(project_to_bytes(template("survey").project))
+    assert schema.validate(good), schema.error_log
+    good.set("version", "9.9")
+    assert not schema.validate(good)
     assert xmlschema.XMLSchema10(str(CANONICAL)).target_namespace == NAMESPACE
 
 

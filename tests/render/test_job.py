@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-import json
+from dataclasses import replace
 
 import pytest
 
@@ -11,7 +11,8 @@ from designer.effects.distortion_render import DistortionWarp
 from designer.project import load_project
 from designer.project import model as m
 from designer.render.job import prepare_job
-from tests.render.conftest import replace, small_survey, write
+from designer.render.job_spec import RenderJob
+from tests.synthetic import small_survey, write_project_file
 
 
 @pytest.mark.parametrize("oversample", [1, 2])
@@ -20,18 +21,19 @@ def test_distortion_oversample_renders_finer(tmp_path, oversample):
                            effects=m.Effects(defocus=m.Defocus(2.8, 25.0)))
     project = replace(project, render=replace(project.render,
                                               distortion_oversample=oversample))
-    path = write(project, tmp_path / "p")
+    path = write_project_file(project, tmp_path / "p")
     prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
-    job = json.loads(prepared.job_path.read_text())
-    warp = DistortionWarp.load(prepared.job_path.parent / job["effects"]["warp"])
+    job = RenderJob.read(prepared.job_path)
+    assert job == prepared.job
+    warp = DistortionWarp.load(prepared.job_path.parent / job.effects.warp)
     assert warp.oversample == oversample
     assert warp.output_size_px == (640, 480)
     # the pinhole render covers the distorted field at oversample × the output's pixels
     assert warp.render_size_px[0] > 640 * oversample
     assert warp.render_size_px[0] < 1.1 * 640 * oversample
     # every frame knows its distance to the ground (for defocus): ~30 m flying height
-    for frame in job["frames"]:
-        assert frame["context"]["distance_m"] == pytest.approx(30.0, abs=2.0)
+    for frame in job.frames:
+        assert frame.distance_m == pytest.approx(30.0, abs=2.0)
 
 
 def test_scene_objects_are_in_the_render_job(tmp_path):
@@ -49,13 +51,13 @@ def test_scene_objects_are_in_the_render_job(tmp_path):
     for name, data in tpl.files.items():
         (folder / name).write_bytes(data)
     prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
-    job = json.loads(prepared.job_path.read_text())
-    spec = next(o for o in job["objects"] if o["name"] == "scene_objects")
-    data = np.load(prepared.job_path.parent / spec["mesh"])
+    job = RenderJob.read(prepared.job_path)
+    spec = next(o for o in job.objects if o.name == "scene_objects")
+    data = np.load(prepared.job_path.parent / spec.mesh)
     v = data["vertices_local"]
     assert v.min(axis=0) == pytest.approx([-2.0, -2.0, 0.0], abs=1e-9)  # unit cube × 4
     assert v.max(axis=0) == pytest.approx([2.0, 2.0, 4.0], abs=1e-9)
-    brightness = np.array([m["color"][0] for m in spec["materials"]])
+    brightness = np.array([m.color[0] for m in spec.materials])
     face_light = brightness[data["material_index"]]
     f = data["faces"]
     normal_z = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])[:, 2]

@@ -7,7 +7,7 @@ import pytest
 
 from designer.project import model as m
 from designer.render.pipeline import render_project
-from tests.render.conftest import small_survey, write
+from tests.synthetic import small_survey, write_project_file
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
@@ -21,7 +21,8 @@ def test_identity_effects_leave_the_rendered_files_untouched(tmp_path):
                          effects=m.Effects(sensor_noise=m.SensorNoise(1.0, 1)))
     images = {}
     for name, project in (("plain", plain), ("identity", nothing), ("noisy", noisy)):
-        summary = render_project(write(project, tmp_path / name), tmp_path / name / "out",
+        summary = render_project(write_project_file(project, tmp_path / name),
+                                 tmp_path / name / "out",
                                  workers=1)
         images[name] = {p.name: p.read_bytes()
                         for p in sorted(summary.out_dir.glob("IMG_*.png"))}

@@ -10,7 +10,7 @@ import pytest
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
 from designer.project import model as m
 from designer.render.pipeline import render_project
-from tests.render.conftest import small_survey, write
+from tests.synthetic import small_survey, write_project_file
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
@@ -51,7 +51,7 @@ def detect_centres(image_gray: np.ndarray, uv_expected: np.ndarray, rng,
 def rendered(request, tmp_path_factory):
     folder = tmp_path_factory.mktemp(request.param.replace(" ", "-"))
     # 16 photos give 70-140 target centres: the mean's standard error is then < 0.01 px.
-    project_path = write(small_survey(n_photos=16, **CASES[request.param]), folder)
+    project_path = write_project_file(small_survey(n_photos=16, **CASES[request.param]), folder)
     summary = render_project(project_path, folder / "out", workers=1)
     return request.param, summary
 

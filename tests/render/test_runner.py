@@ -13,7 +13,7 @@ import pytest
 
 from designer.render.pipeline import render_project
 from designer.render.runner import render_frames
-from tests.render.conftest import small_survey, write
+from tests.synthetic import small_survey, write_project_file
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
@@ -28,7 +28,8 @@ def complete_images(folder, size=(320, 240)):
 
 def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
     # ~1 s per image, so the Ctrl-C after the first image always lands mid-job
-    project = write(small_survey(n_photos=8, samples=192, size_px=(320, 240)), tmp_path)
+    project = write_project_file(small_survey(n_photos=8, samples=192, size_px=(320, 240)),
+                                 tmp_path)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o", str(out),
            "--workers", "1", "--progress", "json"]
@@ -51,7 +52,7 @@ def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
 
 
 def test_a_killed_worker_has_its_frames_retried(tmp_path):
-    project = write(small_survey(n_photos=4, samples=64, size_px=(320, 240)), tmp_path)
+    project = write_project_file(small_survey(n_photos=4, samples=64, size_px=(320, 240)), tmp_path)
     summary = render_project(project, tmp_path / "out", workers=1, frames="0")
     job = summary.prepared.job_path
     for image in (tmp_path / "out").glob("IMG_*.png"):
@@ -77,7 +78,8 @@ def test_a_killed_worker_has_its_frames_retried(tmp_path):
 def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
     """Started the way a script's `cmd &` starts it (SIGINT ignored), designer render still
     stops cleanly on SIGINT."""
-    project = write(small_survey(n_photos=8, samples=192, size_px=(320, 240)), tmp_path)
+    project = write_project_file(small_survey(n_photos=8, samples=192, size_px=(320, 240)),
+                                 tmp_path)
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o",
            str(tmp_path / "out"), "--workers", "1", "--progress", "json"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,

@@ -10,8 +10,9 @@ from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
 from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh, write_mesh_ply
 from designer.scene.terrain import procedural_terrain
+from tests.synthetic import ORIGIN_WORLD
 
-UTM = np.array([500000.0, 5000000.0, 300.0])
+UTM = ORIGIN_WORLD
 
 
 def utm_terrain(seed=1, relief=15.0):

@@ -12,22 +12,11 @@ import pytest
 from plyfile import PlyData
 
 from designer.errors import DesignerError
-from designer.render.pipeline import render_project
 from designer.sfm.reconstruct import reconstruct
-from tests.render.conftest import small_flight_survey, write
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
 GSD_M = 0.06  # 30 m flying height, 10 um pixels, 5 mm lens
-
-
-@pytest.fixture(scope="module")
-def survey(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("sfm")
-    project = write(small_flight_survey(), folder)
-    summary = render_project(project, folder / "out", workers=2)
-    assert len(summary.prepared.poses) <= 12
-    return folder / "out"
 
 
 @pytest.mark.parametrize("mode", ["known-poses", "free"])

@@ -1,32 +1,8 @@
-"""Synthetic scenes shared by the survey tests."""
+"""Geometry checks shared by the survey tests (the scenes are in tests/synthetic.py)."""
 
 import numpy as np
 
 from designer.core.heightfield import Heightfield
-from designer.core.interior import InteriorOrientation
-
-UTM_EN = np.array([500000.0, 5000000.0])
-
-
-def phantom4(**changes) -> InteriorOrientation:
-    params = dict(focal_length_mm=8.8, sensor_width_mm=13.2, sensor_height_mm=8.8,
-                  image_width_px=5472, image_height_px=3648)
-    params.update(changes)
-    return InteriorOrientation(**params)
-
-
-def flat_terrain(x0=0.0, y0=0.0, size_m=600.0, spacing_m=5.0, height_m=50.0) -> Heightfield:
-    n = round(size_m / spacing_m) + 1
-    return Heightfield(x0, y0, spacing_m, spacing_m, np.full((n, n), height_m))
-
-
-def hilly_terrain(x0=0.0, y0=0.0, size_m=400.0, spacing_m=2.0, relief_m=40.0) -> Heightfield:
-    n = round(size_m / spacing_m) + 1
-    x = np.linspace(0.0, size_m, n)
-    X, Y = np.meshgrid(x, x)
-    Z = 100.0 + relief_m * (0.6 * np.sin(X / 35.0) * np.cos(Y / 47.0)
-                            + 0.4 * np.sin(X / 17.0 + Y / 23.0))
-    return Heightfield(x0, y0, spacing_m, spacing_m, Z)
 
 
 def refined(hf: Heightfield, factor: int) -> Heightfield:

@@ -6,14 +6,8 @@ from designer.survey import area, coverage, gcp_layout
 from designer.survey.flight import plan_flight
 from designer.survey.raycast import TerrainRaycaster
 from designer.survey.visibility import visible_pairs
-from tests.survey.scenes import (
-    UTM_EN,
-    flat_terrain,
-    hilly_terrain,
-    phantom4,
-    refined,
-    sight_clearance_deg,
-)
+from tests.survey.scenes import refined, sight_clearance_deg
+from tests.synthetic import ORIGIN_WORLD, flat_terrain, hilly_terrain, phantom4
 
 SQUARE = area.rectangle(200, 200, 600, 600)
 
@@ -125,7 +119,7 @@ def test_render_time_estimate():
 # ------------------------------------------------------------------ ray casting
 def test_first_hit_agrees_with_the_core_ray_marcher():
     rng = np.random.default_rng(21)
-    for x0, y0 in ((0.0, 0.0), tuple(UTM_EN)):
+    for x0, y0 in ((0.0, 0.0), tuple(ORIGIN_WORLD[:2])):
         hf = hilly_terrain(x0=x0, y0=y0, relief_m=50.0)
         rc = TerrainRaycaster(hf)
         n = 3000
@@ -160,7 +154,7 @@ def test_a_ray_entering_the_grid_below_the_surface_is_blocked():
 def test_gcp_visibility_agrees_with_brute_force_ray_casting():
     # cameras stay over the terrain, so every sight line runs above the grid (see
     # test_a_ray_entering_the_grid_below_the_surface_is_blocked for the other case)
-    hf = hilly_terrain(x0=UTM_EN[0], y0=UTM_EN[1], size_m=600.0, relief_m=60.0)
+    hf = hilly_terrain(x0=ORIGIN_WORLD[:2][0], y0=ORIGIN_WORLD[:2][1], size_m=600.0, relief_m=60.0)
     rc = TerrainRaycaster(hf)
     cam = phantom4()
     survey = area.inset(area.heightfield_area(hf), 150.0)
@@ -213,7 +207,7 @@ def test_coverage_counts_agree_with_brute_force_and_culling_changes_nothing():
 
 def test_analysis_of_a_utm_sized_plan_equals_its_local_twin():
     results = []
-    for shift in (np.zeros(2), UTM_EN):
+    for shift in (np.zeros(2), ORIGIN_WORLD[:2]):
         hf = hilly_terrain(x0=shift[0], y0=shift[1])
         poly = area.rectangle(50, 50, 350, 350) + shift
         plan = plan_flight(poly, phantom4(), altitude_agl_m=70.0, heightfield=hf,

@@ -13,7 +13,7 @@ from designer.core.rotation import (
 from designer.errors import DesignerError
 from designer.survey import area
 from designer.survey.flight import Station, apply_pose_noise, camera_calc, plan_flight
-from tests.survey.scenes import UTM_EN, hilly_terrain, phantom4
+from tests.synthetic import ORIGIN_WORLD, hilly_terrain, phantom4
 
 # --------------------------------------------------------------------- CameraCalc
 
@@ -190,16 +190,16 @@ def test_crosshatch_doubles_the_lines_at_plus_90_degrees():
 
 def test_utm_sized_area_gives_the_plan_of_its_local_twin_shifted():
     local_hf = hilly_terrain()
-    utm_hf = hilly_terrain(x0=UTM_EN[0], y0=UTM_EN[1])
+    utm_hf = hilly_terrain(x0=ORIGIN_WORLD[:2][0], y0=ORIGIN_WORLD[:2][1])
     poly = np.array([[20.0, 30.0], [380.0, 10.0], [360.0, 370.0], [150.0, 250.0], [40, 390]])
     for mode in ("terrain_following", "constant"):
         kw = dict(altitude_agl_m=60.0, front_overlap_fraction=0.8, side_overlap_fraction=0.65,
                   grid_angle_deg=33.0, crosshatch=True, altitude_mode=mode,
                   forward_tilt_deg=10.0)
         a = plan_flight(poly, phantom4(), heightfield=local_hf, **kw)
-        b = plan_flight(poly + UTM_EN, phantom4(), heightfield=utm_hf, **kw)
+        b = plan_flight(poly + ORIGIN_WORLD[:2], phantom4(), heightfield=utm_hf, **kw)
         assert len(a.stations) == len(b.stations)
-        shift = np.array([*UTM_EN, 0.0])
+        shift = np.array([*ORIGIN_WORLD[:2], 0.0])
         assert np.max(np.abs(b.C_world - shift - a.C_world)) < 1e-6
         assert np.max(np.abs(b.R_cam_to_world - a.R_cam_to_world)) < 1e-12
         assert np.array_equal(a.line_index, b.line_index)
@@ -238,7 +238,7 @@ def test_constant_altitude_references(reference):
 def _random_stations(rng, n):
     R = rotation_from_heading_tilt_roll(rng.uniform(0, 2 * np.pi, n),
                                         rng.uniform(0, 0.6, n), rng.uniform(-0.2, 0.2, n))
-    C = np.array([*UTM_EN, 300.0]) + rng.uniform(-500, 500, (n, 3))
+    C = np.array([*ORIGIN_WORLD[:2], 300.0]) + rng.uniform(-500, 500, (n, 3))
     return [Station(f"IMG_{k}", C[k], R[k], 0, 0, 0.0) for k in range(n)]
 
 

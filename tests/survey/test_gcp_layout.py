@@ -3,7 +3,7 @@ import pytest
 
 from designer.errors import DesignerError
 from designer.survey import area, gcp_layout
-from tests.survey.scenes import UTM_EN, hilly_terrain
+from tests.synthetic import ORIGIN_WORLD, hilly_terrain
 
 L_SHAPE = np.array([[0, 0], [300, 0], [300, 100], [100, 100], [100, 300], [0, 300]], float)
 
@@ -15,9 +15,10 @@ def min_distance(xy):
 
 # ------------------------------------------------------------------------- areas
 def test_area_validation_and_containment():
-    poly = area.as_polygon(L_SHAPE + UTM_EN)
+    poly = area.as_polygon(L_SHAPE + ORIGIN_WORLD[:2])
     assert area.polygon_area_m2(poly) == pytest.approx(300 * 100 + 100 * 200)
-    pts = UTM_EN + np.array([[50, 50], [250, 50], [250, 250], [50, 250], [100, 100], [-1, 0]])
+    pts = ORIGIN_WORLD[:2] + np.array([[50, 50], [250, 50], [250, 250], [50, 250], [100, 100],
+                                       [-1, 0]])
     assert list(area.contains(poly, pts)) == [True, True, False, True, True, False]
     assert area.as_polygon([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]).shape == (4, 2)
     for bad, message in (([[0, 0], [1, 1]], "at least 3"),
@@ -66,7 +67,7 @@ def test_perimeter_and_centre_puts_corners_first():
 
 
 def test_random_stratified_is_seeded_spaced_stratified_and_inside():
-    square = area.rectangle(0, 0, 400, 400) + UTM_EN
+    square = area.rectangle(0, 0, 400, 400) + ORIGIN_WORLD[:2]
     a = gcp_layout.random_stratified(16, square, min_spacing_m=30.0, seed=4)
     b = gcp_layout.random_stratified(16, square, min_spacing_m=30.0, seed=4)
     c = gcp_layout.random_stratified(16, square, min_spacing_m=30.0, seed=5)
@@ -74,7 +75,7 @@ def test_random_stratified_is_seeded_spaced_stratified_and_inside():
     assert min_distance(a) >= 30.0
     assert area.contains(square, a).all()
     # one point in each 100 m × 100 m stratum
-    cells = np.floor((a - UTM_EN) / 100.0).astype(int)
+    cells = np.floor((a - ORIGIN_WORLD[:2]) / 100.0).astype(int)
     assert len({tuple(k) for k in cells}) == 16
     for seed in range(5):
         xy = gcp_layout.random_stratified(12, L_SHAPE, min_spacing_m=40.0, seed=seed)
@@ -125,7 +126,7 @@ def test_assign_roles():
 
 # ----------------------------------------------------------------- survey error
 def test_true_positions_sit_on_the_terrain():
-    hf = hilly_terrain(x0=UTM_EN[0], y0=UTM_EN[1])
+    hf = hilly_terrain(x0=ORIGIN_WORLD[:2][0], y0=ORIGIN_WORLD[:2][1])
     xy = gcp_layout.random_stratified(10, area.heightfield_area(hf), 20.0, seed=3)
     xyz = gcp_layout.true_gcp_xyz(xy, hf)
     assert np.allclose(xyz[:, 2], hf.height_at(xy[:, 0], xy[:, 1]), atol=0, rtol=0)
@@ -134,7 +135,7 @@ def test_true_positions_sit_on_the_terrain():
 
 
 def test_simulated_survey_error_statistics():
-    true = np.tile([UTM_EN[0], UTM_EN[1], 300.0], (100_000, 1))
+    true = np.tile([ORIGIN_WORLD[:2][0], ORIGIN_WORLD[:2][1], 300.0], (100_000, 1))
     surveyed = gcp_layout.simulate_survey_error(true, sigma_h_m=0.02, sigma_v_m=0.05, seed=9)
     err = surveyed - true
     assert np.allclose(err.std(axis=0), [0.02, 0.02, 0.05], rtol=0.02)

@@ -4,7 +4,7 @@ import pytest
 from designer.survey import area, coverage
 from designer.survey.flight import plan_flight
 from designer.survey.raycast import TerrainRaycaster
-from tests.survey.scenes import UTM_EN, hilly_terrain, phantom4
+from tests.synthetic import ORIGIN_WORLD, hilly_terrain, phantom4
 
 pytest.importorskip("matplotlib")
 
@@ -14,8 +14,8 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 def test_maps_are_written_atomically_as_png(tmp_path):
     from designer.survey.maps import write_coverage_map, write_gsd_map
 
-    hf = hilly_terrain(x0=UTM_EN[0], y0=UTM_EN[1])
-    poly = area.rectangle(50, 50, 350, 350) + UTM_EN
+    hf = hilly_terrain(x0=ORIGIN_WORLD[:2][0], y0=ORIGIN_WORLD[:2][1])
+    poly = area.rectangle(50, 50, 350, 350) + ORIGIN_WORLD[:2]
     plan = plan_flight(poly, phantom4(), altitude_agl_m=80.0, heightfield=hf,
                        altitude_mode="terrain_following")
     grid = coverage.ground_grid(hf, poly, cell_m=10.0)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 
@@ -11,6 +10,7 @@ import pytest
 
 from designer.bench.accuracy import eligible, suggested_presets
 from designer.render.blender_camera import blender_camera
+from designer.render.job_spec import AdaptiveSampling, RenderJob, RenderSpec
 from designer.validate import texture
 from designer.validate.jobs import render_views, scaled_interior, write_job
 from designer.validate.settings import PLAIN_64, QUALITY_PRESETS, RenderSettings, quality
@@ -18,10 +18,10 @@ from designer.validate.settings import PLAIN_64, QUALITY_PRESETS, RenderSettings
 
 def test_job_render_section_and_labels():
     plain = RenderSettings(samples=16)
-    assert plain.job_render(3) == {"samples": 16, "seed": 3, "pixel_filter": "BOX",
-                                   "filter_width_px": 1.0, "format": "png", "bit_depth": 8}
+    assert plain.job_render(3) == RenderSpec(samples=16, seed=3, pixel_filter="BOX",
+                                             filter_width_px=1.0, format="png", bit_depth=8)
     adaptive = RenderSettings(samples=64, adaptive_threshold=0.01, adaptive_min_samples=4)
-    assert adaptive.job_render()["adaptive_sampling"] == {"threshold": 0.01, "min_samples": 4}
+    assert adaptive.job_render().adaptive_sampling == AdaptiveSampling(0.01, 4)
     assert adaptive.label() == "64 spp, adaptive 0.01/min 4, box 1 px"
     assert RenderSettings(samples=4, oversample=2, interpolation="Linear").label() == \
         "4 spp, box 1 px, oversample 2x, linear"
@@ -43,15 +43,15 @@ def test_oversampled_job_renders_the_same_camera_larger(tmp_path):
     settings = RenderSettings(samples=4, oversample=2, interpolation="Linear")
     path = write_job(tmp_path, [texture.plane()], interior, [texture.pose()], settings,
                      tmp_path / "out")
-    job = json.loads(path.read_text())
-    cam, plain = job["camera"], blender_camera(interior).to_dict()
-    assert cam["resolution_x_px"] == 2 * plain["resolution_x_px"]
-    assert cam["shift_x"] == pytest.approx(plain["shift_x"])
-    assert cam["lens_mm"] == plain["lens_mm"] and cam["sensor_width_mm"] == plain["sensor_width_mm"]
-    assert job["render"]["bit_depth"] == 16  # averaged in linear light, so no 8-bit rounding
-    assert job["objects"][0]["materials"][0]["interpolation"] == "Linear"
+    job = RenderJob.read(path)
+    cam, plain = job.camera, blender_camera(interior)
+    assert cam.resolution_x_px == 2 * plain.resolution_x_px
+    assert cam.shift_x == pytest.approx(plain.shift_x)
+    assert cam.lens_mm == plain.lens_mm and cam.sensor_width_mm == plain.sensor_width_mm
+    assert job.render.bit_depth == 16  # averaged in linear light, so no 8-bit rounding
+    assert job.objects[0].materials[0].interpolation == "Linear"
     assert (tmp_path / "checker.png").is_file() and (tmp_path / "plane.npz").is_file()
-    assert np.allclose(job["frames"][0]["matrix_world_local"][0][3], texture.pose()[0][0])
+    assert np.allclose(job.frames[0].matrix_world_local[0][3], texture.pose()[0][0])
     assert scaled_interior(interior, 2).fx_px == pytest.approx(2 * interior.fx_px)
 
 

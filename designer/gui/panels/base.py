@@ -6,9 +6,11 @@ import os
 from pathlib import Path
 
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QScrollArea, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QLabel, QScrollArea, QVBoxLayout, QWidget
 
-from designer.gui.widgets import Bindings
+from designer.gui.widgets import Bindings, CheckedDoubleSpin, CheckedSpin
+
+ERROR_STYLE = "color: #c0392b"
 
 
 class Panel(QWidget):
@@ -31,11 +33,40 @@ class Panel(QWidget):
         scroll.setWidget(inner)
         outer = QVBoxLayout(self)
         outer.setContentsMargins(0, 0, 0, 0)
+        self.input_label = QLabel()
+        self.input_label.setObjectName("input-errors")
+        self.input_label.setWordWrap(True)
+        self.input_label.setStyleSheet(ERROR_STYLE)
+        self.input_label.hide()
+        outer.addWidget(self.input_label)
         outer.addWidget(scroll)
+        self.input_errors: dict[QWidget, str] = {}
         self.build(self.body)
         self.body.addStretch(1)
+        self.watch_fields()
         editor.document.events.connect("project", self._on_project)
         self.refresh()
+
+    def watch_fields(self, root: QWidget | None = None) -> None:
+        """Show the verdicts of the number fields below ``root`` (default: the panel)."""
+        for box in (root or self).findChildren(CheckedDoubleSpin) + \
+                (root or self).findChildren(CheckedSpin):
+            box.listener = self._field_verdict
+
+    def _field_verdict(self, widget: QWidget, message: str) -> None:
+        if message:
+            self.input_errors[widget] = message
+        else:
+            self.input_errors.pop(widget, None)
+        self.show_input_errors()
+
+    def show_input_errors(self) -> None:
+        text = "\n".join(dict.fromkeys(self.input_errors.values()))
+        self.input_label.setText(text)
+        self.input_label.setVisible(bool(text))
+        window = self.window()
+        if text and hasattr(window, "statusBar"):
+            window.statusBar().showMessage(text.splitlines()[-1], 8000)
 
     @property
     def project(self):

@@ -129,7 +129,11 @@ class CameraPanel(Panel):
         if key is None:
             return
         p = camera_presets.preset(key)
-        cam_id = self.project.cameras[0].id if self.project.cameras else p.key
+        current = self.project.cameras[0].id if self.project.cameras else None
+        preset_keys = {q.key for q in camera_presets.PRESETS}
+        # an id that only named the previous preset follows the new one; a user's own
+        # id stays
+        cam_id = p.key if current is None or current in preset_keys else current
         self.editor.edit(edits.set_camera(self.project, p.camera(cam_id)), f"Camera {p.name}")
 
     def _model_chosen(self) -> None:

@@ -43,7 +43,7 @@ EFFECTS = {
         ("full well", "full_well_e", lambda: dspin(1, 1e7, 0, 1000, "e⁻")),
         ("read noise", "read_noise_e", lambda: dspin(0, 1e4, 2, 0.5, "e⁻")),
         ("dark current", "dark_current_e_per_s", lambda: dspin(0, 1e6, 2, 0.5, "e⁻/s")),
-        ("exposure time", "exposure_time_s", lambda: dspin(0, 60, 5, 0.0005, "s")),
+        ("exposure time (shutter)", "exposure_time_s", lambda: dspin(0, 60, 5, 0.0005, "s")),
         ("ADC", "adc_bits", lambda: ispin(1, 16, "bits")),
         ("white at", "exposure_scale", lambda: dspin(0, 100, 3, 0.05, "× full well")),
         ("seed", "seed", lambda: ispin(0, 2**31 - 1))]),
@@ -53,7 +53,7 @@ EFFECTS = {
     "blur": ("optical blur (Gaussian)", m.Blur(0.5), [
         ("σ", "sigma_px", lambda: dspin(0, 50, 3, 0.1, "px"))]),
     "motion_blur": ("motion blur", m.MotionBlur(0.001, 8.0), [
-        ("exposure time", "exposure_time_s", lambda: dspin(0, 1, 5, 0.0005, "s")),
+        ("exposure time (shutter)", "exposure_time_s", lambda: dspin(0, 1, 5, 0.0005, "s")),
         ("ground speed", "speed_m_s", lambda: dspin(0, 100, 2, 1, "m/s"))]),
     "jpeg": ("JPEG compression", m.Jpeg(92), [
         ("quality", "quality", lambda: ispin(1, 100))]),
@@ -80,11 +80,12 @@ class EffectsPanel(Panel):
             for label, field, factory in fields:
                 fl, to_widget, to_model = (field if isinstance(field, tuple)
                                            else (field, _same, _same))
+                setter = (_set_shutter if fl == "exposure_time_s" else
+                          lambda p, v, n=name, fl=fl, c=to_model: edits.replace_path(
+                              p, f"effects.{n}.{fl}", c(v)))
                 f.addRow(label, self.bindings.bind(factory(), (
                     lambda p, n=name, fl=fl, c=to_widget: c(getattr(getattr(p.effects, n), fl)),
-                    lambda p, v, n=name, fl=fl, c=to_model: edits.replace_path(
-                        p, f"effects.{n}.{fl}", c(v))),
-                    f"{title} {label or fl}"))
+                    setter), f"{title} {label or fl}"))
             if name == "motion_blur":
                 self.smear = readout()
                 f.addRow("smear", self.smear)
@@ -114,5 +115,27 @@ class EffectsPanel(Panel):
                            f"{length_m / stations.calc.gsd_m * scale:.2f} px in the rendered image")
 
     def _toggle(self, name: str, default, on: bool) -> None:
+        effects = self.project.effects
+        if on and name == "defocus" and self.sync.stations is not None \
+                and self.sync.stations.calc is not None:
+            # focused on the ground the flight looks at, not at a fixed distance
+            default = dataclasses.replace(default, focus_distance_m=round(
+                self.sync.stations.calc.altitude_agl_m, 1))
+        if on and name in SHUTTER and effects is not None:
+            other = getattr(effects, SHUTTER[name])
+            if other is not None:  # one camera, one shutter
+                default = dataclasses.replace(default, exposure_time_s=other.exposure_time_s)
         self.editor.edit(edits.set_effect(self.project, name, default if on else None),
                          f"{EFFECTS[name][0]} {'on' if on else 'off'}")
+
+
+#: the two effects that share the camera's exposure time (each names the other)
+SHUTTER = {"sensor": "motion_blur", "motion_blur": "sensor"}
+
+
+def _set_shutter(project: m.Project, value: float) -> m.Project:
+    """The exposure time of the sensor and of the motion blur: one shutter, one value."""
+    for name in SHUTTER:
+        if project.effects is not None and getattr(project.effects, name) is not None:
+            project = edits.replace_path(project, f"effects.{name}.exposure_time_s", value)
+    return project

@@ -57,6 +57,19 @@ class FlightPanel(Panel):
         f.addRow(self.error_label)
         layout.addWidget(info)
 
+        real = QGroupBox("over the real terrain (as designer plan measures it)")
+        f = form(real)
+        self.real_gsd, self.real_overlap, self.real_images = readout(), readout(), readout()
+        f.addRow("GSD", self.real_gsd)
+        f.addRow("achieved overlap", self.real_overlap)
+        f.addRow("images", self.real_images)
+        self.warnings_label = QLabel()
+        self.warnings_label.setObjectName("plan-warnings")
+        self.warnings_label.setWordWrap(True)
+        self.warnings_label.setStyleSheet("color: #b9770e; font-weight: bold")
+        f.addRow(self.warnings_label)
+        layout.addWidget(real)
+
         area = QGroupBox("area (world X, Y; m)")
         box = form(area)
         row = QHBoxLayout()
@@ -149,6 +162,7 @@ class FlightPanel(Panel):
         view.area_drawn.connect(self.set_area)
         view.interaction.mode_changed.connect(self._mode_changed)
         self.sync.stations_changed.connect(self._readouts)
+        self.sync.plan_changed.connect(self._plan_readouts)
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
@@ -210,10 +224,39 @@ class FlightPanel(Panel):
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
         if stations.render_time_s is not None:
-            per = stations.render_time_s / max(1, stations.n_images)
+            from designer.gui import render_speed
+
+            settings = getattr(self.window(), "settings", None)
+            total = render_speed.calibrated(settings, stations.render_time_s)
+            per = total / max(1, stations.n_images)
             self.time_label.setText(
-                f"≈ {_fmt_time(stations.render_time_s)} ({per:.1f} s per image at "
-                f"{self.project.render.effective_samples} samples, reference machine)")
+                f"≈ {_fmt_time(total)} ({per:.1f} s per image at "
+                f"{self.project.render.effective_samples} samples; "
+                f"{render_speed.describe(settings)})")
+
+    def _plan_readouts(self) -> None:
+        """Figures of the flight over the real terrain and the warnings they raise."""
+        f = self.sync.plan
+        if f is None:
+            error = self.sync.errors.get("plan", "")
+            for label in (self.real_gsd, self.real_overlap, self.real_images):
+                label.setText("–")
+            self.warnings_label.setText(error)
+            return
+        scale = self.project.render.resolution_scale
+        of = "" if scale == 1.0 else f" (rendered images, scale {scale:g})"
+        self.real_gsd.setText(f"{100 * f.gsd_min_m:.2f} to {100 * f.gsd_max_m:.2f} cm over "
+                              f"the area, median {100 * f.gsd_median_m:.2f} cm at the centres "
+                              f"of the images over it{of}")
+        self.real_overlap.setText(
+            f"front {_pct(f.front_overlap_median)} (5 % of images below "
+            f"{_pct(f.front_overlap_p05)}), side {_pct(f.side_overlap_median)} (5 % below "
+            f"{_pct(f.side_overlap_p05)})")
+        seen = ", ".join(f"{100 * v:.0f} % by ≥ {k}" for k, v in f.area_seen.items())
+        self.real_images.setText(
+            f"{f.images_over_area} of {f.n_images} look at the area, {f.images_over_terrain} "
+            f"at the terrain; area seen {seen}")
+        self.warnings_label.setText("\n".join(f"⚠ {w}" for w in f.warnings))
 
     # ------------------------------------------------------------------ view → model
     def _mesh_reference_m(self) -> float | None:
@@ -229,7 +272,8 @@ class FlightPanel(Panel):
 
     def set_area(self, vertices) -> None:
         self._set_checked_draw(False)
-        area = tuple((float(x), float(y)) for x, y in vertices)
+        area = tuple((round(float(x), edits.COORDINATE_DECIMALS),
+                      round(float(y), edits.COORDINATE_DECIMALS)) for x, y in vertices)
         self.editor.edit(edits.set_flight(self.project, area=area),
                          f"Flight area ({len(area)} vertices)")
 
@@ -271,6 +315,10 @@ class FlightPanel(Panel):
         _check(self.draw, on)
         if not on and self.sync.view.interaction.mode == "area":
             self.sync.view.interaction.set_mode("navigate")
+
+
+def _pct(v: float) -> str:
+    return "–" if v is None or v != v else f"{100 * v:.0f} %"
 
 
 def _check(button, on: bool) -> None:

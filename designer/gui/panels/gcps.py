@@ -7,7 +7,7 @@ import dataclasses
 
 import numpy as np
 from PySide6.QtCore import Qt
-from PySide6.QtGui import QKeySequence, QShortcut
+from PySide6.QtGui import QColor, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
@@ -21,18 +21,35 @@ from PySide6.QtWidgets import (
 )
 
 from designer.errors import DesignerError
-from designer.gui import edits
+from designer.gui import edits, wording
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, dspin, form, ispin
 from designer.project import model as m
 
 COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
-           "surveyed X", "surveyed Y", "surveyed Z"]
+           "surveyed X", "surveyed Y", "surveyed Z", "images"]
+#: the read-only column: images of the flight that see the GCP (over the real terrain)
+IMAGES_COLUMN = 9
 
 
-def _num(text: str) -> float | None:
-    text = text.strip()
-    return None if text == "" else float(text)
+#: background of a cell whose typed text was refused
+INVALID_CELL = "#f4b6b0"
+
+
+def _number(text: str, blank_ok: bool = False) -> float | None:
+    """A typed number (m); a message the user can act on when it is not one."""
+    raw = text.strip().replace(",", ".")
+    if raw == "":
+        if blank_ok:
+            return None
+        raise ValueError("give a number (m)")
+    try:
+        value = float(raw)
+    except ValueError:
+        raise ValueError(f"“{text.strip()}” is not a number (m)") from None
+    if value != value or abs(value) == float("inf"):
+        raise ValueError(f"“{text.strip()}” is not a finite number (m)")
+    return value
 
 
 class GcpPanel(Panel):
@@ -40,6 +57,7 @@ class GcpPanel(Panel):
     parts = frozenset({"targets", "terrain"})
 
     def build(self, layout) -> None:
+        self._cell_errors: dict[tuple[str, int], str] = {}
         row = QHBoxLayout()
         self.place = QPushButton("Place by clicking")
         self.place.setCheckable(True)
@@ -106,6 +124,7 @@ class GcpPanel(Panel):
         view.interaction.mode_changed.connect(
             lambda mode: self._set_checked(self.place, mode == "place"))
         self.sync.targets_changed.connect(self.refresh)
+        self.sync.plan_changed.connect(self._image_counts)
 
     @staticmethod
     def _set_checked(button, checked: bool) -> None:
@@ -149,11 +168,35 @@ class GcpPanel(Panel):
                     self.table.setItem(r, c, item)
         finally:
             self.table.blockSignals(False)
-        self.error_label.setText(self.sync.errors.get("targets", "")
-                                 if built is None and project.targets else "")
+        self._image_counts()
+        self._cell_errors.clear()  # the table shows the project's values again
+        self._show_cell_errors()
+        if built is None and project.targets and "targets" in self.sync.errors:
+            self.error_label.setText("\n".join(
+                [*self._cell_errors.values(), self.sync.errors["targets"]]))
+
+    def _image_counts(self) -> None:
+        """The images column: how many images of the flight see each GCP."""
+        from designer.gui.plan_figures import MIN_GCP_IMAGES
+
+        plan = self.sync.plan
+        counts = dict(zip(plan.gcp_ids, plan.gcp_images, strict=True)) if plan else {}
+        self.table.blockSignals(True)
+        try:
+            for r, t in enumerate(self.project.targets):
+                n = counts.get(t.id)
+                item = QTableWidgetItem("–" if n is None else str(int(n)))
+                item.setFlags(item.flags() & ~Qt.ItemFlag.ItemIsEditable)
+                if n is not None and n < MIN_GCP_IMAGES:
+                    item.setBackground(QColor(INVALID_CELL))
+                    item.setToolTip(f"seen by fewer than {MIN_GCP_IMAGES} images")
+                self.table.setItem(r, IMAGES_COLUMN, item)
+        finally:
+            self.table.blockSignals(False)
 
     def _role_box(self, row: int, role: str) -> None:
         box = QComboBox()
+        box.setFocusPolicy(Qt.FocusPolicy.StrongFocus)  # the wheel alone must not flip it
         box.addItems(["control", "check"])
         box.setCurrentText(role)
         box.currentTextChanged.connect(lambda text, r=row: self._set_role(r, text))
@@ -187,31 +230,59 @@ class GcpPanel(Panel):
                          f"{t.id} role {role}")
 
     def _cell_edited(self, item: QTableWidgetItem) -> None:
+        """A typed cell is applied when valid; else it turns red, keeps the text and the
+        panel says what it accepts (nothing reaches the project)."""
         r, c = item.row(), item.column()
         t = self.project.targets[r]
         text = item.text()
+        name = f"{t.id} {COLUMNS[c].split(' (')[0]}"
         try:
             if c == 0:
+                if not text.strip():
+                    raise ValueError("give an id")
                 new = dataclasses.replace(t, id=text.strip())
             elif c in (2, 3, 4):
                 field = "XYZ"[c - 2]
-                value = _num(text)
-                if value is None and field != "Z":
-                    raise ValueError(f"{field} must be a number")
+                value = _number(text, blank_ok=field == "Z")
+                if value is not None:
+                    value = round(value, edits.COORDINATE_DECIMALS)
                 new = dataclasses.replace(t, true=dataclasses.replace(t.true, **{field: value}))
             elif c == 5:
-                new = dataclasses.replace(t, size_m=float(text))
+                value = _number(text)
+                if not 0.01 <= value <= 100:
+                    raise ValueError(f"{wording.fixed(value)} is out of range; allowed: "
+                                     "0.01 to 100 m")
+                new = dataclasses.replace(t, size_m=value)
+            elif c == IMAGES_COLUMN:
+                return
             else:
                 new = self._surveyed(t, r)
         except ValueError as error:
-            self.error_label.setText(f"{t.id}: {error}")
-            self.refresh()
+            self._cell_errors[(t.id, c)] = f"{name}: {error}; not applied"
+            self.table.blockSignals(True)
+            item.setBackground(QColor(INVALID_CELL))
+            item.setToolTip(str(error))
+            self.table.blockSignals(False)
+            self._show_cell_errors()
             return
+        self._cell_errors.pop((t.id, c), None)
+        if c >= 6:
+            for k in (6, 7, 8):
+                self._cell_errors.pop((t.id, k), None)
+        self._show_cell_errors()
         self.editor.edit(edits.replace_target(self.project, r, new), f"Edit {t.id}")
 
+    def _show_cell_errors(self) -> None:
+        ids = {t.id for t in self.project.targets}
+        for key in [k for k in self._cell_errors if k[0] not in ids]:
+            self._cell_errors.pop(key)
+        lines = list(self._cell_errors.values())
+        self.error_label.setText("\n".join(lines))
+
     def _surveyed(self, t: m.Target, row: int) -> m.Target:
-        values = [_num(self.table.item(row, c).text() if self.table.item(row, c) else "")
-                  for c in (6, 7, 8)]
+        values = [_number(self.table.item(row, c).text() if self.table.item(row, c) else "",
+                          blank_ok=True) for c in (6, 7, 8)]
+        values = [None if v is None else round(v, edits.COORDINATE_DECIMALS) for v in values]
         if all(v is None for v in values):
             return dataclasses.replace(t, surveyed=None)
         if any(v is None for v in values):

@@ -22,7 +22,7 @@ from PySide6.QtWidgets import (
     QPushButton,
 )
 
-from designer.gui import derived
+from designer.gui import derived, render_speed
 from designer.gui.panels.base import Panel
 from designer.gui.render_process import RenderProcess
 from designer.gui.widgets import combo, dspin, form, ispin, readout
@@ -86,6 +86,10 @@ class RenderPanel(Panel):
         self.thumbs.setIconSize(QSize(THUMB_PX, THUMB_PX))
         self.thumbs.setResizeMode(QListView.ResizeMode.Adjust)
         self.thumbs.setMinimumHeight(260)
+        self.thumbs.setMovement(QListView.Movement.Static)
+        self.thumbs.setUniformItemSizes(True)
+        self.thumbs.setGridSize(QSize(THUMB_PX + 16, THUMB_PX + 40))
+        self.thumbs.setToolTip("double-click an image to open it with the GCPs it sees")
         layout.addWidget(self.thumbs)
         self.log = QPlainTextEdit()
         self.log.setReadOnly(True)
@@ -99,8 +103,13 @@ class RenderPanel(Panel):
         self.process.finished.connect(self._finished)
         self.sync.stations_changed.connect(self._cost)
         self.frames_done: dict[int, float] = {}
+        self.skipped: set[int] = set()
+        self.image_names: list[str] = []
+        self._reference_per_image: float | None = None
         self.n_frames = 0
         self.out_dir: Path | None = None
+        self.thumbs.itemActivated.connect(self.open_image)
+        self.thumbs.itemDoubleClicked.connect(self.open_image)
 
     # ------------------------------------------------------------------ readouts
     def refresh(self) -> None:
@@ -113,13 +122,18 @@ class RenderPanel(Panel):
             self.cost.setText("– (no stations yet)")
             return
         lines = []
+        settings = self.settings()
         for preset, spp in m.PRESET_SAMPLES.items():
-            per = derived.render_seconds_per_image(self.project, stations.interior, preset)
+            per = render_speed.calibrated(settings, derived.render_seconds_per_image(
+                self.project, stations.interior, preset))
             total = per * stations.n_images
             lines.append(f"{preset}: {spp} samples, {per:.1f} s/image, "
                          f"{total / 60:.1f} min for {stations.n_images}")
-        self.cost.setText("\n".join(lines) + "\n(2-core reference machine, designer bench "
-                          "render)")
+        self.cost.setText("\n".join(lines) + f"\n({render_speed.describe(settings)})")
+
+    def settings(self):
+        window = self.window()
+        return getattr(window, "settings", None)
 
     # ------------------------------------------------------------------ run
     def start(self) -> None:
@@ -132,7 +146,12 @@ class RenderPanel(Panel):
         project_path = doc.path
         self.out_dir = (project_path.parent / self.project.outputs.directory).resolve()
         self.frames_done = {}
+        self.skipped: set[int] = set()
         self.n_frames = self.sync.stations.n_images if self.sync.stations else 0
+        self.image_names = ([st.image_name for st in self.sync.stations.stations]
+                            if self.sync.stations else [])
+        self._reference_per_image = (derived.render_seconds_per_image(
+            self.project, self.sync.stations.interior) if self.sync.stations else None)
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
@@ -157,25 +176,51 @@ class RenderPanel(Panel):
             self.log.appendPlainText(f"scene ready in {float(event.get('seconds', 0)):.1f} s")
         elif kind in ("frame_done", "frame_skipped"):
             index = int(event["index"])
-            self.frames_done[index] = float(event.get("seconds", 0.0))
+            if kind == "frame_skipped":
+                self.skipped.add(index)
+                self.frames_done[index] = 0.0
+                self._add_thumbnail(index, self._image_path(index), 0.0)
+            else:
+                self.frames_done[index] = float(event.get("seconds", 0.0))
+                self._add_thumbnail(index, event.get("path") or self._image_path(index),
+                                    self.frames_done[index])
             self.progress.setValue(len(self.frames_done))
-            if kind == "frame_done" and event.get("path"):
-                self._add_thumbnail(index, event["path"], self.frames_done[index])
-            elif kind == "frame_skipped":
-                self._add_thumbnail(index, None, 0.0)
-            rendered = [s for s in self.frames_done.values() if s > 0]
-            mean = sum(rendered) / len(rendered) if rendered else 0.0
-            self.state.setText(f"{len(self.frames_done)} / {self.n_frames} images; "
-                               f"{mean:.1f} s per image measured")
+            self.state.setText(self._count_text())
         elif kind == "retry":
             self.log.appendPlainText(f"retrying frames {event.get('frames')}")
 
+    @property
+    def n_rendered(self) -> int:
+        return len(self.frames_done) - len(self.skipped)
+
+    def _count_text(self) -> str:
+        """Images done of the total, those kept from before, the measured speed."""
+        rendered = [s for i, s in self.frames_done.items() if i not in self.skipped]
+        kept = f" ({len(self.skipped)} complete before, kept)" if self.skipped else ""
+        speed = (f"{sum(rendered) / len(rendered):.1f} s per image measured" if rendered
+                 else "no image rendered yet")
+        return f"{len(self.frames_done)} / {self.n_frames} images{kept}; {speed}"
+
+    def _image_path(self, index: int) -> str | None:
+        """The rendered image of station ``index`` in the output folder (or None)."""
+        if self.out_dir is None or index >= len(self.image_names):
+            return None
+        path = self.out_dir / self.image_names[index]
+        if path.is_file():
+            return str(path)
+        found = sorted(self.out_dir.glob(Path(self.image_names[index]).stem + ".*"))
+        return str(found[0]) if found else None
+
     def _add_thumbnail(self, index: int, path: str | None, seconds: float) -> None:
-        label = f"#{index}" + (f"\n{seconds:.1f} s" if seconds else "\n(complete)")
+        name = (Path(self.image_names[index]).stem if index < len(self.image_names)
+                else f"#{index}")
+        label = name + (f"\n{seconds:.1f} s" if seconds else "\n(kept)")
         item = QListWidgetItem(label)
         item.setData(Qt.ItemDataRole.UserRole, index)
+        item.setData(Qt.ItemDataRole.UserRole + 1, path)
+        item.setToolTip(path or "")
         self.thumbs.addItem(item)
-        if path is None and self.out_dir is not None:
+        if path is None:
             return
 
         def show(image: QImage) -> None:
@@ -189,14 +234,35 @@ class RenderPanel(Panel):
         self.start_button.setEnabled(True)
         self.cancel_button.setEnabled(False)
         seconds = time.perf_counter() - getattr(self, "_t0", time.perf_counter())
+        n = self.n_rendered
+        per = f" ({seconds / n:.1f} s per image)" if n else ""
+        kept = f", {len(self.skipped)} complete before (kept)" if self.skipped else ""
+        if n and self._reference_per_image and self.settings() is not None:
+            # this machine's speed, for every estimate from now on
+            render_speed.record(self.settings(), seconds, n, self._reference_per_image)
+            self._cost()
+            self.sync.stations_changed.emit()
         if code == 0:
-            self.state.setText(f"done: {len(self.frames_done)} images in {seconds:.0f} s; "
+            self.state.setText(f"done: {n} images rendered in {seconds:.0f} s{per}{kept}; "
                                f"ground truth in {self.out_dir / 'ground-truth'}")
         elif code == 130 or self.process.cancelled:
-            self.state.setText(f"cancelled after {len(self.frames_done)} images; tick "
-                               "'resume' to continue later")
+            self.state.setText(f"cancelled after {n} images{per}{kept}; tick 'resume' to "
+                               "continue later")
         else:
             self.state.setText(f"render failed (exit {code}): {stderr_tail.splitlines()[-1:]}")
+
+    def open_image(self, item) -> None:
+        """The full image with the GCP observations drawn on it, in a window."""
+        from designer.gui.image_viewer import ImageViewer
+
+        path = item.data(Qt.ItemDataRole.UserRole + 1)
+        index = int(item.data(Qt.ItemDataRole.UserRole))
+        if not path:
+            return
+        plan = self.sync.plan
+        observations = plan.observations(index) if plan is not None else []
+        self.viewer = ImageViewer(path, observations, self)
+        self.viewer.show()
 
     def shutdown(self) -> None:
         if self.process.running:

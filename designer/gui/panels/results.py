@@ -25,7 +25,7 @@ from designer.gui import results_data
 from designer.gui.panels.base import Panel
 from designer.gui.reconstruct_job import MODES, STAGES, ReconstructJob, survey_status
 from designer.gui.reconstruct_process import ReconstructRun
-from designer.gui.widgets import combo, form, ispin, readout
+from designer.gui.widgets import combo, dspin, form, ispin, readout
 
 CMAP = "RdBu_r"
 
@@ -62,12 +62,35 @@ class ResultsPanel(Panel):
         self.canvas = FigureCanvasQTAgg(self.figure)
         self.canvas.setMinimumHeight(200)
         v.addWidget(self.canvas)
+        self.clipped_label = QLabel("")
+        self.clipped_label.setWordWrap(True)
+        v.addWidget(self.clipped_label)
+        f = form()
+        self.range_spin = dspin(0.01, 1e7, 1, 1.0, "mm", label="Colour range ±")
+        self.range_spin.setToolTip("the colours (and the histogram) span ± this distance; "
+                                   "points beyond take the end colours")
+        self.range_spin.setEnabled(False)
+        self.range_spin.valueChanged.connect(lambda v: self.set_range(v / 1000))
+        f.addRow("colour range ±", self.range_spin)
+        self.picked = readout()
+        self.picked.setText("click a point of the cloud in the view to read its distance")
+        f.addRow("picked point", self.picked)
+        v.addLayout(f)
         self.stats = QTableWidget(0, 2)
         self.stats.setHorizontalHeaderLabels(["statistic", "value"])
         self.stats.horizontalHeader().setStretchLastSection(True)
         self.stats.setMinimumHeight(180)
         v.addWidget(self.stats)
+        self.outlier_label = QLabel("")
+        self.outlier_label.setWordWrap(True)
+        v.addWidget(self.outlier_label)
+        self.outlier_table = QTableWidget(0, 4)
+        self.outlier_table.setHorizontalHeaderLabels(["Δ", "E", "N", "H"])
+        self.outlier_table.setMinimumHeight(120)
+        self.outlier_table.setMaximumHeight(200)
+        v.addWidget(self.outlier_table)
         layout.addWidget(hist)
+        self.sync.view.clicked.connect(self.pick_point)
 
         gcps = QGroupBox("GCP errors (estimated − true)")
         v = QVBoxLayout(gcps)
@@ -81,6 +104,10 @@ class ResultsPanel(Panel):
         v.addWidget(self.rmse)
         layout.addWidget(gcps)
         self.result: results_data.CloudResult | None = None
+        self.limit_m = 1.0
+        self._pending_residuals = None
+        self.editor.document.events.connect("reset", self._reopened)
+        self.sync.terrain_changed.connect(self._terrain_ready)
 
     def _build_reconstruct(self, layout) -> None:
         box = QGroupBox("reconstruct the rendered survey")
@@ -199,6 +226,29 @@ class ResultsPanel(Panel):
         if job.gcp_residuals_csv.is_file():
             self.open_residuals(job.gcp_residuals_csv)
 
+    def _reopened(self, project) -> None:
+        """Another project: drop the shown results, show its last reconstruction."""
+        self.clear()
+        self.gcp_table.setRowCount(0)
+        self.rmse.setText("")
+        folder = self.survey_dir()
+        found = results_data.last_reconstruction(folder) if folder is not None else None
+        if found is None:
+            return
+        self.state.setText(f"reading the last reconstruction {found} …")
+        self.sync.tasks.submit(
+            "cloud", results_data.load_compared_cloud, found,
+            f"terrain and targets of {self.editor.document.path.name} (designer compare)",
+            on_done=self.show_result, on_error=lambda e: self.state.setText(f"{found}: {e}"))
+        residuals = found.parent.parent / "gcp_residuals.csv"
+        # the GCPs' truth needs the terrain, which is being computed right now
+        self._pending_residuals = residuals if residuals.is_file() else None
+
+    def _terrain_ready(self) -> None:
+        pending, self._pending_residuals = self._pending_residuals, None
+        if pending is not None and self.sync.terrain is not None:
+            self.open_residuals(pending)
+
     def shutdown(self) -> None:
         if self.run.running:
             self.run.kill()
@@ -240,7 +290,12 @@ class ResultsPanel(Panel):
             on_error=lambda e: self.rmse.setText(f"{Path(path).name}: {e}"))
 
     def clear(self) -> None:
+        self.sync.view.remove_layer("residuals")
         self.result = None
+        self.range_spin.setEnabled(False)
+        self.outlier_table.setRowCount(0)
+        self.outlier_label.setText("")
+        self.clipped_label.setText("")
         self.sync.view.remove_layer("cloud")
         self.sync.view.request_render()
         self.figure.clear()
@@ -249,34 +304,67 @@ class ResultsPanel(Panel):
 
     # ------------------------------------------------------------------ display
     def show_result(self, result: results_data.CloudResult) -> None:
+        """Show a cloud: coloured in the view, robust statistics, outliers, histogram."""
         self.result = result
+        self.limit_m = result.limit_m
         self.sync.view.show_cloud(result.points_world, result.distances_m, result.limit_m)
+        n_out = result.n_outliers
         self.state.setText(f"{result.name}: {len(result.points_world):,} points against "
-                           f"{result.reference or 'the truth'}; colours "
-                           f"±{1000 * result.limit_m:.1f} mm (98th percentile of |Δ|)")
-        self._histogram(result)
+                           f"{result.reference or 'the truth'}; {n_out:,} outlier(s)")
         rows = result.rows()
         self.stats.setRowCount(len(rows))
         for r, (k, v) in enumerate(rows):
             self.stats.setItem(r, 0, QTableWidgetItem(k))
             self.stats.setItem(r, 1, QTableWidgetItem(v))
+        listed = result.outliers()
+        self.outlier_label.setText(
+            "no outliers" if not n_out else
+            f"{n_out:,} outlier(s)" + (f", the {len(listed)} largest:" if n_out > len(listed)
+                                       else ":"))
+        self.outlier_table.setRowCount(len(listed))
+        for r, k in enumerate(listed):
+            x, y, z = result.points_world[k]
+            for c, text in enumerate((_distance_text(result.distances_m[k]), f"{x:.3f}",
+                                      f"{y:.3f}", f"{z:.3f}")):
+                self.outlier_table.setItem(r, c, QTableWidgetItem(text))
+        self.range_spin.setEnabled(True)
+        self.range_spin.blockSignals(True)
+        self.range_spin.setValue(1000 * result.limit_m)
+        self.range_spin.blockSignals(False)
+        self._histogram(result)
+
+    def set_range(self, limit_m: float) -> None:
+        """Colour the cloud and draw the histogram over ±limit_m."""
+        if self.result is None or not limit_m > 0:
+            return
+        self.limit_m = limit_m
+        self.sync.view.set_cloud_range(limit_m)
+        self._histogram(self.result)
+
+    def pick_point(self, x_px: float, y_px: float) -> None:
+        """A click in the view: the distance of the cloud point under it."""
+        if self.result is None:
+            return
+        k = self.sync.view.cloud_point_at(x_px, y_px)
+        if k is None:
+            return
+        x, y, z = self.result.points_world[k]
+        text = (f"Δ = {_distance_text(self.result.distances_m[k])} at E {x:.3f}  N {y:.3f}  "
+                f"H {z:.3f} m")
+        self.picked.setText(text)
+        window = self.window()
+        if hasattr(window, "statusBar"):
+            window.statusBar().showMessage(f"point {k}: {text}", 15000)
 
     def _histogram(self, result: results_data.CloudResult) -> None:
-        import matplotlib
-
-        hist = result.stats["histogram"]
-        edges = 1000 * np.asarray(hist["edges"])
-        counts = np.asarray(hist["counts"])
-        lim = 1000 * result.limit_m
-        self.figure.clear()
-        ax = self.figure.add_subplot()
-        centres = (edges[:-1] + edges[1:]) / 2
-        cmap = matplotlib.colormaps[CMAP]
-        ax.bar(centres, counts, width=np.diff(edges),
-               color=[cmap(0.5 + 0.5 * np.clip(c / lim, -1, 1)) for c in centres])
-        ax.axvline(0, color="k", lw=0.8)
-        ax.set_xlabel("signed distance (mm)")
-        ax.set_ylabel("points")
+        below, above = results_data.draw_histogram(self.figure, result.distances_m,
+                                                   self.limit_m, CMAP)
+        lim = 1000 * self.limit_m
+        self.histogram_range_mm = (-lim, lim)
+        self.clipped_label.setText(
+            f"histogram and colours over ±{lim:.1f} mm; outside: {below:,} below, "
+            f"{above:,} above" if below or above else
+            f"histogram and colours over ±{lim:.1f} mm; every point inside")
         self.canvas.draw_idle()
 
     def show_gcp_errors(self, result: dict) -> None:
@@ -296,4 +384,22 @@ class ResultsPanel(Panel):
                              f"Z {1000 * s['rmse_Z']:.1f} mm, XYZ {1000 * s['rmse_XYZ']:.1f} mm")
         if result["missing"]:
             parts.append("no estimate for " + ", ".join(result["missing"]))
+        scale = self._draw_residuals(rows)
+        if scale is not None:
+            parts.append(f"in the view: yellow lines from each true GCP to its estimate, "
+                         f"errors drawn × {scale:g}")
         self.rmse.setText("\n".join(parts))
+
+    def _draw_residuals(self, rows: list[dict]) -> float | None:
+        """GCP errors as lines in the 3D view (see results_data.residual_lines)."""
+        if not rows:
+            self.sync.view.show_residuals(np.zeros((0, 3)), np.zeros((0, 3)), [], "")
+            return None
+        true, end, labels, scale = results_data.residual_lines(
+            rows, self.project.scene.terrain.extent)
+        self.sync.view.show_residuals(true, end, labels, f"× {scale:g}")
+        return scale
+
+def _distance_text(d: float) -> str:
+    """A signed distance in mm below 10 m, else in m (fixed point)."""
+    return f"{1000 * d:+.1f} mm" if abs(d) < 10 else f"{d:+.3f} m"

@@ -1,0 +1,96 @@
+"""``designer study``: run many virtual surveys that vary named parameters.
+
+``designer study new FILE --template NAME`` writes an example study and its base project;
+``designer study check FILE`` validates a study and lists its runs;
+``designer study factors`` lists the parameters a study can vary;
+``designer study run STUDY.xml -o DIR`` runs it (see designer.study.run).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "tiny")
+
+
+def register(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "study", help="vary parameters across many virtual surveys, with replicates",
+        description="Studies: a base project, factors (named parameters and their levels), "
+                    "a design and replicates; run renders each distinct image set once and "
+                    "writes results.csv, summary.json and report.html.")
+    sub = parser.add_subparsers(dest="study_command", metavar="SUBCOMMAND", required=True)
+    new = sub.add_parser("new", help="write an example study and its base project")
+    new.add_argument("file", type=Path)
+    new.add_argument("--template", choices=TEMPLATES, default="gcp-count")
+    new.set_defaults(func=run_new)
+    check = sub.add_parser("check", help="validate a study and list its runs")
+    check.add_argument("study", type=Path)
+    check.set_defaults(func=run_check)
+    factors = sub.add_parser("factors", help="list the parameters a study can vary")
+    factors.set_defaults(func=run_factors)
+    run = sub.add_parser("run", help="run a study into an output folder")
+    run.add_argument("study", type=Path, help="study XML file")
+    run.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    run.add_argument("--workers", type=int, default=1,
+                     help="local worker processes (renders and reconstructions in parallel)")
+    run.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                     help="run the stages on this existing Dask cluster")
+    run.add_argument("--resume", action="store_true",
+                     help="continue a study in DIR: finished runs are kept, not redone")
+    run.add_argument("--progress", choices=["bar", "json", "none"], default="bar")
+    run.set_defaults(func=run_run)
+
+
+def run_new(args) -> int:
+    from designer.errors import DesignerError
+    from designer.study.templates import write_template
+
+    if args.file.exists():
+        raise DesignerError(f"{args.file} exists; give a new file name")
+    for path in write_template(args.template, args.file):
+        print(f"wrote {path}")
+    return 0
+
+
+def run_check(args) -> int:
+    from designer.study.design import plan_study
+    from designer.study.xml import read_study
+
+    plan = plan_study(read_study(args.study))
+    print(f"{args.study}: study '{plan.study.name}', {plan.study.design}, {plan.n_variants} "
+          f"variants x {plan.study.replicates.count} replicates = {len(plan.runs)} runs")
+    return 0
+
+
+def run_factors(args) -> int:
+    from designer.study.factors import DRAWS, FACTORS
+
+    for f in FACTORS.values():
+        print(f"{f.name:26s} {f.stage:10s} {f.doc}")
+    print("\nreplicate draws (<replicates vary=...>):")
+    for name, (doc, _) in DRAWS.items():
+        print(f"  {name:24s} {doc}")
+    return 0
+
+
+def run_run(args) -> int:
+    from designer.errors import DesignerError
+    from designer.study.design import plan_study
+    from designer.study.run import print_progress, run_study
+    from designer.study.xml import read_study
+
+    if args.workers < 1:
+        raise DesignerError(f"--workers {args.workers}: give 1 or more")
+    plan = plan_study(read_study(args.study))
+    report = run_study(plan, args.output, workers=args.workers, scheduler=args.scheduler,
+                       resume=args.resume, progress=print_progress(args.progress))
+    c = report.counts
+    print(f"{args.output}: {c['runs']} runs of {c['variants']} variants; renders "
+          f"{c['renders']} (distinct image sets), reconstructions {c['reconstructions']}, "
+          f"cache hits {c['cache_hits']}, failed {c['failed']}; this session rendered "
+          f"{c['renders_this_session']} and reconstructed {c['reconstructions_this_session']}"
+          f"; {report.seconds:.0f} s")
+    print(f"wrote {args.output / 'results.csv'}, {args.output / 'summary.json'}, "
+          f"{args.output / 'report.html'}")
+    return 0

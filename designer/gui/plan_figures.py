@@ -1,0 +1,155 @@
+"""What a flight delivers over the real terrain, for the Flight and GCP panels (Qt-free).
+
+The same analysis as ``designer plan`` (:func:`designer.survey.coverage.analyse_plan`):
+GSD over the terrain, achieved front and side overlaps, images whose principal ray
+meets the terrain inside the area, images per GCP; plus how much of each image shows
+the terrain at all. It runs in a worker thread (a few seconds for large flights).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.project import model as m
+
+#: an image with more than this share of its picture beyond the terrain is warned about
+OFF_TERRAIN_WARN = 0.2
+#: achieved overlaps (5 % quantile over the stations) below these are warned about
+LOW_FRONT_OVERLAP = 0.6
+LOW_SIDE_OVERLAP = 0.3
+#: a GCP needs at least this many images to be measured reliably
+MIN_GCP_IMAGES = 3
+#: rays per image side to measure how much of it shows the terrain
+SAMPLES_PER_AXIS = 9
+
+
+@dataclass(frozen=True, eq=False)
+class PlanFigures:
+    """Figures over the real terrain (m, fractions 0–1) and the warnings they raise."""
+
+    n_images: int
+    gsd_min_m: float
+    gsd_max_m: float
+    gsd_median_m: float
+    front_overlap_median: float
+    front_overlap_p05: float
+    side_overlap_median: float
+    side_overlap_p05: float
+    images_over_area: int
+    images_over_terrain: int
+    terrain_share: np.ndarray          # (M,) share of each image that shows the terrain
+    image_names: tuple[str, ...]
+    gcp_ids: tuple[str, ...]
+    gcp_images: np.ndarray             # (G,) images seeing each GCP
+    area_seen: dict[int, float]
+    warnings: tuple[str, ...]
+    gcp_image_index: tuple[np.ndarray, ...] = ()   # per GCP: the images that see it
+    gcp_uv_px: tuple[np.ndarray, ...] = ()         # per GCP: where (rendered image, px)
+
+    def observations(self, image: int) -> list[tuple[str, float, float]]:
+        """(GCP id, u, v) of the GCPs image ``image`` sees (rendered pixels; u right,
+        v down, from the top-left corner of the top-left pixel)."""
+        out = []
+        for gid, images, uv in zip(self.gcp_ids, self.gcp_image_index, self.gcp_uv_px,
+                                   strict=True):
+            for k in np.flatnonzero(np.asarray(images) == image):
+                out.append((gid, float(uv[k][0]), float(uv[k][1])))
+        return out
+
+
+def terrain_share(stations, interior, raycaster, k: int = SAMPLES_PER_AXIS) -> np.ndarray:
+    """(M,) share of a k × k grid of rays through each image that meets the terrain."""
+    from designer.core.rotation import R_CV_FROM_PHOTO
+
+    C = np.array([s.C_world for s in stations]).reshape(-1, 3)
+    R = np.array([s.R_cam_to_world for s in stations]).reshape(-1, 3, 3)
+    W, H = interior.image_size_px
+    U, V = np.meshgrid(np.linspace(0.5, W - 0.5, k), np.linspace(0.5, H - 0.5, k))
+    rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO,
+                     interior.rays_cv(np.column_stack([U.ravel(), V.ravel()])))
+    hit = raycaster.first_hit(np.repeat(C, k * k, axis=0), rays.reshape(-1, 3))
+    return np.all(np.isfinite(hit), axis=1).reshape(len(C), k * k).mean(axis=1)
+
+
+def _pct(v: float) -> str:
+    return "–" if not np.isfinite(v) else f"{100 * v:.0f} %"
+
+
+def compute_plan_figures(project: m.Project, terrain, stations_result, targets_result
+                         ) -> PlanFigures:
+    """Analyse the stations over the terrain (a height field); see the module doc."""
+    from designer.errors import DesignerError
+    from designer.survey.coverage import analyse_plan
+
+    hf = terrain.heightfield if terrain is not None else None
+    if hf is None or terrain.raycaster is None:
+        raise DesignerError("the analysis over the terrain needs a height-field terrain")
+    stations = stations_result.stations
+    interior = stations_result.interior
+    scale = project.render.resolution_scale
+    if scale != 1.0:
+        from designer.survey.project_poses import render_interior
+
+        interior = render_interior(project.camera(stations_result.camera_id), scale)
+    plan = project.trajectory.flight_plan
+    e = project.scene.terrain.extent
+    area = (np.array(plan.area) if plan is not None and len(plan.area) >= 3 else
+            np.array([[e.min_X, e.min_Y], [e.max_X, e.min_Y], [e.max_X, e.max_Y],
+                      [e.min_X, e.max_Y]]))
+    gcp_xyz = (targets_result.true_xyz if targets_result is not None
+               and len(targets_result.ids) else None)
+    analysis = analyse_plan(stations, interior, hf, area, gcp_xyz=gcp_xyz,
+                            raycaster=terrain.raycaster)
+    s = analysis.summary()
+    st = analysis.stations
+    gsd = analysis.coverage.gsd_mean_m
+    gsd = gsd[np.isfinite(gsd)]
+    share = terrain_share(stations, interior, terrain.raycaster)
+    names = tuple(x.image_name for x in stations)
+    ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
+    gcp_images = (np.asarray(analysis.gcps.counts) if analysis.gcps is not None
+                  else np.zeros(0, dtype=int))
+    figures = dict(
+        n_images=len(stations),
+        gsd_min_m=float(gsd.min()) if gsd.size else float("nan"),
+        gsd_max_m=float(gsd.max()) if gsd.size else float("nan"),
+        # over the stations looking at the area, as designer plan (a principal ray past
+        # the terrain's edge meets its side far away)
+        gsd_median_m=s["gsd_centre_m_median"],
+        front_overlap_median=s["front_overlap_median"], front_overlap_p05=s["front_overlap_p05"],
+        side_overlap_median=s["side_overlap_median"], side_overlap_p05=s["side_overlap_p05"],
+        images_over_area=int(s["stations_over_area"]),
+        images_over_terrain=int(np.count_nonzero(np.isfinite(st.centre_ground_xyz[:, 0]))),
+        terrain_share=share, image_names=names, gcp_ids=ids, gcp_images=gcp_images,
+        area_seen=dict(analysis.coverage.shares))
+    vis = analysis.gcps
+    return PlanFigures(**figures, warnings=tuple(_warnings(figures, plan)),
+                       gcp_image_index=tuple(vis.images) if vis is not None else (),
+                       gcp_uv_px=tuple(vis.uv_px) if vis is not None else ())
+
+
+def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
+    out = []
+    if np.isfinite(f["front_overlap_p05"]) and f["front_overlap_p05"] < LOW_FRONT_OVERLAP:
+        planned = f" (planned {plan.front_overlap_percent:.0f} %)" if plan else ""
+        out.append(f"low front overlap: 5 % of the images overlap the next by less than "
+                   f"{_pct(f['front_overlap_p05'])}{planned}; raise the front overlap or fly "
+                   "higher")
+    if np.isfinite(f["side_overlap_p05"]) and f["side_overlap_p05"] < LOW_SIDE_OVERLAP:
+        planned = f" (planned {plan.side_overlap_percent:.0f} %)" if plan else ""
+        out.append(f"low side overlap: 5 % of the images overlap the next line by less "
+                   f"than {_pct(f['side_overlap_p05'])}{planned}; raise the side overlap")
+    share = f["terrain_share"]
+    off = np.flatnonzero(share < 1 - OFF_TERRAIN_WARN)
+    if off.size:
+        worst = off[np.argmin(share[off])]
+        out.append(f"{off.size} of {f['n_images']} images look beyond the terrain (more than "
+                   f"{100 * OFF_TERRAIN_WARN:.0f} % of the picture; worst "
+                   f"{f['image_names'][worst]}: {100 * (1 - share[worst]):.0f} % off it); "
+                   "shrink the area or enlarge the terrain")
+    few = [g for g, n in zip(f["gcp_ids"], f["gcp_images"], strict=True) if n < MIN_GCP_IMAGES]
+    if few:
+        out.append(f"GCPs seen by fewer than {MIN_GCP_IMAGES} images: {', '.join(few)}")
+    return out

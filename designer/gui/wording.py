@@ -1,0 +1,76 @@
+"""Messages as the window's user reads them (Qt-free).
+
+Errors raised by the library name its parameters (``size_x_m``) and print numbers the
+way Python does (``5.40595e+06``); the window shows the field as the panel labels it
+and numbers in fixed point with sensible decimals.
+"""
+
+from __future__ import annotations
+
+import re
+
+#: library parameter names → what the panels call them
+FIELD_NAMES = {
+    "size_x_m": "terrain width (X)",
+    "size_y_m": "terrain length (Y)",
+    "spacing_m": "grid spacing",
+    "grid_spacing_m": "grid spacing",
+    "min_spacing_m": "min spacing",
+    "margin_m": "margin",
+    "gsd_m": "ground sample distance",
+    "altitude_agl_m": "height above ground",
+    "front_overlap": "front overlap",
+    "side_overlap": "side overlap",
+    "grid_angle_deg": "line azimuth",
+    "tilt_deg": "forward tilt",
+    "n_check": "number of check points",
+    "cell_m": "coverage grid cell",
+    "focal_length_mm": "focal length",
+    "sensor_width_mm": "sensor width",
+    "sensor_height_mm": "sensor height",
+    "image_width_px": "image width",
+    "image_height_px": "image height",
+    "texel_size_m": "texel size",
+    "size_m": "target size",
+}
+_UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
+_IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
+_SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
+_LONG = re.compile(r"(?<![\w.])([-+]?\d+\.\d{4,})\b")
+
+
+def fixed(value: float, decimals: int | None = None) -> str:
+    """A number in fixed point: 3 decimals (mm) for metre-sized values and up, more
+    significant digits for small ones; trailing zeros dropped."""
+    if decimals is None:
+        a = abs(value)
+        decimals = 3 if a >= 1 or a == 0 else min(9, 3 - int(f"{a:e}".split("e")[1]))
+    text = f"{value:.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def field_name(ident: str) -> str:
+    """``size_x_m`` → ``terrain width (X)``; an unknown ``foo_bar_m`` → ``foo bar (m)``."""
+    if ident in FIELD_NAMES:
+        return FIELD_NAMES[ident]
+    words = ident.split("_")
+    unit = _UNITS.get(words[-1]) if len(words) > 1 else None
+    if unit is not None:
+        words = words[:-1]
+    return " ".join(words) + (f" ({unit})" if unit else "")
+
+
+def _maybe_field(ident: str) -> str:
+    """Only names of parameters (known, or ending in a unit) are renamed."""
+    if ident in FIELD_NAMES or ident.rsplit("_", 1)[-1] in _UNITS:
+        return field_name(ident)
+    return ident
+
+
+def humanize(message: str) -> str:
+    """A library message with field names as labelled and numbers in fixed point."""
+    message = _IDENT.sub(lambda mt: _maybe_field(mt.group(0)), message)
+    message = _SCI.sub(lambda mt: fixed(float(mt.group(0))), message)
+    return _LONG.sub(lambda mt: fixed(float(mt.group(1))), message)

@@ -1,0 +1,233 @@
+"""The render job: the one typed interface between designer and its Blender workers.
+
+``job.json`` is written by :mod:`designer.render.job` (a survey) or
+:mod:`designer.validate.jobs` (a validation scene) and read by the worker, the local
+runner, the cluster runner and the pipeline — always through :class:`RenderJob`, whose
+fields carry the only defaults. Everything in it is local (world − ``origin_world``):
+Blender stores float32. No bpy and no numpy here, so the worker and every reader load
+the same small module.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field, fields
+from pathlib import Path
+
+from designer.atomic import write_text_atomic
+from designer.errors import DesignerError
+
+#: Blender's image formats the worker writes: job name → (Blender format, file extension)
+IMAGE_FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
+PIXEL_FILTER_NAMES = ("BOX", "GAUSSIAN", "BLACKMAN_HARRIS")
+INTERPOLATIONS = ("Closest", "Linear", "Cubic")
+
+
+class JobError(DesignerError, ValueError):
+    """A job.json that cannot be read as a render job (message names the file and fix)."""
+
+
+@dataclass(frozen=True)
+class AdaptiveSampling:
+    """Cycles' adaptive sampling: flat pixels stop early, samples go to the edges."""
+
+    threshold: float = 0.01
+    min_samples: int = 0
+
+
+@dataclass(frozen=True)
+class RenderSpec:
+    """Cycles settings of a job (samples per pixel, pixel filter, output encoding)."""
+
+    samples: int
+    seed: int = 0
+    pixel_filter: str = "BOX"
+    filter_width_px: float = 1.0
+    format: str = "png"
+    bit_depth: int = 8
+    #: the preset asked for on the command line (recorded in the manifest), if any
+    quality: str | None = None
+    adaptive_sampling: AdaptiveSampling | None = None
+    #: Cycles threads per worker process, 0 = all cores (set by the runner per worker)
+    threads: int = 0
+
+    def __post_init__(self) -> None:
+        if self.samples < 1:
+            raise JobError(f"render samples = {self.samples}; must be >= 1")
+        if self.pixel_filter not in PIXEL_FILTER_NAMES:
+            raise JobError(f"pixel filter {self.pixel_filter!r}; use one of "
+                           f"{', '.join(PIXEL_FILTER_NAMES)}")
+        if self.format not in IMAGE_FORMATS:
+            raise JobError(f"image format {self.format!r}; use one of {', '.join(IMAGE_FORMATS)}")
+        if self.bit_depth not in (8, 16):
+            raise JobError(f"bit depth {self.bit_depth}; use 8 or 16")
+
+    @property
+    def extension(self) -> str:
+        return IMAGE_FORMATS[self.format][1]
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """Blender camera-data settings, in Blender's own terms (see blender_camera)."""
+
+    lens_mm: float
+    sensor_width_mm: float
+    sensor_fit: str
+    shift_x: float
+    shift_y: float
+    resolution_x_px: int
+    resolution_y_px: int
+    pixel_aspect_x: float
+    pixel_aspect_y: float
+    clip_start_m: float = 0.01
+    clip_end_m: float = 1e5
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    """An emission material: a plain colour, or a tiled texture × an optional light map.
+
+    ``strength`` scales the emission (a light map stores L / strength to fit 16 bits).
+    """
+
+    color: tuple[float, float, float] | None = None
+    texture: str | None = None
+    uv_tiles: tuple[float, float] = (1.0, 1.0)
+    interpolation: str = "Closest"
+    lightmap: str | None = None
+    strength: float = 1.0
+
+    def __post_init__(self) -> None:
+        if (self.color is None) == (self.texture is None):
+            raise JobError("a material needs exactly one of 'color' and 'texture'")
+        if self.interpolation not in INTERPOLATIONS:
+            raise JobError(f"texture interpolation {self.interpolation!r}; use one of "
+                           f"{', '.join(INTERPOLATIONS)}")
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """One mesh object: an .npz beside job.json (vertices_local, faces, optional uv and
+    material_index) and its materials."""
+
+    name: str
+    mesh: str
+    materials: tuple[MaterialSpec, ...]
+
+
+@dataclass(frozen=True)
+class EffectsSpec:
+    """Where the worker finds the camera-effects chain: the project copy beside job.json,
+    the camera, the render scale and the cached distortion warp (if any)."""
+
+    project: str
+    camera_id: str
+    resolution_scale: float
+    warp: str | None = None
+
+
+@dataclass(frozen=True)
+class FrameSpec:
+    """One image: its camera matrix in the local frame and what the effects need of it
+    (GSD m/px, flight direction in the image, distance to the ground m)."""
+
+    index: int
+    image_name: str
+    matrix_world_local: tuple[tuple[float, ...], ...]
+    gsd_m: float | None = None
+    flight_direction_uv: tuple[float, float] | None = None
+    distance_m: float | None = None
+
+
+@dataclass(frozen=True)
+class RenderJob:
+    """Everything a worker needs to render a set of frames; see the module docstring."""
+
+    output_dir: str
+    render: RenderSpec
+    camera: CameraSpec
+    objects: tuple[MeshSpec, ...]
+    frames: tuple[FrameSpec, ...]
+    width_px: int
+    height_px: int
+    origin_world: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    background_rgb: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    effects: EffectsSpec | None = None
+    designer_version: str | None = None
+    project: str | None = None
+    image_names: dict[int, str] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        names = {f.index: f.image_name for f in self.frames}
+        if len(names) != len(self.frames):
+            raise JobError("frame indices repeat in the job")
+        object.__setattr__(self, "image_names", names)
+
+    def to_json(self) -> str:
+        data = asdict(self)
+        del data["image_names"]
+        return json.dumps(data, indent=1)
+
+    @classmethod
+    def from_json(cls, text: str, source: str = "job.json") -> RenderJob:
+        try:
+            data = json.loads(text)
+            return cls(
+                output_dir=data["output_dir"],
+                render=_render(data["render"]),
+                camera=CameraSpec(**data["camera"]),
+                objects=tuple(MeshSpec(o["name"], o["mesh"],
+                                       tuple(_material(m) for m in o["materials"]))
+                              for o in data["objects"]),
+                frames=tuple(_frame(f) for f in data["frames"]),
+                width_px=int(data["width_px"]),
+                height_px=int(data["height_px"]),
+                **{k: _tuple(data[k]) for k in ("origin_world", "background_rgb") if k in data},
+                effects=EffectsSpec(**data["effects"]) if data.get("effects") else None,
+                **{k: data[k] for k in ("designer_version", "project") if k in data},
+            )
+        except JobError as error:
+            raise JobError(f"{source}: {error}") from error
+        except (ValueError, KeyError, TypeError) as error:
+            raise JobError(f"{source}: not a render job of this designer version ({error!r}); "
+                           "prepare it again with 'designer render'") from error
+
+    def write(self, path: Path) -> Path:
+        write_text_atomic(Path(path), self.to_json())
+        return Path(path)
+
+    @classmethod
+    def read(cls, path: Path) -> RenderJob:
+        path = Path(path)
+        try:
+            text = path.read_text()
+        except OSError as error:
+            raise JobError(f"{path}: cannot read the render job ({error.strerror})") from error
+        return cls.from_json(text, str(path))
+
+
+def _tuple(value):
+    return tuple(_tuple(v) for v in value) if isinstance(value, list) else value
+
+
+def _known(cls, data: dict) -> dict:
+    names = {f.name for f in fields(cls)}
+    unknown = set(data) - names
+    if unknown:
+        raise TypeError(f"unknown {cls.__name__} fields {sorted(unknown)}")
+    return {k: _tuple(v) for k, v in data.items()}
+
+
+def _render(data: dict) -> RenderSpec:
+    data = _known(RenderSpec, data)
+    adaptive = data.pop("adaptive_sampling", None)
+    return RenderSpec(**data, adaptive_sampling=AdaptiveSampling(**adaptive) if adaptive else None)
+
+
+def _material(data: dict) -> MaterialSpec:
+    return MaterialSpec(**_known(MaterialSpec, data))
+
+
+def _frame(data: dict) -> FrameSpec:
+    return FrameSpec(**_known(FrameSpec, data))

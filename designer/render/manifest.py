@@ -1,0 +1,115 @@
+"""OUT/manifest.json: versions, settings, per-image seconds and the inputs of every image.
+
+The manifest is rewritten (atomically) as soon as the ground truth is written and again
+as each image lands, so an interrupted run leaves a record of exactly the images it
+finished; ``--resume`` then keeps those and re-renders only what is missing or was
+rendered from other inputs.
+
+Several processes may render slices of one folder at once (a cluster job array with
+``--frames … --resume``): each write locks ``.designer-job/manifest.lock``, re-reads the file and
+adds only the images this process finished, so no process erases another's record.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import platform
+from dataclasses import asdict
+from pathlib import Path
+
+from designer import __version__
+from designer.atomic import write_text_atomic
+from designer.render.job import PreparedJob
+from designer.render.provenance import ImageProvenance, ground_truth_digest
+from designer.render.runner import RenderReport
+
+MANIFEST = "manifest.json"
+GROUND_TRUTH_DIR = "ground-truth"
+
+
+def read_manifest(out_dir: Path) -> dict:
+    """The manifest of an output folder, or {} when it has none (or an unreadable one)."""
+    path = Path(out_dir) / MANIFEST
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+class Manifest:
+    """The manifest of one render run, merged with what the folder already holds."""
+
+    def __init__(self, out_dir: Path, project_path: Path, prepared: PreparedJob,
+                 provenance: dict[int, ImageProvenance], prepare_seconds: float) -> None:
+        self.path = Path(out_dir) / MANIFEST
+        self.out_dir = Path(out_dir)
+        self.prepared = prepared
+        self.provenance = provenance
+        previous = read_manifest(out_dir)
+        names = prepared.job.image_names
+        old_images = previous.get("images", {}) if isinstance(previous.get("images"), dict) \
+            else {}
+        # entries of images this project no longer has are dropped: their files are not
+        # part of this survey (check-output lists such files)
+        self.names = set(names.values())
+        self.recorded = {name: entry for name, entry in old_images.items()
+                         if name in self.names and isinstance(entry, dict)}
+        self.finished: dict[str, dict] = {}  # images this process rendered
+        job = prepared.job
+        self.data = {
+            "designer_version": __version__,
+            "blender_version": previous.get("blender_version"),
+            "python": platform.python_version(),
+            "project": str(Path(project_path).resolve()),
+            "render": asdict(job.render),
+            "camera_blender": asdict(job.camera),
+            "image_size_px": list(prepared.interior.image_size_px),
+            "frames_total": len(names),
+            "prepare_seconds": round(prepare_seconds, 3),
+            "ground_truth": previous.get("ground_truth"),
+            "images": {},
+        }
+
+    def changed_parts(self, index: int) -> list[str]:
+        """What changed since the image of frame ``index`` was rendered ([] = nothing)."""
+        name = self.prepared.job.image_names[index]
+        inputs = self.recorded.get(name, {}).get("inputs")
+        current = self.provenance[index]
+        if inputs and inputs.get("digest") == current.digest:
+            return []
+        return current.changed_parts(inputs)
+
+    def ground_truth_written(self) -> None:
+        folder = self.out_dir / GROUND_TRUTH_DIR
+        self.data["ground_truth"] = {"digest": ground_truth_digest(folder),
+                                     "folder": GROUND_TRUTH_DIR}
+        self._write()
+
+    def image_done(self, index: int, seconds: float) -> None:
+        name = self.prepared.job.image_names[index]
+        self.finished[name] = {"frame": index, "render_seconds": round(seconds, 4),
+                               "inputs": self.provenance[index].to_json()}
+        self._write()
+
+    def finish(self, report: RenderReport) -> Path:
+        if report.blender_version:
+            self.data["blender_version"] = report.blender_version
+        self.data.update(scene_build_seconds=report.scene_seconds,
+                         wall_seconds_last_run=round(report.wall_seconds, 3),
+                         failed_frames=report.failed)
+        self._write()
+        return self.path
+
+    def _write(self) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with open(self.prepared.job_path.parent / "manifest.lock", "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            on_disk = read_manifest(self.out_dir).get("images")
+            if isinstance(on_disk, dict):  # what other processes recorded meanwhile
+                self.recorded.update({k: v for k, v in on_disk.items()
+                                      if k in self.names and isinstance(v, dict)})
+            self.recorded.update(self.finished)
+            self.data["images"] = dict(sorted(self.recorded.items()))
+            write_text_atomic(self.path, json.dumps(self.data, indent=1))

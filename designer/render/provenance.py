@@ -1,0 +1,193 @@
+"""Render provenance: what each image and the ground truth were made from, as hashes.
+
+Every image depends on parts of the render job (:class:`~designer.render.job_spec.RenderJob`)
+and the files beside it; each part is hashed on its own (SHA-256 of a canonical
+encoding), so a changed project re-renders exactly the images it changes and says why:
+
+============  ===============================================================  =========
+part          what goes in                                                      images
+============  ===============================================================  =========
+``software``  designer's version and the bpy package's version                 all
+``render``    Cycles settings (samples, filter, seed, format, bit depth)       all
+``camera``    the Blender camera (lens, sensor, shift, resolution)             all
+``scene``     terrain mesh, texture, light map, scene objects, background      all
+``targets``   GCP target materials; target geometry inside the frame's view    per image
+``effects``   the camera-effects model, camera id, scale, distortion warp      all
+``pose``      the frame's index, name, camera matrix (+ effect context)        per image
+============  ===============================================================  =========
+
+Targets are hashed per frame: only the target vertices that project into the frame
+(with a 25 % margin) count, so moving one GCP re-renders the images that see it. The
+ground truth is hashed from the files it is written to (the exporters write text that is
+a pure function of the project). Array files are hashed by content (dtype, shape,
+bytes), never by their zip container, whose timestamps change on every write.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import asdict, dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from designer import __version__
+from designer.render.job_spec import FrameSpec, RenderJob
+
+PARTS = ("software", "render", "camera", "scene", "targets", "effects", "pose")
+#: the name the job builder gives the GCP targets' mesh (hashed per frame)
+TARGETS_MESH = "gcp_targets"
+#: fraction of the image added on every side when deciding which targets a frame sees
+VIEW_MARGIN = 0.25
+
+
+@dataclass(frozen=True)
+class ImageProvenance:
+    """The hash of each part an image depends on, and of all of them together."""
+
+    parts: dict[str, str]
+
+    @property
+    def digest(self) -> str:
+        return _digest(json.dumps(self.parts, sort_keys=True))
+
+    def changed_parts(self, recorded: dict | None) -> list[str]:
+        """The parts that differ from a manifest entry's ``inputs`` (all if none)."""
+        if not recorded:
+            return ["unrecorded"]
+        changed = [p for p in PARTS if recorded.get(p) != self.parts.get(p)]
+        if "pose" in changed and "targets" in changed:
+            changed.remove("targets")  # a moved camera sees other targets: that is the pose
+        return changed
+
+    def to_json(self) -> dict:
+        return {**self.parts, "digest": self.digest}
+
+
+def _digest(*chunks: bytes | str) -> str:
+    h = hashlib.sha256()
+    for c in chunks:
+        h.update(c.encode() if isinstance(c, str) else c)
+        h.update(b"\x00")
+    return h.hexdigest()[:32]
+
+
+def _canonical(value) -> str:
+    return json.dumps(value, sort_keys=True, separators=(",", ":"))
+
+
+def _array_digest(array: np.ndarray) -> str:
+    a = np.ascontiguousarray(array)
+    return _digest(str(a.dtype), str(a.shape), a.tobytes())
+
+
+def _file_digest(path: Path) -> str:
+    if path.suffix == ".npz":
+        with np.load(path) as data:
+            return _digest(*(f"{k}={_array_digest(data[k])}" for k in sorted(data.files)))
+    return _digest(path.read_bytes())
+
+
+@cache
+def bpy_version() -> str:
+    """The installed bpy package's version (without importing Blender)."""
+    from importlib import metadata
+
+    try:
+        return metadata.version("bpy")
+    except metadata.PackageNotFoundError:
+        return "absent"
+
+
+def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
+    """Per frame index, the provenance of the image the job renders for it."""
+    job_dir = Path(job_dir)
+    render = {k: v for k, v in asdict(job.render).items() if k not in ("threads", "quality")}
+    common = {
+        "software": _digest(__version__, bpy_version()),
+        "render": _digest(_canonical(render)),
+        "camera": _digest(_canonical([asdict(job.camera), job.width_px, job.height_px])),
+    }
+    scene_chunks = [_canonical(list(job.background_rgb))]
+    target_chunks: list[str] = []
+    target_vertices = None
+    for obj in job.objects:
+        materials = [asdict(mat) for mat in obj.materials]
+        files = [f for mat in obj.materials for f in (mat.texture, mat.lightmap) if f]
+        described = _canonical([obj.name, materials, [_file_digest(job_dir / f) for f in files]])
+        if obj.name == TARGETS_MESH:
+            target_chunks.append(described)
+            with np.load(job_dir / obj.mesh) as data:
+                target_vertices = (np.asarray(data["vertices_local"], float),
+                                   np.asarray(data["faces"]),
+                                   np.asarray(data["material_index"]))
+        else:
+            scene_chunks += [described, _file_digest(job_dir / obj.mesh)]
+    common["scene"] = _digest(*scene_chunks)
+    effects = "none"
+    if job.effects is not None:
+        from designer.project import read_project
+
+        spec = job.effects
+        project = read_project(job_dir / spec.project)
+        effects = _digest(repr(project.effects), repr(project.camera(spec.camera_id)),
+                          repr(spec.resolution_scale),
+                          _file_digest(job_dir / spec.warp) if spec.warp else "no warp")
+    common["effects"] = effects
+    out = {}
+    for frame in job.frames:
+        parts = dict(common)
+        parts["targets"] = _digest(*target_chunks,
+                                   _targets_in_view(target_vertices, frame, job))
+        pose = asdict(frame)
+        if job.effects is None:  # the effect context (GSD, distance) changes no pixel then
+            pose = {k: pose[k] for k in ("index", "image_name", "matrix_world_local")}
+        parts["pose"] = _digest(_canonical(pose))
+        out[frame.index] = ImageProvenance({p: parts[p] for p in PARTS})
+    return out
+
+
+def _targets_in_view(mesh, frame: FrameSpec, job: RenderJob) -> str:
+    """Digest of the target vertices (and their faces' materials) a frame can see."""
+    if mesh is None:
+        return "no targets"
+    vertices, faces, material_index = mesh
+    M = np.array(frame.matrix_world_local, float)
+    R, t = M[:3, :3], M[:3, 3]
+    cam = (vertices - t) @ R  # Blender camera axes: x right, y up, looking along -z
+    depth = -cam[:, 2]
+    cam_spec = job.camera
+    f_over_w = cam_spec.lens_mm / cam_spec.sensor_width_mm
+    W, H = cam_spec.resolution_x_px, cam_spec.resolution_y_px
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # image widths from the image centre (the shift moves the frustum)
+        x = cam[:, 0] / depth * f_over_w - cam_spec.shift_x
+        y = cam[:, 1] / depth * f_over_w * cam_spec.pixel_aspect_y - cam_spec.shift_y
+    half_x = 0.5 + VIEW_MARGIN
+    half_y = (0.5 + VIEW_MARGIN) * H / W
+    seen = (depth > 0) & (np.abs(x) <= half_x) & (np.abs(y) <= half_y)
+    index = np.flatnonzero(seen)
+    face_seen = np.isin(faces, index).any(axis=1)
+    return _digest(_array_digest(index), _array_digest(vertices[index]),
+                   _array_digest(faces[face_seen]), _array_digest(material_index[face_seen]))
+
+
+def ground_truth_digest(folder: Path) -> str:
+    """Digest of every file under a ground-truth folder (relative names and bytes)."""
+    folder = Path(folder)
+    files = sorted(p for p in folder.rglob("*") if p.is_file() and not p.name.startswith("."))
+    return _digest(*(f"{p.relative_to(folder).as_posix()}:{_digest(p.read_bytes())}"
+                     for p in files))
+
+
+def describe_parts(parts: list[str]) -> str:
+    """'pose, targets' → words for a person: 'the pose and the GCP targets'."""
+    words = {"software": "the designer or Blender version", "render": "the render settings",
+             "camera": "the camera", "scene": "the terrain, texture or lighting",
+             "targets": "the GCP targets in view", "effects": "the camera effects",
+             "pose": "the pose", "unrecorded": "no record of its inputs",
+             "missing": "the image is missing"}
+    names = [words.get(p, p) for p in parts]
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]

@@ -1,0 +1,326 @@
+"""The named parameters a study can vary, and how each one changes a project.
+
+Every factor reads its value from a project (:attr:`Factor.get`, for the results table)
+and writes a value into one (:attr:`Factor.set`, by ``dataclasses.replace`` on the
+frozen model). Values are given as text in the study file and parsed by
+:attr:`Factor.parse`; a value the project's own validation rejects is refused by
+:mod:`designer.study.design` before anything runs.
+
+``stage`` says what a change of the factor re-does: ``render`` factors change the
+images; ``processing`` factors only the ground-truth tables or the reconstruction, so
+their levels share one render (the cache decides this from content hashes; ``stage`` is
+what the documentation and the report tell the user).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+from designer.project import model as m
+
+Value = float | int | str | bool
+
+
+@dataclass(frozen=True)
+class Factor:
+    name: str
+    doc: str
+    stage: str  # "render" or "processing"
+    parse: Callable[[str], Value]
+    get: Callable[[m.Project], Value | None]
+    set: Callable[[m.Project, Value], m.Project]
+
+
+# ------------------------------------------------------------------ value parsers
+def _float(text: str) -> float:
+    value = float(text)
+    if value != value or value in (float("inf"), float("-inf")):
+        raise ValueError("not a finite number")
+    return value
+
+
+def _int(text: str) -> int:
+    return int(text)
+
+
+def _bool(text: str) -> bool:
+    if text in ("true", "1"):
+        return True
+    if text in ("false", "0"):
+        return False
+    raise ValueError("write true or false")
+
+
+def _choice(*choices: str) -> Callable[[str], str]:
+    def parse(text: str) -> str:
+        if text not in choices:
+            raise ValueError(f"use one of: {', '.join(choices)}")
+        return text
+    return parse
+
+
+# ------------------------------------------------------------------ model helpers
+def _plan(p: m.Project) -> m.FlightPlan:
+    if p.trajectory.flight_plan is None:
+        raise ValueError("the base project has no <flight-plan>; flight factors need one")
+    return p.trajectory.flight_plan
+
+
+def _with_plan(p: m.Project, **changes) -> m.Project:
+    return replace(p, trajectory=replace(p.trajectory, flight_plan=replace(_plan(p), **changes)))
+
+
+def _noise(p: m.Project) -> m.PoseNoise:
+    return _plan(p).pose_noise or m.PoseNoise()
+
+
+def _proc(p: m.Project) -> m.Processing:
+    return p.processing or m.Processing()
+
+
+def _with_proc(p: m.Project, **changes) -> m.Project:
+    return replace(p, processing=replace(_proc(p), **changes))
+
+
+def _with_gcps(p: m.Project, **changes) -> m.Project:
+    return _with_proc(p, gcps=replace(_proc(p).gcps, **changes))
+
+
+def _control(p: m.Project) -> m.ControlSelection:
+    return _proc(p).gcps.control or m.ControlSelection()
+
+
+def _with_control(p: m.Project, **changes) -> m.Project:
+    return _with_gcps(p, control=replace(_control(p), **changes))
+
+
+def _precal(p: m.Project) -> m.PreCalibrationError:
+    return _proc(p).calibration.pre_calibration_error or m.PreCalibrationError()
+
+
+def _with_precal(p: m.Project, **changes) -> m.Project:
+    cal = _proc(p).calibration
+    return _with_proc(p, calibration=replace(
+        cal, pre_calibration_error=replace(_precal(p), **changes)))
+
+
+def _prior(p: m.Project) -> m.PositionPrior:
+    return _proc(p).position_prior
+
+
+def _with_prior(p: m.Project, **changes) -> m.Project:
+    return _with_proc(p, position_prior=replace(_prior(p), **changes))
+
+
+def _effects(p: m.Project) -> m.Effects:
+    return p.effects or m.Effects()
+
+
+def _with_effects(p: m.Project, **changes) -> m.Project:
+    return replace(p, effects=replace(_effects(p), **changes))
+
+
+def _survey(p: m.Project) -> m.SurveyAccuracy:
+    t = p.scene.targets
+    if t is None or not t.targets:
+        raise ValueError("the base project has no GCP targets")
+    return t.survey_accuracy or m.SurveyAccuracy(m.Sigma3(0.0, 0.0, 0.0), 0)
+
+
+def _with_survey(p: m.Project, survey: m.SurveyAccuracy) -> m.Project:
+    targets = replace(p.scene.targets, survey_accuracy=survey)
+    return replace(p, scene=replace(p.scene, targets=targets))
+
+
+def _camera(p: m.Project) -> m.Camera:
+    plan = p.trajectory.flight_plan
+    return p.camera(plan.camera) if plan is not None else p.cameras[0]
+
+
+def _with_camera(p: m.Project, **changes) -> m.Project:
+    cam = _camera(p)
+    new = replace(cam, **changes)
+    return replace(p, cameras=tuple(new if c.id == cam.id else c for c in p.cameras))
+
+
+def _brown(p: m.Project) -> m.BrownConradyDistortion:
+    d = _camera(p).distortion
+    if isinstance(d, m.FisheyeEquidistantDistortion):
+        raise ValueError("the camera has a fisheye distortion; k1/k2 factors need "
+                         "brown-conrady")
+    return d or m.BrownConradyDistortion()
+
+
+def _with_sun_elevation(p: m.Project, value: float) -> m.Project:
+    sun = p.scene.lighting.sun
+    if not isinstance(sun, m.Sun):
+        raise ValueError("the base project gives the sun by date and place; "
+                         "sun-elevation-deg needs <sun azimuth-deg= elevation-deg=>")
+    lighting = replace(p.scene.lighting, sun=replace(sun, elevation_deg=value))
+    return replace(p, scene=replace(p.scene, lighting=lighting))
+
+
+def _texture_source(p: m.Project):
+    return p.scene.texture.source
+
+
+def _with_texture_source(p: m.Project, source) -> m.Project:
+    return replace(p, scene=replace(p.scene, texture=replace(p.scene.texture, source=source)))
+
+
+def _with_texel(p: m.Project, value: float) -> m.Project:
+    src = _texture_source(p)
+    if not isinstance(src, m.ProceduralTexture):
+        raise ValueError("the base texture is an image file; texel-size-m needs a "
+                         "procedural texture")
+    return _with_texture_source(p, replace(src, texel_size_m=value))
+
+
+#: flight geometries of the ``flight-geometry`` factor: (crosshatch, tilt in deg)
+GEOMETRIES = {"nadir": (False, 0.0), "crosshatch": (True, 0.0), "tilted": (True, 20.0)}
+
+
+def _geometry(p: m.Project) -> str:
+    plan = _plan(p)
+    for name, (cross, tilt) in GEOMETRIES.items():
+        if plan.crosshatch == cross and plan.tilt_deg == tilt:
+            return name
+    return f"crosshatch={str(plan.crosshatch).lower()} tilt={plan.tilt_deg:g}"
+
+
+def _set_geometry(p: m.Project, value: str) -> m.Project:
+    cross, tilt = GEOMETRIES[value]
+    return _with_plan(p, crosshatch=cross, tilt_deg=tilt)
+
+
+def _F(name, doc, stage, parse, get, set_) -> Factor:
+    return Factor(name, doc, stage, parse, get, set_)
+
+
+FACTORS: dict[str, Factor] = {f.name: f for f in [
+    _F("altitude-m", "flight height above the reference ground (m); replaces a GSD",
+       "render", _float, lambda p: _plan(p).altitude_agl_m,
+       lambda p, v: _with_plan(p, altitude_agl_m=v, gsd_m=None)),
+    _F("gsd-m", "ground sample distance the flight is planned for (m/px); replaces altitude",
+       "render", _float, lambda p: _plan(p).gsd_m,
+       lambda p, v: _with_plan(p, gsd_m=v, altitude_agl_m=None)),
+    _F("front-overlap-percent", "forward overlap of consecutive images (%)", "render", _float,
+       lambda p: _plan(p).front_overlap_percent,
+       lambda p, v: _with_plan(p, front_overlap_percent=v)),
+    _F("side-overlap-percent", "overlap of neighbouring flight lines (%)", "render", _float,
+       lambda p: _plan(p).side_overlap_percent,
+       lambda p, v: _with_plan(p, side_overlap_percent=v)),
+    _F("crosshatch", "fly the grid a second time at 90 degrees (true/false)", "render", _bool,
+       lambda p: _plan(p).crosshatch, lambda p, v: _with_plan(p, crosshatch=v)),
+    _F("tilt-deg", "forward camera tilt from nadir (deg)", "render", _float,
+       lambda p: _plan(p).tilt_deg, lambda p, v: _with_plan(p, tilt_deg=v)),
+    _F("flight-geometry", "nadir (single grid), crosshatch (two grids at 90 deg, nadir) or "
+       "tilted (crosshatch with the camera tilted 20 deg forward)", "render",
+       _choice(*GEOMETRIES), _geometry, _set_geometry),
+    _F("pose-noise-sigma-m", "sigma of the flown position about the plan, X, Y and Z (m)",
+       "render", _float, lambda p: _noise(p).sigma_X_m,
+       lambda p, v: _with_plan(p, pose_noise=replace(_noise(p), sigma_X_m=v, sigma_Y_m=v,
+                                                       sigma_Z_m=v))),
+    _F("pose-noise-sigma-deg", "sigma of the flown attitude about the plan, omega, phi and "
+       "kappa (deg)", "render", _float, lambda p: _noise(p).sigma_omega_deg,
+       lambda p, v: _with_plan(p, pose_noise=replace(
+           _noise(p), sigma_omega_deg=v, sigma_phi_deg=v, sigma_kappa_deg=v))),
+    _F("control-count", "number of GCPs used as control (the others are check points); "
+       "chosen by control-spread", "processing", _int, lambda p: _control(p).count,
+       lambda p, v: _with_control(p, count=v, ids=())),
+    _F("control-spread", "how control-count GCPs are chosen: even (spread over the area) or "
+       "random", "processing", _choice("even", "random"), lambda p: _control(p).spread,
+       lambda p, v: _with_control(p, spread=v)),
+    _F("gcp-mode", "how control points enter the adjustment: none, similarity or bundle",
+       "processing", _choice("none", "similarity", "bundle"), lambda p: _proc(p).gcps.mode,
+       lambda p, v: _with_gcps(p, mode=v)),
+    _F("gcp-survey-sigma-m", "sigma of the simulated GCP survey, each axis (m)", "processing",
+       _float, lambda p: _survey(p).sigma.X,
+       lambda p, v: _with_survey(p, replace(_survey(p), sigma=m.Sigma3(v, v, v)))),
+    _F("marking-sigma-px", "sigma of the GCP marking error in the images, each axis (px)",
+       "processing", _float, lambda p: _proc(p).gcps.marking_sigma_px,
+       lambda p, v: _with_gcps(p, marking_sigma_px=v)),
+    _F("calibration", "interior parameters estimated: fixed, focal, focal-principal-point, "
+       "radial or full", "processing",
+       _choice("fixed", "focal", "focal-principal-point", "radial", "full"),
+       lambda p: _proc(p).calibration.mode,
+       lambda p, v: _with_proc(p, calibration=replace(_proc(p).calibration, mode=v))),
+    _F("pre-calibration-focal-px", "sigma of the starting focal-length error (px)",
+       "processing", _float, lambda p: _precal(p).focal_px,
+       lambda p, v: _with_precal(p, focal_px=v)),
+    _F("pre-calibration-k1", "sigma of the starting k1 error", "processing", _float,
+       lambda p: _precal(p).k1, lambda p, v: _with_precal(p, k1=v)),
+    _F("position-prior", "camera positions measured in flight: none, gnss or rtk",
+       "processing", _choice("none", "gnss", "rtk"), lambda p: _prior(p).mode,
+       lambda p, v: _with_prior(p, mode=v)),
+    _F("position-prior-sigma-m", "sigma of the measured camera positions, horizontal (m); "
+       "vertical is 1.5 times it", "processing", _float,
+       lambda p: _prior(p).sigmas_m[0],
+       lambda p, v: _with_prior(p, sigma_horizontal_m=v, sigma_vertical_m=1.5 * v)),
+    _F("max-features", "SIFT features per image", "processing", _int,
+       lambda p: _proc(p).matching.max_features,
+       lambda p, v: _with_proc(p, matching=replace(_proc(p).matching, max_features=v))),
+    _F("k1", "radial distortion k1 of the camera (Brown-Conrady)", "render", _float,
+       lambda p: _brown(p).k1, lambda p, v: _with_camera(p, distortion=replace(_brown(p), k1=v))),
+    _F("k2", "radial distortion k2 of the camera (Brown-Conrady)", "render", _float,
+       lambda p: _brown(p).k2, lambda p, v: _with_camera(p, distortion=replace(_brown(p), k2=v))),
+    _F("sensor-noise-dn", "sigma of additive sensor noise (digital numbers)", "render", _float,
+       lambda p: _effects(p).sensor_noise.sigma_dn if _effects(p).sensor_noise else 0.0,
+       lambda p, v: _with_effects(p, sensor_noise=m.SensorNoise(
+           v, _effects(p).sensor_noise.seed if _effects(p).sensor_noise else 0) if v else None)),
+    _F("jpeg-quality", "JPEG compression quality (1-100)", "render", _int,
+       lambda p: _effects(p).jpeg.quality if _effects(p).jpeg else None,
+       lambda p, v: _with_effects(p, jpeg=m.Jpeg(v))),
+    _F("sun-elevation-deg", "sun elevation above the horizon (deg)", "render", _float,
+       lambda p: getattr(p.scene.lighting.sun, "elevation_deg", None), _with_sun_elevation),
+    _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
+       lambda p: getattr(_texture_source(p), "file", None),
+       lambda p, v: _with_texture_source(p, m.ImageTexture(v))),
+    _F("texel-size-m", "texel size of the procedural ground texture (m)", "render", _float,
+       lambda p: getattr(_texture_source(p), "texel_size_m", None), _with_texel),
+    _F("render-preset", "render quality preset: draft, survey or metrology", "render",
+       _choice("draft", "survey", "metrology"), lambda p: p.render.preset,
+       lambda p, v: replace(p, render=replace(p.render, preset=v, samples=None))),
+    _F("render-samples", "Cycles samples per pixel", "render", _int,
+       lambda p: p.render.effective_samples,
+       lambda p, v: replace(p, render=replace(p.render, samples=v))),
+]}
+
+
+# ------------------------------------------------------------------ replicate draws
+def _seed_survey(p: m.Project, seed: int) -> m.Project:
+    return _with_survey(p, replace(_survey(p), seed=seed))
+
+
+def _seed_sensor(p: m.Project, seed: int) -> m.Project:
+    fx = _effects(p)
+    changes = {}
+    if fx.sensor_noise is not None:
+        changes["sensor_noise"] = replace(fx.sensor_noise, seed=seed)
+    if fx.sensor is not None:
+        changes["sensor"] = replace(fx.sensor, seed=seed)
+    return _with_effects(p, **changes) if changes else p
+
+
+def _seed_selection(p: m.Project, seed: int) -> m.Project:
+    if _control(p).count is None:
+        return p  # control chosen by ids: nothing to re-draw
+    return _with_control(p, spread="random", seed=seed)
+
+
+#: random draws a replicate can re-seed: name → (documentation, how to set the seed)
+DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
+    "pose-noise": ("the flown positions and attitudes (flight-plan random-seed)",
+                   lambda p, s: _with_plan(p, random_seed=s)),
+    "survey-error": ("the simulated survey of the GCPs", _seed_survey),
+    "marking-error": ("the GCP marking error in the images",
+                      lambda p, s: _with_gcps(p, seed=s)),
+    "sensor-noise": ("the sensor noise of the images", _seed_sensor),
+    "gcp-selection": ("which GCPs are control (a control-count drawn at random)",
+                      _seed_selection),
+    "position-prior": ("the errors of the measured camera positions",
+                       lambda p, s: _with_prior(p, seed=s)),
+    "pre-calibration": ("the starting interior-orientation errors",
+                        lambda p, s: _with_precal(p, seed=s)),
+}

@@ -1,0 +1,268 @@
+"""The study report: ``report.md`` and ``report.html`` with figures in ``figures/``.
+
+For each factor: the study's metrics against the factor's levels (mean and 95 %
+interval over replicates) and the seconds each level cost; across all runs: accuracy
+against cost with the Pareto front of the variants; error maps (cloud − true surface)
+of the extreme levels side by side; a one-way ANOVA (scipy) per factor and metric.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import warnings
+from pathlib import Path
+
+from designer.atomic import atomic_path, write_text_atomic
+from designer.study.results import factor_levels, interval95, level_rows
+
+_LABELS = {
+    "check_rmse_z_m": "check-point RMSE Z (m)", "check_rmse_xy_m": "check-point RMSE XY (m)",
+    "check_rmse_xyz_m": "check-point RMSE 3D (m)", "check_rmse_x_m": "check-point RMSE X (m)",
+    "check_rmse_y_m": "check-point RMSE Y (m)", "check_rmse_z_gsd": "check RMSE Z (GSD)",
+    "cloud_nmad_m": "cloud − surface NMAD (m)", "cloud_median_m": "cloud − surface median (m)",
+    "cloud_rmse_m": "cloud − surface RMSE (m)", "registered": "registered images",
+    "control_rmse_xyz_m": "control-point RMSE 3D (m)", "focal_error_px": "focal error (px)",
+    "k1_error": "k1 error", "dome_amplitude_m": "DoD dome amplitude (m)",
+    "total_s": "seconds per run", "render_s": "render seconds",
+}
+
+
+def label(metric: str) -> str:
+    return _LABELS.get(metric, metric)
+
+
+def _save(fig, path: Path) -> None:
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
+
+
+def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    levels = factor_levels(plan, rows, factor)
+    panels = list(metrics) + ["total_s"]
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels), 3.3), squeeze=False)
+    x = list(range(len(levels)))
+    for ax, metric in zip(axes[0], panels, strict=True):
+        stats = [interval95([r.get(metric) for r in level_rows(plan, rows, factor, lv)
+                             if r["status"] == "ok"]) for lv in levels]
+        for k, s in enumerate(stats):
+            if s["mean"] is None:
+                continue
+            ax.errorbar(k, s["mean"], yerr=[[s["mean"] - s["low"]], [s["high"] - s["mean"]]],
+                        fmt="o", color="C0" if metric != "total_s" else "C3", capsize=4)
+            points = [r.get(metric) for r in level_rows(plan, rows, factor, levels[k])
+                      if r["status"] == "ok" and r.get(metric) is not None]
+            ax.plot([k] * len(points), points, ".", color="0.6", ms=4)
+        ax.set_xticks(x, levels, rotation=30 if max(map(len, levels)) > 5 else 0)
+        ax.set_xlabel(factor)
+        ax.set_title(label(metric), fontsize=9)
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"{factor}: mean and 95 % interval over replicates (grey: each run)",
+                 fontsize=10)
+    _save(fig, path)
+    plt.close(fig)
+
+
+def pareto_front(points: list[tuple[float, float]]) -> list[int]:
+    """Indices of the points no other point beats in both cost and error (both minimised)."""
+    front = []
+    for i, (c, e) in enumerate(points):
+        if not any((c2 <= c and e2 <= e) and (c2 < c or e2 < e) for c2, e2 in points):
+            front.append(i)
+    return sorted(front, key=lambda i: points[i][0])
+
+
+def _variant_means(rows, metric: str) -> list[tuple[int, float, float, str]]:
+    out = []
+    for v in sorted({r["variant"] for r in rows}):
+        good = [r for r in rows if r["variant"] == v and r["status"] == "ok"]
+        cost = [r.get("total_s") for r in good if r.get("total_s") is not None]
+        err = [r.get(metric) for r in good if r.get(metric) is not None]
+        if cost and err:
+            levels = ", ".join(f"{k.removeprefix('factor:')}={val}" for k, val in good[0].items()
+                               if k.startswith("factor:"))
+            out.append((v, sum(cost) / len(cost), sum(err) / len(err), levels))
+    return out
+
+
+def _pareto_figure(rows, metric: str, path: Path) -> list[tuple]:
+    import matplotlib.pyplot as plt
+
+    means = _variant_means(rows, metric)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    ok = [r for r in rows if r["status"] == "ok" and r.get(metric) is not None]
+    ax.plot([r["total_s"] for r in ok], [r[metric] for r in ok], ".", color="0.65",
+            label="each run")
+    ax.plot([m[1] for m in means], [m[2] for m in means], "o", color="C0",
+            label="variant mean")
+    front = [means[i] for i in pareto_front([(m[1], m[2]) for m in means])]
+    ax.plot([m[1] for m in front], [m[2] for m in front], "-s", color="C3",
+            label="Pareto front")
+    for m in front:
+        ax.annotate(f"v{m[0]}", (m[1], m[2]), textcoords="offset points", xytext=(4, 4),
+                    fontsize=8)
+    ax.set_xlabel("cost: render + reconstruct + compare seconds per run")
+    ax.set_ylabel(label(metric))
+    ax.set_title("accuracy against cost, all variants")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    _save(fig, path)
+    plt.close(fig)
+    return front
+
+
+def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
+    import matplotlib.image as mpimg
+    import matplotlib.pyplot as plt
+
+    levels = factor_levels(plan, rows, factor)
+    chosen = []
+    for level in (levels[0], levels[-1]):
+        runs = [r for r in level_rows(plan, rows, factor, level)
+                if r["status"] == "ok" and r.get("error_map") and Path(r["error_map"]).is_file()]
+        if runs:
+            chosen.append((level, runs[0]))
+    if len(chosen) < 2 or chosen[0][0] == chosen[1][0]:
+        return False
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4))
+    for ax, (level, r) in zip(axes, chosen, strict=True):
+        ax.imshow(mpimg.imread(r["error_map"]))
+        ax.set_title(f"{factor} = {level} ({r['run']})", fontsize=9)
+        ax.axis("off")
+    fig.suptitle("signed distance cloud − true surface (m), extreme levels", fontsize=10)
+    _save(fig, path)
+    plt.close(fig)
+    return True
+
+
+def anova(plan, rows, metrics) -> list[dict]:
+    """One-way ANOVA per factor and metric over the levels' replicate runs (scipy)."""
+    from scipy import stats
+
+    out = []
+    for f in plan.study.factors:
+        for metric in metrics:
+            groups = []
+            for level in factor_levels(plan, rows, f.name):
+                g = [float(r[metric]) for r in level_rows(plan, rows, f.name, level)
+                     if r["status"] == "ok" and r.get(metric) is not None]
+                if g:
+                    groups.append(g)
+            row = {"factor": f.name, "metric": metric, "levels": len(groups),
+                   "F": None, "p": None}
+            if len(groups) >= 2 and sum(len(g) for g in groups) > len(groups):
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    res = stats.f_oneway(*groups)
+                if math.isfinite(res.statistic):
+                    row.update(F=float(res.statistic), p=float(res.pvalue))
+            out.append(row)
+    return out
+
+
+def _fmt(v) -> str:
+    if v is None:
+        return "–"
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return str(v)
+
+
+def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    figures = out / "figures"
+    figures.mkdir(exist_ok=True)
+    metrics = list(plan.study.metrics)
+    accuracy = next((m for m in metrics if m not in ("registered", "images")), metrics[0])
+    md = [f"# Study {plan.study.name}", ""]
+    if plan.study.description:
+        md += [plan.study.description, ""]
+    md += [f"Design {plan.study.design}, {summary['variants']} variants × "
+           f"{plan.study.replicates.count} replicates = {summary['runs']} runs "
+           f"(re-drawn per replicate: {', '.join(plan.study.replicates.vary) or 'nothing'}). "
+           f"Renders: {summary['renders']} (one per distinct image set); reconstructions: "
+           f"{summary['reconstructions']}; cache hits: {summary['cache_hits']}; failed runs: "
+           f"{summary['failed']}; wall time {summary.get('wall_s', 0):.0f} s.", ""]
+    for f in plan.study.factors:
+        name = f"factor-{f.name}.png"
+        _factor_figure(plan, rows, f.name, metrics, figures / name)
+        md += [f"## Factor {f.name} ({summary['factors'][f.name]['stage']})", ""]
+        if f.description:
+            md += [f.description, ""]
+        md += [f"![{f.name}](figures/{name})", "",
+               "| level | runs | failed | " + " | ".join(label(m) for m in metrics)
+               + " | seconds per run |",
+               "|---" * (len(metrics) + 4) + "|"]
+        for lv in summary["factors"][f.name]["levels"]:
+            cells = []
+            for m in metrics + ["total_s"]:
+                s = lv["metrics"][m]
+                cells.append("–" if s["mean"] is None else
+                             f"{s['mean']:.4g} [{s['low']:.4g}, {s['high']:.4g}]")
+            md.append(f"| {lv['level']} | {lv['runs']} | {lv['failed']} | "
+                      + " | ".join(cells) + " |")
+        md.append("")
+        maps = f"maps-{f.name}.png"
+        if _maps_figure(plan, rows, f.name, figures / maps):
+            md += [f"![error maps of {f.name}](figures/{maps})", ""]
+    front = _pareto_figure(rows, accuracy, figures / "pareto.png")
+    md += ["## Accuracy against cost", "", "![accuracy against cost](figures/pareto.png)", "",
+           "Pareto front (no other variant is both cheaper and more accurate):", ""]
+    md += [f"- v{v}: {cost:.1f} s, {label(accuracy)} {err:.4g} ({levels})"
+           for v, cost, err, levels in front]
+    md += ["", "## Which factors matter (one-way ANOVA over the levels' runs)", "",
+           "| factor | metric | levels | F | p |", "|---|---|---|---|---|"]
+    for a in anova(plan, rows, metrics):
+        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {_fmt(a['F'])} | "
+                  f"{_fmt(a['p'])} |")
+    failed = [r for r in rows if r["status"] != "ok"]
+    if failed:
+        md += ["", "## Failed runs", ""] + [f"- {r['run']}: {r['status']}" for r in failed]
+    md += ["", "All numbers: results.csv (one row per run) and summary.json.", ""]
+    text = "\n".join(md)
+    write_text_atomic(out / "report.md", text)
+    write_text_atomic(out / "report.html", _html(text, plan.study.name))
+    return {"markdown": out / "report.md", "html": out / "report.html"}
+
+
+def _html(markdown: str, title: str) -> str:
+    """A small Markdown subset (headings, images, tables, lists, paragraphs) as HTML."""
+    body, table = [], []
+
+    def flush_table():
+        if table:
+            head, *rest = table
+            body.append("<table><tr>" + "".join(f"<th>{c}</th>" for c in head) + "</tr>"
+                        + "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>"
+                                  for r in rest) + "</table>")
+            table.clear()
+
+    for line in markdown.splitlines():
+        if line.startswith("|"):
+            cells = [html.escape(c.strip()) for c in line.strip("|").split("|")]
+            if not all(set(c) <= {"-"} for c in cells):
+                table.append(cells)
+            continue
+        flush_table()
+        if line.startswith("#"):
+            level = len(line) - len(line.lstrip("#"))
+            body.append(f"<h{level}>{html.escape(line.lstrip('# '))}</h{level}>")
+        elif line.startswith("!["):
+            alt, src = line[2:].split("](", 1)
+            body.append(f'<p><img src="{html.escape(src.rstrip(")"))}" '
+                        f'alt="{html.escape(alt)}" style="max-width:100%"></p>')
+        elif line.startswith("- "):
+            body.append(f"<li>{html.escape(line[2:])}</li>")
+        elif line.strip():
+            body.append(f"<p>{html.escape(line)}</p>")
+    flush_table()
+    style = ("body{font-family:sans-serif;max-width:1100px;margin:auto}"
+             "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 6px;"
+             "font-size:90%}")
+    return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>"
+            f"{html.escape(title)}</title><style>{style}</style></head><body>"
+            + "\n".join(body) + "</body></html>\n")

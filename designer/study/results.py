@@ -1,0 +1,179 @@
+"""The study's tables: ``results.csv`` (one row per run, tidy), ``results.parquet`` (when
+pyarrow is installed) and ``summary.json`` (every metric by factor level: mean and 95 %
+interval over replicates, and the counts of variants, renders, reconstructions, cache
+hits and failed runs).
+
+Units: metres (``_m``), pixels (``_px``), ground sample distances (``_gsd``: the metre
+value divided by the run's mean GSD), seconds (``_s``).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from pathlib import Path
+
+from designer.atomic import write_text_atomic
+
+#: accuracy and cost columns of results.csv (a study's <metrics> name some of them)
+METRIC_COLUMNS = (
+    "registered", "images", "gsd_m",
+    "check_rmse_x_m", "check_rmse_y_m", "check_rmse_z_m", "check_rmse_xy_m",
+    "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd", "check_rmse_z_gsd",
+    "control_rmse_x_m", "control_rmse_y_m", "control_rmse_z_m", "control_rmse_xyz_m",
+    "cloud_median_m", "cloud_nmad_m", "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m",
+    "focal_error_px", "k1_error", "render_s", "reconstruct_s", "compare_s", "total_s",
+)
+
+_FIRST = ("run", "variant", "replicate")
+_LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
+         "registered", "check_n", "check_rmse_x_m", "check_rmse_y_m", "check_rmse_z_m",
+         "check_rmse_xy_m", "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd",
+         "check_rmse_z_gsd", "control_n", "control_rmse_x_m", "control_rmse_y_m",
+         "control_rmse_z_m", "control_rmse_xyz_m", "cloud_median_m", "cloud_nmad_m",
+         "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m", "focal_error_px", "k1_error",
+         "render_reused", "processing_reused", "image_hash", "processing_hash",
+         "error_map", "status")
+
+
+def complete_row(row: dict) -> dict:
+    """Add the derived columns: RMSE in GSD units and the total seconds of the run."""
+    gsd = row.get("gsd_m")
+    for axis in ("x", "y", "z"):
+        v = row.get(f"check_rmse_{axis}_m")
+        row[f"check_rmse_{axis}_gsd"] = v / gsd if v is not None and gsd else None
+    row["total_s"] = sum(row.get(k) or 0.0 for k in ("render_s", "reconstruct_s", "compare_s"))
+    return row
+
+
+def columns(rows: list[dict]) -> list[str]:
+    keys = {k for r in rows for k in r}
+    middle = sorted(k for k in keys if k.startswith(("factor:", "seed:")))
+    return list(_FIRST) + middle + [k for k in _LAST]
+
+
+def rows_csv(rows: list[dict]) -> str:
+    cols = columns(rows)
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, cols, extrasaction="ignore", lineterminator="\n")
+    writer.writeheader()
+    for r in rows:
+        writer.writerow({k: _cell(r.get(k)) for k in cols})
+    return buffer.getvalue()
+
+
+def _cell(v):
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return v
+
+
+def interval95(values: list[float]) -> dict:
+    """Mean and 95 % confidence interval of the mean (Student t) of finite values."""
+    xs = [float(v) for v in values if v is not None and math.isfinite(float(v))]
+    if not xs:
+        return {"n": 0, "mean": None, "low": None, "high": None}
+    n = len(xs)
+    mean = sum(xs) / n
+    if n == 1:
+        return {"n": 1, "mean": mean, "low": mean, "high": mean}
+    from scipy import stats
+
+    sd = math.sqrt(sum((x - mean) ** 2 for x in xs) / (n - 1))
+    half = float(stats.t.ppf(0.975, n - 1)) * sd / math.sqrt(n)
+    return {"n": n, "mean": mean, "low": mean - half, "high": mean + half}
+
+
+def level_rows(plan, rows: list[dict], factor: str, level: str) -> list[dict]:
+    """Rows at ``factor`` = ``level``: one-at-a-time, the others at their base levels;
+    full factorial, all of them (the factor's main effect)."""
+    key = f"factor:{factor}"
+    out = [r for r in rows if str(r.get(key)) == level]
+    if plan.study.design == "one-at-a-time":
+        base = {f"factor:{k}": v for k, v in _base_levels(rows).items()}
+        out = [r for r in out if all(str(r.get(k)) == str(v) for k, v in base.items()
+                                     if k != key)]
+    return out
+
+
+def _base_levels(rows: list[dict]) -> dict:
+    base = [r for r in rows if r.get("variant") == 0]
+    return {k.removeprefix("factor:"): v for k, v in (base[0] if base else {}).items()
+            if k.startswith("factor:")}
+
+
+def factor_levels(plan, rows: list[dict], factor: str) -> list[str]:
+    """The factor's levels in the study's order, the base level among them."""
+    spec = next(f for f in plan.study.factors if f.name == factor)
+    levels = list(spec.values)
+    base = str(_base_levels(rows).get(factor, ""))
+    if base and base not in levels:
+        levels.append(base)
+        try:
+            levels.sort(key=float)
+        except ValueError:
+            pass
+    return levels
+
+
+def summarise(plan, rows: list[dict], counts: dict) -> dict:
+    ok = [r for r in rows if r["status"] == "ok"]
+    by_factor = {}
+    for f in plan.study.factors:
+        levels = []
+        for level in factor_levels(plan, rows, f.name):
+            selected = level_rows(plan, rows, f.name, level)
+            good = [r for r in selected if r["status"] == "ok"]
+            levels.append({"level": level, "runs": len(selected), "failed":
+                           len(selected) - len(good), "metrics": {
+                               c: interval95([r.get(c) for r in good]) for c in METRIC_COLUMNS}})
+        by_factor[f.name] = {"stage": _stage(f.name), "levels": levels}
+    return {"study": plan.study.name, "design": plan.study.design,
+            "replicates": plan.study.replicates.count,
+            "vary": list(plan.study.replicates.vary), "metrics": list(plan.study.metrics),
+            "variants": counts.get("variants"), "runs": len(rows),
+            "renders": counts.get("renders"), "reconstructions": counts.get("reconstructions"),
+            "cache_hits": counts.get("cache_hits"), "failed": counts.get("failed"),
+            "renders_this_session": counts.get("renders_this_session"),
+            "reconstructions_this_session": counts.get("reconstructions_this_session"),
+            "ok": len(ok), "factors": by_factor, "rows": rows}
+
+
+def _stage(name: str) -> str:
+    from designer.study.factors import FACTORS
+
+    return FACTORS[name].stage
+
+
+def write_results(plan, report) -> dict:
+    """results.csv (+ .parquet), summary.json, report.html and report.md in the folder."""
+    out = Path(report.out_dir)
+    rows = [complete_row(dict(r)) for r in report.rows]
+    write_text_atomic(out / "results.csv", rows_csv(rows))
+    _parquet(rows, out / "results.parquet")
+    summary = summarise(plan, rows, report.counts)
+    summary["wall_s"] = report.seconds
+    write_text_atomic(out / "summary.json", json.dumps(summary, indent=1) + "\n")
+    from designer.study.report import write_report
+
+    write_report(plan, rows, summary, out)
+    return summary
+
+
+def _parquet(rows: list[dict], path: Path) -> None:
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        return
+    from designer.atomic import atomic_path
+
+    cols = columns(rows)
+    table = pa.table({c: [_cell(r.get(c)) if isinstance(r.get(c), str) else r.get(c)
+                          for r in rows] for c in cols})
+    with atomic_path(path) as tmp:
+        pq.write_table(table, tmp)

@@ -1,0 +1,305 @@
+"""``designer study run``: plan every run, render each image set once, process each
+distinct processing once, on local worker processes or a Dask cluster; resumable.
+
+Output folder::
+
+    DIR/study.json                the study's plan: runs, their levels and seeds
+    DIR/runs/RUN/project.xml      the run's project (valid and runnable on its own)
+    DIR/runs/RUN/survey/          its images (links into the render cache), ground truth
+    DIR/runs/RUN/run.json         its hashes, GSD and image count
+    DIR/runs/RUN/result.json      its results row, written when it is finished
+    DIR/cache/renders/HASH/       one render per distinct image set
+    DIR/cache/processing/HASH/    one reconstruction + comparison per distinct processing
+    DIR/results.csv, summary.json, report.html, report.md
+
+A run with a ``result.json`` is finished (``ok`` or ``failed: reason``) and never redone;
+``--resume`` continues a killed study, re-rendering only unfinished images.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from designer.atomic import write_text_atomic
+from designer.errors import DesignerError
+from designer.study import stages
+from designer.study.design import Plan, Run
+
+Progress = Callable[[dict], None]
+
+
+@dataclass
+class StudyRunReport:
+    out_dir: Path
+    rows: list[dict]
+    counts: dict = field(default_factory=dict)
+    seconds: float = 0.0
+
+
+class _Local:
+    """Worker processes on this machine (spawned: no state shared with the caller)."""
+
+    def __init__(self, workers: int) -> None:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        self.pool = ProcessPoolExecutor(max_workers=workers,
+                                        mp_context=multiprocessing.get_context("spawn"))
+
+    def submit(self, fn, *args, priority: int = 0):
+        return self.pool.submit(fn, *args)
+
+    def wait_first(self, futures):
+        from concurrent.futures import FIRST_COMPLETED, wait
+
+        return wait(futures, return_when=FIRST_COMPLETED).done
+
+    def close(self, cancel: bool = False) -> None:
+        self.pool.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+class _Dask:
+    """An existing dask.distributed cluster; renders are submitted with the top priority."""
+
+    def __init__(self, scheduler: str) -> None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise DesignerError("--scheduler needs dask.distributed: pip install "
+                                "'designer[cluster]'") from None
+        try:
+            self.client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError) as error:
+            raise DesignerError(f"--scheduler {scheduler}: cannot connect ({error}); start "
+                                "it with 'dask scheduler' and 'dask worker'") from None
+
+    def submit(self, fn, *args, priority: int = 0):
+        return self.client.submit(fn, *args, pure=False, priority=priority)
+
+    def wait_first(self, futures):
+        from distributed import wait
+
+        return wait(list(futures), return_when="FIRST_COMPLETED").done
+
+    def close(self, cancel: bool = False) -> None:
+        self.client.close()
+
+
+def _ground_truth_formats(run: Run) -> Run:
+    outputs = replace(run.project.outputs, ground_truth=("colmap", "opk", "gcp"))
+    return replace(run, project=replace(run.project, outputs=outputs))
+
+
+def _plan_runs(plan: Plan, out: Path, progress: Progress) -> dict[str, dict]:
+    """run.json of every run (written now, or kept from an earlier run of the study)."""
+    infos = {}
+    for k, run in enumerate(plan.runs):
+        run = _ground_truth_formats(run)
+        run_dir = out / "runs" / run.run_id
+        project = stages.rebase_files(run.project, plan.base_dir, run_dir)
+        info_path = run_dir / "run.json"
+        if info_path.is_file():
+            info = json.loads(info_path.read_text())
+            if info.get("project_repr") == repr(project):
+                infos[run.run_id] = info
+                continue
+        info = stages.plan_run(project, run_dir)
+        info.update({"run": run.run_id, "variant": run.variant, "replicate": run.replicate,
+                     "levels": run.levels, "seeds": run.seeds, "project_repr": repr(project)})
+        write_text_atomic(info_path, json.dumps(info, indent=1))
+        infos[run.run_id] = info
+        progress({"event": "planned", "run": run.run_id, "done": k + 1,
+                  "total": len(plan.runs)})
+    return infos
+
+
+def _check_folder(out: Path, plan: Plan, resume: bool) -> None:
+    marker = out / "study.json"
+    if marker.is_file():
+        recorded = json.loads(marker.read_text())
+        if not resume:
+            raise DesignerError(
+                f"{out} holds the results of study '{recorded.get('name')}'; continue it "
+                "with --resume, or give another output folder")
+        if recorded.get("name") != plan.study.name:
+            raise DesignerError(
+                f"{out} holds study '{recorded.get('name')}', not '{plan.study.name}'; give "
+                "another output folder")
+    elif out.exists() and any(out.iterdir()) and not resume:
+        raise DesignerError(f"{out} is not empty; give a new or empty output folder")
+
+
+def run_study(plan: Plan, out_dir: Path, *, workers: int = 1, scheduler: str | None = None,
+              resume: bool = False, progress: Progress | None = None,
+              render_workers: int = 1) -> StudyRunReport:
+    """Run every run of ``plan`` into ``out_dir``; results, summary and report written."""
+    from designer.study.results import write_results
+
+    progress = progress or (lambda _event: None)
+    out = Path(out_dir)
+    _check_folder(out, plan, resume)
+    if scheduler:  # an unreachable cluster is an error before anything is written
+        _Dask(scheduler).close()
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    write_text_atomic(out / "study.json", json.dumps({
+        "name": plan.study.name, "study": str(plan.study.source or ""),
+        "design": plan.study.design, "variants": plan.n_variants,
+        "replicates": plan.study.replicates.count,
+        "factors": {f.name: list(f.values) for f in plan.study.factors},
+        "runs": [r.run_id for r in plan.runs]}, indent=1))
+    infos = _plan_runs(plan, out, progress)
+    finished = {rid for rid in infos if (out / "runs" / rid / "result.json").is_file()}
+    counts = _execute(out, infos, finished, workers, scheduler, progress, render_workers)
+    rows = [json.loads((out / "runs" / r.run_id / "result.json").read_text())
+            for r in plan.runs]
+    counts.update({"variants": plan.n_variants, "runs": len(rows),
+                   "failed": sum(r["status"] != "ok" for r in rows)})
+    report = StudyRunReport(out, rows, counts, time.perf_counter() - t0)
+    write_results(plan, report)
+    return report
+
+
+def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int,
+             scheduler: str | None, progress: Progress, render_workers: int) -> dict:
+    renders = out / "cache" / "renders"
+    processing = out / "cache" / "processing"
+    by_image: dict[str, list[str]] = {}
+    by_proc: dict[str, list[str]] = {}
+    for rid, info in infos.items():
+        by_image.setdefault(info["image_hash"], []).append(rid)
+        by_proc.setdefault(info["processing_hash"], []).append(rid)
+    counts = {"renders": len(by_image), "reconstructions": len(by_proc),
+              "renders_this_session": 0, "reconstructions_this_session": 0}
+    counts["cache_hits"] = (len(infos) - len(by_image)) + (len(infos) - len(by_proc))
+    todo = [rid for rid in infos if rid not in finished]
+    if not todo:
+        return counts
+    executor = _Dask(scheduler) if scheduler else _Local(max(1, workers))
+    pending: dict = {}
+    done_renders: dict[str, dict] = {}
+    submitted_proc: set[str] = set()
+    total, n_done = len(infos), len(finished)
+
+    def render_result(h: str) -> dict | None:
+        path = renders / h / stages.DONE
+        return json.loads(path.read_text()) if path.is_file() else None
+
+    def submit_processing(h: str) -> None:
+        for rid in by_image[h]:
+            p = infos[rid]["processing_hash"]
+            if rid in finished or p in submitted_proc:
+                continue
+            submitted_proc.add(p)
+            result = json.loads((processing / p / stages.DONE).read_text()) \
+                if (processing / p / stages.DONE).is_file() else None
+            if result is not None or done_renders[h]["status"] != "ok":
+                finish_processing(p, result or {"status": done_renders[h]["status"]})
+                continue
+            first = out / "runs" / by_proc[p][0]
+            stages.link_images(renders / h, first / "survey", infos[rid]["images"])
+            future = executor.submit(stages.process_stage, str(first / "survey"),
+                                     str(first / "project.xml"), str(processing / p),
+                                     priority=0)
+            pending[future] = ("process", p)
+            counts["reconstructions_this_session"] += 1
+
+    def finish_processing(p: str, result: dict) -> None:
+        nonlocal n_done
+        for rid in by_proc[p]:
+            if rid in finished:
+                continue
+            info = infos[rid]
+            h = info["image_hash"]
+            row = _row(info, done_renders.get(h) or {}, result, owner=by_proc[p][0] == rid,
+                       render_owner=by_image[h][0] == rid, proc_dir=processing / p)
+            write_text_atomic(out / "runs" / rid / "result.json", json.dumps(row, indent=1))
+            finished.add(rid)
+            n_done += 1
+            progress({"event": "run_done", "run": rid, "status": row["status"],
+                      "done": n_done, "total": total})
+
+    try:
+        for h, rids in by_image.items():
+            if all(r in finished for r in rids):
+                continue
+            result = render_result(h)
+            if result is not None:
+                done_renders[h] = result
+                submit_processing(h)
+                continue
+            project = out / "runs" / rids[0] / "project.xml"
+            future = executor.submit(stages.render_stage, str(project), str(renders / h),
+                                     render_workers, priority=10)
+            pending[future] = ("render", h)
+            counts["renders_this_session"] += 1
+            progress({"event": "render_started", "image_set": h, "runs": len(rids)})
+        while pending:
+            for future in executor.wait_first(pending):
+                kind, key = pending.pop(future)
+                try:
+                    result = future.result()
+                except Exception as error:  # a crashed worker process: record, go on
+                    result = {"status": f"failed: {kind} worker: {error}"[:300]}
+                if kind == "render":
+                    done_renders[key] = result
+                    progress({"event": "render_done", "image_set": key,
+                              "seconds": result.get("render_s")})
+                    submit_processing(key)
+                else:
+                    finish_processing(key, result)
+    except BaseException:
+        executor.close(cancel=True)
+        raise
+    executor.close()
+    return counts
+
+
+def _row(info: dict, render: dict, result: dict, owner: bool, render_owner: bool,
+         proc_dir: Path) -> dict:
+    row = {"run": info["run"], "variant": info["variant"], "replicate": info["replicate"]}
+    row.update({f"factor:{k}": v for k, v in info["levels"].items()})
+    row.update({f"seed:{k}": v for k, v in info["seeds"].items()})
+    row.update({"images": len(info["images"]), "gsd_m": info["gsd_m"],
+                "image_hash": info["image_hash"], "processing_hash": info["processing_hash"],
+                "render_s": render.get("render_s"), "render_reused": not render_owner,
+                "processing_reused": not owner})
+    row.update({k: v for k, v in result.items() if k != "status"})
+    if row.get("error_map"):
+        row["error_map"] = str(proc_dir / row["error_map"])
+    row["status"] = result.get("status", "failed: unknown")
+    return row
+
+
+def remove_partial(out: Path) -> None:
+    """Remove unfinished stage folders (no done.json) of a study folder."""
+    for kind in ("renders", "processing"):
+        for folder in (out / "cache" / kind).glob("*"):
+            if not (folder / stages.DONE).is_file():
+                shutil.rmtree(folder, ignore_errors=True)
+
+
+def print_progress(mode: str) -> Progress:
+    def as_json(event: dict) -> None:
+        print(json.dumps(event), flush=True)
+
+    def as_bar(event: dict) -> None:
+        if event.get("event") == "run_done":
+            n, total = event["done"], event["total"]
+            filled = int(30 * n / max(total, 1))
+            sys.stderr.write(f"\r[{'#' * filled}{'.' * (30 - filled)}] {n}/{total} runs "
+                             f"({event['run']}: {event['status'][:40]})")
+            if n == total:
+                sys.stderr.write("\n")
+            sys.stderr.flush()
+        elif event.get("event") == "planned":
+            sys.stderr.write(f"\rplanning {event['done']}/{event['total']} runs")
+            sys.stderr.flush()
+
+    return {"json": as_json, "bar": as_bar}.get(mode, lambda _event: None)

@@ -1,0 +1,158 @@
+"""The stages of one study run, as plain functions a worker process (or Dask worker) calls.
+
+* :func:`plan_run` (main process): the run's project file, its prepared render job →
+  image-set hash, GSD, image count; its ground truth → the processing hash;
+* :func:`render_stage`: ``designer render`` of one image set into the render cache;
+* :func:`process_stage`: ``designer reconstruct`` (free mode, the project's
+  ``<processing>``) and ``designer compare`` (cloud against the true surface).
+
+Stage outputs land in cache folders named by content hash; ``done.json`` is written
+last (atomically), so a folder without it is unfinished and is redone.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import time
+import traceback
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from designer.atomic import write_text_atomic
+from designer.errors import DesignerError
+from designer.project import model as m
+
+DONE = "done.json"
+#: processing mode of every study reconstruction
+MODE = "free"
+
+
+def rebase_files(project: m.Project, from_dir: Path, to_dir: Path) -> m.Project:
+    """The project with its file references made relative to ``to_dir``."""
+    def fix(file: str) -> str:
+        return os.path.relpath(Path(from_dir).resolve() / file, Path(to_dir).resolve())
+
+    scene = project.scene
+    source = scene.terrain.source
+    if isinstance(source, m.DemTerrain | m.MeshTerrain):
+        scene = replace(scene, terrain=replace(scene.terrain, source=replace(
+            source, file=fix(source.file))))
+    if isinstance(scene.texture.source, m.ImageTexture):
+        scene = replace(scene, texture=replace(scene.texture, source=m.ImageTexture(
+            fix(scene.texture.source.file))))
+    scene = replace(scene, objects=tuple(replace(o, file=fix(o.file)) for o in scene.objects))
+    return replace(project, scene=scene)
+
+
+def plan_run(project: m.Project, run_dir: Path) -> dict:
+    """Write the run's project and survey ground truth; its hashes, GSD and image count."""
+    from designer.project import write_project
+    from designer.render.job import prepare_job
+    from designer.render.pipeline import write_ground_truth
+    from designer.render.provenance import ground_truth_digest, job_provenance
+    from designer.study.cache import image_set_hash, processing_hash
+
+    run_dir.mkdir(parents=True, exist_ok=True)
+    project_path = run_dir / "project.xml"
+    write_project(project, project_path)
+    survey = run_dir / "survey"
+    prepared = prepare_job(project, run_dir, survey)
+    provenance = job_provenance(prepared.job, prepared.job_path.parent)
+    names = [prepared.job.image_names[i] for i in sorted(prepared.job.image_names)]
+    gt = survey / "ground-truth"
+    if gt.exists():
+        shutil.rmtree(gt)
+    write_ground_truth(project, prepared, survey)
+    gsd = [f.gsd_m for f in prepared.job.frames if f.gsd_m is not None]
+    shutil.rmtree(prepared.job_path.parent, ignore_errors=True)
+    image_hash = image_set_hash(provenance, prepared.job.image_names)
+    return {"project": "project.xml", "images": names, "image_hash": image_hash,
+            "processing_hash": processing_hash(image_hash, ground_truth_digest(gt),
+                                               project.processing, MODE),
+            "gsd_m": float(np.mean(gsd)) if gsd else None}
+
+
+def render_stage(project_path: str, out_dir: str, workers: int = 1) -> dict:
+    """Render a project into ``out_dir`` (resuming what is there); seconds taken."""
+    from designer.render.pipeline import render_project
+
+    out = Path(out_dir)
+    t0 = time.perf_counter()
+    try:
+        render_project(Path(project_path), out, workers=workers, resume=True)
+        status = "ok"
+    except DesignerError as error:
+        status = f"failed: render: {error}"
+    result = {"status": status, "render_s": time.perf_counter() - t0}
+    write_text_atomic(out / DONE, json.dumps(result))
+    return result
+
+
+def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
+    """Put the rendered images into a run's survey folder (symbolic links, else copies)."""
+    for name in names:
+        target = survey / name
+        if target.is_file():
+            continue
+        target.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.symlink(os.path.relpath(render_dir / name, target.parent), target)
+        except OSError:
+            shutil.copyfile(render_dir / name, target)
+
+
+def process_stage(survey_dir: str, project_path: str, out_dir: str) -> dict:
+    """Reconstruct and compare one run; its metrics, or ``failed: reason``."""
+    # keep COLMAP's per-step log lines out of the study's output (errors still show);
+    # read by its logging library when pycolmap loads in this worker
+    os.environ.setdefault("GLOG_minloglevel", "2")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    result: dict = {}
+    try:
+        result = _process(Path(survey_dir), Path(project_path), out)
+        result["status"] = "ok"
+    except (DesignerError, ValueError, RuntimeError, np.linalg.LinAlgError) as error:
+        result["status"] = f"failed: {type(error).__name__ if not str(error) else error}"
+        result["status"] = " ".join(result["status"].split())[:300]
+        (out / "error.txt").write_text(traceback.format_exc())
+    write_text_atomic(out / DONE, json.dumps(result))
+    return result
+
+
+def _process(survey: Path, project_path: Path, out: Path) -> dict:
+    from designer.evaluate import compare_cloud, read_point_cloud, reference_mesh
+    from designer.project import load_project
+    from designer.sfm.reconstruct import reconstruct
+
+    project = load_project(project_path)
+    t0 = time.perf_counter()
+    rec = reconstruct(survey, out / "reconstruction", mode=MODE,
+                      processing=project.processing, log=lambda _message: None)
+    t1 = time.perf_counter()
+    s = rec.summary
+    row: dict = {"reconstruct_s": t1 - t0, "registered": rec.n_registered,
+                 "images": rec.n_images}
+    for role in ("check", "control"):
+        stats = s.get(role) or {}
+        for key in ("rmse_x_m", "rmse_y_m", "rmse_z_m", "rmse_xy_m", "rmse_xyz_m"):
+            row[f"{role}_{key}"] = stats.get(key)
+        row[f"{role}_n"] = stats.get("n", 0)
+    intr = s.get("intrinsics") or {}
+    row["focal_error_px"] = intr.get("delta_f_px")
+    row["k1_error"] = intr.get("delta_k1")
+    row["dome_amplitude_m"] = (s.get("dense") or {}).get("dome_amplitude_m")
+    if rec.n_points >= 10:
+        summary = compare_cloud(read_point_cloud(rec.cloud_ply), reference_mesh(project_path),
+                                out / "compare")
+        d = summary["distances"]
+        row.update({"cloud_median_m": d["median"], "cloud_nmad_m": d["nmad"],
+                    "cloud_mean_m": d["mean"], "cloud_rmse_m": d["rmse"],
+                    "error_map": str((out / "compare" / "error_map.png").relative_to(out))})
+    row["compare_s"] = time.perf_counter() - t1
+    return row
+

@@ -1,0 +1,136 @@
+"""Example studies written by ``designer study new FILE --template NAME``.
+
+Each writes the study file and its base project (``STEM-base.xml`` beside it): a
+60 × 60 m hilly field with ten GCP targets flown at 30 m by a small 640 × 480
+camera (GSD ≈ 6 cm), small enough to run a study on a laptop. ``tiny`` uses 160 × 120
+images for tests.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from designer.project import model as m
+
+E0, N0, H0 = 500000.0, 5000000.0, 250.0
+
+
+def base_project(width_px: int = 640, height_px: int = 480, samples: int = 16) -> m.Project:
+    """A 60 × 60 m hilly field, 10 GCP targets, a grid flight at 30 m (GSD 6 cm at 640 px)."""
+    cam = m.Camera(id="cam", focal_length_mm=5.0, sensor_width_mm=6.4, sensor_height_mm=4.8,
+                   image_width_px=width_px, image_height_px=height_px)
+    spots = [(-14, -14), (0, -12), (14, -14), (-14, 14), (0, 12), (14, 14), (0, 0),
+             (-13, 0), (13, 0), (6, 6)]
+    targets = tuple(
+        m.Target(f"G{k:02d}", "control", "checker", 1.5, m.TruePosition(E0 + x, N0 + y))
+        for k, (x, y) in enumerate(spots))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.ProceduralTerrain(
+            seed=5, grid_spacing_m=0.5, roughness=0.3, min_height_m=H0 - 3.0,
+            max_height_m=H0 + 3.0)),
+        texture=m.Texture(m.ProceduralTexture("grass", seed=2, texel_size_m=0.03 * 640 / width_px),
+                          repeat_X=1, repeat_Y=1, interpolation="linear"),
+        targets=m.Targets(targets, m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.015), seed=1)),
+        lighting=m.Lighting(m.Sun(azimuth_deg=150.0, elevation_deg=55.0)),
+    )
+    plan = m.FlightPlan(
+        camera=cam.id, image_prefix="IMG_",
+        area=((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15), (E0 - 15, N0 + 15)),
+        altitude_agl_m=30.0, front_overlap_percent=65.0, side_overlap_percent=55.0,
+        pose_noise=m.PoseNoise(0.2, 0.2, 0.1, 0.5, 0.5, 1.0), random_seed=3)
+    processing = m.Processing(
+        calibration=m.Calibration("fixed"),
+        gcps=m.GcpProcessing("bundle", marking_sigma_px=0.5, seed=1,
+                             control=m.ControlSelection(count=5, spread="even")),
+        matching=m.Matching(max_features=4096))
+    return m.Project(
+        name="study base survey", crs="EPSG:32632", origin=m.Origin(E0, N0, H0), scene=scene,
+        cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
+        render=m.Render(preset="survey", samples=samples, workers=1),
+        outputs=m.Outputs("output", ("colmap", "opk", "gcp")), processing=processing)
+
+
+_HEAD = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+         '<study xmlns="urn:designer:project:1" schema-version="1.0" name="{name}">\n'
+         '  <description>{description}</description>\n'
+         '  <base-project file="{base}"/>\n')
+
+STUDIES = {
+    "gcp-count": ("How many control GCPs does the check-point accuracy need? The others are "
+                  "check points; every replicate re-draws which GCPs are control and the "
+                  "marking error. One render serves every run.",
+                  '  <factor name="control-count">\n'
+                  '    <description>GCPs used as control</description>\n'
+                  '    <values>3 4 6 8</values>\n  </factor>\n'
+                  '  <design>one-at-a-time</design>\n'
+                  '  <replicates count="3" vary="gcp-selection marking-error survey-error"/>\n'
+                  '  <metrics>check_rmse_xy_m check_rmse_z_m cloud_nmad_m</metrics>\n'),
+    "flight-geometry": ("Does a convergent flight (crosshatch, tilted camera) stop the doming "
+                        "of a self-calibrated camera? Each geometry with a fixed and a "
+                        "self-calibrated (radial) camera.",
+                        '  <factor name="flight-geometry">\n'
+                        '    <values>nadir crosshatch tilted</values>\n  </factor>\n'
+                        '  <factor name="calibration">\n'
+                        '    <values>fixed radial</values>\n  </factor>\n'
+                        '  <design>full-factorial</design>\n'
+                        '  <replicates count="2" vary="marking-error pre-calibration"/>\n'
+                        '  <metrics>check_rmse_z_m cloud_median_m k1_error</metrics>\n'),
+    "altitude": ("Flight altitude (GSD) against accuracy and render time.",
+                 '  <factor name="altitude-m">\n'
+                 '    <range start="25" stop="40" step="5"/>\n  </factor>\n'
+                 '  <design>one-at-a-time</design>\n'
+                 '  <replicates count="2" vary="marking-error"/>\n'
+                 '  <metrics>check_rmse_xy_m check_rmse_z_m check_rmse_z_gsd</metrics>\n'),
+    "tiny": ("A tiny study for tests: a processing-only factor and a render factor.",
+             '  <factor name="marking-sigma-px">\n    <values>0.2 2</values>\n  </factor>\n'
+             '  <factor name="sun-elevation-deg">\n    <values>40</values>\n  </factor>\n'
+             '  <design>one-at-a-time</design>\n'
+             '  <replicates count="1"/>\n'
+             '  <metrics>check_rmse_z_m registered</metrics>\n'),
+}
+
+TEMPLATE_NAMES = tuple(STUDIES)
+
+
+def template_base(name: str) -> m.Project:
+    if name == "tiny":
+        p = base_project(160, 120, samples=4)
+        half = 7.0  # a 14 x 14 m flight at 12 m (GSD 10 cm), 3 lines of 3-4 images
+        targets = tuple(replace(t, size_m=1.0, true=m.TruePosition(
+            E0 + 0.5 * (t.true.X - E0), N0 + 0.5 * (t.true.Y - N0))) for t in p.targets)
+        p = replace(p, scene=replace(p.scene, targets=replace(p.scene.targets,
+                                                              targets=targets),
+                                     texture=replace(p.scene.texture, source=replace(
+                                         p.scene.texture.source, texel_size_m=0.05))))
+        plan = replace(p.trajectory.flight_plan, altitude_agl_m=12.0,
+                       area=((E0 - half, N0 - half), (E0 + half, N0 - half),
+                             (E0 + half, N0 + half), (E0 - half, N0 + half)),
+                       front_overlap_percent=70.0, side_overlap_percent=60.0)
+        p = replace(p, trajectory=m.Trajectory(flight_plan=plan),
+                    processing=replace(p.processing, gcps=replace(
+                        p.processing.gcps, mode="similarity",
+                        control=m.ControlSelection(count=4)), matching=m.Matching(1024)))
+        return p
+    if name == "flight-geometry":
+        p = base_project()
+        cam = replace(p.cameras[0], distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
+        proc = replace(p.processing, calibration=m.Calibration(
+            "fixed", m.PreCalibrationError(focal_px=5.0, k1=0.02, seed=1)))
+        return replace(p, cameras=(cam,), processing=proc)
+    return base_project()
+
+
+def write_template(name: str, path: Path) -> list[Path]:
+    """Write the study ``path`` and its ``base.xml``; the files written."""
+    from designer.atomic import write_text_atomic
+    from designer.project import write_project
+
+    description, body = STUDIES[name]
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    base = path.parent / f"{path.stem}-base.xml"
+    write_project(replace(template_base(name), name=f"{name} study base"), base)
+    write_text_atomic(path, _HEAD.format(name=name, description=description, base=base.name) + body
+                      + "</study>\n")
+    return [path, base]

@@ -1,0 +1,191 @@
+"""Studies end to end: a tiny study (160 x 120 px images) killed, resumed and finished;
+its caching (a processing-only factor renders once) and bad study files."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from designer.project.problems import ProjectError
+from designer.study.design import plan_study
+from designer.study.run import run_study
+from designer.study.templates import write_template
+from designer.study.xml import parse_study, read_study
+
+ROOT = Path(__file__).resolve().parents[2]
+
+pytestmark = [pytest.mark.blender]
+
+
+def _designer(*args, **kw) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "designer", *args], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+
+
+@pytest.fixture(scope="module")
+def killed_and_resumed(tmp_path_factory):
+    """The tiny study run in a process killed (SIGKILL, whole process group) once its first
+    run finished, then resumed to the end; and resumed a second time."""
+    folder = tmp_path_factory.mktemp("study")
+    study = folder / "tiny.xml"
+    write_template("tiny", study)
+    out = folder / "out"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "designer", "study", "run", str(study), "-o", str(out),
+         "--workers", "2", "--progress", "none"], cwd=ROOT, stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.monotonic() + 600
+    while time.monotonic() < deadline and proc.poll() is None:
+        if list(out.glob("runs/*/result.json")):
+            break
+        time.sleep(0.2)
+    finished = {p.parent.name: p.read_bytes() for p in out.glob("runs/*/result.json")}
+    assert proc.poll() is None, "the study ended before it could be killed"
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    finished = {p.parent.name: p.read_bytes() for p in out.glob("runs/*/result.json")}
+    assert finished, "no run had finished when the study was killed"
+    plan = plan_study(read_study(study))
+    first = run_study(plan, out, workers=2, resume=True)
+    second = run_study(plan, out, workers=2, resume=True)
+    return out, finished, first, second
+
+
+def test_a_killed_study_resumes_without_losing_or_redoing_a_run(killed_and_resumed):
+    out, finished, first, second = killed_and_resumed
+    for run, content in finished.items():  # finished before the kill: kept as they were
+        assert (out / "runs" / run / "result.json").read_bytes() == content
+    assert first.counts["reconstructions_this_session"] <= 4 - len(finished)
+    assert second.counts["renders_this_session"] == 0
+    assert second.counts["reconstructions_this_session"] == 0
+    assert [r["status"] for r in second.rows] == ["ok"] * 4
+
+
+def test_a_processing_only_factor_renders_once(killed_and_resumed):
+    out, *_ = killed_and_resumed
+    with (out / "results.csv").open() as table:
+        rows = list(csv.DictReader(table))
+    assert len(rows) == 4
+    marking = {r["factor:marking-sigma-px"]: r for r in rows
+               if r["factor:sun-elevation-deg"] == "55"}
+    assert set(marking) == {"0.5", "0.2", "2"}
+    # three variants differing only in processing share one image set; the sun another
+    assert len({r["image_hash"] for r in marking.values()}) == 1
+    assert len({r["image_hash"] for r in rows}) == 2
+    assert len({r["processing_hash"] for r in rows}) == 4
+    summary = json.loads((out / "summary.json").read_text())
+    assert (summary["variants"], summary["renders"], summary["reconstructions"]) == (4, 2, 4)
+    assert summary["cache_hits"] == 2 and summary["failed"] == 0
+    assert len(list((out / "cache" / "renders").iterdir())) == 2
+    # the marking error shows in the check points: 2 px marks worse than 0.2 px
+    assert float(marking["2"]["check_rmse_z_m"]) > float(marking["0.2"]["check_rmse_z_m"])
+    for r in rows:
+        assert int(r["registered"]) == int(r["images"]) > 3
+        assert float(r["cloud_nmad_m"]) > 0
+
+
+def test_the_report_and_every_run_project_stand_on_their_own(killed_and_resumed):
+    out, *_ = killed_and_resumed
+    html = (out / "report.html").read_text()
+    assert "figures/factor-marking-sigma-px.png" in html and "figures/pareto.png" in html
+    for name in ("factor-marking-sigma-px.png", "factor-sun-elevation-deg.png", "pareto.png"):
+        assert (out / "figures" / name).stat().st_size > 5000
+    summary = json.loads((out / "summary.json").read_text())
+    levels = summary["factors"]["marking-sigma-px"]["levels"]
+    assert [lv["level"] for lv in levels] == ["0.2", "0.5", "2"]
+    check = subprocess.run([sys.executable, "-m", "designer", "check",
+                            str(out / "runs" / "v003-r00" / "project.xml")], cwd=ROOT,
+                           capture_output=True, text=True)
+    assert check.returncode == 0, check.stderr
+
+
+STUDY = """<?xml version="1.0"?>
+<study xmlns="urn:designer:project:1" schema-version="1.0" name="bad">
+  <base-project file="tiny-base.xml"/>
+{body}
+</study>
+"""
+
+
+@pytest.mark.parametrize("body, where, message", [
+    ('  <factor name="altitude">\n    <values>20 30</values>\n  </factor>', "4:11",
+     "unknown factor 'altitude'; did you mean altitude-m?"),
+    ('  <factor name="altitude-m">\n    <values>20 -5</values>\n  </factor>', "5:5",
+     "factor altitude-m = '-5' makes a project that is not valid"),
+    ('  <factor name="calibration">\n    <values>fixed sometimes</values>\n  </factor>',
+     "5:5", "value 'sometimes' is not usable: use one of: fixed"),
+    ("", "2:1", "the design is empty"),
+    ('  <factor name="k1">\n    <range start="0" stop="0.1" step="-1"/>\n  </factor>', "5:",
+     "must be greater than 0"),
+    ('  <factr name="k1"/>', "4:3", "unknown element <factr>"),
+    ('  <factor name="k1"><values>0 0.1</values></factor>\n  <replicates count="2" '
+     'vary="weather"/>', "5:", "vary"),
+])
+def test_bad_study_files_are_located_one_line_errors(tmp_path, body, where, message):
+    write_template("tiny", tmp_path / "tiny.xml")
+    path = tmp_path / "bad.xml"
+    path.write_text(STUDY.format(body=body))
+    with pytest.raises(ProjectError) as info:
+        plan_study(read_study(path))
+    line = str(info.value).splitlines()[0]
+    assert line.startswith(f"{path}:{where}"), line
+    assert message in line, line
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_missing_base_project_and_an_inline_one(tmp_path):
+    path = tmp_path / "s.xml"
+    path.write_text(STUDY.format(body='  <factor name="k1"><values>0.1</values></factor>')
+                    .replace("tiny-base.xml", "nowhere.xml"))
+    with pytest.raises(ProjectError, match=r"s.xml:3:3: <base-project>: file 'nowhere.xml'"):
+        plan_study(read_study(path))
+    write_template("tiny", tmp_path / "tiny.xml")
+    base = (tmp_path / "tiny-base.xml").read_text().split("?>", 1)[1].strip()
+    bad = base.replace('<sun azimuth-deg="150.0"', '<sun azimuth-deg="-500"')
+    inline = ('<?xml version="1.0"?>\n<study xmlns="urn:designer:project:1" '
+              'schema-version="1.0" name="inline">\n  <base-project>\n' + bad
+              + '\n  </base-project>\n  <factor name="k1"><values>0.1</values></factor>\n'
+              '</study>\n')
+    with pytest.raises(ProjectError, match="azimuth"):
+        plan_study(parse_study(inline.encode(), "inline.xml", tmp_path / "inline.xml"))
+    good = parse_study(inline.replace(bad, base).encode(), "inline.xml",
+                       tmp_path / "inline.xml")
+    assert len(plan_study(good).runs) == 2
+
+
+def test_the_cli_reports_a_bad_study_with_exit_code_2(tmp_path):
+    path = tmp_path / "bad.xml"
+    path.write_text("<study/>")
+    proc = _designer("study", "run", str(path), "-o", str(tmp_path / "out"))
+    _, err = proc.communicate()
+    assert proc.returncode == 2
+    assert f"{path}:1:1: <study>: the root element must be" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_packaged_study_schema_is_the_canonical_one_and_compiles():
+    import filecmp
+
+    import xmlschema
+
+    from designer.study.xml import study_schema_path
+
+    canonical = ROOT / "schema" / "designer-study-1.0.xsd"
+    assert filecmp.cmp(study_schema_path(), canonical, shallow=False)
+    assert xmlschema.XMLSchema10(str(canonical)).target_namespace == "urn:designer:project:1"
+
+
+def test_every_example_study_plans(tmp_path):
+    from designer.study.templates import TEMPLATE_NAMES
+
+    for name in TEMPLATE_NAMES:
+        plan = plan_study(read_study(write_template(name, tmp_path / name / "s.xml")[0]))
+        assert plan.n_variants >= 3

@@ -1,0 +1,227 @@
+"""The seeded synthetic scenes of the whole test suite, defined once.
+
+* :data:`ORIGIN_WORLD` — a UTM-sized world origin (float32 there would be off by
+  decimetres); every synthetic scene sits around it unless a test says otherwise;
+* cameras: :func:`phantom4` (the 1-inch 20 MP survey camera) and :func:`interior_for`
+  (the same sensor with each lens model designer supports);
+* ground truth: :func:`random_poses`, :func:`grid_poses`, :func:`random_gcps`,
+  :func:`grid_gcps`, :func:`survey` (poses + GCPs + their image observations);
+* terrain: :func:`flat_terrain`, :func:`hilly_terrain` (height fields);
+* projects for real renders: :func:`small_survey`, :func:`small_flight_survey` and
+  :func:`write_project_file`.
+
+Every function takes its seed (or ``numpy.random.Generator``) explicitly.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.distortion import BrownConrady, FisheyeEquidistant
+from designer.core.heightfield import Heightfield
+from designer.core.interior import InteriorOrientation
+from designer.core.rotation import rotation_from_heading_tilt_roll, rotation_from_opk
+from designer.core.truth import CameraPose, GroundControlPoint, observe_gcps
+from designer.project import model as m
+from designer.project import write_project
+
+#: a UTM-sized world origin (E, N, H) in metres
+ORIGIN_WORLD = np.array([500000.0, 5000000.0, 250.0])
+
+LENSES = ("pinhole", "opencv", "full_opencv", "fisheye", "nonsquare")
+
+
+def phantom4(**changes) -> InteriorOrientation:
+    """The 13.2 x 8.8 mm, 5472 x 3648 px sensor behind an 8.8 mm lens (DJI P4P class)."""
+    params = dict(focal_length_mm=8.8, sensor_width_mm=13.2, sensor_height_mm=8.8,
+                  image_width_px=5472, image_height_px=3648)
+    params.update(changes)
+    return InteriorOrientation(**params)
+
+
+def interior_for(lens: str) -> InteriorOrientation:
+    """The phantom4 sensor with an offset principal point and the named lens model."""
+    common = dict(principal_point_x_mm=0.0513, principal_point_y_mm=-0.0371)
+    if lens == "pinhole":
+        return phantom4(**common)
+    if lens == "opencv":
+        return phantom4(**common, distortion=BrownConrady(k1=-0.11, k2=0.023, p1=7e-4,
+                                                            p2=-3e-4))
+    if lens == "full_opencv":
+        return phantom4(**common, distortion=BrownConrady(k1=-0.11, k2=0.023, k3=-0.004,
+                                                            p1=7e-4, p2=-3e-4))
+    if lens == "fisheye":
+        return phantom4(**common, focal_length_mm=4.5,
+                        distortion=FisheyeEquidistant(k1=0.02, k2=-0.004, k3=0.001, k4=-1e-4))
+    if lens == "nonsquare":
+        return phantom4(**common, sensor_height_mm=8.8 * 1.01, pixel_aspect=1.01,
+                        distortion=BrownConrady(k1=-0.05, k3=0.002, p1=-4e-4, p2=9e-4))
+    raise ValueError(lens)
+
+
+def mapping_camera(distortion: bool = True) -> InteriorOrientation:
+    """The phantom4 sensor with a small principal-point offset and mild Brown distortion."""
+    return phantom4(principal_point_x_mm=0.012, principal_point_y_mm=-0.008,
+                    distortion=BrownConrady(k1=-0.05, k2=0.01, k3=0.002, p1=1e-4, p2=-5e-5)
+                    if distortion else None)
+
+
+def random_poses(rng: np.random.Generator, n: int = 6, height_m: float = 100.0):
+    """Cameras over a 120 m square at ORIGIN_WORLD size, tilted up to 12 degrees, any heading."""
+    poses = []
+    for i in range(n):
+        C = ORIGIN_WORLD + np.array([*rng.uniform(-60, 60, 2), height_m + rng.uniform(-5, 5)])
+        R = rotation_from_heading_tilt_roll(
+            rng.uniform(0, 2 * np.pi), *np.radians(rng.uniform(-12, 12, 2)))
+        R = R @ rotation_from_opk(*np.radians(rng.uniform(-2, 2, 3)))
+        poses.append(CameraPose(f"IMG_{i:04d}.png", C, R))
+    return poses
+
+
+def random_gcps(rng: np.random.Generator, n: int = 12, sigma_m: float = 0.02):
+    gcps = []
+    for i in range(n):
+        true = ORIGIN_WORLD + np.array([*rng.uniform(-70, 70, 2), rng.uniform(-3, 3)])
+        sigma = np.array([sigma_m, sigma_m, 1.5 * sigma_m])
+        surveyed = true + rng.normal(0.0, sigma)
+        role = "check" if i % 3 == 2 else "control"
+        gcps.append(GroundControlPoint(f"GCP{i + 1:02d}", role, true, surveyed, sigma))
+    return gcps
+
+
+def survey(seed: int, lens: str = "opencv"):
+    """(interior, poses, gcps, observations) of a seeded random survey."""
+    rng = np.random.default_rng(seed)
+    interior = interior_for(lens)
+    poses = random_poses(rng)
+    gcps = random_gcps(rng)
+    return interior, poses, gcps, observe_gcps(gcps, poses, interior)
+
+
+def grid_poses(seed=0, n=12) -> list[CameraPose]:
+    """A 4-column grid of near-nadir images 80 m above the origin (names img_000.jpg…)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n):
+        C = ORIGIN_WORLD + [(i % 4) * 25.0 - 37.5, (i // 4) * 30.0 - 30.0, 80.0 + rng.normal(0, 2)]
+        R = rotation_from_opk(*np.radians(rng.normal(0, 3, 3)))
+        out.append(CameraPose(f"img_{i:03d}.jpg", C, R))
+    return out
+
+
+def grid_gcps(seed=1) -> list[GroundControlPoint]:
+    """Eight GCPs around the origin, five control and three check, 1 cm survey error."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(8):
+        true = ORIGIN_WORLD + [rng.uniform(-40, 40), rng.uniform(-35, 35), rng.normal(0, 1)]
+        out.append(GroundControlPoint(f"GCP{i}", "control" if i < 5 else "check", true,
+                                      true + rng.normal(0, 0.01, 3), [0.01, 0.01, 0.02]))
+    return out
+
+
+def flat_terrain(x0=0.0, y0=0.0, size_m=600.0, spacing_m=5.0, height_m=50.0) -> Heightfield:
+    n = round(size_m / spacing_m) + 1
+    return Heightfield(x0, y0, spacing_m, spacing_m, np.full((n, n), height_m))
+
+
+def hilly_terrain(x0=0.0, y0=0.0, size_m=400.0, spacing_m=2.0, relief_m=40.0) -> Heightfield:
+    n = round(size_m / spacing_m) + 1
+    x = np.linspace(0.0, size_m, n)
+    X, Y = np.meshgrid(x, x)
+    Z = 100.0 + relief_m * (0.6 * np.sin(X / 35.0) * np.cos(Y / 47.0)
+                            + 0.4 * np.sin(X / 17.0 + Y / 23.0))
+    return Heightfield(x0, y0, spacing_m, spacing_m, Z)
+
+
+def small_survey(
+    origin=(0.0, 0.0, 0.0), principal_point_mm=(0.0, 0.0), n_photos=4, samples=16,
+    effects=None, distortion=None, size_px=(640, 480), focal_length_mm=5.0,
+    pixel_pitch_mm=0.01,
+) -> m.Project:
+    """A 40 x 40 m gentle terrain, 9 large checker targets, a few photos from 30 m."""
+    E0, N0, H0 = origin
+    W, H = size_px
+    cam = m.Camera(id="cam", focal_length_mm=focal_length_mm,
+                   sensor_width_mm=W * pixel_pitch_mm, sensor_height_mm=H * pixel_pitch_mm,
+                   image_width_px=W, image_height_px=H,
+                   principal_point_x_mm=principal_point_mm[0],
+                   principal_point_y_mm=principal_point_mm[1], distortion=distortion)
+    targets = tuple(
+        m.Target(f"T{i}{j}", "check" if (i + j) % 2 else "control", "checker", 1.5,
+                 m.TruePosition(E0 + 10.0 * i, N0 + 10.0 * j),
+                 m.SurveyedPosition(m.Point3(E0 + 10.0 * i, N0 + 10.0 * j, H0),
+                                    m.Sigma3(0.0, 0.0, 0.0)))
+        for i in (-1, 0, 1) for j in (-1, 0, 1))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(E0 - 20, N0 - 20, E0 + 20, N0 + 20), m.ProceduralTerrain(
+            seed=1, grid_spacing_m=0.5, roughness=0.1, min_height_m=H0 - 0.5,
+            max_height_m=H0 + 0.5)),
+        texture=m.Texture(m.ProceduralTexture("grass", seed=2, texel_size_m=0.02),
+                          repeat_X=4, repeat_Y=4, interpolation="linear"),
+        targets=m.Targets(targets),
+        lighting=m.Lighting(m.Sun(azimuth_deg=150.0, elevation_deg=55.0)),
+    )
+    rng = np.random.default_rng(4)
+    photos = tuple(
+        m.ExteriorOrientation(f"IMG_{k:03d}.png", cam.id,
+                              E0 + float(rng.uniform(-4, 4)), N0 + float(rng.uniform(-4, 4)),
+                              H0 + 30.0 + float(rng.uniform(-1, 1)),
+                              float(rng.uniform(-4, 4)), float(rng.uniform(-4, 4)),
+                              float(rng.uniform(-180, 180)))
+        for k in range(n_photos))
+    return m.Project(
+        name="render test", crs="EPSG:32632", origin=m.Origin(E0, N0, H0), scene=scene,
+        cameras=(cam,), trajectory=m.Trajectory(exterior_orientations=photos),
+        effects=effects,
+        render=m.Render(preset="survey", samples=samples, workers=1),
+        outputs=m.Outputs("output", ("colmap", "odm", "metashape", "opk", "gcp")),
+    )
+
+
+def write_project_file(project: m.Project, folder: Path) -> Path:
+    """``folder/project.xml`` written from ``project`` (folder created)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "project.xml"
+    write_project(project, path)
+    return path
+
+
+
+def small_flight_survey(samples=16, origin=(500000.0, 5000000.0, 250.0), effects=None,
+                        distortion=None) -> m.Project:
+    """A 60 x 60 m hilly terrain flown at 30 m: a dozen 640 x 480 images for SfM tests.
+
+    The texture's texel (3 cm) is half the GSD (6 cm), so the renderer resolves it without
+    aliasing and SIFT finds repeatable features.
+    """
+    E0, N0, H0 = origin
+    cam = m.Camera(id="cam", focal_length_mm=5.0, sensor_width_mm=6.4, sensor_height_mm=4.8,
+                   image_width_px=640, image_height_px=480, distortion=distortion)
+    targets = tuple(
+        m.Target(f"G{k}", "check" if k in (1, 4) else "control", "checker", 1.5,
+                 m.TruePosition(E0 + x, N0 + y))
+        for k, (x, y) in enumerate([(-14, -14), (0, -12), (14, -14), (-14, 14), (0, 12),
+                                    (14, 14), (0, 0)]))
+    scene = m.Scene(
+        terrain=m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.ProceduralTerrain(
+            seed=5, grid_spacing_m=0.5, roughness=0.3, min_height_m=H0 - 3.0,
+            max_height_m=H0 + 3.0)),
+        texture=m.Texture(m.ProceduralTexture("grass", seed=2, texel_size_m=0.03),
+                          repeat_X=1, repeat_Y=1, interpolation="linear"),
+        targets=m.Targets(targets, m.SurveyAccuracy(m.Sigma3(0.0, 0.0, 0.0), seed=1)),
+        lighting=m.Lighting(m.Sun(azimuth_deg=150.0, elevation_deg=55.0)),
+    )
+    plan = m.FlightPlan(
+        camera=cam.id, image_prefix="IMG_",
+        area=((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15), (E0 - 15, N0 + 15)),
+        altitude_agl_m=30.0, front_overlap_percent=65.0, side_overlap_percent=55.0,
+        pose_noise=m.PoseNoise(0.2, 0.2, 0.1, 0.5, 0.5, 1.0), random_seed=3)
+    return m.Project(
+        name="SfM test survey", crs="EPSG:32632", origin=m.Origin(E0, N0, H0), scene=scene,
+        cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan), effects=effects,
+        render=m.Render(preset="survey", samples=samples, workers=2),
+        outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),
+    )
