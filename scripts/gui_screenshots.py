@@ -16,6 +16,8 @@ a virtual X display (Xvfb) when there is none:
 * ``gui-refused-input.png`` — the Flight panel refusing a front overlap of 150 %;
 * ``gui-place-mode.png`` — the window in the place-GCPs mode (banner) with the cursor
   off the terrain (status bar);
+* ``gui-out-of-date.png`` — the Render panel after a quick draft render and a terrain
+  edit: what is out of date and the button that re-renders it;
 * ``gui-flight-beyond.png`` — the Flight panel warning about a flight that looks far
   beyond the terrain (the same survey flown at 120 m).
 
@@ -26,6 +28,7 @@ whole window from the command line.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import subprocess
 import sys
 import tempfile
@@ -96,6 +99,7 @@ def take(out: Path) -> list[Path]:
         written.append(out / name)
 
     shot("gui-window.png")
+    _processing_settings(window)
     for title, dock in window.docks.items():
         if title in ("Problems", "Results"):  # Results: below, with a cloud in it
             continue
@@ -153,8 +157,64 @@ def take(out: Path) -> list[Path]:
     window.editor.edit(edits.set_flight(window.document.project, altitude_agl_m=120.0),
                        "Flight height")
     shot("gui-flight-beyond.png", window.docks["Flight"])
+    window.undo_stack.undo()
+    _render_then_edit(window, project)
+    shot("gui-out-of-date.png", window.docks["Render"])
     window.close_without_prompt()
     return written
+
+
+def _processing_settings(window) -> None:
+    """Processing as a survey with RTK positions and a dense cloud would set it."""
+    from designer.project import model as m
+
+    processing = m.Processing(
+        calibration=m.Calibration("radial", m.PreCalibrationError(5.0, 2.0, 0.01, seed=1)),
+        gcps=m.GcpProcessing("bundle", 0.5, 2), position_prior=m.PositionPrior("rtk"),
+        matching=m.Matching(8192, "footprint", 3), dense="cpu")
+    window.editor.edit(dataclasses.replace(window.document.project, processing=processing),
+                       "processing settings")
+
+
+def _render_then_edit(window, project: Path, timeout_s: float = 600.0) -> None:
+    """A quick draft render of part of the survey, then the terrain made higher in the
+    window: the Render panel says what is out of date."""
+    import time
+
+    from designer.gui import edits
+    from designer.project import model as m
+
+    p = window.document.project
+    E0, N0 = p.origin.E0, p.origin.N0
+    p = edits.set_flight(p, area=((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15),
+                                  (E0 - 15, N0 + 15)))
+    p = edits.replace_path(p, "render", m.Render(preset="draft", resolution_scale=0.0625,
+                                                 workers=2))
+    window.editor.edit(p, "a quick draft render")
+    if not window.file_actions.save_to(project):
+        problems = [window.problems.item(i).text() for i in range(window.problems.count())]
+        raise SystemExit(f"cannot save {project}: {problems}")
+    render = window.panels["Render"]
+    render.start()
+    deadline = time.monotonic() + timeout_s
+    from PySide6.QtWidgets import QApplication
+
+    app = QApplication.instance()
+    while render.process.running:
+        app.processEvents()
+        time.sleep(0.05)
+        if time.monotonic() > deadline:
+            raise SystemExit("the draft render did not finish")
+    window.editor.edit(edits.replace_path(window.document.project,
+                                          "scene.terrain.source.max_height_m", 14.0),
+                       "Terrain highest height")
+    window.docks["Render"].raise_()
+    while not (render.out_of_date.stale and not window.stale_watch.pending
+               and not window.tasks.busy):
+        app.processEvents()
+        time.sleep(0.05)
+        if time.monotonic() > deadline:
+            raise SystemExit("the out-of-date state did not appear")
 
 
 def main() -> int:

@@ -25,7 +25,7 @@ from designer.project import model as m
 
 #: the parts of a project that views track separately
 PARTS = ("meta", "terrain", "texture", "lighting", "targets", "objects", "cameras",
-         "trajectory", "effects", "render", "outputs")
+         "trajectory", "effects", "render", "outputs", "processing")
 
 
 def changed_parts(old: m.Project | None, new: m.Project) -> set[str]:
@@ -46,7 +46,7 @@ def changed_parts(old: m.Project | None, new: m.Project) -> set[str]:
         out.add("targets")
     if so.objects != sn.objects:
         out.add("objects")
-    for part in ("cameras", "trajectory", "effects", "render", "outputs"):
+    for part in ("cameras", "trajectory", "effects", "render", "outputs", "processing"):
         if getattr(old, part) != getattr(new, part):
             out.add(part)
     if (old.name, old.crs, old.origin, old.description) != (

@@ -18,30 +18,92 @@ from designer.project import model as m
 _INDEX = re.compile(r"^(\w+)\[(\d+)\]$")
 
 
-def replace_path(obj: Any, path: str, value: Any) -> Any:
-    """``obj`` with the field at a dotted ``path`` (``"scene.terrain.source.seed"``,
-    ``"cameras[0].focal_length_mm"``) set to ``value``; every level is copied."""
-    head, _, rest = path.partition(".")
-    match = _INDEX.match(head)
-    name, index = (match.group(1), int(match.group(2))) if match else (head, None)
-    current = getattr(obj, name)
+class AbsentElement(LookupError):
+    """A model path leads through an element the project does not have: an optional
+    element that is None (``effects`` off), an index past the end of a list, or a union
+    whose variant lacks the field (a DEM terrain has no ``seed``). ``parent`` is the
+    object the ``segment`` was looked up on (None for an absent element)."""
+
+    def __init__(self, path: str, segment: str, parent: Any) -> None:
+        self.path, self.segment, self.parent = path, segment, parent
+        where = "absent" if parent is None else f"a {type(parent).__name__}"
+        super().__init__(f"{path}: {segment} is not there ({where})")
+
+
+class UnknownField(ValueError):
+    """A model path names a field that no dataclass of the project model has."""
+
+
+def _model_field_names() -> frozenset[str]:
+    from designer.project import processing
+
+    names = set()
+    for module in (m, processing):
+        for value in vars(module).values():
+            if dataclasses.is_dataclass(value) and isinstance(value, type):
+                names.update(f.name for f in dataclasses.fields(value))
+    return frozenset(names)
+
+
+#: every field name of every dataclass of designer.project.model (and .processing)
+MODEL_FIELDS = _model_field_names()
+
+
+def _segments(path: str) -> list[tuple[str, int | None]]:
+    out = []
+    for head in path.split("."):
+        match = _INDEX.match(head)
+        out.append((match.group(1), int(match.group(2))) if match else (head, None))
+    return out
+
+
+def check_path(path: str) -> str:
+    """``path`` itself when every segment names a field of some model dataclass; else
+    :class:`UnknownField` naming the path and the first bad segment."""
+    for name, _index in _segments(path):
+        if name not in MODEL_FIELDS:
+            raise UnknownField(f"model path {path!r}: no element of the project model is "
+                               f"called {name!r}; check the spelling")
+    return path
+
+
+def _child(obj: Any, name: str, index: int | None, path: str) -> Any:
+    """``obj.name`` (``[index]``), or :class:`AbsentElement` where the model lacks it."""
+    if obj is None or not hasattr(obj, name):
+        if obj is not None and name not in MODEL_FIELDS:
+            raise UnknownField(f"model path {path!r}: {type(obj).__name__} has no {name!r}")
+        raise AbsentElement(path, name, obj)
+    value = getattr(obj, name)
     if index is None:
-        new = replace_path(current, rest, value) if rest else value
+        return value
+    if value is None or not 0 <= index < len(value):
+        raise AbsentElement(path, f"{name}[{index}]", value)
+    return value[index]
+
+
+def replace_path(obj: Any, path: str, value: Any, _full: str | None = None) -> Any:
+    """``obj`` with the field at a dotted ``path`` (``"scene.terrain.source.seed"``,
+    ``"cameras[0].focal_length_mm"``) set to ``value``; every level is copied.
+    :class:`AbsentElement` when the path leads through an element that is not there."""
+    full = _full or path
+    head, _, rest = path.partition(".")
+    (name, index), = _segments(head)
+    current = _child(obj, name, None, full)
+    if index is None:
+        new = replace_path(current, rest, value, full) if rest else value
     else:
+        item = _child(obj, name, index, full)
         items = list(current)
-        items[index] = replace_path(items[index], rest, value) if rest else value
+        items[index] = replace_path(item, rest, value, full) if rest else value
         new = tuple(items)
     return dataclasses.replace(obj, **{name: new})
 
 
 def get_path(obj: Any, path: str) -> Any:
-    """The value at a dotted ``path`` (see :func:`replace_path`)."""
-    for head in path.split("."):
-        match = _INDEX.match(head)
-        if match:
-            obj = getattr(obj, match.group(1))[int(match.group(2))]
-        else:
-            obj = getattr(obj, head)
+    """The value at a dotted ``path`` (see :func:`replace_path`); :class:`AbsentElement`
+    when the path leads through an element that is not there."""
+    for name, index in _segments(path):
+        obj = _child(obj, name, index, path)
     return obj
 
 

@@ -47,6 +47,9 @@ def _extra_panels():
     from designer.gui.panels.render import RenderPanel
 
     out.append(("right", RenderPanel))
+    from designer.gui.panels.processing import ProcessingPanel
+
+    out.append(("right", ProcessingPanel))
     from designer.gui.panels.results import ResultsPanel
 
     out.append(("right", ResultsPanel))
@@ -80,11 +83,12 @@ class MainWindow(QMainWindow):
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
         self._tabify(["Terrain", "Texture", "Lighting", "GCPs"])
-        self._tabify(["Camera", "Flight", "Effects", "Render", "Results"])
+        self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results"])
         self.docks["Terrain"].raise_()
         self.docks["Flight"].raise_()
         self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
                          Qt.Orientation.Horizontal)
+        self._watch_outputs()
         self._build_problems()
         self._build_menus()
         self._build_status()
@@ -111,6 +115,20 @@ class MainWindow(QMainWindow):
         self.addDockWidget(area, dock)
         self.panels[panel.title] = panel
         self.docks[panel.title] = dock
+
+    def _watch_outputs(self) -> None:
+        """Render and Results say when what they show no longer matches the project."""
+        from designer.gui.stale_watch import StaleWatch
+
+        self.stale_watch = StaleWatch(self.document, self.tasks, self)
+        render, results = self.panels.get("Render"), self.panels.get("Results")
+        if render is None or results is None:
+            return
+        self.stale_watch.is_busy = lambda: render.process.running
+        self.stale_watch.render_state.connect(render.show_render_state)
+        self.stale_watch.render_state.connect(results.show_render_state)
+        render.process.finished.connect(lambda *_: self.stale_watch.check_now())
+        results.run.finished.connect(lambda *_: self.stale_watch.check_now())
 
     def _tabify(self, titles: list[str]) -> None:
         present = [t for t in titles if t in self.docks]

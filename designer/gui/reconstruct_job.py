@@ -53,7 +53,8 @@ class ReconstructJob:
     project_path: Path
     survey_dir: Path
     mode: str = "known-poses"
-    max_features: int = 4096
+    #: SIFT features per image overriding the project's <processing> (None: its value)
+    max_features: int | None = None
 
     @property
     def out_dir(self) -> Path:
@@ -72,14 +73,69 @@ class ReconstructJob:
         return self.out_dir / "gcp_residuals.csv"
 
     def commands(self) -> list[list[str]]:
-        """argv of ``designer reconstruct`` and then ``designer compare``."""
+        """argv of ``designer reconstruct`` (with the project's ``<processing>``: calibration,
+        GCPs, position priors, matching, dense) and then ``designer compare``."""
         designer = [sys.executable, "-m", "designer"]
+        features = [] if self.max_features is None else ["--max-features",
+                                                         str(self.max_features)]
         return [
             [*designer, "reconstruct", str(self.survey_dir), "-o", str(self.out_dir),
-             "--mode", self.mode, "--max-features", str(self.max_features)],
+             "--mode", self.mode, "--project", str(self.project_path), *features],
             [*designer, "compare", str(self.out_dir / "cloud.ply"), str(self.project_path),
              "-o", str(self.compare_dir), "--truth", str(self.survey_dir)],
         ]
+
+
+@dataclass(frozen=True)
+class DenseProducts:
+    """What the dense stage of a reconstruction wrote (``summary.json`` ``dense``)."""
+
+    folder: Path
+    points: int
+    matcher: str
+    #: amplitude of the dome (or bowl) fitted to the DEM of difference, m (None: none)
+    dome_amplitude_m: float | None
+
+    @property
+    def cloud_ply(self) -> Path:
+        return self.folder / "dense.ply"
+
+    @property
+    def dod_png(self) -> Path:
+        return self.folder / "dod.png"
+
+    def text(self) -> str:
+        dome = ("no dome" if self.dome_amplitude_m is None
+                else f"dome amplitude {1000 * self.dome_amplitude_m:+.1f} mm")
+        return f"dense cloud: {self.points:,} points ({self.matcher}); DEM of difference: {dome}"
+
+
+def dense_products(out_dir: Path) -> DenseProducts | None:
+    """The dense products of the reconstruction in ``out_dir`` (None when its
+    ``summary.json`` has no finished dense stage)."""
+    import json
+
+    try:
+        summary = json.loads((Path(out_dir) / "summary.json").read_text())
+    except (OSError, ValueError):
+        return None
+    dense = summary.get("dense") or {}
+    if dense.get("status") != "ok" or not (Path(out_dir) / "dense.ply").is_file():
+        return None
+    return DenseProducts(Path(out_dir), int(dense.get("points", 0)),
+                         str(dense.get("matcher", "")), dense.get("dome_amplitude_m"))
+
+
+def processing_text(p) -> str:
+    """One line of the project's ``<processing>`` for the Results panel."""
+    if p is None:
+        return "designer reconstruct's defaults (Processing panel)"
+    parts = [f"calibration {p.calibration.mode}", f"GCPs {p.gcps.mode}",
+             f"{p.matching.max_features} features"]
+    if p.position_prior.mode != "none":
+        parts.append(f"{p.position_prior.mode} positions")
+    parts.append("dense cloud" if p.dense != "none" else "sparse only")
+    return ", ".join(parts) + " (Processing panel)"
 
 
 def survey_status(survey_dir: Path) -> tuple[int, str]:

@@ -30,7 +30,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from designer.gui.edits import get_path, replace_path
+from designer.gui.edits import AbsentElement, check_path, get_path, replace_path
 from designer.project import model as m
 
 Getter = Callable[[m.Project], Any]
@@ -226,18 +226,35 @@ def readout() -> QLabel:
 
 
 def path_accessors(path: str) -> tuple[Getter, Setter]:
+    """Getter and setter of a model path (checked now: a misspelt path raises
+    :class:`~designer.gui.edits.UnknownField`)."""
+    check_path(path)
     return (lambda p: get_path(p, path)), (lambda p, v: replace_path(p, path, v))
 
 
+def model_getter(path: str, convert: Callable[[Any], Any] | None = None) -> Getter:
+    """A getter of a model path (checked now), its value passed through ``convert``."""
+    check_path(path)
+    if convert is None:
+        return lambda p: get_path(p, path)
+    return lambda p: convert(get_path(p, path))
+
+
 class Bindings:
-    """Fields bound to the project through an :class:`~designer.gui.undo.Editor`."""
+    """Fields bound to the project through an :class:`~designer.gui.undo.Editor`.
+
+    A field whose element the project lacks (:class:`~designer.gui.edits.AbsentElement`:
+    an optional element that is off, a union variant without the field) is disabled; a
+    path that names no field of the model raises when it is bound, and any other error
+    of a getter or setter propagates: a broken binding is loud, never a greyed field."""
 
     def __init__(self, editor) -> None:
         self.editor = editor
         self._items: list[tuple[QWidget, Getter]] = []
 
     def bind(self, widget: QWidget, access: str | tuple[Getter, Setter], text: str) -> QWidget:
-        """Bind ``widget`` to a dotted model path or a (getter, setter) pair."""
+        """Bind ``widget`` to a dotted model path or a (getter, setter) pair (build the
+        getter with :func:`model_getter` so that its path is checked too)."""
         get, put = path_accessors(access) if isinstance(access, str) else access
         merge = access if isinstance(access, str) else f"{text}@{id(widget)}"
         widget.setObjectName(access if isinstance(access, str) else text)
@@ -248,7 +265,7 @@ class Bindings:
             project = self.editor.project
             try:
                 new = put(project, value)
-            except (AttributeError, TypeError, IndexError):
+            except AbsentElement:
                 return  # the field's parent is absent; the panel offers to create it
             self.editor.edit(new, text, merge=merge)
 
@@ -265,12 +282,17 @@ class Bindings:
         self._items.append((widget, get))
         return widget
 
+    @property
+    def items(self) -> list[tuple[QWidget, Getter]]:
+        """(field, getter) of every binding, in the order bound."""
+        return list(self._items)
+
     def refresh(self, project: m.Project) -> None:
         """Show the project's values; fields whose parent is absent are disabled."""
         for widget, get in self._items:
             try:
                 value = get(project)
-            except (AttributeError, TypeError, IndexError, KeyError):
+            except AbsentElement:
                 widget.setEnabled(False)
                 continue
             widget.setEnabled(value is not None or isinstance(widget, QComboBox))

@@ -48,23 +48,37 @@ def footprint_xy(C_local: np.ndarray, R_cam_from_world: np.ndarray, K: tuple,
 
 
 def footprint_pairs(names: list[str], footprints: list[np.ndarray],
-                    min_overlap: float = MIN_FOOTPRINT_OVERLAP) -> list[tuple[str, str]]:
-    """Pairs of images whose footprints overlap by ``min_overlap`` of the smaller one."""
+                    min_overlap: float = MIN_FOOTPRINT_OVERLAP,
+                    k: int = PAIR_NEIGHBOURS) -> list[tuple[str, str]]:
+    """Pairs of images whose footprints overlap by ``min_overlap`` of the smaller one,
+    each image keeping only its ``k`` most overlapping partners (a pair stays if either
+    image keeps it).
+
+    Footprints rule out pairs of different places (a repeating texture makes COLMAP
+    verify those); the cap keeps the matching cost near linear in the image count when
+    footprints are large against the flight (a small area flown high: nearly every pair
+    overlaps a little, and matching all of them costs as much as exhaustive matching).
+    """
     import cv2
 
     polys = [cv2.convexHull(np.asarray(f, np.float32)) for f in footprints]
     areas = [float(cv2.contourArea(p)) for p in polys]
     lo = np.array([f.min(axis=0) for f in footprints])
     hi = np.array([f.max(axis=0) for f in footprints])
-    pairs = []
-    for i in range(len(names)):
-        for j in range(i + 1, len(names)):
+    n = len(names)
+    share = np.zeros((n, n))
+    for i in range(n):
+        for j in range(i + 1, n):
             if np.any(lo[i] > hi[j]) or np.any(lo[j] > hi[i]):
                 continue
             area, _ = cv2.intersectConvexConvex(polys[i], polys[j])
-            if area >= min_overlap * max(min(areas[i], areas[j]), 1e-9):
-                pairs.append((names[i], names[j]))
-    return pairs
+            share[i, j] = share[j, i] = area / max(min(areas[i], areas[j]), 1e-9)
+    keep = set()
+    for i in range(n):
+        partners = [j for j in np.argsort(-share[i], kind="stable")[:k]
+                    if share[i, j] >= min_overlap and j != i]
+        keep.update((min(i, int(j)), max(i, int(j))) for j in partners)
+    return [(names[i], names[j]) for i, j in sorted(keep)]
 
 
 def neighbour_pairs(names: list[str], C: np.ndarray,

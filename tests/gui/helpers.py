@@ -49,20 +49,133 @@ def problems(window) -> list[str]:
     return [window.problems.item(i).text() for i in range(window.problems.count())]
 
 
-def answer_file_dialog(path) -> None:
+def answer_file_dialog(path, timeout_s: float = 20.0) -> None:
     """Choose ``path`` in the next file dialog the window opens (Qt's own dialog, as on a
-    desktop without a native one): select the file and press Open."""
+    desktop without a native one): select the file and press Open.
+
+    Gives up after ``timeout_s``: any other modal window then open is closed (so the
+    test is not left blocked in it) and the test fails with the reason."""
     from PySide6.QtCore import QTimer
-    from PySide6.QtWidgets import QApplication, QFileDialog, QLineEdit
+    from PySide6.QtWidgets import QApplication, QDialog, QFileDialog, QLineEdit
+
+    deadline = time.monotonic() + timeout_s
 
     def answer() -> None:
         dialog = QApplication.activeModalWidget()
         if not isinstance(dialog, QFileDialog):
-            QTimer.singleShot(50, answer)
-            return
+            if time.monotonic() < deadline:
+                QTimer.singleShot(50, answer)
+                return
+            seen = type(dialog).__name__ if dialog is not None else "no modal window"
+            if isinstance(dialog, QDialog):
+                dialog.reject()
+            raise AssertionError(f"no file dialog opened within {timeout_s:g} s to choose "
+                                 f"{path} (found: {seen})")
         # typed into the file name field, as a person would (selectFile() waits for the
         # dialog's folder listing, which is read in a thread)
         dialog.findChild(QLineEdit, "fileNameEdit").setText(str(path))
         dialog.accept()
 
     QTimer.singleShot(50, answer)
+
+
+def set_field(qtbot, box, value) -> None:
+    """Type a value into a spin box as a person would (select all, type, Enter)."""
+    from PySide6.QtCore import Qt
+
+    box.setFocus()
+    box.selectAll()
+    qtbot.keyClicks(box.lineEdit(), str(value))
+    qtbot.keyClick(box.lineEdit(), Qt.Key.Key_Return)
+
+
+def design_example(qtbot, w, n_gcps: int = 5) -> list[np.ndarray]:
+    """A survey designed from scratch with the panels and the mouse: a new project,
+    procedural hills typed in, ``n_gcps`` GCPs clicked on the terrain, the a6000 preset
+    and a 40 m grid flight at 75/65 %; returns the ground points clicked."""
+    import pytest
+    from PySide6.QtCore import QPoint, Qt
+    from PySide6.QtWidgets import QDoubleSpinBox, QSpinBox
+
+    from designer.gui import camera_presets
+
+    doc = w.document
+    assert w.file_actions.new(None)
+    wait_idle(qtbot, w)
+    assert doc.project.scene.terrain.kind == "flat"
+
+    # Terrain: procedural hills, relief and seed typed in.
+    terrain = w.panels["Terrain"]
+    terrain.kind.setCurrentIndex(terrain.kind.findData("procedural"))
+    wait_idle(qtbot, w)
+    assert doc.project.scene.terrain.kind == "procedural"
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.terrain.source.max_height_m"), "8")
+    set_field(qtbot, field(w, QSpinBox, "scene.terrain.source.seed"), "11")
+    wait_idle(qtbot, w)
+    src = doc.project.scene.terrain.source
+    assert (src.max_height_m, src.seed) == (8.0, 11)
+    hf = w.sync.terrain.heightfield
+    assert hf.heights_m.max() == pytest.approx(8.0)
+
+    # GCPs: five clicks on the terrain in the 3D view.
+    gcps = w.panels["GCPs"]
+    w.docks["GCPs"].raise_()
+    qtbot.mouseClick(gcps.place, Qt.MouseButton.LeftButton)
+    assert w.view.interaction.mode == "place"
+    placed = []
+    for x, y, ground in ground_pixels(w, n_gcps):
+        qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=QPoint(x, y))
+        placed.append(ground)
+    wait_idle(qtbot, w)
+    targets = doc.project.targets
+    assert [t.id for t in targets] == [f"GCP{k:02d}" for k in range(1, n_gcps + 1)]
+    for t, ground in zip(targets, placed, strict=True):
+        assert (t.true.X, t.true.Y) == pytest.approx(tuple(ground[:2]), abs=0.6e-4)  # 0.1 mm
+        assert t.true.Z is None  # draped on the terrain
+    assert gcps.table.rowCount() == n_gcps
+    qtbot.mouseClick(gcps.place, Qt.MouseButton.LeftButton)
+    assert w.view.interaction.mode == "navigate"
+
+    # Camera: a preset of a real camera.
+    camera = w.panels["Camera"]
+    camera.preset.setCurrentIndex(camera.preset.findData("a6000"))
+    cam = doc.project.cameras[0]
+    a6000 = camera_presets.preset("a6000")
+    assert (cam.focal_length_mm, cam.sensor_width_mm, cam.image_width_px) == (16.0, 23.5, 6000)
+    assert cam.sensor_height_mm == pytest.approx(23.5 * 4000 / 6000)
+    assert cam.sensor_height_mm == a6000.sensor_height_mm
+
+    # Flight: a grid over the terrain at 40 m, 75/65 % overlap.
+    flight = w.panels["Flight"]
+    w.docks["Flight"].raise_()
+    qtbot.mouseClick(flight.create, Qt.MouseButton.LeftButton)
+    set_field(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.altitude_agl_m"), "40")
+    set_field(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.front_overlap_percent"), "75")
+    set_field(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.side_overlap_percent"), "65")
+    wait_idle(qtbot, w)
+    plan = doc.project.trajectory.flight_plan
+    assert (plan.altitude_agl_m, plan.front_overlap_percent, plan.side_overlap_percent) == (
+        40.0, 75.0, 65.0)
+    assert plan.camera == cam.id
+    return placed
+
+
+def add_hills_and_flight(w) -> None:
+    """Procedural hills (±3 m) and the default flight, as one edit."""
+    from designer.gui import edits
+    from designer.project import model as m
+
+    project = w.document.project
+    terrain = m.Terrain(project.scene.terrain.extent, m.ProceduralTerrain(
+        seed=3, grid_spacing_m=1.0, roughness=0.2, min_height_m=-3.0, max_height_m=3.0))
+    project = edits.ensure_flight_plan(edits.replace_path(project, "scene.terrain", terrain))
+    w.editor.edit(project, "hills and a flight")
+
+
+def write_xyz_ply(path, xyz) -> None:
+    """A PLY file of the points ``xyz`` (N, 3), float64."""
+    from plyfile import PlyData, PlyElement
+
+    data = np.empty(len(xyz), dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")])
+    data["x"], data["y"], data["z"] = xyz.T
+    PlyData([PlyElement.describe(data, "vertex")]).write(str(path))

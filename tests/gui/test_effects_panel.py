@@ -6,8 +6,7 @@ import pytest
 from PySide6.QtWidgets import QCheckBox, QDoubleSpinBox, QSpinBox
 
 from designer.project import model as m
-from tests.gui.helpers import field, wait_idle
-from tests.gui.test_walkthrough import _set
+from tests.gui.helpers import field, set_field, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -34,17 +33,17 @@ def test_defocus_and_vignetting_terms(qtbot, window):
     assert w.document.project.effects.defocus == m.Defocus(2.8, 50.0)
     distance = field(w, QDoubleSpinBox, "defocus (thin lens) object distance")
     assert distance.text() == "each image's distance to the ground"  # None in the model
-    _set(qtbot, distance, "35")
-    _set(qtbot, field(w, QDoubleSpinBox, "defocus (thin lens) f-number"), "4")
+    set_field(qtbot, distance, "35")
+    set_field(qtbot, field(w, QDoubleSpinBox, "defocus (thin lens) f-number"), "4")
     assert w.document.project.effects.defocus == m.Defocus(4.0, 50.0, 35.0)
-    _set(qtbot, distance, "0")
+    set_field(qtbot, distance, "0")
     assert w.document.project.effects.defocus.object_distance_m is None
 
     panel.groups["vignetting"].setChecked(True)
-    _set(qtbot, field(w, QDoubleSpinBox, "vignetting ρ⁴ term"), "0.1")
+    set_field(qtbot, field(w, QDoubleSpinBox, "vignetting ρ⁴ term"), "0.1")
     field(w, QCheckBox, "vignetting natural_cos4").setChecked(True)
     assert w.document.project.effects.vignetting == m.Vignetting(0.2, 0.1, 0.0, True)
-    _set(qtbot, field(w, QSpinBox, "JPEG compression quality"), "80")  # off: no change
+    set_field(qtbot, field(w, QSpinBox, "JPEG compression quality"), "80")  # off: no change
     assert w.document.project.effects.jpeg is None
     w.undo_stack.undo()
     assert w.document.project.effects.vignetting == m.Vignetting(0.2, 0.1)

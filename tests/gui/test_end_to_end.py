@@ -19,8 +19,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QSpinBox
 
 from designer.gui.reconstruct_job import STAGES
-from tests.gui.helpers import field, problems, wait_idle
-from tests.gui.test_walkthrough import _design, _set
+from tests.gui.helpers import design_example, field, problems, set_field, wait_idle
 
 pytestmark = [pytest.mark.gui, pytest.mark.blender, pytest.mark.slow]
 
@@ -38,25 +37,25 @@ def test_design_render_reconstruct_and_inspect_the_error(qtbot, window, tmp_path
     pytest.importorskip("bpy")
     pytest.importorskip("pycolmap")
     w = window
-    _design(qtbot, w)  # new project, hills, 5 GCPs clicked, a6000, a grid flight
+    design_example(qtbot, w)  # new project, hills, 5 GCPs clicked, a6000, a grid flight
 
     # A small flight: 30 m above ground, 60/50 % overlap over the centre.
     flight = w.panels["Flight"]
     w.docks["Flight"].raise_()
-    _set(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.altitude_agl_m"), "30")
-    _set(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.front_overlap_percent"), "60")
-    _set(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.side_overlap_percent"), "50")
+    set_field(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.altitude_agl_m"), "30")
+    set_field(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.front_overlap_percent"), "60")
+    set_field(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.side_overlap_percent"), "50")
     _type_area(flight.area_table, AREA)
     # The rendered images: draft quality at a tenth of the a6000's 6000 × 4000 px.
     w.docks["Render"].raise_()
-    _set(qtbot, field(w, QDoubleSpinBox, "render.resolution_scale"), "0.1")
-    _set(qtbot, field(w, QSpinBox, "render.workers"), "2")
+    set_field(qtbot, field(w, QDoubleSpinBox, "render.resolution_scale"), "0.1")
+    set_field(qtbot, field(w, QSpinBox, "render.workers"), "2")
     # Texture texels of 3 cm (half the rendered GSD), one tile over the whole terrain: a
     # repeated tile would give SIFT the same features in several places.
     w.docks["Texture"].raise_()
-    _set(qtbot, field(w, QDoubleSpinBox, "scene.texture.source.texel_size_m"), "0.03")
-    _set(qtbot, field(w, QSpinBox, "scene.texture.repeat_X"), "1")
-    _set(qtbot, field(w, QSpinBox, "scene.texture.repeat_Y"), "1")
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.texture.source.texel_size_m"), "0.03")
+    set_field(qtbot, field(w, QSpinBox, "scene.texture.repeat_X"), "1")
+    set_field(qtbot, field(w, QSpinBox, "scene.texture.repeat_Y"), "1")
     wait_idle(qtbot, w)
     project = w.document.project
     assert project.trajectory.flight_plan.area == AREA

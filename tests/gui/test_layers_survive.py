@@ -8,8 +8,7 @@ import pytest
 
 from designer.gui import edits
 from designer.project import model as m
-from tests.gui.helpers import wait_idle
-from tests.gui.test_results import _hills, _write_ply
+from tests.gui.helpers import add_hills_and_flight, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui
 
@@ -26,13 +25,13 @@ def _cloud_drawn_at(w, xyz) -> None:
 
 def test_cloud_survives_edits_and_undos(qtbot, window, tmp_path):
     w = window
-    _hills(w)
+    add_hills_and_flight(w)
     wait_idle(qtbot, w)
     hf = w.sync.terrain.heightfield
     x = np.linspace(-40, 40, 400)
     y = np.linspace(-30, 30, 400)
     xyz = np.column_stack([x, y, hf.height_at(x, y) + 0.05])
-    _write_ply(tmp_path / "cloud.ply", xyz)
+    write_xyz_ply(tmp_path / "cloud.ply", xyz)
     results = w.panels["Results"]
     results.open_cloud(tmp_path / "cloud.ply")
     wait_idle(qtbot, w)

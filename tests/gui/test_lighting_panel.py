@@ -12,8 +12,7 @@ from designer.gui import derived
 from designer.gui.view_geometry import shade_rgb
 from designer.project import model as m
 from designer.scene.lighting import sun_position_deg, surface_normals
-from tests.gui.helpers import field, wait_idle
-from tests.gui.test_walkthrough import _set
+from tests.gui.helpers import field, set_field, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -32,8 +31,8 @@ def test_sun_and_sky_edits_relight_the_drawn_terrain(qtbot, window):
     before = _drawn_shade(w)
 
     # The sun low in the west: slopes facing west are lit, slopes facing east are dark.
-    _set(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sun.azimuth_deg"), "270")
-    _set(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sun.elevation_deg"), "20")
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sun.azimuth_deg"), "270")
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sun.elevation_deg"), "20")
     wait_idle(qtbot, w)
     lighting = w.document.project.scene.lighting
     assert lighting.sun == m.Sun(270.0, 20.0)
@@ -53,7 +52,7 @@ def test_sun_and_sky_edits_relight_the_drawn_terrain(qtbot, window):
     assert not w.view.plotter.actors["terrain"].prop.lighting
 
     # A stronger sky brightens the shadows; undo takes it back.
-    _set(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sky_strength"), "3")
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sky_strength"), "3")
     wait_idle(qtbot, w)
     assert w.document.project.scene.lighting.sky_strength == 3.0
     brighter = _drawn_shade(w)
@@ -76,7 +75,7 @@ def test_sun_computed_for_a_moment_and_place(qtbot, window):
     moment.selectAll()
     qtbot.keyClicks(moment, "2024-12-21T09:30:00+01:00")
     qtbot.keyClick(moment, Qt.Key.Key_Return)
-    _set(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sun.latitude_deg"), "46.5")
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.lighting.sun.latitude_deg"), "46.5")
     wait_idle(qtbot, w)
     sun = w.document.project.scene.lighting.sun
     assert (sun.date_time, sun.latitude_deg) == ("2024-12-21T09:30:00+01:00", 46.5)

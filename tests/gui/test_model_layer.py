@@ -218,6 +218,10 @@ def test_reconstruct_job_commands_and_stages(tmp_path):
     args = build_parser().parse_args(reconstruct[3:])  # the real command line parses
     assert (args.survey, args.output, args.mode, args.max_features) == (
         tmp_path / "out", tmp_path / "out" / "reconstruction-free", "free", 2048)
+    assert args.project == tmp_path / "s.xml"  # its <processing> is the one used
+    args = build_parser().parse_args(ReconstructJob(tmp_path / "s.xml",
+                                                    tmp_path / "out").commands()[0][3:])
+    assert args.max_features is None and args.project == tmp_path / "s.xml"
     args = build_parser().parse_args(compare[3:])
     assert args.cloud == job.out_dir / "cloud.ply" and args.reference == tmp_path / "s.xml"
     assert args.output == job.compare_dir and args.truth == tmp_path / "out"

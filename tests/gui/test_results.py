@@ -6,31 +6,14 @@ import numpy as np
 import pytest
 
 from designer.gui import edits
-from designer.project import model as m
-from tests.gui.helpers import problems, wait_idle
+from tests.gui.helpers import add_hills_and_flight, problems, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui
 
 
-def _hills(w) -> None:
-    project = w.document.project
-    terrain = m.Terrain(project.scene.terrain.extent, m.ProceduralTerrain(
-        seed=3, grid_spacing_m=1.0, roughness=0.2, min_height_m=-3.0, max_height_m=3.0))
-    project = edits.ensure_flight_plan(edits.replace_path(project, "scene.terrain", terrain))
-    w.editor.edit(project, "hills and a flight")
-
-
-def _write_ply(path, xyz) -> None:
-    from plyfile import PlyData, PlyElement
-
-    data = np.empty(len(xyz), dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")])
-    data["x"], data["y"], data["z"] = xyz.T
-    PlyData([PlyElement.describe(data, "vertex")]).write(str(path))
-
-
 def test_cloud_colours_follow_signed_distances(qtbot, window, tmp_path):
     w = window
-    _hills(w)
+    add_hills_and_flight(w)
     wait_idle(qtbot, w)
     assert w.file_actions.save_to(tmp_path / "hills.xml"), problems(w)
     hf = w.sync.terrain.heightfield
@@ -43,7 +26,7 @@ def test_cloud_colours_follow_signed_distances(qtbot, window, tmp_path):
     offset = np.where(x < 0, -1.0, 1.0) * (0.01 + 0.1 * np.abs(x) / 45)
     xyz = np.column_stack([x, y, hf.height_at(x, y) + offset])
     cloud = tmp_path / "cloud.ply"
-    _write_ply(cloud, xyz)
+    write_xyz_ply(cloud, xyz)
 
     results = w.panels["Results"]
     results.open_cloud(cloud)

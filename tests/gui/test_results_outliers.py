@@ -11,8 +11,7 @@ from PySide6.QtCore import QPoint, Qt
 
 from designer.evaluate.writers import write_distances_ply
 from designer.gui.reconstruct_job import ReconstructJob
-from tests.gui.helpers import problems, wait_idle
-from tests.gui.test_results import _hills, _write_ply
+from tests.gui.helpers import add_hills_and_flight, problems, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui
 
@@ -28,13 +27,13 @@ def _cloud_with_outlier(w, tmp_path, sigma_m=0.01, n=3000):
     dz[123] = -1400.0
     xyz = np.column_stack([x, y, hf.height_at(x, y) + dz])
     path = tmp_path / "cloud.ply"
-    _write_ply(path, xyz)
+    write_xyz_ply(path, xyz)
     return path, xyz
 
 
 def test_one_outlier_does_not_sway_the_summary(qtbot, window, tmp_path):
     w = window
-    _hills(w)
+    add_hills_and_flight(w)
     wait_idle(qtbot, w)
     path, xyz = _cloud_with_outlier(w, tmp_path)
     results = w.panels["Results"]
@@ -83,7 +82,7 @@ def test_one_outlier_does_not_sway_the_summary(qtbot, window, tmp_path):
 
 def test_click_on_a_point_reads_its_distance(qtbot, window, tmp_path):
     w = window
-    _hills(w)
+    add_hills_and_flight(w)
     wait_idle(qtbot, w)
     path, _xyz = _cloud_with_outlier(w, tmp_path, n=400)
     results = w.panels["Results"]
@@ -109,7 +108,7 @@ def test_click_on_a_point_reads_its_distance(qtbot, window, tmp_path):
 
 def test_last_reconstruction_reopens_with_the_project(qtbot, window, tmp_path):
     w = window
-    _hills(w)
+    add_hills_and_flight(w)
     wait_idle(qtbot, w)
     project_path = tmp_path / "hills.xml"
     assert w.file_actions.save_to(project_path), problems(w)

@@ -9,9 +9,7 @@ import pytest
 from PySide6.QtWidgets import QDoubleSpinBox
 
 from designer.gui import edits
-from tests.gui.helpers import field, wait_idle
-from tests.gui.test_results import _hills, _write_ply
-from tests.gui.test_walkthrough import _set
+from tests.gui.helpers import add_hills_and_flight, field, set_field, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui
 
@@ -47,7 +45,7 @@ def test_defocus_focuses_on_the_ground_and_one_shutter(qtbot, window):
     assert e.motion_blur.exposure_time_s == e.sensor.exposure_time_s
     w.activateWindow()
     qtbot.waitUntil(w.isActiveWindow)
-    _set(qtbot, field(w, QDoubleSpinBox, "motion blur exposure time (shutter)"), "0.002")
+    set_field(qtbot, field(w, QDoubleSpinBox, "motion blur exposure time (shutter)"), "0.002")
     e = w.document.project.effects
     assert e.motion_blur.exposure_time_s == e.sensor.exposure_time_s == 0.002
     sensor_box = field(w, QDoubleSpinBox,
@@ -58,13 +56,13 @@ def test_defocus_focuses_on_the_ground_and_one_shutter(qtbot, window):
 
 def test_colour_bar_readable_and_gcp_errors_in_3d(qtbot, window, tmp_path):
     w = window
-    _hills(w)
+    add_hills_and_flight(w)
     project = edits.add_target(edits.add_target(w.document.project, 10.0, 5.0), -20.0, 15.0)
     w.editor.edit(project, "two GCPs")
     wait_idle(qtbot, w)
     hf = w.sync.terrain.heightfield
     x = np.linspace(-30, 30, 200)
-    _write_ply(tmp_path / "cloud.ply", np.column_stack([x, x, hf.height_at(x, x) + 0.01]))
+    write_xyz_ply(tmp_path / "cloud.ply", np.column_stack([x, x, hf.height_at(x, x) + 0.01]))
     results = w.panels["Results"]
     results.open_cloud(tmp_path / "cloud.ply")
     wait_idle(qtbot, w)

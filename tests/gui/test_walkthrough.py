@@ -7,93 +7,21 @@ save → reopen → the XML validates. Then undo/redo over the same session.
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt
-from PySide6.QtWidgets import QDoubleSpinBox, QSpinBox
+from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui import camera_presets
 from designer.project import load_project
 from designer.project import model as m
 from designer.survey.plan_report import plan_project, plan_summary
-from tests.gui.helpers import field, ground_pixels, problems, wait_idle
+from tests.gui.helpers import design_example, field, ground_pixels, problems, wait_idle
 
 pytestmark = pytest.mark.gui
 
 
-def _set(qtbot, box, value) -> None:
-    """Type a value into a spin box as a person would (select all, type, Enter)."""
-    box.setFocus()
-    box.selectAll()
-    qtbot.keyClicks(box.lineEdit(), str(value))
-    qtbot.keyClick(box.lineEdit(), Qt.Key.Key_Return)
-
-
-def _design(qtbot, w, n_gcps: int = 5) -> list[np.ndarray]:
-    doc = w.document
-    assert w.file_actions.new(None)
-    wait_idle(qtbot, w)
-    assert doc.project.scene.terrain.kind == "flat"
-
-    # Terrain: procedural hills, relief and seed typed in.
-    terrain = w.panels["Terrain"]
-    terrain.kind.setCurrentIndex(terrain.kind.findData("procedural"))
-    wait_idle(qtbot, w)
-    assert doc.project.scene.terrain.kind == "procedural"
-    _set(qtbot, field(w, QDoubleSpinBox, "scene.terrain.source.max_height_m"), "8")
-    _set(qtbot, field(w, QSpinBox, "scene.terrain.source.seed"), "11")
-    wait_idle(qtbot, w)
-    src = doc.project.scene.terrain.source
-    assert (src.max_height_m, src.seed) == (8.0, 11)
-    hf = w.sync.terrain.heightfield
-    assert hf.heights_m.max() == pytest.approx(8.0)
-
-    # GCPs: five clicks on the terrain in the 3D view.
-    gcps = w.panels["GCPs"]
-    w.docks["GCPs"].raise_()
-    qtbot.mouseClick(gcps.place, Qt.MouseButton.LeftButton)
-    assert w.view.interaction.mode == "place"
-    placed = []
-    for x, y, ground in ground_pixels(w, n_gcps):
-        qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=QPoint(x, y))
-        placed.append(ground)
-    wait_idle(qtbot, w)
-    targets = doc.project.targets
-    assert [t.id for t in targets] == [f"GCP{k:02d}" for k in range(1, n_gcps + 1)]
-    for t, ground in zip(targets, placed, strict=True):
-        assert (t.true.X, t.true.Y) == pytest.approx(tuple(ground[:2]), abs=0.6e-4)  # 0.1 mm
-        assert t.true.Z is None  # draped on the terrain
-    assert gcps.table.rowCount() == n_gcps
-    qtbot.mouseClick(gcps.place, Qt.MouseButton.LeftButton)
-    assert w.view.interaction.mode == "navigate"
-
-    # Camera: a preset of a real camera.
-    camera = w.panels["Camera"]
-    camera.preset.setCurrentIndex(camera.preset.findData("a6000"))
-    cam = doc.project.cameras[0]
-    a6000 = camera_presets.preset("a6000")
-    assert (cam.focal_length_mm, cam.sensor_width_mm, cam.image_width_px) == (16.0, 23.5, 6000)
-    assert cam.sensor_height_mm == pytest.approx(23.5 * 4000 / 6000)
-    assert cam.sensor_height_mm == a6000.sensor_height_mm
-
-    # Flight: a grid over the terrain at 40 m, 75/65 % overlap.
-    flight = w.panels["Flight"]
-    w.docks["Flight"].raise_()
-    qtbot.mouseClick(flight.create, Qt.MouseButton.LeftButton)
-    _set(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.altitude_agl_m"), "40")
-    _set(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.front_overlap_percent"), "75")
-    _set(qtbot, field(w, QDoubleSpinBox, "trajectory.flight_plan.side_overlap_percent"), "65")
-    wait_idle(qtbot, w)
-    plan = doc.project.trajectory.flight_plan
-    assert (plan.altitude_agl_m, plan.front_overlap_percent, plan.side_overlap_percent) == (
-        40.0, 75.0, 65.0)
-    assert plan.camera == cam.id
-    return placed
-
-
 def test_design_save_reopen(qtbot, window, tmp_path):
     w = window
-    _design(qtbot, w)
+    design_example(qtbot, w)
     project = w.document.project
 
     # The image count shown is designer plan's.
@@ -127,7 +55,7 @@ def test_design_save_reopen(qtbot, window, tmp_path):
 
 def test_undo_redo_every_edit(qtbot, window):
     w = window
-    _design(qtbot, w)
+    design_example(qtbot, w)
     doc, stack = w.document, w.undo_stack
     designed = doc.project
     steps = stack.count()
@@ -181,7 +109,7 @@ def test_spin_box_steps_merge_into_one_undo_step(qtbot, window):
 
 def test_drag_moves_a_gcp_and_delete_removes_it(qtbot, window):
     w = window
-    _design(qtbot, w, n_gcps=2)
+    design_example(qtbot, w, n_gcps=2)
     w.view.interaction.set_mode("place")
     moved = w.document.project.targets[0]
     xyz = w.sync.targets.true_xyz[0]

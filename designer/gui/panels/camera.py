@@ -9,7 +9,7 @@ from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
 from designer.errors import DesignerError
 from designer.gui import camera_presets, edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readout
 from designer.project import model as m
 
 CAM = "cameras[0]"
@@ -29,7 +29,7 @@ class CameraPanel(Panel):
         top.addRow("preset", self.preset)
         top.addRow("id", self.bindings.bind(_line(), f"{CAM}.id", "Camera id"))
         top.addRow("name", self.bindings.bind(_line(), (
-            lambda p: p.cameras[0].name or "",
+            model_getter(f"{CAM}.name", lambda v: v or ""),
             lambda p, v: edits.replace_path(p, f"{CAM}.name", v or None)), "Camera name"))
         layout.addLayout(top)
 
@@ -56,7 +56,7 @@ class CameraPanel(Panel):
         for name in BROWN + ("k4",):
             box = dspin(-10, 10, 6, 0.001)
             self.bindings.bind(box, (
-                lambda p, n=name: getattr(p.cameras[0].distortion, n),
+                model_getter(f"{CAM}.distortion.{name}"),
                 lambda p, v, n=name: edits.replace_path(p, f"{CAM}.distortion.{n}", v)),
                 f"Distortion {name}")
             self.coeffs[name] = box

@@ -11,7 +11,7 @@ from PySide6.QtWidgets import QCheckBox, QDoubleSpinBox, QGroupBox
 
 from designer.gui import edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import dspin, form, ispin, readout
+from designer.gui.widgets import dspin, form, ispin, model_getter, readout
 from designer.project import model as m
 
 
@@ -84,7 +84,7 @@ class EffectsPanel(Panel):
                           lambda p, v, n=name, fl=fl, c=to_model: edits.replace_path(
                               p, f"effects.{n}.{fl}", c(v)))
                 f.addRow(label, self.bindings.bind(factory(), (
-                    lambda p, n=name, fl=fl, c=to_widget: c(getattr(getattr(p.effects, n), fl)),
+                    model_getter(f"effects.{name}.{fl}", to_widget),
                     setter), f"{title} {label or fl}"))
             if name == "motion_blur":
                 self.smear = readout()

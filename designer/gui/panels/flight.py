@@ -18,7 +18,7 @@ from PySide6.QtWidgets import (
 
 from designer.gui import derived, edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readout
 from designer.project import model as m
 
 FP = "trajectory.flight_plan"
@@ -105,8 +105,7 @@ class FlightPanel(Panel):
         self.altitude_spin = self.bindings.bind(
             dspin(0.1, 1e5, 2, 5, "m"), f"{FP}.altitude_agl_m", "Flight height")
         self.gsd_spin = self.bindings.bind(dspin(0.001, 1000, 3, 0.1, "cm"), (
-            lambda p: None if p.trajectory.flight_plan.gsd_m is None
-            else 100 * p.trajectory.flight_plan.gsd_m,
+            model_getter(f"{FP}.gsd_m", lambda v: None if v is None else 100 * v),
             lambda p, v: edits.set_flight(p, gsd_m=v / 100)), "Flight GSD")
         f.addRow(self.by_altitude, self.altitude_spin)
         f.addRow(self.by_gsd, self.gsd_spin)
@@ -123,13 +122,13 @@ class FlightPanel(Panel):
         f.addRow("altitude above", self.bindings.bind(
             combo([("mean terrain", "mean"), ("highest terrain", "max"),
                    ("lowest terrain", "min"), ("a given height", "given")]), (
-                lambda p: _reference_kind(p.trajectory.flight_plan.altitude_reference),
+                model_getter(f"{FP}.altitude_reference", _reference_kind),
                 lambda p, v: edits.set_flight(p, altitude_reference=(
                     v if v != "given" else self._given_reference_m()))),
             "Altitude reference"))
         f.addRow("given height", self.bindings.bind(dspin(-1e4, 1e5, 3, 1, "m"), (
-            lambda p: (None if isinstance(p.trajectory.flight_plan.altitude_reference, str)
-                       else p.trajectory.flight_plan.altitude_reference),
+            model_getter(f"{FP}.altitude_reference",
+                         lambda v: None if isinstance(v, str) else v),
             lambda p, v: edits.set_flight(p, altitude_reference=float(v))),
             "Altitude reference height"))
         f.addRow("image", self.bindings.bind(

@@ -24,6 +24,7 @@ from PySide6.QtWidgets import (
 
 from designer.gui import derived, render_speed
 from designer.gui.panels.base import Panel
+from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.render_process import RenderProcess
 from designer.gui.widgets import combo, dspin, form, ispin, readout
 from designer.project import model as m
@@ -76,6 +77,8 @@ class RenderPanel(Panel):
         row.addWidget(self.cancel_button)
         row.addWidget(self.resume)
         layout.addLayout(row)
+        self.out_of_date = OutOfDate("render-out-of-date")
+        layout.addWidget(self.out_of_date)
         self.progress = QProgressBar()
         layout.addWidget(self.progress)
         self.state = QLabel("")
@@ -131,6 +134,22 @@ class RenderPanel(Panel):
                          f"{total / 60:.1f} min for {stations.n_images}")
         self.cost.setText("\n".join(lines) + f"\n({render_speed.describe(settings)})")
 
+    def show_render_state(self, state) -> None:
+        """The render folder against the project (``output_state.RenderState`` or None):
+        the out-of-date line, and a button that re-renders only what changed."""
+        if state is None:
+            self.out_of_date.show_state(None)
+            self.start_button.setText("Render")
+            return
+        self.out_of_date.show_state(
+            None if state.ok else state.text,
+            f"the {state.n_images} rendered images are up to date with the project")
+        redo = len(state.stale) + len(state.missing)
+        self.start_button.setText(f"Re-render {redo} changed image{'s' if redo != 1 else ''}"
+                                  if not state.ok and redo else "Render")
+        self.start_button.setToolTip("keeps the images that are up to date (resume) and "
+                                     "renders the others" if redo else "")
+
     def settings(self):
         window = self.window()
         return getattr(window, "settings", None)
@@ -157,7 +176,9 @@ class RenderPanel(Panel):
         self.thumbs.clear()
         self.log.clear()
         self._t0 = time.perf_counter()
-        argv = RenderProcess.command(project_path, self.out_dir, resume=self.resume.isChecked())
+        # re-rendering what changed is a resume: up-to-date images are kept
+        resume = self.resume.isChecked() or self.out_of_date.stale
+        argv = RenderProcess.command(project_path, self.out_dir, resume=resume)
         self.process.start(argv, cwd=project_path.parent)
         self.start_button.setEnabled(False)
         self.cancel_button.setEnabled(True)

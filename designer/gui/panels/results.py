@@ -21,18 +21,26 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from designer.gui import results_data
+from designer.gui import output_state, results_data
 from designer.gui.panels.base import Panel
-from designer.gui.reconstruct_job import MODES, STAGES, ReconstructJob, survey_status
+from designer.gui.panels.dense_view import DenseView
+from designer.gui.panels.out_of_date import OutOfDate
+from designer.gui.reconstruct_job import (
+    MODES,
+    STAGES,
+    ReconstructJob,
+    processing_text,
+    survey_status,
+)
 from designer.gui.reconstruct_process import ReconstructRun
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, dspin, form, readout
 
 CMAP = "RdBu_r"
 
 
 class ResultsPanel(Panel):
     title = "Results"
-    parts = frozenset({"outputs"})
+    parts = frozenset({"outputs", "processing"})
 
     def build(self, layout) -> None:
         self._build_reconstruct(layout)
@@ -104,6 +112,7 @@ class ResultsPanel(Panel):
         v.addWidget(self.rmse)
         layout.addWidget(gcps)
         self.result: results_data.CloudResult | None = None
+        self._compared: Path | None = None
         self.limit_m = 1.0
         self._pending_residuals = None
         self.editor.document.events.connect("reset", self._reopened)
@@ -116,9 +125,10 @@ class ResultsPanel(Panel):
         f.addRow("survey", self.survey_label)
         self.mode = combo([(text, mode) for text, mode in MODES])
         f.addRow("poses", self.mode)
-        self.features = ispin(256, 65536, "per image")
-        self.features.setValue(4096)
-        f.addRow("SIFT features", self.features)
+        self.settings_label = readout()
+        self.settings_label.setToolTip("the project's <processing>, set in the Processing "
+                                       "panel")
+        f.addRow("processing", self.settings_label)
         row = QHBoxLayout()
         self.reconstruct_button = QPushButton("Reconstruct")
         self.reconstruct_button.setToolTip(
@@ -144,7 +154,12 @@ class ResultsPanel(Panel):
         self.log.setMaximumBlockCount(500)
         self.log.setMaximumHeight(90)
         f.addRow(self.log)
+        self.out_of_date = OutOfDate("results-out-of-date")
+        f.addRow(self.out_of_date)
         layout.addWidget(box)
+        self.dense = DenseView()
+        self.dense.show_cloud.connect(self.show_reconstructed_cloud)
+        layout.addWidget(self.dense)
         self.run = ReconstructRun(self)
         self.run.stage.connect(self._stage)
         self.run.output.connect(self.log.appendPlainText)
@@ -156,6 +171,7 @@ class ResultsPanel(Panel):
     def refresh(self) -> None:
         super().refresh()
         self.survey_readout()
+        self.settings_label.setText(processing_text(self.project.processing))
 
     def showEvent(self, event) -> None:  # a render may have finished meanwhile
         super().showEvent(event)
@@ -191,8 +207,8 @@ class ResultsPanel(Panel):
         if not n:
             self.stage_label.setText(f"{text}. Render the survey first (Render panel).")
             return
-        self.job = ReconstructJob(doc.path, folder, self.mode.currentData(),
-                                  self.features.value())
+        self.job = ReconstructJob(doc.path, folder, self.mode.currentData())
+        self._digests = output_state.manifest_digests(folder)  # the images it is made from
         self.log.clear()
         self.progress.setValue(0)
         self.stage_label.setText(f"reconstructing {n} images into {self.job.out_dir} …")
@@ -216,13 +232,11 @@ class ResultsPanel(Panel):
             return
         self.progress.setValue(len(STAGES))
         job = self.job
+        output_state.record_reconstruction_inputs(job.survey_dir, job.out_dir, self._digests)
         self.stage_label.setText(f"done: {job.out_dir}; report {job.compare_dir / 'report.html'}")
-        reference = f"terrain and targets of {job.project_path.name} (designer compare)"
-        self.state.setText(f"reading {job.distances_ply} …")
-        self.sync.tasks.submit(
-            "cloud", results_data.load_compared_cloud, job.distances_ply, reference,
-            on_done=self.show_result,
-            on_error=lambda e: self.state.setText(f"{job.distances_ply}: {e}"))
+        self._compared = job.distances_ply
+        dense = self.dense.load(job.out_dir)
+        self.show_reconstructed_cloud(dense.cloud_ply if dense is not None else None)
         if job.gcp_residuals_csv.is_file():
             self.open_residuals(job.gcp_residuals_csv)
 
@@ -233,16 +247,43 @@ class ResultsPanel(Panel):
         self.rmse.setText("")
         folder = self.survey_dir()
         found = results_data.last_reconstruction(folder) if folder is not None else None
+        self._compared = found
+        dense = self.dense.load(found.parent.parent if found is not None else None)
         if found is None:
             return
-        self.state.setText(f"reading the last reconstruction {found} …")
-        self.sync.tasks.submit(
-            "cloud", results_data.load_compared_cloud, found,
-            f"terrain and targets of {self.editor.document.path.name} (designer compare)",
-            on_done=self.show_result, on_error=lambda e: self.state.setText(f"{found}: {e}"))
+        self.show_reconstructed_cloud(dense.cloud_ply if dense is not None else None)
         residuals = found.parent.parent / "gcp_residuals.csv"
         # the GCPs' truth needs the terrain, which is being computed right now
         self._pending_residuals = residuals if residuals.is_file() else None
+
+    def show_render_state(self, state) -> None:
+        """Out of date when the images changed after the reconstruction shown, or when
+        the rendered images no longer match the project."""
+        stale = None
+        if self._compared is not None and self.survey_dir() is not None:
+            stale = output_state.reconstruction_state(self.survey_dir(),
+                                                      self._compared.parent.parent)
+        if not stale and state is not None and not state.ok and self._compared is not None:
+            stale = f"the rendered images are ({state.text}); render, then reconstruct again"
+        self.out_of_date.show_state(stale, "reconstructed from the images rendered now"
+                                    if self._compared is not None and state is not None
+                                    else "")
+
+    def show_reconstructed_cloud(self, dense_ply: Path | None) -> None:
+        """The dense cloud coloured by its distance to the true surface (computed here, in
+        a worker thread), or with None the sparse one as designer compare measured it."""
+        if dense_ply is not None:
+            self.open_cloud(dense_ply, residuals=False)
+            return
+        found = self._compared
+        if found is None:
+            return
+        self.state.setText(f"reading {found} …")
+        name = self.editor.document.path.name if self.editor.document.path else "the project"
+        self.sync.tasks.submit(
+            "cloud", results_data.load_compared_cloud, found,
+            f"terrain and targets of {name} (designer compare)",
+            on_done=self.show_result, on_error=lambda e: self.state.setText(f"{found}: {e}"))
 
     def _terrain_ready(self) -> None:
         pending, self._pending_residuals = self._pending_residuals, None
@@ -268,7 +309,7 @@ class ResultsPanel(Panel):
         if path:
             self.open_residuals(Path(path))
 
-    def open_cloud(self, path: Path) -> None:
+    def open_cloud(self, path: Path, residuals: bool = True) -> None:
         """Read the cloud and compare it with the true surface in a worker thread."""
         doc, terrain = self.editor.document, self.sync.terrain
         self.state.setText(f"reading {path.name} and computing distances…")
@@ -277,9 +318,9 @@ class ResultsPanel(Panel):
             terrain.heightfield if terrain else None, terrain.mesh if terrain else None,
             on_done=self.show_result,
             on_error=lambda e: self.state.setText(f"{path.name}: {e}"))
-        residuals = Path(path).with_name("gcp_residuals.csv")
-        if residuals.is_file():
-            self.open_residuals(residuals)
+        csv = Path(path).with_name("gcp_residuals.csv")
+        if residuals and csv.is_file():
+            self.open_residuals(csv)
 
     def open_residuals(self, path: Path) -> None:
         """GCP errors of estimates in a CSV against the project's targets (a thread)."""
