@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import inspect
+from pathlib import Path
 
 BENCHMARKS = {
     "core": "designer.bench.core",
@@ -17,6 +19,7 @@ BENCHMARKS = {
     "effects": "designer.bench.effects",
     "dense": "designer.bench.dense",
     "study": "designer.bench.study",
+    "reconstruct": "designer.bench.reconstruct",
 }
 
 
@@ -28,11 +31,27 @@ def register(subparsers) -> None:
     parser.add_argument("name", choices=sorted(BENCHMARKS), help="which benchmark")
     parser.add_argument("--repeats", type=int, default=3, help="repeats; the best is kept")
     parser.add_argument("--scale", type=float, default=1.0, help=argparse.SUPPRESS)
+    parser.add_argument("--survey", type=Path, default=None, metavar="DIR",
+                        help="reconstruct: an already rendered example survey (a folder "
+                             "'designer render' wrote) instead of rendering it")
     parser.set_defaults(func=run)
 
 
 def run(args) -> int:
     module = importlib.import_module(BENCHMARKS[args.name])
-    rows = module.run(repeats=args.repeats, scale=args.scale)
+    options = {}
+    if args.survey is not None:
+        if "survey" not in inspect.signature(module.run).parameters:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--survey: 'designer bench {args.name}' renders its own "
+                                "survey; give --survey only to 'designer bench reconstruct'")
+        if not (args.survey / "manifest.json").is_file():
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--survey {args.survey}: no manifest.json there; give a "
+                                "folder 'designer render' wrote")
+        options["survey"] = args.survey
+    rows = module.run(repeats=args.repeats, scale=args.scale, **options)
     print(module.format_table(rows))
     return 0

@@ -61,6 +61,11 @@ def _truth_folder(path: Path) -> Path:
 def extra_errors(args) -> tuple[dict | None, dict | None]:
     """(GCP errors, camera errors) requested by ``--truth``/``--gcps``/``--cameras``."""
     from designer.errors import DesignerError
+
+    if args.truth is None:
+        if args.gcps or args.cameras:
+            raise DesignerError("--gcps and --cameras need --truth (the rendered survey folder)")
+        return None, None
     from designer.evaluate import (
         camera_pose_errors,
         gcp_errors,
@@ -75,10 +80,6 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
         read_opk_csv,
     )
 
-    if args.truth is None:
-        if args.gcps or args.cameras:
-            raise DesignerError("--gcps and --cameras need --truth (the rendered survey folder)")
-        return None, None
     truth = _truth_folder(args.truth)
     model = args.cameras if args.cameras is not None else args.cloud
     is_model = model.is_dir() and model_files(model) is not None
@@ -102,14 +103,25 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
 
 
 def run(args) -> int:
+    from designer.evaluate import figures, kernels
+
+    # Start what does not depend on the inputs first: a thread loads the compiled
+    # kernels while the inputs are read, then the figure thread imports matplotlib
+    # while the kernels compute.
+    loader = kernels.load_in_background()
+    figures.prestart(after=loader.done)
+    try:
+        return _compare(args, loader)
+    finally:
+        figures.discard_prestarted()
+
+
+def _compare(args, loader) -> int:
     from designer.errors import DesignerError
-    from designer.evaluate import (
-        DEFAULT_TOLERANCES_M,
-        compare_cloud,
-        format_summary,
-        read_point_cloud,
-        reference_mesh,
-    )
+    from designer.evaluate.clouds import read_point_cloud
+    from designer.evaluate.compare import compare_cloud, reference_mesh
+    from designer.evaluate.report import format_summary
+    from designer.evaluate.statistics import DEFAULT_TOLERANCES_M
 
     for name in ("max_distance", "cell_m"):
         value = getattr(args, name)
@@ -124,6 +136,7 @@ def run(args) -> int:
                              columns=tuple(args.columns) if args.columns else None)
     mesh = reference_mesh(args.reference, with_targets=not args.no_targets)
     gcps, cameras = extra_errors(args)
+    loader.join()
     summary = compare_cloud(cloud, mesh, args.output, max_distance=args.max_distance,
                             tolerances=tolerances, cell_m=args.cell_m, gcps=gcps,
                             cameras=cameras, offset=args.offset)

@@ -30,6 +30,7 @@ COMMAND_MODULES = [
     "designer.cli.gui",
     "designer.cli.demo",
     "designer.cli.bench",
+    "designer.cli.warmup",
 ]
 
 

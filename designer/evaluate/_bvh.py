@@ -22,7 +22,7 @@ _STACK = 256  # deeper than any tree built here: <= 63 bit splits + log2(M) midd
 _BLOCK = 512  # points per parallel work item; consecutive points warm-start each other
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _split(codes, start, end):
     first, last = codes[start], codes[end - 1]
     if first == last:
@@ -42,7 +42,7 @@ def _split(codes, start, end):
     return lo
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def build_bvh(codes, tri):
     """Nodes of a BVH over triangles ``tri`` (M, 9) sorted by Morton ``codes`` (M,).
 
@@ -94,7 +94,7 @@ def build_bvh(codes, tri):
     return box, link[:n_nodes].copy()
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True, parallel=True)
 def morton_codes(xyz, lo, scale):
     """63-bit Morton codes (M,) of points ``xyz`` (M, 3) on a 2²¹ grid from ``lo``."""
     n = xyz.shape[0]
@@ -117,7 +117,7 @@ def morton_codes(xyz, lo, scale):
     return out
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True, parallel=True)
 def centroid_codes(local, faces, lo, scale):
     """Morton codes (M,) of the centroids of triangles ``faces`` over vertices ``local``."""
     m = faces.shape[0]
@@ -129,7 +129,7 @@ def centroid_codes(local, faces, lo, scale):
     return morton_codes(centroid, lo, scale)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def radix_argsort(codes):
     """Stable argsort of uint64 ``codes`` (LSD radix, 16-bit digits; passes over digits
     that are equal for every code are skipped) — a few times faster than np.argsort."""
@@ -172,7 +172,7 @@ def _tri_box_d2(px, py, pz, t):
     return dx * dx + dy * dy + dz * dz
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _nearest(px, py, pz, tri, box, link, best, best_t, stack, stack_d):
     """Index of the triangle nearest to p among those closer than sqrt(best) (or best_t)."""
     stack[0] = 0
@@ -206,7 +206,7 @@ def _nearest(px, py, pz, tri, box, link, best, best_t, stack, stack_d):
     return best_t
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True, parallel=True)
 def query(points, tri, box, link, limit_d2, normals_face, neighbours, crowded, normals_vert,
           corner_vertex):
     """Signed distance (N,) and nearest triangle (N,) of each local point (N, 3).
@@ -239,7 +239,7 @@ def query(points, tri, box, link, limit_d2, normals_face, neighbours, crowded, n
     return dist, nearest
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _signed(px, py, pz, tri_t, t, normals_face, neighbours, crowded, normals_vert,
             corner_vertex):
     d2, qx, qy, qz, feat = closest_point(px, py, pz, tri_t)

@@ -28,7 +28,7 @@ def _seg_param(num: float, den: float) -> float:
     return min(1.0, max(0.0, t))
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _closest_on_segment(px, py, pz, ax, ay, az, bx, by, bz):
     ex, ey, ez = bx - ax, by - ay, bz - az
     t = _seg_param((px - ax) * ex + (py - ay) * ey + (pz - az) * ez, ex * ex + ey * ey + ez * ez)
@@ -36,7 +36,7 @@ def _closest_on_segment(px, py, pz, ax, ay, az, bx, by, bz):
     return (px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2, qx, qy, qz, t
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _degenerate(px, py, pz, tri):
     """Closest point on the three edges of a (near-)degenerate triangle."""
     best, feat = np.inf, EDGE0

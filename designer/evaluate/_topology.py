@@ -26,14 +26,14 @@ def _mix(h):
     return h
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _hash3(a, b, c):
     h = _mix(np.uint64(a))
     h = _mix(h ^ np.uint64(b))
     return _mix(h ^ np.uint64(c))
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def weld_vertices(vertices, candidates):
     """Canonical index (N,) of each vertex: among ``candidates`` (indices), the first
     with bit-identical x, y, z; every other vertex maps to itself."""
@@ -61,7 +61,7 @@ def weld_vertices(vertices, candidates):
     return out
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True, parallel=True)
 def face_geometry(local, faces):
     """Corners (M, 9), unit normals (M, 3) (zero for degenerate faces) and the angle at
     each corner (M, 3) in radians of the triangles ``faces`` over vertices ``local``."""
@@ -91,7 +91,7 @@ def face_geometry(local, faces):
     return tri, normal, angle
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def vertex_normals(faces, normal, angle, n_vertices):
     """(N, 3) pseudo-normal of each vertex: the angle-weighted sum of its faces' normals."""
     vert = np.zeros((n_vertices, 3))
@@ -103,7 +103,7 @@ def vertex_normals(faces, normal, angle, n_vertices):
     return vert
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def edge_neighbours(faces, normal, n_vertices):
     """The face across edge k (corners k, k + 1) of each face, (M, 3) int64: −1 on a
     boundary edge; −2 − e where three or more faces share the edge, e indexing the

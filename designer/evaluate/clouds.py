@@ -75,9 +75,9 @@ def read_point_cloud(
     off = _offset(offset)
     if not path.exists():
         raise DesignerError(f"point cloud {path} does not exist")
-    from designer.export.colmap_read import model_files, read_points3d
-
     if path.is_dir() or path.name.lower().startswith("points3d"):
+        from designer.export.colmap_read import model_files, read_points3d
+
         if path.is_dir() and model_files(path) is None and not any(
                 (path / f"points3D{e}").is_file() for e in (".txt", ".bin")):
             raise DesignerError(f"{path} is a folder but not a COLMAP model (no points3D)")

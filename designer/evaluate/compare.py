@@ -107,36 +107,36 @@ def compare_cloud(
     :func:`~designer.evaluate.poses.camera_pose_errors` to include in the report.
     """
     from designer.evaluate.distance import build_mesh_index, signed_distances
-    from designer.evaluate.maps import (
-        grid_errors,
-        write_error_map_geotiff,
-        write_error_map_npy,
-        write_error_map_png,
-        write_histogram_png,
-    )
+    from designer.evaluate.figures import take_figure_writer
+    from designer.evaluate.maps import grid_errors, write_error_map_npy
     from designer.evaluate.report import write_report
     from designer.evaluate.writers import write_distances_ply
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     check_overlap(cloud.xyz, mesh.vertices, cloud.source or "the cloud", mesh.source)
-    t0 = time.perf_counter()
-    index = build_mesh_index((mesh.vertices, mesh.faces))
-    t1 = time.perf_counter()
-    d = signed_distances(cloud.xyz, index, max_distance=max_distance)
-    t2 = time.perf_counter()
-    stats = distance_statistics(d, tolerances)
-    write_distances_ply(out / "distances.ply", cloud.xyz, d, rgb=cloud.rgb,
-                        normals=cloud.normals,
-                        comments=(f"reference mesh {Path(mesh.source).name}",))
-    grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
     files = {"distances": "distances.ply", "histogram": "histogram.png",
              "error_map": "error_map.png", "error_map_geotiff": "error_map.tif",
              "error_map_npy": "error_map.npy"}
-    write_histogram_png(out / files["histogram"], stats)
-    write_error_map_png(out / files["error_map"], grid, limit_m=stats["abs_q95"] or None)
-    write_error_map_geotiff(out / files["error_map_geotiff"], grid, mesh.crs)
-    write_error_map_npy(out / files["error_map_npy"], grid)
+    # the figures are drawn in a thread (started before the distances, so its imports
+    # overlap them) while this thread writes the other products
+    with take_figure_writer() as figures:
+        t0 = time.perf_counter()
+        index = build_mesh_index((mesh.vertices, mesh.faces))
+        t1 = time.perf_counter()
+        d = signed_distances(cloud.xyz, index, max_distance=max_distance)
+        t2 = time.perf_counter()
+        stats = distance_statistics(d, tolerances)
+        figures.submit("write_histogram_png", out / files["histogram"], stats)
+        grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
+        figures.submit("write_error_map_png", out / files["error_map"], grid,
+                       limit_m=stats["abs_q95"] or None)
+        figures.submit("write_error_map_geotiff", out / files["error_map_geotiff"], grid,
+                       mesh.crs)
+        write_error_map_npy(out / files["error_map_npy"], grid)
+        write_distances_ply(out / "distances.ply", cloud.xyz, d, rgb=cloud.rgb,
+                            normals=cloud.normals,
+                            comments=(f"reference mesh {Path(mesh.source).name}",))
     rows, cols = grid.values.shape
     summary = {
         "inputs": {"cloud": cloud.source, "n_points": len(cloud), "mesh": mesh.source,

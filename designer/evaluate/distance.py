@@ -142,6 +142,8 @@ def signed_distances(
     (N,) of each point's nearest face (−1 where NaN). ``points_world`` may be a memory
     map: it is read ``chunk`` rows at a time and never copied whole.
     """
+    from numba import parallel_chunksize
+
     from designer.evaluate import _bvh
 
     index = mesh if isinstance(mesh, MeshIndex) else build_mesh_index(mesh)
@@ -166,10 +168,13 @@ def signed_distances(
         # Spatially sorted points share most of their search path and warm-start
         # each other with the previous point's triangle.
         order = _bvh.radix_argsort(_bvh.morton_codes(local, lo, scale) >> np.uint64(31))
-        d, t = _bvh.query(np.ascontiguousarray(local[order]), index.triangles, index.box,
-                       index.link, limit_d2,
-                       index.normals_face, index.neighbours, index.crowded_edge_normals,
-                       index.normals_vertex, index.corner_vertex)
+        # blocks handed out a few at a time, not split evenly up front: a thread that
+        # the system delays (other work on the machine) does not hold up the others
+        with parallel_chunksize(4):
+            d, t = _bvh.query(np.ascontiguousarray(local[order]), index.triangles,
+                              index.box, index.link, limit_d2, index.normals_face,
+                              index.neighbours, index.crowded_edge_normals,
+                              index.normals_vertex, index.corner_vertex)
         dist[s + order] = d
         if faces is not None:
             faces[s + order] = np.where(t >= 0, index.face_order[np.maximum(t, 0)], -1)

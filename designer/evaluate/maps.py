@@ -24,6 +24,9 @@ from designer.errors import DesignerError
 MAX_CELLS_PER_SIDE = 2000
 FIGURE_SIZE_IN = (7.5, 6.5)
 DPI = 150
+#: subplot margins (figure fractions) that fit the tick labels of UTM-sized coordinates
+MAP_MARGINS = {"left": 0.14, "right": 0.97, "bottom": 0.12, "top": 0.94}
+HISTOGRAM_MARGINS = {"left": 0.11, "right": 0.97, "bottom": 0.09, "top": 0.94}
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,8 +71,6 @@ def grid_errors(xy_world, values, *, cell_m: float | None = None,
     NaN values are ignored. ``cell_m`` defaults to :func:`auto_cell_size`; ``max_gap_m``
     (default 2 cells) is the farthest a point may be from a cell centre to fill it.
     """
-    from scipy.spatial import cKDTree
-
     xy = np.asarray(xy_world, dtype=np.float64)[:, :2]
     values = np.asarray(values, dtype=np.float64)
     keep = np.isfinite(values)
@@ -88,15 +89,12 @@ def grid_errors(xy_world, values, *, cell_m: float | None = None,
     if rows * cols > 25_000_000:
         raise DesignerError(f"error map of {cols} x {rows} cells at {cell:g} m is too large; "
                             "give a larger cell size")
-    # local coordinates: the tree and the cell centres keep full precision at UTM size
-    tree = cKDTree(xy - [x_min, y_max])
-    cx = (np.arange(cols) + 0.5) * cell
-    cy = -(np.arange(rows) + 0.5) * cell
-    centres = np.column_stack([np.tile(cx, rows), np.repeat(cy, cols)])
-    dist, idx = tree.query(centres, distance_upper_bound=gap, workers=-1)
-    grid = np.full(rows * cols, np.nan)
-    hit = np.isfinite(dist)
-    grid[hit] = values[idx[hit]]
+    # local coordinates keep full precision at UTM size
+    from designer.evaluate._grid import nearest_point_grid
+
+    nearest = nearest_point_grid(np.ascontiguousarray(xy[:, 0] - x_min),
+                                 np.ascontiguousarray(xy[:, 1] - y_max), rows, cols, cell, gap)
+    grid = np.where(nearest >= 0, values[np.maximum(nearest, 0)], np.nan)
     return ErrorGrid(grid.reshape(rows, cols), float(x_min), float(y_max), float(cell))
 
 
@@ -132,7 +130,7 @@ def write_error_map_png(path: str | os.PathLike, grid: ErrorGrid, *,
     ax.set_aspect("equal")
     for tick in ax.get_xticklabels():
         tick.set_rotation(30)
-    fig.tight_layout()
+    fig.subplots_adjust(**MAP_MARGINS)  # fixed: tight_layout would draw the figure twice
     return _save(fig, path)
 
 
@@ -144,8 +142,8 @@ def write_histogram_png(path: str | os.PathLike, stats: dict, *,
     edges = np.asarray(h["edges"])
     fig = _figure()
     ax = fig.add_subplot()
-    ax.bar(edges[:-1], h["counts"], width=np.diff(edges), align="edge", color="#4477aa",
-           edgecolor="white", linewidth=0.3)
+    # one filled outline, not a patch per bar: the same picture, drawn in a fraction
+    ax.stairs(h["counts"], edges, fill=True, color="#4477aa")
     for x, style, name in ((stats["mean"], "-", "mean"), (stats["median"], "--", "median")):
         ax.axvline(x, color="black", linestyle=style, linewidth=1, label=f"{name} {x:.4f} m")
     for sign in (-1, 1):
@@ -157,14 +155,15 @@ def write_histogram_png(path: str | os.PathLike, stats: dict, *,
     note = f"; {outside} outside the plotted range" if outside else ""
     ax.set_title(f"{title}: n = {stats['n']}, RMSE {stats['rmse']:.4f} m{note}", fontsize=10)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    fig.subplots_adjust(**HISTOGRAM_MARGINS)
     return _save(fig, path)
 
 
 def _save(fig, path) -> Path:
     path = Path(path)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png")
+        # fast zlib level: a third of the encoding time for a few percent more bytes
+        fig.savefig(tmp, format="png", pil_kwargs={"compress_level": 1})
     return path
 
 

@@ -14,8 +14,6 @@ import os
 from pathlib import Path
 
 from designer.atomic import write_text_atomic
-from designer.evaluate.gcp import format_gcp_table
-from designer.evaluate.poses import format_pose_table
 from designer.evaluate.statistics import format_statistics
 
 
@@ -67,10 +65,14 @@ def _markdown(summary: dict, images: dict[str, str]) -> str:
                   f"north-west corner E {grid['x_min']:.3f}, N {grid['y_max']:.3f}.", "",
                   f"![Error map]({images['error_map']})"]
     if summary.get("gcps"):
+        from designer.evaluate.gcp import format_gcp_table
+
         lines += ["", "## Ground control and check points", "",
                   f"Errors = estimated − {summary['gcps']['reference']} position (m).", ""]
         lines += format_gcp_table(summary["gcps"])
     if summary.get("cameras"):
+        from designer.evaluate.poses import format_pose_table
+
         lines += ["", "## Camera poses", ""]
         lines += format_pose_table(summary["cameras"])
     return "\n".join(lines) + "\n"

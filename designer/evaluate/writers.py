@@ -56,19 +56,22 @@ def write_distances_ply(
     header.append("end_header")
     dtype = np.dtype(fields)
     path = Path(path)
+    rgb = None if rgb is None else np.asarray(rgb)
+    normals = None if normals is None else np.asarray(normals)
+    block = np.empty(min(n, chunk), dtype=dtype)
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         fh.write(("\n".join(header) + "\n").encode("ascii"))
         for s in range(0, n, chunk):  # bounded memory for very large clouds
             e = min(n, s + chunk)
-            block = np.empty(e - s, dtype=dtype)
+            part = block[:e - s]
             for i, c in enumerate("xyz"):
-                block[c] = xyz[s:e, i]
+                part[c] = xyz[s:e, i]
             if rgb is not None:
                 for i, c in enumerate(("red", "green", "blue")):
-                    block[c] = np.asarray(rgb)[s:e, i]
+                    part[c] = rgb[s:e, i]
             if normals is not None:
                 for i, c in enumerate(("nx", "ny", "nz")):
-                    block[c] = np.asarray(normals)[s:e, i]
-            block[scalar_name] = d[s:e]
-            fh.write(block.tobytes())
+                    part[c] = normals[s:e, i]
+            part[scalar_name] = d[s:e]
+            fh.write(part.view(np.uint8))  # the buffer itself, no copy
     return path

@@ -132,7 +132,8 @@ def _process(survey: Path, project_path: Path, out: Path) -> dict:
     project = load_project(project_path)
     t0 = time.perf_counter()
     rec = reconstruct(survey, out / "reconstruction", mode=MODE,
-                      processing=project.processing, log=lambda _message: None)
+                      processing=project.processing, project_path=project_path,
+                      log=lambda _message: None)
     t1 = time.perf_counter()
     s = rec.summary
     row: dict = {"reconstruct_s": t1 - t0, "registered": rec.n_registered,

@@ -68,14 +68,18 @@ STUDIES = {
                   '  <metrics>check_rmse_xy_m check_rmse_z_m cloud_nmad_m</metrics>\n'),
     "flight-geometry": ("Does a convergent flight (crosshatch, tilted camera) stop the doming "
                         "of a self-calibrated camera? Each geometry with a fixed and a "
-                        "self-calibrated (radial) camera.",
+                        "self-calibrated (radial) camera, the GCPs as a similarity after the "
+                        "adjustment or in it; the dome is measured on the dense cloud.",
                         '  <factor name="flight-geometry">\n'
                         '    <values>nadir crosshatch tilted</values>\n  </factor>\n'
                         '  <factor name="calibration">\n'
                         '    <values>fixed radial</values>\n  </factor>\n'
+                        '  <factor name="gcp-mode">\n'
+                        '    <values>similarity bundle</values>\n  </factor>\n'
                         '  <design>full-factorial</design>\n'
                         '  <replicates count="2" vary="marking-error pre-calibration"/>\n'
-                        '  <metrics>check_rmse_z_m cloud_median_m k1_error</metrics>\n'),
+                        '  <metrics>dome_amplitude_m check_rmse_z_m cloud_median_m k1_error'
+                        '</metrics>\n'),
     "altitude": ("Flight altitude (GSD) against accuracy and render time.",
                  '  <factor name="altitude-m">\n'
                  '    <range start="25" stop="40" step="5"/>\n  </factor>\n'
@@ -116,7 +120,7 @@ def template_base(name: str) -> m.Project:
         p = base_project()
         cam = replace(p.cameras[0], distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
         proc = replace(p.processing, calibration=m.Calibration(
-            "fixed", m.PreCalibrationError(focal_px=5.0, k1=0.02, seed=1)))
+            "fixed", m.PreCalibrationError(focal_px=5.0, k1=0.02, seed=1)), dense="cpu")
         return replace(p, cameras=(cam,), processing=proc)
     return base_project()
 

@@ -1,0 +1,112 @@
+"""Write the figure products (histogram and error-map PNGs, GeoTIFF) in a helper thread.
+
+Importing matplotlib costs about a third of a second and drawing a figure a few tenths
+more, single-threaded Python. :class:`FigureWriter` does both in a thread: it imports
+while the distance kernels run (they release the GIL) and draws while the caller
+writes the other products (mostly NumPy and file output, which release it too). Each
+job is a call of a writer in :mod:`.maps`, whose file is written atomically.
+
+Use::
+
+    with take_figure_writer() as figures:
+        figures.submit("write_histogram_png", path, stats)
+        ...
+    # leaving the block waits for every file and re-raises a writer's error
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+
+#: the writers of :mod:`.maps` a job may call
+JOBS = ("write_histogram_png", "write_error_map_png", "write_error_map_geotiff")
+
+
+class FigureWriter:
+    """A thread running :mod:`.maps` writers in submission order.
+
+    ``after``: an event to wait for before importing matplotlib (``designer compare``
+    lets the compiled kernels load first, as both are GIL-bound Python work).
+    """
+
+    def __init__(self, after: threading.Event | None = None) -> None:
+        self._jobs: queue.Queue = queue.Queue()
+        self._after = after
+        self._error: BaseException | None = None
+        self._stop = False
+        self._thread = threading.Thread(target=self._run, daemon=True,
+                                        name="designer-figures")
+        self._thread.start()
+
+    def _run(self) -> None:
+        try:
+            if self._after is not None:
+                self._after.wait()
+            from matplotlib.backends import backend_agg  # noqa: F401
+            from matplotlib.figure import Figure  # noqa: F401
+
+            from designer.evaluate import maps
+        except BaseException as exc:  # reported by close()
+            self._error = exc
+        while (job := self._jobs.get()) is not None:
+            if self._error is not None or self._stop:
+                continue
+            name, args, kwargs = job
+            try:
+                getattr(maps, name)(*args, **kwargs)
+            except BaseException as exc:
+                self._error = exc
+
+    def submit(self, job: str, *args, **kwargs) -> None:
+        """Queue ``designer.evaluate.maps.<job>(*args, **kwargs)``."""
+        if job not in JOBS:
+            raise ValueError(f"unknown figure job {job!r}")
+        self._jobs.put((job, args, kwargs))
+
+    def close(self) -> None:
+        """Wait until every queued file is written; re-raise the first writer error."""
+        self._jobs.put(None)
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+
+    def abort(self) -> None:
+        """Drop the queued jobs (one being written still finishes, in the background)."""
+        self._stop = True
+        self._jobs.put(None)
+
+    def __enter__(self) -> FigureWriter:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
+
+
+_prestarted: FigureWriter | None = None
+
+
+def prestart(after: threading.Event | None = None) -> None:
+    """Start the writer now (its imports begin once ``after`` is set), so it is ready
+    when :func:`take_figure_writer` is called."""
+    global _prestarted
+    if _prestarted is None:
+        _prestarted = FigureWriter(after)
+
+
+def take_figure_writer() -> FigureWriter:
+    """The pre-started writer, or a new one."""
+    global _prestarted
+    writer, _prestarted = _prestarted, None
+    return writer if writer is not None else FigureWriter()
+
+
+def discard_prestarted() -> None:
+    """Stop a pre-started writer that was not taken (the command failed before)."""
+    global _prestarted
+    writer, _prestarted = _prestarted, None
+    if writer is not None:
+        writer.abort()
