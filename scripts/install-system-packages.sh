@@ -7,7 +7,7 @@ packages=(
   libgl1 libegl1 libxrender1 libxi6 libxkbcommon0 libxkbcommon-x11-0
   libxcb-cursor0 libxcb-icccm4 libxcb-keysyms1 libxcb-shape0 libxcb-xinerama0
   libxcb-randr0 libxcb-render-util0 libxcb-image0 libxxf86vm1 libsm6 libice6
-  cloudcompare
+  cloudcompare colmap
 )
 missing=()
 for p in "${packages[@]}"; do
