@@ -12,8 +12,8 @@ from lxml import etree
 
 from designer.cli.main import main
 from designer.flight.checks import FlightFileError
-from designer.flight.exposures import pose_of
 from designer.flight.export import export_flight
+from designer.flight.exposures import pose_of
 from designer.flight.geodesy import Georef
 from designer.flight.kml import read_kml
 from designer.flight.qgc import read_plan
