@@ -16,6 +16,7 @@ import pyexiv2
 from pyproj import Transformer
 from scipy.spatial.transform import Rotation
 
+from designer.core.crs import crs_token
 from designer.core.truth import CameraPose
 from designer.project import model as m
 from designer.scene.build import build_heightfield
@@ -35,6 +36,7 @@ def true_poses(project: m.Project, base_dir: Path) -> list[CameraPose]:
 
 def grid_azimuth_of_true_north_deg(crs: str, X: float, Y: float) -> float:
     """By finite difference: the grid direction of a step north along the meridian."""
+    crs = crs_token(crs)
     to_ll = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
     to_grid = Transformer.from_crs("EPSG:4326", crs, always_xy=True)
     lon, lat = to_ll.transform(X, Y)
@@ -60,11 +62,13 @@ def _dms(value_deg: float) -> str:
 
 def write_dji_image(path: Path, pose: CameraPose, crs: str, *, make="DJI", model="FC6310",
                     focal_mm=8.8, size_px=(5472, 3648), takeoff_Z=None, gps=True,
-                    gimbal=True) -> None:
-    """A tiny JPEG with DJI-style EXIF GPS and XMP (drone-dji) metadata of ``pose``."""
+                    gimbal=True, absolute_error_m=0.0) -> None:
+    """A tiny JPEG with DJI-style EXIF GPS and XMP (drone-dji) metadata of ``pose``; the
+    absolute heights are off by ``absolute_error_m`` (a barometric drift)."""
     cv2.imwrite(str(path), np.full((24, 36, 3), 128, np.uint8))
     X, Y, Z = (float(v) for v in pose.C_world)
-    lon, lat = Transformer.from_crs(crs, "EPSG:4326", always_xy=True).transform(X, Y)
+    Z_abs = Z + absolute_error_m
+    lon, lat = Transformer.from_crs(crs_token(crs), "EPSG:4326", always_xy=True).transform(X, Y)
     exif = {"Exif.Image.Make": make, "Exif.Image.Model": model,
             "Exif.Photo.FocalLength": f"{round(focal_mm * 1000)}/1000",
             "Exif.Photo.PixelXDimension": str(size_px[0]),
@@ -75,10 +79,10 @@ def write_dji_image(path: Path, pose: CameraPose, crs: str, *, make="DJI", model
             "Exif.GPSInfo.GPSLatitude": _dms(lat),
             "Exif.GPSInfo.GPSLongitudeRef": "E" if lon >= 0 else "W",
             "Exif.GPSInfo.GPSLongitude": _dms(lon),
-            "Exif.GPSInfo.GPSAltitudeRef": "0" if Z >= 0 else "1",
-            "Exif.GPSInfo.GPSAltitude": f"{round(abs(Z) * 1000)}/1000"})
+            "Exif.GPSInfo.GPSAltitudeRef": "0" if Z_abs >= 0 else "1",
+            "Exif.GPSInfo.GPSAltitude": f"{round(abs(Z_abs) * 1000)}/1000"})
     yaw, pitch, roll = dji_angles_deg(pose.R_cam_to_world, crs, X, Y)
-    xmp = {"Xmp.drone-dji.AbsoluteAltitude": f"{Z:+.4f}"}
+    xmp = {"Xmp.drone-dji.AbsoluteAltitude": f"{Z_abs:+.4f}"}
     if takeoff_Z is not None:
         xmp["Xmp.drone-dji.RelativeAltitude"] = f"{Z - takeoff_Z:+.4f}"
     if gimbal:
