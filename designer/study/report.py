@@ -3,18 +3,18 @@
 For each factor: the study's metrics against the factor's levels (mean and 95 %
 interval over replicates) and the seconds each level cost; across all runs: accuracy
 against cost with the Pareto front of the variants; error maps (cloud − true surface)
-of the extreme levels side by side; a one-way ANOVA (scipy) per factor and metric.
+of the extreme levels side by side; which factors matter: a least-squares model of each
+metric on all factors with its ANOVA table (:mod:`designer.study.stats`).
 """
 
 from __future__ import annotations
 
 import html
-import math
-import warnings
 from pathlib import Path
 
 from designer.atomic import atomic_path, write_text_atomic
 from designer.study.results import factor_levels, interval95, level_rows
+from designer.study.stats import factor_effects
 
 _LABELS = {
     "check_rmse_z_m": "check-point RMSE Z (m)", "check_rmse_xy_m": "check-point RMSE XY (m)",
@@ -137,31 +137,6 @@ def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
     return True
 
 
-def anova(plan, rows, metrics) -> list[dict]:
-    """One-way ANOVA per factor and metric over the levels' replicate runs (scipy)."""
-    from scipy import stats
-
-    out = []
-    for f in plan.study.factors:
-        for metric in metrics:
-            groups = []
-            for level in factor_levels(plan, rows, f.name):
-                g = [float(r[metric]) for r in level_rows(plan, rows, f.name, level)
-                     if r["status"] == "ok" and r.get(metric) is not None]
-                if g:
-                    groups.append(g)
-            row = {"factor": f.name, "metric": metric, "levels": len(groups),
-                   "F": None, "p": None}
-            if len(groups) >= 2 and sum(len(g) for g in groups) > len(groups):
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    res = stats.f_oneway(*groups)
-                if math.isfinite(res.statistic):
-                    row.update(F=float(res.statistic), p=float(res.pvalue))
-            out.append(row)
-    return out
-
-
 def _fmt(v) -> str:
     if v is None:
         return "–"
@@ -214,11 +189,18 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
            "Pareto front (no other variant is both cheaper and more accurate):", ""]
     md += [f"- v{v}: {cost:.1f} s, {label(accuracy)} {err:.4g} ({levels})"
            for v, cost, err, levels in front]
-    md += ["", "## Which factors matter (one-way ANOVA over the levels' runs)", "",
-           "| factor | metric | levels | F | p |", "|---|---|---|---|---|"]
-    for a in anova(plan, rows, metrics):
-        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {_fmt(a['F'])} | "
-                  f"{_fmt(a['p'])} |")
+    md += ["", "## Which factors matter", "",
+           "Least squares of each metric on all factors (categorical; statsmodels), type II "
+           "ANOVA: F, p and partial η² per factor; for a numeric factor, the metric's slope "
+           "per unit of it with its 95 % interval.", "",
+           "| factor | metric | levels | runs | df | F | p | partial η² | slope per unit "
+           "[95 %] |", "|---" * 9 + "|"]
+    for a in factor_effects([f.name for f in plan.study.factors], rows, metrics):
+        slope = "–" if a["slope"] is None else \
+            f"{a['slope']:.4g} [{a['slope_low']:.4g}, {a['slope_high']:.4g}]"
+        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {a['runs']} | "
+                  f"{_fmt(a['df'])} | {_fmt(a['F'])} | {_fmt(a['p'])} | {_fmt(a['eta2'])} | "
+                  f"{slope} |")
     failed = [r for r in rows if r["status"] != "ok"]
     if failed:
         md += ["", "## Failed runs", ""] + [f"- {r['run']}: {r['status']}" for r in failed]

@@ -34,7 +34,8 @@ _LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
          "check_rmse_z_gsd", "control_n", "control_rmse_x_m", "control_rmse_y_m",
          "control_rmse_z_m", "control_rmse_xyz_m", "cloud_median_m", "cloud_nmad_m",
          "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m", "focal_error_px", "k1_error",
-         "render_reused", "processing_reused", "image_hash", "processing_hash",
+         "render_reused", "processing_reused", "features_reused", "matches_reused",
+         "image_hash", "processing_hash",
          "error_map", "status")
 
 

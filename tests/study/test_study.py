@@ -85,6 +85,12 @@ def test_a_processing_only_factor_renders_once(killed_and_resumed):
     assert (summary["variants"], summary["renders"], summary["reconstructions"]) == (4, 2, 4)
     assert summary["cache_hits"] == 2 and summary["failed"] == 0
     assert len(list((out / "cache" / "renders").iterdir())) == 2
+    # runs of the same images extract features and match pairs once (an extraction by
+    # the killed session is reused too): one database per image set, the others reuse it
+    assert [r["features_reused"] for r in marking.values()].count("True") >= 2
+    assert [r["matches_reused"] for r in marking.values()].count("True") >= 2
+    assert len(list((out / "cache" / "features").glob("features-*/database.db"))) == 2
+    assert len(list((out / "cache" / "features").glob("matches-*/database.db"))) == 2
     # the marking error shows in the check points: 2 px marks worse than 0.2 px
     assert float(marking["2"]["check_rmse_z_m"]) > float(marking["0.2"]["check_rmse_z_m"])
     for r in rows:
