@@ -195,3 +195,8 @@ def test_every_example_study_plans(tmp_path):
     for name in TEMPLATE_NAMES:
         plan = plan_study(read_study(write_template(name, tmp_path / name / "s.xml")[0]))
         assert plan.n_variants >= 3
+
+
+def test_a_folder_given_as_the_study_file_is_a_clear_error(tmp_path):
+    with pytest.raises(ProjectError, match=r"<study>: this is not a regular file"):
+        read_study(tmp_path)
