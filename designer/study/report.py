@@ -24,7 +24,7 @@ _LABELS = {
     "cloud_rmse_m": "cloud − surface RMSE (m)", "registered": "registered images",
     "control_rmse_xyz_m": "control-point RMSE 3D (m)", "focal_error_px": "focal error (px)",
     "k1_error": "k1 error", "dome_amplitude_m": "DoD dome amplitude (m)",
-    "total_s": "seconds per run", "render_s": "render seconds",
+    "total_s": "seconds per run (on its own)", "render_s": "render seconds",
 }
 
 

@@ -220,6 +220,7 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
             h = info["image_hash"]
             row = _row(info, done_renders.get(h) or {}, result, owner=by_proc[p][0] == rid,
                        render_owner=by_image[h][0] == rid, proc_dir=processing / p)
+            row.update(render_runs=len(by_image[h]), processing_runs=len(by_proc[p]))
             write_text_atomic(out / "runs" / rid / "result.json", json.dumps(row, indent=1))
             finished.add(rid)
             n_done += 1

@@ -91,6 +91,12 @@ def test_a_processing_only_factor_renders_once(killed_and_resumed):
     assert [r["matches_reused"] for r in marking.values()].count("True") >= 2
     assert len(list((out / "cache" / "features").glob("features-*/database.db"))) == 2
     assert len(list((out / "cache" / "features").glob("matches-*/database.db"))) == 2
+    # a run's share of the study's cost: the shared render divided among its runs
+    owners = [r for r in rows if r["render_reused"] == "False"]
+    spent = sum(float(r["render_s"]) for r in owners) + sum(
+        float(r["reconstruct_s"]) + float(r["compare_s"]) for r in rows)
+    assert sum(float(r["amortised_s"]) for r in rows) == pytest.approx(spent, rel=1e-4)
+    assert all(float(r["amortised_s"]) < float(r["total_s"]) for r in marking.values())
     # the marking error shows in the check points: 2 px marks worse than 0.2 px
     assert float(marking["2"]["check_rmse_z_m"]) > float(marking["0.2"]["check_rmse_z_m"])
     for r in rows:
