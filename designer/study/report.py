@@ -114,24 +114,48 @@ def _pareto_figure(rows, metric: str, path: Path) -> list[tuple]:
 
 
 def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
-    import matplotlib.image as mpimg
+    """The error maps (cloud − true surface, the compare's GeoTIFF) of the factor's lowest
+    and highest levels side by side, on one colour scale and one extent."""
     import matplotlib.pyplot as plt
+    import numpy as np
+    import rasterio
 
     levels = factor_levels(plan, rows, factor)
     chosen = []
     for level in (levels[0], levels[-1]):
         runs = [r for r in level_rows(plan, rows, factor, level)
-                if r["status"] == "ok" and r.get("error_map") and Path(r["error_map"]).is_file()]
+                if r["status"] == "ok" and r.get("error_map")
+                and Path(r["error_map"]).with_suffix(".tif").is_file()]
         if runs:
             chosen.append((level, runs[0]))
     if len(chosen) < 2 or chosen[0][0] == chosen[1][0]:
         return False
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4))
-    for ax, (level, r) in zip(axes, chosen, strict=True):
-        ax.imshow(mpimg.imread(r["error_map"]))
-        ax.set_title(f"{factor} = {level} ({r['run']})", fontsize=9)
-        ax.axis("off")
-    fig.suptitle("signed distance cloud − true surface (m), extreme levels", fontsize=10)
+    grids = []
+    for _level, r in chosen:
+        with rasterio.open(Path(r["error_map"]).with_suffix(".tif")) as src:
+            values = src.read(1, masked=True).astype(float).filled(np.nan)
+            grids.append((values, src.bounds, src.res[0]))
+    finite = np.concatenate([np.abs(g[np.isfinite(g)]) for g, _b, _r in grids])
+    vmax = float(np.percentile(finite, 98)) if finite.size else 1.0
+    x0 = min(b.left for _g, b, _r in grids)
+    x1 = max(b.right for _g, b, _r in grids)
+    y0 = min(b.bottom for _g, b, _r in grids)
+    y1 = max(b.top for _g, b, _r in grids)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True)
+    for ax, (level, r), (values, b, cell) in zip(axes, chosen, grids, strict=True):
+        image = ax.imshow(values, extent=(b.left - x0, b.right - x0, b.bottom - y0, b.top - y0),
+                          cmap="RdBu_r", vmin=-vmax, vmax=vmax, interpolation="nearest")
+        ax.set_xlim(0, x1 - x0)
+        ax.set_ylim(0, y1 - y0)
+        ax.set_facecolor("0.85")
+        ax.set_title(f"{factor} = {level} ({r['run']}, {cell:g} m cells)", fontsize=9)
+        ax.set_xlabel(f"easting − {x0:.0f} (m)", fontsize=8)
+        ax.set_ylabel(f"northing − {y0:.0f} (m)", fontsize=8)
+        ax.set_aspect("equal")
+    fig.colorbar(image, ax=axes, shrink=0.85,
+                 label="signed distance (m): + above the true surface")
+    fig.suptitle("cloud − true surface, lowest and highest level (one colour scale; "
+                 "grey: no points)", fontsize=10)
     _save(fig, path)
     plt.close(fig)
     return True
