@@ -25,7 +25,7 @@ def test_every_preset_is_named_by_its_exif_model(p):
 def test_a_model_with_another_lens_is_not_the_preset():
     info = CameraInfo("SONY", "ILCE-6000", 20.0, 6000, 4000)
     assert named_preset(info) is None
-    with pytest.raises(DesignerError, match="unknown camera.*ILCE-6000, 20 mm"):
+    with pytest.raises(DesignerError, match=r"unknown camera.*ILCE-6000, 20 mm"):
         pick_camera([info], BASE)
 
 
