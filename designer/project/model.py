@@ -41,6 +41,7 @@ Interpolation = Literal["closest", "linear"]
 Preset = Literal["draft", "survey", "metrology"]
 PixelFilterType = Literal["box", "gaussian", "blackman-harris"]
 ImageFormat = Literal["png", "jpeg", "tiff", "exr"]
+ImageMetadata = Literal["none", "exif"]
 GroundTruthFormat = Literal["colmap", "odm", "metashape", "opk", "gcp"]
 Orientation = Literal["landscape", "portrait"]
 StartCorner = Literal["SW", "SE", "NW", "NE"]
@@ -247,8 +248,18 @@ class SunPosition:
 
 
 @dataclass(frozen=True)
+class SunOverTime:
+    """Sun computed for each image's moment on the trajectory's time line, at a place
+    (deg; ``None``: the project origin converted to latitude/longitude with its CRS).
+    Azimuths are turned from true to grid north by the meridian convergence there."""
+
+    latitude_deg: float | None = None
+    longitude_deg: float | None = None
+
+
+@dataclass(frozen=True)
 class Lighting:
-    sun: Sun | SunPosition
+    sun: Sun | SunPosition | SunOverTime
     sun_strength: float = 4.0
     sky_strength: float = 1.0
 
@@ -314,6 +325,8 @@ class ExteriorOrientation:
     omega_deg: float
     phi_deg: float
     kappa_deg: float
+    #: seconds after take-off on the trajectory's time line (None: flown in order)
+    time_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -352,9 +365,24 @@ class FlightPlan:
 
 
 @dataclass(frozen=True)
+class TimeLine:
+    """When each photo is taken (designer.survey.timeline): the first photo at
+    ``takeoff_utc`` (ISO 8601, UTC), then the stations in order at ``speed_m_s`` along
+    straight legs, ``turn_s`` more at each change of flight line. Photos are triggered
+    by distance (the planned stations); ``trigger_interval_s`` is the camera's shortest
+    interval between photos (s), checked against the planned spacing."""
+
+    takeoff_utc: str
+    speed_m_s: float
+    turn_s: float = 0.0
+    trigger_interval_s: float | None = None
+
+
+@dataclass(frozen=True)
 class Trajectory:
     exterior_orientations: tuple[ExteriorOrientation, ...] = ()
     flight_plan: FlightPlan | None = None
+    time_line: TimeLine | None = None
 
 
 # ---------------------------------------------------------------------- effects, render
@@ -438,6 +466,8 @@ class Render:
     output_format: ImageFormat = "png"
     bit_depth: int = 8
     distortion_oversample: int = 1
+    #: "exif": each image carries its time (DateTimeOriginal…) from the time line
+    image_metadata: ImageMetadata = "none"
 
     @property
     def effective_samples(self) -> int:

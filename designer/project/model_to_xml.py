@@ -121,6 +121,11 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if isinstance(light.sun, m.Sun):
         _sub(light_el, "sun", azimuth_deg=_num(light.sun.azimuth_deg),
              elevation_deg=_num(light.sun.elevation_deg))
+    elif isinstance(light.sun, m.SunOverTime):
+        place = {} if light.sun.latitude_deg is None else {
+            "latitude_deg": _num(light.sun.latitude_deg),
+            "longitude_deg": _num(light.sun.longitude_deg)}
+        _sub(light_el, "sun-over-time", **place)
     else:
         _sub(light_el, "sun-position", date_time=light.sun.date_time,
              latitude_deg=_num(light.sun.latitude_deg),
@@ -158,10 +163,21 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
             etree.SubElement(eo_el, photo_tag, {
                 "name": eo.name, "camera": eo.camera, "X": _num(eo.X), "Y": _num(eo.Y),
                 "Z": _num(eo.Z), "omega": _num(eo.omega_deg), "phi": _num(eo.phi_deg),
-                "kappa": _num(eo.kappa_deg)})
-    fp = traj.flight_plan
-    if fp is None:
-        return
+                "kappa": _num(eo.kappa_deg),
+                **({} if eo.time_s is None else {"time-s": _num(eo.time_s)})})
+    if traj.flight_plan is not None:
+        _flight_plan(el, traj.flight_plan)
+    tl = traj.time_line
+    if tl is not None:
+        attrs = {"takeoff_utc": tl.takeoff_utc, "speed_m_s": _num(tl.speed_m_s)}
+        if tl.turn_s:
+            attrs["turn_s"] = _num(tl.turn_s)
+        if tl.trigger_interval_s is not None:
+            attrs["trigger_interval_s"] = _num(tl.trigger_interval_s)
+        _sub(el, "time-line", **attrs)
+
+
+def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
     fp_el = _sub(el, "flight-plan", camera=fp.camera, image_prefix=fp.image_prefix)
     area = _sub(fp_el, "area")
     for X, Y in fp.area:
@@ -233,7 +249,9 @@ def _render(parent: etree._Element, r: m.Render) -> None:
     _sub(el, "pixel-filter", type=r.pixel_filter_type, width_px=_num(r.pixel_filter_width_px))
     _sub(el, "resolution-scale", _num(r.resolution_scale))
     _sub(el, "workers", _num(r.workers))
-    _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
+    out = _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
+    if r.image_metadata != "none":
+        out.set("metadata", r.image_metadata)
     if r.distortion_oversample != 1:
         _sub(el, "distortion-oversample", _num(r.distortion_oversample))
 

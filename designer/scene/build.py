@@ -161,6 +161,10 @@ def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
     sun = scene.lighting.sun
     if isinstance(sun, m.Sun):
         azimuth, elevation = sun.azimuth_deg, sun.elevation_deg
+    elif isinstance(sun, m.SunOverTime):  # the sun at take-off; each photo has its own
+        from designer.scene.sun_over_time import takeoff_sun
+
+        azimuth, elevation = takeoff_sun(project, sun)
     else:
         azimuth, elevation = sun_position_deg(sun.date_time, sun.latitude_deg, sun.longitude_deg)
     return BuiltScene(
