@@ -60,7 +60,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "pycolmap": ("sfm",),
     "pyceres": ("sfm",),
     "distributed": ("render.cluster", "study.run"),
-    "pyexiv2": ("flight.image_meta",),
+    "pyexiv2": ("flight.image_meta", "render.exif"),
 }
 
 #: module imported in a fresh interpreter (P.* = every module of package P) → modules that

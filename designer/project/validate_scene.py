@@ -200,6 +200,8 @@ def _lighting(light: m.Lighting) -> list[Issue]:
                              "degrees; the sun must be above the horizon",
                              attr="elevation-deg"))
         return out
+    if isinstance(sun, m.SunOverTime):  # checked with the time line (validate_world)
+        return out
     try:
         moment = datetime.fromisoformat(sun.date_time)
     except ValueError:

@@ -125,7 +125,14 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
         out.append(Issue(sun, "sun-over-time", "give both latitude-deg and longitude-deg, or "
                          "neither (then the project origin is used)",
                          attr="latitude-deg" if sun.latitude_deg is None else "longitude-deg"))
-    elif sun.latitude_deg is None:
+    elif sun.latitude_deg is not None:
+        if not (math.isfinite(sun.latitude_deg) and -90 <= sun.latitude_deg <= 90):
+            out.append(Issue(sun, "sun-over-time", "latitude-deg must be -90 to 90",
+                             attr="latitude-deg"))
+        if not (math.isfinite(sun.longitude_deg) and -180 <= sun.longitude_deg <= 180):
+            out.append(Issue(sun, "sun-over-time", "longitude-deg must be -180 to 180",
+                             attr="longitude-deg"))
+    else:
         from designer.core.crs import crs_token
 
         try:

@@ -41,7 +41,7 @@ def project_site(project: m.Project, sun: m.SunOverTime) -> Site:
         crs = CRS.from_user_input(crs_token(project.crs))
         if not crs.is_projected:
             crs = None
-    except Exception:  # pyproj's CRSError and the like: an unknown label  # noqa: BLE001
+    except Exception:  # pyproj's CRSError and the like: an unknown label
         crs = None
     if sun.latitude_deg is not None and sun.longitude_deg is not None:
         lat, lon = sun.latitude_deg, sun.longitude_deg
