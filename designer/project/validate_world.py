@@ -106,7 +106,7 @@ def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
         return out
     plan = project.trajectory.flight_plan
     distance = None if plan is None else trigger_distance_m(project, plan)
-    if distance is not None and distance / tl.speed_m_s < interval:
+    if distance is not None and distance / tl.speed_m_s < interval * (1 - 1e-9):
         out.append(Issue(tl, "time-line", f"the flight plan takes a photo every {distance:.3g} m, "
                          f"{distance / tl.speed_m_s:.3g} s at {tl.speed_m_s:g} m/s, sooner than "
                          f"the camera's trigger interval of {interval:g} s; fly at most "
