@@ -122,9 +122,9 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
         _sub(light_el, "sun", azimuth_deg=_num(light.sun.azimuth_deg),
              elevation_deg=_num(light.sun.elevation_deg))
     elif isinstance(light.sun, m.SunOverTime):
-        place = {} if light.sun.latitude_deg is None else {
-            "latitude_deg": _num(light.sun.latitude_deg),
-            "longitude_deg": _num(light.sun.longitude_deg)}
+        place = {k: _num(v) for k, v in (("latitude_deg", light.sun.latitude_deg),
+                                         ("longitude_deg", light.sun.longitude_deg))
+                 if v is not None}
         _sub(light_el, "sun-over-time", **place)
     else:
         _sub(light_el, "sun-position", date_time=light.sun.date_time,
