@@ -70,11 +70,12 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    head = (f"{'UTC':>5} {'sun el':>6} {'step s':>6} {'sun moves':>9} {'method':<11} {'max error':>9} "
-            f"{'texels > 1/255':>14} {'bake s':>7} {'light map':>9}")
+    head = (f"{'UTC':>5} {'sun el':>6} {'step s':>6} {'sun moves':>9} {'method':<11} "
+            f"{'max error':>9} {'texels > 1/255':>14} {'bake s':>7} {'light map':>9}")
     lines = [head, "-" * len(head)]
     for r in rows:
-        lines.append(f"{r['utc']:>5} {r['elevation_deg']:>5.1f}° {r['step_s']:>6} {r['sun_moves_deg']:>8.2f}° {r['method']:<11} "
+        lines.append(f"{r['utc']:>5} {r['elevation_deg']:>5.1f}° {r['step_s']:>6} "
+                     f"{r['sun_moves_deg']:>8.2f}° {r['method']:<11} "
                      f"{r['max_error']:>9.3f} {100 * r['share_over_1_255']:>13.2f}% "
                      f"{r['bake_s']:>7.2f} {r['texels']:>9}")
     lines.append("error at the worst moment of a step against the exact bake, light units "
