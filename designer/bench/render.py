@@ -15,9 +15,8 @@ from __future__ import annotations
 
 import tempfile
 import time
-from pathlib import Path
-
 from dataclasses import replace
+from pathlib import Path
 
 from designer.project import load_project, template, write_project
 from designer.project import model as m
@@ -75,7 +74,8 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    head = (f"{'quality':<8} {'sun':<9} {'prepare s/img':>13} {'image':>10} {'frames':>6} {'workers':>7} {'wall s/img':>10} "
+    head = (f"{'quality':<8} {'sun':<9} {'prepare s/img':>13} {'image':>10} {'frames':>6} "
+            f"{'workers':>7} {'wall s/img':>10} "
             f"{'Cycles s/img':>12} {'overhead':>8} {'naive s/img':>11} {'speed-up':>8} "
             f"{'peak MB/worker':>14}")
     lines = [head, "-" * len(head)]
