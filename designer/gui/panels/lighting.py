@@ -123,7 +123,7 @@ class LightingPanel(Panel):
         if kind == "position":
             sun = DEFAULT_SUN_POSITION
         elif kind == "over-time":
-            sun = m.SunOverTime()
+            sun = _sun_over_time(self.project)
         else:
             # keep the light where it was: the computed direction, rounded to 0.1°
             try:
@@ -137,3 +137,16 @@ class LightingPanel(Panel):
                          "Sun " + {"position": "computed for a moment and place",
                                    "over-time": "following the flight's time line"}.get(
                                        kind, "given by its direction"))
+
+
+def _sun_over_time(project: m.Project) -> m.SunOverTime:
+    """A sun over time at the project origin, or at the default place when the project's
+    CRS cannot give the origin's latitude and longitude."""
+    from designer.scene.sun_over_time import project_site
+
+    try:
+        project_site(project, m.SunOverTime())
+        return m.SunOverTime()
+    except DesignerError:
+        return m.SunOverTime(DEFAULT_SUN_POSITION.latitude_deg,
+                             DEFAULT_SUN_POSITION.longitude_deg)
