@@ -194,7 +194,7 @@ def test_esri_ascii_header_is_case_insensitive_and_values_may_wrap(tmp_path):
     ("text", "message"),
     [
         ("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n"
-         "1 2\n-9999 4\n", "has 1 NODATA cells"),
+         "1 2\n-9999 4\n", "has 1 nodata/NaN cells (first at X 0.50, Y 0.50)"),
         ("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n",
          "header says 2 x 2 = 4 values, the grid holds 3"),
         ("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\nx 4\n",
