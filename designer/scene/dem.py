@@ -60,21 +60,32 @@ def load_dem(
     docstring for registration; heights are float64 metres.
     """
     path = Path(path)
-    if not path.is_file():
-        raise DesignerError(f"DEM file {path} does not exist; check the terrain path")
-    suffix = path.suffix.lower()
-    if suffix in GEOTIFF_SUFFIXES:
-        x0, y0, dx, dy, heights = _load_geotiff(path, crs)
-    elif suffix in ESRI_ASCII_SUFFIXES:
-        x0, y0, dx, dy, heights = _load_esri_ascii(path)
-    else:
-        raise DesignerError(
-            f"DEM file {path}: unsupported format '{path.suffix}'; "
-            "use a GeoTIFF (.tif, .tiff) or an ESRI ASCII grid (.asc)")
+    x0, y0, dx, dy, heights = dem_grid(path, crs)
     if extent_m is not None:
         x0, y0, heights = _crop(path, x0, y0, dx, dy, heights, extent_m)
     _refuse_holes(path, x0, y0, dx, dy, heights, extent_m is not None)
     return _heightfield(path, x0, y0, dx, dy, heights)
+
+
+def dem_grid(path: str | os.PathLike, crs: str | None = None
+             ) -> tuple[float, float, float, float, np.ndarray]:
+    """The DEM's grid in the project's ``crs``, voids kept: (x0, y0, dx, dy, heights).
+
+    Node (i, j) sits at ``X = x0 + j·dx``, ``Y = y0 + i·dy`` (rows go north); heights
+    (rows, cols) float64 m, NaN where the file has no data (or a reprojected grid falls
+    outside the file). :func:`load_dem` crops and checks it.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DesignerError(f"DEM file {path} does not exist; check the terrain path")
+    suffix = path.suffix.lower()
+    if suffix in GEOTIFF_SUFFIXES:
+        return _load_geotiff(path, crs)
+    if suffix in ESRI_ASCII_SUFFIXES:
+        return _load_esri_ascii(path)
+    raise DesignerError(
+        f"DEM file {path}: unsupported format '{path.suffix}'; "
+        "use a GeoTIFF (.tif, .tiff) or an ESRI ASCII grid (.asc)")
 
 
 # --------------------------------------------------------------------------- GeoTIFF

@@ -192,3 +192,38 @@ def transform_xy(src_crs, dst_crs, X, Y) -> tuple[np.ndarray, np.ndarray]:
     t = Transformer.from_crs(src_crs, dst_crs, always_xy=True)
     x, y = t.transform(np.asarray(X, dtype=np.float64), np.asarray(Y, dtype=np.float64))
     return np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class RasterHeader:
+    """What a GeoTIFF's header says: GDAL geotransform, size (px) and CRS (or None)."""
+
+    transform: tuple[float, float, float, float, float, float]
+    width_px: int
+    height_px: int
+    crs: object | None
+
+
+def read_header(path: Path, what: str) -> RasterHeader:
+    """The header of a georeferenced raster (no pixels read)."""
+    import rasterio
+    from pyproj import CRS
+    from rasterio.errors import NotGeoreferencedWarning, RasterioError
+
+    path = Path(path)
+    if not path.is_file():
+        raise DesignerError(f"{what} {path} does not exist; check the path")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NotGeoreferencedWarning)
+            with rasterio.open(path) as src:
+                t, crs, width, height = src.transform, src.crs, src.width, src.height
+    except RasterioError as exc:
+        first_line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise DesignerError(f"{what} {path} is not a readable GeoTIFF ({first_line}); "
+                            "export it as GeoTIFF") from None
+    if t.is_identity and crs is None:
+        raise DesignerError(f"{what} {path} has no georeferencing (no geotransform); "
+                            "export it with its coordinate system and pixel size")
+    return RasterHeader((t.a, t.b, t.c, t.d, t.e, t.f), width, height,
+                        None if crs is None else CRS.from_user_input(crs.to_wkt()))
