@@ -190,8 +190,13 @@ def transform_xy(src_crs, dst_crs, X, Y) -> tuple[np.ndarray, np.ndarray]:
     from pyproj import Transformer
 
     t = Transformer.from_crs(src_crs, dst_crs, always_xy=True)
-    x, y = t.transform(np.asarray(X, dtype=np.float64), np.asarray(Y, dtype=np.float64))
-    return np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    X = np.asarray(X, dtype=np.float64)
+    Y = np.asarray(Y, dtype=np.float64)
+    # pyproj takes a one-element array for a scalar (and warns); give it a longer one.
+    x, y = t.transform(np.append(X.ravel(), X.ravel()[:1]), np.append(Y.ravel(), Y.ravel()[:1]))
+    n = X.size
+    return (np.asarray(x[:n], dtype=np.float64).reshape(X.shape),
+            np.asarray(y[:n], dtype=np.float64).reshape(Y.shape))
 
 
 @dataclass(frozen=True)
