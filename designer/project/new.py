@@ -39,6 +39,13 @@ def write_new_project(path: str | os.PathLike, project, files: dict[str, bytes],
     path = Path(path)
     if path.suffix.lower() != ".xml":
         raise DesignerError(f"{path}: a project file name must end in .xml")
+    if check_files:
+        # Paths relative to the project's folder resolve only once the folder exists.
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise DesignerError(f"{path}: cannot create its folder ({error.strerror or error})"
+                                ) from None
     validate_project(project, base_dir=path.parent if check_files else None, source=source)
     folder = path.parent
     targets = [folder / rel for rel in files] + [path]

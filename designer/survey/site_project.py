@@ -160,12 +160,12 @@ def _intersect(a, b, dem_path, ortho_path):
 
 
 def _valid_block(heights, x0, y0, dx, dy, box, dem_path) -> tuple[int, int, int, int]:
-    """Node index range (i0, i1, j0, j1) inside ``box`` with no voids: the box's nodes,
+    """Node index range (i0, i1, j0, j1) with no voids: the nodes enclosing ``box``,
     trimmed border line by border line (the one with most voids first)."""
-    j0 = max(0, math.ceil((box[0] - x0) / dx - 1e-9))
-    j1 = min(heights.shape[1] - 1, math.floor((box[2] - x0) / dx + 1e-9))
-    i0 = max(0, math.ceil((box[1] - y0) / dy - 1e-9))
-    i1 = min(heights.shape[0] - 1, math.floor((box[3] - y0) / dy + 1e-9))
+    j0 = max(0, math.floor((box[0] - x0) / dx + 1e-9))
+    j1 = min(heights.shape[1] - 1, math.ceil((box[2] - x0) / dx - 1e-9))
+    i0 = max(0, math.floor((box[1] - y0) / dy + 1e-9))
+    i1 = min(heights.shape[0] - 1, math.ceil((box[3] - y0) / dy - 1e-9))
     void = ~np.isfinite(heights)
     while j1 - j0 >= 2 and i1 - i0 >= 2:
         block = void[i0:i1 + 1, j0:j1 + 1]
