@@ -61,7 +61,11 @@ def same_crs(a, b) -> bool:
     from pyproj import CRS
 
     a, b = CRS.from_user_input(_as_text(a)), CRS.from_user_input(_as_text(b))
-    return a.equals(b, ignore_axis_order=True)
+    if a.equals(b, ignore_axis_order=True):
+        return True
+    # The same system written another way (e.g. ESRI WKT of a UTM zone) has one EPSG code.
+    code = a.to_epsg(min_confidence=90)
+    return code is not None and code == b.to_epsg(min_confidence=90)
 
 
 def _as_text(crs):
