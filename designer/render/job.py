@@ -7,7 +7,7 @@ to Blender is local — world minus the project origin — because Blender store
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import cv2
@@ -32,6 +32,7 @@ from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the jo
     write_png,
 )
 from designer.render.job_spec import (
+    TEXTURE_UV_MAP,
     AdaptiveSampling,
     EffectsSpec,
     FrameSpec,
@@ -94,8 +95,15 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
+    terrain_uv = {}
+    if scene.texture_uv is not None:
+        # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
+        # edge texels held beyond the image; the light map keeps the terrain's uv.
+        terrain_material = replace(terrain_material, uv_tiles=(1.0, 1.0),
+                                   uv_map=TEXTURE_UV_MAP, extension="EXTEND")
+        terrain_uv = {"uv_texture": scene.texture_uv}
     save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
-              faces=scene.terrain.faces, uv=scene.terrain.uv)
+             faces=scene.terrain.faces, uv=scene.terrain.uv, **terrain_uv)
     contexts = _frame_contexts(stations, interior, scene)
     light = ObjectLighting(project, base_dir, scene, origin, job_dir, terrain_material)
     times = project_station_times(project, stations)
