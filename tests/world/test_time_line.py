@@ -152,3 +152,23 @@ def test_the_study_engine_can_vary_the_timing():
     bare = replace(p, trajectory=replace(p.trajectory, time_line=None))
     with pytest.raises(ValueError, match="time-line"):
         FACTORS["flight-speed-m-s"].set(bare, 4.0)
+
+
+def test_the_new_elements_survive_a_round_trip_through_the_file(tmp_path):
+    p = timed_survey()
+    p = replace(p, trajectory=replace(p.trajectory, time_line=m.TimeLine(
+        "2026-06-21T06:00:00.250Z", 6.5, 0.0, 1.5)),
+        scene=replace(p.scene, lighting=m.Lighting(m.SunOverTime(46.5, 7.25))),
+        render=replace(p.render, output_format="tiff", image_metadata="exif"),
+        effects=None)
+    photos = tuple(replace(eo, name=eo.name.replace(".png", ".tif"))
+                   for eo in p.trajectory.exterior_orientations)
+    p = replace(p, trajectory=replace(p.trajectory, exterior_orientations=photos))
+    assert load_project(write_project_file(p, tmp_path)) == p
+    untimed = tuple(replace(eo, time_s=None) for eo in photos)
+    bare = replace(p, trajectory=replace(p.trajectory, time_line=None,
+                                         exterior_orientations=untimed),
+                   render=replace(p.render, image_metadata="none"),
+                   scene=replace(p.scene, lighting=m.Lighting(m.Sun(150.0, 55.0))))
+    text = write_project_file(bare, tmp_path / "bare").read_text()
+    assert "time" not in text.split("<trajectory>")[1] and "metadata" not in text
