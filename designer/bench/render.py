@@ -84,9 +84,15 @@ def format_table(rows: list[dict]) -> str:
             f"{r['quality']:<8} {r['sun']:<9} {r['prepare_per_image_s']:>13.2f} "
             f"{r['image']:>10} {r['frames']:>6} {r['workers']:>7} "
             f"{r['wall_per_image_s']:>10.2f} {r['bare_cycles_per_image_s']:>12.2f} "
-            f"{r['overhead_ratio']:>8.3f} {r['naive_per_image_s']:>11.2f} "
-            f"{r['speedup_vs_naive']:>7.1f}x {r['peak_rss_mb_per_worker']:>14.0f}")
+            f"{r['overhead_ratio']:>8.3f} {_or_dash(r['naive_per_image_s'], 11, '.2f')} "
+            f"{_or_dash(r['speedup_vs_naive'], 7, '.1f')}x "
+            f"{r['peak_rss_mb_per_worker']:>14.0f}")
     lines.append("wall: designer's local runner incl. process start and scene build; Cycles: "
                  "time inside the render call per worker; naive: a new Blender process per "
                  "image; prepare: building the job (scene, light maps) per image of the flight")
     return "\n".join(lines)
+
+
+def _or_dash(value: float, width: int, spec: str) -> str:
+    """``value`` formatted, or a dash where it was not measured (NaN)."""
+    return f"{'–':>{width}}" if value != value else f"{value:>{width}{spec}}"
