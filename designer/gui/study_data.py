@@ -5,8 +5,9 @@ time) and the contents of a study output folder (``designer study run -o DIR``).
 Time estimate (seconds on one worker):
 
 * render: per distinct image set, :data:`RENDER_SETUP_S` plus its images × the reference
-  render seconds per image of the run's project (:func:`designer.gui.derived.render_seconds_per_image`, the
-  ``designer bench render`` figures), scaled by this machine's measured factor
+  render seconds per image of the run's project
+  (:func:`designer.gui.derived.render_seconds_per_image`, the ``designer bench render``
+  figures), scaled by this machine's measured factor
   (:mod:`designer.gui.render_speed`);
 * reconstruction + comparison: per distinct processing, its images ×
   :data:`RECONSTRUCT_S_PER_IMAGE`.
