@@ -10,7 +10,7 @@ Time estimate (seconds on one worker):
   figures), scaled by this machine's measured factor
   (:mod:`designer.gui.render_speed`);
 * reconstruction + comparison: per distinct processing, its images ×
-  :data:`RECONSTRUCT_S_PER_IMAGE`.
+  :func:`reconstruct_seconds_per_image` (grows with the image size, measured).
 """
 
 from __future__ import annotations
@@ -22,18 +22,35 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 #: seconds per distinct image set besides the images: Blender start, scene build, ground
-#: truth. Measured in the gcp-count example study (docs/studies.md): its render took 47 s
-#: for 12 images of 640 × 480 px whose Cycles time the render model puts at 7 s (shared
-#: 2-core machine, load average ≈ 7).
-RENDER_SETUP_S = 40.0
-#: reconstruction + comparison seconds per image (sparse SfM, no dense cloud). Measured in
-#: the gcp-count example study (docs/studies.md): 12 images of 640 × 480 px, 4096 SIFT
-#: features; 68–101 s per run, of which 47 s is the shared render, i.e. 21–54 s for the
-#: 12 images on the shared 2-core development machine (load average ≈ 7).
-RECONSTRUCT_S_PER_IMAGE = 3.5
-#: the same with a dense cloud (``<dense mode="cpu"/>``): the flight-geometry example
-#: study, 46–54 s per nadir run of 12 images (docs/studies.md)
-RECONSTRUCT_DENSE_S_PER_IMAGE = 4.5
+#: truth. Measured on the shared 2-core development machine (load average 7–10): 15 s for
+#: the tiny test study's render (18 images of 160 × 120 px, Cycles ≈ 0.3 s), 40 s for the
+#: gcp-count example's (47 s for 12 images of 640 × 480 px whose Cycles time the render
+#: model puts at 7 s; docs/studies.md).
+RENDER_SETUP_S = 30.0
+#: reconstruction + comparison seconds per image (sparse SfM): A + B × megapixels of the
+#: rendered image, fitted to two measured studies on the same machine — the tiny test
+#: study, 11 s for 18 images of 0.019 MP (0.6 s per image), and the gcp-count example,
+#: 21–54 s for 12 images of 0.31 MP (3.5 s per image; docs/studies.md) —
+RECONSTRUCT_S_A = 0.4
+RECONSTRUCT_S_B_PER_MP = 10.0
+#: — up to at most this (the feature count is capped, so larger images cost little more:
+#: ``designer demo`` reconstructed the example's 60 images of 1.25 MP in 418 s, dense
+#: cloud included; docs/benchmarks.md)
+RECONSTRUCT_S_MAX = 7.0
+#: a dense cloud (``<dense mode="cpu"/>``) costs this much more: 46–54 s per nadir run of
+#: 12 images in the flight-geometry example against 21–54 s without (docs/studies.md)
+DENSE_FACTOR = 1.3
+
+
+def reconstruct_seconds_per_image(project, interior) -> float:
+    """Estimated reconstruction + comparison seconds per image of ``project``."""
+    from designer.gui.derived import rendered_size_px
+
+    w_px, h_px = rendered_size_px(interior, project.render.resolution_scale)
+    seconds = min(RECONSTRUCT_S_A + RECONSTRUCT_S_B_PER_MP * w_px * h_px / 1e6,
+                  RECONSTRUCT_S_MAX)
+    dense = project.processing is not None and project.processing.dense != "none"
+    return seconds * (DENSE_FACTOR if dense else 1.0)
 
 
 def parse_levels(text: str) -> tuple[str, ...]:
@@ -100,7 +117,7 @@ def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
     from designer.gui.derived import render_seconds_per_image
     from designer.survey.project_poses import interior_from_camera, project_stations
 
-    renders: dict[str, int] = {}
+    renders: dict[str, tuple[int, float]] = {}
     render_s = 0.0
     processings: dict[str, int] = {}
     reconstruct_s = 0.0
@@ -109,18 +126,17 @@ def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
         key = _render_key(project)
         if key not in renders:
             stations, camera_id = project_stations(project, heightfield)
-            renders[key] = len(stations)
             interior = interior_from_camera(project.camera(camera_id))
-            render_s += RENDER_SETUP_S + len(stations) * speed_factor * render_seconds_per_image(
-                project, interior)
+            renders[key] = (len(stations), reconstruct_seconds_per_image(project, interior))
+            render_s += RENDER_SETUP_S + len(stations) * speed_factor * \
+                render_seconds_per_image(project, interior)
         proc_key = repr(replace(project, name="", description=None))
         if proc_key not in processings:
-            processings[proc_key] = renders[key]
-            dense = project.processing is not None and project.processing.dense != "none"
-            reconstruct_s += renders[key] * (RECONSTRUCT_DENSE_S_PER_IMAGE if dense
-                                             else RECONSTRUCT_S_PER_IMAGE)
+            n_images, per_image_s = renders[key]
+            processings[proc_key] = n_images
+            reconstruct_s += n_images * per_image_s
     return PlanCost(plan.n_variants, len(plan.runs), len(renders), len(processings),
-                    sum(renders.values()), render_s, reconstruct_s)
+                    sum(n for n, _ in renders.values()), render_s, reconstruct_s)
 
 
 def duration_text(seconds: float) -> str:

@@ -6,14 +6,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import Qt, QUrl
+from PySide6.QtCore import Qt, QUrl, Signal
 from PySide6.QtGui import QDesktopServices, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
+    QDialog,
     QHBoxLayout,
     QLabel,
     QPushButton,
+    QScrollArea,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -23,6 +25,13 @@ from PySide6.QtWidgets import (
 from designer.gui.study_data import StudyFolder, cell_text
 
 FAILED_COLOUR = "#c0392b"
+
+
+class _Figure(QLabel):
+    double_clicked = Signal()
+
+    def mouseDoubleClickEvent(self, event) -> None:
+        self.double_clicked.emit()
 
 
 class StudyResults(QWidget):
@@ -53,10 +62,12 @@ class StudyResults(QWidget):
         row.addWidget(self.figure_choice, 1)
         row.addWidget(self.report_button)
         layout.addLayout(row)
-        self.figure = QLabel()
+        self.figure = _Figure()
         self.figure.setObjectName("study-figure")
         self.figure.setAlignment(Qt.AlignmentFlag.AlignCenter)
-        self.figure.setMinimumHeight(200)
+        self.figure.setMinimumHeight(120)
+        self.figure.setToolTip("double-click: the plot at full size")
+        self.figure.double_clicked.connect(self.open_figure)
         layout.addWidget(self.figure)
         self.folder: StudyFolder | None = None
         self._pixmap = QPixmap()
@@ -102,7 +113,7 @@ class StudyResults(QWidget):
             self.figure.setPixmap(QPixmap())
             self.figure.setText("no plot yet" if path is None else f"cannot read {path}")
             return
-        self.figure.setToolTip(str(path))
+        self.figure.setToolTip(f"{path}\ndouble-click: the plot at full size")
         self._fit()
 
     def _fit(self) -> None:
@@ -115,6 +126,22 @@ class StudyResults(QWidget):
     def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._fit()
+
+    def open_figure(self) -> QDialog | None:
+        """The current plot at full size in a window of its own."""
+        if self._pixmap.isNull():
+            return None
+        dialog = QDialog(self)
+        dialog.setWindowTitle(str(self.figure_path))
+        label = QLabel()
+        label.setPixmap(self._pixmap)
+        scroll = QScrollArea()
+        scroll.setWidget(label)
+        QVBoxLayout(dialog).addWidget(scroll)
+        dialog.resize(min(1400, self._pixmap.width() + 40), min(900, self._pixmap.height() + 40))
+        dialog.show()
+        self.viewer = dialog
+        return dialog
 
     def _open_report(self) -> None:
         if self.folder is not None:

@@ -11,6 +11,8 @@ import time
 
 import pytest
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QPixmap
+from PySide6.QtWidgets import QLabel
 
 from designer.study.templates import write_template
 from designer.study.xml import read_study
@@ -230,6 +232,11 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     results.select_figure("pareto")
     assert results.figure_path.name == "pareto.png"
     assert not results.figure.pixmap().isNull() and results.figure.pixmap().width() > 100
+    qtbot.mouseDClick(results.figure, Qt.MouseButton.LeftButton)
+    full = results.viewer
+    assert full.isVisible() and full.findChild(QLabel).pixmap().size() == QPixmap(
+        str(out / "figures" / "pareto.png")).size()
+    full.close()
 
     # the folder opened afresh shows the same
     panel.results.table.setRowCount(0)
