@@ -163,6 +163,28 @@ def test_an_opened_study_with_an_error_points_into_its_file(qtbot, window, tmp_p
     assert f"{path}:6:3: <factr>: unknown element" in panel.errors.text()
 
 
+def test_a_study_whose_base_is_missing_asks_for_it(qtbot, window, tmp_path):
+    w = window
+    panel, base = _tiny_base(qtbot, w, tmp_path)
+    w.file_actions.new(None)  # the window's project is another one now
+    wait_idle(qtbot, w)
+    w.docks["Study"].raise_()
+    path = tmp_path / "elsewhere" / "study.xml"
+    path.parent.mkdir()
+    path.write_text((tmp_path / "tiny-template.xml").read_text())  # base: not beside it
+    answer_file_dialog(base)
+    assert panel.open_study(path)
+    assert panel.base_file == base.resolve()
+    assert str(base.resolve()) in panel.base_label.text()
+    assert _runs_line(_checked(qtbot, w, panel)) == (4, 1, 4)
+    assert panel.use_window.isVisible()
+    # the window's blank project as the base instead: it has no flight to vary
+    qtbot.mouseClick(panel.use_window, Qt.MouseButton.LeftButton)
+    _checked(qtbot, w, panel)
+    assert panel.base_file is None and panel.errors.isVisible()
+    assert not panel.run_box.run_button.isEnabled()
+
+
 def _group_alive(pid: int) -> bool:
     try:
         os.killpg(pid, 0)

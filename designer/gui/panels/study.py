@@ -10,13 +10,11 @@ the base-project file of a study that was opened, until "Use the open project".
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from PySide6.QtCore import QTimer
 from PySide6.QtWidgets import (
     QCheckBox,
-    QFileDialog,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
@@ -30,6 +28,7 @@ from PySide6.QtWidgets import (
 
 from designer.gui import render_speed
 from designer.gui.panels.base import ERROR_STYLE, Panel
+from designer.gui.panels.study_files import StudyFiles, checked_state, relative
 from designer.gui.panels.study_run import StudyRunBox
 from designer.gui.study_data import duration_text
 from designer.gui.study_form import LEVELS_HINT, FactorRow, check_study
@@ -43,7 +42,7 @@ DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
 UNTITLED = "untitled-study.xml"
 
 
-class StudyPanel(Panel):
+class StudyPanel(StudyFiles, Panel):
     title = "Study"
 
     def build(self, layout) -> None:
@@ -132,7 +131,7 @@ class StudyPanel(Panel):
         self.metrics.setMaximumHeight(130)
         for name in METRIC_COLUMNS:
             item = QListWidgetItem(name)
-            item.setCheckState(_checked(name in DEFAULT_METRICS))
+            item.setCheckState(checked_state(name in DEFAULT_METRICS))
             self.metrics.addItem(item)
         self.metrics.itemChanged.connect(self.changed)
         v.addWidget(self.metrics)
@@ -212,7 +211,7 @@ class StudyPanel(Panel):
                 and not doc.dirty:
             file = doc.path
         if file is not None:
-            return BaseProject(file=_relative(file, study_path.parent))
+            return BaseProject(file=relative(file, study_path.parent))
         if self.inline_base is not None:
             return BaseProject(inline_xml=self.inline_base)
         from designer.project.model_to_xml import project_to_bytes
@@ -224,7 +223,7 @@ class StudyPanel(Panel):
         path = study_path or self._path_for_check()
         factors = tuple(FactorSpec(r.name, r.values()) for r in self.rows)
         metrics = tuple(self.metrics.item(k).text() for k in range(self.metrics.count())
-                        if self.metrics.item(k).checkState() == _checked(True))
+                        if self.metrics.item(k).checkState() == checked_state(True))
         return Study(name=self.name.text().strip(), base=self._base(path), factors=factors,
                      design=self.design.currentData(),
                      replicates=Replicates(self.replicates.value(), tuple(
@@ -237,6 +236,10 @@ class StudyPanel(Panel):
         return study_to_xml(self.study(study_path))
 
     def check_now(self) -> None:
+        if not self.isVisible():  # checked when the panel is shown
+            self._check_when_shown = True
+            return
+        self._check_when_shown = False
         try:
             text = self.study_text()
         except ValueError as error:
@@ -303,130 +306,11 @@ class StudyPanel(Panel):
     def refresh(self) -> None:
         pass
 
-    # ------------------------------------------------------------------ files
-    def save_study(self, path: Path | None = None) -> bool:
-        """Write the study file (the open project saved first when it is the base)."""
-        if path is None:
-            start = str(self.study_path or self.editor.document.base_dir /
-                        f"{self.name.text().strip() or 'study'}.xml")
-            chosen, _ = QFileDialog.getSaveFileName(self, "Save study", start,
-                                                    "designer study (*.xml)")
-            if not chosen:
-                return False
-            path = Path(chosen)
-        path = Path(path)
-        doc = self.editor.document
-        if self.base_file is None and self.inline_base is None and (
-                doc.path is None or doc.dirty):
-            window = self.window()
-            if not hasattr(window, "file_actions") or not window.file_actions.save():
-                self._show_errors(["save the project (the study's base) first"])
-                return False
-        try:
-            text = self.study_text(path)
-        except ValueError as error:
-            self._show_errors([str(error)])
-            return False
-        from designer.atomic import write_text_atomic
-
-        path.parent.mkdir(parents=True, exist_ok=True)
-        write_text_atomic(path, text)
-        self.study_path, self._opened_text = path, text
-        self.file_label.setText(f"saved: {path}")
-        self.run_box.default_folder(path)
-        self._show_base()
-        self.changed()
-        return True
-
-    def open_study(self, path: Path | None = None) -> bool:
-        """Fill the panel from a study file; its errors are listed when it cannot be read."""
-        if path is None:
-            chosen, _ = QFileDialog.getOpenFileName(
-                self, "Open study", str(self.editor.document.base_dir),
-                "designer study (*.xml)")
-            if not chosen:
-                return False
-            path = Path(chosen)
-        from designer.project.problems import ProjectError
-        from designer.study.xml import read_study
-
-        path = Path(path)
-        try:
-            study = read_study(path)
-        except ProjectError as error:
-            self._show_errors(error.lines)
-            return False
-        for row in list(self.rows):
-            self.rows.remove(row)
-            row.setParent(None)
-        self.name.setText(study.name)
-        self.description = study.description
-        doc_path = self.editor.document.path
-        self.base_file = self.inline_base = None
-        if study.base.file is not None:
-            base = (path.parent / study.base.file).resolve()
-            if doc_path is None or base != doc_path.resolve():
-                self.base_file = base
-        else:
-            self.inline_base = study.base.inline_xml.lstrip(b"\n")
-        for f in study.factors:
-            if f.name in FACTORS:
-                self.add_factor(f.name, " ".join(f.values))
-            else:
-                self._show_errors([f"{path}:{f.where.line}:{f.where.column}: <factor>: "
-                                   f"unknown factor '{f.name}'; not shown"])
-        self.design.setCurrentIndex(self.design.findData(study.design))
-        self.replicates.setValue(study.replicates.count)
-        for name, box in self.vary.items():
-            box.setChecked(name in study.replicates.vary)
-        for k in range(self.metrics.count()):
-            item = self.metrics.item(k)
-            item.setCheckState(_checked(item.text() in study.metrics))
-        self.study_path = path
-        self.file_label.setText(f"opened: {path}")
-        self.run_box.default_folder(path)
-        self._show_base()
-        try:
-            self._opened_text = self.study_text()
-        except ValueError:
-            self._opened_text = None
-        self.changed()
-        return True
-
-    def open_folder(self, path: Path | None = None) -> bool:
-        """Show a study output folder's results; a partial one becomes the run folder."""
-        if path is None:
-            chosen = QFileDialog.getExistingDirectory(self, "Open study folder",
-                                                      str(self.editor.document.base_dir))
-            if not chosen:
-                return False
-            path = Path(chosen)
-        from designer.errors import DesignerError
-        from designer.gui.study_data import read_folder
-
-        try:
-            folder = read_folder(path)
-        except DesignerError as error:
-            self.results.summary.setText(str(error))
-            return False
-        self.results.show_folder(folder)
-        if folder.state == "partial":
-            self.run_box.folder.setText(str(folder.path))
-        return folder.state != "empty"
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        if getattr(self, "_check_when_shown", False):
+            self.changed()
 
     def shutdown(self) -> None:
         self.run_box.shutdown()
-
-
-def _checked(on: bool):
-    from PySide6.QtCore import Qt
-
-    return Qt.CheckState.Checked if on else Qt.CheckState.Unchecked
-
-
-def _relative(path: Path, folder: Path) -> str:
-    try:
-        return Path(os.path.relpath(Path(path).resolve(), Path(folder).resolve())).as_posix()
-    except ValueError:
-        return str(Path(path).resolve())
 
