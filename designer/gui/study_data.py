@@ -181,9 +181,10 @@ class StudyFolder:
         return text + ("" if self.state == "complete" else "; not finished (Resume continues)")
 
 
-def read_folder(path: str | Path) -> StudyFolder:
+def read_folder(path: str | Path, contents: bool = True) -> StudyFolder:
     """The study in ``path``: its state, its rows (results.csv, or the finished runs'
-    result.json while it is not complete), summary.json and the report's figures."""
+    result.json while it is not complete), summary.json and the report's figures
+    (``contents=False``: the state and counts only)."""
     from designer.errors import DesignerError
     from designer.study.spec import DEFAULT_METRICS
 
@@ -206,6 +207,8 @@ def read_folder(path: str | Path) -> StudyFolder:
     complete = folder.runs_done == folder.runs_total and results.is_file() and \
         summary.is_file()
     folder.state = "complete" if complete else "partial"
+    if not contents:
+        return folder
     if complete:
         with results.open(newline="") as table:
             folder.rows = list(csv.DictReader(table))

@@ -226,6 +226,10 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     assert not _group_alive(pid)
     assert finished and not (out / "results.csv").exists()
     assert box.run_button.text() == "Resume" and box.run_button.isEnabled()
+    # the unfinished folder opened: the finished runs, and that it is not finished
+    assert panel.open_folder(out)
+    assert panel.results.table.rowCount() == len(finished)
+    assert "not finished (Resume continues)" in panel.results.summary.text()
 
     # resume to the end: the runs finished before are kept as they were
     qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)

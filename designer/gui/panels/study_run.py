@@ -93,7 +93,7 @@ class StudyRunBox(QGroupBox):
         if not text:
             return None
         try:
-            return read_folder(Path(text).expanduser())
+            return read_folder(Path(text).expanduser(), contents=False)
         except Exception:  # an unreadable record: the command says what is wrong
             return None
 
