@@ -266,10 +266,30 @@ class SunOverTime:
 
 
 @dataclass(frozen=True)
+class CloudShadows:
+    """Drifting cloud shadows on the terrain (docs/world.md): ``cover`` the shadowed
+    fraction of the ground (0..1), ``size_m`` the clouds' typical size (m),
+    ``softness_m`` the width of a shadow's edge (m, 10 % to 90 % of the depth),
+    ``depth`` the share of the direct sun a cloud takes away (0..1), the wind's speed
+    (m/s) and the direction it blows towards (deg clockwise from grid north), ``seed``
+    the field's random seed."""
+
+    cover: float = 0.3
+    size_m: float = 40.0
+    softness_m: float = 5.0
+    depth: float = 0.6
+    wind_speed_m_s: float = 5.0
+    wind_direction_deg: float = 90.0
+    seed: int = 0
+
+
+@dataclass(frozen=True)
 class Lighting:
     sun: Sun | SunPosition | SunOverTime
     sun_strength: float = 4.0
     sky_strength: float = 1.0
+    #: None: no clouds (the static ideal)
+    clouds: CloudShadows | None = None
 
 
 @dataclass(frozen=True)

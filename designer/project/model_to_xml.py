@@ -134,6 +134,12 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
         _sub(light_el, "sun-position", date_time=light.sun.date_time,
              latitude_deg=_num(light.sun.latitude_deg),
              longitude_deg=_num(light.sun.longitude_deg))
+    c = light.clouds
+    if c is not None:
+        _sub(light_el, "cloud-shadows", cover=_num(c.cover), size_m=_num(c.size_m),
+             softness_m=_num(c.softness_m), depth=_num(c.depth),
+             wind_speed_m_s=_num(c.wind_speed_m_s),
+             wind_direction_deg=_num(c.wind_direction_deg), seed=str(c.seed))
 
 
 def _camera(parent: etree._Element, cam: m.Camera) -> None:

@@ -68,6 +68,8 @@ def world_issues(project: m.Project) -> list[Issue]:
     sun = project.scene.lighting.sun
     if isinstance(sun, m.SunOverTime):
         out += _sun_over_time(project, sun)
+    if project.scene.lighting.clouds is not None:
+        out += _cloud_shadows(project.scene.lighting.clouds)
     render = project.render
     if render.image_metadata not in ("none", "exif"):
         out.append(Issue(render, "output", f"metadata {render.image_metadata!r} must be none or "
@@ -145,4 +147,31 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
             out.append(Issue(sun, "sun-over-time", f"the project CRS {project.crs!r} is not a "
                              "projected CRS PROJ knows, so the site's latitude and longitude "
                              "cannot be found; give latitude-deg and longitude-deg"))
+    return out
+
+
+#: (attribute, field, low, high, low inclusive, unit) of <cloud-shadows>
+_CLOUD_RANGES = (
+    ("cover", "cover", 0.0, 1.0, True, ""),
+    ("size-m", "size_m", 0.0, 1e5, False, " m"),
+    ("softness-m", "softness_m", 0.0, 1e4, True, " m"),
+    ("depth", "depth", 0.0, 1.0, True, ""),
+    ("wind-speed-m-s", "wind_speed_m_s", 0.0, 100.0, True, " m/s"),
+    ("wind-direction-deg", "wind_direction_deg", 0.0, 360.0, True, " deg"),
+)
+
+
+def _cloud_shadows(c: m.CloudShadows) -> list[Issue]:
+    out = []
+    for attr, name, lo, hi, closed, unit in _CLOUD_RANGES:
+        v = getattr(c, name)
+        ok = math.isfinite(v) and (lo <= v if closed else lo < v) and (
+            v < hi if name == "wind_direction_deg" else v <= hi)
+        if not ok:
+            low = f"from {lo:g}" if closed else f"greater than {lo:g}"
+            high = f"below {hi:g}" if name == "wind_direction_deg" else f"at most {hi:g}"
+            out.append(Issue(c, "cloud-shadows", f"{attr} = {v!r} must be {low} and {high}{unit}",
+                             attr=attr))
+    if c.seed < 0:
+        out.append(Issue(c, "cloud-shadows", f"seed = {c.seed} must be 0 or more", attr="seed"))
     return out

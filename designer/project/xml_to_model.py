@@ -170,7 +170,13 @@ class _Reader:
             sun_el = el.find(q("sun-over-time"))
             sun = m.SunOverTime(_opt_f(sun_el, "latitude-deg"), _opt_f(sun_el, "longitude-deg"))
         self.note(sun, sun_el)
-        lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"))
+        clouds = None
+        c = el.find(q("cloud-shadows"))
+        if c is not None:
+            clouds = self.note(m.CloudShadows(
+                _f(c, "cover"), _f(c, "size-m"), _f(c, "softness-m"), _f(c, "depth"),
+                _f(c, "wind-speed-m-s"), _f(c, "wind-direction-deg"), int(c.get("seed"))), c)
+        lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"), clouds)
         return self.note(lighting, el)
 
     # ----------------------------------------------------------------- cameras

@@ -108,12 +108,19 @@ def prepare_job(
     light = ObjectLighting(project, base_dir, scene, origin, job_dir, terrain_material)
     times = project_station_times(project, stations)
     suns = frame_suns(project, times)
-    if suns is None:  # one sun: the objects as built are lit for every frame
+    clouds = project.scene.lighting.clouds
+    drifting = clouds is not None and times is not None
+    if suns is None and not drifting:
+        # one sun (and clouds frozen at take-off, if any): the objects as built are lit
+        # for every frame
         steps, frame_steps = (), [None] * len(stations)
         objects = light.objects(scene.sun_azimuth_deg, scene.sun_elevation_deg)
         suns = [(scene.sun_azimuth_deg, scene.sun_elevation_deg)] * len(stations)
     else:
-        steps, frame_steps = light.steps(suns)
+        if suns is None:
+            suns = [(scene.sun_azimuth_deg, scene.sun_elevation_deg)] * len(stations)
+        steps, frame_steps = light.steps(
+            suns, [t.time_s for t in times] if drifting else None)
         objects = list(steps[0].objects)
     if times is not None:
         for i, t in enumerate(times):

@@ -22,8 +22,10 @@ from designer.scene.build import BuiltScene
 from designer.scene.lighting import (
     LIGHTMAP_SCALE,
     bake_lightmap,
+    bake_lightmap_direct,
     encode_lightmap_png16,
     irradiance,
+    lightmap_texel_centres,
     sun_direction_world,
 )
 from designer.scene.objects import OBJECT_ALBEDO_RGB, PlacedObjects, build_objects
@@ -54,46 +56,80 @@ class ObjectLighting:
         self.project, self.base_dir, self.scene = project, Path(base_dir), scene
         self.origin, self.job_dir = origin, Path(job_dir)
         self.terrain_material = terrain_material
+        #: per sun: its targets and scene objects; its (light map, direct part)
+        self._others: dict[tuple[float, float], list[MeshSpec]] = {}
+        self._bakes: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
 
     def lightmap_size_px(self) -> tuple[int, int]:
         x0, x1, y0, y1 = self.scene.heightfield.extent_m
         scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
         return max(2, round((x1 - x0) * scale)), max(2, round((y1 - y0) * scale))
 
-    def objects(self, azimuth_deg: float, elevation_deg: float, tag: str = ""
-                ) -> list[MeshSpec]:
+    def objects(self, azimuth_deg: float, elevation_deg: float, tag: str = "",
+                time_s: float | None = None) -> list[MeshSpec]:
         """Terrain (with a light map baked for this sun), targets and scene objects;
-        files are named with ``tag`` (''  for the one sun of a static scene)."""
+        files are named with ``tag`` (''  for the one sun of a static scene). With
+        cloud shadows, the light map's direct sun is dimmed by the clouds at ``time_s``
+        (s after take-off; None: at take-off)."""
         scene = self.scene
         material = self.terrain_material
+        clouds = self.project.scene.lighting.clouds
         if scene.heightfield is not None:
-            light = bake_lightmap(scene.heightfield, azimuth_deg, elevation_deg,
-                                  scene.sun_strength, scene.sky_strength,
-                                  size_px=self.lightmap_size_px())
+            size = self.lightmap_size_px()
+            if clouds is None:
+                light = bake_lightmap(scene.heightfield, azimuth_deg, elevation_deg,
+                                      scene.sun_strength, scene.sky_strength, size_px=size)
+            else:
+                light = self._cloudy_light(azimuth_deg, elevation_deg, size, time_s or 0.0)
             name = f"lightmap{tag}.png"
             write_png(self.job_dir / name, encode_lightmap_png16(light))
             material = replace(material, lightmap=name, strength=LIGHTMAP_SCALE)
         objects = [MeshSpec("terrain", "terrain.npz", (material,))]
+        cache = self._others
+        if (azimuth_deg, elevation_deg) in cache:  # same sun, other clouds
+            return objects + cache[(azimuth_deg, elevation_deg)]
+        others = []
         if scene.targets:
-            objects.append(_targets_object(scene, self.origin, self.job_dir,
-                                           azimuth_deg, elevation_deg))
+            others.append(_targets_object(scene, self.origin, self.job_dir,
+                                          azimuth_deg, elevation_deg))
         placed = build_objects(self.project, self.base_dir, azimuth_deg, elevation_deg)
         if not placed.is_empty:
-            objects.append(_scene_objects(placed, self.origin, self.job_dir,
-                                          f"objects{tag}.npz"))
-        return objects
+            others.append(_scene_objects(placed, self.origin, self.job_dir,
+                                         f"objects{tag}.npz"))
+        cache[(azimuth_deg, elevation_deg)] = others
+        return objects + others
 
-    def steps(self, suns: list[tuple[float, float]]
+    def _cloudy_light(self, azimuth_deg: float, elevation_deg: float,
+                      size: tuple[int, int], time_s: float) -> np.ndarray:
+        """The light map with the direct sun dimmed by the cloud shadows at ``time_s``."""
+        from designer.scene.clouds import attenuation
+
+        bakes = self._bakes
+        key = (azimuth_deg, elevation_deg)
+        if key not in bakes:
+            scene = self.scene
+            bakes.clear()
+            bakes[key] = bake_lightmap_direct(scene.heightfield, azimuth_deg, elevation_deg,
+                                              scene.sun_strength, scene.sky_strength, size)
+        light, direct = bakes[key]
+        xs, ys = lightmap_texel_centres(self.scene.heightfield, size)
+        a = attenuation(self.project.scene.lighting.clouds, xs - self.origin[0],
+                        ys - self.origin[1], time_s)
+        return (light - direct * (1.0 - a)).astype(np.float32)
+
+    def steps(self, suns: list[tuple[float, float]], times_s: list[float] | None = None
               ) -> tuple[tuple[LightStep, ...], list[int]]:
-        """One light step per distinct sun, and each frame's step index."""
-        index: dict[tuple[float, float], int] = {}
+        """One light step per distinct sun — and, with ``times_s`` (cloud shadows), per
+        distinct moment — and each frame's step index."""
+        index: dict[tuple, int] = {}
         steps = []
-        for sun in suns:
-            if sun not in index:
-                index[sun] = len(steps)
-                steps.append(LightStep(sun[0], sun[1],
-                                       tuple(self.objects(*sun, tag=f"-{len(steps):05d}"))))
-        return tuple(steps), [index[sun] for sun in suns]
+        keys = [(sun, None if times_s is None else times_s[i]) for i, sun in enumerate(suns)]
+        for sun, t in keys:
+            if (sun, t) not in index:
+                index[(sun, t)] = len(steps)
+                steps.append(LightStep(sun[0], sun[1], tuple(
+                    self.objects(*sun, tag=f"-{len(steps):05d}", time_s=t))))
+        return tuple(steps), [index[k] for k in keys]
 
 
 def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,

@@ -95,9 +95,39 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path) -> dict[st
     gcps = [GroundControlPoint(t.target.id, t.target.role, t.true_xyz, t.surveyed_xyz,
                                t.sigma_xyz) for t in prepared.scene.targets]
     formats = project.outputs.ground_truth or DEFAULT_FORMATS
-    return write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
-                     ground_truth_observations(prepared), odm_crs(project.crs),
-                     formats=formats, image_times=image_times(prepared))
+    paths = write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
+                      ground_truth_observations(prepared), odm_crs(project.crs),
+                      formats=formats, image_times=image_times(prepared))
+    clouds = project.scene.lighting.clouds
+    if clouds is not None:
+        from designer.atomic import write_text_atomic
+
+        path = out_dir / GROUND_TRUTH_DIR / CLOUD_SHADOWS_CSV
+        write_text_atomic(path, cloud_shadows_csv(clouds, prepared))
+        paths["cloud_shadows"] = path
+    return paths
+
+
+CLOUD_SHADOWS_CSV = "cloud_shadows.csv"
+
+
+def cloud_shadows_csv(clouds, prepared: PreparedJob) -> str:
+    """Per image: its time (s after take-off; 0 without a time line: the clouds stay as
+    at take-off), how far the shadows have drifted (m east, m north) and the clouds'
+    parameters."""
+    from designer.scene.clouds import wind_shift_m
+
+    head = ("image,time_s,shift_east_m,shift_north_m,cover,size_m,softness_m,depth,"
+            "wind_speed_m_s,wind_direction_deg,seed")
+    params = (f"{clouds.cover!r},{clouds.size_m!r},{clouds.softness_m!r},{clouds.depth!r},"
+              f"{clouds.wind_speed_m_s!r},{clouds.wind_direction_deg!r},{clouds.seed}")
+    times = ([t.time_s for t in prepared.times] if prepared.times is not None
+             else [0.0] * len(prepared.poses))
+    rows = [head]
+    for pose, t in zip(prepared.poses, times, strict=True):
+        east, north = wind_shift_m(clouds, t)
+        rows.append(f"{pose.image_name},{t!r},{east:.6f},{north:.6f},{params}")
+    return "\n".join(rows) + "\n"
 
 
 def image_times(prepared: PreparedJob) -> list[ImageTime] | None:

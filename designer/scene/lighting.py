@@ -101,10 +101,37 @@ def bake_lightmap(
     mapped with u east and v north over the extent. Values are relative irradiance
     (1 = flat ground in full sun), see :func:`irradiance`.
     """
+    light, _ = _bake(hf, sun_azimuth_deg, sun_elevation_deg, sun_strength, sky_strength,
+                     size_px, shadows)
+    return light
+
+
+def bake_lightmap_direct(
+    hf: Heightfield,
+    sun_azimuth_deg: float,
+    sun_elevation_deg: float,
+    sun_strength: float,
+    sky_strength: float,
+    size_px: tuple[int, int] = (512, 512),
+) -> tuple[np.ndarray, np.ndarray]:
+    """(light map as :func:`bake_lightmap`, its direct-sun part) (H, W) float32, both
+    relative irradiance; ``light − direct`` is the sky's share."""
+    return _bake(hf, sun_azimuth_deg, sun_elevation_deg, sun_strength, sky_strength,
+                 size_px, True)
+
+
+def lightmap_texel_centres(hf: Heightfield, size_px: tuple[int, int]):
+    """World X (W,) west to east and Y (H,) north to south of the light map's texels."""
     W, H = size_px
     x0, x1, y0, y1 = hf.extent_m
-    xs = x0 + (np.arange(W) + 0.5) / W * (x1 - x0)
-    ys = y1 - (np.arange(H) + 0.5) / H * (y1 - y0)
+    return (x0 + (np.arange(W) + 0.5) / W * (x1 - x0),
+            y1 - (np.arange(H) + 0.5) / H * (y1 - y0))
+
+
+def _bake(hf, sun_azimuth_deg, sun_elevation_deg, sun_strength, sky_strength, size_px,
+          shadows):
+    W, H = size_px
+    xs, ys = lightmap_texel_centres(hf, size_px)
     X, Y = np.meshgrid(xs, ys)
     X, Y = X.ravel(), Y.ravel()
     step = 0.5 * min(hf.dx_m, hf.dy_m)
@@ -120,7 +147,9 @@ def bake_lightmap(
         hits = hf.intersect_rays(start[idx], np.broadcast_to(sun, (len(idx), 3)), tol_m=1e-3)
         lit[idx[np.isfinite(hits[:, 0])]] = 0.0
     light = irradiance(normals, lit, sun, sun_strength, sky_strength)
-    return light.reshape(H, W).astype(np.float32)
+    flat = sun_strength * max(sun[2], 0.0) + sky_strength
+    direct = sun_strength * np.clip(normals @ sun, 0.0, None) * lit / flat
+    return light.reshape(H, W).astype(np.float32), direct.reshape(H, W).astype(np.float32)
 
 
 def encode_lightmap_png16(light: np.ndarray) -> np.ndarray:
