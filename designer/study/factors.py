@@ -294,6 +294,18 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        lambda p, v: _with_effects(p, jpeg=m.Jpeg(v))),
     _F("sun-elevation-deg", "sun elevation above the horizon (deg)", "render", _float,
        lambda p: getattr(p.scene.lighting.sun, "elevation_deg", None), _with_sun_elevation),
+    _F("cloud-cover", "share of the ground in drifting cloud shadow, 0 to 1 (0: no clouds)",
+       "render", _float, lambda p: p.scene.lighting.clouds.cover if _clouds_on(p) else 0.0,
+       lambda p, v: _with_clouds(p, cover=v) if v else _without_clouds(p)),
+    _F("cloud-size-m", "typical size of a cloud shadow (m)", "render", _float,
+       lambda p: _cloud(p, "size_m"), lambda p, v: _with_clouds(p, size_m=v)),
+    _F("cloud-depth", "share of the direct sun a cloud takes away, 0 to 1", "render", _float,
+       lambda p: _cloud(p, "depth"), lambda p, v: _with_clouds(p, depth=v)),
+    _F("wind-speed-m-s", "speed the cloud shadows drift at (m/s)", "render", _float,
+       lambda p: _cloud(p, "wind_speed_m_s"), lambda p, v: _with_clouds(p, wind_speed_m_s=v)),
+    _F("wind-direction-deg", "direction the cloud shadows drift towards, clockwise from grid "
+       "north (deg)", "render", _float, lambda p: _cloud(p, "wind_direction_deg"),
+       lambda p, v: _with_clouds(p, wind_direction_deg=v)),
     _F("takeoff-time", "moment of the first photo, ISO 8601 UTC (moves a sun over time)",
        "render", _utc, lambda p: getattr(p.trajectory.time_line, "takeoff_utc", None),
        lambda p, v: _with_time_line(p, takeoff_utc=v)),
@@ -315,6 +327,33 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        lambda p: p.render.effective_samples,
        lambda p, v: replace(p, render=replace(p.render, samples=v))),
 ]}
+
+
+# ------------------------------------------------------------------ cloud shadows
+def _clouds_on(p: m.Project) -> bool:
+    return p.scene.lighting.clouds is not None
+
+
+def _cloud(p: m.Project, name: str):
+    return getattr(p.scene.lighting.clouds, name) if _clouds_on(p) else None
+
+
+def _set_clouds(p: m.Project, clouds: m.CloudShadows | None) -> m.Project:
+    lighting = replace(p.scene.lighting, clouds=clouds)
+    return replace(p, scene=replace(p.scene, lighting=lighting))
+
+
+def _with_clouds(p: m.Project, **changes) -> m.Project:
+    """The project's cloud shadows with ``changes`` (the defaults when it has none)."""
+    return _set_clouds(p, replace(p.scene.lighting.clouds or m.CloudShadows(), **changes))
+
+
+def _without_clouds(p: m.Project) -> m.Project:
+    return _set_clouds(p, None)
+
+
+def _seed_clouds(p: m.Project, seed: int) -> m.Project:
+    return _with_clouds(p, seed=seed) if _clouds_on(p) else p
 
 
 # ------------------------------------------------------------------ replicate draws
@@ -346,6 +385,7 @@ DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
     "marking-error": ("the GCP marking error in the images",
                       lambda p, s: _with_gcps(p, seed=s)),
     "sensor-noise": ("the sensor noise of the images", _seed_sensor),
+    "clouds": ("the cloud field of the drifting cloud shadows", _seed_clouds),
     "gcp-selection": ("which GCPs are control (a control-count drawn at random)",
                       _seed_selection),
     "position-prior": ("the errors of the measured camera positions",
