@@ -6,9 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
+from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit, QSpinBox
 
 from designer.gui import derived
+from designer.gui.panels.lighting import DEFAULT_CLOUDS
 from designer.gui.view_geometry import shade_rgb
 from designer.project import model as m
 from designer.scene.lighting import sun_position_deg, surface_normals
@@ -89,3 +90,28 @@ def test_sun_computed_for_a_moment_and_place(qtbot, window):
     w.undo_stack.undo()
     assert w.document.project.scene.lighting.sun == sun
     assert panel.kind.currentData() == "position"
+
+
+def test_cloud_shadows_are_edited_through_the_undo_stack(qtbot, window):
+    w = window
+    panel = w.panels["Lighting"]
+    w.docks["Lighting"].raise_()
+    assert w.document.project.scene.lighting.clouds is None
+    panel.cloudy.setChecked(True)
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.lighting.clouds == DEFAULT_CLOUDS
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.lighting.clouds.cover"), "0.45")
+    set_field(qtbot, field(w, QDoubleSpinBox, "scene.lighting.clouds.wind_speed_m_s"), "8")
+    set_field(qtbot, field(w, QSpinBox, "scene.lighting.clouds.seed"), "5")
+    wait_idle(qtbot, w)
+    clouds = w.document.project.scene.lighting.clouds
+    assert (clouds.cover, clouds.wind_speed_m_s, clouds.seed) == (0.45, 8.0, 5)
+    assert "take-off" in panel.clouds_note.text() or "drift" in panel.clouds_note.text()
+    for _ in range(3):
+        w.undo_stack.undo()
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.lighting.clouds == DEFAULT_CLOUDS
+    w.undo_stack.undo()
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.lighting.clouds is None
+    assert not panel.cloudy.isChecked()

@@ -7,15 +7,19 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
+from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 
 from designer.errors import DesignerError
-from designer.gui import derived
+from designer.gui import derived, edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, readout
+from designer.gui.widgets import combo, dspin, form, ispin, readout
 from designer.project import model as m
 
 SUN = "scene.lighting.sun"
+CLOUDS = "scene.lighting.clouds"
+#: the cloud shadows a project gets when they are switched on in the panel
+DEFAULT_CLOUDS = m.CloudShadows(cover=0.3, size_m=40.0, softness_m=5.0, depth=0.6,
+                                wind_speed_m_s=5.0, wind_direction_deg=90.0, seed=0)
 #: a moment and place to start from when the sun is switched to "computed"
 DEFAULT_SUN_POSITION = m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54)
 _KIND = {m.Sun: "direction", m.SunPosition: "position", m.SunOverTime: "over-time"}
@@ -69,6 +73,28 @@ class LightingPanel(Panel):
                                            "scene.lighting.sky_strength", "Sky strength"))
         layout.addWidget(strengths)
 
+        clouds = QGroupBox("cloud shadows")
+        clouds.setToolTip("a seeded field of cloud shadows drifting with the wind over the "
+                          "flight's time line; they dim the direct sun (docs/world.md)")
+        f = form(clouds)
+        self.cloudy = QCheckBox("drifting cloud shadows")
+        self.cloudy.toggled.connect(self._clouds_toggled)
+        f.addRow(self.cloudy)
+        for label, name, widget, undo in (
+                ("cover", "cover", dspin(0, 1, 3, 0.05), "Cloud cover"),
+                ("cloud size", "size_m", dspin(0.1, 100000, 1, 5, "m"), "Cloud size"),
+                ("edge softness", "softness_m", dspin(0, 10000, 2, 1, "m"), "Cloud edge softness"),
+                ("shadow depth", "depth", dspin(0, 1, 3, 0.05), "Cloud shadow depth"),
+                ("wind speed", "wind_speed_m_s", dspin(0, 100, 2, 0.5, "m/s"), "Wind speed"),
+                ("wind towards", "wind_direction_deg", dspin(0, 359.9, 1, 5, "°"),
+                 "Wind direction"),
+                ("seed", "seed", ispin(0, 2**31 - 1), "Cloud seed")):
+            f.addRow(label, self.bindings.bind(widget, f"{CLOUDS}.{name}", undo))
+        self.clouds_note = QLabel()
+        self.clouds_note.setWordWrap(True)
+        f.addRow(self.clouds_note)
+        layout.addWidget(clouds)
+
         info = form()
         self.sun_label, self.contrast_label = readout(), readout()
         info.addRow("sun", self.sun_label)
@@ -89,6 +115,14 @@ class LightingPanel(Panel):
         self.kind.blockSignals(blocked)
         self.direction.setVisible(isinstance(sun, m.Sun))
         self.position.setVisible(computed)
+        clouds = self.project.scene.lighting.clouds
+        blocked = self.cloudy.blockSignals(True)
+        self.cloudy.setChecked(clouds is not None)
+        self.cloudy.blockSignals(blocked)
+        self.clouds_note.setText(
+            "" if clouds is None else
+            "they drift with each photo's time" if self.project.trajectory.time_line else
+            "no time line: every photo sees the shadows as at take-off")
         self._readouts()
 
     def _readouts(self) -> None:
@@ -115,6 +149,12 @@ class LightingPanel(Panel):
             self.contrast_label.setText("no light at all: raise the sun or sky strength")
 
     # ------------------------------------------------------------------ view → model
+    def _clouds_toggled(self, on: bool) -> None:
+        if on == (self.project.scene.lighting.clouds is not None):
+            return
+        self.editor.edit(edits.replace_path(self.project, CLOUDS, DEFAULT_CLOUDS if on else None),
+                         "Cloud shadows " + ("on" if on else "off"))
+
     def _kind_chosen(self) -> None:
         lighting = self.project.scene.lighting
         kind = self.kind.currentData()
