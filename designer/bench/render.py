@@ -9,6 +9,8 @@ Three figures for the same frames and settings:
 A last row renders the survey preset with a sun over time (a time line at 8 m/s, the sun
 computed for each photo): its job bakes one light map per photo (``prepare s/img``) and
 the worker swaps the terrain's light map and the targets' colours before each frame.
+The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
+light map per photo, the direct sun dimmed by the clouds at the photo's time.
 """
 
 from __future__ import annotations
@@ -43,8 +45,11 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
             project.scene.lighting, sun=m.SunOverTime(47.37, 8.54))),
             trajectory=replace(project.trajectory, time_line=m.TimeLine(
                 "2026-06-21T06:30:00Z", 8.0, 10.0)))
+        cloudy = replace(project, scene=replace(project.scene, lighting=replace(
+            project.scene.lighting, clouds=m.CloudShadows(0.3, 40.0, 5.0, 0.6, 5.0, 90.0, 0))),
+            trajectory=timed.trajectory)
         for quality, sun, proj in (("draft", "static", project), ("survey", "static", project),
-                                   ("survey", "over time", timed)):
+                                   ("survey", "over time", timed), ("survey", "clouds", cloudy)):
             out = tmp / f"out-{quality}-{sun.replace(' ', '-')}"
             t_prepare = time.perf_counter()
             prepared = prepare_job(proj, project_path.parent, out, quality)
