@@ -42,6 +42,7 @@ from designer.scene.lighting import (
     sun_direction_world,
 )
 from designer.scene.objects import OBJECT_ALBEDO_RGB, PlacedObjects, build_objects
+from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_stations, render_interior
 
 #: samples per pixel of each quality preset; measured costs in the README
@@ -94,6 +95,15 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
+    if scene.variation is not None:
+        var = scene.variation
+        _write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
+        _write_png(job_dir / "variation_warp.png", cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))
+        # the image stores gain / GAIN_ENCODING; the emission strength scales it back
+        terrain_material = replace(terrain_material, variation="variation.png",
+                                   variation_warp="variation_warp.png",
+                                   variation_warp_uv=var.warp_bound_uv,
+                                   strength=terrain_material.strength * GAIN_ENCODING)
     if scene.heightfield is not None:
         x0, x1, y0, y1 = scene.heightfield.extent_m
         scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
@@ -102,7 +112,7 @@ def prepare_job(
                               scene.sun_strength, scene.sky_strength, size_px=size)
         _write_png(job_dir / "lightmap.png", encode_lightmap_png16(light))
         terrain_material = replace(terrain_material, lightmap="lightmap.png",
-                                   strength=LIGHTMAP_SCALE)
+                                   strength=terrain_material.strength * LIGHTMAP_SCALE)
     _save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
               faces=scene.terrain.faces, uv=scene.terrain.uv)
     objects = [MeshSpec("terrain", "terrain.npz", (terrain_material,))]

@@ -26,6 +26,7 @@ from designer.scene.lighting import sun_position_deg
 from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh
 from designer.scene.terrain import load_dem, procedural_terrain
 from designer.scene.texture import checkerboard_texture, load_texture, procedural_texture
+from designer.scene.texture_variation import VariationImages, variation_images
 
 #: the largest procedural texture side generated (px)
 MAX_TEXTURE_PX = 8192
@@ -56,6 +57,19 @@ class BuiltScene:
     sun_elevation_deg: float
     sun_strength: float
     sky_strength: float
+    #: the texture variation over the terrain's UV extent
+    #: (:mod:`designer.scene.texture_variation`), None without one
+    variation: VariationImages | None = None
+
+
+def uv_extent_m(hf: Heightfield | None, mesh: TerrainMesh) -> tuple[float, float, float, float]:
+    """(x_min, x_max, y_min, y_max) of the world area the terrain's UV 0..1 spans: the
+    height field's grid, or a mesh terrain's bounding box (its planar UV)."""
+    if hf is not None:
+        return hf.extent_m
+    xy = mesh.vertices_world[:, :2]
+    return (float(xy[:, 0].min()), float(xy[:, 0].max()),
+            float(xy[:, 1].min()), float(xy[:, 1].max()))
 
 
 def build_heightfield(terrain: m.Terrain, base_dir: Path) -> Heightfield | None:
@@ -169,4 +183,6 @@ def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
         interpolation=scene.texture.interpolation,
         targets=build_targets(project, hf),
         sun_azimuth_deg=float(azimuth), sun_elevation_deg=float(elevation),
-        sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength)
+        sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength,
+        variation=(None if scene.texture.variation is None else
+                   variation_images(scene.texture.variation, uv_extent_m(hf, mesh))))
