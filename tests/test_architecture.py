@@ -40,7 +40,7 @@ MAY_IMPORT: dict[str, set[str]] = {
     "study": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
               "render"},
     "gui": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-            "render"},
+            "render", "study"},
     "bench": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
               "render", "validate", "gui", "study"},
     "cli": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
@@ -60,7 +60,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "pycolmap": ("sfm",),
     "pyceres": ("sfm",),
     "distributed": ("render.cluster", "study.run"),
-    "pyexiv2": ("flight.image_meta",),
+    "pyexiv2": ("flight.image_meta", "render.exif"),
 }
 
 #: module imported in a fresh interpreter (P.* = every module of package P) → modules that

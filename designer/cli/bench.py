@@ -13,6 +13,7 @@ BENCHMARKS = {
     "project-io": "designer.bench.project_io",
     "survey": "designer.bench.survey",
     "render": "designer.bench.render",
+    "sun-steps": "designer.bench.sun_steps",
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",
     "accuracy": "designer.bench.accuracy",

@@ -101,6 +101,28 @@ class CameraPose:
         object.__setattr__(self, "R_cam_to_world", R)
 
 
+@dataclass(frozen=True)
+class ImageTime:
+    """When an image is taken on the flight's time line, and the sun it is lit by.
+
+    Attributes:
+        image_name: file name of the image.
+        time_s: seconds after take-off (the time line's first photo is at 0).
+        time_utc: the same moment, ISO 8601 UTC text ('2026-06-21T09:30:04.250000Z').
+        sun_azimuth_deg: the sun's direction, degrees clockwise from grid north.
+        sun_elevation_deg: the sun's angle above the horizon, degrees.
+    """
+
+    image_name: str
+    time_s: float
+    time_utc: str
+    sun_azimuth_deg: float
+    sun_elevation_deg: float
+
+    def __post_init__(self) -> None:
+        check_name(self.image_name, "image name")
+
+
 @dataclass(frozen=True, eq=False)
 class GroundControlPoint:
     """A ground control or check point.

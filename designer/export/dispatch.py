@@ -10,7 +10,9 @@ Layout under ``out_dir`` (keys of the returned dict in brackets):
   ``metashape/markers_reference.csv``  [metashape_calibration, metashape_cameras,
   metashape_markers];
 * ``camera_poses_opk.csv``  [opk];
-* ``gcp_truth.csv``, ``gcp_observations.csv``  [gcp_truth, gcp_observations].
+* ``gcp_truth.csv``, ``gcp_observations.csv``  [gcp_truth, gcp_observations];
+* ``image_times.csv`` [image_times] and a ``time`` column in ``camera_poses_opk.csv`` —
+  only when the photos have times (a project with a time line, docs/world.md).
 
 Pixel origins, rotation conventions, units and coefficient swaps are documented in
 each format's module. All file contents are produced (and every input checked)
@@ -25,7 +27,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from designer.core.interior import InteriorOrientation
-from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint
+from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint, ImageTime
 from designer.export import colmap, metashape, odm, tables
 from designer.export._text import ExportError, check_crs, check_unique, write_texts
 
@@ -43,6 +45,7 @@ def write_all(
     *,
     colmap_offset_world=None,
     odm_gcp_roles: Sequence[str] = ("control",),
+    image_times: Sequence[ImageTime] | None = None,
 ) -> dict[str, Path]:
     """Write the chosen ``formats`` (subset of FORMATS) under ``out_dir``; {key: path}."""
     unknown = [f for f in formats if f not in FORMATS]
@@ -85,10 +88,12 @@ def write_all(
         add("metashape_markers", folder / "markers_reference.csv",
             metashape.metashape_markers_csv(gcps, crs))
     if "opk" in formats:
-        add("opk", out / "camera_poses_opk.csv", tables.opk_csv(poses, crs))
+        add("opk", out / "camera_poses_opk.csv", tables.opk_csv(poses, crs, image_times))
     if "gcp" in formats:
         add("gcp_truth", out / "gcp_truth.csv", tables.gcp_truth_csv(gcps, crs))
         add("gcp_observations", out / "gcp_observations.csv",
             tables.gcp_observations_csv(observations))
+    if image_times is not None:
+        add("image_times", out / "image_times.csv", tables.image_times_csv(image_times))
     write_texts(texts)
     return paths

@@ -26,10 +26,13 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.rotation import opk_from_rotation, rotation_from_opk
-from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint
+from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint, ImageTime
 from designer.export._text import ExportError, check_crs, check_unique, fmt, write_texts
 
 OPK_COLUMNS = ("image", "X", "Y", "Z", "omega_deg", "phi_deg", "kappa_deg")
+#: the OPK table of a project with a time line: the moment each photo is taken, UTC
+OPK_TIME_COLUMNS = (*OPK_COLUMNS, "time")
+IMAGE_TIME_COLUMNS = ("image", "time", "time_s", "sun_azimuth_deg", "sun_elevation_deg")
 GCP_TRUTH_COLUMNS = (
     "gcp_id", "role", "true_X", "true_Y", "true_Z",
     "surveyed_X", "surveyed_Y", "surveyed_Z", "sigma_X", "sigma_Y", "sigma_Z",
@@ -50,20 +53,40 @@ def _table(comments: Sequence[str], columns: Sequence[str], rows: Sequence[Seque
     return "\n".join(lines) + "\n"
 
 
-def opk_csv(poses: Sequence[CameraPose], crs: str) -> str:
-    """Camera table: image, X, Y, Z (perspective centre), omega_deg, phi_deg, kappa_deg."""
+def opk_csv(poses: Sequence[CameraPose], crs: str,
+            times: Sequence[ImageTime] | None = None) -> str:
+    """Camera table: image, X, Y, Z (perspective centre), omega_deg, phi_deg, kappa_deg,
+    and ``time`` (ISO 8601 UTC) when the photos have ``times`` (in the same order)."""
     crs = check_crs(crs)
     check_unique((p.image_name for p in poses), "image name")
+    if times is not None and [t.image_name for t in times] != [p.image_name for p in poses]:
+        raise ExportError("the image times do not list the same images as the poses")
     rows = []
-    for p in poses:
+    for k, p in enumerate(poses):
         opk = np.degrees(opk_from_rotation(p.R_cam_to_world))
-        rows.append([p.image_name, *(fmt(v) for v in (*p.C_world, *opk))])
+        rows.append([p.image_name, *(fmt(v) for v in (*p.C_world, *opk))]
+                    + ([] if times is None else [times[k].time_utc]))
     comments = [
         f"designer camera poses; CRS {crs}; {_WORLD}; X, Y, Z = perspective centre",
         "omega, phi, kappa in degrees: R = Rx(omega)*Ry(phi)*Rz(kappa) maps camera axes "
         "(x right, y image top, z backwards) to the world",
     ]
-    return _table(comments, OPK_COLUMNS, rows)
+    if times is not None:
+        comments.append("time: the moment the photo is taken, ISO 8601 UTC")
+    return _table(comments, OPK_COLUMNS if times is None else OPK_TIME_COLUMNS, rows)
+
+
+def image_times_csv(times: Sequence[ImageTime]) -> str:
+    """Time-line table: image, time (ISO 8601 UTC), time_s (seconds after take-off),
+    sun_azimuth_deg (clockwise from grid north), sun_elevation_deg."""
+    check_unique((t.image_name for t in times), "image name")
+    rows = [[t.image_name, t.time_utc, fmt(t.time_s), fmt(t.sun_azimuth_deg),
+             fmt(t.sun_elevation_deg)] for t in times]
+    comments = ["designer image times: when each photo is taken on the flight's time line "
+                "and the sun it is lit by (docs/world.md)",
+                "time: ISO 8601 UTC; time_s: seconds after take-off; sun azimuth clockwise "
+                "from grid north and elevation above the horizon, degrees"]
+    return _table(comments, IMAGE_TIME_COLUMNS, rows)
 
 
 def gcp_truth_csv(gcps: Sequence[GroundControlPoint], crs: str) -> str:
@@ -110,11 +133,12 @@ def write_gcp_observations_csv(
 
 
 # ----------------------------------------------------------------------- readers
-def _read_rows(path: str | os.PathLike, columns: Sequence[str]) -> list[dict[str, str]]:
+def _read_rows(path: str | os.PathLike, columns: Sequence[str],
+               *alternatives: Sequence[str]) -> list[dict[str, str]]:
     text = Path(path).read_text(encoding="utf-8")
     body = "\n".join(line for line in text.splitlines() if not line.startswith("#"))
     reader = csv.DictReader(io.StringIO(body))
-    if tuple(reader.fieldnames or ()) != tuple(columns):
+    if tuple(reader.fieldnames or ()) not in {tuple(c) for c in (columns, *alternatives)}:
         raise ExportError(f"{path}: expected columns {list(columns)}, got {reader.fieldnames}")
     return list(reader)
 
@@ -122,11 +146,18 @@ def _read_rows(path: str | os.PathLike, columns: Sequence[str]) -> list[dict[str
 def read_opk_csv(path: str | os.PathLike) -> list[CameraPose]:
     """Camera poses from :func:`opk_csv` text (angles → R with rotation_from_opk)."""
     poses = []
-    for row in _read_rows(path, OPK_COLUMNS):
+    for row in _read_rows(path, OPK_COLUMNS, OPK_TIME_COLUMNS):
         C = [float(row[k]) for k in ("X", "Y", "Z")]
         opk = np.radians([float(row[k]) for k in ("omega_deg", "phi_deg", "kappa_deg")])
         poses.append(CameraPose(row["image"], C, rotation_from_opk(*opk)))
     return poses
+
+
+def read_image_times_csv(path: str | os.PathLike) -> list[ImageTime]:
+    """Image times from :func:`image_times_csv` text."""
+    return [ImageTime(row["image"], float(row["time_s"]), row["time"],
+                      float(row["sun_azimuth_deg"]), float(row["sun_elevation_deg"]))
+            for row in _read_rows(path, IMAGE_TIME_COLUMNS)]
 
 
 def read_gcp_truth_csv(path: str | os.PathLike) -> list[GroundControlPoint]:

@@ -113,7 +113,7 @@ def flight_spec(
     if not (math.isfinite(speed_m_s) and speed_m_s > 0):
         raise DesignerError(f"speed {speed_m_s} m/s must be > 0")
     georef = Georef(project.crs)
-    hf = build_heightfield(project.scene.terrain, Path(base_dir))
+    hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
     extension = IMAGE_EXTENSIONS[project.render.output_format]
     rows: list[tuple[str, int, np.ndarray, np.ndarray]] = []
     cameras = []

@@ -131,7 +131,7 @@ def import_flight(
     photos = read_source(source, csv_crs or base.crs)
     camera = pick_camera([p.camera for p in photos], base_camera(base))
     if height == "relative" and takeoff_height_m is None:
-        hf = build_heightfield(base.scene.terrain, base_path.parent)
+        hf = build_heightfield(base.scene.terrain, base_path.parent, base.crs)
         if hf is None:
             raise DesignerError("the base terrain is a mesh; give --takeoff-height-m")
         first = photos[0]

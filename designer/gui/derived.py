@@ -62,7 +62,7 @@ def compute_terrain(project: m.Project, base_dir: Path,
                     max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE) -> TerrainResult:
     """Height field (or mesh), its ray caster and the thinned display mesh."""
     terrain = project.scene.terrain
-    hf = build_heightfield(terrain, Path(base_dir))
+    hf = build_heightfield(terrain, Path(base_dir), project.crs)
     mesh = None
     tiles = (project.scene.texture.repeat_X, project.scene.texture.repeat_Y)
     if hf is None:
@@ -78,28 +78,38 @@ def compute_terrain(project: m.Project, base_dir: Path,
     display = terrain_display(hf, mesh, tiles, max_display_nodes)
     lo, hi = display.points_world.min(axis=0), display.points_world.max(axis=0)
     centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(np.mean(z))])
-    light = display_irradiance(project.scene.lighting, display, hf, rc)
+    light = display_irradiance(project.scene.lighting, display, hf, rc, project=project)
     return TerrainResult(terrain, hf, mesh, rc, display, float(np.mean(z)), centre, n, tiles,
                          max_display_nodes, light)
 
 
-def sun_angles_deg(lighting: m.Lighting) -> tuple[float, float]:
-    """(azimuth clockwise from grid north, elevation) of the project's sun, degrees."""
+def sun_angles_deg(lighting: m.Lighting, project: m.Project | None = None
+                   ) -> tuple[float, float]:
+    """(azimuth clockwise from grid north, elevation) of the project's sun, degrees; a sun
+    over time is shown as it is at take-off (it needs the ``project``'s time line)."""
     sun = lighting.sun
     if isinstance(sun, m.Sun):
         return float(sun.azimuth_deg), float(sun.elevation_deg)
+    if isinstance(sun, m.SunOverTime):
+        from designer.errors import DesignerError
+        from designer.scene.sun_over_time import takeoff_sun
+
+        if project is None:
+            raise DesignerError("a sun over time needs the project's time line")
+        return takeoff_sun(project, sun)
     return sun_position_deg(sun.date_time, sun.latitude_deg, sun.longitude_deg)
 
 
 def display_irradiance(lighting: m.Lighting, display: TerrainDisplay,
                        heightfield: Heightfield | None = None,
-                       raycaster: TerrainRaycaster | None = None) -> np.ndarray:
+                       raycaster: TerrainRaycaster | None = None,
+                       project: m.Project | None = None) -> np.ndarray:
     """Light (N,) at the display mesh's vertices, by the renderer's own model
     (:func:`designer.scene.lighting.irradiance`: Lambert sun with cast shadows plus an
     isotropic sky, 1 = flat ground in full sun). Normals of a height field are taken over
     one display cell (the surface as drawn); shadows are cast by the full height field.
     A mesh terrain gets its vertex normals and no cast shadows."""
-    azimuth, elevation = sun_angles_deg(lighting)
+    azimuth, elevation = sun_angles_deg(lighting, project)
     sun = sun_direction_world(azimuth, elevation)
     points = display.points_world
     lit = np.ones(len(points))
@@ -123,7 +133,8 @@ def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:
 
 def compute_texture(project: m.Project, base_dir: Path) -> np.ndarray:
     """The texture tile (H, W, 3) uint8, as the renderer will use it."""
-    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir))
+    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir),
+                          project.crs)
 
 
 def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[float, float]:
@@ -144,7 +155,7 @@ ObjectsResult = PlacedObjects
 
 def compute_objects(project: m.Project, base_dir: Path) -> ObjectsResult:
     """Read and place every scene object (an unreadable file names itself)."""
-    return build_objects(project, Path(base_dir), *sun_angles_deg(project.scene.lighting))
+    return build_objects(project, Path(base_dir), *sun_angles_deg(project.scene.lighting, project))
 
 
 @dataclass(frozen=True, eq=False)

@@ -27,6 +27,7 @@ TAGS = {
     m.Texture: "tiling", m.Sigma3: "surveyed", m.Point3: "surveyed",
     m.TruePosition: "true", m.Target: "target", m.Placement: "placement",
     m.Sun: "sun", m.SunPosition: "sun-position", m.Lighting: "lighting",
+    m.SunOverTime: "sun-over-time", m.TimeLine: "time-line",
     m.PoseNoise: "pose-noise", m.Vignetting: "vignetting", m.SensorNoise: "sensor-noise",
     m.Sensor: "sensor",
     m.Blur: "blur", m.MotionBlur: "motion-blur", m.Jpeg: "jpeg", m.Render: "render",

@@ -41,6 +41,7 @@ Interpolation = Literal["closest", "linear"]
 Preset = Literal["draft", "survey", "metrology"]
 PixelFilterType = Literal["box", "gaussian", "blackman-harris"]
 ImageFormat = Literal["png", "jpeg", "tiff", "exr"]
+ImageMetadata = Literal["none", "exif"]
 GroundTruthFormat = Literal["colmap", "odm", "metashape", "opk", "gcp"]
 Orientation = Literal["landscape", "portrait"]
 StartCorner = Literal["SW", "SE", "NW", "NE"]
@@ -141,6 +142,13 @@ class ImageTexture:
 
 
 @dataclass(frozen=True)
+class OrthophotoTexture:
+    """A georeferenced image (GeoTIFF) draped by its own geotransform, not tiled."""
+
+    file: str
+
+
+@dataclass(frozen=True)
 class ProceduralTexture:
     pattern: TexturePattern
     seed: int
@@ -163,10 +171,11 @@ class TextureVariation:
 
 @dataclass(frozen=True)
 class Texture:
-    """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent,
-    optionally varied by a non-repeating ``variation``."""
+    """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent (an
+    orthophoto is placed by its geotransform instead, and its repeats are 1), optionally
+    varied by a non-repeating ``variation`` (tiled textures only)."""
 
-    source: ImageTexture | ProceduralTexture
+    source: ImageTexture | ProceduralTexture | OrthophotoTexture
     repeat_X: int
     repeat_Y: int
     interpolation: Interpolation
@@ -263,8 +272,18 @@ class SunPosition:
 
 
 @dataclass(frozen=True)
+class SunOverTime:
+    """Sun computed for each image's moment on the trajectory's time line, at a place
+    (deg; ``None``: the project origin converted to latitude/longitude with its CRS).
+    Azimuths are turned from true to grid north by the meridian convergence there."""
+
+    latitude_deg: float | None = None
+    longitude_deg: float | None = None
+
+
+@dataclass(frozen=True)
 class Lighting:
-    sun: Sun | SunPosition
+    sun: Sun | SunPosition | SunOverTime
     sun_strength: float = 4.0
     sky_strength: float = 1.0
 
@@ -330,6 +349,8 @@ class ExteriorOrientation:
     omega_deg: float
     phi_deg: float
     kappa_deg: float
+    #: seconds after take-off on the trajectory's time line (None: flown in order)
+    time_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -368,9 +389,24 @@ class FlightPlan:
 
 
 @dataclass(frozen=True)
+class TimeLine:
+    """When each photo is taken (designer.survey.timeline): the first photo at
+    ``takeoff_utc`` (ISO 8601, UTC), then the stations in order at ``speed_m_s`` along
+    straight legs, ``turn_s`` more at each change of flight line. Photos are triggered
+    by distance (the planned stations); ``trigger_interval_s`` is the camera's shortest
+    interval between photos (s), checked against the planned spacing."""
+
+    takeoff_utc: str
+    speed_m_s: float
+    turn_s: float = 0.0
+    trigger_interval_s: float | None = None
+
+
+@dataclass(frozen=True)
 class Trajectory:
     exterior_orientations: tuple[ExteriorOrientation, ...] = ()
     flight_plan: FlightPlan | None = None
+    time_line: TimeLine | None = None
 
 
 # ---------------------------------------------------------------------- effects, render
@@ -454,6 +490,8 @@ class Render:
     output_format: ImageFormat = "png"
     bit_depth: int = 8
     distortion_oversample: int = 1
+    #: "exif": each image carries its time (DateTimeOriginal…) from the time line
+    image_metadata: ImageMetadata = "none"
 
     @property
     def effective_samples(self) -> int:

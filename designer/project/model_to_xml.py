@@ -82,16 +82,20 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
 
     tex = scene.texture
     tex_el = _sub(el, "texture", interpolation=tex.interpolation)
-    if isinstance(tex.source, m.ImageTexture):
-        _sub(tex_el, "image", file=tex.source.file)
+    if isinstance(tex.source, m.OrthophotoTexture):
+        _sub(tex_el, "orthophoto", file=tex.source.file)
     else:
-        _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
-             texel_size_m=_num(tex.source.texel_size_m))
-    _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X), "repeat-Y": _num(tex.repeat_Y)})
-    if tex.variation is not None:
-        v = tex.variation
-        _sub(tex_el, "variation", seed=_num(v.seed), scale_m=_num(v.scale_m),
-             strength=_num(v.strength), octaves=_num(v.octaves))
+        if isinstance(tex.source, m.ImageTexture):
+            _sub(tex_el, "image", file=tex.source.file)
+        else:
+            _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
+                 texel_size_m=_num(tex.source.texel_size_m))
+        _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
+                                  "repeat-Y": _num(tex.repeat_Y)})
+        if tex.variation is not None:
+            v = tex.variation
+            _sub(tex_el, "variation", seed=_num(v.seed), scale_m=_num(v.scale_m),
+                 strength=_num(v.strength), octaves=_num(v.octaves))
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")
@@ -125,6 +129,11 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if isinstance(light.sun, m.Sun):
         _sub(light_el, "sun", azimuth_deg=_num(light.sun.azimuth_deg),
              elevation_deg=_num(light.sun.elevation_deg))
+    elif isinstance(light.sun, m.SunOverTime):
+        place = {k: _num(v) for k, v in (("latitude_deg", light.sun.latitude_deg),
+                                         ("longitude_deg", light.sun.longitude_deg))
+                 if v is not None}
+        _sub(light_el, "sun-over-time", **place)
     else:
         _sub(light_el, "sun-position", date_time=light.sun.date_time,
              latitude_deg=_num(light.sun.latitude_deg),
@@ -162,10 +171,21 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
             etree.SubElement(eo_el, photo_tag, {
                 "name": eo.name, "camera": eo.camera, "X": _num(eo.X), "Y": _num(eo.Y),
                 "Z": _num(eo.Z), "omega": _num(eo.omega_deg), "phi": _num(eo.phi_deg),
-                "kappa": _num(eo.kappa_deg)})
-    fp = traj.flight_plan
-    if fp is None:
-        return
+                "kappa": _num(eo.kappa_deg),
+                **({} if eo.time_s is None else {"time-s": _num(eo.time_s)})})
+    if traj.flight_plan is not None:
+        _flight_plan(el, traj.flight_plan)
+    tl = traj.time_line
+    if tl is not None:
+        attrs = {"takeoff_utc": tl.takeoff_utc, "speed_m_s": _num(tl.speed_m_s)}
+        if tl.turn_s:
+            attrs["turn_s"] = _num(tl.turn_s)
+        if tl.trigger_interval_s is not None:
+            attrs["trigger_interval_s"] = _num(tl.trigger_interval_s)
+        _sub(el, "time-line", **attrs)
+
+
+def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
     fp_el = _sub(el, "flight-plan", camera=fp.camera, image_prefix=fp.image_prefix)
     area = _sub(fp_el, "area")
     for X, Y in fp.area:
@@ -237,7 +257,9 @@ def _render(parent: etree._Element, r: m.Render) -> None:
     _sub(el, "pixel-filter", type=r.pixel_filter_type, width_px=_num(r.pixel_filter_width_px))
     _sub(el, "resolution-scale", _num(r.resolution_scale))
     _sub(el, "workers", _num(r.workers))
-    _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
+    out = _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
+    if r.image_metadata != "none":
+        out.set("metadata", r.image_metadata)
     if r.distortion_oversample != 1:
         _sub(el, "distortion-oversample", _num(r.distortion_oversample))
 

@@ -21,6 +21,7 @@ from designer.project.validate_trajectory import (
     render_output_issues,
     trajectory_issues,
 )
+from designer.project.validate_world import world_issues
 
 
 def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> list[Issue]:
@@ -38,6 +39,7 @@ def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> l
     out += scene_issues(project.scene, base)
     out += _cameras(project)
     out += trajectory_issues(project)
+    out += world_issues(project)
     out += effects_issues(project.effects)
     out += render_output_issues(project)
     out += processing_issues(project)

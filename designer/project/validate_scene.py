@@ -24,6 +24,7 @@ from designer.project.files import (
     dem_problem,
     image_problem,
     mesh_problem,
+    orthophoto_problem,
     resolve,
 )
 from designer.project.problems import Issue
@@ -130,7 +131,13 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
                          attr="interpolation"))
     out += _variation(tex.variation)
     src = tex.source
-    if isinstance(src, m.ImageTexture):
+    if isinstance(src, m.OrthophotoTexture):
+        if tex.variation is not None:
+            out.append(Issue(tex.variation, "variation", "an orthophoto does not repeat: the "
+                             "variation applies to tiled textures only; remove <variation>"))
+        if base is not None:
+            out += file_issue(src, "orthophoto", orthophoto_problem(resolve(base, src.file)))
+    elif isinstance(src, m.ImageTexture):
         if base is not None:
             out += file_issue(src, "image", image_problem(resolve(base, src.file)))
     elif not (src.texel_size_m > 0):
@@ -217,6 +224,8 @@ def _lighting(light: m.Lighting) -> list[Issue]:
             out.append(Issue(sun, "sun", "elevation-deg must be above 0 and at most 90 "
                              "degrees; the sun must be above the horizon",
                              attr="elevation-deg"))
+        return out
+    if isinstance(sun, m.SunOverTime):  # checked with the time line (validate_world)
         return out
     try:
         moment = datetime.fromisoformat(sun.date_time)

@@ -107,6 +107,11 @@ class _Reader:
 
     def texture(self, el: etree._Element) -> m.Texture:
         image_el = el.find(q("image"))
+        ortho_el = el.find(q("orthophoto"))
+        if ortho_el is not None:
+            source = self.note(m.OrthophotoTexture(ortho_el.get("file")), ortho_el)
+            texture = m.Texture(source, 1, 1, el.get("interpolation"))
+            return self.note(texture, el)
         if image_el is not None:
             source = self.note(m.ImageTexture(image_el.get("file")), image_el)
         else:
@@ -163,10 +168,13 @@ class _Reader:
         sun_el = el.find(q("sun"))
         if sun_el is not None:
             sun = m.Sun(_f(sun_el, "azimuth-deg"), _f(sun_el, "elevation-deg"))
-        else:
+        elif el.find(q("sun-position")) is not None:
             sun_el = el.find(q("sun-position"))
             sun = m.SunPosition(sun_el.get("date-time").strip(), _f(sun_el, "latitude-deg"),
                                 _f(sun_el, "longitude-deg"))
+        else:
+            sun_el = el.find(q("sun-over-time"))
+            sun = m.SunOverTime(_opt_f(sun_el, "latitude-deg"), _opt_f(sun_el, "longitude-deg"))
         self.note(sun, sun_el)
         lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"))
         return self.note(lighting, el)
@@ -211,7 +219,13 @@ class _Reader:
             photos = tuple(self.photo(p) for p in eo_el.iterchildren(q("photo")))
         fp_el = el.find(q("flight-plan"))
         plan = None if fp_el is None else self.flight_plan(fp_el)
-        trajectory = self.note(m.Trajectory(photos, plan), el)
+        tl_el = el.find(q("time-line"))
+        time_line = None
+        if tl_el is not None:
+            time_line = self.note(m.TimeLine(
+                tl_el.get("takeoff-utc").strip(), _f(tl_el, "speed-m-s"),
+                _opt_f(tl_el, "turn-s") or 0.0, _opt_f(tl_el, "trigger-interval-s")), tl_el)
+        trajectory = self.note(m.Trajectory(photos, plan, time_line), el)
         if eo_el is not None:
             self.note(trajectory, eo_el)
         return trajectory
@@ -220,7 +234,8 @@ class _Reader:
         get = el.get
         eo = m.ExteriorOrientation(
             get("name"), get("camera"), float(get("X")), float(get("Y")), float(get("Z")),
-            float(get("omega")), float(get("phi")), float(get("kappa")))
+            float(get("omega")), float(get("phi")), float(get("kappa")),
+            _opt_f(el, "time-s"))
         self.smap.add(eo, "photo", el.sourceline)
         return eo
 
@@ -305,6 +320,7 @@ class _Reader:
             output_format=out.get("format"),
             bit_depth=int(out.get("bit-depth")),
             distortion_oversample=int(_text(el.find(q("distortion-oversample"))) or 1),
+            image_metadata=out.get("metadata", "none"),
         )
         self.note(render, el)
         self.child_lines(render, el)

@@ -14,7 +14,6 @@ import cv2
 import numpy as np
 
 from designer import __version__
-from designer.atomic import atomic_path
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
 from designer.core.truth import CameraPose
@@ -24,33 +23,31 @@ from designer.effects.motion import flight_direction_uv
 from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
+from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the job's face)
+    TARGET_BLACK,
+    TARGET_WHITE,
+    ObjectLighting,
+    frame_suns,
+    save_npz,
+    write_png,
+)
 from designer.render.job_spec import (
+    TEXTURE_UV_MAP,
     AdaptiveSampling,
     EffectsSpec,
     FrameSpec,
     MaterialSpec,
-    MeshSpec,
     RenderJob,
     RenderSpec,
 )
 from designer.scene.build import BuiltScene, build_scene
-from designer.scene.lighting import (
-    LIGHTMAP_SCALE,
-    bake_lightmap,
-    encode_lightmap_png16,
-    irradiance,
-    sun_direction_world,
-)
-from designer.scene.objects import OBJECT_ALBEDO_RGB, PlacedObjects, build_objects
 from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_stations, render_interior
+from designer.survey.timeline import StationTime, iso_utc, project_station_times
 
 #: samples per pixel of each quality preset; measured costs in the README
 QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 PIXEL_FILTERS = {"box": "BOX", "gaussian": "GAUSSIAN", "blackman-harris": "BLACKMAN_HARRIS"}
-#: linear reflectance of a target's white and black quadrants
-TARGET_WHITE, TARGET_BLACK = 0.8, 0.03
-LIGHTMAP_MAX_PX = 512
 JOB_DIR = ".designer-job"
 
 
@@ -61,6 +58,10 @@ class PreparedJob:
     interior: InteriorOrientation
     poses: tuple[CameraPose, ...]
     scene: BuiltScene
+    #: when each image is taken (None: the project has no time line)
+    times: tuple[StationTime, ...] | None = None
+    #: the sun (grid azimuth, elevation; deg) of each image
+    suns: tuple[tuple[float, float], ...] = ()
 
 
 def prepare_job(
@@ -91,41 +92,47 @@ def prepare_job(
                               resolution_scale=project.render.resolution_scale,
                               warp="distortion_warp.npz" if warp is not None else None)
 
-    _write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
+    write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
     if scene.variation is not None:
         var = scene.variation
-        _write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
-        _write_png(job_dir / "variation_warp.png", cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))
+        write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
+        write_png(job_dir / "variation_warp.png", cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))
         # the image stores gain / GAIN_ENCODING; the emission strength scales it back
         terrain_material = replace(terrain_material, variation="variation.png",
                                    variation_warp="variation_warp.png",
                                    variation_warp_uv=var.warp_bound_uv,
                                    strength=terrain_material.strength * GAIN_ENCODING)
-    if scene.heightfield is not None:
-        x0, x1, y0, y1 = scene.heightfield.extent_m
-        scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
-        size = (max(2, round((x1 - x0) * scale)), max(2, round((y1 - y0) * scale)))
-        light = bake_lightmap(scene.heightfield, scene.sun_azimuth_deg, scene.sun_elevation_deg,
-                              scene.sun_strength, scene.sky_strength, size_px=size)
-        _write_png(job_dir / "lightmap.png", encode_lightmap_png16(light))
-        terrain_material = replace(terrain_material, lightmap="lightmap.png",
-                                   strength=terrain_material.strength * LIGHTMAP_SCALE)
-    _save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
-              faces=scene.terrain.faces, uv=scene.terrain.uv)
-    objects = [MeshSpec("terrain", "terrain.npz", (terrain_material,))]
-    if scene.targets:
-        objects.append(_targets_object(scene, origin, job_dir))
-    placed = build_objects(project, base_dir, scene.sun_azimuth_deg, scene.sun_elevation_deg)
-    if not placed.is_empty:
-        objects.append(_scene_objects(placed, origin, job_dir))
-
+    terrain_uv = {}
+    if scene.texture_uv is not None:
+        # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
+        # edge texels held beyond the image; the light map keeps the terrain's uv.
+        terrain_material = replace(terrain_material, uv_tiles=(1.0, 1.0),
+                                   uv_map=TEXTURE_UV_MAP, extension="EXTEND")
+        terrain_uv = {"uv_texture": scene.texture_uv}
+    save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
+             faces=scene.terrain.faces, uv=scene.terrain.uv, **terrain_uv)
+    contexts = _frame_contexts(stations, interior, scene)
+    light = ObjectLighting(project, base_dir, scene, origin, job_dir, terrain_material)
+    times = project_station_times(project, stations)
+    suns = frame_suns(project, times)
+    if suns is None:  # one sun: the objects as built are lit for every frame
+        steps, frame_steps = (), [None] * len(stations)
+        objects = light.objects(scene.sun_azimuth_deg, scene.sun_elevation_deg)
+        suns = [(scene.sun_azimuth_deg, scene.sun_elevation_deg)] * len(stations)
+    else:
+        steps, frame_steps = light.steps(suns)
+        objects = list(steps[0].objects)
+    if times is not None:
+        for i, t in enumerate(times):
+            contexts[i].update(time_s=t.time_s, time_utc=iso_utc(t.time_utc),
+                               sun_azimuth_deg=float(suns[i][0]),
+                               sun_elevation_deg=float(suns[i][1]), light_step=frame_steps[i])
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
     preset = quality or (render.preset if render.samples is None else None)
-    contexts = _frame_contexts(stations, interior, scene)
     job = RenderJob(
         designer_version=__version__,
         project=project.name,
@@ -145,6 +152,8 @@ def prepare_job(
         width_px=interior.image_width_px,
         height_px=interior.image_height_px,
         objects=tuple(objects),
+        light_steps=steps,
+        image_metadata=render.image_metadata,
         effects=effects,
         frames=tuple(FrameSpec(index=i, image_name=p.image_name,
                                matrix_world_local=_matrix_rows(blender_matrix_world(
@@ -154,7 +163,8 @@ def prepare_job(
     )
     job_path = job.write(job_dir / "job.json")
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
-                       scene=scene)
+                       scene=scene, times=None if times is None else tuple(times),
+                       suns=tuple(suns))
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:
@@ -182,67 +192,3 @@ def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) 
                     "flight_direction_uv": (float(du), float(dv)),
                     "distance_m": float(abs(depth))})
     return out
-
-
-def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path) -> MeshSpec:
-    """All GCP targets as one mesh: material 0 white, 1 black, shaded like the ground."""
-    vertices, faces, material_index, light = [], [], [], []
-    sun = sun_direction_world(scene.sun_azimuth_deg, scene.sun_elevation_deg)
-    offset = 0
-    for t in scene.targets:
-        normal = np.cross(t.vertices_world[1] - t.vertices_world[0],
-                          t.vertices_world[3] - t.vertices_world[0])
-        normal /= np.linalg.norm(normal)
-        lit = 1.0
-        if scene.heightfield is not None and sun[2] > 0:
-            hit = scene.heightfield.intersect_rays(t.true_xyz[None] + 0.01 * normal, sun[None])
-            lit = 0.0 if np.isfinite(hit[0, 0]) else 1.0
-        e = float(irradiance(normal[None], np.array([lit]), sun,
-                             scene.sun_strength, scene.sky_strength)[0])
-        vertices.append(t.vertices_world - origin)
-        faces.append(t.faces + offset)
-        white = t.colors[:, 0] > 127
-        material_index.append(np.where(white, 0, 1))
-        light.append(e)
-        offset += len(t.vertices_world)
-    # One light value for all targets keeps two materials; targets share open ground.
-    e = float(np.median(light))
-    _save_npz(job_dir / "targets.npz", vertices_local=np.concatenate(vertices),
-              faces=np.concatenate(faces), material_index=np.concatenate(material_index))
-    return MeshSpec("gcp_targets", "targets.npz",
-                    (MaterialSpec(color=(TARGET_WHITE * e,) * 3),
-                     MaterialSpec(color=(TARGET_BLACK * e,) * 3)))
-
-
-#: light levels the scene objects' faces are drawn with (one emission material each)
-OBJECT_LIGHT_LEVELS = 64
-
-
-def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path) -> MeshSpec:
-    """The scene's mesh objects as one mesh, each face drawn with its light (quantised
-    to OBJECT_LIGHT_LEVELS levels between the darkest and brightest face, < 1 % steps for
-    the usual range) times the objects' albedo."""
-    light = placed.face_irradiance
-    lo, hi = float(light.min()), float(light.max())
-    n = OBJECT_LIGHT_LEVELS if hi > lo else 1
-    level = np.zeros(len(light), np.int64) if n == 1 else np.rint(
-        (light - lo) / (hi - lo) * (n - 1)).astype(np.int64)
-    used = np.unique(level)
-    index = np.searchsorted(used, level)
-    values = lo + used * ((hi - lo) / max(n - 1, 1))
-    _save_npz(job_dir / "objects.npz", vertices_local=placed.vertices_world - origin,
-              faces=placed.faces, material_index=index)
-    return MeshSpec("scene_objects", "objects.npz",
-                    tuple(MaterialSpec(color=tuple(float(c * e) for c in OBJECT_ALBEDO_RGB))
-                          for e in values))
-
-
-def _write_png(path: Path, image: np.ndarray) -> None:
-    with atomic_path(path) as tmp:
-        if not cv2.imwrite(str(tmp), image):
-            raise OSError(f"could not write {path}")
-
-
-def _save_npz(path: Path, **arrays) -> None:
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
-        np.savez(f, **arrays)

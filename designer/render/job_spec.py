@@ -21,6 +21,9 @@ from designer.errors import DesignerError
 IMAGE_FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
 PIXEL_FILTER_NAMES = ("BOX", "GAUSSIAN", "BLACKMAN_HARRIS")
 INTERPOLATIONS = ("Closest", "Linear", "Cubic")
+EXTENSIONS = ("REPEAT", "EXTEND", "CLIP")
+#: name of the second uv layer (mesh .npz array ``uv_texture``) a material may look up
+TEXTURE_UV_MAP = "TextureUV"
 
 
 class JobError(DesignerError, ValueError):
@@ -98,6 +101,11 @@ class MaterialSpec:
     interpolation: str = "Closest"
     lightmap: str | None = None
     strength: float = 1.0
+    #: uv layer of the texture lookup: None = the mesh's ``uv`` (the light map's too),
+    #: TEXTURE_UV_MAP = its ``uv_texture`` (an orthophoto placed by its geotransform)
+    uv_map: str | None = None
+    #: Blender image extension outside [0, 1]: REPEAT (tiles), EXTEND (edge texels), CLIP
+    extension: str = "REPEAT"
     #: texture variation (designer.scene.texture_variation): 16-bit images over the UV
     #: 0..1 square of gain / 2, mix_a, mix_b and of the lookup warp (u, v encoded as
     #: 0.5 + warp / (2 variation_warp_uv)); None: the plain tiled texture
@@ -108,6 +116,9 @@ class MaterialSpec:
     def __post_init__(self) -> None:
         if (self.color is None) == (self.texture is None):
             raise JobError("a material needs exactly one of 'color' and 'texture'")
+        if self.extension not in EXTENSIONS:
+            raise JobError(f"texture extension {self.extension!r}; use one of "
+                           f"{', '.join(EXTENSIONS)}")
         if self.interpolation not in INTERPOLATIONS:
             raise JobError(f"texture interpolation {self.interpolation!r}; use one of "
                            f"{', '.join(INTERPOLATIONS)}")
@@ -115,8 +126,8 @@ class MaterialSpec:
 
 @dataclass(frozen=True)
 class MeshSpec:
-    """One mesh object: an .npz beside job.json (vertices_local, faces, optional uv and
-    material_index) and its materials."""
+    """One mesh object: an .npz beside job.json (vertices_local, faces, optional uv,
+    uv_texture and material_index) and its materials."""
 
     name: str
     mesh: str
@@ -136,8 +147,16 @@ class EffectsSpec:
 
 @dataclass(frozen=True)
 class FrameSpec:
-    """One image: its camera matrix in the local frame and what the effects need of it
-    (GSD m/px, flight direction in the image, distance to the ground m)."""
+    """One image: its camera matrix in the local frame, what the effects need of it
+    (GSD m/px, flight direction in the image, distance to the ground m) and, with a time
+    line, when it is taken and the sun then (docs/world.md).
+
+    ``time_s`` is seconds after take-off, ``time_utc`` the same moment as ISO 8601 UTC
+    text ('2026-06-21T09:30:04.250000Z'); ``sun_azimuth_deg`` (clockwise from grid
+    north) and ``sun_elevation_deg`` the sun the frame is lit by; ``light_step`` the
+    index into :attr:`RenderJob.light_steps` of its lighting (None: the job's objects as
+    they are). All None for a project without a time line (the static ideal).
+    """
 
     index: int
     image_name: str
@@ -145,6 +164,26 @@ class FrameSpec:
     gsd_m: float | None = None
     flight_direction_uv: tuple[float, float] | None = None
     distance_m: float | None = None
+    time_s: float | None = None
+    time_utc: str | None = None
+    sun_azimuth_deg: float | None = None
+    sun_elevation_deg: float | None = None
+    light_step: int | None = None
+
+
+#: the FrameSpec fields of the world over time, left out of provenance when None
+TIME_FIELDS = ("time_s", "time_utc", "sun_azimuth_deg", "sun_elevation_deg", "light_step")
+
+
+@dataclass(frozen=True)
+class LightStep:
+    """The scene's lit objects under one sun: replaces :attr:`RenderJob.objects` of the
+    same names for the frames whose ``light_step`` points here. A spec with the same mesh
+    file as the object already built only changes its materials (light map, colours)."""
+
+    sun_azimuth_deg: float
+    sun_elevation_deg: float
+    objects: tuple[MeshSpec, ...]
 
 
 @dataclass(frozen=True)
@@ -163,12 +202,22 @@ class RenderJob:
     effects: EffectsSpec | None = None
     designer_version: str | None = None
     project: str | None = None
+    #: the lighting of each sun over the flight (empty: one sun, ``objects`` as built)
+    light_steps: tuple[LightStep, ...] = ()
+    #: "exif": the worker writes each frame's ``time_utc`` into its image's EXIF
+    image_metadata: str = "none"
     image_names: dict[int, str] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         names = {f.index: f.image_name for f in self.frames}
         if len(names) != len(self.frames):
             raise JobError("frame indices repeat in the job")
+        for f in self.frames:
+            if f.light_step is not None and not 0 <= f.light_step < len(self.light_steps):
+                raise JobError(f"frame {f.index} has light step {f.light_step}, but the job "
+                               f"has {len(self.light_steps)}")
+        if self.image_metadata not in ("none", "exif"):
+            raise JobError(f"image metadata {self.image_metadata!r}; use none or exif")
         object.__setattr__(self, "image_names", names)
 
     def to_json(self) -> str:
@@ -184,9 +233,12 @@ class RenderJob:
                 output_dir=data["output_dir"],
                 render=_render(data["render"]),
                 camera=CameraSpec(**data["camera"]),
-                objects=tuple(MeshSpec(o["name"], o["mesh"],
-                                       tuple(_material(m) for m in o["materials"]))
-                              for o in data["objects"]),
+                objects=tuple(_mesh(o) for o in data["objects"]),
+                light_steps=tuple(LightStep(float(s["sun_azimuth_deg"]),
+                                            float(s["sun_elevation_deg"]),
+                                            tuple(_mesh(o) for o in s["objects"]))
+                                  for s in data.get("light_steps", ())),
+                image_metadata=data.get("image_metadata", "none"),
                 frames=tuple(_frame(f) for f in data["frames"]),
                 width_px=int(data["width_px"]),
                 height_px=int(data["height_px"]),
@@ -234,6 +286,10 @@ def _render(data: dict) -> RenderSpec:
 
 def _material(data: dict) -> MaterialSpec:
     return MaterialSpec(**_known(MaterialSpec, data))
+
+
+def _mesh(data: dict) -> MeshSpec:
+    return MeshSpec(data["name"], data["mesh"], tuple(_material(m) for m in data["materials"]))
 
 
 def _frame(data: dict) -> FrameSpec:

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.core.truth import GcpObservation, GroundControlPoint
+from designer.core.truth import GcpObservation, GroundControlPoint, ImageTime
 from designer.errors import DesignerError
 from designer.export.dispatch import write_all
 from designer.export.odm import odm_crs
@@ -97,7 +97,16 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path) -> dict[st
     formats = project.outputs.ground_truth or DEFAULT_FORMATS
     return write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
                      ground_truth_observations(prepared), odm_crs(project.crs),
-                     formats=formats)
+                     formats=formats, image_times=image_times(prepared))
+
+
+def image_times(prepared: PreparedJob) -> list[ImageTime] | None:
+    """When each image is taken and its sun (None: the project has no time line)."""
+    if prepared.times is None:
+        return None
+    return [ImageTime(t.image_name, t.time_s, f.time_utc, *sun)
+            for t, f, sun in zip(prepared.times, prepared.job.frames, prepared.suns,
+                                 strict=True)]
 
 
 def render_project(
@@ -121,7 +130,8 @@ def render_project(
     provenance = job_provenance(prepared.job, prepared.job_path.parent)
     prepare_seconds = time.perf_counter() - t0
     wanted = parse_frames(frames, len(prepared.poses))
-    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds)
+    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
+                        crs=project.crs)
     ground_truth = write_ground_truth(project, prepared, out_dir)
     manifest.ground_truth_written()
     names = prepared.job.image_names

@@ -10,10 +10,11 @@ part          what goes in                                                      
 ``software``  designer's version and the bpy package's version                 all
 ``render``    Cycles settings (samples, filter, seed, format, bit depth)       all
 ``camera``    the Blender camera (lens, sensor, shift, resolution)             all
-``scene``     terrain mesh, texture (+ variation), light map, objects, sky     all
+``scene``     terrain mesh, texture (+ variation), light map, objects, sky;   all /
+              with a sun over time the frame's own light step (its sun)       per image
 ``targets``   GCP target materials; target geometry inside the frame's view    per image
 ``effects``   the camera-effects model, camera id, scale, distortion warp      all
-``pose``      the frame's index, name, camera matrix (+ effect context)        per image
+``pose``      the frame's index, name, camera matrix (+ effect context, time)  per image
 ============  ===============================================================  =========
 
 Targets are hashed per frame: only the target vertices that project into the frame
@@ -34,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from designer import __version__
-from designer.render.job_spec import FrameSpec, RenderJob
+from designer.render.job_spec import TIME_FIELDS, FrameSpec, RenderJob
 
 PARTS = ("software", "render", "camera", "scene", "targets", "effects", "pose")
 #: the name the job builder gives the GCP targets' mesh (hashed per frame)
@@ -120,23 +121,11 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         "render": _digest(_canonical(render)),
         "camera": _digest(_canonical([asdict(job.camera), job.width_px, job.height_px])),
     }
-    scene_chunks = [_canonical(list(job.background_rgb))]
-    target_chunks: list[str] = []
-    target_vertices = None
-    for obj in job.objects:
-        materials = [_material_fields(mat) for mat in obj.materials]
-        files = [f for mat in obj.materials
-                 for f in (mat.texture, mat.lightmap, mat.variation, mat.variation_warp) if f]
-        described = _canonical([obj.name, materials, [_file_digest(job_dir / f) for f in files]])
-        if obj.name == TARGETS_MESH:
-            target_chunks.append(described)
-            with np.load(job_dir / obj.mesh) as data:
-                target_vertices = (np.asarray(data["vertices_local"], float),
-                                   np.asarray(data["faces"]),
-                                   np.asarray(data["material_index"]))
-        else:
-            scene_chunks += [described, _file_digest(job_dir / obj.mesh)]
-    common["scene"] = _digest(*scene_chunks)
+    background = _canonical(list(job.background_rgb))
+    scene_chunks, target_chunks, target_vertices = _objects_chunks(job.objects, job_dir)
+    common["scene"] = _digest(background, *scene_chunks)
+    # a sun over time: each light step is the scene (and target lighting) of its frames
+    steps = [_objects_chunks(step.objects, job_dir) for step in job.light_steps]
     effects = "none"
     if job.effects is not None:
         from designer.project import read_project
@@ -150,14 +139,44 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
     out = {}
     for frame in job.frames:
         parts = dict(common)
-        parts["targets"] = _digest(*target_chunks,
-                                   _targets_in_view(target_vertices, frame, job))
+        chunks = target_chunks
+        if frame.light_step is not None:
+            step_scene, chunks, _ = steps[frame.light_step]
+            parts["scene"] = _digest(background, *step_scene)
+        parts["targets"] = _digest(*chunks, _targets_in_view(target_vertices, frame, job))
         pose = asdict(frame)
         if job.effects is None:  # the effect context (GSD, distance) changes no pixel then
-            pose = {k: pose[k] for k in ("index", "image_name", "matrix_world_local")}
+            pose = {k: pose[k] for k in ("index", "image_name", "matrix_world_local",
+                                         *TIME_FIELDS)}
+        # no time line: the pose hashes as before the time fields existed
+        pose = {k: v for k, v in pose.items() if k not in TIME_FIELDS or v is not None}
+        if job.image_metadata != "none":
+            pose["image_metadata"] = job.image_metadata
         parts["pose"] = _digest(_canonical(pose))
         out[frame.index] = ImageProvenance({p: parts[p] for p in PARTS})
     return out
+
+
+def _objects_chunks(objects, job_dir: Path):
+    """Canonical descriptions of a job's objects: (scene chunks, target chunks, the
+    targets' (vertices, faces, material index) or None)."""
+    scene_chunks: list[str] = []
+    target_chunks: list[str] = []
+    target_vertices = None
+    for obj in objects:
+        materials = [_material_fields(mat) for mat in obj.materials]
+        files = [f for mat in obj.materials
+                 for f in (mat.texture, mat.lightmap, mat.variation, mat.variation_warp) if f]
+        described = _canonical([obj.name, materials, [_file_digest(job_dir / f) for f in files]])
+        if obj.name == TARGETS_MESH:
+            target_chunks.append(described)
+            with np.load(job_dir / obj.mesh) as data:
+                target_vertices = (np.asarray(data["vertices_local"], float),
+                                   np.asarray(data["faces"]),
+                                   np.asarray(data["material_index"]))
+        else:
+            scene_chunks += [described, _file_digest(job_dir / obj.mesh)]
+    return scene_chunks, target_chunks, target_vertices
 
 
 def _targets_in_view(mesh, frame: FrameSpec, job: RenderJob) -> str:

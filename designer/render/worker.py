@@ -26,8 +26,10 @@ from mathutils import Matrix
 
 from designer.render.job_spec import (
     IMAGE_FORMATS,
+    TEXTURE_UV_MAP,
     CameraSpec,
     FrameSpec,
+    LightStep,
     MaterialSpec,
     MeshSpec,
     RenderJob,
@@ -146,13 +148,17 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
     tiles = spec.uv_tiles
     mapping.inputs["Scale"].default_value = (float(tiles[0]), float(tiles[1]), 1.0)
     lookup_uv = uv.outputs["UV"]
-    if spec.variation_warp:
+    if spec.uv_map:
+        texture_uv = nodes.new("ShaderNodeUVMap")
+        texture_uv.uv_map = spec.uv_map
+        lookup_uv = texture_uv.outputs["UV"]
+    elif spec.variation_warp:
         lookup_uv = _warped_uv(nodes, links, spec, base, uv.outputs["UV"])
     links.new(lookup_uv, mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = load_image(str(base / spec.texture), "sRGB")
     tex.interpolation = spec.interpolation
-    tex.extension = "REPEAT"
+    tex.extension = spec.extension
     links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
     colour = tex.outputs["Color"]
     if spec.variation:
@@ -237,6 +243,40 @@ def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour)
     return _mix(nodes, links, "MULTIPLY", 1.0, colour, planes.outputs["Red"])
 
 
+def set_materials(mesh: bpy.types.Mesh, spec: MeshSpec, base: Path, data=None) -> None:
+    """Give the mesh the spec's emission materials (and per-face material indices)."""
+    mesh.materials.clear()
+    for i, mspec in enumerate(spec.materials):
+        mesh.materials.append(emission_material(f"{spec.name}_{i}", mspec, base))
+    if data is not None and "material_index" in data:
+        mesh.polygons.foreach_set("material_index", np.asarray(data["material_index"], np.int32))
+
+
+def apply_light_step(scene: bpy.types.Scene, current: dict[str, MeshSpec],
+                     step: LightStep, base: Path) -> None:
+    """Light the scene for one sun of the flight: objects whose mesh file changes are
+    built anew, the others only get the step's materials (light map, colours)."""
+    for spec in step.objects:
+        old = current.get(spec.name)
+        if old == spec:
+            continue
+        obj = bpy.data.objects[spec.name]
+        if old is not None and old.mesh == spec.mesh:
+            set_materials(obj.data, spec, base)
+        else:
+            mesh = obj.data
+            bpy.data.objects.remove(obj)
+            bpy.data.meshes.remove(mesh)
+            add_mesh(scene, spec, base)
+        current[spec.name] = spec
+    for material in list(bpy.data.materials):  # the previous sun's materials and maps
+        if material.users == 0:
+            bpy.data.materials.remove(material)
+    for image in list(bpy.data.images):
+        if image.users == 0:
+            bpy.data.images.remove(image)
+
+
 def add_mesh(scene: bpy.types.Scene, spec: MeshSpec, base: Path) -> bpy.types.Object:
     data = np.load(base / spec.mesh)
     verts = np.ascontiguousarray(data["vertices_local"], dtype=np.float32)
@@ -256,10 +296,12 @@ def add_mesh(scene: bpy.types.Scene, spec: MeshSpec, base: Path) -> bpy.types.Ob
         layer = mesh.uv_layers.new(name="UVMap")
         loop_uv = np.asarray(data["uv"], dtype=np.float32)[faces.ravel()]
         layer.data.foreach_set("uv", loop_uv.ravel())
-    for i, mspec in enumerate(spec.materials):
-        mesh.materials.append(emission_material(f"{spec.name}_{i}", mspec, base))
-    if "material_index" in data:
-        mesh.polygons.foreach_set("material_index", np.asarray(data["material_index"], np.int32))
+        layer.active_render = True
+    if "uv_texture" in data:
+        layer = mesh.uv_layers.new(name=TEXTURE_UV_MAP)
+        loop_uv = np.asarray(data["uv_texture"], dtype=np.float32)[faces.ravel()]
+        layer.data.foreach_set("uv", loop_uv.ravel())
+    set_materials(mesh, spec, base, data)
     mesh.update(calc_edges=True)
     mesh.validate(verbose=False)
     obj = bpy.data.objects.new(spec.name, mesh)
@@ -282,8 +324,10 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
     return scene, camera
 
 
-def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain=None) -> dict:
-    """Render one frame; apply the camera effects (if any); rename the image into place."""
+def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain=None,
+                 exif: bool = False) -> dict:
+    """Render one frame; apply the camera effects (if any); write its time into the EXIF
+    when ``exif``; rename the image into place."""
     camera.matrix_world = Matrix(frame.matrix_world_local)
     final = out_dir / frame.image_name
     tmp = final.with_name(f".{final.stem}.rendering{ext}")
@@ -291,10 +335,30 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain
     t0, cpu0 = time.perf_counter(), time.process_time()
     bpy.ops.render.render(write_still=True)
     t1, cpu = time.perf_counter(), time.process_time() - cpu0
+    stamp = exif and frame.time_utc is not None
     if chain is None and final.suffix.lower() == ".png":
         move_without_text(tmp, final)  # Blender's render-time and date text only
     elif chain is None:
+        if stamp:
+            from designer.render.exif import write_time
+
+            write_time(tmp, frame.time_utc)
         os.replace(tmp, final)
+    elif stamp:
+        from designer.effects.base import FrameContext
+        from designer.effects.chain import process_file
+        from designer.render.exif import write_time
+
+        context = FrameContext(gsd_m=frame.gsd_m, flight_direction_uv=frame.flight_direction_uv,
+                               distance_m=frame.distance_m)
+        stamped = final.with_name(f".{final.stem}.metadata{final.suffix}")
+        try:
+            process_file(tmp, stamped, chain, frame.index, context)
+            write_time(stamped, frame.time_utc)
+            os.replace(stamped, final)
+        finally:
+            tmp.unlink(missing_ok=True)
+            stamped.unlink(missing_ok=True)
     else:
         from designer.effects.base import FrameContext
         from designer.effects.chain import process_file
@@ -348,8 +412,13 @@ def main(argv: list[str] | None = None) -> int:
     scene, camera = build_scene(job, base)
     chain = load_effects(job, base)
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
+    current = {spec.name: spec for spec in job.objects}
+    exif = job.image_metadata == "exif"
     for index in wanted:
-        done = render_frame(scene, camera, frames[index], out_dir, ext, chain)
+        step = frames[index].light_step
+        if step is not None:
+            apply_light_step(scene, current, job.light_steps[step], base)
+        done = render_frame(scene, camera, frames[index], out_dir, ext, chain, exif)
         emit(progress, event="frame_done", index=index, **done)
     import resource
 

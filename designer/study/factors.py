@@ -161,6 +161,26 @@ def _with_sun_elevation(p: m.Project, value: float) -> m.Project:
     return replace(p, scene=replace(p.scene, lighting=lighting))
 
 
+def _utc(text: str) -> str:
+    from designer.project.validate_world import EXAMPLE_UTC, parse_utc
+
+    if parse_utc(text) is None:
+        raise ValueError(f"not an ISO 8601 moment in UTC; write e.g. {EXAMPLE_UTC}")
+    return text.strip()
+
+
+def _time_line(p: m.Project) -> m.TimeLine:
+    if p.trajectory.time_line is None:
+        raise ValueError("the base project has no <time-line> in its trajectory; add one "
+                         "(takeoff-utc, speed-m-s) to vary the flight's timing")
+    return p.trajectory.time_line
+
+
+def _with_time_line(p: m.Project, **changes) -> m.Project:
+    time_line = replace(_time_line(p), **changes)
+    return replace(p, trajectory=replace(p.trajectory, time_line=time_line))
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -289,6 +309,15 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        lambda p, v: _with_effects(p, jpeg=m.Jpeg(v))),
     _F("sun-elevation-deg", "sun elevation above the horizon (deg)", "render", _float,
        lambda p: getattr(p.scene.lighting.sun, "elevation_deg", None), _with_sun_elevation),
+    _F("takeoff-time", "moment of the first photo, ISO 8601 UTC (moves a sun over time)",
+       "render", _utc, lambda p: getattr(p.trajectory.time_line, "takeoff_utc", None),
+       lambda p, v: _with_time_line(p, takeoff_utc=v)),
+    _F("flight-speed-m-s", "ground speed on the time line (m/s)", "render", _float,
+       lambda p: getattr(p.trajectory.time_line, "speed_m_s", None),
+       lambda p, v: _with_time_line(p, speed_m_s=v)),
+    _F("turn-s", "seconds per turn between flight lines on the time line", "render", _float,
+       lambda p: getattr(p.trajectory.time_line, "turn_s", None),
+       lambda p, v: _with_time_line(p, turn_s=v)),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),

@@ -33,7 +33,9 @@ def _filled_projects() -> list[m.Project]:
         matching=m.Matching(4096, "exhaustive", 2), dense="cpu")
     cam = dataclasses.replace(base.cameras[0], name="P4P",
                               distortion=m.BrownConradyDistortion(-0.01, 0.002))
-    first = dataclasses.replace(base, effects=effects, processing=processing, cameras=(cam,))
+    first = dataclasses.replace(base, effects=effects, processing=processing, cameras=(cam,),
+                                trajectory=dataclasses.replace(base.trajectory, time_line=(
+                                    m.TimeLine("2026-06-21T09:30:00Z", 5.0, 8.0, 2.0))))
     assert first.scene.targets.survey_accuracy is not None
     assert first.trajectory.flight_plan.pose_noise is not None
     second = edits.replace_path(first, "scene.terrain.source", m.FlatTerrain(1.5))

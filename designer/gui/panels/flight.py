@@ -157,6 +157,24 @@ class FlightPanel(Panel):
                                             "Flight seed"))
         layout.addWidget(noise)
 
+        timing = QGroupBox("time line (when each photo is taken)")
+        timing.setToolTip("the first photo at take-off, then the stations in order at the "
+                          "speed, plus a turn time per line change (docs/world.md)")
+        f = form(timing)
+        self.timed = QCheckBox("the photos have times")
+        self.timed.toggled.connect(self._timing_toggled)
+        f.addRow(self.timed)
+        tl = "trajectory.time_line"
+        takeoff = _line()
+        takeoff.setPlaceholderText(DEFAULT_TIME_LINE.takeoff_utc)
+        f.addRow("take-off (UTC)", self.bindings.bind(takeoff, f"{tl}.takeoff_utc",
+                                                      "Take-off time"))
+        f.addRow("speed", self.bindings.bind(dspin(0.1, 100, 2, 0.5, "m/s"), f"{tl}.speed_m_s",
+                                             "Flight speed"))
+        f.addRow("turn", self.bindings.bind(dspin(0, 3600, 1, 1, "s"), f"{tl}.turn_s",
+                                            "Turn time"))
+        layout.addWidget(timing)
+
         view = self.sync.view
         view.area_drawn.connect(self.set_area)
         view.interaction.mode_changed.connect(self._mode_changed)
@@ -180,6 +198,7 @@ class FlightPanel(Panel):
             _check(self.by_altitude, plan.altitude_agl_m is not None)
             _check(self.by_gsd, plan.gsd_m is not None)
             _check(self.noisy, plan.pose_noise is not None)
+        _check(self.timed, project.trajectory.time_line is not None)
         self.area_table.blockSignals(True)
         area = plan.area if plan is not None else ()
         self.area_table.setRowCount(len(area))
@@ -304,6 +323,14 @@ class FlightPanel(Panel):
         self.editor.edit(edits.set_flight(self.project, pose_noise=noise),
                          "Pose noise " + ("on" if on else "off"))
 
+    def _timing_toggled(self, on: bool) -> None:
+        traj = self.project.trajectory
+        if on == (traj.time_line is not None):
+            return
+        time_line = DEFAULT_TIME_LINE if on else None
+        self.editor.edit(edits.replace_path(self.project, "trajectory.time_line", time_line),
+                         "Time line " + ("on" if on else "off"))
+
     def _draw_toggled(self, on: bool) -> None:
         self.sync.view.interaction.set_mode("area" if on else "navigate")
 
@@ -314,6 +341,10 @@ class FlightPanel(Panel):
         _check(self.draw, on)
         if not on and self.sync.view.interaction.mode == "area":
             self.sync.view.interaction.set_mode("navigate")
+
+
+#: the time line a project gets when its photos are given times in the panel
+DEFAULT_TIME_LINE = m.TimeLine("2026-06-21T09:30:00Z", speed_m_s=5.0, turn_s=8.0)
 
 
 def _pct(v: float) -> str:

@@ -18,6 +18,7 @@ from designer.project import model as m
 SUN = "scene.lighting.sun"
 #: a moment and place to start from when the sun is switched to "computed"
 DEFAULT_SUN_POSITION = m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54)
+_KIND = {m.Sun: "direction", m.SunPosition: "position", m.SunOverTime: "over-time"}
 
 
 class LightingPanel(Panel):
@@ -27,7 +28,8 @@ class LightingPanel(Panel):
     def build(self, layout) -> None:
         top = form()
         self.kind = combo([("direction (azimuth, elevation)", "direction"),
-                           ("computed for a date, time and place", "position")])
+                           ("computed for a date, time and place", "position"),
+                           ("following the flight's time line", "over-time")])
         self.kind.currentIndexChanged.connect(self._kind_chosen)
         top.addRow("sun given by", self.kind)
         layout.addLayout(top)
@@ -83,16 +85,16 @@ class LightingPanel(Panel):
         sun = self.project.scene.lighting.sun
         computed = isinstance(sun, m.SunPosition)
         blocked = self.kind.blockSignals(True)
-        self.kind.setCurrentIndex(self.kind.findData("position" if computed else "direction"))
+        self.kind.setCurrentIndex(self.kind.findData(_KIND[type(sun)]))
         self.kind.blockSignals(blocked)
-        self.direction.setVisible(not computed)
+        self.direction.setVisible(isinstance(sun, m.Sun))
         self.position.setVisible(computed)
         self._readouts()
 
     def _readouts(self) -> None:
         lighting = self.project.scene.lighting
         try:
-            azimuth, elevation = derived.sun_angles_deg(lighting)
+            azimuth, elevation = derived.sun_angles_deg(lighting, self.project)
         except (DesignerError, ValueError) as error:
             self.sun_label.setText("–")
             self.contrast_label.setText("–")
@@ -100,7 +102,8 @@ class LightingPanel(Panel):
             return
         self.error_label.setText("" if elevation > 0 else
                                  "the sun is below the horizon at that moment and place")
-        where = " (computed)" if isinstance(lighting.sun, m.SunPosition) else ""
+        where = {m.SunPosition: " (computed)", m.SunOverTime: " at take-off; it moves "
+                 "with each photo's time"}.get(type(lighting.sun), "")
         self.sun_label.setText(f"azimuth {azimuth:.1f}°, elevation {elevation:.1f}°{where}")
         flat = lighting.sun_strength * max(math.sin(math.radians(elevation)), 0.0) + \
             lighting.sky_strength
@@ -114,20 +117,36 @@ class LightingPanel(Panel):
     # ------------------------------------------------------------------ view → model
     def _kind_chosen(self) -> None:
         lighting = self.project.scene.lighting
-        computed = self.kind.currentData() == "position"
-        if computed == isinstance(lighting.sun, m.SunPosition):
+        kind = self.kind.currentData()
+        if kind == _KIND[type(lighting.sun)]:
             return
-        if computed:
+        if kind == "position":
             sun = DEFAULT_SUN_POSITION
+        elif kind == "over-time":
+            sun = _sun_over_time(self.project)
         else:
             # keep the light where it was: the computed direction, rounded to 0.1°
             try:
-                azimuth, elevation = derived.sun_angles_deg(lighting)
+                azimuth, elevation = derived.sun_angles_deg(lighting, self.project)
             except (DesignerError, ValueError):
                 azimuth, elevation = 135.0, 50.0
             sun = m.Sun(round(azimuth % 360, 1) % 360, round(min(max(elevation, 0.1), 90), 1))
         scene = dataclasses.replace(self.project.scene,
                                     lighting=dataclasses.replace(lighting, sun=sun))
         self.editor.edit(dataclasses.replace(self.project, scene=scene),
-                         "Sun " + ("computed for a moment and place" if computed
-                                   else "given by its direction"))
+                         "Sun " + {"position": "computed for a moment and place",
+                                   "over-time": "following the flight's time line"}.get(
+                                       kind, "given by its direction"))
+
+
+def _sun_over_time(project: m.Project) -> m.SunOverTime:
+    """A sun over time at the project origin, or at the default place when the project's
+    CRS cannot give the origin's latitude and longitude."""
+    from designer.scene.sun_over_time import project_site
+
+    try:
+        project_site(project, m.SunOverTime())
+        return m.SunOverTime()
+    except DesignerError:
+        return m.SunOverTime(DEFAULT_SUN_POSITION.latitude_deg,
+                             DEFAULT_SUN_POSITION.longitude_deg)

@@ -110,7 +110,8 @@ class TexturePanel(Panel):
     def refresh(self) -> None:
         super().refresh()
         tex = self.project.scene.texture
-        is_image = isinstance(tex.source, m.ImageTexture)
+        # an orthophoto shows as its file (it is placed by its geotransform, not tiled)
+        is_image = isinstance(tex.source, m.ImageTexture | m.OrthophotoTexture)
         blocked = self.kind.blockSignals(True)
         self.kind.setCurrentIndex(1 if is_image else 0)
         self.kind.blockSignals(blocked)
@@ -119,6 +120,7 @@ class TexturePanel(Panel):
         if is_image:
             self.file_label.setText(tex.source.file)
         blocked = self.variation.blockSignals(True)
+        self.variation.setVisible(not isinstance(tex.source, m.OrthophotoTexture))
         self.variation.setChecked(tex.variation is not None)
         self.variation.blockSignals(blocked)
         self._readouts()

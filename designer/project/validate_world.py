@@ -1,0 +1,148 @@
+"""Semantic checks of the world over time: the flight's time line, the sun that follows
+it and the image metadata that carries it (docs/world.md)."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+
+from designer.project import model as m
+from designer.project.problems import Issue
+
+EXAMPLE_UTC = "2026-06-21T09:30:00Z"
+
+
+def parse_utc(text: str) -> _dt.datetime | None:
+    """The moment of an ISO 8601 text in UTC (aware datetime), or None if it is not one."""
+    try:
+        moment = _dt.datetime.fromisoformat(text.strip())
+    except ValueError:
+        return None
+    if moment.tzinfo is None or moment.utcoffset() != _dt.timedelta(0):
+        return None
+    return moment.astimezone(_dt.UTC)
+
+
+def trigger_distance_m(project: m.Project, plan: m.FlightPlan) -> float | None:
+    """Planned distance between photos along a line (m), nadir footprint × (1 − front
+    overlap), as designer.survey.flight.camera_calc computes it; None if not computable."""
+    try:
+        cam = project.camera(plan.camera)
+    except KeyError:
+        return None
+    f_mm = cam.focal_length_mm
+    if plan.altitude_agl_m is not None:
+        altitude_m = plan.altitude_agl_m
+    elif plan.gsd_m is not None:
+        altitude_m = plan.gsd_m * f_mm / (cam.sensor_width_mm / cam.image_width_px)
+    else:
+        return None
+    along_mm = cam.sensor_height_mm if plan.orientation == "landscape" else cam.sensor_width_mm
+    distance = altitude_m * along_mm / f_mm * (1.0 - plan.front_overlap_percent / 100.0)
+    return distance if math.isfinite(distance) else None
+
+
+def world_issues(project: m.Project) -> list[Issue]:
+    """Problems of the time line, the sun over time and the image metadata."""
+    traj = project.trajectory
+    tl = traj.time_line
+    out: list[Issue] = []
+    if tl is not None:
+        out += _time_line(project, tl)
+    timed = [p for p in traj.exterior_orientations if p.time_s is not None]
+    if timed and tl is None:
+        out.append(Issue(timed[0], "photo", f"photo '{timed[0].name}' has a time-s but the "
+                         "trajectory has no <time-line>; add one or remove time-s",
+                         attr="time-s"))
+    last = None
+    for p in timed:
+        if not (math.isfinite(p.time_s) and p.time_s >= 0):
+            out.append(Issue(p, "photo", f"time-s = {p.time_s!r} must be a finite number of "
+                             "seconds >= 0", attr="time-s"))
+        elif last is not None and p.time_s < last.time_s:
+            out.append(Issue(p, "photo", f"photo '{p.name}' at time-s {p.time_s:g} s comes "
+                             f"before '{last.name}' ({last.time_s:g} s) which is flown first; "
+                             "give the photos in the order they are taken", attr="time-s"))
+        else:
+            last = p
+    sun = project.scene.lighting.sun
+    if isinstance(sun, m.SunOverTime):
+        out += _sun_over_time(project, sun)
+    render = project.render
+    if render.image_metadata not in ("none", "exif"):
+        out.append(Issue(render, "output", f"metadata {render.image_metadata!r} must be none or "
+                         "exif", attr="metadata"))
+    elif render.image_metadata == "exif":
+        if tl is None:
+            out.append(Issue(render, "output", "metadata exif writes each photo's time, but the "
+                             "trajectory has no <time-line>; add one or write metadata none",
+                             attr="metadata"))
+        if render.output_format not in ("jpeg", "tiff"):
+            out.append(Issue(render, "output", f"metadata exif is written into JPEG and TIFF "
+                             f"photos, not {render.output_format}; use format jpeg or tiff",
+                             attr="metadata"))
+    return out
+
+
+def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
+    out = []
+    if parse_utc(tl.takeoff_utc) is None:
+        out.append(Issue(tl, "time-line", f"takeoff-utc {tl.takeoff_utc!r} is not an ISO 8601 "
+                         f"moment in UTC; write it with Z, e.g. {EXAMPLE_UTC}",
+                         attr="takeoff-utc"))
+    if not (math.isfinite(tl.speed_m_s) and 0 < tl.speed_m_s <= 100):
+        out.append(Issue(tl, "time-line", f"speed-m-s = {tl.speed_m_s!r} must be greater than "
+                         "0 and at most 100 m/s", attr="speed-m-s"))
+        return out
+    if not (math.isfinite(tl.turn_s) and 0 <= tl.turn_s <= 3600):
+        out.append(Issue(tl, "time-line", f"turn-s = {tl.turn_s!r} must be from 0 to 3600 s",
+                         attr="turn-s"))
+    interval = tl.trigger_interval_s
+    if interval is None:
+        return out
+    if not (math.isfinite(interval) and 0 < interval <= 3600):
+        out.append(Issue(tl, "time-line", f"trigger-interval-s = {interval!r} must be greater "
+                         "than 0 and at most 3600 s", attr="trigger-interval-s"))
+        return out
+    plan = project.trajectory.flight_plan
+    distance = None if plan is None else trigger_distance_m(project, plan)
+    if distance is not None and distance / tl.speed_m_s < interval * (1 - 1e-9):
+        out.append(Issue(tl, "time-line", f"the flight plan takes a photo every {distance:.3g} m, "
+                         f"{distance / tl.speed_m_s:.3g} s at {tl.speed_m_s:g} m/s, sooner than "
+                         f"the camera's trigger interval of {interval:g} s; fly at most "
+                         f"{distance / interval:.3g} m/s or lower the front overlap",
+                         attr="trigger-interval-s"))
+    return out
+
+
+def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
+    out = []
+    if project.trajectory.time_line is None:
+        out.append(Issue(sun, "sun-over-time", "the sun follows each photo's time, but the "
+                         "trajectory has no <time-line>; add one or give the sun as <sun> or "
+                         "<sun-position>"))
+    if (sun.latitude_deg is None) != (sun.longitude_deg is None):
+        out.append(Issue(sun, "sun-over-time", "give both latitude-deg and longitude-deg, or "
+                         "neither (then the project origin is used)",
+                         attr="latitude-deg" if sun.latitude_deg is None else "longitude-deg"))
+    elif sun.latitude_deg is not None:
+        if not (math.isfinite(sun.latitude_deg) and -90 <= sun.latitude_deg <= 90):
+            out.append(Issue(sun, "sun-over-time", "latitude-deg must be -90 to 90",
+                             attr="latitude-deg"))
+        if not (math.isfinite(sun.longitude_deg) and -180 <= sun.longitude_deg <= 180):
+            out.append(Issue(sun, "sun-over-time", "longitude-deg must be -180 to 180",
+                             attr="longitude-deg"))
+    else:
+        from designer.core.crs import crs_token
+
+        try:
+            from pyproj import CRS
+
+            ok = CRS.from_user_input(crs_token(project.crs)).is_projected
+        except Exception:  # pyproj's CRSError and anything it raises for a label
+            ok = False
+        if not ok:
+            out.append(Issue(sun, "sun-over-time", f"the project CRS {project.crs!r} is not a "
+                             "projected CRS PROJ knows, so the site's latitude and longitude "
+                             "cannot be found; give latitude-deg and longitude-deg"))
+    return out

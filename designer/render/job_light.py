@@ -1,0 +1,161 @@
+"""The lit objects of a render job: terrain with its baked light map, GCP targets and
+scene objects, each drawn as emission under one sun — and, for a sun over time, one set
+per sun of the flight (:class:`~designer.render.job_spec.LightStep`).
+
+Each light map is baked exactly for its sun (no interpolation between bakes; the
+measured cost and the error interpolation would bring are in docs/world.md). A frame's
+step is its own sun: frames taken at the same moment share one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from designer.atomic import atomic_path
+from designer.project import model as m
+from designer.render.job_spec import LightStep, MaterialSpec, MeshSpec
+from designer.scene.build import BuiltScene
+from designer.scene.lighting import (
+    LIGHTMAP_SCALE,
+    bake_lightmap,
+    encode_lightmap_png16,
+    irradiance,
+    sun_direction_world,
+)
+from designer.scene.objects import OBJECT_ALBEDO_RGB, PlacedObjects, build_objects
+
+#: linear reflectance of a target's white and black quadrants
+TARGET_WHITE, TARGET_BLACK = 0.8, 0.03
+LIGHTMAP_MAX_PX = 512
+#: light levels the scene objects' faces are drawn with (one emission material each)
+OBJECT_LIGHT_LEVELS = 64
+
+
+def frame_suns(project: m.Project, times) -> list[tuple[float, float]] | None:
+    """The sun (grid azimuth, elevation; deg) of each frame when the project's sun
+    follows the time line, else None (one sun for all)."""
+    sun = project.scene.lighting.sun
+    if not isinstance(sun, m.SunOverTime) or times is None:
+        return None
+    from designer.scene.sun_over_time import project_site, suns_at
+
+    return suns_at([t.time_utc for t in times], project_site(project, sun))
+
+
+class ObjectLighting:
+    """Writes the lit objects of a scene under a given sun into the job folder."""
+
+    def __init__(self, project: m.Project, base_dir: Path, scene: BuiltScene,
+                 origin: np.ndarray, job_dir: Path, terrain_material: MaterialSpec) -> None:
+        self.project, self.base_dir, self.scene = project, Path(base_dir), scene
+        self.origin, self.job_dir = origin, Path(job_dir)
+        self.terrain_material = terrain_material
+
+    def lightmap_size_px(self) -> tuple[int, int]:
+        x0, x1, y0, y1 = self.scene.heightfield.extent_m
+        scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
+        return max(2, round((x1 - x0) * scale)), max(2, round((y1 - y0) * scale))
+
+    def objects(self, azimuth_deg: float, elevation_deg: float, tag: str = ""
+                ) -> list[MeshSpec]:
+        """Terrain (with a light map baked for this sun), targets and scene objects;
+        files are named with ``tag`` (''  for the one sun of a static scene)."""
+        scene = self.scene
+        material = self.terrain_material
+        if scene.heightfield is not None:
+            light = bake_lightmap(scene.heightfield, azimuth_deg, elevation_deg,
+                                  scene.sun_strength, scene.sky_strength,
+                                  size_px=self.lightmap_size_px())
+            name = f"lightmap{tag}.png"
+            write_png(self.job_dir / name, encode_lightmap_png16(light))
+            material = replace(material, lightmap=name,
+                               strength=material.strength * LIGHTMAP_SCALE)
+        objects = [MeshSpec("terrain", "terrain.npz", (material,))]
+        if scene.targets:
+            objects.append(_targets_object(scene, self.origin, self.job_dir,
+                                           azimuth_deg, elevation_deg))
+        placed = build_objects(self.project, self.base_dir, azimuth_deg, elevation_deg)
+        if not placed.is_empty:
+            objects.append(_scene_objects(placed, self.origin, self.job_dir,
+                                          f"objects{tag}.npz"))
+        return objects
+
+    def steps(self, suns: list[tuple[float, float]]
+              ) -> tuple[tuple[LightStep, ...], list[int]]:
+        """One light step per distinct sun, and each frame's step index."""
+        index: dict[tuple[float, float], int] = {}
+        steps = []
+        for sun in suns:
+            if sun not in index:
+                index[sun] = len(steps)
+                steps.append(LightStep(sun[0], sun[1],
+                                       tuple(self.objects(*sun, tag=f"-{len(steps):05d}"))))
+        return tuple(steps), [index[sun] for sun in suns]
+
+
+def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,
+                    azimuth_deg: float, elevation_deg: float) -> MeshSpec:
+    """All GCP targets as one mesh: material 0 white, 1 black, shaded like the ground."""
+    vertices, faces, material_index, light = [], [], [], []
+    sun = sun_direction_world(azimuth_deg, elevation_deg)
+    offset = 0
+    for t in scene.targets:
+        normal = np.cross(t.vertices_world[1] - t.vertices_world[0],
+                          t.vertices_world[3] - t.vertices_world[0])
+        normal /= np.linalg.norm(normal)
+        lit = 1.0
+        if scene.heightfield is not None and sun[2] > 0:
+            hit = scene.heightfield.intersect_rays(t.true_xyz[None] + 0.01 * normal, sun[None])
+            lit = 0.0 if np.isfinite(hit[0, 0]) else 1.0
+        e = float(irradiance(normal[None], np.array([lit]), sun,
+                             scene.sun_strength, scene.sky_strength)[0])
+        vertices.append(t.vertices_world - origin)
+        faces.append(t.faces + offset)
+        white = t.colors[:, 0] > 127
+        material_index.append(np.where(white, 0, 1))
+        light.append(e)
+        offset += len(t.vertices_world)
+    # One light value for all targets keeps two materials; targets share open ground.
+    e = float(np.median(light))
+    save_npz(job_dir / "targets.npz", vertices_local=np.concatenate(vertices),
+              faces=np.concatenate(faces), material_index=np.concatenate(material_index))
+    return MeshSpec("gcp_targets", "targets.npz",
+                    (MaterialSpec(color=(TARGET_WHITE * e,) * 3),
+                     MaterialSpec(color=(TARGET_BLACK * e,) * 3)))
+
+
+
+
+def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path,
+                   file_name: str = "objects.npz") -> MeshSpec:
+    """The scene's mesh objects as one mesh, each face drawn with its light (quantised
+    to OBJECT_LIGHT_LEVELS levels between the darkest and brightest face, < 1 % steps for
+    the usual range) times the objects' albedo."""
+    light = placed.face_irradiance
+    lo, hi = float(light.min()), float(light.max())
+    n = OBJECT_LIGHT_LEVELS if hi > lo else 1
+    level = np.zeros(len(light), np.int64) if n == 1 else np.rint(
+        (light - lo) / (hi - lo) * (n - 1)).astype(np.int64)
+    used = np.unique(level)
+    index = np.searchsorted(used, level)
+    values = lo + used * ((hi - lo) / max(n - 1, 1))
+    save_npz(job_dir / file_name, vertices_local=placed.vertices_world - origin,
+              faces=placed.faces, material_index=index)
+    return MeshSpec("scene_objects", file_name,
+                    tuple(MaterialSpec(color=tuple(float(c * e) for c in OBJECT_ALBEDO_RGB))
+                          for e in values))
+
+
+def write_png(path: Path, image: np.ndarray) -> None:
+    with atomic_path(path) as tmp:
+        if not cv2.imwrite(str(tmp), image):
+            raise OSError(f"could not write {path}")
+
+
+def save_npz(path: Path, **arrays) -> None:
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez(f, **arrays)
