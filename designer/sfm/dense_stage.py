@@ -40,8 +40,8 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
                     max_image_size_px: int | None = None,
                     log: Callable[[str], None] = print) -> dict:
     """Dense cloud of the images of the render output ``survey`` from the world-frame
-    COLMAP model in ``model_dir``; products into ``out``. Returns the ``dense`` section of summary.json
-    (points, matcher, seconds per stage, DoD statistics and dome amplitude)."""
+    COLMAP model in ``model_dir``; products into ``out``. Returns the ``dense`` section of
+    summary.json (points, matcher, seconds per stage, DoD statistics and dome amplitude)."""
     from designer.sfm.dense import dense_cloud, write_dense_ply, write_las, write_local_model
 
     if project_path is None:
