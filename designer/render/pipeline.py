@@ -53,6 +53,11 @@ class RenderSummary:
     #: frames re-rendered although complete, with the parts of their inputs that changed
     stale: dict[int, list[str]] = field(default_factory=dict)
 
+    @property
+    def images_dir(self) -> Path:
+        """OUT/images: the rendered images and nothing else."""
+        return Path(self.prepared.job.output_dir)
+
 
 def parse_frames(text: str | None, n_frames: int) -> list[int]:
     """'0-99,120' → [0, …, 99, 120]; None → every frame. Indices are 0-based."""

@@ -56,36 +56,42 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
     ]
     used: set[str] = set()
 
-    def section(title: str, rows: list[tuple[str, str | None]], notes: Sequence[str] = ()):
+    def section(title: str, rows: list[tuple[str, str | None]], notes: Sequence[str] = (),
+                images: str | None = None):
+        """The program's lines, when at least one of its ground-truth files was written."""
         present = [(what, path) for what, path in rows if path]
         if not present:
             return
         lines.append(title)
+        if images:
+            present.insert(0, ("images", images))
         lines.extend(f"  {what + ':':<22}{path}" for what, path in present)
         lines.extend(f"  {note}" for note in notes)
         lines.append("")
 
     colmap = rel("colmap")
-    section("COLMAP", [("images", f"--image_path {IMAGES_DIR}"), ("true model", colmap)],
+    section("COLMAP", [("true model", colmap)],
             [f"e.g. colmap feature_extractor --database_path db.db --image_path {IMAGES_DIR}",
-             f"     colmap point_triangulator --input_path {colmap} ..."] if colmap else [])
+             f"     colmap point_triangulator --input_path {colmap} ...",
+             "COLMAP's PLY export stores float32, too coarse at survey coordinates: give",
+             "designer compare the model folder (it holds doubles) or a PLY in a local frame",
+             "with --offset E N H."] if colmap else [],
+            images=f"--image_path {IMAGES_DIR}")
     used |= {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D"}
     gcp_list, geo = rel("odm_gcp_list"), rel("odm_geo")
-    section("OpenDroneMap", [("images", f"{IMAGES_DIR}/"), ("GCP image points", gcp_list),
-                             ("image positions", geo)],
+    section("OpenDroneMap", [("GCP image points", gcp_list), ("image positions", geo)],
             ["ODM reads a project folder PROJECT with the images in PROJECT/images/ and",
              "gcp_list.txt and geo.txt in PROJECT itself (beside images/, not inside it);",
              "copy them there, or pass --gcp and --geo with the paths above. WebODM: upload",
-             "them together with the images."] if gcp_list or geo else [])
+             "them together with the images."], images=f"{IMAGES_DIR}/")
     used |= {"odm_gcp_list", "odm_geo"}
     section("Agisoft Metashape",
-            [("photos", f"Add Photos from {IMAGES_DIR}/"),
-             ("camera calibration", rel("metashape_calibration")),
+            [("camera calibration", rel("metashape_calibration")),
              ("camera reference", rel("metashape_cameras")),
              ("markers reference", rel("metashape_markers"))],
             ["Calibration: Tools > Camera Calibration > Load. References: Reference pane >",
-             "Import Reference; set the rotation angles to Omega, Phi, Kappa."]
-            if rel("metashape_cameras") or rel("metashape_calibration") else [])
+             "Import Reference; set the rotation angles to Omega, Phi, Kappa."],
+            images=f"Add Photos from {IMAGES_DIR}/")
     used |= {"metashape_calibration", "metashape_cameras", "metashape_markers"}
     section("Tables (any program; '#' lines describe the columns)",
             [("camera poses (OPK)", rel("opk")), ("GCP coordinates", rel("gcp_truth")),
