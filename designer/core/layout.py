@@ -82,8 +82,9 @@ def move_old_layout_images(out_dir: Path, names: Iterable[str]) -> list[str]:
     target.mkdir(parents=True, exist_ok=True)
     moved = []
     for name in names:
-        src = out_dir / name
-        if src.is_file():
-            os.replace(src, target / name)
-            moved.append(name)
+        try:  # another process rendering a slice of the folder may move it first
+            os.replace(out_dir / name, target / name)
+        except FileNotFoundError:
+            continue
+        moved.append(name)
     return moved

@@ -37,6 +37,18 @@ def test_reconstruction_registers_every_image_and_meets_the_gcps(survey, tmp_pat
     assert saved["registered"] == result.n_registered
 
 
+def test_a_folder_in_the_old_layout_still_reconstructs(survey, tmp_path):
+    """Images at the folder's top level, as designer rendered them before images/."""
+    old = tmp_path / "old"
+    shutil.copytree(survey / "ground-truth", old / "ground-truth")
+    names = sorted(p.name for p in (survey / "images").iterdir())
+    for name in names:
+        (old / name).symlink_to(survey / "images" / name)
+    result = reconstruct(old, tmp_path / "r", mode="known-poses", log=lambda _: None)
+    assert result.n_images == len(names) == result.n_registered
+    assert result.n_points > 1000
+
+
 def test_a_folder_without_ground_truth_is_a_clear_error(tmp_path):
     with pytest.raises(DesignerError, match="no ground truth"):
         reconstruct(tmp_path, tmp_path / "r")
