@@ -166,6 +166,13 @@ def test_an_old_layout_folder_is_checked_and_resume_moves_it(rendered, tmp_path)
     from designer.cli.main import main
 
     assert main(["check-output", str(out), "--project", str(project)]) == 1
+    # and the desktop designer's Render panel line
+    from designer.gui.output_state import render_state
+    from designer.project import load_project
+
+    state = render_state(out, project, load_project(project))
+    assert not state.ok and state.stale == {} and state.missing == []
+    assert "old layout" in state.text and "images/" in state.text
 
     # --resume moves the images into images/ and renders nothing again
     again = render_project(project, out, workers=1, resume=True)
