@@ -19,7 +19,11 @@ a virtual X display (Xvfb) when there is none:
 * ``gui-out-of-date.png`` — the Render panel after a quick draft render and a terrain
   edit: what is out of date and the button that re-renders it;
 * ``gui-flight-beyond.png`` — the Flight panel warning about a flight that looks far
-  beyond the terrain (the same survey flown at 120 m).
+  beyond the terrain (the same survey flown at 120 m);
+* ``gui-study-panel.png`` — the Study panel, whole: a study of the tiny test survey
+  (``designer study new --template tiny``'s base: marking error 0.2 / 2 px and sun
+  elevation 40°) built in it, run from it (about a minute) and its results shown
+  (``--study-only`` takes just this one).
 
 ``designer gui FILE.xml --screenshot OUT.png --panel NAME`` takes one such shot of the
 whole window from the command line.
@@ -161,7 +165,62 @@ def take(out: Path) -> list[Path]:
     _render_then_edit(window, project)
     shot("gui-out-of-date.png", window.docks["Render"])
     window.close_without_prompt()
-    return written
+    return written + take_study(out)
+
+
+def _until(condition, what: str, timeout_s: float = 900.0) -> None:
+    import time
+
+    from PySide6.QtWidgets import QApplication
+
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        QApplication.instance().processEvents()
+        time.sleep(0.05)
+        if time.monotonic() > deadline:
+            raise SystemExit(f"{what} did not happen in {timeout_s:.0f} s")
+
+
+def take_study(out: Path) -> list[Path]:
+    """The Study panel with a tiny study built, run and its results shown."""
+    from PySide6.QtCore import QSettings
+
+    from designer.gui.app import application, wait_idle
+    from designer.gui.main_window import MainWindow
+    from designer.study.templates import write_template
+
+    work = Path(tempfile.mkdtemp(prefix="designer-screenshots-study-"))
+    write_template("tiny", work / "tiny.xml")
+    app = application()
+    window = MainWindow(QSettings(str(work / "settings.ini"), QSettings.Format.IniFormat))
+    window.resize(1600, 1000)
+    window.show()
+    if not window.open_project(work / "tiny-base.xml"):
+        raise SystemExit("cannot open the tiny study's base project")
+    wait_idle(window)
+    panel = window.panels["Study"]
+    window.docks["Study"].raise_()
+    panel.name.setText("marks-and-sun")
+    panel.add_factor("marking-sigma-px", "0.2 2")
+    panel.add_factor("sun-elevation-deg", "40")
+    panel.vary["marking-error"].setChecked(True)
+    if not panel.save_study(work / "marks-and-sun.xml"):
+        raise SystemExit(f"cannot save the study: {panel.errors.text()}")
+    _until(lambda: panel.plan is not None and not window.tasks.busy, "the study check")
+    panel.run_box.workers.setValue(2)
+    _until(lambda: panel.plan is not None and not window.tasks.busy, "the study check")
+    panel.run_box.run()
+    _until(lambda: not panel.run_box.process.running, "the study run")
+    panel.results.select_figure("factor-marking-sigma-px")
+    app.processEvents()
+    wait_idle(window)
+    inner = panel.body.parentWidget()
+    inner.adjustSize()
+    app.processEvents()
+    path = out / "gui-study-panel.png"
+    inner.grab().save(str(path))
+    window.close_without_prompt()
+    return [path]
 
 
 def _processing_settings(window) -> None:
@@ -220,12 +279,14 @@ def _render_then_edit(window, project: Path, timeout_s: float = 600.0) -> None:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "images")
+    parser.add_argument("--study-only", action="store_true",
+                        help="take only gui-study-panel.png")
     args = parser.parse_args()
     from designer.gui.xvfb import ensure_display, stop_xvfb
 
     xvfb = ensure_display()
     try:
-        for path in take(args.out):
+        for path in (take_study if args.study_only else take)(args.out):
             print(path)
     finally:
         if xvfb is not None:

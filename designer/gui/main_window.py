@@ -53,6 +53,9 @@ def _extra_panels():
     from designer.gui.panels.results import ResultsPanel
 
     out.append(("right", ResultsPanel))
+    from designer.gui.panels.study import StudyPanel
+
+    out.append(("right", StudyPanel))
     return out
 
 
@@ -83,7 +86,8 @@ class MainWindow(QMainWindow):
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
         self._tabify(["Terrain", "Texture", "Lighting", "GCPs"])
-        self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results"])
+        self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results",
+                      "Study"])
         self.docks["Terrain"].raise_()
         self.docks["Flight"].raise_()
         self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],

@@ -1,0 +1,249 @@
+"""What the Study panel shows, without Qt: levels typed by the user, the cost of a
+planned study (variants, runs, distinct renders and reconstructions, an estimate of the
+time) and the contents of a study output folder (``designer study run -o DIR``).
+
+Time estimate (seconds on one worker):
+
+* render: per distinct image set, :data:`RENDER_SETUP_S` plus its images × the reference
+  render seconds per image of the run's project
+  (:func:`designer.gui.derived.render_seconds_per_image`, the ``designer bench render``
+  figures), scaled by this machine's measured factor
+  (:mod:`designer.gui.render_speed`);
+* reconstruction + comparison: per distinct processing, its images ×
+  :func:`reconstruct_seconds_per_image` (grows with the image size, measured).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+#: seconds per distinct image set besides the images: Blender start, scene build, ground
+#: truth. Measured on the shared 2-core development machine (load average 7–10): 15 s for
+#: the tiny test study's render (18 images of 160 × 120 px, Cycles ≈ 0.3 s), 40 s for the
+#: gcp-count example's (47 s for 12 images of 640 × 480 px whose Cycles time the render
+#: model puts at 7 s; docs/studies.md).
+RENDER_SETUP_S = 30.0
+#: reconstruction + comparison seconds per image (sparse SfM): A + B × megapixels of the
+#: rendered image, fitted to two measured studies on the same machine — the tiny test
+#: study, 11 s for 18 images of 0.019 MP (0.6 s per image), and the gcp-count example,
+#: 21–54 s for 12 images of 0.31 MP (3.5 s per image; docs/studies.md) —
+RECONSTRUCT_S_A = 0.4
+RECONSTRUCT_S_B_PER_MP = 10.0
+#: — up to at most this (the feature count is capped, so larger images cost little more:
+#: ``designer demo`` reconstructed the example's 60 images of 1.25 MP in 418 s, dense
+#: cloud included; docs/benchmarks.md)
+RECONSTRUCT_S_MAX = 7.0
+#: a dense cloud (``<dense mode="cpu"/>``) costs this much more: 46–54 s per nadir run of
+#: 12 images in the flight-geometry example against 21–54 s without (docs/studies.md)
+DENSE_FACTOR = 1.3
+
+
+def reconstruct_seconds_per_image(project, interior) -> float:
+    """Estimated reconstruction + comparison seconds per image of ``project``."""
+    from designer.gui.derived import rendered_size_px
+
+    w_px, h_px = rendered_size_px(interior, project.render.resolution_scale)
+    seconds = min(RECONSTRUCT_S_A + RECONSTRUCT_S_B_PER_MP * w_px * h_px / 1e6,
+                  RECONSTRUCT_S_MAX)
+    dense = project.processing is not None and project.processing.dense != "none"
+    return seconds * (DENSE_FACTOR if dense else 1.0)
+
+
+def parse_levels(text: str) -> tuple[str, ...]:
+    """The levels in ``text``: values separated by spaces or commas, or a range
+    ``START:STOP:STEP`` (inclusive, as ``<range>`` in a study file). ValueError says why
+    the text is not usable."""
+    text = text.strip()
+    if not text:
+        raise ValueError("no levels; type values separated by spaces, or START:STOP:STEP")
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise ValueError(f"'{text}': a range is START:STOP:STEP, e.g. 20:40:5")
+        try:
+            start, stop, step = (float(p) for p in parts)
+        except ValueError:
+            raise ValueError(f"'{text}': a range needs three numbers, e.g. 20:40:5") from None
+        return range_levels(start, stop, step)
+    return tuple(v for v in re.split(r"[\s,;]+", text) if v)
+
+
+def range_levels(start: float, stop: float, step: float) -> tuple[str, ...]:
+    """start, start + step, … up to stop (inclusive), formatted as the study reader does."""
+    from designer.study.xml import MAX_LEVELS
+
+    if not step > 0:
+        raise ValueError(f"step {step:g}: give a step greater than 0")
+    if stop < start:
+        raise ValueError(f"stop {stop:g} is below start {start:g}; give stop >= start")
+    n = int((stop - start) / step + 1e-9) + 1
+    if n > MAX_LEVELS:
+        raise ValueError(f"{n} levels are too many (at most {MAX_LEVELS}); use a larger step")
+    return tuple(f"{round(start + k * step, 10):g}" for k in range(n))
+
+
+# ------------------------------------------------------------------ cost of a plan
+@dataclass(frozen=True)
+class PlanCost:
+    variants: int
+    runs: int
+    renders: int          # distinct image sets
+    reconstructions: int  # distinct processings
+    images_rendered: int
+    render_s: float
+    reconstruct_s: float
+
+    @property
+    def total_s(self) -> float:
+        return self.render_s + self.reconstruct_s
+
+
+def _render_key(project) -> str:
+    """What the images depend on: the project without its processing settings and the
+    GCP survey error (ground truth only)."""
+    scene = project.scene
+    if scene.targets is not None:
+        scene = replace(scene, targets=replace(scene.targets, survey_accuracy=None))
+    return repr(replace(project, name="", description=None, processing=None, scene=scene))
+
+
+def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
+    """Counts and estimated seconds (one worker) of a planned study
+    (:func:`designer.study.design.plan_study`); ``heightfield``: the base terrain's."""
+    from designer.gui.derived import render_seconds_per_image
+    from designer.survey.project_poses import interior_from_camera, project_stations
+
+    renders: dict[str, tuple[int, float]] = {}
+    render_s = 0.0
+    processings: dict[str, int] = {}
+    reconstruct_s = 0.0
+    for run in plan.runs:
+        project = run.project
+        key = _render_key(project)
+        if key not in renders:
+            stations, camera_id = project_stations(project, heightfield)
+            interior = interior_from_camera(project.camera(camera_id))
+            renders[key] = (len(stations), reconstruct_seconds_per_image(project, interior))
+            render_s += RENDER_SETUP_S + len(stations) * speed_factor * \
+                render_seconds_per_image(project, interior)
+        proc_key = repr(replace(project, name="", description=None))
+        if proc_key not in processings:
+            n_images, per_image_s = renders[key]
+            processings[proc_key] = n_images
+            reconstruct_s += n_images * per_image_s
+    return PlanCost(plan.n_variants, len(plan.runs), len(renders), len(processings),
+                    sum(n for n, _ in renders.values()), render_s, reconstruct_s)
+
+
+def duration_text(seconds: float) -> str:
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 2 * 3600:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+# ------------------------------------------------------------------ output folders
+@dataclass
+class StudyFolder:
+    """A study output folder as the panel shows it."""
+
+    path: Path
+    name: str = ""
+    state: str = "empty"  # empty (no study yet), partial (runs missing), complete
+    runs_total: int = 0
+    runs_done: int = 0
+    rows: list[dict] = field(default_factory=list)
+    metrics: tuple[str, ...] = ()
+    summary: dict | None = None
+    figures: list[Path] = field(default_factory=list)
+
+    @property
+    def columns(self) -> list[str]:
+        """Table columns: the run, each factor's level, the metrics, seconds, status."""
+        factors = sorted({k for r in self.rows for k in r if k.startswith("factor:")})
+        metrics = [m for m in self.metrics if m != "total_s"]
+        return ["run", *factors, *metrics, "total_s", "status"]
+
+    def describe(self) -> str:
+        if self.state == "empty":
+            return f"{self.path}: no study yet"
+        text = f"study '{self.name}': {self.runs_done} of {self.runs_total} runs finished"
+        if self.summary is not None:
+            s = self.summary
+            text += (f"; {s.get('renders')} renders, {s.get('reconstructions')} "
+                     f"reconstructions, {s.get('cache_hits')} cache hits, "
+                     f"{s.get('failed')} failed")
+        return text + ("" if self.state == "complete" else "; not finished (Resume continues)")
+
+
+def read_folder(path: str | Path, contents: bool = True) -> StudyFolder:
+    """The study in ``path``: its state, its rows (results.csv, or the finished runs'
+    result.json while it is not complete), summary.json and the report's figures
+    (``contents=False``: the state and counts only)."""
+    from designer.errors import DesignerError
+    from designer.study.spec import DEFAULT_METRICS
+
+    folder = StudyFolder(Path(path))
+    marker = folder.path / "study.json"
+    if not marker.is_file():
+        return folder
+    try:
+        study = json.loads(marker.read_text())
+    except (OSError, json.JSONDecodeError) as error:
+        raise DesignerError(f"{marker}: not a study record ({error}); open the folder "
+                            "'designer study run -o DIR' wrote") from None
+    folder.name = str(study.get("name", ""))
+    run_ids = list(study.get("runs", []))
+    folder.runs_total = len(run_ids)
+    done = [r for r in run_ids if (folder.path / "runs" / r / "result.json").is_file()]
+    folder.runs_done = len(done)
+    results = folder.path / "results.csv"
+    summary = folder.path / "summary.json"
+    complete = folder.runs_done == folder.runs_total and results.is_file() and \
+        summary.is_file()
+    folder.state = "complete" if complete else "partial"
+    if not contents:
+        return folder
+    if complete:
+        with results.open(newline="") as table:
+            folder.rows = list(csv.DictReader(table))
+        folder.summary = json.loads(summary.read_text())
+        folder.summary.pop("rows", None)
+        folder.metrics = tuple(folder.summary.get("metrics") or DEFAULT_METRICS)
+    else:
+        folder.rows = [json.loads((folder.path / "runs" / r / "result.json").read_text())
+                       for r in done]
+        folder.metrics = DEFAULT_METRICS
+    folder.figures = _figures(folder.path)
+    return folder
+
+
+def _figures(path: Path) -> list[Path]:
+    """The report's figures in the report's order (report.md), then any others."""
+    found = sorted((path / "figures").glob("*.png"))
+    order = []
+    report = path / "report.md"
+    if report.is_file():
+        for name in re.findall(r"\]\(figures/([^)]+\.png)\)", report.read_text()):
+            p = path / "figures" / name
+            if p in found and p not in order:
+                order.append(p)
+    return order + [p for p in found if p not in order]
+
+
+def cell_text(value) -> str:
+    """A results value for the table: numbers to 4 significant digits."""
+    if value is None or value == "":
+        return ""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    if isinstance(value, str) and not re.fullmatch(r"[-+0-9.eE]+", value):
+        return value
+    return f"{number:.4g}"

@@ -1,0 +1,271 @@
+"""Study panel: a study built with clicks and typing on the open project (live counts,
+errors located in the study file, Run refused), saved and opened again; a tiny study run
+from the panel, cancelled, resumed to the end, its results table and plots shown."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import time
+
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QPixmap
+from PySide6.QtWidgets import QLabel
+
+from designer.study.templates import write_template
+from designer.study.xml import read_study
+from tests.gui.helpers import answer_file_dialog, set_field, wait_idle
+
+pytestmark = pytest.mark.gui
+
+
+def _tiny_base(qtbot, w, folder):
+    """The tiny study's base project (160 × 120 px images) open in the window."""
+    write_template("tiny", folder / "tiny-template.xml")
+    base = folder / "tiny-template-base.xml"
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    panel = w.panels["Study"]
+    w.docks["Study"].raise_()
+    return panel, base
+
+
+def _add(qtbot, panel, name: str, levels: str):
+    """Choose the factor in the list, press Add, type its levels."""
+    choice = panel.factor_choice
+    choice.setFocus()
+    qtbot.keyClick(choice, Qt.Key.Key_Home)
+    while choice.currentData() != name:
+        index = choice.currentIndex()
+        qtbot.keyClick(choice, Qt.Key.Key_Down)
+        assert choice.currentIndex() != index, f"no factor {name} in the list"
+    qtbot.mouseClick(panel.add_button, Qt.MouseButton.LeftButton)
+    row = panel.rows[-1]
+    assert row.name == name
+    qtbot.keyClicks(row.levels, levels)
+    return row
+
+
+def _checked(qtbot, w, panel) -> str:
+    """Wait for the check of the current study; the plan line (or the errors)."""
+    qtbot.waitUntil(lambda: not panel._timer.isActive(), timeout=5000)
+    wait_idle(qtbot, w)
+    return panel.plan_label.text()
+
+
+def _runs_line(text: str) -> tuple[int, int, int]:
+    m = re.search(r"(\d+) variants × (\d+) replicates? = (\d+) runs", text)
+    assert m, text
+    return tuple(int(g) for g in m.groups())
+
+
+def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path):
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    text = _checked(qtbot, w, panel)
+    assert "the design is empty" in panel.errors.text()
+    assert not panel.run_box.run_button.isEnabled()
+
+    # a processing-only factor: base 0.5 px plus two levels, all on one render
+    _add(qtbot, panel, "marking-sigma-px", "0.2 2")
+    text = _checked(qtbot, w, panel)
+    assert _runs_line(text) == (3, 1, 3)
+    assert "1 render (" in text and "3 reconstructions" in text
+    assert "estimated time" in text and not panel.errors.isVisible()
+
+    # a render factor given as a range: two more variants, each its own render
+    _add(qtbot, panel, "sun-elevation-deg", "30:40:10")
+    text = _checked(qtbot, w, panel)
+    assert _runs_line(text) == (5, 1, 5)
+    assert "3 renders" in text
+    assert panel.rows[-1].count.text() == "2 levels"
+
+    set_field(qtbot, panel.replicates, "2")
+    qtbot.mouseClick(panel.vary["marking-error"], Qt.MouseButton.LeftButton)
+    assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
+    panel.design.setCurrentIndex(panel.design.findData("full-factorial"))
+    assert _runs_line(_checked(qtbot, w, panel)) == (4, 2, 8)  # 2 × 2 combinations
+    panel.design.setCurrentIndex(panel.design.findData("one-at-a-time"))
+
+    # a value the factor does not accept: a located error, Run refused
+    bad = _add(qtbot, panel, "calibration", "fixed sometimes")
+    _checked(qtbot, w, panel)
+    error = panel.errors.text()
+    assert re.match(r".*untitled-study\.xml:\d+:\d+: <values>: factor calibration: value "
+                    r"'sometimes' is not usable: use one of: fixed", error), error
+    assert panel.errors.isVisible() and not panel.run_box.run_button.isEnabled()
+    # a range that goes backwards is refused before the study is written
+    qtbot.mouseClick(bad.remove_button, Qt.MouseButton.LeftButton)
+    sun = panel.rows[-1]
+    sun.levels.selectAll()
+    qtbot.keyClicks(sun.levels, "40:30:10")
+    _checked(qtbot, w, panel)
+    assert "factor sun-elevation-deg: stop 30 is below start 40" in panel.errors.text()
+    sun.levels.selectAll()
+    qtbot.keyClicks(sun.levels, "30 40")
+    assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
+    assert not panel.errors.isVisible()
+
+    # saved through the dialog: a study file the reader reads back as the panel shows it
+    path = tmp_path / "studies" / "sun.xml"
+    path.parent.mkdir()
+    panel.name.selectAll()
+    qtbot.keyClicks(panel.name, "sun-and-marks")
+    answer_file_dialog(path)
+    qtbot.mouseClick(panel.save_button, Qt.MouseButton.LeftButton)
+    assert path.is_file()
+    study = read_study(path)
+    assert study.name == "sun-and-marks"
+    assert study.base.file == "../tiny-template-base.xml"
+    assert [(f.name, f.values) for f in study.factors] == [
+        ("marking-sigma-px", ("0.2", "2")), ("sun-elevation-deg", ("30", "40"))]
+    assert (study.design, study.replicates.count, study.replicates.vary) == (
+        "one-at-a-time", 2, ("marking-error",))
+    assert set(study.metrics) == {"check_rmse_xy_m", "check_rmse_z_m", "cloud_nmad_m",
+                                  "registered"}
+    assert panel.run_box.folder.text() == str(path.parent / "sun-study")
+
+    # another study replaces it in the panel; opening the saved file brings it back
+    for row in list(panel.rows):
+        qtbot.mouseClick(row.remove_button, Qt.MouseButton.LeftButton)
+    set_field(qtbot, panel.replicates, "1")
+    assert not panel.rows
+    answer_file_dialog(path)
+    qtbot.mouseClick(panel.open_button, Qt.MouseButton.LeftButton)
+    assert [(r.name, r.levels.text()) for r in panel.rows] == [
+        ("marking-sigma-px", "0.2 2"), ("sun-elevation-deg", "30 40")]
+    assert panel.name.text() == "sun-and-marks" and panel.replicates.value() == 2
+    assert panel.vary["marking-error"].isChecked() and not panel.vary["pose-noise"].isChecked()
+    assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
+    assert panel.run_box.run_button.isEnabled()
+
+
+def test_an_opened_study_with_an_error_points_into_its_file(qtbot, window, tmp_path):
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    path = tmp_path / "bad.xml"
+    path.write_text(
+        '<?xml version="1.0"?>\n'
+        '<study xmlns="urn:designer:project:1" schema-version="1.0" name="bad">\n'
+        '  <base-project file="tiny-template-base.xml"/>\n\n\n'
+        '  <factor name="altitude-m"><values>20 -5</values></factor>\n'
+        "</study>\n")
+    assert panel.open_study(path)
+    _checked(qtbot, w, panel)
+    assert panel.errors.text().startswith(f"{path}:6:")
+    assert "factor altitude-m = '-5' makes a project that is not valid" in panel.errors.text()
+    assert not panel.run_box.run_button.isEnabled()
+    # a file the reader refuses is listed, not half-loaded
+    path.write_text(path.read_text().replace("factor>", "factr>").replace("<factor ", "<factr "))
+    assert not panel.open_study(path)
+    assert f"{path}:6:3: <factr>: unknown element" in panel.errors.text()
+
+
+def test_a_study_whose_base_is_missing_asks_for_it(qtbot, window, tmp_path):
+    w = window
+    panel, base = _tiny_base(qtbot, w, tmp_path)
+    w.file_actions.new(None)  # the window's project is another one now
+    wait_idle(qtbot, w)
+    w.docks["Study"].raise_()
+    path = tmp_path / "elsewhere" / "study.xml"
+    path.parent.mkdir()
+    path.write_text((tmp_path / "tiny-template.xml").read_text())  # base: not beside it
+    answer_file_dialog(base)
+    assert panel.open_study(path)
+    assert panel.base_file == base.resolve()
+    assert str(base.resolve()) in panel.base_label.text()
+    assert _runs_line(_checked(qtbot, w, panel)) == (4, 1, 4)
+    assert panel.use_window.isVisible()
+    # the window's blank project as the base instead: it has no flight to vary
+    qtbot.mouseClick(panel.use_window, Qt.MouseButton.LeftButton)
+    _checked(qtbot, w, panel)
+    assert panel.base_file is None and panel.errors.isVisible()
+    assert not panel.run_box.run_button.isEnabled()
+
+
+def _group_alive(pid: int) -> bool:
+    try:
+        os.killpg(pid, 0)
+    except ProcessLookupError:
+        return False
+    return True
+
+
+@pytest.mark.blender
+def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, tmp_path):
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")  # and the base's 0.5 px: one render
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    predicted = panel.cost
+    assert panel.save_study(tmp_path / "marks.xml")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    box = panel.run_box
+    out = tmp_path / "marks-study"
+    assert box.folder.text() == str(out)
+    assert box.run_button.text() == "Run" and box.run_button.isEnabled()
+
+    # run; cancel once the first run is finished
+    qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)
+    assert box.process.running and box.cancel_button.isEnabled()
+    pid = box.process.process.processId()
+    qtbot.waitUntil(lambda: box.progress.value() >= 1 or not box.process.running,
+                    timeout=300_000)
+    assert box.process.running, box.log.toPlainText()
+    assert "runs finished" in box.state.text()
+    finished = {p.parent.name: p.read_bytes() for p in out.glob("runs/*/result.json")}
+    qtbot.mouseClick(box.cancel_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not box.process.running, timeout=30_000)
+    assert box.state.text().startswith("cancelled"), box.state.text()
+    assert "Resume continues" in box.state.text()
+    deadline = time.monotonic() + 10
+    while _group_alive(pid) and time.monotonic() < deadline:  # no worker left behind
+        qtbot.wait(100)
+    assert not _group_alive(pid)
+    assert finished and not (out / "results.csv").exists()
+    assert box.run_button.text() == "Resume" and box.run_button.isEnabled()
+    # the unfinished folder opened: the finished runs, and that it is not finished
+    assert panel.open_folder(out)
+    assert panel.results.table.rowCount() == len(finished)
+    assert "not finished (Resume continues)" in panel.results.summary.text()
+
+    # resume to the end: the runs finished before are kept as they were
+    qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not box.process.running, timeout=300_000)
+    assert box.state.text().startswith("done"), box.state.text() + box.log.toPlainText()
+    assert "--resume" in box.process.process.arguments()
+    for run, content in finished.items():
+        assert (out / "runs" / run / "result.json").read_bytes() == content
+    summary = json.loads((out / "summary.json").read_text())
+    assert (summary["runs"], summary["renders"], summary["reconstructions"]) == (
+        predicted.runs, predicted.renders, predicted.reconstructions)
+    assert not box.run_button.isEnabled()  # the folder holds a finished study
+
+    # the results: a row per run with the factor's level, metrics and status; the plots
+    results = panel.results
+    table = results.table
+    headers = [table.horizontalHeaderItem(c).text() for c in range(table.columnCount())]
+    assert table.rowCount() == 2
+    assert {"run", "marking-sigma-px", "check_rmse_z_m", "status"} <= set(headers)
+    levels = {table.item(r, headers.index("marking-sigma-px")).text() for r in range(2)}
+    assert levels == {"0.5", "2"}
+    assert {table.item(r, headers.index("status")).text() for r in range(2)} == {"ok"}
+    assert float(table.item(0, headers.index("check_rmse_z_m")).text()) > 0
+    names = [results.figure_choice.itemText(k) for k in range(results.figure_choice.count())]
+    assert "factor-marking-sigma-px" in names and "pareto" in names
+    results.select_figure("pareto")
+    assert results.figure_path.name == "pareto.png"
+    assert not results.figure.pixmap().isNull() and results.figure.pixmap().width() > 100
+    qtbot.mouseDClick(results.figure, Qt.MouseButton.LeftButton)
+    full = results.viewer
+    assert full.isVisible() and full.findChild(QLabel).pixmap().size() == QPixmap(
+        str(out / "figures" / "pareto.png")).size()
+    full.close()
+
+    # the folder opened afresh shows the same
+    panel.results.table.setRowCount(0)
+    assert panel.open_folder(out)
+    assert panel.results.table.rowCount() == 2
+    assert "2 of 2 runs finished" in panel.results.summary.text()
