@@ -2,7 +2,8 @@
 
     python scripts/texture-repeat-matching.py OUT IMG_A IMG_B [IMG_C ...]
 
-OUT is a folder ``designer render`` wrote (images plus ground-truth/). For every pair of
+OUT is a folder ``designer render`` wrote (images in OUT/images/ or OUT/, and
+ground-truth/). For every pair of
 the named images this prints:
 
 * OpenCV: SIFT (8000 features; keypoints within 40 px of a GCP target left out, the
@@ -31,6 +32,10 @@ import numpy as np
 TARGET_RADIUS_PX = 40
 
 
+def image_folder(out: Path) -> Path:
+    return out / "images" if (out / "images").is_dir() else out
+
+
 def opencv_pairs(folder: Path, names: list[str]) -> None:
     lines = [ln for ln in open(folder / "ground-truth" / "gcp_observations.csv")
              if not ln.startswith("#")]
@@ -40,7 +45,7 @@ def opencv_pairs(folder: Path, names: list[str]) -> None:
     sift = cv2.SIFT_create(nfeatures=8000)
 
     def features(name):
-        kp, desc = sift.detectAndCompute(cv2.imread(str(folder / name), 0), None)
+        kp, desc = sift.detectAndCompute(cv2.imread(str(image_folder(folder) / name), 0), None)
         pts = np.float32([p.pt for p in kp])
         keep = np.ones(len(kp), bool)
         for t in targets.get(name, []):
@@ -77,7 +82,7 @@ def colmap_pairs(folder: Path, names: list[str]) -> None:
         images = Path(tmp) / "images"
         images.mkdir()
         for n in names:
-            shutil.copy(folder / n, images / n)
+            shutil.copy(image_folder(folder) / n, images / n)
         db = Path(tmp) / "database.db"
         pycolmap.extract_features(db, images)
         pycolmap.match_exhaustive(db)

@@ -57,7 +57,7 @@ def test_variation_breaks_the_tile_repeat_on_a_render(tmp_path):
                             ("varied", m.TextureVariation(seed=5, scale_m=20.0, strength=0.5))):
         path = write_project_file(nadir_project(variation), tmp_path / name)
         summary = render_project(path, tmp_path / name / "out", workers=1)
-        img = cv2.imread(str(summary.out_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
+        img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
         grey[name] = img.astype(np.float64)
     plain, varied = tile_correlation(grey["plain"]), tile_correlation(grey["varied"])
     # the plain tiled ground is the same one tile on; the varied one is not
