@@ -15,6 +15,7 @@ import numpy as np
 
 from designer import __version__
 from designer.core.interior import InteriorOrientation
+from designer.core.layout import IMAGES_DIR, JOB_DIR
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
 from designer.core.truth import CameraPose
 from designer.effects.distortion_render import pinhole_render_camera
@@ -41,13 +42,13 @@ from designer.render.job_spec import (
     RenderSpec,
 )
 from designer.scene.build import BuiltScene, build_scene
+from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_stations, render_interior
 from designer.survey.timeline import StationTime, iso_utc, project_station_times
 
 #: samples per pixel of each quality preset; measured costs in the README
 QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 PIXEL_FILTERS = {"box": "BOX", "gaussian": "GAUSSIAN", "blackman-harris": "BLACKMAN_HARRIS"}
-JOB_DIR = ".designer-job"
 
 
 @dataclass(frozen=True)
@@ -69,7 +70,11 @@ def prepare_job(
     out_dir: Path,
     quality: str | None = None,
 ) -> PreparedJob:
-    """Build the scene, write its files under ``out_dir/.designer-job`` and the job.json."""
+    """Build the scene, write its files under ``out_dir/.designer-job`` and the job.json.
+
+    The job's workers write the images into ``out_dir/images``
+    (:mod:`designer.core.layout`).
+    """
     out_dir = Path(out_dir)
     job_dir = out_dir / JOB_DIR
     job_dir.mkdir(parents=True, exist_ok=True)
@@ -95,6 +100,15 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
+    if scene.variation is not None:
+        var = scene.variation
+        write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
+        write_png(job_dir / "variation_warp.png", cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))
+        # the image stores gain / GAIN_ENCODING; the emission strength scales it back
+        terrain_material = replace(terrain_material, variation="variation.png",
+                                   variation_warp="variation_warp.png",
+                                   variation_warp_uv=var.warp_bound_uv,
+                                   strength=terrain_material.strength * GAIN_ENCODING)
     terrain_uv = {}
     if scene.texture_uv is not None:
         # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
@@ -133,7 +147,7 @@ def prepare_job(
     job = RenderJob(
         designer_version=__version__,
         project=project.name,
-        output_dir=str(out_dir.resolve()),
+        output_dir=str((out_dir / IMAGES_DIR).resolve()),
         origin_world=tuple(float(v) for v in origin),
         render=RenderSpec(
             samples=samples, seed=0,

@@ -83,7 +83,8 @@ class ObjectLighting:
                 light = self._cloudy_light(azimuth_deg, elevation_deg, size, time_s or 0.0)
             name = f"lightmap{tag}.png"
             write_png(self.job_dir / name, encode_lightmap_png16(light))
-            material = replace(material, lightmap=name, strength=LIGHTMAP_SCALE)
+            material = replace(material, lightmap=name,
+                               strength=material.strength * LIGHTMAP_SCALE)
         objects = [MeshSpec("terrain", "terrain.npz", (material,))]
         cache = self._others
         if (azimuth_deg, elevation_deg) in cache:  # same sun, other clouds

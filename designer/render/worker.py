@@ -2,8 +2,9 @@
 
 Run as ``python -m designer.render.worker JOB.json --frames 0,1,5 [--progress-fd N]``.
 It builds the scene described by the job once, then renders the frames asked for,
-each to a temporary file renamed into place when complete. Progress goes out as JSON
-lines on file descriptor N (stdout carries Blender's own log).
+each to a file in the job folder's ``partial/`` renamed into the images folder (the
+job's ``output_dir``) when complete: nothing partial ever appears among the images.
+Progress goes out as JSON lines on file descriptor N (stdout carries Blender's own log).
 
 Only effects the job asks for are rendered: no denoiser, no adaptive sampling, no
 dithering, a box pixel filter one pixel wide unless asked otherwise, the 'Standard'
@@ -24,6 +25,7 @@ import bpy  # the one place in designer that imports bpy
 import numpy as np
 from mathutils import Matrix
 
+from designer.core.layout import PARTIAL_DIR
 from designer.render.job_spec import (
     IMAGE_FORMATS,
     TEXTURE_UV_MAP,
@@ -35,6 +37,7 @@ from designer.render.job_spec import (
     RenderJob,
 )
 from designer.render.png_text import move_without_text
+from designer.scene.texture_variation import MIRROR_OFFSETS
 
 
 def reset_scene() -> bpy.types.Scene:
@@ -146,18 +149,22 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
     mapping.vector_type = "POINT"
     tiles = spec.uv_tiles
     mapping.inputs["Scale"].default_value = (float(tiles[0]), float(tiles[1]), 1.0)
+    lookup_uv = uv.outputs["UV"]
     if spec.uv_map:
         texture_uv = nodes.new("ShaderNodeUVMap")
         texture_uv.uv_map = spec.uv_map
-        links.new(texture_uv.outputs["UV"], mapping.inputs["Vector"])
-    else:
-        links.new(uv.outputs["UV"], mapping.inputs["Vector"])
+        lookup_uv = texture_uv.outputs["UV"]
+    elif spec.variation_warp:
+        lookup_uv = _warped_uv(nodes, links, spec, base, uv.outputs["UV"])
+    links.new(lookup_uv, mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = load_image(str(base / spec.texture), "sRGB")
     tex.interpolation = spec.interpolation
     tex.extension = spec.extension
     links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
     colour = tex.outputs["Color"]
+    if spec.variation:
+        colour = _varied(nodes, links, spec, base, uv.outputs["UV"], lookup_uv, colour)
     if spec.lightmap:
         light = nodes.new("ShaderNodeTexImage")
         light.image = load_image(str(base / spec.lightmap), "Non-Color")
@@ -173,6 +180,69 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
         colour = mix.outputs["Result"]
     links.new(colour, emit.inputs["Color"])
     return mat
+
+
+def _mix(nodes, links, blend: str, factor, a, b):
+    mix = nodes.new("ShaderNodeMix")
+    mix.data_type = "RGBA"
+    mix.blend_type = blend
+    if isinstance(factor, float):
+        mix.inputs["Factor"].default_value = factor
+    else:
+        links.new(factor, mix.inputs["Factor"])
+    links.new(a, mix.inputs["A"])
+    links.new(b, mix.inputs["B"])
+    return mix.outputs["Result"]
+
+
+def _variation_image(nodes, links, path: Path, uv):
+    node = nodes.new("ShaderNodeTexImage")
+    node.image = load_image(str(path), "Non-Color")
+    node.interpolation = "Linear"
+    node.extension = "EXTEND"
+    links.new(uv, node.inputs["Vector"])
+    return node.outputs["Color"]
+
+
+def _warped_uv(nodes, links, spec: MaterialSpec, base: Path, uv):
+    """UV + the variation's warp, decoded from 0.5 + warp / (2 bound)."""
+    warp = _variation_image(nodes, links, base / spec.variation_warp, uv)
+    decode = nodes.new("ShaderNodeMapping")
+    decode.vector_type = "POINT"
+    bound = float(spec.variation_warp_uv)
+    decode.inputs["Scale"].default_value = (2 * bound, 2 * bound, 0.0)
+    decode.inputs["Location"].default_value = (-bound, -bound, 0.0)
+    links.new(warp, decode.inputs["Vector"])
+    add = nodes.new("ShaderNodeVectorMath")
+    add.operation = "ADD"
+    links.new(uv, add.inputs[0])
+    links.new(decode.outputs["Vector"], add.inputs[1])
+    return add.outputs["Vector"]
+
+
+def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour):
+    """The tiled texture blended with two mirrored, shifted copies of itself by the
+    variation's mix_a and mix_b, times its gain / GAIN_ENCODING (the strength holds the
+    factor); the variation images span the UV square once (world X, Y of the terrain),
+    the copies are looked up at the warped UV like the texture."""
+    planes = nodes.new("ShaderNodeSeparateColor")
+    links.new(_variation_image(nodes, links, base / spec.variation, uv), planes.inputs["Color"])
+    tx, ty = (float(t) for t in spec.uv_tiles)
+    image = bpy.data.images.load(str(base / spec.texture), check_existing=True)
+    for (du, dv), scale, weight in zip(MIRROR_OFFSETS, ((-tx, ty), (tx, -ty)),
+                                       ("Green", "Blue"), strict=True):
+        mapping = nodes.new("ShaderNodeMapping")
+        mapping.vector_type = "POINT"
+        mapping.inputs["Scale"].default_value = (scale[0], scale[1], 1.0)
+        mapping.inputs["Location"].default_value = (du, dv, 0.0)
+        links.new(lookup_uv, mapping.inputs["Vector"])
+        copy = nodes.new("ShaderNodeTexImage")
+        copy.image = image
+        copy.interpolation = spec.interpolation
+        copy.extension = "REPEAT"
+        links.new(mapping.outputs["Vector"], copy.inputs["Vector"])
+        colour = _mix(nodes, links, "MIX", planes.outputs[weight], colour, copy.outputs["Color"])
+    return _mix(nodes, links, "MULTIPLY", 1.0, colour, planes.outputs["Red"])
 
 
 def set_materials(mesh: bpy.types.Mesh, spec: MeshSpec, base: Path, data=None) -> None:
@@ -256,51 +326,45 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
     return scene, camera
 
 
-def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain=None,
-                 exif: bool = False) -> dict:
+def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, partial: Path,
+                 chain=None, exif: bool = False) -> dict:
     """Render one frame; apply the camera effects (if any); write its time into the EXIF
-    when ``exif``; rename the image into place."""
+    when ``exif``; rename the image into place.
+
+    Blender's file and the finished image are written in ``partial`` (a folder outside
+    ``out_dir`` on the same file system); only the complete image is renamed into
+    ``out_dir``, which therefore never holds anything but finished images.
+    """
     camera.matrix_world = Matrix(frame.matrix_world_local)
     final = out_dir / frame.image_name
-    tmp = final.with_name(f".{final.stem}.rendering{ext}")
+    partial.mkdir(parents=True, exist_ok=True)
+    tmp = partial / f"{final.stem}.rendering{ext}"
+    staged = partial / final.name  # the finished image, before its rename into out_dir
     scene.render.filepath = str(tmp)
     t0, cpu0 = time.perf_counter(), time.process_time()
     bpy.ops.render.render(write_still=True)
     t1, cpu = time.perf_counter(), time.process_time() - cpu0
-    stamp = exif and frame.time_utc is not None
-    if chain is None and final.suffix.lower() == ".png":
-        move_without_text(tmp, final)  # Blender's render-time and date text only
-    elif chain is None:
-        if stamp:
+    try:
+        if chain is None and final.suffix.lower() == ".png":
+            move_without_text(tmp, staged)  # Blender's render-time and date text only
+        elif chain is None:
+            os.replace(tmp, staged)
+        else:
+            from designer.effects.base import FrameContext
+            from designer.effects.chain import process_file
+
+            context = FrameContext(gsd_m=frame.gsd_m,
+                                   flight_direction_uv=frame.flight_direction_uv,
+                                   distance_m=frame.distance_m)
+            process_file(tmp, staged, chain, frame.index, context)
+        if exif and frame.time_utc is not None:
             from designer.render.exif import write_time
 
-            write_time(tmp, frame.time_utc)
-        os.replace(tmp, final)
-    elif stamp:
-        from designer.effects.base import FrameContext
-        from designer.effects.chain import process_file
-        from designer.render.exif import write_time
-
-        context = FrameContext(gsd_m=frame.gsd_m, flight_direction_uv=frame.flight_direction_uv,
-                               distance_m=frame.distance_m)
-        stamped = final.with_name(f".{final.stem}.metadata{final.suffix}")
-        try:
-            process_file(tmp, stamped, chain, frame.index, context)
-            write_time(stamped, frame.time_utc)
-            os.replace(stamped, final)
-        finally:
-            tmp.unlink(missing_ok=True)
-            stamped.unlink(missing_ok=True)
-    else:
-        from designer.effects.base import FrameContext
-        from designer.effects.chain import process_file
-
-        context = FrameContext(gsd_m=frame.gsd_m, flight_direction_uv=frame.flight_direction_uv,
-                               distance_m=frame.distance_m)
-        try:
-            process_file(tmp, final, chain, frame.index, context)
-        finally:
-            tmp.unlink(missing_ok=True)
+            write_time(staged, frame.time_utc)
+        os.replace(staged, final)
+    finally:
+        tmp.unlink(missing_ok=True)
+        staged.unlink(missing_ok=True)
     return {"path": str(final), "seconds": time.perf_counter() - t0,
             "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
             "effects_seconds": time.perf_counter() - t1}
@@ -350,7 +414,8 @@ def main(argv: list[str] | None = None) -> int:
         step = frames[index].light_step
         if step is not None:
             apply_light_step(scene, current, job.light_steps[step], base)
-        done = render_frame(scene, camera, frames[index], out_dir, ext, chain, exif)
+        done = render_frame(scene, camera, frames[index], out_dir, ext, base / PARTIAL_DIR,
+                            chain, exif)
         emit(progress, event="frame_done", index=index, **done)
     import resource
 
