@@ -51,8 +51,8 @@ def rendered(tmp_path_factory):
 
 def _ratios(rendered):
     cloudy, clear = rendered
-    return [_linear(cloudy / f"IMG_{k:03d}.png") / np.maximum(
-        _linear(clear / f"IMG_{k:03d}.png"), 1e-3) for k in (0, 1)]
+    return [_linear(cloudy / "images" / f"IMG_{k:03d}.png") / np.maximum(
+        _linear(clear / "images" / f"IMG_{k:03d}.png"), 1e-3) for k in (0, 1)]
 
 
 def test_a_shadow_drifts_by_wind_times_the_time_between_photos(rendered):
