@@ -95,3 +95,25 @@ def test_the_study_engine_can_vary_the_clouds():
     assert FACTORS["cloud-depth"].get(FACTORS["cloud-depth"].set(windy, 0.3)) == 0.3
     assert FACTORS["cloud-cover"].set(windy, 0.0).scene.lighting.clouds is None
     assert DRAWS["clouds"][1](windy, 9).scene.lighting.clouds.seed == 9
+
+
+def test_without_a_time_line_the_clouds_stay_as_at_takeoff(tmp_path):
+    """One light map for every photo, dimmed by the clouds at t = 0; with the time line
+    each photo gets its own light map."""
+    import cv2
+
+    from designer.render.job import prepare_job
+
+    frozen = replace(_cloudy(replace(CLOUDS, size_m=8.0)), trajectory=replace(
+        _cloudy().trajectory, time_line=None))
+    job = prepare_job(frozen, tmp_path, tmp_path / "frozen").job
+    assert job.light_steps == () and all(f.light_step is None for f in job.frames)
+    clear = replace(frozen, scene=replace(frozen.scene, lighting=replace(
+        frozen.scene.lighting, clouds=None)))
+    prepare_job(clear, tmp_path, tmp_path / "clear")
+    lm = [cv2.imread(str(tmp_path / d / ".designer-job/lightmap.png"), cv2.IMREAD_UNCHANGED)
+          .astype(float) for d in ("frozen", "clear")]
+    assert np.mean(lm[0] < 0.9 * lm[1]) > 0.05  # shadows on part of the ground
+    drifting = prepare_job(_cloudy(replace(CLOUDS, size_m=8.0)), tmp_path, tmp_path / "d").job
+    assert len(drifting.light_steps) == 2
+    assert [f.light_step for f in drifting.frames] == [0, 1]
