@@ -95,9 +95,16 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path) -> dict[st
     gcps = [GroundControlPoint(t.target.id, t.target.role, t.true_xyz, t.surveyed_xyz,
                                t.sigma_xyz) for t in prepared.scene.targets]
     formats = project.outputs.ground_truth or DEFAULT_FORMATS
-    return write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
-                     ground_truth_observations(prepared), odm_crs(project.crs),
-                     formats=formats, image_times=image_times(prepared))
+    written = write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
+                        ground_truth_observations(prepared), odm_crs(project.crs),
+                        formats=formats, image_times=image_times(prepared))
+    if prepared.moving_poses:
+        from designer.render.moving_truth import write_moving_truth
+
+        written = {**written, **write_moving_truth(
+            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
+            prepared.moving_poses, prepared.moving_meshes)}
+    return written
 
 
 def image_times(prepared: PreparedJob) -> list[ImageTime] | None:

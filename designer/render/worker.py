@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import sys
 import time
@@ -250,7 +251,7 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
     background.inputs["Color"].default_value = (*job.background_rgb, 1)
     background.inputs["Strength"].default_value = 1.0
     scene.world = world
-    for spec in job.objects:
+    for spec in (*job.objects, *job.moving_objects):
         add_mesh(scene, spec, base)
     camera = add_camera(scene, job.camera)
     return scene, camera
@@ -261,6 +262,10 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain
     """Render one frame; apply the camera effects (if any); write its time into the EXIF
     when ``exif``; rename the image into place."""
     camera.matrix_world = Matrix(frame.matrix_world_local)
+    for name, x, y, z, heading_deg in frame.moving_poses or ():
+        obj = bpy.data.objects[name]  # its mesh: base centre at 0, +Y forward
+        obj.location = (x, y, z)
+        obj.rotation_euler = (0.0, 0.0, -math.radians(heading_deg))
     final = out_dir / frame.image_name
     tmp = final.with_name(f".{final.stem}.rendering{ext}")
     scene.render.filepath = str(tmp)
