@@ -177,3 +177,27 @@ def test_moving_objects_survive_a_round_trip_through_the_file(tmp_path):
     p = replace(p, scene=replace(p.scene, moving_objects=(*p.scene.moving_objects, car)))
     back = load_project(write_project_file(p, tmp_path))
     assert back.scene.moving_objects == p.scene.moving_objects
+
+
+def test_compare_uses_the_static_ground_unless_given_a_time(tmp_path, capsys):
+    from designer.cli.main import main as cli_main
+    from designer.evaluate.compare import reference_mesh
+
+    p = moving_project(TIMES_S)
+    path = write_project_file(p, tmp_path / "moving")
+    bare = write_project_file(replace(p, scene=replace(p.scene, moving_objects=())),
+                              tmp_path / "bare")
+    static = reference_mesh(path)
+    assert np.array_equal(static.vertices, reference_mesh(bare).vertices)
+    posed = reference_mesh(path, at_time_s=2.0)
+    box = posed.vertices[len(static.vertices):]
+    assert len(box) == 8 and posed.faces.max() == len(posed.vertices) - 1
+    E0, N0, H0 = ORIGIN
+    assert box.mean(axis=0) == pytest.approx((E0 - 2.5 + 3.0, N0 + 0.5,
+                                              H0 + 0.25 + BOX_SIZE_M[2] / 2))
+    cloud = tmp_path / "cloud.ply"
+    cloud.write_text("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
+                     "property float y\nproperty float z\nend_header\n")
+    assert cli_main(["compare", str(cloud), str(tmp_path / "cloud.ply"), "-o",
+                     str(tmp_path / "o"), "--at-time", "2"]) == 2
+    assert "--at-time 2.0: needs a project XML" in capsys.readouterr().err
