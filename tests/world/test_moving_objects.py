@@ -196,8 +196,8 @@ def test_compare_uses_the_static_ground_unless_given_a_time(tmp_path, capsys):
     assert box.mean(axis=0) == pytest.approx((E0 - 2.5 + 3.0, N0 + 0.5,
                                               H0 + 0.25 + BOX_SIZE_M[2] / 2))
     cloud = tmp_path / "cloud.ply"
-    cloud.write_text("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
-                     "property float y\nproperty float z\nend_header\n")
+    cloud.write_text("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                     "property float y\nproperty float z\nend_header\n0 0 0\n")
     assert cli_main(["compare", str(cloud), str(tmp_path / "cloud.ply"), "-o",
                      str(tmp_path / "o"), "--at-time", "2"]) == 2
     assert "--at-time 2.0: needs a project XML" in capsys.readouterr().err
