@@ -17,7 +17,10 @@ from collections.abc import Callable
 from pathlib import Path
 
 from designer.atomic import write_text_atomic
+from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR
 
+#: the render output folder inside the demo's folder (its images in SURVEY_DIR/images/)
+SURVEY_DIR = "survey"
 #: the longer image side the demo's dense matching uses: 912 px of 1368 halves the
 #: matching time for 1.6 cm instead of 1.0 cm median |d| (designer bench dense)
 DEMO_DENSE_MAX_IMAGE_PX = 912
@@ -62,7 +65,7 @@ def run_demo(
         write_gsd_map(output / "plan-gsd.png", plan.analysis.coverage, area=area,
                       stations_xy=xy)
     with stage("render"):
-        summary = render_project(project_path, output / "images", quality=quality,
+        summary = render_project(project_path, output / SURVEY_DIR, quality=quality,
                                  frames=frames, resume=True,
                                  progress=_frame_logger(log, len(plan.stations)))
         log(f"{len(summary.report.rendered)} images rendered, "
@@ -78,7 +81,7 @@ def run_demo(
             # GCPs in the adjustment and the dense cloud, as survey software delivers it;
             # 4096 SIFT features per 1.2 MP image are plenty and halve the matching time.
             processing = replace(project.processing or m.Processing(), dense="cpu")
-            recon = reconstruct(output / "images", output / "reconstruction", mode="free",
+            recon = reconstruct(output / SURVEY_DIR, output / "reconstruction", mode="free",
                                 max_features=4096, log=log, processing=processing,
                                 project_path=project_path,
                                 dense_max_image_px=DEMO_DENSE_MAX_IMAGE_PX)
@@ -129,7 +132,7 @@ def _compare(project_path: Path, recon, plan, out: Path, log) -> dict:
     from designer.export.tables import read_gcp_truth_csv
     from designer.project import load_project
 
-    truth = read_gcp_truth_csv(recon.out_dir.parent / "images" / "ground-truth" /
+    truth = read_gcp_truth_csv(recon.out_dir.parent / SURVEY_DIR / GROUND_TRUTH_DIR /
                                "gcp_truth.csv")
     estimated = {r["id"]: r["estimated"] for r in recon.summary["gcps"]}
     gcps = gcp_errors(estimated, truth)
@@ -193,7 +196,7 @@ def _report_text(project, plan: dict, summary, timings: dict[str, float],
         "",
         "## A rendered image",
         "",
-        f"![{first}](images/{first})",
+        f"![{first}]({SURVEY_DIR}/{IMAGES_DIR}/{first})",
         "",
         "## GCPs (images that see each target unoccluded)",
         "",
@@ -220,7 +223,9 @@ def _report_text(project, plan: dict, summary, timings: dict[str, float],
             "`reconstruction/gcp_residuals.csv`."]
     lines += ["", "## Timings", "", "| stage | seconds |", "|---|---|"]
     lines += [f"| {name} | {seconds:.1f} |" for name, seconds in timings.items()]
-    lines += ["", "Ground truth: `images/ground-truth/`; manifest: `images/manifest.json`.", ""]
+    lines += ["", f"Images: `{SURVEY_DIR}/{IMAGES_DIR}/`; ground truth: "
+              f"`{SURVEY_DIR}/{GROUND_TRUTH_DIR}/`; manifest: `{SURVEY_DIR}/manifest.json`; "
+              f"which file each program takes: `{SURVEY_DIR}/README.txt`.", ""]
     return "\n".join(lines)
 
 

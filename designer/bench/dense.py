@@ -52,6 +52,7 @@ def _survey(folder: Path) -> tuple[Path, Path, Path, np.ndarray]:
 
 
 def run(repeats: int = 1, scale: float = 1.0, out_dir: Path | None = None) -> list[dict]:
+    from designer.core.layout import images_dir
     from designer.evaluate.compare import reference_mesh
     from designer.evaluate.distance import signed_distances
     from designer.sfm.dense import dense_cloud
@@ -67,7 +68,7 @@ def run(repeats: int = 1, scale: float = 1.0, out_dir: Path | None = None) -> li
             work = folder / f"dense-{size or 'full'}"
             shutil.rmtree(work, ignore_errors=True)
             wall, cpu = time.perf_counter(), time.process_time()
-            cloud = dense_cloud(images, model, work, origin_world=origin,
+            cloud = dense_cloud(images_dir(images), model, work, origin_world=origin,
                                 max_image_size_px=size, bounds_world=(lo, hi),
                                 log=lambda m: None)
             wall, cpu = time.perf_counter() - wall, time.process_time() - cpu

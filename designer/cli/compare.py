@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 
@@ -22,7 +23,12 @@ def register(subparsers) -> None:
                         help="true mesh (PLY/OBJ/STL, world coordinates) or project XML")
     parser.add_argument("-o", "--output", type=Path, required=True, help="output folder")
     parser.add_argument("--offset", type=float, nargs=3, metavar=("E", "N", "H"),
-                        help="add this to the cloud's (and its COLMAP model's) coordinates")
+                        help="add this to the cloud's (and its COLMAP model's) coordinates, "
+                             "in float64 after reading (for clouds written in a local frame)")
+    parser.add_argument("--allow-float32", action="store_true",
+                        help="compare a cloud whose stored coordinates are coarser than 1 mm "
+                             "(float32 at UTM size, a coarse LAS scale) instead of refusing "
+                             "it; the spacing is recorded in summary.json")
     parser.add_argument("--columns", nargs=3, metavar=("X", "Y", "Z"),
                         help="text clouds: the x, y, z columns, by header name or 0-based number")
     parser.add_argument("--max-distance", type=float, metavar="M",
@@ -49,6 +55,22 @@ def register(subparsers) -> None:
                         help="camera errors without the 7-parameter similarity alignment")
     parser.add_argument("--json", action="store_true", help="print summary.json instead")
     parser.set_defaults(func=run)
+
+
+def _project_origin(reference: Path) -> tuple[float, float, float] | None:
+    """The origin (E0, N0, H0) of a project XML reference: the local frame to suggest for
+    a cloud stored too coarsely; None for a mesh file or an unreadable project."""
+    from designer.errors import DesignerError
+
+    if reference.suffix.lower() != ".xml" or not reference.is_file():
+        return None
+    from designer.project import load_project
+
+    try:
+        origin = load_project(reference).origin
+    except DesignerError:
+        return None
+    return origin.E0, origin.N0, origin.H0
 
 
 def _truth_folder(path: Path) -> Path:
@@ -122,7 +144,7 @@ def run(args) -> int:
 def _compare(args, loader) -> int:
     from designer.errors import DesignerError
     from designer.evaluate.clouds import read_point_cloud
-    from designer.evaluate.compare import compare_cloud, reference_mesh
+    from designer.evaluate.compare import coarse_warnings, compare_cloud, reference_mesh
     from designer.evaluate.report import format_summary
     from designer.evaluate.statistics import DEFAULT_TOLERANCES_M
 
@@ -136,7 +158,11 @@ def _compare(args, loader) -> int:
     if not args.reference.exists():
         raise DesignerError(f"reference {args.reference} does not exist")
     cloud = read_point_cloud(args.cloud, offset=args.offset,
-                             columns=tuple(args.columns) if args.columns else None)
+                             columns=tuple(args.columns) if args.columns else None,
+                             allow_coarse=args.allow_float32,
+                             offset_hint=lambda: _project_origin(args.reference))
+    for warning in coarse_warnings(cloud):
+        print(f"warning: {args.cloud}: {warning}", file=sys.stderr)
     if args.at_time is not None and args.reference.suffix.lower() != ".xml":
         raise DesignerError(f"--at-time {args.at_time}: needs a project XML as the reference, "
                             f"not {args.reference.name}")

@@ -12,9 +12,12 @@ def register(subparsers) -> None:
         "render", help="render a project's images and write its ground truth",
         description=(
             "Render every image of a project with Blender/Cycles in local worker processes, "
-            "then write the ground truth (COLMAP, OpenDroneMap, Metashape, OPK, GCP tables) "
-            "and OUT/manifest.json. Images appear only when complete; Ctrl-C stops cleanly "
-            "and --resume continues where a run stopped."),
+            "into OUT/images/ (nothing else is written there), then the ground truth "
+            "(COLMAP, OpenDroneMap, Metashape, OPK, GCP tables) into OUT/ground-truth/, "
+            "OUT/manifest.json and OUT/README.txt (which file each program takes). Images "
+            "appear only when complete; Ctrl-C stops cleanly and --resume continues where a "
+            "run stopped (and moves the images of a folder rendered before images/ existed "
+            "into it)."),
     )
     parser.add_argument("project", type=Path, help="project XML file")
     parser.add_argument("-o", "--output", type=Path, required=True, help="output folder")
@@ -55,8 +58,9 @@ def run(args) -> int:
     n = len(report.rendered)
     per_image = f" ({report.wall_seconds / n:.1f} s per image)" if n else ""
     print(f"{args.output}: {n} images rendered, {len(report.skipped)} already complete "
-          f"and up to date, in {report.wall_seconds:.1f} s{per_image}; ground truth in "
-          f"{args.output / 'ground-truth'}")
+          f"and up to date, in {report.wall_seconds:.1f} s{per_image}; images in "
+          f"{args.output / 'images'}, ground truth in {args.output / 'ground-truth'}, "
+          f"which file each program takes in {args.output / 'README.txt'}")
     if summary.stale:
         from designer.render.check_output import count_reasons
 

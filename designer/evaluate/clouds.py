@@ -16,6 +16,14 @@ clouds stored in local coordinates. A PLY header comment ``designer_origin_m E N
   three; ``columns`` names them or gives 0-based numbers; colours from r/g/b columns.
 * COLMAP: a model folder or its ``points3D.txt``/``.bin``.
 
+Stored precision: a PLY with float32 coordinates at UTM size (COLMAP's own PLY export of
+a model in world coordinates) is quantised in steps far above the errors being measured
+(float32 spacing is 31 mm at 500 000 m, 0.5 m at 5 400 000 m); a LAS file quantises to
+its scale. When that spacing exceeds :data:`MAX_COORDINATE_SPACING_M`,
+:func:`read_point_cloud` refuses the cloud with the fix (a local frame plus ``offset``),
+unless ``allow_coarse`` is given; the spacing is kept in
+:attr:`PointCloud.coordinate_spacing_m` either way.
+
 Problems raise :class:`DesignerError` with a one-line message naming the file.
 """
 
@@ -31,6 +39,8 @@ import numpy as np
 
 from designer.errors import DesignerError
 
+#: coarsest stored coordinate spacing read without ``allow_coarse`` (m)
+MAX_COORDINATE_SPACING_M = 1e-3
 PLY_SUFFIXES = (".ply",)
 LAS_SUFFIXES = (".las", ".laz")
 TEXT_SUFFIXES = (".xyz", ".csv", ".txt", ".asc", ".pts")
@@ -44,12 +54,16 @@ _NAMES = {
 @dataclass(frozen=True, eq=False)
 class PointCloud:
     """Points in world coordinates: ``xyz`` (N, 3) float64 metres; optional ``rgb``
-    (N, 3) uint8 and ``normals`` (N, 3) float32; ``source`` names where they came from."""
+    (N, 3) uint8 and ``normals`` (N, 3) float32; ``source`` names where they came from;
+    ``coordinate_spacing_m``: the step of the coordinates as the file stores them (float32
+    PLY: the float32 spacing at the largest |coordinate|; LAS: its scale), None when they
+    are stored as doubles or text."""
 
     xyz: np.ndarray
     rgb: np.ndarray | None = None
     normals: np.ndarray | None = None
     source: str = ""
+    coordinate_spacing_m: float | None = None
 
     def __len__(self) -> int:
         return len(self.xyz)
@@ -69,8 +83,17 @@ def read_point_cloud(
     *,
     offset=None,
     columns: tuple[str | int, str | int, str | int] | None = None,
+    allow_coarse: bool = False,
+    offset_hint=None,
 ) -> PointCloud:
-    """Read the cloud at ``path`` (format from the suffix; a folder is a COLMAP model)."""
+    """Read the cloud at ``path`` (format from the suffix; a folder is a COLMAP model).
+
+    A cloud whose stored coordinates are spaced more than :data:`MAX_COORDINATE_SPACING_M`
+    apart (float32 at UTM size, a coarse LAS scale) is refused unless ``allow_coarse``;
+    the error suggests ``offset_hint`` (E, N, H, or a function returning them or None,
+    called only then; default: the cloud's centre rounded to 100 m) as the local frame
+    to write it in.
+    """
     path = Path(path)
     off = _offset(offset)
     if not path.exists():
@@ -102,9 +125,42 @@ def read_point_cloud(
     if not np.isfinite(xyz).all():
         bad = int(np.flatnonzero(~np.isfinite(xyz).all(axis=1))[0])
         raise DesignerError(f"point cloud {path}: point {bad} has a NaN or infinite coordinate")
+    spacing = cloud.coordinate_spacing_m
+    if spacing is not None and spacing > MAX_COORDINATE_SPACING_M and not allow_coarse:
+        raise DesignerError(coarse_message(path, xyz, spacing, offset_hint))
     if off is not None:
         xyz = xyz + off
-    return PointCloud(xyz, cloud.rgb, cloud.normals, str(path))
+    return PointCloud(xyz, cloud.rgb, cloud.normals, str(path), spacing)
+
+
+def float32_spacing_m(stored_xyz: np.ndarray) -> float:
+    """The float32 spacing (m) at the largest |coordinate| of ``stored_xyz``."""
+    max_abs = float(np.max(np.abs(stored_xyz))) if stored_xyz.size else 0.0
+    return float(np.spacing(np.float32(max_abs)))
+
+
+def coarse_message(path: Path, xyz: np.ndarray, spacing_m: float, offset_hint=None) -> str:
+    """One line: why the coordinates of ``path`` are too coarse, and the fix."""
+    max_abs = float(np.max(np.abs(xyz)))
+    if callable(offset_hint):
+        offset_hint = offset_hint()
+    hint = (np.asarray(offset_hint, float) if offset_hint is not None
+            else np.round((xyz.min(axis=0) + xyz.max(axis=0)) / 2, -2))
+    hint_text = " ".join(f"{v:.10g}" for v in hint)
+    if path.suffix.lower() in LAS_SUFFIXES:
+        stored = f"coordinates stored with a scale of {spacing_m * 1000:.3g} mm"
+        rewrite = "write it with a scale of 0.001 m or finer"
+    else:
+        stored = (f"coordinates stored as float32 up to |{max_abs:.0f}| m, where float32 "
+                  f"spacing is {spacing_m * 1000:.3g} mm")
+        rewrite = (f"write it in a local frame (coordinates minus an offset such as "
+                   f"{hint_text}) and pass --offset {hint_text}, which is added in float64 "
+                   "after reading, or give the tool's model instead (a COLMAP model folder "
+                   "holds doubles)")
+    return (f"point cloud {path}: {stored}, coarser than the "
+            f"{MAX_COORDINATE_SPACING_M * 1000:g} mm the comparison resolves; {rewrite}; or "
+            "pass --allow-float32 to compare it anyway (the spacing is recorded in "
+            "summary.json)")
 
 
 # --------------------------------------------------------------------------- PLY
@@ -131,6 +187,9 @@ def _read_ply(path: Path) -> PointCloud:
     xyz = np.empty((len(vert), 3))
     for i, c in enumerate("xyz"):
         xyz[:, i] = vert[c]
+    spacing = None
+    if any(vert.dtype[c].kind == "f" and vert.dtype[c].itemsize <= 4 for c in "xyz"):
+        spacing = float32_spacing_m(xyz)  # stored values, before any origin is added
     origin = origin_from_ply_comments(path, ply.comments)
     if origin is not None:
         xyz += origin
@@ -143,7 +202,7 @@ def _read_ply(path: Path) -> PointCloud:
     normals = None
     if {"nx", "ny", "nz"} <= names:
         normals = np.column_stack([vert["nx"], vert["ny"], vert["nz"]]).astype(np.float32)
-    return PointCloud(xyz, rgb, normals, str(path))
+    return PointCloud(xyz, rgb, normals, str(path), spacing)
 
 
 def _to_uint8(values: np.ndarray) -> np.ndarray:
@@ -177,7 +236,8 @@ def _read_las(path: Path) -> PointCloud:
     dims = set(las.point_format.dimension_names)
     if {"red", "green", "blue"} <= dims:
         rgb = _to_uint8(np.column_stack([las.red, las.green, las.blue]))
-    return PointCloud(xyz, rgb, None, str(path))
+    spacing = float(np.max(np.abs(np.asarray(las.header.scales, np.float64))))
+    return PointCloud(xyz, rgb, None, str(path), spacing)
 
 
 # --------------------------------------------------------------------------- text

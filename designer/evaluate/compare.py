@@ -26,7 +26,7 @@ import numpy as np
 
 from designer.atomic import write_text_atomic
 from designer.errors import DesignerError
-from designer.evaluate.clouds import PointCloud
+from designer.evaluate.clouds import MAX_COORDINATE_SPACING_M, PointCloud
 from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics
 
 
@@ -101,6 +101,17 @@ def check_overlap(cloud_xyz: np.ndarray, vertices: np.ndarray, cloud_name: str,
             "coordinates? Give the cloud's offset with --offset E N H")
 
 
+def coarse_warnings(cloud: PointCloud) -> list[str]:
+    """A warning when the cloud's stored coordinates are coarser than the comparison
+    resolves (it was read knowingly with ``allow_coarse``); [] otherwise."""
+    spacing = cloud.coordinate_spacing_m
+    if spacing is None or spacing <= MAX_COORDINATE_SPACING_M:
+        return []
+    return [f"the cloud's stored coordinates are spaced {spacing * 1000:.3g} mm apart "
+            f"(> {MAX_COORDINATE_SPACING_M * 1000:g} mm): the distances include that "
+            "quantisation"]
+
+
 def compare_cloud(
     cloud: PointCloud,
     mesh: ReferenceMesh,
@@ -155,7 +166,9 @@ def compare_cloud(
         "inputs": {"cloud": cloud.source, "n_points": len(cloud), "mesh": mesh.source,
                    "n_faces": len(mesh.faces), "crs": mesh.crs,
                    "offset": None if offset is None else [float(v) for v in offset],
-                   "max_distance": max_distance},
+                   "max_distance": max_distance,
+                   "coordinate_spacing_m": cloud.coordinate_spacing_m},
+        "warnings": coarse_warnings(cloud),
         "convention": "signed distance = point to nearest mesh point (m), positive on the "
                       "side the mesh normals face (above the terrain)",
         "timing": {"index_s": t1 - t0, "distances_s": t2 - t1},

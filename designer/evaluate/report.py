@@ -48,6 +48,7 @@ def _markdown(summary: dict, images: dict[str, str]) -> str:
         lines.append(f"- offset added to the cloud: {inp['offset']} m")
     if inp.get("max_distance") is not None:
         lines.append(f"- maximum distance: {inp['max_distance']} m (farther points left out)")
+    lines += [f"- **warning**: {w}" for w in summary.get("warnings") or []]
     lines += ["- distance: signed, exact point-to-triangle, positive above (outside) the "
               "mesh; sign from the nearest feature's pseudo-normal",
               f"- mesh index {summary['timing']['index_s']:.2f} s, distances "

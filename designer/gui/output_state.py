@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer.atomic import write_text_atomic
+from designer.core.layout import images_dir
 from designer.errors import DesignerError
 
 RECONSTRUCTION_INPUTS = "inputs.json"
@@ -31,7 +32,8 @@ class RenderState:
     text: str  # one line for the panel ("" when there is nothing rendered to compare)
 
 
-def stale_text(stale: dict[str, list[str]], missing: list[str], ground_truth: str) -> str:
+def stale_text(stale: dict[str, list[str]], missing: list[str], ground_truth: str,
+               old_layout: bool = False) -> str:
     """``12 images out of date: the pose; 3 missing``."""
     from designer.render.provenance import describe_parts
 
@@ -45,6 +47,9 @@ def stale_text(stale: dict[str, list[str]], missing: list[str], ground_truth: st
         parts.append(f"{len(missing)} image{'s' if len(missing) != 1 else ''} not rendered")
     if ground_truth != "up to date":
         parts.append(f"ground truth {ground_truth}")
+    if old_layout:
+        parts.append("images in the old layout (top of the folder): render again to move "
+                     "them into images/ (nothing up to date is rendered again)")
     return "; ".join(parts)
 
 
@@ -61,7 +66,7 @@ def render_state(out_dir: Path, project_path: Path, project) -> RenderState | No
         return RenderState(False, 0, {}, [], f"cannot compare: {error}")
     n = len(status.up_to_date) + len(status.stale) + len(status.missing)
     text = ("up to date" if status.ok else
-            stale_text(status.stale, status.missing, status.ground_truth))
+            stale_text(status.stale, status.missing, status.ground_truth, status.old_layout))
     return RenderState(status.ok, n, dict(status.stale), list(status.missing), text)
 
 
@@ -92,7 +97,7 @@ def reconstruction_state(survey_dir: Path, recon_dir: Path) -> str:
         used = json.loads(record.read_text())["images"]
     except (OSError, ValueError, KeyError, TypeError):
         summary = Path(recon_dir) / "summary.json"
-        images = [Path(survey_dir) / name for name in now]
+        images = [images_dir(Path(survey_dir)) / name for name in now]
         if not summary.is_file():
             return ""
         newer = [p for p in images if p.is_file()

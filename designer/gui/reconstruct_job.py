@@ -144,7 +144,7 @@ def survey_status(survey_dir: Path) -> tuple[int, str]:
     from designer.sfm.reconstruct import check_survey_folder
 
     try:
-        _gt, names = check_survey_folder(Path(survey_dir))
+        _gt, _images, names = check_survey_folder(Path(survey_dir))
     except DesignerError as error:
         return 0, str(error)
     return len(names), f"{survey_dir}: {len(names)} rendered images with their ground truth"

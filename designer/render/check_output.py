@@ -12,11 +12,17 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from designer.core.layout import (
+    GROUND_TRUTH_DIR,
+    IMAGES_DIR,
+    MANIFEST,
+    images_dir,
+    is_image_file,
+    uses_old_layout,
+)
 from designer.errors import DesignerError
-from designer.render.manifest import GROUND_TRUTH_DIR, MANIFEST, read_manifest
+from designer.render.manifest import read_manifest
 from designer.render.provenance import describe_parts, ground_truth_digest, job_provenance
-
-IMAGE_SUFFIXES = {".png", ".tif", ".tiff", ".jpg", ".jpeg"}
 
 
 @dataclass(frozen=True)
@@ -30,11 +36,13 @@ class OutputStatus:
     missing: list[str] = field(default_factory=list)
     extra: list[str] = field(default_factory=list)  # image files the project does not make
     ground_truth: str = "up to date"  # or "missing", "out of date", "edited"
+    #: the images are at the folder's top level (written before images/ existed)
+    old_layout: bool = False
 
     @property
     def ok(self) -> bool:
         return (not self.stale and not self.missing and not self.extra
-                and self.ground_truth == "up to date")
+                and self.ground_truth == "up to date" and not self.old_layout)
 
     def summary(self) -> str:
         n = len(self.up_to_date) + len(self.stale) + len(self.missing)
@@ -49,16 +57,23 @@ class OutputStatus:
             lines.append(f"  {len(self.extra)} image files not made by this project: "
                          f"{', '.join(self.extra[:5])}" + (" …" if len(self.extra) > 5 else ""))
         lines.append(f"  ground truth: {self.ground_truth}")
+        if self.old_layout:
+            lines.append(f"  old layout: the images are at the top of {self.out_dir}, not in "
+                         f"{IMAGES_DIR}/ (programs that read a whole folder also see the "
+                         "ground truth and working files there); a render with --resume "
+                         f"moves them into {IMAGES_DIR}/ and renders only what is missing")
         if not self.ok:
             lines.append(f"  fix: designer render {self.project} -o {self.out_dir} --resume "
-                         "(re-renders only what changed and rewrites the ground truth)")
+                         "(re-renders only what changed and rewrites the ground truth)"
+                         + (f", moving the images into {IMAGES_DIR}/" if self.old_layout else ""))
         return "\n".join(lines)
 
     def to_json(self) -> dict:
         return {"out_dir": str(self.out_dir), "project": str(self.project), "ok": self.ok,
                 "up_to_date": self.up_to_date, "stale": self.stale,
                 "missing": self.missing, "extra": self.extra,
-                "ground_truth": self.ground_truth}
+                "ground_truth": self.ground_truth, "old_layout": self.old_layout,
+                "images_dir": str(images_dir(self.out_dir))}
 
 
 def count_reasons(stale: dict) -> str:
@@ -104,9 +119,11 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
         truth_now = ground_truth_digest(scratch / GROUND_TRUTH_DIR)
     job = prepared.job
     images = manifest.get("images", {}) if isinstance(manifest.get("images"), dict) else {}
-    status = OutputStatus(out_dir=out_dir, project=Path(project_path))
+    status = OutputStatus(out_dir=out_dir, project=Path(project_path),
+                          old_layout=uses_old_layout(out_dir))
+    folder = images_dir(out_dir)
     for index, name in sorted(job.image_names.items()):
-        path = out_dir / name
+        path = folder / name
         if not image_is_complete(path, job.width_px, job.height_px):
             status.missing.append(name)
             continue
@@ -116,9 +133,9 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
         else:
             status.stale[name] = provenance[index].changed_parts(inputs)
     names = set(job.image_names.values())
-    status.extra.extend(sorted(p.name for p in out_dir.iterdir()
-                               if p.is_file() and p.suffix.lower() in IMAGE_SUFFIXES
-                               and not p.name.startswith(".") and p.name not in names))
+    if folder.is_dir():
+        status.extra.extend(sorted(p.name for p in folder.iterdir()
+                                   if is_image_file(p) and p.name not in names))
     folder = out_dir / GROUND_TRUTH_DIR
     if not folder.is_dir():
         truth = "missing"

@@ -3,7 +3,8 @@
 One Dask task per batch of frames. Each task runs the same worker process a local run
 uses (``python -m designer.render.worker``) on whichever Dask worker picks it up, so the
 job folder (OUT/.designer-job) and OUT itself must be on storage every machine sees
-under the same path. Images are renamed into place when complete, exactly as locally,
+under the same path. Images are written in OUT/.designer-job/partial and renamed into
+OUT/images when complete, exactly as locally,
 so ``--resume`` works the same way; a failed task is retried once by this client.
 """
 
@@ -101,7 +102,7 @@ def render_frames_on_cluster(
             attempt += 1
     finally:
         client.close()
-        remove_partial_files(out_dir)
+        remove_partial_files(job_path.parent, out_dir)
     report.failed = todo
     report.wall_seconds = time.perf_counter() - t0
     return report

@@ -15,6 +15,7 @@ import numpy as np
 
 from designer import __version__
 from designer.core.interior import InteriorOrientation
+from designer.core.layout import IMAGES_DIR, JOB_DIR
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
 from designer.core.truth import CameraPose
 from designer.effects.distortion_render import pinhole_render_camera
@@ -47,7 +48,6 @@ from designer.survey.timeline import StationTime, iso_utc, project_station_times
 #: samples per pixel of each quality preset; measured costs in the README
 QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 PIXEL_FILTERS = {"box": "BOX", "gaussian": "GAUSSIAN", "blackman-harris": "BLACKMAN_HARRIS"}
-JOB_DIR = ".designer-job"
 
 
 @dataclass(frozen=True)
@@ -73,7 +73,11 @@ def prepare_job(
     out_dir: Path,
     quality: str | None = None,
 ) -> PreparedJob:
-    """Build the scene, write its files under ``out_dir/.designer-job`` and the job.json."""
+    """Build the scene, write its files under ``out_dir/.designer-job`` and the job.json.
+
+    The job's workers write the images into ``out_dir/images``
+    (:mod:`designer.core.layout`).
+    """
     out_dir = Path(out_dir)
     job_dir = out_dir / JOB_DIR
     job_dir.mkdir(parents=True, exist_ok=True)
@@ -138,7 +142,7 @@ def prepare_job(
     job = RenderJob(
         designer_version=__version__,
         project=project.name,
-        output_dir=str(out_dir.resolve()),
+        output_dir=str((out_dir / IMAGES_DIR).resolve()),
         origin_world=tuple(float(v) for v in origin),
         render=RenderSpec(
             samples=samples, seed=0,

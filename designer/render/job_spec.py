@@ -187,6 +187,8 @@ class LightStep:
 class RenderJob:
     """Everything a worker needs to render a set of frames; see the module docstring."""
 
+    #: absolute folder the images are renamed into when complete; while rendering they
+    #: are in the job folder's ``partial/`` (never in this folder)
     output_dir: str
     render: RenderSpec
     camera: CameraSpec

@@ -20,12 +20,12 @@ from pathlib import Path
 
 from designer import __version__
 from designer.atomic import write_text_atomic
+from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, MANIFEST
 from designer.render.job import PreparedJob
 from designer.render.provenance import ImageProvenance, ground_truth_digest
 from designer.render.runner import RenderReport
 
-MANIFEST = "manifest.json"
-GROUND_TRUTH_DIR = "ground-truth"
+__all__ = ["GROUND_TRUTH_DIR", "MANIFEST", "Manifest", "read_manifest"]
 
 
 def read_manifest(out_dir: Path) -> dict:
@@ -72,6 +72,7 @@ class Manifest:
             "frames_total": len(names),
             "prepare_seconds": round(prepare_seconds, 3),
             "ground_truth": previous.get("ground_truth"),
+            "images_folder": IMAGES_DIR,
             "images": {},
         }
 

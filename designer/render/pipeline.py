@@ -1,11 +1,15 @@
 """``designer render``: project → job → images (local workers) → ground truth + manifest.
 
-Output folder layout::
+Output folder layout (:mod:`designer.core.layout`)::
 
-    OUT/IMAGE_NAME…            the images, each renamed into place when complete
+    OUT/images/IMAGE_NAME…     only the images, each renamed in when complete
     OUT/ground-truth/…         COLMAP, OpenDroneMap, Metashape, OPK and GCP tables
     OUT/manifest.json          versions, settings, per-image render seconds and inputs
-    OUT/.designer-job/         the job the workers read (scene files, logs)
+    OUT/README.txt             which file each program takes
+    OUT/.designer-job/         the job the workers read (scene files, logs, partial images)
+
+A folder rendered before ``images/`` existed (images at OUT's top level) has its images
+moved into ``images/`` by the next render of it, so ``--resume`` keeps them.
 
 Ground truth comes from the project's exact poses and GCP coordinates, never from
 what Blender reports back. The manifest records, per image, the hashes of what it was
@@ -24,14 +28,16 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.core.layout import GROUND_TRUTH_DIR, move_old_layout_images
 from designer.core.truth import GcpObservation, GroundControlPoint, ImageTime
 from designer.errors import DesignerError
 from designer.export.dispatch import write_all
 from designer.export.odm import odm_crs
 from designer.project import load_project
 from designer.render.job import PreparedJob, prepare_job
-from designer.render.manifest import GROUND_TRUTH_DIR, Manifest
+from designer.render.manifest import Manifest
 from designer.render.provenance import job_provenance
+from designer.render.readme import write_readme
 from designer.render.runner import ProgressCallback, RenderReport, render_frames
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
@@ -46,6 +52,11 @@ class RenderSummary:
     manifest: Path
     #: frames re-rendered although complete, with the parts of their inputs that changed
     stale: dict[int, list[str]] = field(default_factory=dict)
+
+    @property
+    def images_dir(self) -> Path:
+        """OUT/images: the rendered images and nothing else."""
+        return Path(self.prepared.job.output_dir)
 
 
 def parse_frames(text: str | None, n_frames: int) -> list[int]:
@@ -142,8 +153,12 @@ def render_project(
     ground_truth = write_ground_truth(project, prepared, out_dir)
     manifest.ground_truth_written()
     names = prepared.job.image_names
+    write_readme(out_dir, list(names.values()), ground_truth, project=project_path.name,
+                 image_size_px=prepared.interior.image_size_px)
+    move_old_layout_images(out_dir, names.values())
+    images = Path(prepared.job.output_dir)
     # complete-looking images rendered from other inputs (or with no record of them)
-    stale = {i: manifest.changed_parts(i) for i in wanted if (out_dir / names[i]).is_file()}
+    stale = {i: manifest.changed_parts(i) for i in wanted if (images / names[i]).is_file()}
     stale = {i: parts for i, parts in stale.items() if parts}
 
     def keep(index: int) -> bool:

@@ -1,8 +1,9 @@
 """Local render runner: splits frames over worker processes, resumes, cancels, retries.
 
 Each worker is ``python -m designer.render.worker JOB --frames …`` and reports progress
-as JSON lines on a pipe. Images are renamed into place only when complete, so an
-interrupted run leaves only finished images; ``resume`` skips those that are complete
+as JSON lines on a pipe. Images are written in the job folder's ``partial/`` and renamed
+into the images folder (the job's ``output_dir``) only when complete, so an interrupted
+run leaves only finished images there; ``resume`` skips those that are complete
 and readable. A worker that dies has its unfinished frames retried once in a fresh
 process; frames that fail again are reported, not hidden.
 """
@@ -19,6 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from designer.core.layout import PARTIAL_DIR
 from designer.errors import DesignerError
 from designer.render.job_spec import RenderJob
 
@@ -53,11 +55,18 @@ def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
     return image is not None and image.shape[:2] == (height_px, width_px)
 
 
-def remove_partial_files(out_dir: Path) -> None:
-    """Delete temporary files (hidden files) left in OUT by an interrupted worker."""
-    for tmp in out_dir.glob(".*"):
-        if tmp.is_file():
-            tmp.unlink(missing_ok=True)
+def remove_partial_files(job_dir: Path, images: Path) -> None:
+    """Delete what interrupted workers left: the job folder's ``partial/`` files, and
+    hidden temporary files older versions of designer wrote beside the images."""
+    folder = Path(job_dir) / PARTIAL_DIR
+    if folder.is_dir():
+        for tmp in folder.iterdir():
+            if tmp.is_file():
+                tmp.unlink(missing_ok=True)
+    if Path(images).is_dir():
+        for tmp in Path(images).glob(".*"):
+            if tmp.is_file():
+                tmp.unlink(missing_ok=True)
 
 
 def render_frames(
@@ -78,7 +87,7 @@ def render_frames(
     job = RenderJob.read(job_path)
     out_dir = Path(job.output_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    remove_partial_files(out_dir)
+    remove_partial_files(job_path.parent, out_dir)
     names = job.image_names
     unknown = [i for i in frames if i not in names]
     if unknown:
@@ -109,7 +118,7 @@ def render_frames(
             if todo and attempt <= retries:
                 _notify(progress, {"event": "retry", "frames": todo})
     finally:
-        remove_partial_files(out_dir)
+        remove_partial_files(job_path.parent, out_dir)
     report.failed = todo
     report.wall_seconds = time.perf_counter() - t0
     return report

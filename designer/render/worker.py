@@ -2,8 +2,9 @@
 
 Run as ``python -m designer.render.worker JOB.json --frames 0,1,5 [--progress-fd N]``.
 It builds the scene described by the job once, then renders the frames asked for,
-each to a temporary file renamed into place when complete. Progress goes out as JSON
-lines on file descriptor N (stdout carries Blender's own log).
+each to a file in the job folder's ``partial/`` renamed into the images folder (the
+job's ``output_dir``) when complete: nothing partial ever appears among the images.
+Progress goes out as JSON lines on file descriptor N (stdout carries Blender's own log).
 
 Only effects the job asks for are rendered: no denoiser, no adaptive sampling, no
 dithering, a box pixel filter one pixel wide unless asked otherwise, the 'Standard'
@@ -25,6 +26,7 @@ import bpy  # the one place in designer that imports bpy
 import numpy as np
 from mathutils import Matrix
 
+from designer.core.layout import PARTIAL_DIR
 from designer.render.job_spec import (
     IMAGE_FORMATS,
     TEXTURE_UV_MAP,
@@ -257,55 +259,49 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
     return scene, camera
 
 
-def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, chain=None,
-                 exif: bool = False) -> dict:
+def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, partial: Path,
+                 chain=None, exif: bool = False) -> dict:
     """Render one frame; apply the camera effects (if any); write its time into the EXIF
-    when ``exif``; rename the image into place."""
+    when ``exif``; rename the image into place.
+
+    Blender's file and the finished image are written in ``partial`` (a folder outside
+    ``out_dir`` on the same file system); only the complete image is renamed into
+    ``out_dir``, which therefore never holds anything but finished images.
+    """
     camera.matrix_world = Matrix(frame.matrix_world_local)
     for name, x, y, z, heading_deg in frame.moving_poses or ():
         obj = bpy.data.objects[name]  # its mesh: base centre at 0, +Y forward
         obj.location = (x, y, z)
         obj.rotation_euler = (0.0, 0.0, -math.radians(heading_deg))
     final = out_dir / frame.image_name
-    tmp = final.with_name(f".{final.stem}.rendering{ext}")
+    partial.mkdir(parents=True, exist_ok=True)
+    tmp = partial / f"{final.stem}.rendering{ext}"
+    staged = partial / final.name  # the finished image, before its rename into out_dir
     scene.render.filepath = str(tmp)
     t0, cpu0 = time.perf_counter(), time.process_time()
     bpy.ops.render.render(write_still=True)
     t1, cpu = time.perf_counter(), time.process_time() - cpu0
-    stamp = exif and frame.time_utc is not None
-    if chain is None and final.suffix.lower() == ".png":
-        move_without_text(tmp, final)  # Blender's render-time and date text only
-    elif chain is None:
-        if stamp:
+    try:
+        if chain is None and final.suffix.lower() == ".png":
+            move_without_text(tmp, staged)  # Blender's render-time and date text only
+        elif chain is None:
+            os.replace(tmp, staged)
+        else:
+            from designer.effects.base import FrameContext
+            from designer.effects.chain import process_file
+
+            context = FrameContext(gsd_m=frame.gsd_m,
+                                   flight_direction_uv=frame.flight_direction_uv,
+                                   distance_m=frame.distance_m)
+            process_file(tmp, staged, chain, frame.index, context)
+        if exif and frame.time_utc is not None:
             from designer.render.exif import write_time
 
-            write_time(tmp, frame.time_utc)
-        os.replace(tmp, final)
-    elif stamp:
-        from designer.effects.base import FrameContext
-        from designer.effects.chain import process_file
-        from designer.render.exif import write_time
-
-        context = FrameContext(gsd_m=frame.gsd_m, flight_direction_uv=frame.flight_direction_uv,
-                               distance_m=frame.distance_m)
-        stamped = final.with_name(f".{final.stem}.metadata{final.suffix}")
-        try:
-            process_file(tmp, stamped, chain, frame.index, context)
-            write_time(stamped, frame.time_utc)
-            os.replace(stamped, final)
-        finally:
-            tmp.unlink(missing_ok=True)
-            stamped.unlink(missing_ok=True)
-    else:
-        from designer.effects.base import FrameContext
-        from designer.effects.chain import process_file
-
-        context = FrameContext(gsd_m=frame.gsd_m, flight_direction_uv=frame.flight_direction_uv,
-                               distance_m=frame.distance_m)
-        try:
-            process_file(tmp, final, chain, frame.index, context)
-        finally:
-            tmp.unlink(missing_ok=True)
+            write_time(staged, frame.time_utc)
+        os.replace(staged, final)
+    finally:
+        tmp.unlink(missing_ok=True)
+        staged.unlink(missing_ok=True)
     return {"path": str(final), "seconds": time.perf_counter() - t0,
             "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
             "effects_seconds": time.perf_counter() - t1}
@@ -355,7 +351,8 @@ def main(argv: list[str] | None = None) -> int:
         step = frames[index].light_step
         if step is not None:
             apply_light_step(scene, current, job.light_steps[step], base)
-        done = render_frame(scene, camera, frames[index], out_dir, ext, chain, exif)
+        done = render_frame(scene, camera, frames[index], out_dir, ext, base / PARTIAL_DIR,
+                            chain, exif)
         emit(progress, event="frame_done", index=index, **done)
     import resource
 

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.core.layout import images_dir
 from designer.errors import DesignerError
 
 #: DSM cell size as a multiple of the survey's GSD (a cell holds ~16 image pixels' points)
@@ -38,9 +39,9 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
                     offset_world: np.ndarray, gsd_m: float, *,
                     max_image_size_px: int | None = None,
                     log: Callable[[str], None] = print) -> dict:
-    """Dense cloud of the images in ``survey`` from the world-frame COLMAP model in
-    ``model_dir``; products into ``out``. Returns the ``dense`` section of summary.json
-    (points, matcher, seconds per stage, DoD statistics and dome amplitude)."""
+    """Dense cloud of the images of the render output ``survey`` from the world-frame
+    COLMAP model in ``model_dir``; products into ``out``. Returns the ``dense`` section of
+    summary.json (points, matcher, seconds per stage, DoD statistics and dome amplitude)."""
     from designer.sfm.dense import dense_cloud, write_dense_ply, write_las, write_local_model
 
     if project_path is None:
@@ -59,7 +60,7 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
     lo = truth.vertices.min(axis=0) - [0.0, 0.0, 5.0]
     hi = truth.vertices.max(axis=0) + [0.0, 0.0, 5.0]
     log(f"dense matching ({'full size' if not max_image_size_px else max_image_size_px} px)")
-    cloud = dense_cloud(survey, local_model, out / "dense-work", origin_world=origin,
+    cloud = dense_cloud(images_dir(survey), local_model, out / "dense-work", origin_world=origin,
                         max_image_size_px=max_image_size_px, log=log, bounds_world=(lo, hi))
     seconds["dense_s"] = time.perf_counter() - t
     write_dense_ply(out / "dense.ply", cloud)

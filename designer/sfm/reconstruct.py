@@ -1,6 +1,6 @@
 """Reconstruct a rendered survey with COLMAP (pycolmap) as a practitioner processes it.
 
-Input: an output folder of ``designer render`` (images + ``ground-truth/``); the
+Input: an output folder of ``designer render`` (``images/`` + ``ground-truth/``); the
 processing settings are the project's ``<processing>`` (designer.sfm.settings) with
 command-line overrides. Modes:
 
@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.atomic import write_text_atomic
+from designer.core.layout import GROUND_TRUTH_DIR, images_dir
 from designer.errors import DesignerError
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
 from designer.project import model as m
@@ -73,9 +74,12 @@ def _log_default(message: str) -> None:
     print(message, flush=True)
 
 
-def check_survey_folder(survey: Path) -> tuple[Path, list[str]]:
-    """The ground-truth COLMAP folder and image names of a rendered survey, or a clear error."""
-    gt = survey / "ground-truth" / "colmap"
+def check_survey_folder(survey: Path) -> tuple[Path, Path, list[str]]:
+    """The ground-truth COLMAP folder, the images folder and the names of the images present
+    of a rendered survey (an output folder of 'designer render', :mod:`designer.core.layout`;
+    one in the old layout, images at its top level, too), or a clear error."""
+    survey = Path(survey)
+    gt = survey / GROUND_TRUTH_DIR / "colmap"
     if not (gt / "images.txt").is_file() or not (gt / "cameras.txt").is_file():
         raise DesignerError(
             f"{survey}: no ground truth (ground-truth/colmap/images.txt); give the output "
@@ -85,12 +89,13 @@ def check_survey_folder(survey: Path) -> tuple[Path, list[str]]:
         parts = line.split()
         if len(parts) >= 10 and not line.startswith("#") and parts[0].isdigit():
             names.append(parts[9])
-    present = [n for n in names if (survey / n).is_file()]
+    folder = images_dir(survey)
+    present = [n for n in names if (folder / n).is_file()]
     if len(present) < 3:
         raise DesignerError(
-            f"{survey}: {len(present)} of {len(names)} images are present; at least 3 "
+            f"{folder}: {len(present)} of {len(names)} images are present; at least 3 "
             "overlapping images are needed (render them first, or finish with --resume)")
-    return gt, present
+    return gt, folder, present
 
 
 def _full_opencv(camera) -> np.ndarray:
@@ -131,7 +136,7 @@ def reconstruct(
     if mode not in MODES:
         raise DesignerError(f"--mode {mode!r}: use one of {', '.join(MODES)}")
     survey, out = Path(survey_dir), Path(out_dir)
-    gt_dir, names = check_survey_folder(survey)
+    gt_dir, image_dir, names = check_survey_folder(survey)
     p = processing or m.Processing()
     if max_features is not None:
         p = m.Processing(p.calibration, p.gcps, p.position_prior,
@@ -168,13 +173,13 @@ def reconstruct(
         reader.camera_model = true_camera.model.name
         reader.camera_params = ",".join(repr(float(v)) for v in true_camera.params)
     cache = FeatureCache(feature_cache) if feature_cache is not None else None
-    feature_key = fc_key("features", images_digest(survey, names), reader.camera_model,
+    feature_key = fc_key("features", images_digest(image_dir, names), reader.camera_model,
                          reader.camera_params, p.matching.max_features) if cache else ""
     with cache.hold("features", feature_key) if cache else contextlib.nullcontext():
         reused = {"features": bool(cache) and cache.fetch("features", feature_key, db_path)}
         if not reused["features"]:
             log(f"features: {len(names)} images")
-            _extract(pycolmap, db_path, survey, names, reader, p.matching.max_features)
+            _extract(pycolmap, db_path, image_dir, names, reader, p.matching.max_features)
             if cache:
                 cache.store("features", feature_key, db_path)
     timings["features_s"] = time.perf_counter() - t
@@ -205,10 +210,10 @@ def reconstruct(
     if mode == "known-poses":
         log("triangulating with the true poses")
         rec = _known_pose_reconstruction(pycolmap, truth, db_path)
-        rec = pycolmap.triangulate_points(rec, db_path, survey, sparse)
+        rec = pycolmap.triangulate_points(rec, db_path, image_dir, sparse)
     else:
         log("incremental SfM")
-        rec = _incremental(pycolmap, db_path, survey, sparse, p.calibration.mode)
+        rec = _incremental(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
     timings["reconstruction_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -275,12 +280,12 @@ def reconstruct(
                                 rec.num_points3D(), cloud, residuals, summary)
 
 
-def _extract(pycolmap, db_path: Path, survey: Path, names: list[str], reader,
+def _extract(pycolmap, db_path: Path, image_dir: Path, names: list[str], reader,
              max_features: int) -> None:
     extraction = pycolmap.FeatureExtractionOptions()
     extraction.sift.max_num_features = max_features
     extraction.use_gpu = False
-    pycolmap.extract_features(db_path, survey, image_names=names,
+    pycolmap.extract_features(db_path, image_dir, image_names=names,
                               camera_mode=pycolmap.CameraMode.SINGLE, reader_options=reader,
                               extraction_options=extraction, device=pycolmap.Device.cpu)
 
@@ -306,7 +311,7 @@ def _gsd_m(truth, camera, offset: np.ndarray, rec) -> float:
 
 
 def _gcp_inputs(survey: Path, p: m.Processing):
-    gt = survey / "ground-truth"
+    gt = survey / GROUND_TRUTH_DIR
     if not (gt / "gcp_truth.csv").is_file():
         return [], []
     gcps = read_gcp_truth_csv(gt / "gcp_truth.csv")
@@ -329,7 +334,7 @@ def _pairs(kind, names, truth, flight_C, params, size_px, gcps, offset):
     return matching.footprint_pairs(names, feet)
 
 
-def _incremental(pycolmap, db_path, survey, sparse, calibration: str):
+def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     options = pycolmap.IncrementalPipelineOptions()
     options.num_threads = -1
     # Nadir survey images have small baselines: the default 16° initial triangulation
@@ -341,10 +346,10 @@ def _incremental(pycolmap, db_path, survey, sparse, calibration: str):
     options.ba_refine_focal_length = calibration != "fixed"
     options.ba_refine_principal_point = calibration not in ("fixed", "focal")
     options.ba_refine_extra_params = False
-    maps = pycolmap.incremental_mapping(db_path, survey, sparse, options=options)
+    maps = pycolmap.incremental_mapping(db_path, image_dir, sparse, options=options)
     if not maps:
         raise DesignerError(
-            f"{survey}: COLMAP could not start a reconstruction: the images do not "
+            f"{image_dir}: COLMAP could not start a reconstruction: the images do not "
             "overlap enough or show too little texture")
     return max(maps.values(), key=lambda r: r.num_reg_images())
 

@@ -5,7 +5,7 @@ Output folder::
 
     DIR/study.json                the study's plan: runs, their levels and seeds
     DIR/runs/RUN/project.xml      the run's project (valid and runnable on its own)
-    DIR/runs/RUN/survey/          its images (links into the render cache), ground truth
+    DIR/runs/RUN/survey/          images/ (links into the render cache), ground-truth/
     DIR/runs/RUN/run.json         its hashes, GSD and image count
     DIR/runs/RUN/result.json      its results row, written when it is finished
     DIR/cache/renders/HASH/       one render per distinct image set

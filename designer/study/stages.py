@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.atomic import write_text_atomic
+from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, images_dir
 from designer.errors import DesignerError
 from designer.project import model as m
 
@@ -63,7 +64,7 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
     prepared = prepare_job(project, run_dir, survey)
     provenance = job_provenance(prepared.job, prepared.job_path.parent)
     names = [prepared.job.image_names[i] for i in sorted(prepared.job.image_names)]
-    gt = survey / "ground-truth"
+    gt = survey / GROUND_TRUTH_DIR
     if gt.exists():
         shutil.rmtree(gt)
     write_ground_truth(project, prepared, survey)
@@ -93,16 +94,18 @@ def render_stage(project_path: str, out_dir: str, workers: int = 1) -> dict:
 
 
 def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
-    """Put the rendered images into a run's survey folder (symbolic links, else copies)."""
+    """Put the images of the render output ``render_dir`` into the run's survey folder,
+    ``survey/images/`` (symbolic links, else copies; :mod:`designer.core.layout`)."""
+    source = images_dir(render_dir)
     for name in names:
-        target = survey / name
+        target = Path(survey) / IMAGES_DIR / name
         if target.is_file():
             continue
         target.parent.mkdir(parents=True, exist_ok=True)
         try:
-            os.symlink(os.path.relpath(render_dir / name, target.parent), target)
+            os.symlink(os.path.relpath(source / name, target.parent), target)
         except OSError:
-            shutil.copyfile(render_dir / name, target)
+            shutil.copyfile(source / name, target)
 
 
 def process_stage(survey_dir: str, project_path: str, out_dir: str,

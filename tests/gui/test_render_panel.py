@@ -24,7 +24,7 @@ FAKE_RENDER = textwrap.dedent("""
     from pathlib import Path
     import numpy as np, cv2
     out, n, delay = Path(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
-    out.mkdir(parents=True, exist_ok=True)
+    (out / "images").mkdir(parents=True, exist_ok=True)
     def stop(*_):
         print("interrupted", file=sys.stderr, flush=True)
         sys.exit(130)
@@ -34,7 +34,7 @@ FAKE_RENDER = textwrap.dedent("""
     print(json.dumps({"event": "scene_ready", "seconds": 0.1}), flush=True)
     for i in range(n):
         time.sleep(delay)
-        path = out / f"IMG_{i + 1:05d}.png"
+        path = out / "images" / f"IMG_{i + 1:05d}.png"
         image = np.zeros((60, 90, 3), np.uint8)
         image[:, : 10 * (i + 1)] = (0, 200, 0)
         cv2.imwrite(str(path), image)
@@ -77,7 +77,7 @@ def test_progress_and_thumbnails(qtbot, saved_project, monkeypatch, tmp_path):
     assert panel.thumbs.count() == 4
     assert all(not panel.thumbs.item(i).icon().isNull() for i in range(4))
     assert panel.state.text().startswith("done: 4 images")
-    assert (tmp_path / "output" / "IMG_00004.png").is_file()
+    assert (tmp_path / "output" / "images" / "IMG_00004.png").is_file()
 
 
 def test_cancel_stops_the_render_cleanly(qtbot, saved_project, monkeypatch, tmp_path):

@@ -22,8 +22,8 @@ def test_dask_cluster_renders_the_same_images_as_local_workers(tmp_path):
         remote = render_project(project, tmp_path / "dask", scheduler=cluster.scheduler_address)
     assert sorted(remote.report.rendered) == [0, 1, 2]
     for pose in local.prepared.poses:
-        a = cv2.imread(str(tmp_path / "local" / pose.image_name))
-        b = cv2.imread(str(tmp_path / "dask" / pose.image_name))
+        a = cv2.imread(str(tmp_path / "local" / "images" / pose.image_name))
+        b = cv2.imread(str(tmp_path / "dask" / "images" / pose.image_name))
         # Same seed, same scene, same samples: Cycles is deterministic on one machine.
         assert np.array_equal(a, b)
 

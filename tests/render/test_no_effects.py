@@ -25,7 +25,7 @@ def test_identity_effects_leave_the_rendered_files_untouched(tmp_path):
                                  tmp_path / name / "out",
                                  workers=1)
         images[name] = {p.name: p.read_bytes()
-                        for p in sorted(summary.out_dir.glob("IMG_*.png"))}
+                        for p in sorted(summary.images_dir.glob("IMG_*.png"))}
     assert len(images["plain"]) == 2
     assert images["identity"] == images["plain"]
     # the comparison can fail: one effect that does change the pixels

@@ -114,7 +114,7 @@ def test_orthophoto_crosses_land_on_their_projection(rendered):
         E, N = site.CROSSES_EN[i]
         P = np.array([[E, N, float(ground.height_at(E, N))]])
         uv = project_points(P, pose.C_world, pose.R_cam_to_world, prepared.interior).uv_px[0, 0]
-        gray = cv2.imread(str(summary.out_dir / pose.image_name), cv2.IMREAD_GRAYSCALE)
+        gray = cv2.imread(str(summary.images_dir / pose.image_name), cv2.IMREAD_GRAYSCALE)
         found = cross_centroid_px(gray, uv)
         area_centroid = projected_cross_centroid_px(E, N, ground, pose, prepared.interior)
         errors.append(found - area_centroid)

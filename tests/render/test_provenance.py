@@ -179,7 +179,7 @@ def test_resume_rerenders_what_changed_and_check_output_agrees(tmp_path):
     assert status.ok, status.summary()
 
     # a stray image in the folder and an edited ground-truth file are both reported
-    (out / "IMG_999.png").write_bytes((out / "IMG_000.png").read_bytes())
+    (out / "images" / "IMG_999.png").write_bytes((out / "images" / "IMG_000.png").read_bytes())
     opk = out / "ground-truth" / "camera_poses_opk.csv"
     opk.write_text(opk.read_text().replace("IMG_000", "IMG_00X"))
     status = check_output(out)

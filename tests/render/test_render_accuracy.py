@@ -66,7 +66,7 @@ def test_target_centres_match_the_exported_pixel_coordinates(rendered):
         uv = np.array([o.uv_px for o in rows])
         W, H = summary.prepared.interior.image_size_px
         keep = (uv[:, 0] > 12) & (uv[:, 0] < W - 12) & (uv[:, 1] > 12) & (uv[:, 1] < H - 12)
-        gray = cv2.imread(str(summary.out_dir / image_name), cv2.IMREAD_GRAYSCALE)
+        gray = cv2.imread(str(summary.images_dir / image_name), cv2.IMREAD_GRAYSCALE)
         errors.append(detect_centres(gray, uv[keep], rng, HALF_WINDOW.get(name, 5)) - uv[keep])
     d = np.concatenate(errors)
     assert len(d) >= 12, f"{name}: only {len(d)} targets seen"
@@ -99,4 +99,6 @@ def test_manifest_and_images_are_complete(rendered):
     assert manifest["blender_version"]
     assert len(manifest["images"]) == manifest["frames_total"] == 16
     assert all(v["render_seconds"] > 0 for v in manifest["images"].values())
-    assert not list(summary.out_dir.glob(".*.rendering.*"))
+    # the images folder holds exactly the 16 images; nothing partial stays anywhere
+    assert sorted(p.name for p in summary.images_dir.iterdir()) == sorted(manifest["images"])
+    assert list((summary.out_dir / ".designer-job" / "partial").iterdir()) == []

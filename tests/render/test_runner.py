@@ -41,21 +41,24 @@ def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert "interrupted" in err and "Traceback" not in err
-    done = complete_images(out)
+    done = complete_images(out / "images")
     assert 1 <= len(done) < 8
-    assert [p.name for p in out.glob(".*")] == [".designer-job"]  # no partial images
+    # the images folder holds the finished images and nothing else; no partial file stays
+    assert sorted(p.name for p in (out / "images").iterdir()) == done
+    assert [p.name for p in out.glob(".*")] == [".designer-job"]
+    assert list((out / ".designer-job" / "partial").iterdir()) == []
 
     summary = render_project(project, out, workers=1, resume=True)
     assert sorted(summary.report.skipped) == list(range(len(done)))
     assert len(summary.report.rendered) == 8 - len(done)
-    assert len(complete_images(out)) == 8
+    assert len(complete_images(out / "images")) == 8
 
 
 def test_a_killed_worker_has_its_frames_retried(tmp_path):
     project = write_project_file(small_survey(n_photos=4, samples=64, size_px=(320, 240)), tmp_path)
     summary = render_project(project, tmp_path / "out", workers=1, frames="0")
     job = summary.prepared.job_path
-    for image in (tmp_path / "out").glob("IMG_*.png"):
+    for image in (tmp_path / "out" / "images").glob("IMG_*.png"):
         image.unlink()
     events = []
 
@@ -72,7 +75,7 @@ def test_a_killed_worker_has_its_frames_retried(tmp_path):
     assert any(e["event"] == "retry" for e in events)
     assert report.failed == []
     assert sorted(report.rendered) == [0, 1, 2, 3]
-    assert len(complete_images(tmp_path / "out")) == 4
+    assert len(complete_images(tmp_path / "out" / "images")) == 4
 
 
 def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
@@ -90,4 +93,4 @@ def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
             break
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
-    assert 1 <= len(complete_images(tmp_path / "out")) < 8
+    assert 1 <= len(complete_images(tmp_path / "out" / "images")) < 8

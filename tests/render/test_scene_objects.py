@@ -21,7 +21,7 @@ def render_first_photo(folder, project, files):
     for name, data in files.items():
         (folder / name).write_bytes(data)
     summary = render_project(path, folder / "out", workers=1, frames="0", quality="draft")
-    (image,) = sorted(summary.out_dir.glob("*.png"))
+    (image,) = sorted(summary.images_dir.iterdir())
     return cv2.imread(str(image)).astype(np.float64)
 
 

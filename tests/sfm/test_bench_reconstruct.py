@@ -26,7 +26,7 @@ def test_bench_reconstruct_prints_seconds_per_stage_of_a_rendered_survey(survey,
     lines = run.stdout.splitlines()
     assert f"of {survey}:" in lines[0] and "dense matching at 171 px" in lines[0]
     registered, images = map(int, re.search(r"(\d+)/(\d+) images registered", lines[0]).groups())
-    assert images == len(list(survey.glob("*.png"))) and registered == images
+    assert images == len(list((survey / "images").glob("*.png"))) and registered == images
     # one row per stage in processing order, then the total, each with a wall time
     rows = [line.split() for line in lines[2:10]]
     assert [r[0] for r in rows] == [*STAGES, "total"]

@@ -42,7 +42,7 @@ def test_a_changed_image_misses_the_cache(survey, tmp_path):
     reconstruct(survey, tmp_path / "a", mode="known-poses", feature_cache=cache)
     changed = tmp_path / "survey"
     shutil.copytree(survey, changed)
-    _, names = check_survey_folder(changed)
+    _, _, names = check_survey_folder(changed)
     image = next(changed.rglob(names[0]))
     pixels = cv2.imread(str(image), cv2.IMREAD_UNCHANGED)
     pixels[:8, :8] = 255 - pixels[:8, :8]  # another image: other features

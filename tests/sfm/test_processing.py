@@ -118,10 +118,11 @@ def test_a_prior_sigma_of_zero_is_refused():
 def test_all_black_images_are_a_clear_error(survey, tmp_path):
     black = tmp_path / "black"
     shutil.copytree(survey / "ground-truth", black / "ground-truth")
-    for image in sorted(survey.glob("IMG_*.png")):
+    (black / "images").mkdir()
+    for image in sorted((survey / "images").glob("IMG_*.png")):
         with Image.open(image) as im:
             size = im.size
-        Image.new("RGB", size).save(black / image.name)
+        Image.new("RGB", size).save(black / "images" / image.name)
     with pytest.raises(DesignerError, match="overlap enough or show too little texture"):
         reconstruct(black, tmp_path / "r", mode="free", log=lambda _: None,
                     processing=settings(gcps="similarity"))

@@ -37,6 +37,18 @@ def test_reconstruction_registers_every_image_and_meets_the_gcps(survey, tmp_pat
     assert saved["registered"] == result.n_registered
 
 
+def test_a_folder_in_the_old_layout_still_reconstructs(survey, tmp_path):
+    """Images at the folder's top level, as designer rendered them before images/."""
+    old = tmp_path / "old"
+    shutil.copytree(survey / "ground-truth", old / "ground-truth")
+    names = sorted(p.name for p in (survey / "images").iterdir())
+    for name in names:
+        (old / name).symlink_to(survey / "images" / name)
+    result = reconstruct(old, tmp_path / "r", mode="known-poses", log=lambda _: None)
+    assert result.n_images == len(names) == result.n_registered
+    assert result.n_points > 1000
+
+
 def test_a_folder_without_ground_truth_is_a_clear_error(tmp_path):
     with pytest.raises(DesignerError, match="no ground truth"):
         reconstruct(tmp_path, tmp_path / "r")
@@ -45,8 +57,9 @@ def test_a_folder_without_ground_truth_is_a_clear_error(tmp_path):
 def test_too_few_images_is_a_clear_error(survey, tmp_path):
     partial = tmp_path / "partial"
     shutil.copytree(survey / "ground-truth", partial / "ground-truth")
-    for image in sorted(survey.glob("IMG_*.png"))[:2]:
-        shutil.copy(image, partial / image.name)
+    (partial / "images").mkdir()
+    for image in sorted((survey / "images").glob("IMG_*.png"))[:2]:
+        shutil.copy(image, partial / "images" / image.name)
     out = subprocess.run([sys.executable, "-m", "designer", "reconstruct", str(partial)],
                          capture_output=True, text=True)
     assert out.returncode == 2
@@ -57,8 +70,9 @@ def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
     # Three images of the flight's corners do not overlap: no reconstruction can start.
     apart = tmp_path / "apart"
     shutil.copytree(survey / "ground-truth", apart / "ground-truth")
-    images = sorted(survey.glob("IMG_*.png"))
+    images = sorted((survey / "images").glob("IMG_*.png"))
+    (apart / "images").mkdir()
     for image in (images[0], images[len(images) // 2 + 1], images[-1]):
-        shutil.copy(image, apart / image.name)
+        shutil.copy(image, apart / "images" / image.name)
     with pytest.raises(DesignerError, match="overlap"):
         reconstruct(apart, tmp_path / "r", mode="free")

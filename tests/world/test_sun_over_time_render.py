@@ -94,7 +94,7 @@ def test_shadows_move_with_the_sun_of_each_photos_time(rendered):
     shadows = []
     for k, t in enumerate((0.0, 4 * 3600.0)):
         az, el = _astral_grid_sun(takeoff + _dt.timedelta(seconds=t))
-        image = cv2.imread(str(folder / "out" / f"IMG_{k:03d}.png"))[:, :, ::-1]
+        image = cv2.imread(str(folder / "out" / "images" / f"IMG_{k:03d}.png"))[:, :, ::-1]
         direction, area = _shadow(image)
         # the shadow falls away from the sun
         assert abs((direction - (az + 180) + 180) % 360 - 180) < 8, (direction, az)
@@ -127,8 +127,8 @@ def test_a_frame_of_a_light_step_equals_a_render_under_its_sun_fixed(rendered, t
         trajectory=replace(project.trajectory, time_line=None, exterior_orientations=tuple(
             replace(eo, time_s=None) for eo in project.trajectory.exterior_orientations)))
     render_project(write_project_file(fixed, tmp_path), tmp_path / "out", frames="1")
-    a = cv2.imread(str(folder / "out" / "IMG_001.png"))
-    b = cv2.imread(str(tmp_path / "out" / "IMG_001.png"))
+    a = cv2.imread(str(folder / "out" / "images" / "IMG_001.png"))
+    b = cv2.imread(str(tmp_path / "out" / "images" / "IMG_001.png"))
     assert np.array_equal(a, b)
 
 
@@ -157,7 +157,7 @@ def test_exif_carries_each_photos_time(tmp_path, fmt):
     render_project(write_project_file(project, tmp_path), tmp_path / "out")
     takeoff = _dt.datetime.fromisoformat(TAKEOFF)
     for k, t in enumerate((0.0, 12.345678)):
-        moment = read_time(tmp_path / "out" / f"IMG_{k:03d}{suffix}")
+        moment = read_time(tmp_path / "out" / "images" / f"IMG_{k:03d}{suffix}")
         assert moment == takeoff + _dt.timedelta(seconds=t)
         assert moment.utcoffset() == _dt.timedelta(0)
 
@@ -169,7 +169,7 @@ def test_without_metadata_the_images_carry_no_time(tmp_path):
     project = replace(project, render=replace(project.render, output_format="tiff"),
                       trajectory=replace(project.trajectory, exterior_orientations=photos))
     render_project(write_project_file(project, tmp_path), tmp_path / "out", frames="0")
-    assert read_time(tmp_path / "out" / "IMG_000.tif") is None
+    assert read_time(tmp_path / "out" / "images" / "IMG_000.tif") is None
 
 
 def test_the_static_ideal_renders_byte_for_byte_as_without_the_new_elements(tmp_path):
@@ -183,7 +183,8 @@ def test_the_static_ideal_renders_byte_for_byte_as_without_the_new_elements(tmp_
     render_project(write_project_file(static, tmp_path / "b"), tmp_path / "b" / "out")
     for k in range(2):
         name = f"IMG_{k:03d}.png"
-        assert (tmp_path / "a/out" / name).read_bytes() == (tmp_path / "b/out" / name).read_bytes()
+        assert (tmp_path / "a/out/images" / name).read_bytes() == \
+            (tmp_path / "b/out/images" / name).read_bytes()
     truth = tmp_path / "a/out/ground-truth"
     assert not (truth / "image_times.csv").exists()
     assert (tmp_path / "b/out/ground-truth/image_times.csv").exists()

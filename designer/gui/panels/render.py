@@ -22,6 +22,7 @@ from PySide6.QtWidgets import (
     QPushButton,
 )
 
+from designer.core.layout import images_dir
 from designer.gui import derived, render_speed
 from designer.gui.panels.base import Panel
 from designer.gui.panels.out_of_date import OutOfDate
@@ -226,10 +227,11 @@ class RenderPanel(Panel):
         """The rendered image of station ``index`` in the output folder (or None)."""
         if self.out_dir is None or index >= len(self.image_names):
             return None
-        path = self.out_dir / self.image_names[index]
+        folder = images_dir(self.out_dir)
+        path = folder / self.image_names[index]
         if path.is_file():
             return str(path)
-        found = sorted(self.out_dir.glob(Path(self.image_names[index]).stem + ".*"))
+        found = sorted(folder.glob(Path(self.image_names[index]).stem + ".*"))
         return str(found[0]) if found else None
 
     def _add_thumbnail(self, index: int, path: str | None, seconds: float) -> None:
@@ -264,8 +266,10 @@ class RenderPanel(Panel):
             self._cost()
             self.sync.stations_changed.emit()
         if code == 0:
-            self.state.setText(f"done: {n} images rendered in {seconds:.0f} s{per}{kept}; "
-                               f"ground truth in {self.out_dir / 'ground-truth'}")
+            self.state.setText(f"done: {n} images rendered in {seconds:.0f} s{per}{kept} into "
+                               f"{self.out_dir / 'images'}; ground truth in "
+                               f"{self.out_dir / 'ground-truth'}; README.txt says which "
+                               "file each program takes")
         elif code == 130 or self.process.cancelled:
             self.state.setText(f"cancelled after {n} images{per}{kept}; tick 'resume' to "
                                "continue later")

@@ -1,0 +1,118 @@
+"""OUT/README.txt: which file of a render output folder each program takes.
+
+Generated from what was actually written — the image names and the ground-truth files
+:func:`designer.export.dispatch.write_all` returned — so it never names a file the
+folder does not have. Paths are relative to the output folder.
+
+OpenDroneMap's project layout (ODM ``opendm/types.py`` ``ODM_Tree``; docs "Image
+Geolocation Files" and "Ground Control Points"): a project folder holds ``images/``, and
+``gcp_list.txt`` / ``geo.txt`` are looked for only in the project folder itself (its
+top level, not inside ``images/``) unless ``--gcp`` / ``--geo`` name them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from designer import __version__
+from designer.atomic import write_text_atomic
+from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, JOB_DIR, MANIFEST, README
+
+
+def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping[str, Path],
+                *, project: str = "", image_size_px: tuple[int, int] | None = None) -> str:
+    """The README of ``out_dir`` whose images are ``image_names`` and whose ground truth
+    is ``ground_truth`` ({write_all key: path})."""
+    out_dir = Path(out_dir)
+
+    def rel(key: str) -> str | None:
+        path = ground_truth.get(key)
+        if path is None:
+            return None
+        path = Path(path)
+        try:
+            path = path.relative_to(out_dir)
+        except ValueError:
+            pass
+        return path.as_posix() + ("/" if key == "colmap" else "")
+
+    names = sorted(image_names)
+    suffixes = sorted({Path(n).suffix.lower().lstrip(".").upper() for n in names})
+    size = f", {image_size_px[0]} x {image_size_px[1]} px" if image_size_px else ""
+    span = f" ({names[0]} … {names[-1]})" if len(names) > 1 else (
+        f" ({names[0]})" if names else "")
+    lines = [
+        f"Survey images and ground truth written by designer {__version__}"
+        + (f" from the project {project}" if project else "") + ".",
+        "All paths below are relative to this folder.",
+        "",
+        f"{IMAGES_DIR}/          {len(names)} images{span}, {'/'.join(suffixes) or 'none'}"
+        f"{size}; nothing else is ever written in this folder",
+        f"{GROUND_TRUTH_DIR}/    the true camera poses, camera and GCPs (files below)",
+        f"{MANIFEST}    versions, render settings, per-image inputs and render seconds",
+        f"{JOB_DIR}/   designer's working files (scene, logs); no other program needs them",
+        "",
+    ]
+    used: set[str] = set()
+
+    def section(title: str, rows: list[tuple[str, str | None]], notes: Sequence[str] = (),
+                images: str | None = None):
+        """The program's lines, when at least one of its ground-truth files was written."""
+        present = [(what, path) for what, path in rows if path]
+        if not present:
+            return
+        lines.append(title)
+        if images:
+            present.insert(0, ("images", images))
+        lines.extend(f"  {what + ':':<22}{path}" for what, path in present)
+        lines.extend(f"  {note}" for note in notes)
+        lines.append("")
+
+    colmap = rel("colmap")
+    section("COLMAP", [("true model", colmap)],
+            [f"e.g. colmap feature_extractor --database_path db.db --image_path {IMAGES_DIR}",
+             f"     colmap point_triangulator --input_path {colmap} ...",
+             "COLMAP's PLY export stores float32, too coarse at survey coordinates: give",
+             "designer compare the model folder (it holds doubles) or a PLY in a local frame",
+             "with --offset E N H."] if colmap else [],
+            images=f"--image_path {IMAGES_DIR}")
+    used |= {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D"}
+    gcp_list, geo = rel("odm_gcp_list"), rel("odm_geo")
+    section("OpenDroneMap", [("GCP image points", gcp_list), ("image positions", geo)],
+            ["ODM reads a project folder PROJECT with the images in PROJECT/images/ and",
+             "gcp_list.txt and geo.txt in PROJECT itself (beside images/, not inside it);",
+             "copy them there, or pass --gcp and --geo with the paths above. WebODM: upload",
+             "them together with the images."], images=f"{IMAGES_DIR}/")
+    used |= {"odm_gcp_list", "odm_geo"}
+    section("Agisoft Metashape",
+            [("camera calibration", rel("metashape_calibration")),
+             ("camera reference", rel("metashape_cameras")),
+             ("markers reference", rel("metashape_markers"))],
+            ["Calibration: Tools > Camera Calibration > Load. References: Reference pane >",
+             "Import Reference; set the rotation angles to Omega, Phi, Kappa."],
+            images=f"Add Photos from {IMAGES_DIR}/")
+    used |= {"metashape_calibration", "metashape_cameras", "metashape_markers"}
+    section("Tables (any program; '#' lines describe the columns)",
+            [("camera poses (OPK)", rel("opk")), ("GCP coordinates", rel("gcp_truth")),
+             ("GCP image points", rel("gcp_observations"))])
+    used |= {"opk", "gcp_truth", "gcp_observations"}
+    others = [(key, rel(key)) for key in sorted(ground_truth) if key not in used]
+    section("Other ground-truth files", others)
+    lines += [
+        "designer",
+        "  designer reconstruct OUT             reads images/ and ground-truth/colmap/",
+        "  designer compare CLOUD PROJECT --truth OUT",
+        "  designer check-output OUT            are the images still the project's?",
+        "  (OUT is this folder)",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def write_readme(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping[str, Path],
+                 **kwargs) -> Path:
+    """Write OUT/README.txt atomically (see :func:`readme_text`); returns its path."""
+    path = Path(out_dir) / README
+    write_text_atomic(path, readme_text(out_dir, image_names, ground_truth, **kwargs))
+    return path
