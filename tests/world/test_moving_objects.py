@@ -64,7 +64,7 @@ def test_the_object_moves_by_speed_times_elapsed_time_in_the_images(renders):
     poses, interior = prepared.poses, prepared.interior
     centroids, projected = [], []
     for k, row in enumerate(rows):
-        c = _coverage(out / row["image"], bare / row["image"])
+        c = _coverage(out / "images" / row["image"], bare / "images" / row["image"])
         v, u = np.mgrid[:c.shape[0], :c.shape[1]] + 0.5
         centroids.append(np.array([(c * u).sum(), (c * v).sum()]) / c.sum())
         # the silhouette is the level top face: its centroid is its centre's projection
@@ -84,7 +84,7 @@ def test_masks_are_the_rendered_silhouettes(renders):
         mask = cv2.imread(str(out / "ground-truth" / "masks" / name.replace(".png", "_mask.png")),
                           cv2.IMREAD_UNCHANGED)
         assert mask.dtype == np.uint8 and set(np.unique(mask)) == {0, 255}
-        covered = _coverage(out / name, bare / name) >= 0.5
+        covered = _coverage(out / "images" / name, bare / "images" / name) >= 0.5
         inside = mask > 0
         iou = (covered & inside).sum() / (covered | inside).sum()
         assert iou >= 0.98, iou
@@ -101,7 +101,8 @@ def test_a_project_without_moving_objects_is_unchanged(renders, tmp_path):
     away = replace(p, scene=replace(p.scene, moving_objects=(far,)))
     render_project(write_project_file(away, tmp_path), tmp_path / "out")
     for name in ("IMG_000.png", "IMG_001.png"):
-        assert (tmp_path / "out" / name).read_bytes() == (bare / name).read_bytes()
+        assert (tmp_path / "out/images" / name).read_bytes() == \
+            (bare / "images" / name).read_bytes()
         assert not (cv2.imread(str(tmp_path / "out/ground-truth/masks" /
                                    name.replace(".png", "_mask.png"))) > 0).any()
     assert not (bare / "ground-truth" / "masks").exists()
