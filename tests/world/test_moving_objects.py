@@ -153,6 +153,7 @@ def _load_lines(path: Path) -> list[str]:
     (lambda t: re.sub(r'(<point [^>]*/>)\s*<point [^>]*/>', r"\1", t), "<path", "two"),
     (lambda t: t.replace('shape="box"', 'shape="bus"'), 'shape="bus"', "unknown shape"),
     (lambda t: t.replace(' length-m="1.0"', ""), "shape=", "length-m"),
+    (lambda t: t.replace('shape="box"', 'file="no_such_car.ply"'), "no_such_car", "no_such_car"),
     (lambda t: t.replace('albedo-rgb="0.9 0.02 0.02"', 'albedo-rgb="red"'), "albedo",
      "albedo-rgb"),
     (lambda t: t.replace('start-s', 'x').replace('<path ', '<path start-s="-1" '), "<path",
