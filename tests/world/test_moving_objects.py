@@ -203,3 +203,23 @@ def test_compare_uses_the_static_ground_unless_given_a_time(tmp_path, capsys):
     assert cli_main(["compare", str(cloud), str(tmp_path / "cloud.ply"), "-o",
                      str(tmp_path / "o"), "--at-time", "2"]) == 2
     assert "--at-time 2.0: needs a project XML" in capsys.readouterr().err
+
+
+def test_a_mesh_file_object_is_placed_by_its_pose(tmp_path):
+    """A mesh in the object's frame (+Y forward) heading east lies along +X."""
+    from designer.evaluate.compare import reference_mesh
+
+    (tmp_path / "plate.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "end_header\n0 0 0\n0 2 0\n0.5 0 0\n3 0 1 2\n")
+    p = moving_project(TIMES_S)
+    plate = replace(p.scene.moving_objects[0], shape=None, file="plate.ply", size_m=None)
+    path = write_project_file(replace(p, scene=replace(p.scene, moving_objects=(plate,))),
+                              tmp_path)
+    static = reference_mesh(path)
+    posed = reference_mesh(path, at_time_s=2.0).vertices[len(static.vertices):]
+    E0, N0, H0 = ORIGIN
+    x, y = E0 - 2.5 + SPEED_M_S * 2.0, N0 + 0.5
+    np.testing.assert_allclose(posed, [[x, y, H0 + 0.25], [x + 2, y, H0 + 0.25],
+                                       [x, y - 0.5, H0 + 0.25]], atol=1e-9)
