@@ -6,7 +6,9 @@ Three figures for the same frames and settings:
   renderer alone costs); designer's overhead ratio is wall time / this;
 * naive: a fresh Blender process per image (import bpy, build the scene, render).
 
-A last row renders the survey preset with a sun over time (a time line at 8 m/s, the sun
+The example's ground has a non-repeating texture variation (docs/world.md); a row with
+the plain tiled texture (``texture tiled``) gives its render-time cost. A last row
+renders the survey preset with a sun over time (a time line at 8 m/s, the sun
 computed for each photo): its job bakes one light map per photo (``prepare s/img``) and
 the worker swaps the terrain's light map and the targets' colours before each frame.
 
@@ -66,10 +68,16 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
             project.scene.lighting, sun=m.SunOverTime(47.37, 8.54))),
             trajectory=replace(project.trajectory, time_line=m.TimeLine(
                 "2026-06-21T06:30:00Z", 8.0, 10.0)))
-        for quality, sun, proj in (("draft", "static", project), ("survey", "static", project),
-                                   ("survey", "over time", timed),
-                                   ("survey", "+movers", _with_movers(project))):
-            out = tmp / f"out-{quality}-{sun.replace(' ', '-')}"
+        tiled = replace(project, scene=replace(project.scene, texture=replace(
+            project.scene.texture, variation=None)))
+        texture = "varied" if project.scene.texture.variation is not None else "tiled"
+        for quality, sun, kind, proj in (("draft", "static", texture, project),
+                                         ("survey", "static", texture, project),
+                                         ("survey", "static", "tiled", tiled),
+                                         ("survey", "over time", texture, timed),
+                                         ("survey", "+movers", texture, _with_movers(project))):
+            out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
+            naive = sun == "static" and proj is project
             t_prepare = time.perf_counter()
             prepared = prepare_job(proj, project_path.parent, out, quality)
             if proj.scene.moving_objects:
@@ -83,14 +91,14 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
             report = render_frames(prepared.job_path, frames)
             bare = sum(report.rendered.values()) / max(1, len(report.peak_rss_mb))
             t0 = time.perf_counter()
-            for i in range(n_naive if sun == "static" else 0):
+            for i in range(n_naive if naive else 0):
                 render_frames(prepared.job_path, [i], workers=1)
-            naive_per_image = (time.perf_counter() - t0) / n_naive if sun == "static" \
-                else float("nan")
+            naive_per_image = (time.perf_counter() - t0) / n_naive if naive else float("nan")
             W, H = prepared.interior.image_size_px
             per_image = report.wall_seconds / n_frames
             rows.append({
-                "quality": quality, "sun": sun, "image": f"{W}x{H}", "frames": n_frames,
+                "quality": quality, "sun": sun, "texture": kind, "image": f"{W}x{H}",
+                "frames": n_frames,
                 "prepare_per_image_s": prepare / len(prepared.job.frames),
                 "workers": len(report.peak_rss_mb),
                 "wall_per_image_s": per_image,
@@ -104,14 +112,16 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    head = (f"{'quality':<8} {'sun':<9} {'prepare s/img':>13} {'image':>10} {'frames':>6} "
+    head = (f"{'quality':<8} {'sun':<9} {'texture':<7} {'prepare s/img':>13} {'image':>10} "
+            f"{'frames':>6} "
             f"{'workers':>7} {'wall s/img':>10} "
             f"{'Cycles s/img':>12} {'overhead':>8} {'naive s/img':>11} {'speed-up':>8} "
             f"{'peak MB/worker':>14}")
     lines = [head, "-" * len(head)]
     for r in rows:
         lines.append(
-            f"{r['quality']:<8} {r['sun']:<9} {r['prepare_per_image_s']:>13.2f} "
+            f"{r['quality']:<8} {r['sun']:<9} {r.get('texture', '–'):<7} "
+            f"{r['prepare_per_image_s']:>13.2f} "
             f"{r['image']:>10} {r['frames']:>6} {r['workers']:>7} "
             f"{r['wall_per_image_s']:>10.2f} {r['bare_cycles_per_image_s']:>12.2f} "
             f"{r['overhead_ratio']:>8.3f} {_or_dash(r['naive_per_image_s'], 11, '.2f')} "

@@ -12,6 +12,8 @@ MAX_ABS_COORDINATE_M = 1e8
 #: generated texture tiles have this many texels per side, at least and at most
 MIN_TEXTURE_TEXELS = 16
 MAX_TEXTURE_TEXELS = 16384
+#: largest side of a texture variation image (px, designer.scene.texture_variation)
+VARIATION_MAX_PX = 2048
 #: largest procedural terrain grid (nodes), and the "whole number of cells" tolerance
 MAX_TERRAIN_NODES = 64e6
 GRID_TOL = 1e-9

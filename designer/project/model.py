@@ -156,14 +156,30 @@ class ProceduralTexture:
 
 
 @dataclass(frozen=True)
+class TextureVariation:
+    """Seeded, non-repeating large-scale variation laid over the tiled texture.
+
+    ``scale_m`` is the wavelength of the coarsest of ``octaves`` noise octaves (each next
+    one half as long); ``strength`` (0..1) the brightness swing, 1 ± strength.
+    """
+
+    seed: int
+    scale_m: float
+    strength: float
+    octaves: int = 4
+
+
+@dataclass(frozen=True)
 class Texture:
     """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent (an
-    orthophoto is placed by its geotransform instead, and its repeats are 1)."""
+    orthophoto is placed by its geotransform instead, and its repeats are 1), optionally
+    varied by a non-repeating ``variation`` (tiled textures only)."""
 
     source: ImageTexture | ProceduralTexture | OrthophotoTexture
     repeat_X: int
     repeat_Y: int
     interpolation: Interpolation
+    variation: TextureVariation | None = None
 
 
 # ---------------------------------------------------------------------- targets

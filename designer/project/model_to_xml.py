@@ -92,6 +92,10 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
                  texel_size_m=_num(tex.source.texel_size_m))
         _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
                                   "repeat-Y": _num(tex.repeat_Y)})
+        if tex.variation is not None:
+            v = tex.variation
+            _sub(tex_el, "variation", seed=_num(v.seed), scale_m=_num(v.scale_m),
+                 strength=_num(v.strength), octaves=_num(v.octaves))
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")

@@ -67,8 +67,11 @@ def survey() -> Template:
     scene = m.Scene(
         terrain=m.Terrain(extent, m.ProceduralTerrain(
             seed=7, grid_spacing_m=0.5, roughness=0.3, min_height_m=-10.0, max_height_m=10.0)),
+        # 20 m tiles under a 75 x 50 m footprint: the variation keeps images that do not
+        # overlap from showing the same ground (docs/world.md)
         texture=m.Texture(m.ProceduralTexture("grass", seed=3, texel_size_m=0.025),
-                          repeat_X=5, repeat_Y=5, interpolation="linear"),
+                          repeat_X=5, repeat_Y=5, interpolation="linear",
+                          variation=m.TextureVariation(seed=7, scale_m=40.0, strength=0.35)),
         targets=m.Targets(_grid_targets(E0, N0, 38.0, 0.8),
                           m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.02), seed=11)),
         lighting=m.Lighting(m.Sun(azimuth_deg=135.0, elevation_deg=50.0),

@@ -133,8 +133,14 @@ class _Reader:
             source = self.note(m.ProceduralTexture(
                 p.get("pattern"), int(p.get("seed")), _f(p, "texel-size-m")), p)
         tiling = el.find(q("tiling"))
+        var_el = el.find(q("variation"))
+        variation = None
+        if var_el is not None:
+            variation = self.note(m.TextureVariation(
+                int(var_el.get("seed")), _f(var_el, "scale-m"), _f(var_el, "strength"),
+                int(var_el.get("octaves", "4"))), var_el)
         texture = m.Texture(source, int(tiling.get("repeat-X")), int(tiling.get("repeat-Y")),
-                            el.get("interpolation"))
+                            el.get("interpolation"), variation)
         self.note(texture, el)
         self.note(texture, tiling)
         return texture

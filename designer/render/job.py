@@ -42,6 +42,7 @@ from designer.render.job_spec import (
     RenderSpec,
 )
 from designer.scene.build import BuiltScene, build_scene
+from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_stations, render_interior
 from designer.survey.timeline import StationTime, iso_utc, project_station_times
 
@@ -103,6 +104,15 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
+    if scene.variation is not None:
+        var = scene.variation
+        write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
+        write_png(job_dir / "variation_warp.png", cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))
+        # the image stores gain / GAIN_ENCODING; the emission strength scales it back
+        terrain_material = replace(terrain_material, variation="variation.png",
+                                   variation_warp="variation_warp.png",
+                                   variation_warp_uv=var.warp_bound_uv,
+                                   strength=terrain_material.strength * GAIN_ENCODING)
     terrain_uv = {}
     if scene.texture_uv is not None:
         # An orthophoto: its own texture coordinates (from its geotransform), no tiling,

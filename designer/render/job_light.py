@@ -72,7 +72,8 @@ class ObjectLighting:
                                   size_px=self.lightmap_size_px())
             name = f"lightmap{tag}.png"
             write_png(self.job_dir / name, encode_lightmap_png16(light))
-            material = replace(material, lightmap=name, strength=LIGHTMAP_SCALE)
+            material = replace(material, lightmap=name,
+                               strength=material.strength * LIGHTMAP_SCALE)
         objects = [MeshSpec("terrain", "terrain.npz", (material,))]
         if scene.targets:
             objects.append(_targets_object(scene, self.origin, self.job_dir,

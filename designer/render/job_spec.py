@@ -89,7 +89,8 @@ class CameraSpec:
 
 @dataclass(frozen=True)
 class MaterialSpec:
-    """An emission material: a plain colour, or a tiled texture × an optional light map.
+    """An emission material: a plain colour, or a tiled texture (optionally varied) × an
+    optional light map.
 
     ``strength`` scales the emission (a light map stores L / strength to fit 16 bits).
     """
@@ -105,6 +106,12 @@ class MaterialSpec:
     uv_map: str | None = None
     #: Blender image extension outside [0, 1]: REPEAT (tiles), EXTEND (edge texels), CLIP
     extension: str = "REPEAT"
+    #: texture variation (designer.scene.texture_variation): 16-bit images over the UV
+    #: 0..1 square of gain / 2, mix_a, mix_b and of the lookup warp (u, v encoded as
+    #: 0.5 + warp / (2 variation_warp_uv)); None: the plain tiled texture
+    variation: str | None = None
+    variation_warp: str | None = None
+    variation_warp_uv: float = 0.0
 
     def __post_init__(self) -> None:
         if (self.color is None) == (self.texture is None):

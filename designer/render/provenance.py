@@ -10,7 +10,7 @@ part          what goes in                                                      
 ``software``  designer's version and the bpy package's version                 all
 ``render``    Cycles settings (samples, filter, seed, format, bit depth)       all
 ``camera``    the Blender camera (lens, sensor, shift, resolution)             all
-``scene``     terrain mesh, texture, light map, scene objects, background;    all /
+``scene``     terrain mesh, texture (+ variation), light map, objects, sky;   all /
               with a sun over time the frame's own light step (its sun)       per image
 ``targets``   GCP target materials; target geometry inside the frame's view    per image
 ``effects``   the camera-effects model, camera id, scale, distortion warp      all
@@ -91,6 +91,16 @@ def _file_digest(path: Path) -> str:
     return _digest(path.read_bytes())
 
 
+def _material_fields(mat) -> dict:
+    """A material's fields; those of an absent texture variation are left out, so a
+    material without one hashes as before the variation existed."""
+    fields = asdict(mat)
+    if mat.variation is None:
+        for name in ("variation", "variation_warp", "variation_warp_uv"):
+            fields.pop(name)
+    return fields
+
+
 @cache
 def bpy_version() -> str:
     """The installed bpy package's version (without importing Blender)."""
@@ -157,8 +167,9 @@ def _objects_chunks(objects, job_dir: Path):
     target_chunks: list[str] = []
     target_vertices = None
     for obj in objects:
-        materials = [asdict(mat) for mat in obj.materials]
-        files = [f for mat in obj.materials for f in (mat.texture, mat.lightmap) if f]
+        materials = [_material_fields(mat) for mat in obj.materials]
+        files = [f for mat in obj.materials
+                 for f in (mat.texture, mat.lightmap, mat.variation, mat.variation_warp) if f]
         described = _canonical([obj.name, materials, [_file_digest(job_dir / f) for f in files]])
         if obj.name == TARGETS_MESH:
             target_chunks.append(described)

@@ -38,6 +38,7 @@ from designer.render.job_spec import (
     RenderJob,
 )
 from designer.render.png_text import move_without_text
+from designer.scene.texture_variation import MIRROR_OFFSETS
 
 
 def reset_scene() -> bpy.types.Scene:
@@ -149,18 +150,22 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
     mapping.vector_type = "POINT"
     tiles = spec.uv_tiles
     mapping.inputs["Scale"].default_value = (float(tiles[0]), float(tiles[1]), 1.0)
+    lookup_uv = uv.outputs["UV"]
     if spec.uv_map:
         texture_uv = nodes.new("ShaderNodeUVMap")
         texture_uv.uv_map = spec.uv_map
-        links.new(texture_uv.outputs["UV"], mapping.inputs["Vector"])
-    else:
-        links.new(uv.outputs["UV"], mapping.inputs["Vector"])
+        lookup_uv = texture_uv.outputs["UV"]
+    elif spec.variation_warp:
+        lookup_uv = _warped_uv(nodes, links, spec, base, uv.outputs["UV"])
+    links.new(lookup_uv, mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = load_image(str(base / spec.texture), "sRGB")
     tex.interpolation = spec.interpolation
     tex.extension = spec.extension
     links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
     colour = tex.outputs["Color"]
+    if spec.variation:
+        colour = _varied(nodes, links, spec, base, uv.outputs["UV"], lookup_uv, colour)
     if spec.lightmap:
         light = nodes.new("ShaderNodeTexImage")
         light.image = load_image(str(base / spec.lightmap), "Non-Color")
@@ -176,6 +181,69 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
         colour = mix.outputs["Result"]
     links.new(colour, emit.inputs["Color"])
     return mat
+
+
+def _mix(nodes, links, blend: str, factor, a, b):
+    mix = nodes.new("ShaderNodeMix")
+    mix.data_type = "RGBA"
+    mix.blend_type = blend
+    if isinstance(factor, float):
+        mix.inputs["Factor"].default_value = factor
+    else:
+        links.new(factor, mix.inputs["Factor"])
+    links.new(a, mix.inputs["A"])
+    links.new(b, mix.inputs["B"])
+    return mix.outputs["Result"]
+
+
+def _variation_image(nodes, links, path: Path, uv):
+    node = nodes.new("ShaderNodeTexImage")
+    node.image = load_image(str(path), "Non-Color")
+    node.interpolation = "Linear"
+    node.extension = "EXTEND"
+    links.new(uv, node.inputs["Vector"])
+    return node.outputs["Color"]
+
+
+def _warped_uv(nodes, links, spec: MaterialSpec, base: Path, uv):
+    """UV + the variation's warp, decoded from 0.5 + warp / (2 bound)."""
+    warp = _variation_image(nodes, links, base / spec.variation_warp, uv)
+    decode = nodes.new("ShaderNodeMapping")
+    decode.vector_type = "POINT"
+    bound = float(spec.variation_warp_uv)
+    decode.inputs["Scale"].default_value = (2 * bound, 2 * bound, 0.0)
+    decode.inputs["Location"].default_value = (-bound, -bound, 0.0)
+    links.new(warp, decode.inputs["Vector"])
+    add = nodes.new("ShaderNodeVectorMath")
+    add.operation = "ADD"
+    links.new(uv, add.inputs[0])
+    links.new(decode.outputs["Vector"], add.inputs[1])
+    return add.outputs["Vector"]
+
+
+def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour):
+    """The tiled texture blended with two mirrored, shifted copies of itself by the
+    variation's mix_a and mix_b, times its gain / GAIN_ENCODING (the strength holds the
+    factor); the variation images span the UV square once (world X, Y of the terrain),
+    the copies are looked up at the warped UV like the texture."""
+    planes = nodes.new("ShaderNodeSeparateColor")
+    links.new(_variation_image(nodes, links, base / spec.variation, uv), planes.inputs["Color"])
+    tx, ty = (float(t) for t in spec.uv_tiles)
+    image = bpy.data.images.load(str(base / spec.texture), check_existing=True)
+    for (du, dv), scale, weight in zip(MIRROR_OFFSETS, ((-tx, ty), (tx, -ty)),
+                                       ("Green", "Blue"), strict=True):
+        mapping = nodes.new("ShaderNodeMapping")
+        mapping.vector_type = "POINT"
+        mapping.inputs["Scale"].default_value = (scale[0], scale[1], 1.0)
+        mapping.inputs["Location"].default_value = (du, dv, 0.0)
+        links.new(lookup_uv, mapping.inputs["Vector"])
+        copy = nodes.new("ShaderNodeTexImage")
+        copy.image = image
+        copy.interpolation = spec.interpolation
+        copy.extension = "REPEAT"
+        links.new(mapping.outputs["Vector"], copy.inputs["Vector"])
+        colour = _mix(nodes, links, "MIX", planes.outputs[weight], colour, copy.outputs["Color"])
+    return _mix(nodes, links, "MULTIPLY", 1.0, colour, planes.outputs["Red"])
 
 
 def set_materials(mesh: bpy.types.Mesh, spec: MeshSpec, base: Path, data=None) -> None:

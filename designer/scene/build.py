@@ -27,6 +27,7 @@ from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh
 from designer.scene.orthophoto import Orthophoto, load_orthophoto, orthophoto_uv
 from designer.scene.terrain import load_dem, procedural_terrain
 from designer.scene.texture import checkerboard_texture, load_texture, procedural_texture
+from designer.scene.texture_variation import VariationImages, variation_images
 
 #: the largest procedural texture side generated (px)
 MAX_TEXTURE_PX = 8192
@@ -60,6 +61,19 @@ class BuiltScene:
     #: (N, 2) texture coordinates per terrain vertex of an orthophoto (placed by its
     #: geotransform, not tiled); None: the texture is tiled over the terrain's own uv
     texture_uv: np.ndarray | None = None
+    #: the texture variation over the terrain's UV extent
+    #: (:mod:`designer.scene.texture_variation`), None without one
+    variation: VariationImages | None = None
+
+
+def uv_extent_m(hf: Heightfield | None, mesh: TerrainMesh) -> tuple[float, float, float, float]:
+    """(x_min, x_max, y_min, y_max) of the world area the terrain's UV 0..1 spans: the
+    height field's grid, or a mesh terrain's bounding box (its planar UV)."""
+    if hf is not None:
+        return hf.extent_m
+    xy = mesh.vertices_world[:, :2]
+    return (float(xy[:, 0].min()), float(xy[:, 0].max()),
+            float(xy[:, 1].min()), float(xy[:, 1].max()))
 
 
 def build_heightfield(terrain: m.Terrain, base_dir: Path,
@@ -203,4 +217,6 @@ def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
         targets=build_targets(project, hf),
         sun_azimuth_deg=float(azimuth), sun_elevation_deg=float(elevation),
         sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength,
-        texture_uv=texture_uv)
+        texture_uv=texture_uv,
+        variation=(None if scene.texture.variation is None or texture_uv is not None else
+                   variation_images(scene.texture.variation, uv_extent_m(hf, mesh))))

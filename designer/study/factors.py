@@ -205,6 +205,21 @@ def _with_texel(p: m.Project, value: float) -> m.Project:
     return _with_texture_source(p, replace(src, texel_size_m=value))
 
 
+def _with_variation_strength(p: m.Project, value: float) -> m.Project:
+    """Strength of the texture variation; 0 removes it (the plain tiled texture). A base
+    project without one gets seed 1 and a scale of two tiles."""
+    tex = p.scene.texture
+    if value == 0:
+        variation = None
+    elif tex.variation is not None:
+        variation = replace(tex.variation, strength=value)
+    else:
+        e = p.scene.terrain.extent
+        tile_m = max(e.width_m / tex.repeat_X, e.length_m / tex.repeat_Y)
+        variation = m.TextureVariation(seed=1, scale_m=2 * tile_m, strength=value)
+    return replace(p, scene=replace(p.scene, texture=replace(tex, variation=variation)))
+
+
 #: flight geometries of the ``flight-geometry`` factor: (crosshatch, tilt in deg)
 GEOMETRIES = {"nadir": (False, 0.0), "crosshatch": (True, 0.0), "tilted": (True, 20.0)}
 
@@ -320,6 +335,10 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),
     _F("texel-size-m", "texel size of the procedural ground texture (m)", "render", _float,
        lambda p: getattr(_texture_source(p), "texel_size_m", None), _with_texel),
+    _F("texture-variation-strength", "brightness swing of the non-repeating texture "
+       "variation, 0 to 1; 0 removes the variation (the plain tiled texture)", "render", _float,
+       lambda p: p.scene.texture.variation.strength if p.scene.texture.variation else 0.0,
+       _with_variation_strength),
     _F("render-preset", "render quality preset: draft, survey or metrology", "render",
        _choice("draft", "survey", "metrology"), lambda p: p.render.preset,
        lambda p, v: replace(p, render=replace(p.render, preset=v, samples=None))),

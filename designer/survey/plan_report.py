@@ -99,12 +99,35 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
                 f"texture texels ({100 * source.texel_size_m:.1f} cm) are finer than a third "
                 f"of the GSD ({100 * gsd['min']:.1f} cm): pixels will alias the texture and "
                 "SIFT features will not repeat between images; use a texel near GSD/2")
+    repeat = texture_repeat_warning(result.project.scene.texture,
+                                    result.project.scene.terrain.extent, result.footprint_m)
+    if repeat:
+        warnings.append(repeat)
     if result.analysis.gcps is not None:
         few = [t.target.id for k, t in enumerate(result.targets)
                if result.analysis.gcps.counts[k] < 3]
         if few:
             warnings.append(f"GCPs seen by fewer than 3 images: {', '.join(few)}")
     return warnings
+
+
+def texture_repeat_warning(texture: m.Texture, extent: m.Extent,
+                           footprint_m: tuple[float, float]) -> str | None:
+    """A warning when a tiled texture without a variation repeats inside one image.
+
+    The repeat period is the shorter tile side (m); the footprint the shorter side of
+    the image's ground footprint (m). Without a ``<variation>`` two images whose
+    footprints do not overlap can show the same texture, and matching pairs them.
+    """
+    if texture.variation is not None or (texture.repeat_X == 1 and texture.repeat_Y == 1):
+        return None
+    period_m = min(extent.width_m / texture.repeat_X, extent.length_m / texture.repeat_Y)
+    side_m = min(footprint_m)
+    if not (period_m < side_m):
+        return None
+    return (f"texture repeats every {period_m:g} m, shorter than the {side_m:.1f} m footprint: "
+            "matching may pair images that do not overlap; add <variation seed=\"1\" "
+            f"scale-m=\"{2 * period_m:g}\" strength=\"0.35\"/> to <texture> (docs/world.md)")
 
 
 def format_plan(result: PlanResult, source: str) -> str:

@@ -52,3 +52,38 @@ def test_plan_of_a_broken_file_is_a_one_line_error(tmp_path):
                          capture_output=True, text=True)
     assert out.returncode == 2
     assert "bad.xml:" in out.stderr and "Traceback" not in out.stderr
+
+
+def _texture_warnings(project, tmp_path, capsys) -> list[str]:
+    from designer.project import write_project
+
+    path = tmp_path / "p.xml"
+    write_project(project, path)
+    assert main(["plan", str(path), "--json"]) == 0
+    return [w for w in json.loads(capsys.readouterr().out)["warnings"]
+            if w.startswith("texture repeats")]
+
+
+def test_plan_warns_when_the_tiled_texture_repeats_inside_the_footprint(tmp_path, capsys):
+    import dataclasses
+
+    example = load_project(EXAMPLE)
+    assert example.scene.texture.variation is not None
+    assert _texture_warnings(example, tmp_path, capsys) == []
+
+    def with_texture(**changes):
+        tex = dataclasses.replace(example.scene.texture, **changes)
+        return dataclasses.replace(example, scene=dataclasses.replace(example.scene,
+                                                                      texture=tex))
+
+    # without the variation the 20 m tiles repeat inside the 75 x 50 m footprint
+    (warning,) = _texture_warnings(with_texture(variation=None), tmp_path, capsys)
+    assert warning.startswith("texture repeats every 20 m, shorter than the 50.")
+    assert "add <variation" in warning
+    # one tile over the 100 m terrain: longer than the footprint, no repeat in an image
+    assert _texture_warnings(with_texture(variation=None, repeat_X=1, repeat_Y=1),
+                             tmp_path, capsys) == []
+    # 50 m tiles: just shorter than the 50.4 m short side of the footprint
+    (warning,) = _texture_warnings(with_texture(variation=None, repeat_X=2, repeat_Y=2),
+                                   tmp_path, capsys)
+    assert warning.startswith("texture repeats every 50 m")

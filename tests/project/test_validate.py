@@ -133,3 +133,18 @@ def test_polygon_geometry():
     assert polygon_is_degenerate([(0.0, 0.0), (1.0, 1.0), (5.0, 5.0)])
     utm = [(x + 512000.0, y + 5406000.0) for x, y in square]
     assert polygon_area(utm) == 100.0
+
+
+@pytest.mark.parametrize("changes, expected", [
+    ({"strength": 1.5}, "<variation>: strength 1.5 must be from 0 to 1"),
+    ({"strength": -0.1}, "<variation>: strength -0.1 must be from 0 to 1"),
+    ({"scale_m": 0.0}, "<variation>: scale-m 0.0 must be > 0 m"),
+    ({"octaves": 0}, "<variation>: octaves 0 must be a whole number from 1 to 8"),
+])
+def test_texture_variation_ranges(changes, expected):
+    p = survey()
+    tex = p.scene.texture
+    assert tex.variation is not None and messages(p) == []
+    bad = dataclasses.replace(tex, variation=dataclasses.replace(tex.variation, **changes))
+    p = dataclasses.replace(p, scene=dataclasses.replace(p.scene, texture=bad))
+    assert any(msg.startswith(expected) for msg in messages(p)), messages(p)

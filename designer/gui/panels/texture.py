@@ -15,6 +15,7 @@ from designer.gui import derived
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, dspin, form, ispin, readout
 from designer.project import model as m
+from designer.survey.plan_report import texture_repeat_warning
 
 PATTERNS = ["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
 
@@ -71,6 +72,23 @@ class TexturePanel(Panel):
             "scene.texture.interpolation", "Texture interpolation"))
         layout.addWidget(tiling)
 
+        self.variation = QGroupBox("non-repeating variation")
+        self.variation.setCheckable(True)
+        self.variation.toggled.connect(self._toggle_variation)
+        f = form(self.variation)
+        var = "scene.texture.variation"
+        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{var}.seed",
+                                            "Texture variation seed"))
+        f.addRow("scale", self.bindings.bind(dspin(0.01, 1e6, 2, 5, "m"), f"{var}.scale_m",
+                                             "Texture variation scale"))
+        f.addRow("strength", self.bindings.bind(dspin(0, 1, 2, 0.05), f"{var}.strength",
+                                                "Texture variation strength"))
+        f.addRow("octaves", self.bindings.bind(ispin(1, 8), f"{var}.octaves",
+                                               "Texture variation octaves"))
+        self.repeat_label = readout()
+        f.addRow("repeat", self.repeat_label)
+        layout.addWidget(self.variation)
+
         info = form()
         self.tile_label, self.texel_label, self.ratio_label = readout(), readout(), readout()
         info.addRow("tile", self.tile_label)
@@ -101,6 +119,10 @@ class TexturePanel(Panel):
         self.image.setVisible(is_image)
         if is_image:
             self.file_label.setText(tex.source.file)
+        blocked = self.variation.blockSignals(True)
+        self.variation.setVisible(not isinstance(tex.source, m.OrthophotoTexture))
+        self.variation.setChecked(tex.variation is not None)
+        self.variation.blockSignals(blocked)
         self._readouts()
 
     def _readouts(self) -> None:
@@ -117,6 +139,7 @@ class TexturePanel(Panel):
             f" ({self.sync.texture_rgb.shape[1]} × {self.sync.texture_rgb.shape[0]} px)")
         self.texel_label.setText(f"{1000 * tx:.2f} × {1000 * ty:.2f} mm{size}")
         stations = self.sync.stations
+        self._repeat_readout(stations)
         if stations is not None and stations.calc is not None:
             # the images are rendered at the render's resolution scale: their GSD counts
             scale = project.render.resolution_scale
@@ -128,6 +151,18 @@ class TexturePanel(Panel):
                                      f"{100 * gsd:.2f} cm{where}{hint}")
         else:
             self.ratio_label.setText("–")
+
+    def _repeat_readout(self, stations) -> None:
+        """The plan's texture-repeat warning, at the flight's nominal GSD."""
+        project = self.project
+        if stations is None or stations.calc is None:
+            self.repeat_label.setText("–")
+            return
+        w_px, h_px = stations.interior.image_size_px
+        footprint = (w_px * stations.calc.gsd_m, h_px * stations.calc.gsd_m)
+        warning = texture_repeat_warning(project.scene.texture, project.scene.terrain.extent,
+                                         footprint)
+        self.repeat_label.setText(warning or "the texture does not repeat inside an image")
 
     def _show_texture(self) -> None:
         self.error_label.setText(self.sync.errors.get("texture", "")
@@ -143,6 +178,18 @@ class TexturePanel(Panel):
         tex = dataclasses.replace(self.project.scene.texture, source=source)
         scene = dataclasses.replace(self.project.scene, texture=tex)
         self.editor.edit(dataclasses.replace(self.project, scene=scene), text)
+
+    def _toggle_variation(self, on: bool) -> None:
+        tex = self.project.scene.texture
+        variation = None
+        if on:
+            e = self.project.scene.terrain.extent
+            tile_m = max(e.width_m / tex.repeat_X, e.length_m / tex.repeat_Y)
+            variation = m.TextureVariation(seed=1, scale_m=round(2 * tile_m, 2), strength=0.35)
+        scene = dataclasses.replace(self.project.scene,
+                                    texture=dataclasses.replace(tex, variation=variation))
+        self.editor.edit(dataclasses.replace(self.project, scene=scene),
+                         f"Texture variation {'on' if on else 'off'}")
 
     def _kind_changed(self) -> None:
         if self.kind.currentData() == "image":

@@ -1,0 +1,107 @@
+"""The texture variation on real Cycles renders: the tiled ground stops repeating with the
+tile, the variation's files are part of the image's provenance, and a project without a
+variation prepares exactly the job it prepared before the variation existed."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import cv2
+import numpy as np
+import pytest
+
+from designer.project import model as m
+from designer.render.job import JOB_DIR, prepare_job
+from designer.render.job_spec import MaterialSpec, RenderJob
+from designer.render.pipeline import render_project
+from designer.render.provenance import job_provenance
+from tests.synthetic import small_survey, write_project_file
+
+TILE_M = 10.0
+GSD_M = 0.01 * 30.0 / 5.0  # pixel pitch × height / focal length
+
+
+def nadir_project(variation: m.TextureVariation | None) -> m.Project:
+    """Flat ground, 10 m grass tiles, one nadir photo from 30 m (19.2 × 14.4 m)."""
+    p = small_survey(n_photos=1, samples=4, size_px=(320, 240))
+    tex = dataclasses.replace(p.scene.texture, variation=variation)
+    terrain = m.Terrain(p.scene.terrain.extent, m.FlatTerrain(0.0))
+    scene = dataclasses.replace(p.scene, terrain=terrain, texture=tex, targets=None)
+    photo = m.ExteriorOrientation("IMG_000.png", "cam", 3.0, 2.0, 30.0, 0.0, 0.0, 0.0)
+    return dataclasses.replace(p, scene=scene, effects=None,
+                               trajectory=m.Trajectory(exterior_orientations=(photo,)))
+
+
+def tile_correlation(grey: np.ndarray) -> float:
+    """Correlation of the image with itself one tile further east."""
+    shift = round(TILE_M / GSD_M)
+    a, b = grey[:, :-shift].ravel(), grey[:, shift:].ravel()
+    return float(np.corrcoef(a, b)[0, 1])
+
+
+def large_scale_change(grey: np.ndarray) -> float:
+    """RMS change of the brightness smoothed over ~1 m between a point and the point one
+    tile further east, relative to the mean brightness."""
+    smooth = cv2.GaussianBlur(grey, (0, 0), sigmaX=1.0 / GSD_M)
+    shift = round(TILE_M / GSD_M)
+    diff = smooth[:, shift:] - smooth[:, :-shift]
+    return float(np.sqrt(np.mean(diff**2)) / smooth.mean())
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_variation_breaks_the_tile_repeat_on_a_render(tmp_path):
+    grey = {}
+    for name, variation in (("plain", None),
+                            ("varied", m.TextureVariation(seed=5, scale_m=20.0, strength=0.5))):
+        path = write_project_file(nadir_project(variation), tmp_path / name)
+        summary = render_project(path, tmp_path / name / "out", workers=1)
+        img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
+        grey[name] = img.astype(np.float64)
+    plain, varied = tile_correlation(grey["plain"]), tile_correlation(grey["varied"])
+    # the plain tiled ground is the same one tile on; the varied one is not
+    assert plain > 0.8
+    assert varied < 0.5 and varied < plain - 0.4
+    # the brightness varies at scales larger than the tile: smoothed over a metre, the
+    # plain ground is the same one tile on, the varied ground is not
+    change_plain, change_varied = large_scale_change(grey["plain"]), large_scale_change(
+        grey["varied"])
+    assert change_varied > 0.1 and change_varied > 3 * change_plain, (change_plain,
+                                                                       change_varied)
+
+
+def _job(tmp_path, variation, name):
+    project = nadir_project(variation)
+    path = write_project_file(project, tmp_path / name)
+    prepared = prepare_job(project, path.parent, tmp_path / name / "out")
+    return prepared, tmp_path / name / "out" / JOB_DIR
+
+
+def test_absent_variation_prepares_the_job_of_before(tmp_path):
+    prepared, job_dir = _job(tmp_path, None, "plain")
+    terrain = next(o for o in prepared.job.objects if o.name == "terrain").materials[0]
+    # the material the job held before the variation existed: same texture, tiles, light map
+    # and strength (the light map's scale, nothing more)
+    before = MaterialSpec(texture="texture.png", uv_tiles=(4.0, 4.0), interpolation="Linear",
+                          lightmap="lightmap.png", strength=terrain.strength)
+    assert terrain == before
+    assert not list(job_dir.glob("variation*"))
+    saved = json.loads((job_dir / "job.json").read_text())
+    assert RenderJob.from_json(json.dumps(saved)) == prepared.job
+    varied, varied_dir = _job(tmp_path, m.TextureVariation(1, 20.0, 0.3), "varied")
+    v_terrain = next(o for o in varied.job.objects if o.name == "terrain").materials[0]
+    assert v_terrain.variation == "variation.png" and (varied_dir / "variation.png").is_file()
+    assert v_terrain.strength == pytest.approx(2 * terrain.strength)  # gain / 2 stored
+
+
+def test_variation_is_part_of_the_scene_hash(tmp_path):
+    parts = {}
+    for name, variation in (("plain", None), ("a", m.TextureVariation(1, 20.0, 0.3)),
+                            ("b", m.TextureVariation(1, 20.0, 0.4)),
+                            ("c", m.TextureVariation(2, 20.0, 0.3))):
+        prepared, job_dir = _job(tmp_path, variation, name)
+        parts[name] = job_provenance(prepared.job, job_dir)[0].parts
+    scenes = {k: v["scene"] for k, v in parts.items()}
+    assert len(set(scenes.values())) == 4, scenes  # each change re-renders
+    assert {v["pose"] for v in parts.values()} == {parts["plain"]["pose"]}
