@@ -20,7 +20,6 @@ Re-implemented here (not imported: neither program is installed):
 
 import math
 
-import numpy as np
 import pytest
 from pyproj import CRS, Geod, Transformer
 
