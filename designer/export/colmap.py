@@ -98,8 +98,9 @@ def colmap_offset_world(choice, poses: Sequence[CameraPose]) -> np.ndarray:
         except ValueError:
             values = []
         if len(values) != 3:
-            raise ExportError(f"COLMAP offset {choice!r}: give 'local', 'none' or three "
-                              "numbers E,N,H in metres, e.g. 500000,5000000,0")
+            raise ExportError(f"COLMAP offset (--colmap-offset) {choice!r}: give 'local', "
+                              "'none' or three numbers E,N,H in metres, e.g. "
+                              "500000,5000000,0")
         choice = values
     return check_offset(choice)
 

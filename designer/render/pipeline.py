@@ -91,13 +91,16 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
             for k in order]
 
 
-def write_ground_truth(project, prepared: PreparedJob, out_dir: Path) -> dict[str, Path]:
+def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
+                       colmap_offset: str = "local") -> dict[str, Path]:
+    """Every ground-truth format of the project under OUT/ground-truth/; ``colmap_offset``
+    is ``--colmap-offset`` (``local``, ``none`` or ``E,N,H``)."""
     gcps = [GroundControlPoint(t.target.id, t.target.role, t.true_xyz, t.surveyed_xyz,
                                t.sigma_xyz) for t in prepared.scene.targets]
     formats = project.outputs.ground_truth or DEFAULT_FORMATS
     return write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
                      ground_truth_observations(prepared), odm_crs(project.crs),
-                     formats=formats)
+                     formats=formats, colmap_offset=colmap_offset)
 
 
 def render_project(
@@ -110,8 +113,13 @@ def render_project(
     resume: bool = False,
     progress: ProgressCallback | None = None,
     scheduler: str | None = None,
+    colmap_offset: str = "local",
 ) -> RenderSummary:
-    """Render a project into ``out_dir``; on a Dask cluster when ``scheduler`` is given."""
+    """Render a project into ``out_dir``; on a Dask cluster when ``scheduler`` is given.
+
+    ``colmap_offset``: the COLMAP ground truth's frame (``local``: world minus the mean
+    camera centre rounded to metres; ``none``: world; ``E,N,H``: world minus that).
+    """
     project_path = Path(project_path)
     project = load_project(project_path)
     out_dir = Path(out_dir)
@@ -122,8 +130,8 @@ def render_project(
     prepare_seconds = time.perf_counter() - t0
     wanted = parse_frames(frames, len(prepared.poses))
     manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds)
-    ground_truth = write_ground_truth(project, prepared, out_dir)
-    manifest.ground_truth_written()
+    ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
+    manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
     # complete-looking images rendered from other inputs (or with no record of them)
     stale = {i: manifest.changed_parts(i) for i in wanted if (out_dir / names[i]).is_file()}
