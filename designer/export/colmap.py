@@ -24,11 +24,14 @@ pycolmap's own projection in tests/export/test_colmap.py):
   :func:`designer.export.colmap_read.model_offset_world` reads it), so a reader adds
   it back;
 * IMAGE_IDs: 1, 2, … in the byte order of the image names. COLMAP 3.8's
-  feature_extractor numbers the images of a folder in that order (ImageReader sorts
-  the file list: src/base/image_reader.cc), and point_triangulator pairs the model's
-  images with the database's by IMAGE_ID (Reconstruction::Load from the
-  DatabaseCache), so a known-pose model triangulates without editing. Lines stay in
-  pose (flight) order;
+  point_triangulator pairs the model's images with the database's by IMAGE_ID
+  (Reconstruction::Load from the DatabaseCache; it stops with "Check failed:
+  existing_image.Name() == image.second.Name()" on a mismatch). feature_extractor
+  reads a folder in sorted-name order (ImageReader sorts the file list:
+  src/base/image_reader.cc) and numbers each image when its extraction finishes: with
+  ``--SiftExtraction.num_threads 1`` that is the sorted-name order, so a known-pose
+  model triangulates without editing (several threads may finish out of order). Lines
+  stay in pose (flight) order;
 * camera model (one camera, CAMERA_ID 1, shared by all images):
   PINHOLE fx fy cx cy when there is no distortion; OPENCV fx fy cx cy k1 k2 p1 p2
   for Brown–Conrady with k3 = 0; FULL_OPENCV fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6
