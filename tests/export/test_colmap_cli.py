@@ -171,3 +171,27 @@ def test_colmap_pairs_images_by_name_order_when_it_differs_from_the_flight(rende
     tri, undistorted = run_colmap(paths["colmap"], images, tmp_path)
     check_results(tri, undistorted, {p.image_name: p for p in poses},
                   model_offset_world(paths["colmap"]))
+
+
+def test_the_offset_is_recorded_and_check_output_uses_the_choice(rendered, tmp_path):
+    """The manifest names the offset; a folder rendered with --colmap-offset none is up
+    to date for check-output (which rewrites the ground truth with the recorded choice)."""
+    import json
+
+    from designer.render.check_output import check_output
+
+    out, _summary = rendered
+    manifest = json.loads((out / "manifest.json").read_text())["ground_truth"]
+    assert manifest["colmap_offset"] == "local"
+    assert manifest["colmap_offset_world_m"] == \
+        model_offset_world(out / "ground-truth" / "colmap").tolist()
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    project = Path(json.loads((out / "manifest.json").read_text())["project"])
+    summary = render_project(project, copy, workers=1, resume=True, colmap_offset="none")
+    assert summary.report.rendered == []  # the images were kept, the ground truth rewritten
+    assert model_offset_world(copy / "ground-truth" / "colmap").tolist() == [0.0, 0.0, 0.0]
+    assert json.loads((copy / "manifest.json").read_text())["ground_truth"][
+        "colmap_offset"] == "none"
+    status = check_output(copy)
+    assert status.ground_truth == "up to date" and not status.stale and not status.missing

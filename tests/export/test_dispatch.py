@@ -171,3 +171,17 @@ def test_a_bad_colmap_offset_is_refused_before_writing(tmp_path, make_survey, ch
         write_all(tmp_path / "out", interior, poses, gcps, obs, "EPSG:32632",
                   colmap_offset=choice)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_bad_colmap_offset_on_the_command_line_stops_before_any_work(tmp_path,
+                                                                       small_project_file):
+    import subprocess
+    import sys
+
+    project = small_project_file()
+    out = subprocess.run([sys.executable, "-m", "designer", "render", str(project), "-o",
+                          str(tmp_path / "out"), "--colmap-offset", "1,2"],
+                         capture_output=True, text=True)
+    assert out.returncode == 2, out.stderr
+    assert "--colmap-offset" in out.stderr and "Traceback" not in out.stderr
+    assert not (tmp_path / "out").exists()
