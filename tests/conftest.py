@@ -38,3 +38,12 @@ def small_project_file(tmp_path):
         return synthetic.write_project_file(synthetic.small_survey(**options),
                                             tmp_path / "project")
     return write
+
+
+@pytest.fixture(scope="session")
+def sample_site(tmp_path_factory):
+    """The sample real site (designer.scene.sample_site) written once per test session:
+    {'dem', 'orthophoto', 'dem_wgs84'} → path."""
+    from designer.scene.sample_site import write_sample_site
+
+    return write_sample_site(tmp_path_factory.mktemp("sample-site"))

@@ -197,31 +197,20 @@ def small_flight_survey(samples=16, origin=(500000.0, 5000000.0, 250.0), effects
     The texture's texel (3 cm) is half the GSD (6 cm), so the renderer resolves it without
     aliasing and SIFT finds repeatable features.
     """
-    E0, N0, H0 = origin
-    cam = m.Camera(id="cam", focal_length_mm=5.0, sensor_width_mm=6.4, sensor_height_mm=4.8,
-                   image_width_px=640, image_height_px=480, distortion=distortion)
-    targets = tuple(
+    from dataclasses import replace
+
+    from designer.study.templates import GCP_SPOTS_M, base_project
+
+    E0, N0, _ = origin
+    project = base_project(samples=samples, origin=origin)
+    targets = tuple(  # seven of the study base's GCPs, two of them check points
         m.Target(f"G{k}", "check" if k in (1, 4) else "control", "checker", 1.5,
                  m.TruePosition(E0 + x, N0 + y))
-        for k, (x, y) in enumerate([(-14, -14), (0, -12), (14, -14), (-14, 14), (0, 12),
-                                    (14, 14), (0, 0)]))
-    scene = m.Scene(
-        terrain=m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.ProceduralTerrain(
-            seed=5, grid_spacing_m=0.5, roughness=0.3, min_height_m=H0 - 3.0,
-            max_height_m=H0 + 3.0)),
-        texture=m.Texture(m.ProceduralTexture("grass", seed=2, texel_size_m=0.03),
-                          repeat_X=1, repeat_Y=1, interpolation="linear"),
-        targets=m.Targets(targets, m.SurveyAccuracy(m.Sigma3(0.0, 0.0, 0.0), seed=1)),
-        lighting=m.Lighting(m.Sun(azimuth_deg=150.0, elevation_deg=55.0)),
-    )
-    plan = m.FlightPlan(
-        camera=cam.id, image_prefix="IMG_",
-        area=((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15), (E0 - 15, N0 + 15)),
-        altitude_agl_m=30.0, front_overlap_percent=65.0, side_overlap_percent=55.0,
-        pose_noise=m.PoseNoise(0.2, 0.2, 0.1, 0.5, 0.5, 1.0), random_seed=3)
-    return m.Project(
-        name="SfM test survey", crs="EPSG:32632", origin=m.Origin(E0, N0, H0), scene=scene,
-        cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan), effects=effects,
-        render=m.Render(preset="survey", samples=samples, workers=2),
-        outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")),
-    )
+        for k, (x, y) in enumerate(GCP_SPOTS_M[:7]))
+    scene = replace(project.scene, targets=m.Targets(
+        targets, m.SurveyAccuracy(m.Sigma3(0.0, 0.0, 0.0), seed=1)))
+    return replace(
+        project, name="SfM test survey", scene=scene,
+        cameras=(replace(project.cameras[0], distortion=distortion),), effects=effects,
+        render=replace(project.render, workers=2), processing=None,
+        outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")))

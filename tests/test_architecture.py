@@ -30,6 +30,7 @@ MAY_IMPORT: dict[str, set[str]] = {
     "scene": {"core", "project"},
     "survey": {"core", "project", "scene"},
     "effects": {"core", "project"},
+    "flight": {"core", "project", "scene", "survey"},
     "evaluate": {"core", "project", "scene", "export"},
     "sfm": {"core", "project", "scene", "survey", "export", "evaluate"},
     "render": {"core", "project", "scene", "survey", "export", "effects"},
@@ -43,7 +44,7 @@ MAY_IMPORT: dict[str, set[str]] = {
     "bench": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
               "render", "validate", "gui", "study"},
     "cli": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-            "render", "validate", "demo", "gui", "bench", "study"},
+            "render", "validate", "demo", "gui", "bench", "study", "flight"},
     "__main__": {"cli"},
 }
 
@@ -59,6 +60,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "pycolmap": ("sfm",),
     "pyceres": ("sfm",),
     "distributed": ("render.cluster", "study.run"),
+    "pyexiv2": ("flight.image_meta",),
 }
 
 #: module imported in a fresh interpreter (P.* = every module of package P) → modules that
@@ -77,6 +79,7 @@ NOT_LOADED_BY: dict[str, tuple[str, ...]] = {
     "designer.evaluate": ("numba", "matplotlib", "rasterio", "laspy", "scipy"),
     "designer.cli.main": ("numba", "cv2", "lxml", "matplotlib", "bpy", "PySide6", "pycolmap"),
     "designer.render.job_spec": ("numpy", "bpy", "cv2", "lxml"),
+    "designer.flight": ("lxml", "pyproj", "pyexiv2", "designer.flight.importer"),
 }
 
 

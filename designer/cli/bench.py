@@ -34,6 +34,9 @@ def register(subparsers) -> None:
     parser.add_argument("--survey", type=Path, default=None, metavar="DIR",
                         help="reconstruct: an already rendered example survey (a folder "
                              "'designer render' wrote) instead of rendering it")
+    parser.add_argument("--image-size", choices=["small", "example"], default=None,
+                        help="study: the base survey's small 640 x 480 camera, or the example "
+                             "survey's camera at its 1368 x 912 px")
     parser.set_defaults(func=run)
 
 
@@ -52,6 +55,13 @@ def run(args) -> int:
             raise DesignerError(f"--survey {args.survey}: no manifest.json there; give a "
                                 "folder 'designer render' wrote")
         options["survey"] = args.survey
+    if args.image_size is not None:
+        if "image_size" not in inspect.signature(module.run).parameters:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--image-size: only 'designer bench study' takes it, not "
+                                f"'designer bench {args.name}'")
+        options["image_size"] = args.image_size
     rows = module.run(repeats=args.repeats, scale=args.scale, **options)
     print(module.format_table(rows))
     return 0

@@ -21,6 +21,8 @@ COMMAND_MODULES = [
     "designer.cli.new",
     "designer.cli.check",
     "designer.cli.plan",
+    "designer.cli.export_flight",
+    "designer.cli.import_flight",
     "designer.cli.render",
     "designer.cli.check_output",
     "designer.cli.reconstruct",

@@ -48,6 +48,9 @@ def register(subparsers) -> None:
                         help="longer image side for dense matching (default: full size)")
     parser.add_argument("--max-features", type=int, default=None,
                         help="SIFT features per image (default 8192)")
+    parser.add_argument("--feature-cache", type=Path, default=None, metavar="DIR",
+                        help="keep features and matches in DIR and reuse them when the same "
+                             "images are reconstructed again (other settings may differ)")
     parser.set_defaults(func=run)
 
 
@@ -75,7 +78,8 @@ def run(args) -> int:
                             "64 px")
     result = reconstruct(args.survey, out, mode=args.mode, processing=processing,
                          project_path=args.project,
-                         dense_max_image_px=args.dense_max_image_px)
+                         dense_max_image_px=args.dense_max_image_px,
+                         feature_cache=args.feature_cache)
     s = result.summary
     line = (f"{out}: {result.n_registered}/{result.n_images} images registered, "
             f"{result.n_points} points")

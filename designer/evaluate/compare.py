@@ -53,7 +53,7 @@ def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True) -> Ref
         terrain = project.scene.terrain
         origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
         # Only the geometry is needed: build the terrain and targets, not the texture.
-        hf = build_heightfield(terrain, path.parent)
+        hf = build_heightfield(terrain, path.parent, project.crs)
         mesh = build_terrain_mesh(terrain, hf, path.parent, origin)
         vertices, faces = [mesh.vertices_world], [mesh.faces]
         if with_targets:

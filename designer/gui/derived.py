@@ -62,7 +62,7 @@ def compute_terrain(project: m.Project, base_dir: Path,
                     max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE) -> TerrainResult:
     """Height field (or mesh), its ray caster and the thinned display mesh."""
     terrain = project.scene.terrain
-    hf = build_heightfield(terrain, Path(base_dir))
+    hf = build_heightfield(terrain, Path(base_dir), project.crs)
     mesh = None
     tiles = (project.scene.texture.repeat_X, project.scene.texture.repeat_Y)
     if hf is None:
@@ -123,7 +123,8 @@ def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:
 
 def compute_texture(project: m.Project, base_dir: Path) -> np.ndarray:
     """The texture tile (H, W, 3) uint8, as the renderer will use it."""
-    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir))
+    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir),
+                          project.crs)
 
 
 def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[float, float]:

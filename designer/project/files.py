@@ -53,6 +53,16 @@ def image_problem(path: Path) -> str | None:
             "data); convert it or give another file")
 
 
+def orthophoto_problem(path: Path) -> str | None:
+    head, problem = _head(path, 16)
+    if problem:
+        return f"{problem}; give the path of a GeoTIFF orthophoto, relative to the project file"
+    if not head.startswith((b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+")):
+        return (f"file '{path}' is not a TIFF/GeoTIFF file; an orthophoto must be a GeoTIFF "
+                "(it carries its own georeferencing)")
+    return None
+
+
 def mesh_problem(path: Path) -> str | None:
     suffix = path.suffix.lower()
     if suffix not in MESH_SUFFIXES:

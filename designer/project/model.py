@@ -141,6 +141,13 @@ class ImageTexture:
 
 
 @dataclass(frozen=True)
+class OrthophotoTexture:
+    """A georeferenced image (GeoTIFF) draped by its own geotransform, not tiled."""
+
+    file: str
+
+
+@dataclass(frozen=True)
 class ProceduralTexture:
     pattern: TexturePattern
     seed: int
@@ -149,9 +156,10 @@ class ProceduralTexture:
 
 @dataclass(frozen=True)
 class Texture:
-    """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent."""
+    """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent (an
+    orthophoto is placed by its geotransform instead, and its repeats are 1)."""
 
-    source: ImageTexture | ProceduralTexture
+    source: ImageTexture | ProceduralTexture | OrthophotoTexture
     repeat_X: int
     repeat_Y: int
     interpolation: Interpolation

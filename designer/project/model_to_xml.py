@@ -82,12 +82,16 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
 
     tex = scene.texture
     tex_el = _sub(el, "texture", interpolation=tex.interpolation)
-    if isinstance(tex.source, m.ImageTexture):
-        _sub(tex_el, "image", file=tex.source.file)
+    if isinstance(tex.source, m.OrthophotoTexture):
+        _sub(tex_el, "orthophoto", file=tex.source.file)
     else:
-        _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
-             texel_size_m=_num(tex.source.texel_size_m))
-    _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X), "repeat-Y": _num(tex.repeat_Y)})
+        if isinstance(tex.source, m.ImageTexture):
+            _sub(tex_el, "image", file=tex.source.file)
+        else:
+            _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
+                 texel_size_m=_num(tex.source.texel_size_m))
+        _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
+                                  "repeat-Y": _num(tex.repeat_Y)})
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")

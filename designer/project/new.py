@@ -25,9 +25,30 @@ def write_template(path: str | os.PathLike, name: str, force: bool = False) -> l
     if path.suffix.lower() != ".xml":
         raise DesignerError(f"{path}: a project file name must end in .xml")
     tpl = template(name)
-    validate_project(tpl.project, source=f"template {name}")
+    return write_new_project(path, tpl.project, tpl.files, force, f"template {name}")
+
+
+def write_new_project(path: str | os.PathLike, project, files: dict[str, bytes],
+                      force: bool, source: str, check_files: bool = False) -> list[Path]:
+    """Validate ``project`` and write it to ``path`` with its companion ``files`` (bytes
+    by path relative to the project's folder); the paths written, the project last.
+
+    Refuses (DesignerError) to overwrite any existing file unless ``force``. With
+    ``check_files`` the files the project refers to are checked too (they must exist).
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".xml":
+        raise DesignerError(f"{path}: a project file name must end in .xml")
+    if check_files:
+        # Paths relative to the project's folder resolve only once the folder exists.
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise DesignerError(f"{path}: cannot create its folder ({error.strerror or error})"
+                                ) from None
+    validate_project(project, base_dir=path.parent if check_files else None, source=source)
     folder = path.parent
-    targets = [folder / rel for rel in tpl.files] + [path]
+    targets = [folder / rel for rel in files] + [path]
     existing = [p for p in targets if p.exists()]
     if existing and not force:
         raise DesignerError(", ".join(str(p) for p in existing)
@@ -35,9 +56,9 @@ def write_template(path: str | os.PathLike, name: str, force: bool = False) -> l
                             + "; choose another name or add --force to overwrite")
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        for rel, data in tpl.files.items():
+        for rel, data in files.items():
             write_bytes_atomic(folder / rel, data)
-        write_bytes_atomic(path, project_to_bytes(tpl.project))
+        write_bytes_atomic(path, project_to_bytes(project))
     except OSError as error:
         raise DesignerError(f"{path}: cannot write ({error.strerror or error}); check the "
                             "folder and its permissions") from None

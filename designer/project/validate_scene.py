@@ -24,6 +24,7 @@ from designer.project.files import (
     dem_problem,
     image_problem,
     mesh_problem,
+    orthophoto_problem,
     resolve,
 )
 from designer.project.problems import Issue
@@ -112,7 +113,10 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
         out.append(Issue(tex, "texture", "interpolation must be 'closest' or 'linear'",
                          attr="interpolation"))
     src = tex.source
-    if isinstance(src, m.ImageTexture):
+    if isinstance(src, m.OrthophotoTexture):
+        if base is not None:
+            out += file_issue(src, "orthophoto", orthophoto_problem(resolve(base, src.file)))
+    elif isinstance(src, m.ImageTexture):
         if base is not None:
             out += file_issue(src, "image", image_problem(resolve(base, src.file)))
     elif not (src.texel_size_m > 0):

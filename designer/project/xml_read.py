@@ -37,25 +37,33 @@ def read_project_file(path: str | os.PathLike) -> tuple[m.Project, SourceMap]:
     Raises ProjectError (exit code 2) for anything but a schema-valid project file.
     Semantic checks are separate: see ``designer.project.load.load_project``.
     """
+    data = read_xml_file(path, "project", "create one with 'designer new FILE --template "
+                         "survey'")
+    return parse_project(data, str(path))
+
+
+def read_xml_file(path: str | os.PathLike, element: str, create_hint: str) -> bytes:
+    """The bytes of a project or study file; ProjectError naming ``<element>`` when it is
+    missing, not a regular file, too large or unreadable (``create_hint`` says how to
+    make one)."""
     path = Path(path)
     source = str(path)
     try:
         size = path.stat().st_size
         if not path.is_file():
             raise ProjectError(source, [Problem(
-                "<project>: this is not a regular file; give the path of a project XML file")])
+                f"<{element}>: this is not a regular file; give the path of a {element} XML "
+                "file")])
         if size > MAX_PROJECT_BYTES:
-            raise ProjectError(source, [_too_big(size)])
-        data = path.read_bytes()
+            raise ProjectError(source, [_too_big(size, element)])
+        return path.read_bytes()
     except FileNotFoundError:
         raise ProjectError(source, [Problem(
-            "<project>: no such file; check the path, or create one with "
-            "'designer new FILE --template survey'")]) from None
+            f"<{element}>: no such file; check the path, or {create_hint}")]) from None
     except OSError as error:
         raise ProjectError(source, [Problem(
-            f"<project>: cannot read the file ({error.strerror or error}); "
+            f"<{element}>: cannot read the file ({error.strerror or error}); "
             "check its permissions")]) from None
-    return parse_project(data, source)
 
 
 def read_project(path: str | os.PathLike) -> m.Project:
@@ -101,10 +109,10 @@ def parse_tree(data: bytes, source: str) -> tuple[etree._Element, str]:
     return root, text
 
 
-def _too_big(size: int) -> Problem:
+def _too_big(size: int, element: str = "project") -> Problem:
     return Problem(
-        f"<project>: the file is {size / 1e6:.1f} MB, larger than the "
-        f"{MAX_PROJECT_BYTES / 1e6:.0f} MB limit for project files; keep large data "
+        f"<{element}>: the file is {size / 1e6:.1f} MB, larger than the "
+        f"{MAX_PROJECT_BYTES / 1e6:.0f} MB limit for {element} files; keep large data "
         "(DEMs, meshes, textures) in separate files referenced from the project")
 
 

@@ -107,6 +107,11 @@ class _Reader:
 
     def texture(self, el: etree._Element) -> m.Texture:
         image_el = el.find(q("image"))
+        ortho_el = el.find(q("orthophoto"))
+        if ortho_el is not None:
+            source = self.note(m.OrthophotoTexture(ortho_el.get("file")), ortho_el)
+            texture = m.Texture(source, 1, 1, el.get("interpolation"))
+            return self.note(texture, el)
         if image_el is not None:
             source = self.note(m.ImageTexture(image_el.get("file")), image_el)
         else:

@@ -25,6 +25,7 @@ from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
 from designer.render.job_spec import (
+    TEXTURE_UV_MAP,
     AdaptiveSampling,
     EffectsSpec,
     FrameSpec,
@@ -94,6 +95,13 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
+    terrain_uv = {}
+    if scene.texture_uv is not None:
+        # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
+        # edge texels held beyond the image; the light map keeps the terrain's uv.
+        terrain_material = replace(terrain_material, uv_tiles=(1.0, 1.0),
+                                   uv_map=TEXTURE_UV_MAP, extension="EXTEND")
+        terrain_uv = {"uv_texture": scene.texture_uv}
     if scene.heightfield is not None:
         x0, x1, y0, y1 = scene.heightfield.extent_m
         scale = LIGHTMAP_MAX_PX / max(x1 - x0, y1 - y0)
@@ -104,7 +112,7 @@ def prepare_job(
         terrain_material = replace(terrain_material, lightmap="lightmap.png",
                                    strength=LIGHTMAP_SCALE)
     _save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
-              faces=scene.terrain.faces, uv=scene.terrain.uv)
+              faces=scene.terrain.faces, uv=scene.terrain.uv, **terrain_uv)
     objects = [MeshSpec("terrain", "terrain.npz", (terrain_material,))]
     if scene.targets:
         objects.append(_targets_object(scene, origin, job_dir))

@@ -21,6 +21,9 @@ from designer.errors import DesignerError
 IMAGE_FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
 PIXEL_FILTER_NAMES = ("BOX", "GAUSSIAN", "BLACKMAN_HARRIS")
 INTERPOLATIONS = ("Closest", "Linear", "Cubic")
+EXTENSIONS = ("REPEAT", "EXTEND", "CLIP")
+#: name of the second uv layer (mesh .npz array ``uv_texture``) a material may look up
+TEXTURE_UV_MAP = "TextureUV"
 
 
 class JobError(DesignerError, ValueError):
@@ -97,10 +100,18 @@ class MaterialSpec:
     interpolation: str = "Closest"
     lightmap: str | None = None
     strength: float = 1.0
+    #: uv layer of the texture lookup: None = the mesh's ``uv`` (the light map's too),
+    #: TEXTURE_UV_MAP = its ``uv_texture`` (an orthophoto placed by its geotransform)
+    uv_map: str | None = None
+    #: Blender image extension outside [0, 1]: REPEAT (tiles), EXTEND (edge texels), CLIP
+    extension: str = "REPEAT"
 
     def __post_init__(self) -> None:
         if (self.color is None) == (self.texture is None):
             raise JobError("a material needs exactly one of 'color' and 'texture'")
+        if self.extension not in EXTENSIONS:
+            raise JobError(f"texture extension {self.extension!r}; use one of "
+                           f"{', '.join(EXTENSIONS)}")
         if self.interpolation not in INTERPOLATIONS:
             raise JobError(f"texture interpolation {self.interpolation!r}; use one of "
                            f"{', '.join(INTERPOLATIONS)}")
@@ -108,8 +119,8 @@ class MaterialSpec:
 
 @dataclass(frozen=True)
 class MeshSpec:
-    """One mesh object: an .npz beside job.json (vertices_local, faces, optional uv and
-    material_index) and its materials."""
+    """One mesh object: an .npz beside job.json (vertices_local, faces, optional uv,
+    uv_texture and material_index) and its materials."""
 
     name: str
     mesh: str

@@ -43,7 +43,8 @@ class Manifest:
     """The manifest of one render run, merged with what the folder already holds."""
 
     def __init__(self, out_dir: Path, project_path: Path, prepared: PreparedJob,
-                 provenance: dict[int, ImageProvenance], prepare_seconds: float) -> None:
+                 provenance: dict[int, ImageProvenance], prepare_seconds: float,
+                 crs: str | None = None) -> None:
         self.path = Path(out_dir) / MANIFEST
         self.out_dir = Path(out_dir)
         self.prepared = prepared
@@ -64,6 +65,8 @@ class Manifest:
             "blender_version": previous.get("blender_version"),
             "python": platform.python_version(),
             "project": str(Path(project_path).resolve()),
+            "crs": crs,
+            "origin_world": list(job.origin_world),
             "render": asdict(job.render),
             "camera_blender": asdict(job.camera),
             "image_size_px": list(prepared.interior.image_size_px),

@@ -129,7 +129,8 @@ def render_project(
     provenance = job_provenance(prepared.job, prepared.job_path.parent)
     prepare_seconds = time.perf_counter() - t0
     wanted = parse_frames(frames, len(prepared.poses))
-    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds)
+    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
+                        crs=project.crs)
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names

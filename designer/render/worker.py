@@ -26,6 +26,7 @@ from mathutils import Matrix
 
 from designer.render.job_spec import (
     IMAGE_FORMATS,
+    TEXTURE_UV_MAP,
     CameraSpec,
     FrameSpec,
     MaterialSpec,
@@ -144,11 +145,16 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
     mapping.vector_type = "POINT"
     tiles = spec.uv_tiles
     mapping.inputs["Scale"].default_value = (float(tiles[0]), float(tiles[1]), 1.0)
-    links.new(uv.outputs["UV"], mapping.inputs["Vector"])
+    if spec.uv_map:
+        texture_uv = nodes.new("ShaderNodeUVMap")
+        texture_uv.uv_map = spec.uv_map
+        links.new(texture_uv.outputs["UV"], mapping.inputs["Vector"])
+    else:
+        links.new(uv.outputs["UV"], mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = load_image(str(base / spec.texture), "sRGB")
     tex.interpolation = spec.interpolation
-    tex.extension = "REPEAT"
+    tex.extension = spec.extension
     links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
     colour = tex.outputs["Color"]
     if spec.lightmap:
@@ -186,6 +192,11 @@ def add_mesh(scene: bpy.types.Scene, spec: MeshSpec, base: Path) -> bpy.types.Ob
     if "uv" in data:
         layer = mesh.uv_layers.new(name="UVMap")
         loop_uv = np.asarray(data["uv"], dtype=np.float32)[faces.ravel()]
+        layer.data.foreach_set("uv", loop_uv.ravel())
+        layer.active_render = True
+    if "uv_texture" in data:
+        layer = mesh.uv_layers.new(name=TEXTURE_UV_MAP)
+        loop_uv = np.asarray(data["uv_texture"], dtype=np.float32)[faces.ravel()]
         layer.data.foreach_set("uv", loop_uv.ravel())
     for i, mspec in enumerate(spec.materials):
         mesh.materials.append(emission_material(f"{spec.name}_{i}", mspec, base))

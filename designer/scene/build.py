@@ -24,6 +24,7 @@ from designer.scene.gcp_target import (
 )
 from designer.scene.lighting import sun_position_deg
 from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh
+from designer.scene.orthophoto import Orthophoto, load_orthophoto, orthophoto_uv
 from designer.scene.terrain import load_dem, procedural_terrain
 from designer.scene.texture import checkerboard_texture, load_texture, procedural_texture
 
@@ -56,10 +57,18 @@ class BuiltScene:
     sun_elevation_deg: float
     sun_strength: float
     sky_strength: float
+    #: (N, 2) texture coordinates per terrain vertex of an orthophoto (placed by its
+    #: geotransform, not tiled); None: the texture is tiled over the terrain's own uv
+    texture_uv: np.ndarray | None = None
 
 
-def build_heightfield(terrain: m.Terrain, base_dir: Path) -> Heightfield | None:
-    """The terrain as a height field (None for a mesh terrain)."""
+def build_heightfield(terrain: m.Terrain, base_dir: Path,
+                      crs: str | None = None) -> Heightfield | None:
+    """The terrain as a height field (None for a mesh terrain).
+
+    A DEM is read in the project's ``crs`` (reprojected if the file is in another) and
+    cropped to the nodes covering the terrain extent.
+    """
     e = terrain.extent
     src = terrain.source
     if isinstance(src, m.FlatTerrain):
@@ -73,7 +82,7 @@ def build_heightfield(terrain: m.Terrain, base_dir: Path) -> Heightfield | None:
             base_height_m=0.5 * (src.max_height_m + src.min_height_m),
             roughness=src.roughness)
     if isinstance(src, m.DemTerrain):
-        return load_dem(base_dir / src.file)
+        return load_dem(base_dir / src.file, crs, (e.min_X, e.min_Y, e.max_X, e.max_Y))
     return None
 
 
@@ -88,8 +97,22 @@ def build_terrain_mesh(
                        uv=mesh.uv)
 
 
-def build_texture(texture: m.Texture, terrain: m.Terrain, base_dir: Path) -> np.ndarray:
+def build_orthophoto(texture: m.Texture, terrain: m.Terrain, base_dir: Path,
+                     crs: str | None) -> Orthophoto | None:
+    """The part of an orthophoto texture over the terrain extent (None for other textures)."""
+    if not isinstance(texture.source, m.OrthophotoTexture):
+        return None
+    e = terrain.extent
+    return load_orthophoto(base_dir / texture.source.file, crs,
+                           (e.min_X, e.min_Y, e.max_X, e.max_Y))
+
+
+def build_texture(texture: m.Texture, terrain: m.Terrain, base_dir: Path,
+                  crs: str | None = None) -> np.ndarray:
+    """The texture image (H, W, 3) uint8 RGB; an orthophoto's crop over the extent."""
     src = texture.source
+    if isinstance(src, m.OrthophotoTexture):
+        return build_orthophoto(texture, terrain, base_dir, crs).rgb
     if isinstance(src, m.ImageTexture):
         return load_texture(base_dir / src.file)
     tile_w = terrain.extent.width_m / texture.repeat_X
@@ -155,9 +178,15 @@ def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
     base_dir = Path(base_dir)
     origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
     scene = project.scene
-    hf = build_heightfield(scene.terrain, base_dir)
+    hf = build_heightfield(scene.terrain, base_dir, project.crs)
     mesh = build_terrain_mesh(scene.terrain, hf, base_dir, origin)
-    texture = build_texture(scene.texture, scene.terrain, base_dir)
+    ortho = build_orthophoto(scene.texture, scene.terrain, base_dir, project.crs)
+    if ortho is not None:
+        texture = ortho.rgb
+        texture_uv = orthophoto_uv(ortho, mesh.vertices_world[:, :2], project.crs)
+    else:
+        texture = build_texture(scene.texture, scene.terrain, base_dir)
+        texture_uv = None
     sun = scene.lighting.sun
     if isinstance(sun, m.Sun):
         azimuth, elevation = sun.azimuth_deg, sun.elevation_deg
@@ -169,4 +198,5 @@ def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
         interpolation=scene.texture.interpolation,
         targets=build_targets(project, hf),
         sun_azimuth_deg=float(azimuth), sun_elevation_deg=float(elevation),
-        sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength)
+        sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength,
+        texture_uv=texture_uv)

@@ -22,6 +22,7 @@ offset = the rounded mean camera centre) in float64; outputs are in world coordi
 
 from __future__ import annotations
 
+import contextlib
 import json
 import shutil
 import time
@@ -37,6 +38,8 @@ from designer.export.colmap_read import model_offset_world
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
 from designer.project import model as m
 from designer.sfm import matching, report
+from designer.sfm.feature_cache import FeatureCache, images_digest
+from designer.sfm.feature_cache import key as fc_key
 from designer.sfm.georeference import (
     image_residuals_px,
     translation,
@@ -117,10 +120,13 @@ def reconstruct(
     processing: m.Processing | None = None,
     project_path: Path | None = None,
     dense_max_image_px: int | None = None,
+    feature_cache: Path | None = None,
 ) -> ReconstructionResult:
     """Features, matching, SfM or triangulation, adjustment; write model, cloud, report;
     with ``dense`` on, the dense cloud, DSM and DEM of difference (designer.sfm.dense_stage;
-    ``project_path`` gives the true surface, default: the project the survey names)."""
+    ``project_path`` gives the true surface, default: the project the survey names).
+    ``feature_cache``: a folder where features and matches are kept and reused by
+    reconstructions of the same images (designer.sfm.feature_cache)."""
     import pycolmap
 
     if mode not in MODES:
@@ -166,13 +172,16 @@ def reconstruct(
     else:  # the true camera, exactly as the ground truth states it
         reader.camera_model = true_camera.model.name
         reader.camera_params = ",".join(repr(float(v)) for v in true_camera.params)
-    extraction = pycolmap.FeatureExtractionOptions()
-    extraction.sift.max_num_features = p.matching.max_features
-    extraction.use_gpu = False
-    log(f"features: {len(names)} images")
-    pycolmap.extract_features(db_path, survey, image_names=names,
-                              camera_mode=pycolmap.CameraMode.SINGLE, reader_options=reader,
-                              extraction_options=extraction, device=pycolmap.Device.cpu)
+    cache = FeatureCache(feature_cache) if feature_cache is not None else None
+    feature_key = fc_key("features", images_digest(survey, names), reader.camera_model,
+                         reader.camera_params, p.matching.max_features) if cache else ""
+    with cache.hold("features", feature_key) if cache else contextlib.nullcontext():
+        reused = {"features": bool(cache) and cache.fetch("features", feature_key, db_path)}
+        if not reused["features"]:
+            log(f"features: {len(names)} images")
+            _extract(pycolmap, db_path, survey, names, reader, p.matching.max_features)
+            if cache:
+                cache.store("features", feature_key, db_path)
     timings["features_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -180,15 +189,17 @@ def reconstruct(
     if not pairs:
         raise DesignerError(f"{survey}: no two images overlap (by their predicted footprints); "
                             "the images do not overlap enough for a reconstruction")
+    pairs_text = "".join(f"{a} {b}\n" for a, b in pairs)
     pairs_file = out / "pairs.txt"
-    write_text_atomic(pairs_file, "".join(f"{a} {b}\n" for a, b in pairs))
-    pairing = pycolmap.ImportedPairingOptions()
-    pairing.match_list_path = str(pairs_file)
-    match_options = pycolmap.FeatureMatchingOptions()
-    match_options.use_gpu = False
-    log(f"matching: {len(pairs)} image pairs ({p.matching.pairs})")
-    pycolmap.match_image_pairs(db_path, matching_options=match_options,
-                               pairing_options=pairing, device=pycolmap.Device.cpu)
+    write_text_atomic(pairs_file, pairs_text)
+    match_key = fc_key("matches", feature_key, pairs_text) if cache else ""
+    with cache.hold("matches", match_key) if cache else contextlib.nullcontext():
+        reused["matches"] = bool(cache) and cache.fetch("matches", match_key, db_path)
+        if not reused["matches"]:
+            log(f"matching: {len(pairs)} image pairs ({p.matching.pairs})")
+            _match(pycolmap, db_path, pairs_file)
+            if cache:
+                cache.store("matches", match_key, db_path)
     timings["matching_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -249,7 +260,7 @@ def reconstruct(
         "intrinsics": report.intrinsics_report(est_params, true_params, params0, size_px),
         "cameras": report.camera_errors(est_cams, true_cams),
         "adjustment": None if adjustment is None else adjustment.as_dict(),
-        "tie_points": tie, "pairs": len(pairs),
+        "tie_points": tie, "pairs": len(pairs), "reused_from_cache": reused,
         "similarity": sim_info, "gcps": rows, "timings": timings, "stage_seconds": timings,
         "dense": {"mode": p.dense, "status": "off", "dome_amplitude_m": None},
     }
@@ -267,6 +278,25 @@ def reconstruct(
     log(f"{rec.num_reg_images()}/{len(names)} images registered, {rec.num_points3D()} points")
     return ReconstructionResult(out, mode, len(names), rec.num_reg_images(),
                                 rec.num_points3D(), cloud, residuals, summary)
+
+
+def _extract(pycolmap, db_path: Path, survey: Path, names: list[str], reader,
+             max_features: int) -> None:
+    extraction = pycolmap.FeatureExtractionOptions()
+    extraction.sift.max_num_features = max_features
+    extraction.use_gpu = False
+    pycolmap.extract_features(db_path, survey, image_names=names,
+                              camera_mode=pycolmap.CameraMode.SINGLE, reader_options=reader,
+                              extraction_options=extraction, device=pycolmap.Device.cpu)
+
+
+def _match(pycolmap, db_path: Path, pairs_file: Path) -> None:
+    pairing = pycolmap.ImportedPairingOptions()
+    pairing.match_list_path = str(pairs_file)
+    match_options = pycolmap.FeatureMatchingOptions()
+    match_options.use_gpu = False
+    pycolmap.match_image_pairs(db_path, matching_options=match_options,
+                               pairing_options=pairing, device=pycolmap.Device.cpu)
 
 
 def _gsd_m(truth, camera, offset: np.ndarray, rec) -> float:

@@ -3,18 +3,18 @@
 For each factor: the study's metrics against the factor's levels (mean and 95 %
 interval over replicates) and the seconds each level cost; across all runs: accuracy
 against cost with the Pareto front of the variants; error maps (cloud − true surface)
-of the extreme levels side by side; a one-way ANOVA (scipy) per factor and metric.
+of the extreme levels side by side; which factors matter: a least-squares model of each
+metric on all factors with its ANOVA table (:mod:`designer.study.stats`).
 """
 
 from __future__ import annotations
 
 import html
-import math
-import warnings
 from pathlib import Path
 
 from designer.atomic import atomic_path, write_text_atomic
 from designer.study.results import factor_levels, interval95, level_rows
+from designer.study.stats import factor_effects
 
 _LABELS = {
     "check_rmse_z_m": "check-point RMSE Z (m)", "check_rmse_xy_m": "check-point RMSE XY (m)",
@@ -24,7 +24,7 @@ _LABELS = {
     "cloud_rmse_m": "cloud − surface RMSE (m)", "registered": "registered images",
     "control_rmse_xyz_m": "control-point RMSE 3D (m)", "focal_error_px": "focal error (px)",
     "k1_error": "k1 error", "dome_amplitude_m": "DoD dome amplitude (m)",
-    "total_s": "seconds per run", "render_s": "render seconds",
+    "total_s": "seconds per run (on its own)", "render_s": "render seconds",
 }
 
 
@@ -114,52 +114,51 @@ def _pareto_figure(rows, metric: str, path: Path) -> list[tuple]:
 
 
 def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
-    import matplotlib.image as mpimg
+    """The error maps (cloud − true surface, the compare's GeoTIFF) of the factor's lowest
+    and highest levels side by side, on one colour scale and one extent."""
     import matplotlib.pyplot as plt
+    import numpy as np
+    import rasterio
 
     levels = factor_levels(plan, rows, factor)
     chosen = []
     for level in (levels[0], levels[-1]):
         runs = [r for r in level_rows(plan, rows, factor, level)
-                if r["status"] == "ok" and r.get("error_map") and Path(r["error_map"]).is_file()]
+                if r["status"] == "ok" and r.get("error_map")
+                and Path(r["error_map"]).with_suffix(".tif").is_file()]
         if runs:
             chosen.append((level, runs[0]))
     if len(chosen) < 2 or chosen[0][0] == chosen[1][0]:
         return False
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4))
-    for ax, (level, r) in zip(axes, chosen, strict=True):
-        ax.imshow(mpimg.imread(r["error_map"]))
-        ax.set_title(f"{factor} = {level} ({r['run']})", fontsize=9)
-        ax.axis("off")
-    fig.suptitle("signed distance cloud − true surface (m), extreme levels", fontsize=10)
+    grids = []
+    for _level, r in chosen:
+        with rasterio.open(Path(r["error_map"]).with_suffix(".tif")) as src:
+            values = src.read(1, masked=True).astype(float).filled(np.nan)
+            grids.append((values, src.bounds, src.res[0]))
+    finite = np.concatenate([np.abs(g[np.isfinite(g)]) for g, _b, _r in grids])
+    vmax = float(np.percentile(finite, 98)) if finite.size else 1.0
+    x0 = min(b.left for _g, b, _r in grids)
+    x1 = max(b.right for _g, b, _r in grids)
+    y0 = min(b.bottom for _g, b, _r in grids)
+    y1 = max(b.top for _g, b, _r in grids)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True)
+    for ax, (level, r), (values, b, cell) in zip(axes, chosen, grids, strict=True):
+        image = ax.imshow(values, extent=(b.left - x0, b.right - x0, b.bottom - y0, b.top - y0),
+                          cmap="RdBu_r", vmin=-vmax, vmax=vmax, interpolation="nearest")
+        ax.set_xlim(0, x1 - x0)
+        ax.set_ylim(0, y1 - y0)
+        ax.set_facecolor("0.85")
+        ax.set_title(f"{factor} = {level} ({r['run']}, {cell:g} m cells)", fontsize=9)
+        ax.set_xlabel(f"easting − {x0:.0f} (m)", fontsize=8)
+        ax.set_ylabel(f"northing − {y0:.0f} (m)", fontsize=8)
+        ax.set_aspect("equal")
+    fig.colorbar(image, ax=axes, shrink=0.85,
+                 label="signed distance (m): + above the true surface")
+    fig.suptitle("cloud − true surface, lowest and highest level (one colour scale; "
+                 "grey: no points)", fontsize=10)
     _save(fig, path)
     plt.close(fig)
     return True
-
-
-def anova(plan, rows, metrics) -> list[dict]:
-    """One-way ANOVA per factor and metric over the levels' replicate runs (scipy)."""
-    from scipy import stats
-
-    out = []
-    for f in plan.study.factors:
-        for metric in metrics:
-            groups = []
-            for level in factor_levels(plan, rows, f.name):
-                g = [float(r[metric]) for r in level_rows(plan, rows, f.name, level)
-                     if r["status"] == "ok" and r.get(metric) is not None]
-                if g:
-                    groups.append(g)
-            row = {"factor": f.name, "metric": metric, "levels": len(groups),
-                   "F": None, "p": None}
-            if len(groups) >= 2 and sum(len(g) for g in groups) > len(groups):
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    res = stats.f_oneway(*groups)
-                if math.isfinite(res.statistic):
-                    row.update(F=float(res.statistic), p=float(res.pvalue))
-            out.append(row)
-    return out
 
 
 def _fmt(v) -> str:
@@ -214,11 +213,18 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
            "Pareto front (no other variant is both cheaper and more accurate):", ""]
     md += [f"- v{v}: {cost:.1f} s, {label(accuracy)} {err:.4g} ({levels})"
            for v, cost, err, levels in front]
-    md += ["", "## Which factors matter (one-way ANOVA over the levels' runs)", "",
-           "| factor | metric | levels | F | p |", "|---|---|---|---|---|"]
-    for a in anova(plan, rows, metrics):
-        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {_fmt(a['F'])} | "
-                  f"{_fmt(a['p'])} |")
+    md += ["", "## Which factors matter", "",
+           "Least squares of each metric on all factors (categorical; statsmodels), type II "
+           "ANOVA: F, p and partial η² per factor; for a numeric factor, the metric's slope "
+           "per unit of it with its 95 % interval.", "",
+           "| factor | metric | levels | runs | df | F | p | partial η² | slope per unit "
+           "[95 %] |", "|---" * 9 + "|"]
+    for a in factor_effects([f.name for f in plan.study.factors], rows, metrics):
+        slope = "–" if a["slope"] is None else \
+            f"{a['slope']:.4g} [{a['slope_low']:.4g}, {a['slope_high']:.4g}]"
+        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {a['runs']} | "
+                  f"{_fmt(a['df'])} | {_fmt(a['F'])} | {_fmt(a['p'])} | {_fmt(a['eta2'])} | "
+                  f"{slope} |")
     failed = [r for r in rows if r["status"] != "ok"]
     if failed:
         md += ["", "## Failed runs", ""] + [f"- {r['run']}: {r['status']}" for r in failed]

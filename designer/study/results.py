@@ -5,6 +5,10 @@ hits and failed runs).
 
 Units: metres (``_m``), pixels (``_px``), ground sample distances (``_gsd``: the metre
 value divided by the run's mean GSD), seconds (``_s``).
+
+Cost: ``total_s`` is what the run costs on its own (its render, reconstruction and
+comparison, even where the study shared them with other runs); ``amortised_s`` is its
+share within the study (a render shared by ``render_runs`` runs counts 1/render_runs).
 """
 
 from __future__ import annotations
@@ -25,16 +29,19 @@ METRIC_COLUMNS = (
     "control_rmse_x_m", "control_rmse_y_m", "control_rmse_z_m", "control_rmse_xyz_m",
     "cloud_median_m", "cloud_nmad_m", "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m",
     "focal_error_px", "k1_error", "render_s", "reconstruct_s", "compare_s", "total_s",
+    "amortised_s",
 )
 
 _FIRST = ("run", "variant", "replicate")
 _LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
+         "amortised_s", "render_runs", "processing_runs",
          "registered", "check_n", "check_rmse_x_m", "check_rmse_y_m", "check_rmse_z_m",
          "check_rmse_xy_m", "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd",
          "check_rmse_z_gsd", "control_n", "control_rmse_x_m", "control_rmse_y_m",
          "control_rmse_z_m", "control_rmse_xyz_m", "cloud_median_m", "cloud_nmad_m",
          "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m", "focal_error_px", "k1_error",
-         "render_reused", "processing_reused", "image_hash", "processing_hash",
+         "render_reused", "processing_reused", "features_reused", "matches_reused",
+         "image_hash", "processing_hash",
          "error_map", "status")
 
 
@@ -45,6 +52,11 @@ def complete_row(row: dict) -> dict:
         v = row.get(f"check_rmse_{axis}_m")
         row[f"check_rmse_{axis}_gsd"] = v / gsd if v is not None and gsd else None
     row["total_s"] = sum(row.get(k) or 0.0 for k in ("render_s", "reconstruct_s", "compare_s"))
+    # what the run cost within the study: shared renders and processing divided among
+    # the runs that share them
+    row["amortised_s"] = (row.get("render_s") or 0.0) / max(1, row.get("render_runs") or 1) \
+        + sum(row.get(k) or 0.0 for k in ("reconstruct_s", "compare_s")) \
+        / max(1, row.get("processing_runs") or 1)
     return row
 
 

@@ -10,6 +10,7 @@ Output folder::
     DIR/runs/RUN/result.json      its results row, written when it is finished
     DIR/cache/renders/HASH/       one render per distinct image set
     DIR/cache/processing/HASH/    one reconstruction + comparison per distinct processing
+    DIR/cache/features/           features and matches, shared by runs of the same images
     DIR/results.csv, summary.json, report.html, report.md
 
 A run with a ``result.json`` is finished (``ok`` or ``failed: reason``) and never redone;
@@ -206,7 +207,7 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
             stages.link_images(renders / h, first / "survey", infos[rid]["images"])
             future = executor.submit(stages.process_stage, str(first / "survey"),
                                      str(first / "project.xml"), str(processing / p),
-                                     priority=0)
+                                     str(out / "cache" / "features"), priority=0)
             pending[future] = ("process", p)
             counts["reconstructions_this_session"] += 1
 
@@ -219,6 +220,7 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
             h = info["image_hash"]
             row = _row(info, done_renders.get(h) or {}, result, owner=by_proc[p][0] == rid,
                        render_owner=by_image[h][0] == rid, proc_dir=processing / p)
+            row.update(render_runs=len(by_image[h]), processing_runs=len(by_proc[p]))
             write_text_atomic(out / "runs" / rid / "result.json", json.dumps(row, indent=1))
             finished.add(rid)
             n_done += 1

@@ -105,8 +105,10 @@ def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
             shutil.copyfile(render_dir / name, target)
 
 
-def process_stage(survey_dir: str, project_path: str, out_dir: str) -> dict:
-    """Reconstruct and compare one run; its metrics, or ``failed: reason``."""
+def process_stage(survey_dir: str, project_path: str, out_dir: str,
+                  feature_cache: str | None = None) -> dict:
+    """Reconstruct and compare one run; its metrics, or ``failed: reason``. Runs of the
+    same images share features and matches through ``feature_cache``."""
     # keep COLMAP's per-step log lines out of the study's output (errors still show);
     # read by its logging library when pycolmap loads in this worker
     os.environ.setdefault("GLOG_minloglevel", "2")
@@ -114,7 +116,8 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     result: dict = {}
     try:
-        result = _process(Path(survey_dir), Path(project_path), out)
+        result = _process(Path(survey_dir), Path(project_path), out,
+                          Path(feature_cache) if feature_cache else None)
         result["status"] = "ok"
     except (DesignerError, ValueError, RuntimeError, np.linalg.LinAlgError) as error:
         result["status"] = f"failed: {type(error).__name__ if not str(error) else error}"
@@ -124,7 +127,7 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str) -> dict:
     return result
 
 
-def _process(survey: Path, project_path: Path, out: Path) -> dict:
+def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | None) -> dict:
     from designer.evaluate import compare_cloud, read_point_cloud, reference_mesh
     from designer.project import load_project
     from designer.sfm.reconstruct import reconstruct
@@ -133,11 +136,13 @@ def _process(survey: Path, project_path: Path, out: Path) -> dict:
     t0 = time.perf_counter()
     rec = reconstruct(survey, out / "reconstruction", mode=MODE,
                       processing=project.processing, project_path=project_path,
-                      log=lambda _message: None)
+                      log=lambda _message: None, feature_cache=feature_cache)
     t1 = time.perf_counter()
     s = rec.summary
+    reused = s.get("reused_from_cache") or {}
     row: dict = {"reconstruct_s": t1 - t0, "registered": rec.n_registered,
-                 "images": rec.n_images}
+                 "images": rec.n_images, "features_reused": reused.get("features", False),
+                 "matches_reused": reused.get("matches", False)}
     for role in ("check", "control"):
         stats = s.get(role) or {}
         for key in ("rmse_x_m", "rmse_y_m", "rmse_z_m", "rmse_xy_m", "rmse_xyz_m"):

@@ -13,18 +13,21 @@ from pathlib import Path
 
 from designer.project import model as m
 
-E0, N0, H0 = 500000.0, 5000000.0, 250.0
+ORIGIN = (500000.0, 5000000.0, 250.0)
+#: where the GCP targets stand, metres east and north of the origin
+GCP_SPOTS_M = ((-14, -14), (0, -12), (14, -14), (-14, 14), (0, 12), (14, 14), (0, 0),
+               (-13, 0), (13, 0), (6, 6))
 
 
-def base_project(width_px: int = 640, height_px: int = 480, samples: int = 16) -> m.Project:
+def base_project(width_px: int = 640, height_px: int = 480, samples: int = 16,
+                 origin: tuple[float, float, float] = ORIGIN) -> m.Project:
     """A 60 × 60 m hilly field, 10 GCP targets, a grid flight at 30 m (GSD 6 cm at 640 px)."""
+    E0, N0, H0 = origin
     cam = m.Camera(id="cam", focal_length_mm=5.0, sensor_width_mm=6.4, sensor_height_mm=4.8,
                    image_width_px=width_px, image_height_px=height_px)
-    spots = [(-14, -14), (0, -12), (14, -14), (-14, 14), (0, 12), (14, 14), (0, 0),
-             (-13, 0), (13, 0), (6, 6)]
     targets = tuple(
         m.Target(f"G{k:02d}", "control", "checker", 1.5, m.TruePosition(E0 + x, N0 + y))
-        for k, (x, y) in enumerate(spots))
+        for k, (x, y) in enumerate(GCP_SPOTS_M))
     scene = m.Scene(
         terrain=m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.ProceduralTerrain(
             seed=5, grid_spacing_m=0.5, roughness=0.3, min_height_m=H0 - 3.0,
@@ -100,6 +103,7 @@ TEMPLATE_NAMES = tuple(STUDIES)
 def template_base(name: str) -> m.Project:
     if name == "tiny":
         p = base_project(160, 120, samples=4)
+        E0, N0, _ = ORIGIN
         half = 7.0  # a 14 x 14 m flight at 12 m (GSD 10 cm), 3 lines of 3-4 images
         targets = tuple(replace(t, size_m=1.0, true=m.TruePosition(
             E0 + 0.5 * (t.true.X - E0), N0 + 0.5 * (t.true.Y - N0))) for t in p.targets)

@@ -15,7 +15,7 @@ from lxml import etree
 
 from designer.project.problems import Problem, ProjectError, SourceMap
 from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS
-from designer.project.xml_read import MAX_PROJECT_BYTES, _content_problem, _syntax_problem
+from designer.project.xml_read import _content_problem, _syntax_problem, read_xml_file
 from designer.project.xsd_messages import SchemaInfo, translate_xsd_error
 from designer.study.spec import (
     DEFAULT_METRICS,
@@ -49,21 +49,9 @@ def read_study(path: str | os.PathLike) -> Study:
     :func:`designer.study.design.plan_study`.
     """
     path = Path(path)
-    source = str(path)
-    try:
-        if not path.is_file():
-            raise FileNotFoundError
-        if path.stat().st_size > MAX_PROJECT_BYTES:
-            raise ProjectError(source, [Problem("<study>: the file is too large for a study")])
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise ProjectError(source, [Problem(
-            "<study>: no such file; check the path, or write an example with "
-            "'designer study new FILE --template gcp-count'")]) from None
-    except OSError as error:
-        raise ProjectError(source, [Problem(
-            f"<study>: cannot read the file ({error.strerror or error})")]) from None
-    return parse_study(data, source, path.resolve())
+    data = read_xml_file(path, "study", "write an example with 'designer study new FILE "
+                         "--template gcp-count'")
+    return parse_study(data, str(path), path.resolve())
 
 
 def parse_study(data: bytes, source: str = "<memory>", path: Path | None = None) -> Study:

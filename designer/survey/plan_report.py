@@ -43,7 +43,7 @@ class PlanResult:
 
 def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None) -> PlanResult:
     """Plan and analyse a project's flight over its terrain."""
-    hf = build_heightfield(project.scene.terrain, Path(base_dir))
+    hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
     if hf is None:
         raise DesignerError("designer plan needs a height-field terrain (flat, procedural or "
                             "DEM); a mesh terrain cannot be analysed yet")

@@ -220,7 +220,10 @@ def projects(draw) -> m.Project:
         st.builds(m.ProceduralTexture,
                   st.sampled_from(["grass", "soil", "gravel", "noise", "checkerboard",
                                    "slanted-edge"]),
-                  seeds, reals(17, 16000).map(lambda n: tile / n))))
+                  seeds, reals(17, 16000).map(lambda n: tile / n)),
+        st.builds(m.OrthophotoTexture, paths)))
+    if isinstance(source, m.OrthophotoTexture):
+        repeat_X = repeat_Y = 1  # an orthophoto is placed by its geotransform, never tiled
     texture = m.Texture(source, repeat_X, repeat_Y, draw(st.sampled_from(["closest", "linear"])))
     camera_ids = draw(st.lists(identifiers, min_size=1, max_size=3, unique=True))
     cams = tuple(draw(cameras(cid)) for cid in camera_ids)

@@ -194,7 +194,7 @@ def test_esri_ascii_header_is_case_insensitive_and_values_may_wrap(tmp_path):
     ("text", "message"),
     [
         ("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n"
-         "1 2\n-9999 4\n", "has 1 NODATA cells"),
+         "1 2\n-9999 4\n", "has 1 nodata/NaN cells (first at X 0.50, Y 0.50)"),
         ("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n",
          "header says 2 x 2 = 4 values, the grid holds 3"),
         ("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\nx 4\n",
@@ -225,3 +225,105 @@ def test_binary_file_named_asc_is_refused(tmp_path):
     path.write_bytes(bytes(range(256)))
     with pytest.raises(DesignerError, match=r"binary\.asc cannot be read as an ESRI ASCII"):
         load_dem(path)
+
+
+# --------------------------------------------------------------------------- CRS, extent
+UTM33 = "EPSG:32633 (WGS 84 / UTM zone 33N)"
+
+
+def test_geographic_dem_is_reprojected_to_the_project_utm_zone(sample_site):
+    from designer.scene import sample_site as site
+
+    utm = load_dem(sample_site["dem"], UTM33)
+    geo = load_dem(sample_site["dem_wgs84"], UTM33, extent_m=(533010, 5213010, 533110, 5213080))
+    assert geo.dx_m == geo.dy_m and 0.3 < geo.dx_m < 0.7
+    # Compare on the smooth ground away from the building blocks and the road cut's
+    # shoulders (steps that bilinear interpolation rounds off on either grid).
+    rng = np.random.default_rng(5)
+    E = rng.uniform(533015, 533105, 4000)
+    N = rng.uniform(5213015, 5213075, 4000)
+    smooth = np.abs(np.abs(site.road_offset_m(E, N)) - 5.25) > 2.5
+    for e0, n0, e1, n1, _ in site.BLOCKS:
+        smooth &= ~((E > e0 - 1.5) & (E < e1 + 1.5) & (N > n0 - 1.5) & (N < n1 + 1.5))
+    E, N = E[smooth], N[smooth]
+    truth = site.height_m(E, N)
+    err_geo = geo.height_at(E, N) - truth
+    err_utm = utm.height_at(E, N) - truth
+    print(f"reprojected geographic DEM: RMS {np.sqrt(np.mean(err_geo ** 2)) * 1000:.2f} mm, "
+          f"max {np.abs(err_geo).max() * 1000:.2f} mm; UTM DEM max "
+          f"{np.abs(err_utm).max() * 1000:.2f} mm ({len(E)} points)")
+    assert np.abs(err_utm).max() < 0.02
+    assert np.abs(err_geo).max() < 0.03
+    assert np.abs(geo.height_at(E, N) - utm.height_at(E, N)).max() < 0.03
+    # Read in its own degrees, the grid would be nowhere near: the reprojection happened.
+    assert geo.extent_m[0] > 500000
+
+
+def test_dem_in_another_utm_zone_is_reprojected(tmp_path):
+    from pyproj import Transformer
+
+    # A tilted plane z = 300 + 0.01 E' + 0.02 N' in zone-33 coordinates, stored in zone 32.
+    to32 = Transformer.from_crs(32633, 32632, always_xy=True)
+    X32, Y32 = to32.transform(533000.0, 5213000.0)
+    west, north = float(np.floor(X32)) - 40, float(np.floor(Y32)) + 40
+    cols, rows = 160, 160
+    E32 = west + (np.arange(cols) + 0.5) * 0.5
+    N32 = north - (np.arange(rows) + 0.5) * 0.5
+    EE, NN = np.meshgrid(E32, N32)
+    to33 = Transformer.from_crs(32632, 32633, always_xy=True)
+    E33, N33 = to33.transform(EE, NN)
+    z = 300 + 0.01 * (E33 - 533000) + 0.02 * (N33 - 5213000)
+    path = write_geotiff(tmp_path / "z32.tif", z, transform=from_origin(west, north, 0.5, 0.5),
+                         crs="EPSG:32632")
+    hf = load_dem(path, UTM33, extent_m=(532990, 5212990, 533010, 5213010))
+    E, N = np.meshgrid(np.linspace(532991, 533009, 7), np.linspace(5212991, 5213009, 7))
+    expected = 300 + 0.01 * (E - 533000) + 0.02 * (N - 5213000)
+    np.testing.assert_allclose(hf.height_at(E, N), expected, atol=1e-4)
+
+
+def test_geographic_dem_in_a_local_project_is_refused(sample_site):
+    with pytest.raises(DesignerError, match=r"is in geographic coordinates .*give the project "
+                       r"a projected <crs>"):
+        load_dem(sample_site["dem_wgs84"], "local engineering frame (m)")
+
+
+def test_dem_without_crs_in_a_utm_project_is_refused(tmp_path):
+    path = write_geotiff(tmp_path / "bare.tif", np.zeros((4, 4)), crs=None)
+    with pytest.raises(DesignerError, match=r"bare\.tif has no coordinate system, the "
+                       r"project is in EPSG:32633.*gdal_edit\.py -a_srs") as info:
+        load_dem(path, UTM33)
+    assert "\n" not in str(info.value)
+    # In a local frame the bare grid is taken as metres, as before.
+    assert load_dem(path, "local engineering frame (m)").dx_m == PIXEL
+
+
+def test_dem_is_cropped_to_the_extent_and_holes_outside_it_do_not_matter(tmp_path):
+    z = np.arange(20 * 30, dtype=float).reshape(20, 30)
+    z[0, :] = np.nan  # the northernmost file row: outside the extent below
+    z[5, 29] = -9999.0
+    path = write_geotiff(tmp_path / "holes.tif", z, nodata=-9999.0)
+    extent = (WEST + 2.2, NORTH - 8.0, WEST + 9.1, NORTH - 3.1)
+    hf = load_dem(path, UTM33, extent_m=extent)
+    x0, x1, y0, y1 = hf.extent_m
+    assert x0 <= extent[0] < x0 + PIXEL and x1 - PIXEL < extent[2] <= x1
+    assert y0 <= extent[1] < y0 + PIXEL and y1 - PIXEL < extent[3] <= y1
+    # Node (row i, column j) still carries the file's cell-centre value.
+    assert hf.height_at(x0, y1) == z[round((NORTH - y1) / PIXEL - 0.5), round((x0 - WEST)
+                                                                                / PIXEL - 0.5)]
+
+
+def test_dem_hole_inside_the_extent_is_refused_with_its_place(tmp_path):
+    z = np.full((20, 30), 50.0)
+    z[10, 8] = -9999.0  # cell centre X = WEST + 4.25, Y = NORTH - 5.25
+    path = write_geotiff(tmp_path / "void.tif", z, nodata=-9999.0)
+    with pytest.raises(DesignerError, match=r"void\.tif has 1 nodata/NaN cells inside the "
+                       r"terrain extent \(first at X 500004\.25, Y 4999994\.75\); fill the "
+                       r"voids .*or shrink <extent>"):
+        load_dem(path, UTM33, extent_m=(WEST + 1, NORTH - 9, WEST + 9, NORTH - 1))
+
+
+def test_extent_beyond_the_dem_is_refused(tmp_path):
+    path = write_geotiff(tmp_path / "small.tif", np.zeros((10, 10)))
+    with pytest.raises(DesignerError, match=r"small\.tif covers X 500000\.000\.\.500005\.000, "
+                       r"Y 4999995\.000\.\.5000000\.000, not the whole terrain extent"):
+        load_dem(path, UTM33, extent_m=(WEST, NORTH - 5, WEST + 6, NORTH))

@@ -85,6 +85,18 @@ def test_a_processing_only_factor_renders_once(killed_and_resumed):
     assert (summary["variants"], summary["renders"], summary["reconstructions"]) == (4, 2, 4)
     assert summary["cache_hits"] == 2 and summary["failed"] == 0
     assert len(list((out / "cache" / "renders").iterdir())) == 2
+    # runs of the same images extract features and match pairs once (an extraction by
+    # the killed session is reused too): one database per image set, the others reuse it
+    assert [r["features_reused"] for r in marking.values()].count("True") >= 2
+    assert [r["matches_reused"] for r in marking.values()].count("True") >= 2
+    assert len(list((out / "cache" / "features").glob("features-*/database.db"))) == 2
+    assert len(list((out / "cache" / "features").glob("matches-*/database.db"))) == 2
+    # a run's share of the study's cost: the shared render divided among its runs
+    owners = [r for r in rows if r["render_reused"] == "False"]
+    spent = sum(float(r["render_s"]) for r in owners) + sum(
+        float(r["reconstruct_s"]) + float(r["compare_s"]) for r in rows)
+    assert sum(float(r["amortised_s"]) for r in rows) == pytest.approx(spent, rel=1e-4)
+    assert all(float(r["amortised_s"]) < float(r["total_s"]) for r in marking.values())
     # the marking error shows in the check points: 2 px marks worse than 0.2 px
     assert float(marking["2"]["check_rmse_z_m"]) > float(marking["0.2"]["check_rmse_z_m"])
     for r in rows:
@@ -189,3 +201,8 @@ def test_every_example_study_plans(tmp_path):
     for name in TEMPLATE_NAMES:
         plan = plan_study(read_study(write_template(name, tmp_path / name / "s.xml")[0]))
         assert plan.n_variants >= 3
+
+
+def test_a_folder_given_as_the_study_file_is_a_clear_error(tmp_path):
+    with pytest.raises(ProjectError, match=r"<study>: this is not a regular file"):
+        read_study(tmp_path)

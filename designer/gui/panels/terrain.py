@@ -164,7 +164,7 @@ class TerrainPanel(Panel):
             if kind == "dem":
                 from designer.scene.dem import load_dem
 
-                x0, x1, y0, y1 = load_dem(path).extent_m
+                x0, x1, y0, y1 = load_dem(path, project.crs).extent_m
             else:
                 from designer.scene.mesh import load_mesh
 

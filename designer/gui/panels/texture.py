@@ -92,7 +92,8 @@ class TexturePanel(Panel):
     def refresh(self) -> None:
         super().refresh()
         tex = self.project.scene.texture
-        is_image = isinstance(tex.source, m.ImageTexture)
+        # an orthophoto shows as its file (it is placed by its geotransform, not tiled)
+        is_image = isinstance(tex.source, m.ImageTexture | m.OrthophotoTexture)
         blocked = self.kind.blockSignals(True)
         self.kind.setCurrentIndex(1 if is_image else 0)
         self.kind.blockSignals(blocked)

@@ -1,0 +1,214 @@
+"""Flight plans out: each format is written, checked against its documented fields and
+read back to the planned poses (≤ 1 cm, ≤ 0.01°)."""
+
+import dataclasses
+import json
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from lxml import etree
+
+from designer.cli.main import main
+from designer.flight.checks import FlightFileError
+from designer.flight.export import export_flight
+from designer.flight.exposures import pose_of
+from designer.flight.geodesy import Georef
+from designer.flight.kml import read_kml
+from designer.flight.qgc import read_plan
+from designer.flight.wpml import read_wpml
+from designer.project import load_project
+from designer.scene.build import build_heightfield
+from designer.survey.project_poses import flight_plan_for, interior_from_camera
+from tests.flight.helpers import EXAMPLE, rotation_error_deg, shifted
+
+READERS = {"qgc": read_plan, "kml": read_kml, "wpml": read_wpml}
+SUFFIX = {"qgc": ".plan", "kml": ".kmz", "wpml": ".kmz"}
+
+
+def planned(project, base_dir):
+    """The plan's stations without noise, straight from the planner."""
+    plan = project.trajectory.flight_plan
+    hf = build_heightfield(project.scene.terrain, base_dir)
+    return flight_plan_for(plan, interior_from_camera(project.camera(plan.camera)), hf,
+                           ".png").stations, hf
+
+
+def compare(points, stations, georef):
+    assert len(points) == len(stations)
+    dC = dR = 0.0
+    for point, station in zip(points, stations, strict=True):
+        C, R = pose_of(point, georef)
+        dC = max(dC, float(np.abs(C - station.C_world).max()))
+        dR = max(dR, rotation_error_deg(R, station.R_cam_to_world))
+    return dC, dR
+
+
+@pytest.fixture(scope="module")
+def example():
+    return load_project(EXAMPLE)
+
+
+@pytest.mark.parametrize("fmt", ["qgc", "kml", "wpml"])
+@pytest.mark.parametrize("altitude", ["relative", "amsl"])
+def test_written_flight_reads_back_to_the_plan(tmp_path, example, fmt, altitude):
+    out = tmp_path / f"flight{SUFFIX[fmt]}"
+    spec = export_flight(example, EXAMPLE.parent, fmt, out, altitude=altitude,
+                         height_offset_m=47.5)
+    stations, _ = planned(example, EXAMPLE.parent)
+    points = READERS[fmt](out, height_offset_m=47.5)
+    dC, dR = compare(points, stations, Georef(example.crs))
+    assert dC <= 0.01 and dR <= 0.01, (dC, dR)
+    assert len(spec.lines) == len({s.line_index for s in stations}) > 1
+
+
+def test_a_tilted_portrait_crosshatch_reads_back(tmp_path, example):
+    plan = dataclasses.replace(example.trajectory.flight_plan, tilt_deg=25.0,
+                               orientation="portrait", crosshatch=True, grid_angle_deg=30.0)
+    project = dataclasses.replace(
+        shifted(example, -60_000.0),  # west of the central meridian
+        trajectory=dataclasses.replace(example.trajectory, flight_plan=dataclasses.replace(
+            plan, area=tuple((x - 60_000.0, y) for x, y in plan.area))))
+    stations, _ = planned(project, EXAMPLE.parent)
+    georef = Georef(project.crs)
+    assert float(georef.true_north_azimuth_deg(*stations[0].C_world[:2])) > 0.3
+    for fmt in READERS:
+        out = tmp_path / f"tilted{SUFFIX[fmt]}"
+        export_flight(project, EXAMPLE.parent, fmt, out)
+        dC, dR = compare(READERS[fmt](out), stations, georef)
+        assert dC <= 0.01 and dR <= 0.01, (fmt, dC, dR)
+
+
+def test_qgc_plan_fields(tmp_path, example):
+    out = tmp_path / "f.plan"
+    spec = export_flight(example, EXAMPLE.parent, "qgc", out)
+    doc = json.loads(out.read_text())
+    assert doc["fileType"] == "Plan" and doc["version"] == 1
+    mission = doc["mission"]
+    items = mission["items"]
+    waypoints = [i for i in items if i["command"] == 16]
+    assert {i["frame"] for i in waypoints} == {3}  # relative to take-off
+    assert all(len(i["params"]) == 7 for i in items)
+    triggers = [i["params"][0] for i in items if i["command"] == 206]
+    assert len(triggers) == 2 * len(spec.lines)
+    assert triggers[0] == pytest.approx(spec.trigger_distance_m) and triggers[1] == 0
+    # home is the take-off point on the terrain: the first waypoint's relative altitude
+    # is the flight height above it
+    assert waypoints[0]["params"][6] == pytest.approx(spec.exposures[0].Z_m
+                                                      - spec.exposures[0].ground_m)
+    assert [i["doJumpId"] for i in items] == list(range(1, len(items) + 1))
+
+
+def test_terrain_following_plans(tmp_path, example):
+    plan = dataclasses.replace(example.trajectory.flight_plan, terrain_following=True)
+    project = dataclasses.replace(example, trajectory=dataclasses.replace(
+        example.trajectory, flight_plan=plan))
+    stations, hf = planned(project, EXAMPLE.parent)
+    georef = Georef(project.crs)
+    out = tmp_path / "tf.kmz"
+    export_flight(project, EXAMPLE.parent, "wpml", out)
+    with zipfile.ZipFile(out) as z:
+        assert sorted(z.namelist()) == ["wpmz/template.kml", "wpmz/waylines.wpml"]
+        way = etree.fromstring(z.read("wpmz/waylines.wpml"))
+    W = "{http://www.dji.com/wpmz/1.0.2}"
+    assert way.findtext(f".//{W}executeHeightMode") == "realTimeFollowSurface"
+    heights = [float(h.text) for h in way.iter(W + "executeHeight")]
+    assert np.allclose(heights, 50.0)  # the AGL height of the example's plan
+    with pytest.raises(FlightFileError, match="follow the surface"):
+        read_wpml(out)
+
+    def ground(lon, lat):
+        X, Y = georef.from_lonlat(lon, lat)
+        return float(hf.height_at_clamped(X, Y))
+
+    dC, dR = compare(read_wpml(out, ground_at=ground), stations, georef)
+    assert dC <= 0.01 and dR <= 0.01
+    plan_out = tmp_path / "tf.plan"
+    export_flight(project, EXAMPLE.parent, "qgc", plan_out)
+    items = [i for i in json.loads(plan_out.read_text())["mission"]["items"]
+             if i["command"] == 16]
+    assert {i["AltitudeMode"] for i in items} == {2}
+    assert np.allclose([i["Altitude"] for i in items], 50.0)
+    dC, dR = compare(read_plan(plan_out), stations, georef)
+    assert dC <= 0.01 and dR <= 0.01
+
+
+def test_kml_structure(tmp_path, example):
+    out = tmp_path / "f.kml"
+    spec = export_flight(example, EXAMPLE.parent, "kml", out)
+    root = etree.parse(str(out)).getroot()
+    K = "{http://www.opengis.net/kml/2.2}"
+    assert root.tag == K + "kml"
+    lines = list(root.iter(K + "LineString"))
+    assert len(lines) == len(spec.lines)
+    first = lines[0].findtext(K + "coordinates").split()[0].split(",")
+    assert float(first[0]) == pytest.approx(spec.exposures[0].lon_deg)  # lon first
+    assert [p.name for p in read_kml(out)] == [e.name for e in spec.exposures]
+
+
+@pytest.mark.parametrize(("fmt", "damage", "message"), [
+    ("qgc", lambda d: d.pop("fileType"), "fileType"),
+    ("qgc", lambda d: d["mission"]["items"][1]["params"].pop(), "seven params"),
+    ("qgc", lambda d: d["mission"].pop("plannedHomePosition"), "plannedHomePosition"),
+])
+def test_broken_plans_are_refused(tmp_path, example, fmt, damage, message):
+    out = tmp_path / "f.plan"
+    export_flight(example, EXAMPLE.parent, fmt, out)
+    doc = json.loads(out.read_text())
+    damage(doc)
+    out.write_text(json.dumps(doc))
+    with pytest.raises(FlightFileError, match=message):
+        read_plan(out)
+
+
+@pytest.mark.parametrize(("member", "old", "new", "message"), [
+    ("wpmz/waylines.wpml", b"<wpml:executeHeightMode>relativeToStartPoint",
+     b"<wpml:executeHeightMode>sea", "height mode 'sea'"),
+    ("wpmz/waylines.wpml", b"<wpml:droneInfo>", b"<wpml:droneInfoX>", "droneInfo"),
+    ("wpmz/template.kml", b"<wpml:templateType>waypoint</wpml:templateType>", b"",
+     "templateType"),
+])
+def test_broken_wpml_is_refused(tmp_path, example, member, old, new, message):
+    out = tmp_path / "f.kmz"
+    export_flight(example, EXAMPLE.parent, "wpml", out)
+    with zipfile.ZipFile(out) as z:
+        files = {n: z.read(n) for n in z.namelist()}
+    assert old in files[member]
+    files[member] = files[member].replace(old, new).replace(
+        old.replace(b"<", b"</").split(b">")[0] + b">", new.replace(b"<", b"</").split(b">")[0]
+        + b">" if new else b"")
+    with zipfile.ZipFile(out, "w") as z:
+        for n, data in files.items():
+            z.writestr(n, data)
+    with pytest.raises(FlightFileError, match=message):
+        read_wpml(out)
+
+
+def test_cli_writes_and_refuses_cleanly(tmp_path, capsys):
+    out = tmp_path / "f.plan"
+    assert main(["export-flight", str(EXAMPLE), "--format", "qgc", "-o", str(out)]) == 0
+    assert "60 photos" in capsys.readouterr().out and out.is_file()
+    bad = tmp_path / "f.txt"
+    assert main(["export-flight", str(EXAMPLE), "--format", "qgc", "-o", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "f.txt" in err and ".plan" in err and len(err.splitlines()) == 1
+    assert not bad.exists()
+    missing = tmp_path / "no" / "f.kmz"
+    assert main(["export-flight", str(EXAMPLE), "--format", "wpml", "-o", str(missing)]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.plan"]  # nothing half-written
+
+
+def test_the_cli_lists_both_commands(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = capsys.readouterr().out
+    assert "export-flight" in text and "import-flight" in text
+
+
+def test_files_from_the_cli_match_the_api(tmp_path):
+    a, b = tmp_path / "a.kmz", tmp_path / "b.kmz"
+    assert main(["export-flight", str(EXAMPLE), "--format", "kml", "-o", str(a)]) == 0
+    export_flight(load_project(EXAMPLE), Path(EXAMPLE).parent, "kml", b)
+    assert [(p.lon_deg, p.Z_m) for p in read_kml(a)] == [(p.lon_deg, p.Z_m) for p in read_kml(b)]
