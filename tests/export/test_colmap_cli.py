@@ -189,7 +189,7 @@ def test_the_offset_is_recorded_and_check_output_uses_the_choice(rendered, tmp_p
     shutil.copytree(out, copy)
     project = Path(json.loads((out / "manifest.json").read_text())["project"])
     summary = render_project(project, copy, workers=1, resume=True, colmap_offset="none")
-    assert summary.report.rendered == []  # the images were kept, the ground truth rewritten
+    assert not summary.report.rendered  # the images were kept, the ground truth rewritten
     assert model_offset_world(copy / "ground-truth" / "colmap").tolist() == [0.0, 0.0, 0.0]
     assert json.loads((copy / "manifest.json").read_text())["ground_truth"][
         "colmap_offset"] == "none"
