@@ -11,6 +11,11 @@ the plain tiled texture (``texture tiled``) gives its render-time cost. A last r
 renders the survey preset with a sun over time (a time line at 8 m/s, the sun
 computed for each photo): its job bakes one light map per photo (``prepare s/img``) and
 the worker swaps the terrain's light map and the targets' colours before each frame.
+
+The "+movers" row renders the survey preset with a time line, the static sun and 20
+moving objects (10 cars, 10 people) crossing the site: the worker poses them before each
+frame; its ``prepare s/img`` includes writing their ground truth (a mask per image and
+the positions table).
 The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
 light map per photo, the direct sun dimmed by the clouds at the photo's time.
 """
@@ -35,6 +40,24 @@ def _example(folder: Path) -> Path:
     return path
 
 
+def _with_movers(project: m.Project) -> m.Project:
+    """``project`` with a time line (static sun) and 10 cars and 10 people driving and
+    walking across its extent."""
+    e = project.scene.terrain.extent
+    cx, cy = (e.min_X + e.max_X) / 2, (e.min_Y + e.max_Y) / 2
+    w, h = e.max_X - e.min_X, e.max_Y - e.min_Y
+    movers = []
+    for k in range(20):
+        y = cy + (k / 19 - 0.5) * 0.8 * h
+        a, b = (cx - 0.4 * w, y), (cx + 0.4 * w, y + 0.1 * h)
+        path = tuple(m.PathPoint(*p) for p in ((a, b) if k % 2 else (b, a)))
+        movers.append(m.MovingObject(f"m{k}", path, 8.0 if k < 10 else 1.4,
+                                     shape="car" if k < 10 else "person", loop=True))
+    return replace(project, scene=replace(project.scene, moving_objects=tuple(movers)),
+                   trajectory=replace(project.trajectory, time_line=m.TimeLine(
+                       "2026-06-21T06:30:00Z", 8.0, 10.0)))
+
+
 def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
     n_frames = max(2, round(20 * scale))
     n_naive = max(1, round(5 * scale))
@@ -57,11 +80,18 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "static", texture, project),
                                          ("survey", "static", "tiled", tiled),
                                          ("survey", "over time", texture, timed),
+                                         ("survey", "+movers", texture, _with_movers(project)),
                                          ("survey", "clouds", texture, cloudy)):
-            out = tmp / f"out-{quality}-{sun.replace(' ', '-')}-{kind}"
+            out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
             naive = sun == "static" and proj is project
             t_prepare = time.perf_counter()
             prepared = prepare_job(proj, project_path.parent, out, quality)
+            if proj.scene.moving_objects:
+                from designer.render.job import JOB_DIR
+                from designer.render.moving_truth import write_moving_truth
+
+                write_moving_truth(out / JOB_DIR / "truth", prepared.interior, prepared.poses,
+                                   prepared.moving_poses, prepared.moving_meshes)
             prepare = time.perf_counter() - t_prepare
             frames = list(range(n_frames))
             report = render_frames(prepared.job_path, frames)

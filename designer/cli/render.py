@@ -34,6 +34,12 @@ def register(subparsers) -> None:
     parser.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                         help="render on an existing Dask cluster; OUT must be on storage "
                              "every worker sees under the same path")
+    parser.add_argument("--colmap-offset", default="local", metavar="local|none|E,N,H",
+                        help="frame of the COLMAP ground truth: 'local' (default) = world "
+                             "minus the mean camera centre rounded to whole metres, so "
+                             "COLMAP's float32 dense stage keeps 0.1 mm; 'none' = world "
+                             "coordinates; or E,N,H in metres. The offset is written to "
+                             "ground-truth/colmap/offset.json and the manifest")
     parser.add_argument("--progress", choices=["bar", "json", "none"], default=None,
                         help="progress display: a bar on a terminal, JSON lines for programs")
     parser.set_defaults(func=run)
@@ -45,13 +51,16 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise DesignerError(f"--workers {args.workers}: give at least 1 worker")
+    from designer.export.colmap import colmap_offset_world
+
+    colmap_offset_world(args.colmap_offset, [])  # a bad value stops here, before any work
     mode = args.progress or ("bar" if sys.stderr.isatty() else "none")
     reporter = ProgressPrinter(mode)
     try:
         summary = render_project(args.project, args.output, workers=args.workers,
                                  frames=args.frames, quality=args.quality,
                                  resume=args.resume, progress=reporter,
-                                 scheduler=args.scheduler)
+                                 scheduler=args.scheduler, colmap_offset=args.colmap_offset)
     finally:
         reporter.close()
     report = summary.report

@@ -40,9 +40,11 @@ class ReferenceMesh:
     crs: str | None = None
 
 
-def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True) -> ReferenceMesh:
+def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True,
+                   at_time_s: float | None = None) -> ReferenceMesh:
     """The true surface from a mesh file or a project XML (terrain, scene objects and
-    GCP targets)."""
+    GCP targets; the static ground: moving objects only with ``at_time_s``, posed then,
+    seconds after take-off)."""
     path = Path(path)
     if path.suffix.lower() == ".xml":
         from designer.project import load_project
@@ -66,6 +68,17 @@ def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True) -> Ref
         _, object_vertices, object_faces, _ = place_objects(project, path.parent)
         vertices.append(object_vertices)
         faces.append(object_faces + sum(len(v) for v in vertices[:-1]))
+        if at_time_s is not None:
+            from types import SimpleNamespace
+
+            from designer.scene.moving import pose_at, posed_vertices, shape_mesh
+
+            ground = SimpleNamespace(heightfield=hf, terrain=mesh)
+            for obj in project.scene.moving_objects:
+                v, f = shape_mesh(obj, path.parent)
+                n = sum(len(x) for x in vertices)
+                vertices.append(posed_vertices(v, pose_at(obj, at_time_s, ground)))
+                faces.append(f + n)
         return ReferenceMesh(np.vstack(vertices), np.vstack(faces), str(path), project.crs)
     from designer.scene.mesh import load_mesh
 

@@ -145,15 +145,22 @@ def read_camera_poses(path: str | os.PathLike, *, offset_world=None) -> list[Cam
     convention, and Metashape's (see designer.export.metashape). ODM's shots.geojson
     (opendm/shots.py): ``translation`` = camera centre in the output CRS, ``rotation``
     = Rodrigues vector of world → camera in the CV frame. ``offset_world`` is added to
-    every centre.
+    every centre (COLMAP model default: the offset.json beside the model, else none).
     """
-    from designer.export.colmap_read import camera_poses, model_files, read_images
+    from designer.export.colmap_read import (
+        camera_poses,
+        model_files,
+        model_offset_world,
+        read_images,
+    )
 
     path = Path(path)
     offset = np.zeros(3) if offset_world is None else np.asarray(offset_world, np.float64)
     if path.is_dir():
         if model_files(path) is None:
             raise DesignerError(f"{path} is not a COLMAP model (no cameras/images .txt/.bin)")
+        if offset_world is None:
+            offset = model_offset_world(path)
         return camera_poses(read_images(path), offset)
     if not path.is_file():
         raise DesignerError(f"camera poses {path} do not exist")

@@ -19,7 +19,12 @@ import numpy as np
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.truth import GcpObservation
 from designer.errors import DesignerError
-from designer.export.colmap_read import ColmapCamera, read_cameras, read_images
+from designer.export.colmap_read import (
+    ColmapCamera,
+    model_offset_world,
+    read_cameras,
+    read_images,
+)
 
 
 def normalised_rays(camera: ColmapCamera, uv_px: np.ndarray) -> np.ndarray:
@@ -88,7 +93,7 @@ def triangulate_gcps(
     """{gcp_id: (X, Y, Z) world} for every GCP observed in >= 2 registered images.
 
     ``offset_world`` (E0, N0, H0) is added to the model's coordinates (for models built
-    in local coordinates).
+    in local coordinates); default: the offset.json beside the model, else none.
     """
     from designer.core.rotation import rotation_from_quaternion
 
@@ -96,7 +101,8 @@ def triangulate_gcps(
     images = {im.name: im for im in read_images(model_folder)}
     if not images:
         raise DesignerError(f"COLMAP model {model_folder} has no registered images")
-    offset = np.zeros(3) if offset_world is None else np.asarray(offset_world, np.float64)
+    offset = (model_offset_world(model_folder) if offset_world is None
+              else np.asarray(offset_world, np.float64))
     R_all = {name: rotation_from_quaternion(im.q_wxyz) for name, im in images.items()}
     # centre of the cameras: x = R·X + t = R·(X − c) + (t + R·c)
     centres = np.array([-(R_all[n].T @ im.t) for n, im in images.items()])

@@ -12,10 +12,26 @@ pycolmap's own projection in tests/export/test_colmap.py):
   y down, z forward): R_colmap = diag(1, −1, −1) · Rᵀ, t = −R_colmap · (C − offset),
   quaternion Hamilton (QW, QX, QY, QZ), QW >= 0
   (:func:`designer.core.rotation.colmap_pose_from_photo`);
-* units: metres; world axes X = Easting, Y = Northing, Z = height. By default the
-  model is in WORLD coordinates; an optional ``offset_world`` (E0, N0, H0) is
-  subtracted first and named in a comment at the top of images.txt, so a reader
-  adds it back;
+* units: metres; world axes X = Easting, Y = Northing, Z = height, minus an offset
+  (E0, N0, H0). COLMAP's sparse stages compute in float64, but its dense stage
+  (image_undistorter, patch_match_stereo) keeps poses in float32, whose spacing at a
+  northing of 5·10⁶ m is 0.5 m: a model in full UTM coordinates moves camera centres
+  by up to 0.25 m there. The ground truth is therefore LOCAL by default
+  (:func:`colmap_offset_world`: ``local`` = the mean camera centre rounded to whole
+  metres, the frame ``designer reconstruct`` also works in; ``none`` = world
+  coordinates; or explicit E, N, H). The offset is named in a comment at the top of
+  images.txt and written beside the model in ``offset.json`` (:data:`OFFSET_FILE`;
+  :func:`designer.export.colmap_read.model_offset_world` reads it), so a reader adds
+  it back;
+* IMAGE_IDs: 1, 2, … in the byte order of the image names. COLMAP 3.8's
+  point_triangulator pairs the model's images with the database's by IMAGE_ID
+  (Reconstruction::Load from the DatabaseCache; it stops with "Check failed:
+  existing_image.Name() == image.second.Name()" on a mismatch). feature_extractor
+  reads a folder in sorted-name order (ImageReader sorts the file list:
+  src/base/image_reader.cc) and numbers each image when its extraction finishes: with
+  ``--SiftExtraction.num_threads 1`` that is the sorted-name order, so a known-pose
+  model triangulates without editing (several threads may finish out of order). Lines
+  stay in pose (flight) order;
 * camera model (one camera, CAMERA_ID 1, shared by all images):
   PINHOLE fx fy cx cy when there is no distortion; OPENCV fx fy cx cy k1 k2 p1 p2
   for Brown–Conrady with k3 = 0; FULL_OPENCV fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6
@@ -25,13 +41,20 @@ pycolmap's own projection in tests/export/test_colmap.py):
 * numbers: exact shortest repr of each float64 (the double itself: ~1 nm at UTM size).
 
 points3D.txt is written empty: the ground truth here is poses and intrinsics.
+
+``offset.json`` (UTF-8 JSON object): ``offset_world_m`` [E0, N0, H0] (metres, exact
+doubles), ``choice`` (``local``, ``none`` or ``explicit``), ``crs`` (when known) and
+``meaning``: world = model coordinates + offset_world_m.
 """
 
 from __future__ import annotations
 
+import json
 import os
 from collections.abc import Sequence
 from pathlib import Path
+
+import numpy as np
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
@@ -44,10 +67,69 @@ from designer.export._text import (
     fmt,
     write_texts,
 )
-from designer.export.colmap_read import camera_poses, read_images_text
+from designer.export.colmap_read import (
+    OFFSET_FILE,
+    camera_poses,
+    model_offset_world,
+    read_images_text,
+)
 
 CAMERA_ID = 1
 FILES = ("cameras.txt", "images.txt", "points3D.txt")
+#: the choices of ``--colmap-offset`` besides explicit ``E,N,H``
+OFFSET_CHOICES = ("local", "none")
+
+
+def colmap_offset_world(choice, poses: Sequence[CameraPose]) -> np.ndarray:
+    """The offset (E0, N0, H0) in metres subtracted from the COLMAP model's coordinates.
+
+    ``choice``: ``"local"`` (the mean camera centre rounded to whole metres: cameras
+    within a few km of 0, where float32 keeps 0.1 mm), ``"none"`` (zeros: world
+    coordinates), three numbers or the text ``"E,N,H"``.
+    """
+    if isinstance(choice, str):
+        text = choice.strip()
+        if text == "local":
+            if not poses:
+                return np.zeros(3)
+            return np.round(np.mean([p.C_world for p in poses], axis=0)) + 0.0
+        if text == "none":
+            return np.zeros(3)
+        parts = text.split(",")
+        try:
+            values = [float(v) for v in parts]
+        except ValueError:
+            values = []
+        if len(values) != 3:
+            raise ExportError(f"COLMAP offset (--colmap-offset) {choice!r}: give 'local', "
+                              "'none' or three numbers E,N,H in metres, e.g. "
+                              "500000,5000000,0")
+        choice = values
+    return check_offset(choice)
+
+
+def offset_choice_name(choice) -> str:
+    """'local', 'none' or 'explicit' for a ``choice`` of :func:`colmap_offset_world`."""
+    if isinstance(choice, str) and choice.strip() in OFFSET_CHOICES:
+        return choice.strip()
+    return "explicit"
+
+
+def colmap_offset_json(offset_world, choice: str = "explicit", crs: str | None = None) -> str:
+    """Text of ``offset.json`` (see the module doc)."""
+    offset = check_offset(offset_world)
+    data = {"offset_world_m": [float(v) for v in offset], "choice": choice}
+    if crs:
+        data["crs"] = crs
+    data["meaning"] = ("world = model + offset_world_m; world X = Easting, Y = Northing, "
+                       "Z = height, metres")
+    return json.dumps(data, indent=1) + "\n"
+
+
+def image_ids_by_name(names: Sequence[str]) -> dict[str, int]:
+    """{name: IMAGE_ID}: 1, 2, … in the byte order of the UTF-8 names (COLMAP's order)."""
+    ordered = sorted(names, key=lambda n: n.encode("utf-8"))
+    return {name: i for i, name in enumerate(ordered, start=1)}
 
 
 def colmap_camera_model(interior: InteriorOrientation) -> tuple[str, list[float]]:
@@ -80,8 +162,9 @@ def colmap_cameras_text(interior: InteriorOrientation) -> str:
 def colmap_images_text(poses: Sequence[CameraPose], offset_world=None) -> str:
     """images.txt: ``IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME`` + an empty 2D line.
 
-    IMAGE_IDs are 1, 2, … in the order of ``poses``. Coordinates are world minus
-    ``offset_world`` (metres; default no offset).
+    IMAGE_IDs are 1, 2, … in sorted-name order (:func:`image_ids_by_name`); lines
+    follow ``poses``. Coordinates are world minus ``offset_world`` (metres; default no
+    offset).
     """
     check_unique((p.image_name for p in poses), "image name")
     offset = check_offset(offset_world)
@@ -93,7 +176,9 @@ def colmap_images_text(poses: Sequence[CameraPose], offset_world=None) -> str:
         "# designer: world frame X = Easting, Y = Northing, Z = height (m) minus offset "
         f"(E0, N0, H0) = ({fmt(offset[0])}, {fmt(offset[1])}, {fmt(offset[2])})",
     ]
-    for image_id, pose in enumerate(poses, start=1):
+    ids = image_ids_by_name([p.image_name for p in poses])
+    for pose in poses:
+        image_id = ids[pose.image_name]
         q, t = colmap_pose_from_photo(pose.R_cam_to_world, pose.C_world - offset)
         numbers = " ".join(fmt(v) for v in (*q, *t))
         lines.append(f"{image_id} {numbers} {CAMERA_ID} {pose.image_name}")
@@ -115,13 +200,19 @@ def colmap_texts(
     interior: InteriorOrientation,
     poses: Sequence[CameraPose],
     offset_world=None,
+    choice: str = "explicit",
+    crs: str | None = None,
 ) -> dict[Path, str]:
-    """{path: text} of the three model files in ``folder`` (nothing is written)."""
+    """{path: text} of the three model files and offset.json in ``folder`` (nothing is
+    written); ``choice`` and ``crs`` are recorded in offset.json."""
     folder = Path(folder)
+    if offset_world is None and choice == "explicit":
+        choice = "none"
     return {
         folder / "cameras.txt": colmap_cameras_text(interior),
         folder / "images.txt": colmap_images_text(poses, offset_world),
         folder / "points3D.txt": colmap_points3d_text(),
+        folder / OFFSET_FILE: colmap_offset_json(offset_world, choice, crs),
     }
 
 
@@ -131,7 +222,8 @@ def write_colmap_text_model(
     poses: Sequence[CameraPose],
     offset_world=None,
 ) -> Path:
-    """Write cameras.txt, images.txt and points3D.txt into ``folder`` (created if needed).
+    """Write cameras.txt, images.txt, points3D.txt and offset.json into ``folder``
+    (created if needed).
 
     Each file is written atomically. Returns the folder.
     """
@@ -141,12 +233,14 @@ def write_colmap_text_model(
 
 
 def read_colmap_text_poses(folder: str | os.PathLike, offset_world=None) -> list[CameraPose]:
-    """Camera poses from ``folder``/images.txt, in file order, ``offset_world`` added back.
+    """Camera poses from ``folder``/images.txt, in file order, ``offset_world`` added back
+    (default: the one in ``folder``/offset.json, zeros without that file).
 
     Parsed by :func:`designer.export.colmap_read.read_images_text` (COLMAP's rules:
     comments and blank lines skipped, each image's 2D-points line not parsed).
     """
-    offset = check_offset(offset_world)
+    offset = (model_offset_world(folder) if offset_world is None
+              else check_offset(offset_world))
     path = Path(folder) / "images.txt"
     try:
         images = read_images_text(path)

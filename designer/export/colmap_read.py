@@ -12,7 +12,8 @@ of COLMAP's src/colmap/scene/reconstruction_io.cc, little-endian):
 * pixel coordinates have their origin at the top-left corner of the top-left pixel, as
   designer's, so ``cx, cy`` need no shift;
 * coordinates are whatever the model was built in: add ``offset_world`` (E0, N0, H0)
-  when the model is in local coordinates.
+  when the model is in local coordinates; designer's own models name it in
+  ``offset.json`` beside the model files (:func:`model_offset_world`).
 
 Camera parameters are kept as COLMAP lists them (``ColmapCamera.params``); the 2-D
 points of each image are skipped.
@@ -30,6 +31,9 @@ import numpy as np
 from designer.core.rotation import photo_pose_from_colmap
 from designer.core.truth import CameraPose
 from designer.errors import DesignerError
+
+#: the file beside a designer COLMAP model that names its offset (designer.export.colmap)
+OFFSET_FILE = "offset.json"
 
 #: COLMAP camera model ids (binary files) → (name, number of parameters)
 CAMERA_MODELS = {
@@ -74,6 +78,25 @@ def model_files(folder: str | os.PathLike) -> tuple[Path, str] | None:
         if all((folder / f"{n}{ext}").is_file() for n in ("cameras", "images")):
             return folder, ext
     return None
+
+
+def model_offset_world(folder: str | os.PathLike) -> np.ndarray:
+    """The offset (E0, N0, H0, metres) written beside a model in ``offset.json``: world =
+    model + offset. Zeros when the folder has no such file."""
+    import json
+
+    path = Path(folder) / OFFSET_FILE
+    if not path.is_file():
+        return np.zeros(3)
+    try:
+        offset = np.asarray(json.loads(path.read_text(encoding="utf-8"))["offset_world_m"],
+                            dtype=np.float64)
+    except (ValueError, KeyError, TypeError) as exc:
+        raise DesignerError(f"{path}: not a designer offset file ({exc}); it needs "
+                            '{"offset_world_m": [E, N, H]}') from None
+    if offset.shape != (3,) or not np.isfinite(offset).all():
+        raise DesignerError(f"{path}: offset_world_m must be three finite numbers (E, N, H)")
+    return offset
 
 
 def _require(folder: str | os.PathLike) -> tuple[Path, str]:

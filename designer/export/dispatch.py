@@ -2,13 +2,17 @@
 
 Layout under ``out_dir`` (keys of the returned dict in brackets):
 
-* ``colmap/`` cameras.txt, images.txt, points3D.txt  [colmap, colmap_cameras,
-  colmap_images, colmap_points3D] — world coordinates minus ``colmap_offset_world``;
+* ``colmap/`` cameras.txt, images.txt, points3D.txt, offset.json  [colmap,
+  colmap_cameras, colmap_images, colmap_points3D, colmap_offset] — world coordinates
+  minus the offset ``colmap_offset`` chooses (default ``local``: the mean camera centre
+  rounded to metres; see :func:`designer.export.colmap.colmap_offset_world`), which
+  offset.json names;
 * ``odm/gcp_list.txt``, ``odm/geo.txt``  [odm_gcp_list, odm_geo] — control GCPs only
   unless ``odm_gcp_roles`` says otherwise;
 * ``metashape/calibration.xml``, ``metashape/cameras_reference.csv``,
-  ``metashape/markers_reference.csv``  [metashape_calibration, metashape_cameras,
-  metashape_markers];
+  ``metashape/markers_reference.csv``, ``metashape/markers.xml``  [metashape_calibration,
+  metashape_cameras, metashape_markers, metashape_markers_xml] — the XML carries the
+  marker projections and control (enabled) / check (disabled) flags;
 * ``camera_poses_opk.csv``  [opk];
 * ``gcp_truth.csv``, ``gcp_observations.csv``  [gcp_truth, gcp_observations];
 * ``image_times.csv`` [image_times] and a ``time`` column in ``camera_poses_opk.csv`` —
@@ -43,11 +47,14 @@ def write_all(
     crs: str,
     formats: Sequence[str] = FORMATS,
     *,
-    colmap_offset_world=None,
+    colmap_offset="local",
     odm_gcp_roles: Sequence[str] = ("control",),
     image_times: Sequence[ImageTime] | None = None,
 ) -> dict[str, Path]:
-    """Write the chosen ``formats`` (subset of FORMATS) under ``out_dir``; {key: path}."""
+    """Write the chosen ``formats`` (subset of FORMATS) under ``out_dir``; {key: path}.
+
+    ``colmap_offset``: ``"local"``, ``"none"``, three numbers or ``"E,N,H"`` (metres).
+    """
     unknown = [f for f in formats if f not in FORMATS]
     if unknown:
         raise ExportError(f"unknown export format(s) {unknown}; choose from {list(FORMATS)}")
@@ -72,7 +79,10 @@ def write_all(
 
     if "colmap" in formats:
         folder = out / "colmap"
-        for path, text in colmap.colmap_texts(folder, interior, poses, colmap_offset_world).items():
+        offset = colmap.colmap_offset_world(colmap_offset, poses)
+        texts_ = colmap.colmap_texts(folder, interior, poses, offset,
+                                     colmap.offset_choice_name(colmap_offset), crs)
+        for path, text in texts_.items():
             add(f"colmap_{path.stem}", path, text)
         paths["colmap"] = folder
     if "odm" in formats:
@@ -87,6 +97,8 @@ def write_all(
             metashape.metashape_cameras_csv(poses, crs))
         add("metashape_markers", folder / "markers_reference.csv",
             metashape.metashape_markers_csv(gcps, crs))
+        add("metashape_markers_xml", folder / "markers.xml",
+            metashape.metashape_markers_xml(poses, gcps, observations, crs))
     if "opk" in formats:
         add("opk", out / "camera_poses_opk.csv", tables.opk_csv(poses, crs, image_times))
     if "gcp" in formats:

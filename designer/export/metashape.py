@@ -28,6 +28,28 @@ nerfstudio process_data/metashape_utils.py; Agisoft forum on ω φ κ axes):
   camera axes (x right, y image top, z backwards), R = Rx(ω)·Ry(φ)·Rz(κ) camera →
   world — designer's definition, so angles pass through unchanged.
 * numbers: exact shortest repr of each float64.
+
+Markers XML (``markers.xml``: Reference pane → Import Markers, or File → Import →
+Markers) follows the chunk XML Metashape itself writes with File → Export → Export
+Markers (the layout of its project ``doc.xml``; Metashape Python API Reference:
+Marker.reference.location / .accuracy / .enabled and Marker.projections[camera] =
+Marker.Projection(coord, pinned)):
+
+* ``<document version="1.2.0"><chunk label="…">``;
+* ``<cameras>``: one ``<camera id="k" sensor_id="0" label="IMAGE_NAME"/>`` per image,
+  ids 0, 1, … in pose order; labels are the image file names (Metashape matches
+  cameras by label);
+* ``<markers>``: one ``<marker id="m" label="GCP_ID">`` per GCP with
+  ``<reference x y z sx sy sz enabled/>``: SURVEYED coordinates and their standard
+  deviations (m); ``enabled="true"`` for control points and ``"false"`` for check
+  points — an unticked marker in the Reference pane is a check point (used to score,
+  not to georeference);
+* ``<frames><frame id="0"><markers>``: per marker ``<marker marker_id="m">`` with one
+  ``<location camera_id="k" pinned="true" x y/>`` per image point (pinned = placed by
+  hand, i.e. a measured projection). x, y are Metashape pixel coordinates, origin at
+  the top-left CORNER (see above): designer's ``uv_px`` unchanged;
+* ``<reference>``: the CRS as WKT (pyproj; Metashape stores WKT there), when the
+  CRS label can be read, else the label itself.
 """
 
 from __future__ import annotations
@@ -42,7 +64,7 @@ from lxml import etree
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import opk_from_rotation
-from designer.core.truth import CameraPose, GroundControlPoint
+from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint
 from designer.export._text import (
     ExportError,
     check_crs,
@@ -162,6 +184,76 @@ def metashape_markers_csv(gcps: Sequence[GroundControlPoint], crs: str) -> str:
             [g.gcp_id, *(fmt(v) for v in (*g.surveyed_xyz, *g.sigma_xyz)), g.role]
         ))
     return "\n".join(lines) + "\n"
+
+
+def _crs_wkt(crs: str) -> str:
+    """The CRS as WKT (Metashape's <reference>), or the label when pyproj cannot read it."""
+    from pyproj import CRS
+    from pyproj.enums import WktVersion
+    from pyproj.exceptions import CRSError
+
+    try:
+        return CRS.from_user_input(crs).to_wkt(WktVersion.WKT1_GDAL)
+    except CRSError:
+        return crs
+
+
+def metashape_markers_xml(
+    poses: Sequence[CameraPose],
+    gcps: Sequence[GroundControlPoint],
+    observations: Sequence[GcpObservation],
+    crs: str,
+) -> str:
+    """Markers XML: cameras, markers with reference and enabled flag (control = enabled,
+    check = disabled), and every marker projection (see module doc)."""
+    crs = check_crs(crs)
+    check_unique((p.image_name for p in poses), "image name")
+    check_unique((g.gcp_id for g in gcps), "GCP id")
+    camera_ids = {p.image_name: k for k, p in enumerate(poses)}
+    marker_ids = {g.gcp_id: m for m, g in enumerate(gcps)}
+    for o in observations:
+        if o.image_name not in camera_ids or o.gcp_id not in marker_ids:
+            raise ExportError(f"observation of {o.gcp_id!r} in {o.image_name!r}: unknown "
+                              "GCP or image")
+    doc = etree.Element("document", version="1.2.0")
+    chunk = etree.SubElement(doc, "chunk", label="designer ground truth", enabled="true")
+    cameras = etree.SubElement(chunk, "cameras", next_id=str(len(poses)), next_group_id="0")
+    for p in poses:
+        etree.SubElement(cameras, "camera", id=str(camera_ids[p.image_name]), sensor_id="0",
+                         label=p.image_name)
+    markers = etree.SubElement(chunk, "markers", next_id=str(len(gcps)), next_group_id="0")
+    for g in gcps:
+        marker = etree.SubElement(markers, "marker", id=str(marker_ids[g.gcp_id]),
+                                  label=g.gcp_id)
+        x, y, z = (fmt(v) for v in g.surveyed_xyz)
+        sx, sy, sz = (fmt(v) for v in g.sigma_xyz)
+        etree.SubElement(marker, "reference", x=x, y=y, z=z, sx=sx, sy=sy, sz=sz,
+                         enabled="true" if g.role == "control" else "false")
+    frames = etree.SubElement(chunk, "frames", next_id="1")
+    frame_markers = etree.SubElement(etree.SubElement(frames, "frame", id="0"), "markers")
+    for g in gcps:
+        own = [o for o in observations if o.gcp_id == g.gcp_id]
+        if not own:
+            continue
+        marker = etree.SubElement(frame_markers, "marker", marker_id=str(marker_ids[g.gcp_id]))
+        for o in own:
+            etree.SubElement(marker, "location", camera_id=str(camera_ids[o.image_name]),
+                             pinned="true", x=fmt(o.uv_px[0]), y=fmt(o.uv_px[1]))
+    etree.SubElement(chunk, "reference").text = _crs_wkt(crs)
+    body = etree.tostring(doc, pretty_print=True, encoding="unicode")
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + body
+
+
+def write_metashape_markers_xml(
+    path: str | os.PathLike,
+    poses: Sequence[CameraPose],
+    gcps: Sequence[GroundControlPoint],
+    observations: Sequence[GcpObservation],
+    crs: str,
+) -> Path:
+    """Write the markers XML atomically; returns the path."""
+    write_texts({path: metashape_markers_xml(poses, gcps, observations, crs)})
+    return Path(path)
 
 
 def write_metashape_calibration(path: str | os.PathLike, interior: InteriorOrientation) -> Path:

@@ -6,9 +6,12 @@ opendm/photo.py; OpenSfM opensfm/io.py _read_gcp_list_lines and
 opensfm/features.py normalized_image_coordinates):
 
 * CRS: the first line of both files, one of ``EPSG:<code>``, ``WGS84 UTM <zone><N|S>``
-  or a PROJ string containing ``+proj`` — the forms parse_srs_header accepts;
-  anything else is rejected here. Coordinates are written in that CRS's axis order
-  as designer's world X (Easting), Y (Northing), Z (height), metres, exact repr.
+  (upper case, zone 1–60) or a PROJ string containing ``+proj`` — forms
+  parse_srs_header reads as written (its exact rules: :mod:`designer.core.crs`); the
+  CRS must be projected with metre axes (ODM turns the coordinates into latitude and
+  longitude with it: a geographic CRS such as EPSG:4326 would read metres as degrees).
+  Anything else is rejected here. Coordinates are written as designer's world X
+  (Easting), Y (Northing), Z (height), metres, exact repr.
 * pixel origin: gcp_list.txt uses OpenCV's convention, (0, 0) at the CENTRE of the
   top-left pixel (OpenSfM normalises with (px + 0.5 − W/2) / max(W, H)), so
   im_x = u − 0.5 and im_y = v − 0.5 from designer's corner-origin ``uv_px``.
@@ -19,15 +22,20 @@ opensfm/features.py normalized_image_coordinates):
   coordinates, so two written GCPs with identical surveyed coordinates are rejected.
 * geo.txt rows: ``image geo_x geo_y geo_z yaw pitch roll [horz_acc vert_acc]``,
   angles in degrees in ODM's normalised camera convention (opendm/photo.py):
-  yaw 0 = image top points grid north, 90 = east (clockwise); pitch 0 = nadir,
+  yaw 0 = image top points to TRUE north, 90 = east (clockwise); pitch 0 = nadir,
   90 = looking forward (towards the image top); roll about the along-track axis
   with ODM's aerospace sign (positive = right wing down, i.e. the view swings left).
   ODM builds R_ned = Rz(yaw) · Ry(pitch) · Rx(roll) · [[0,1,0],[1,0,0],[0,0,−1]]
   (compute_opk). In designer's terms yaw = heading, pitch = tilt, roll = −roll of
   :func:`designer.core.rotation.heading_tilt_roll_from_rotation`; a test rebuilds
-  ODM's matrix from the written angles. ODM's docs say the angles are currently
-  used only for radiometric calibration (photo.py also turns them into ω φ κ priors
-  for OpenSfM); north here is grid north (the CRS's Y axis), not true north.
+  ODM's matrix from the written angles. compute_opk takes north as the direction of
+  increasing latitude (ECEF difference of lat ± δ at the camera's longitude), i.e.
+  TRUE north, while designer's heading is measured from GRID north (the CRS's Y
+  axis): yaw = heading + γ, γ the meridian convergence at the camera (angle from true
+  north to grid north, PROJ's get_factors().meridian_convergence; ~0.1° at
+  the example site, up to ~3° at a UTM zone's edge). pitch and roll do not change.
+  ODM's docs say the angles are used for radiometric calibration and, through
+  compute_opk, as ω φ κ priors.
 """
 
 from __future__ import annotations
@@ -39,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.core.crs import crs_token, odm_accepts_crs
+from designer.core.crs import crs_token, meridian_convergence_deg, odm_crs_problem
 from designer.core.rotation import heading_tilt_roll_from_rotation
 from designer.core.truth import GCP_ROLES, CameraPose, GcpObservation, GroundControlPoint
 from designer.export._text import (
@@ -64,18 +72,17 @@ def odm_crs(crs: str) -> str:
 def check_odm_crs(crs: object) -> str:
     """The CRS line if OpenDroneMap can parse it, else ExportError naming the forms."""
     line = check_crs(crs)
-    if odm_accepts_crs(line):
+    problem = odm_crs_problem(line)
+    if problem is None:
         return line
-    raise ExportError(
-        f"OpenDroneMap cannot read the CRS {line!r}; give 'EPSG:<code>', "
-        "'WGS84 UTM <zone><N|S>' or a PROJ string with +proj"
-    )
+    raise ExportError(f"OpenDroneMap CRS header {line!r}: {problem}")
 
 
 def odm_ypr_deg_from_rotation(R_cam_to_world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """ODM (yaw, pitch, roll) in degrees from R_cam_to_world (..., 3, 3); see module doc.
 
-    yaw ∈ [0, 360), pitch ∈ [−90, 90], roll ∈ [−180, 180].
+    yaw ∈ [0, 360) from GRID north (designer's heading), pitch ∈ [−90, 90],
+    roll ∈ [−180, 180]; geo.txt adds the meridian convergence to the yaw.
     """
     heading, tilt, roll = heading_tilt_roll_from_rotation(R_cam_to_world)
     return np.degrees(heading), np.degrees(tilt), -np.degrees(roll) + 0.0
@@ -129,6 +136,8 @@ def odm_geo_text(
 ) -> str:
     """geo.txt: CRS line, then ``image x y z yaw pitch roll [horz_acc vert_acc]`` per image.
 
+    yaw is referred to true north (the camera's heading plus the meridian convergence).
+
     The accuracies (metres, one standard deviation) are written only when both are given.
     """
     line = check_odm_crs(crs)
@@ -142,8 +151,12 @@ def odm_geo_text(
                 raise ExportError(f"accuracy {a!r} m must be finite and >= 0")
         accuracy = f" {fmt(horizontal_accuracy_m)} {fmt(vertical_accuracy_m)}"
     rows = [line]
-    for pose in poses:
-        yaw, pitch, roll = odm_ypr_deg_from_rotation(pose.R_cam_to_world)
+    if poses:
+        C = np.array([p.C_world for p in poses])
+        convergence_deg = meridian_convergence_deg(line, C[:, 0], C[:, 1]).reshape(-1)
+    for pose, gamma_deg in zip(poses, convergence_deg if poses else [], strict=True):
+        heading, pitch, roll = odm_ypr_deg_from_rotation(pose.R_cam_to_world)
+        yaw = (heading + gamma_deg) % 360.0  # grid north → true north
         numbers = " ".join(fmt(v) for v in (*pose.C_world, yaw, pitch, roll))
         rows.append(f"{pose.image_name} {numbers}{accuracy}")
     return "\n".join(rows) + "\n"

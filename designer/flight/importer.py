@@ -31,7 +31,7 @@ from designer.flight.camera_pick import pick_camera
 from designer.flight.checks import fail
 from designer.flight.geodesy import Georef, north_azimuth_in
 from designer.flight.gimbal import rotation_from_gimbal
-from designer.flight.photos import GIMBAL_TRUE, OPK_GRID, FlownPhoto
+from designer.flight.photos import GIMBAL_TRUE, OPK_GRID, YPR_TRUE, FlownPhoto
 from designer.project import model as m
 
 HEIGHT_MODES = ("absolute", "relative")
@@ -100,6 +100,10 @@ def photo_poses(
         kind, a, b, c = p.angles_deg
         if kind == GIMBAL_TRUE:
             R = rotation_from_gimbal(a + float(georef.true_north_azimuth_deg(X, Y)), b, c)
+        elif kind == YPR_TRUE:  # ODM geo.txt: yaw from true north
+            north = float(georef.true_north_azimuth_deg(X, Y))
+            R = rotation_from_heading_tilt_roll(math.radians(a + north), math.radians(b),
+                                                -math.radians(c))
         else:
             north = float(north_azimuth_in(p.crs, georef, X, Y))
             if kind == OPK_GRID:

@@ -6,7 +6,8 @@ from dataclasses import dataclass
 
 #: rotation conventions of :attr:`FlownPhoto.angles_deg`
 GIMBAL_TRUE = "gimbal"  # DJI gimbal yaw (true north), pitch (−90 nadir), roll; NED ZYX
-YPR_GRID = "ypr"  # ODM yaw (from the source CRS's north), pitch (0 nadir), roll
+YPR_GRID = "ypr"  # ODM-style yaw (from the source CRS's north), pitch (0 nadir), roll
+YPR_TRUE = "ypr-true"  # ODM geo.txt: yaw from TRUE north (ODM's compute_opk), pitch, roll
 OPK_GRID = "opk"  # ω φ κ in the source CRS's grid (designer's definition)
 
 

@@ -5,8 +5,9 @@ CRS (``EPSG:<code>``, ``WGS84 UTM <zone><N|S>`` or a PROJ string), then one row 
 image: ``image_name geo_x geo_y [geo_z] [yaw pitch roll] [horz_acc vert_acc]
 [extras]``, white-space separated; EPSG:4326 rows are longitude latitude. The angles
 use ODM's normalised convention as :mod:`designer.export.odm` writes them: yaw
-clockwise from the CRS's north (true north for EPSG:4326), pitch 0 = nadir and
-positive towards the image top, roll with ODM's aerospace sign. The importer needs
+clockwise from TRUE north (ODM's compute_opk takes north as the direction of
+increasing latitude), pitch 0 = nadir and positive towards the image top, roll with
+ODM's aerospace sign. The importer needs
 the height and the three angles.
 
 Reference CSV (Metashape "Import Reference" and its own camera export; Pix4D "Image
@@ -36,7 +37,7 @@ from pathlib import Path
 
 from designer.core.crs import odm_accepts_crs
 from designer.flight.checks import fail, number
-from designer.flight.photos import GIMBAL_TRUE, OPK_GRID, YPR_GRID, FlownPhoto
+from designer.flight.photos import GIMBAL_TRUE, OPK_GRID, YPR_GRID, YPR_TRUE, FlownPhoto
 
 _UTM = re.compile(r"^WGS84 UTM (\d{1,2})([NS])$", re.IGNORECASE)
 
@@ -86,7 +87,7 @@ def read_geo_txt(path: Path) -> list[FlownPhoto]:
                        "give 'image x y z yaw pitch roll': the importer needs the height "
                        "and the camera angles")
         x, y, z, yaw, pitch, roll = (number(v, where, f[0], "value") for v in f[1:7])
-        out.append(FlownPhoto(f[0], where, crs, x, y, z, None, (YPR_GRID, yaw, pitch, roll)))
+        out.append(FlownPhoto(f[0], where, crs, x, y, z, None, (YPR_TRUE, yaw, pitch, roll)))
     if not out:
         raise fail(source, "", "no image rows", "add one row per image after the CRS line")
     return out

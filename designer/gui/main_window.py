@@ -27,6 +27,7 @@ from designer.gui.panels.effects import EffectsPanel
 from designer.gui.panels.flight import FlightPanel
 from designer.gui.panels.gcps import GcpPanel
 from designer.gui.panels.lighting import LightingPanel
+from designer.gui.panels.moving import MovingObjectsPanel
 from designer.gui.panels.terrain import TerrainPanel
 from designer.gui.panels.texture import TexturePanel
 from designer.gui.scene_sync import SceneSync
@@ -76,7 +77,7 @@ class MainWindow(QMainWindow):
 
         self.panels: dict[str, QWidget] = {}
         self.docks: dict[str, QDockWidget] = {}
-        left = [TerrainPanel, TexturePanel, LightingPanel, GcpPanel]
+        left = [TerrainPanel, TexturePanel, LightingPanel, GcpPanel, MovingObjectsPanel]
         right = [CameraPanel, FlightPanel, EffectsPanel]
         for side, cls in [("left", c) for c in left] + [("right", c) for c in right] + \
                 _extra_panels():
@@ -85,7 +86,7 @@ class MainWindow(QMainWindow):
             # a finished render is something to reconstruct
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
-        self._tabify(["Terrain", "Texture", "Lighting", "GCPs"])
+        self._tabify(["Terrain", "Texture", "Lighting", "GCPs", "Moving objects"])
         self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results",
                       "Study"])
         self.docks["Terrain"].raise_()

@@ -255,6 +255,39 @@ class SceneObject:
 
 
 @dataclass(frozen=True)
+class PathPoint:
+    """A point of a moving object's path (world X/Y, m)."""
+
+    X: float
+    Y: float
+
+
+#: built-in moving-object shapes: name → (length, width, height) m (person: a cylinder of
+#: diameter width; box: the object's own length-m/width-m/height-m)
+MOVING_SHAPES = {"car": (4.5, 1.8, 1.5), "person": (0.5, 0.5, 1.75), "box": None}
+
+
+@dataclass(frozen=True)
+class MovingObject:
+    """A vehicle or person moving along a polyline ``path`` at ``speed_m_s`` from
+    ``start_s`` seconds after take-off, standing on the terrain, heading along the path.
+    Exactly one of ``shape`` (MOVING_SHAPES) and ``file`` (a mesh in the object's frame:
+    origin at the base centre, +Y forward, +Z up, m). ``size_m`` (length, width,
+    height) is required for a box and overrides a car's or person's size.
+    ``albedo_rgb`` is the linear diffuse colour."""
+
+    id: str
+    path: tuple[PathPoint, ...]
+    speed_m_s: float
+    shape: str | None = "car"
+    file: str | None = None
+    size_m: tuple[float, float, float] | None = None
+    start_s: float = 0.0
+    loop: bool = False
+    albedo_rgb: tuple[float, float, float] = (0.85, 0.82, 0.78)
+
+
+@dataclass(frozen=True)
 class Sun:
     """Sun direction: azimuth clockwise from grid north, elevation above horizon (deg)."""
 
@@ -315,6 +348,7 @@ class Scene:
     lighting: Lighting
     targets: Targets | None = None
     objects: tuple[SceneObject, ...] = ()
+    moving_objects: tuple[MovingObject, ...] = ()
 
 
 # ---------------------------------------------------------------------- cameras

@@ -122,6 +122,28 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
             _point_attrs(p_el, pl.position.X, pl.position.Y, pl.position.Z)
             _opk_attrs(p_el, pl.omega_deg, pl.phi_deg, pl.kappa_deg)
             p_el.set("scale", _num(pl.scale))
+    if scene.moving_objects:
+        moving_el = _sub(el, "moving-objects")
+        for obj in scene.moving_objects:
+            o_el = _sub(moving_el, "object", id=obj.id)
+            if obj.shape is not None:
+                o_el.set("shape", obj.shape)
+            if obj.file is not None:
+                o_el.set("file", obj.file)
+            if obj.size_m is not None:
+                for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
+                                       strict=True):
+                    if value is not None:
+                        o_el.set(name, _num(value))
+            if obj.albedo_rgb != m.MovingObject.albedo_rgb:
+                o_el.set("albedo-rgb", " ".join(_num(v) for v in obj.albedo_rgb))
+            path_el = _sub(o_el, "path", speed_m_s=_num(obj.speed_m_s))
+            if obj.start_s:
+                path_el.set("start-s", _num(obj.start_s))
+            if obj.loop:
+                path_el.set("loop", "true")
+            for point in obj.path:
+                _point_attrs(_sub(path_el, "point"), point.X, point.Y, None)
 
     light = scene.lighting
     light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),

@@ -36,6 +36,8 @@ def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
             + _texture(scene.texture, scene.terrain.extent, base)
             + _targets(scene.targets, scene.terrain.extent)
             + _objects(scene.objects, base)
+            + [i for obj in scene.moving_objects if base is not None and obj.file is not None
+               for i in file_issue(obj, "object", mesh_problem(resolve(base, obj.file)))]
             + _lighting(scene.lighting))
 
 

@@ -251,12 +251,14 @@ def render_output_issues(project: m.Project) -> list[Issue]:
                              "twice; remove one", key=f"ground-truth:{i}", attr="format"))
         seen.add(fmt)
     if "odm" in seen:
-        from designer.core.crs import crs_token, odm_accepts_crs
+        from designer.core.crs import crs_token, odm_crs_problem
 
-        if not odm_accepts_crs(crs_token(project.crs)):
+        problem = odm_crs_problem(crs_token(project.crs))
+        if problem is not None:
             i = outputs.ground_truth.index("odm")
-            out.append(Issue(outputs, "ground-truth", f"OpenDroneMap cannot read the CRS "
-                             f"'{project.crs}'; start <crs> with 'EPSG:<code>', 'WGS84 UTM "
-                             "<zone><N|S>' or a +proj string, or drop the odm format",
+            out.append(Issue(outputs, "ground-truth", f"the CRS '{project.crs}' cannot head "
+                             f"OpenDroneMap's files: {problem}; start <crs> with a projected "
+                             "'EPSG:<code>' in metres, 'WGS84 UTM <zone><N|S>' or a +proj "
+                             "string, or drop the odm format",
                              key=f"ground-truth:{i}", attr="format"))
     return out

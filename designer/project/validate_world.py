@@ -46,7 +46,7 @@ def world_issues(project: m.Project) -> list[Issue]:
     """Problems of the time line, the sun over time and the image metadata."""
     traj = project.trajectory
     tl = traj.time_line
-    out: list[Issue] = []
+    out: list[Issue] = _moving_objects(project)
     if tl is not None:
         out += _time_line(project, tl)
     timed = [p for p in traj.exterior_orientations if p.time_s is not None]
@@ -174,4 +174,55 @@ def _cloud_shadows(c: m.CloudShadows) -> list[Issue]:
                              attr=attr))
     if c.seed < 0:
         out.append(Issue(c, "cloud-shadows", f"seed = {c.seed} must be 0 or more", attr="seed"))
+    return out
+
+
+def _moving_objects(project: m.Project) -> list[Issue]:
+    """Problems of the scene's moving objects (docs/world.md, Moving objects)."""
+    out: list[Issue] = []
+    seen: set[str] = set()
+    for obj in project.scene.moving_objects:
+        if project.trajectory.time_line is None:
+            out.append(Issue(obj, "object", f"moving object '{obj.id}' is posed at each "
+                             "photo's time, but the trajectory has no <time-line>; add one "
+                             "or remove <moving-objects>"))
+        if obj.id in seen:
+            out.append(Issue(obj, "object", f"moving object id '{obj.id}' is used twice; "
+                             "give each object its own id", attr="id"))
+        seen.add(obj.id)
+        if (obj.shape is None) == (obj.file is None):
+            out.append(Issue(obj, "object", f"moving object '{obj.id}' needs exactly one of "
+                             "shape and file; give shape=\"car\", \"person\" or \"box\", "
+                             "or a mesh file", attr="shape"))
+        elif obj.shape is not None and obj.shape not in m.MOVING_SHAPES:
+            out.append(Issue(obj, "object", f"unknown shape {obj.shape!r}; use one of "
+                             f"{', '.join(m.MOVING_SHAPES)} or give a mesh file",
+                             attr="shape"))
+        elif obj.shape == "box" and (obj.size_m is None or None in obj.size_m):
+            out.append(Issue(obj, "object", f"box '{obj.id}' needs length-m, width-m and "
+                             "height-m", attr="length-m"))
+        if obj.size_m is not None:
+            for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
+                                   strict=True):
+                if value is not None and not (math.isfinite(value) and 0 < value <= 1000):
+                    out.append(Issue(obj, "object", f"{name} = {value!r} must be greater "
+                                     "than 0 and at most 1000 m", attr=name))
+        if len(obj.albedo_rgb) != 3 or not all(
+                math.isfinite(v) and 0 <= v <= 1 for v in obj.albedo_rgb):
+            out.append(Issue(obj, "object", "albedo-rgb must be three numbers from 0 to 1 "
+                             "(linear red green blue), e.g. \"0.8 0.1 0.1\"",
+                             attr="albedo-rgb"))
+        if not (math.isfinite(obj.speed_m_s) and 0 < obj.speed_m_s <= 100):
+            out.append(Issue(obj, "path", f"speed-m-s = {obj.speed_m_s!r} must be greater "
+                             "than 0 and at most 100 m/s", attr="speed-m-s", key="path"))
+        if not (math.isfinite(obj.start_s) and obj.start_s >= 0):
+            out.append(Issue(obj, "path", f"start-s = {obj.start_s!r} must be 0 or more "
+                             "seconds after take-off", attr="start-s", key="path"))
+        if len(obj.path) < 2:
+            out.append(Issue(obj, "path", f"the path of '{obj.id}' has {len(obj.path)} "
+                             "point(s); give at least two <point X Y/>", key="path"))
+        elif sum(math.dist((a.X, a.Y), (b.X, b.Y))
+                 for a, b in zip(obj.path, obj.path[1:], strict=False)) <= 0:
+            out.append(Issue(obj, "path", f"the path of '{obj.id}' has no length; give "
+                             "points that differ", key="path"))
     return out

@@ -22,6 +22,17 @@ def _opt_f(el: etree._Element, name: str) -> float | None:
     return None if value is None else float(value)
 
 
+def _numbers(text: str) -> tuple[float, ...]:
+    """Space-separated numbers; NaN for each word that is not one (validation names it)."""
+    out = []
+    for word in text.split():
+        try:
+            out.append(float(word))
+        except ValueError:
+            out.append(float("nan"))
+    return tuple(out)
+
+
 def _text(el: etree._Element | None) -> str | None:
     return None if el is None else (el.text or "").strip()
 
@@ -73,6 +84,7 @@ class _Reader:
     def scene(self, el: etree._Element) -> m.Scene:
         targets_el = el.find(q("targets"))
         objects_el = el.find(q("objects"))
+        moving_el = el.find(q("moving-objects"))
         scene = m.Scene(
             terrain=self.terrain(el.find(q("terrain"))),
             texture=self.texture(el.find(q("texture"))),
@@ -80,6 +92,8 @@ class _Reader:
             targets=None if targets_el is None else self.targets(targets_el),
             objects=() if objects_el is None else tuple(
                 self.scene_object(o) for o in objects_el.iterchildren(q("object"))),
+            moving_objects=() if moving_el is None else tuple(
+                self.moving_object(o) for o in moving_el.iterchildren(q("object"))),
         )
         return self.note(scene, el)
 
@@ -156,6 +170,22 @@ class _Reader:
         target = m.Target(el.get("id"), el.get("role"), el.get("shape"), _f(el, "size-m"),
                           true, surveyed)
         return self.note(target, el)
+
+    def moving_object(self, el: etree._Element) -> m.MovingObject:
+        path_el = el.find(q("path"))
+        points = tuple(self.note(m.PathPoint(_f(p, "X"), _f(p, "Y")), p)
+                       for p in path_el.iterchildren(q("point")))
+        size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
+        albedo = el.get("albedo-rgb")
+        obj = m.MovingObject(
+            id=el.get("id"), path=points, speed_m_s=_f(path_el, "speed-m-s"),
+            shape=el.get("shape"), file=el.get("file"),
+            size_m=None if all(v is None for v in size) else size,
+            start_s=_opt_f(path_el, "start-s") or 0.0,
+            loop=_bool(path_el.get("loop", "false")),
+            albedo_rgb=m.MovingObject.albedo_rgb if albedo is None else _numbers(albedo))
+        self.note(obj, path_el, "path")
+        return self.note(obj, el)
 
     def scene_object(self, el: etree._Element) -> m.SceneObject:
         p = el.find(q("placement"))

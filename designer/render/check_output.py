@@ -115,7 +115,8 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
         scratch = Path(tmp)
         prepared = prepare_job(project, Path(project_path).parent, scratch, quality)
         provenance = job_provenance(prepared.job, prepared.job_path.parent)
-        write_ground_truth(project, prepared, scratch)
+        offset = (manifest.get("ground_truth") or {}).get("colmap_offset") or "local"
+        write_ground_truth(project, prepared, scratch, str(offset))
         truth_now = ground_truth_digest(scratch / GROUND_TRUTH_DIR)
     job = prepared.job
     images = manifest.get("images", {}) if isinstance(manifest.get("images"), dict) else {}

@@ -62,6 +62,10 @@ class PreparedJob:
     times: tuple[StationTime, ...] | None = None
     #: the sun (grid azimuth, elevation; deg) of each image
     suns: tuple[tuple[float, float], ...] = ()
+    #: per image, every moving object's pose then (empty: no moving objects)
+    moving_poses: tuple[tuple, ...] = ()
+    #: {moving object id: (vertices, faces) in its own frame, m}
+    moving_meshes: dict | None = None
 
 
 def prepare_job(
@@ -141,6 +145,14 @@ def prepare_job(
             contexts[i].update(time_s=t.time_s, time_utc=iso_utc(t.time_utc),
                                sun_azimuth_deg=float(suns[i][0]),
                                sun_elevation_deg=float(suns[i][1]), light_step=frame_steps[i])
+    moving_specs, meshes, moving = (), None, []
+    if project.scene.moving_objects and times is not None:
+        from designer.render.job_moving import frame_moving_poses, local_poses, moving_meshes
+
+        moving_specs, meshes = moving_meshes(project, base_dir, job_dir)
+        moving = frame_moving_poses(project, scene, [t.time_s for t in times])
+        for i, frame_poses in enumerate(moving):
+            contexts[i]["moving_poses"] = local_poses(frame_poses, origin)
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
     preset = quality or (render.preset if render.samples is None else None)
@@ -164,6 +176,7 @@ def prepare_job(
         height_px=interior.image_height_px,
         objects=tuple(objects),
         light_steps=steps,
+        moving_objects=moving_specs,
         image_metadata=render.image_metadata,
         effects=effects,
         frames=tuple(FrameSpec(index=i, image_name=p.image_name,
@@ -175,7 +188,7 @@ def prepare_job(
     job_path = job.write(job_dir / "job.json")
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
-                       suns=tuple(suns))
+                       suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes)
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

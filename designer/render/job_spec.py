@@ -169,10 +169,14 @@ class FrameSpec:
     sun_azimuth_deg: float | None = None
     sun_elevation_deg: float | None = None
     light_step: int | None = None
+    #: per moving object (RenderJob.moving_objects, same order): (name, X, Y, Z local m
+    #: of its base centre, heading deg clockwise from grid north) at ``time_s``
+    moving_poses: tuple[tuple[str, float, float, float, float], ...] | None = None
 
 
 #: the FrameSpec fields of the world over time, left out of provenance when None
-TIME_FIELDS = ("time_s", "time_utc", "sun_azimuth_deg", "sun_elevation_deg", "light_step")
+TIME_FIELDS = ("time_s", "time_utc", "sun_azimuth_deg", "sun_elevation_deg", "light_step",
+               "moving_poses")
 
 
 @dataclass(frozen=True)
@@ -208,6 +212,9 @@ class RenderJob:
     light_steps: tuple[LightStep, ...] = ()
     #: "exif": the worker writes each frame's ``time_utc`` into its image's EXIF
     image_metadata: str = "none"
+    #: moving objects, each mesh in its own frame (base centre at 0, +Y forward, m),
+    #: posed per frame by FrameSpec.moving_poses
+    moving_objects: tuple[MeshSpec, ...] = ()
     image_names: dict[int, str] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -218,9 +225,14 @@ class RenderJob:
             if f.light_step is not None and not 0 <= f.light_step < len(self.light_steps):
                 raise JobError(f"frame {f.index} has light step {f.light_step}, but the job "
                                f"has {len(self.light_steps)}")
+        names = {o.name for o in self.moving_objects}
+        for f in self.frames:
+            if f.moving_poses is not None and {p[0] for p in f.moving_poses} != names:
+                raise JobError(f"frame {f.index} poses other moving objects than the job has")
         if self.image_metadata not in ("none", "exif"):
             raise JobError(f"image metadata {self.image_metadata!r}; use none or exif")
-        object.__setattr__(self, "image_names", names)
+        object.__setattr__(self, "image_names",
+                           {f.index: f.image_name for f in self.frames})
 
     def to_json(self) -> str:
         data = asdict(self)
@@ -241,6 +253,7 @@ class RenderJob:
                                             tuple(_mesh(o) for o in s["objects"]))
                                   for s in data.get("light_steps", ())),
                 image_metadata=data.get("image_metadata", "none"),
+                moving_objects=tuple(_mesh(o) for o in data.get("moving_objects", ())),
                 frames=tuple(_frame(f) for f in data["frames"]),
                 width_px=int(data["width_px"]),
                 height_px=int(data["height_px"]),

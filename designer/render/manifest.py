@@ -21,6 +21,7 @@ from pathlib import Path
 from designer import __version__
 from designer.atomic import write_text_atomic
 from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, MANIFEST
+from designer.export.colmap_read import OFFSET_FILE, model_offset_world
 from designer.render.job import PreparedJob
 from designer.render.provenance import ImageProvenance, ground_truth_digest
 from designer.render.runner import RenderReport
@@ -85,10 +86,17 @@ class Manifest:
             return []
         return current.changed_parts(inputs)
 
-    def ground_truth_written(self) -> None:
+    def ground_truth_written(self, colmap_offset: str = "local") -> None:
+        """Record the ground truth's digest and the COLMAP model's offset: ``colmap_offset``
+        as given (``--colmap-offset``) and ``colmap_offset_world_m`` [E0, N0, H0] as written
+        in ground-truth/colmap/offset.json (world = model + offset)."""
         folder = self.out_dir / GROUND_TRUTH_DIR
-        self.data["ground_truth"] = {"digest": ground_truth_digest(folder),
-                                     "folder": GROUND_TRUTH_DIR}
+        record = {"digest": ground_truth_digest(folder), "folder": GROUND_TRUTH_DIR,
+                  "colmap_offset": str(colmap_offset)}
+        offset_file = folder / "colmap" / OFFSET_FILE
+        if offset_file.is_file():
+            record["colmap_offset_world_m"] = model_offset_world(offset_file.parent).tolist()
+        self.data["ground_truth"] = record
         self._write()
 
     def image_done(self, index: int, seconds: float) -> None:

@@ -102,21 +102,31 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
             for k in order]
 
 
-def write_ground_truth(project, prepared: PreparedJob, out_dir: Path) -> dict[str, Path]:
+def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
+                       colmap_offset: str = "local") -> dict[str, Path]:
+    """Every ground-truth format of the project under OUT/ground-truth/; ``colmap_offset``
+    is ``--colmap-offset`` (``local``, ``none`` or ``E,N,H``)."""
     gcps = [GroundControlPoint(t.target.id, t.target.role, t.true_xyz, t.surveyed_xyz,
                                t.sigma_xyz) for t in prepared.scene.targets]
     formats = project.outputs.ground_truth or DEFAULT_FORMATS
-    paths = write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
-                      ground_truth_observations(prepared), odm_crs(project.crs),
-                      formats=formats, image_times=image_times(prepared))
+    written = write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
+                        ground_truth_observations(prepared), odm_crs(project.crs),
+                        formats=formats, image_times=image_times(prepared),
+                        colmap_offset=colmap_offset)
+    if prepared.moving_poses:
+        from designer.render.moving_truth import write_moving_truth
+
+        written = {**written, **write_moving_truth(
+            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
+            prepared.moving_poses, prepared.moving_meshes)}
     clouds = project.scene.lighting.clouds
     if clouds is not None:
         from designer.atomic import write_text_atomic
 
         path = out_dir / GROUND_TRUTH_DIR / CLOUD_SHADOWS_CSV
         write_text_atomic(path, cloud_shadows_csv(clouds, prepared))
-        paths["cloud_shadows"] = path
-    return paths
+        written["cloud_shadows"] = path
+    return written
 
 
 CLOUD_SHADOWS_CSV = "cloud_shadows.csv"
@@ -160,8 +170,13 @@ def render_project(
     resume: bool = False,
     progress: ProgressCallback | None = None,
     scheduler: str | None = None,
+    colmap_offset: str = "local",
 ) -> RenderSummary:
-    """Render a project into ``out_dir``; on a Dask cluster when ``scheduler`` is given."""
+    """Render a project into ``out_dir``; on a Dask cluster when ``scheduler`` is given.
+
+    ``colmap_offset``: the COLMAP ground truth's frame (``local``: world minus the mean
+    camera centre rounded to metres; ``none``: world; ``E,N,H``: world minus that).
+    """
     project_path = Path(project_path)
     project = load_project(project_path)
     out_dir = Path(out_dir)
@@ -173,8 +188,8 @@ def render_project(
     wanted = parse_frames(frames, len(prepared.poses))
     manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
                         crs=project.crs)
-    ground_truth = write_ground_truth(project, prepared, out_dir)
-    manifest.ground_truth_written()
+    ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
+    manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
     write_readme(out_dir, list(names.values()), ground_truth, project=project_path.name,
                  image_size_px=prepared.interior.image_size_px)

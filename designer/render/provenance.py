@@ -123,6 +123,8 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
     }
     background = _canonical(list(job.background_rgb))
     scene_chunks, target_chunks, target_vertices = _objects_chunks(job.objects, job_dir)
+    if job.moving_objects:  # their poses are in each frame's pose
+        scene_chunks += _objects_chunks(job.moving_objects, job_dir)[0]
     common["scene"] = _digest(background, *scene_chunks)
     # a sun over time: each light step is the scene (and target lighting) of its frames
     steps = [_objects_chunks(step.objects, job_dir) for step in job.light_steps]
@@ -142,7 +144,8 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         chunks = target_chunks
         if frame.light_step is not None:
             step_scene, chunks, _ = steps[frame.light_step]
-            parts["scene"] = _digest(background, *step_scene)
+            parts["scene"] = _digest(background, *step_scene,
+                                     *_objects_chunks(job.moving_objects, job_dir)[0])
         parts["targets"] = _digest(*chunks, _targets_in_view(target_vertices, frame, job))
         pose = asdict(frame)
         if job.effects is None:  # the effect context (GSD, distance) changes no pixel then

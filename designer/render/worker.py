@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import os
 import sys
 import time
@@ -320,7 +321,7 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
     background.inputs["Color"].default_value = (*job.background_rgb, 1)
     background.inputs["Strength"].default_value = 1.0
     scene.world = world
-    for spec in job.objects:
+    for spec in (*job.objects, *job.moving_objects):
         add_mesh(scene, spec, base)
     camera = add_camera(scene, job.camera)
     return scene, camera
@@ -336,6 +337,10 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     ``out_dir``, which therefore never holds anything but finished images.
     """
     camera.matrix_world = Matrix(frame.matrix_world_local)
+    for name, x, y, z, heading_deg in frame.moving_poses or ():
+        obj = bpy.data.objects[name]  # its mesh: base centre at 0, +Y forward
+        obj.location = (x, y, z)
+        obj.rotation_euler = (0.0, 0.0, -math.radians(heading_deg))
     final = out_dir / frame.image_name
     partial.mkdir(parents=True, exist_ok=True)
     tmp = partial / f"{final.stem}.rendering{ext}"

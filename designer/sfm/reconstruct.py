@@ -35,6 +35,7 @@ import numpy as np
 from designer.atomic import write_text_atomic
 from designer.core.layout import GROUND_TRUTH_DIR, images_dir
 from designer.errors import DesignerError
+from designer.export.colmap_read import model_offset_world
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
 from designer.project import model as m
 from designer.sfm import matching, report
@@ -143,10 +144,14 @@ def reconstruct(
                          m.Matching(max_features, p.matching.pairs, p.matching.min_track_length),
                          p.dense)
     truth = pycolmap.Reconstruction(str(gt_dir))
-    # Work in a local frame (world − offset): no UTM-sized numbers reach COLMAP.
+    # Work in a local frame (world − offset): no UTM-sized numbers reach COLMAP. The
+    # ground truth is world − written (offset.json; zeros for a world-frame model); the
+    # offset is the mean camera centre rounded to metres, as the render's default.
+    written = model_offset_world(gt_dir)
     offset = np.round(np.mean([img.projection_center() for img in truth.images.values()],
-                              axis=0))
-    truth.transform(translation(-offset))
+                              axis=0) + written)
+    if np.any(offset != written):
+        truth.transform(translation(written - offset))
     true_camera = next(iter(truth.cameras.values()))
     true_params = _full_opencv(true_camera)
     params0 = start_params(true_params, p.calibration.pre_calibration_error) \

@@ -181,6 +181,14 @@ def _with_time_line(p: m.Project, **changes) -> m.Project:
     return replace(p, trajectory=replace(p.trajectory, time_line=time_line))
 
 
+def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
+    if not p.scene.moving_objects:
+        raise ValueError("the base project has no <moving-objects> in its scene; add one to "
+                         "vary their speed")
+    moving = tuple(replace(o, speed_m_s=speed_m_s) for o in p.scene.moving_objects)
+    return replace(p, scene=replace(p.scene, moving_objects=moving))
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -330,6 +338,10 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
     _F("turn-s", "seconds per turn between flight lines on the time line", "render", _float,
        lambda p: getattr(p.trajectory.time_line, "turn_s", None),
        lambda p, v: _with_time_line(p, turn_s=v)),
+    _F("moving-object-speed-m-s", "speed of every moving object along its path (m/s)",
+       "render", _float,
+       lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
+       _with_moving_speed),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),

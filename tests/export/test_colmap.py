@@ -11,7 +11,7 @@ from designer.export.colmap import (
 )
 from designer.export.colmap_read import camera_poses, read_cameras, read_images
 from designer.export.odm import odm_gcp_list_text
-from tests.synthetic import LENSES, ORIGIN_WORLD, interior_for, survey
+from tests.synthetic import LENSES, ORIGIN_WORLD, interior_for, phantom4, survey
 
 pycolmap = pytest.importorskip("pycolmap", reason="pycolmap checks the COLMAP export")
 
@@ -110,7 +110,7 @@ def test_images_txt_has_an_empty_points_line_after_each_image():
 def test_points3d_is_empty_and_files_are_complete(tmp_path):
     interior, poses, *_ = survey(15)
     folder = write_colmap_text_model(tmp_path / "m", interior, poses)
-    assert sorted(p.name for p in folder.iterdir()) == ["cameras.txt", "images.txt",
+    assert sorted(p.name for p in folder.iterdir()) == ["cameras.txt", "images.txt", "offset.json",
                                                          "points3D.txt"]
     body = [ln for ln in (folder / "points3D.txt").read_text().splitlines()
             if not ln.startswith("#")]
@@ -139,3 +139,21 @@ def test_a_malformed_image_line_is_an_export_error(tmp_path):
     (tmp_path / "images.txt").write_text("# header\n1 1 0 0 0 0 0 0 1\n\n")
     with pytest.raises(ExportError, match="malformed image line"):
         read_colmap_text_poses(tmp_path)
+
+
+def test_image_ids_follow_sorted_names_as_colmaps_feature_extractor_numbers_them(tmp_path):
+    """COLMAP 3.8 numbers a folder's images in sorted-name order and point_triangulator
+    pairs model and database images by IMAGE_ID: ids must follow the names, not the
+    flight order (here reversed, with names whose order differs from their numbers)."""
+    names = ["IMG_10.png", "IMG_9.png", "IMG_2.png", "B.png", "a.png"]
+    poses = [CameraPose(n, ORIGIN_WORLD + [10.0 * i, 0, 0], np.eye(3))
+             for i, n in enumerate(names)]
+    lines = [ln for ln in colmap_images_text(poses).splitlines()
+             if ln and not ln.startswith("#")]
+    ids = {ln.split()[9]: int(ln.split()[0]) for ln in lines}
+    # byte order: upper case before lower case, '1' before '2' before '9'
+    assert ids == {"B.png": 1, "IMG_10.png": 2, "IMG_2.png": 3, "IMG_9.png": 4, "a.png": 5}
+    assert [ln.split()[9] for ln in lines] == names  # lines keep the flight order
+    folder = write_colmap_text_model(tmp_path / "m", phantom4(), poses, offset_world=ORIGIN_WORLD)
+    rec = pycolmap.Reconstruction(str(folder))
+    assert {img.name: img_id for img_id, img in rec.images.items()} == ids

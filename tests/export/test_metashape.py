@@ -113,3 +113,47 @@ def test_markers_csv_has_surveyed_coordinates_sigmas_and_names_check_points():
         assert r[0] == g.gcp_id and r[7] == g.role
         np.testing.assert_array_equal([float(v) for v in r[1:4]], g.surveyed_xyz)
         np.testing.assert_array_equal([float(v) for v in r[4:7]], g.sigma_xyz)
+
+
+def test_markers_xml_has_projections_and_control_check_flags():
+    """Metashape's markers XML: a check point is an unticked (enabled="false") marker;
+    every image point is a pinned <location> in Metashape pixels (corner origin)."""
+    from pyproj import CRS
+
+    from designer.export.metashape import metashape_markers_xml
+
+    _interior, poses, gcps, obs = survey(33)
+    roles = {g.role for g in gcps}
+    assert roles == {"control", "check"}
+    root = etree.fromstring(metashape_markers_xml(poses, gcps, obs, "EPSG:32632").encode())
+    assert root.tag == "document"
+    chunk = root.find("chunk")
+    cameras = {c.get("id"): c.get("label") for c in chunk.find("cameras")}
+    assert sorted(cameras.values()) == sorted(p.image_name for p in poses)
+    markers = {m.get("id"): m for m in chunk.find("markers")}
+    by_label = {m.get("label"): m for m in markers.values()}
+    for g in gcps:
+        ref = by_label[g.gcp_id].find("reference")
+        assert [float(ref.get(a)) for a in "xyz"] == g.surveyed_xyz.tolist()
+        assert [float(ref.get(a)) for a in ("sx", "sy", "sz")] == g.sigma_xyz.tolist()
+        assert ref.get("enabled") == ("true" if g.role == "control" else "false")
+    seen = []
+    for marker in chunk.find("frames").find("frame").find("markers"):
+        label = markers[marker.get("marker_id")].get("label")
+        for loc in marker.iter("location"):
+            assert loc.get("pinned") == "true"
+            seen.append((label, cameras[loc.get("camera_id")],
+                         float(loc.get("x")), float(loc.get("y"))))
+    assert sorted(seen) == sorted((o.gcp_id, o.image_name, *o.uv_px.tolist()) for o in obs)
+    assert CRS.from_wkt(chunk.find("reference").text).to_epsg() == 32632
+
+
+def test_markers_xml_refuses_observations_of_unknown_images():
+    from designer.core.truth import GcpObservation
+    from designer.export import ExportError
+    from designer.export.metashape import metashape_markers_xml
+
+    _interior, poses, gcps, _obs = survey(34)
+    with pytest.raises(ExportError, match="unknown"):
+        metashape_markers_xml(poses, gcps, [GcpObservation(gcps[0].gcp_id, "x.png", [1, 2])],
+                              "EPSG:32632")

@@ -73,7 +73,7 @@ def test_check_points_are_left_out_unless_asked():
         odm_gcp_list_text(gcps, obs, "EPSG:32632", roles=("tie",))
 
 
-@pytest.mark.parametrize("crs", ["EPSG:4326", "epsg:32632", "WGS84 UTM 16N", "WGS84 UTM 5S",
+@pytest.mark.parametrize("crs", ["epsg:32632", "WGS84 UTM 16N", "WGS84 UTM 5S",
                                  "+proj=utm +zone=10 +ellps=WGS84 +datum=WGS84 +units=m"])
 def test_crs_lines_odm_parses_are_accepted(crs):
     _interior, poses, gcps, obs = survey(23)
@@ -81,14 +81,49 @@ def test_crs_lines_odm_parses_are_accepted(crs):
     assert odm_geo_text(poses, crs).splitlines()[0] == crs
 
 
-@pytest.mark.parametrize("crs", ["", "UTM 32N", "ETRS89 / UTM zone 32N", "EPSG:32632\nx"])
+@pytest.mark.parametrize("crs", [
+    "", "UTM 32N", "ETRS89 / UTM zone 32N", "EPSG:32632\nx",
+    # ODM compares 'WGS84' and 'UTM' case-sensitively; PROJ has zones 1-60 only
+    "wgs84 utm 32N", "WGS84 utm 32N", "WGS84 UTM 0N", "WGS84 UTM 61N", "WGS84 UTM 32",
+    # ODM parses these, but the coordinates are metres: geographic or foot CRSs misread them
+    "EPSG:4326", "+proj=longlat +datum=WGS84", "EPSG:2263",
+])
 def test_crs_lines_odm_cannot_parse_are_rejected(crs):
     _interior, _poses, gcps, obs = survey(24)
     with pytest.raises(ExportError):
         odm_gcp_list_text(gcps, obs, crs)
 
 
+def true_north_grid_azimuth_rad(crs: str, E: float, N: float) -> float:
+    """Grid azimuth (clockwise from the CRS's Y axis) of true north at (E, N): the
+    direction from the point 1 km south to the point 1 km north on the same meridian
+    (central difference), by pyproj.Transformer — independent of PROJ's
+    meridian_convergence factor."""
+    from pyproj import CRS, Transformer
+
+    if crs.startswith("WGS84 UTM "):  # as OpenDroneMap builds it (opendm/location.py)
+        zone = crs.split()[2]
+        south = " +south" if zone.endswith("S") else ""
+        projected = CRS.from_proj4(f"+proj=utm +zone={int(zone[:-1])} +datum=WGS84 "
+                                   f"+units=m{south}")
+    else:
+        projected = CRS.from_user_input(crs)
+    to_geo = Transformer.from_crs(projected, CRS.from_epsg(4326), always_xy=True)
+    to_grid = Transformer.from_crs(CRS.from_epsg(4326), projected, always_xy=True)
+    lon, lat = to_geo.transform(E, N)
+    E1, N1 = to_grid.transform(lon, lat - 1000.0 / 111_320.0)
+    E2, N2 = to_grid.transform(lon, lat + 1000.0 / 111_320.0)
+    return math.atan2(E2 - E1, N2 - N1)
+
+
+def Rz(angle_rad: float) -> np.ndarray:
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
 def test_geo_txt_angles_rebuild_the_rotation_with_odms_formula():
+    """ODM's angles refer to TRUE north (compute_opk: north = d(ECEF)/d(latitude)):
+    turning ODM's matrix from true-north axes to grid axes gives the true rotation."""
     _interior, poses, _gcps, _obs = survey(25)
     lines = odm_geo_text(poses, "EPSG:32632").splitlines()
     assert lines[0] == "EPSG:32632" and len(lines) == len(poses) + 1
@@ -98,8 +133,31 @@ def test_geo_txt_angles_rebuild_the_rotation_with_odms_formula():
         xyz = np.array([float(v) for v in parts[1:4]])
         np.testing.assert_array_equal(xyz, pose.C_world)
         yaw, pitch, roll = (float(v) for v in parts[4:7])
-        np.testing.assert_allclose(odm_rotation(yaw, pitch, roll), pose.R_cam_to_world,
-                                   rtol=0, atol=1e-12)
+        # a vector at true azimuth a has grid azimuth a + theta: grid = Rz(-theta) · true
+        theta = true_north_grid_azimuth_rad("EPSG:32632", *pose.C_world[:2])
+        np.testing.assert_allclose(Rz(-theta) @ odm_rotation(yaw, pitch, roll),
+                                   pose.R_cam_to_world, rtol=0, atol=1e-7)
+
+
+@pytest.mark.parametrize(("crs", "E", "N", "west_of_cm"), [
+    ("EPSG:32632", 300_000.0, 5_000_000.0, True),    # zone 32N, ~2.5° west of 9° E
+    ("EPSG:32632", 700_000.0, 5_000_000.0, False),   # ~2.5° east
+    ("WGS84 UTM 33S", 320_000.0, 6_000_000.0, True),  # southern hemisphere, west
+    ("WGS84 UTM 33S", 680_000.0, 6_000_000.0, False),  # southern hemisphere, east
+])
+def test_geo_txt_yaw_is_referred_to_true_north_on_both_sides_of_the_central_meridian(
+        crs, E, N, west_of_cm):
+    """A camera whose image top points to grid north: its true yaw is minus the grid
+    azimuth of true north (θ), which changes sign across the central meridian and
+    between hemispheres; ~1.8° here, so a grid-north yaw would be far off."""
+    pose = CameraPose("a.png", [E, N, 300.0], np.eye(3))
+    yaw = float(odm_geo_text([pose], crs).splitlines()[1].split()[4])
+    theta_deg = math.degrees(true_north_grid_azimuth_rad(crs, E, N))
+    # northern hemisphere: meridians converge to the north pole, so west of the
+    # central meridian true north leans east (θ > 0); south of the equator the reverse
+    north = not crs.endswith("S")
+    assert (theta_deg > 0) == (west_of_cm == north) and abs(theta_deg) > 1.0
+    assert ((yaw + theta_deg + 180.0) % 360.0) - 180.0 == pytest.approx(0.0, abs=1e-6)
 
 
 @pytest.mark.parametrize(

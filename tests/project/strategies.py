@@ -238,8 +238,10 @@ def projects(draw) -> m.Project:
         for name in draw(st.lists(identifiers, max_size=3, unique=True)))
     formats = draw(st.lists(st.sampled_from(["colmap", "odm", "metashape", "opk", "gcp"]),
                             unique=True))
-    # OpenDroneMap needs a CRS it can parse; other formats take any label.
-    crs = (draw(st.integers(1000, 32767).map(lambda c: f"EPSG:{c}"))
+    # OpenDroneMap needs a projected CRS in metres it can parse (UTM zones north and
+    # south, ETRS89 / UTM, Swiss LV95); other formats take any label.
+    crs = (draw((st.integers(32601, 32660) | st.integers(32701, 32760) | st.integers(25828, 25838)
+                 | st.just(2056)).map(lambda c: f"EPSG:{c}"))
            + draw(st.sampled_from(["", " (a projected CRS)"])) if "odm" in formats
            else draw(texts))
     targets = draw(target_sets(terrain.extent))

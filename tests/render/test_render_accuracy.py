@@ -78,8 +78,13 @@ def test_target_centres_match_the_exported_pixel_coordinates(rendered):
 
 def test_pycolmap_projects_gcps_like_the_odm_gcp_list(rendered):
     _, summary = rendered
+    from designer.export.colmap_read import model_offset_world
+
     rec = pycolmap.Reconstruction(str(summary.ground_truth["colmap"]))
-    truth = {g.gcp_id: g.true_xyz for g in read_gcp_truth_csv(summary.ground_truth["gcp_truth"])}
+    # the model is local: world − the offset written beside it
+    offset = model_offset_world(summary.ground_truth["colmap"])
+    truth = {g.gcp_id: g.true_xyz - offset
+             for g in read_gcp_truth_csv(summary.ground_truth["gcp_truth"])}
     lines = summary.ground_truth["odm_gcp_list"].read_text().splitlines()[1:]
     assert lines
     for line in lines:
