@@ -14,7 +14,7 @@ from pathlib import Path
 
 from designer.errors import DesignerError
 
-TEMPLATES = ("survey", "survey-ideal", "validation-cube", "psf", "texture")
+TEMPLATES = ("survey", "survey-ideal", "survey-dynamic", "validation-cube", "psf", "texture")
 
 
 def register(subparsers) -> None:

@@ -14,7 +14,8 @@ import numpy as np
 from designer.project import model as m
 from designer.project.assets import cube_obj_bytes, seamless_texture_png
 
-TEMPLATE_NAMES = ("survey", "survey-ideal", "validation-cube", "psf", "texture")
+TEMPLATE_NAMES = ("survey", "survey-ideal", "survey-dynamic", "validation-cube", "psf",
+                  "texture")
 
 
 @dataclass(frozen=True)
@@ -119,6 +120,38 @@ def survey_ideal() -> Template:
         description=("The example survey seen by an ideal pinhole camera: no lens distortion, "
                      "no vignetting, no noise, no compression: only what the renderer must "
                      "do."))
+    return Template(project)
+
+
+def survey_dynamic() -> Template:
+    """The example survey in a world that changes during the flight (docs/world.md), each
+    change switched on lightly: a time line (5 m/s, 8 s turns, take-off 09:30 UTC), the
+    sun moving with it, drifting cloud shadows (20 % cover, 3 m/s wind) and a car and a
+    person crossing the block."""
+    import dataclasses
+
+    tpl = survey()
+    p = tpl.project
+    E0, N0 = p.origin.E0, p.origin.N0
+    lighting = dataclasses.replace(
+        p.scene.lighting, sun=m.SunOverTime(),
+        clouds=m.CloudShadows(cover=0.2, size_m=40.0, softness_m=8.0, depth=0.5,
+                              wind_speed_m_s=3.0, wind_direction_deg=60.0, seed=4))
+    movers = (
+        m.MovingObject("car1", (m.PathPoint(E0 - 45, N0 - 20), m.PathPoint(E0 + 45, N0 + 10)),
+                       speed_m_s=2.0, shape="car", albedo_rgb=(0.6, 0.08, 0.06)),
+        m.MovingObject("walker1", (m.PathPoint(E0 + 20, N0 - 40), m.PathPoint(E0 + 10, N0 + 40)),
+                       speed_m_s=1.2, shape="person", albedo_rgb=(0.1, 0.2, 0.6)),
+    )
+    scene = dataclasses.replace(p.scene, lighting=lighting, moving_objects=movers)
+    trajectory = dataclasses.replace(
+        p.trajectory, time_line=m.TimeLine("2026-06-21T09:30:00Z", speed_m_s=5.0, turn_s=8.0))
+    project = dataclasses.replace(
+        p, name="Example survey, changing world", scene=scene, trajectory=trajectory,
+        description=("The example survey flown at 5 m/s from 09:30 UTC on 21 June: the sun "
+                     "moves during the flight, cloud shadows drift with a 3 m/s wind, a car "
+                     "and a person cross the block. Masks of the moving objects and each "
+                     "image's time are in the ground truth."))
     return Template(project)
 
 
@@ -231,7 +264,7 @@ def texture() -> Template:
     return Template(project, {"texture.png": seamless_texture_png(512, seed=5)})
 
 
-_BUILDERS = {"survey": survey, "survey-ideal": survey_ideal,
+_BUILDERS = {"survey": survey, "survey-ideal": survey_ideal, "survey-dynamic": survey_dynamic,
              "validation-cube": validation_cube, "psf": psf, "texture": texture}
 
 

@@ -72,3 +72,16 @@ def test_write_project_is_atomic_and_leaves_no_temporary_files(tmp_path):
     write_project(template("psf").project, path)
     assert [p.name for p in tmp_path.iterdir()] == ["p.xml"]
     assert load_project(path) == template("psf").project
+
+
+def test_the_dynamic_survey_switches_on_every_changing_element_lightly():
+    base, p = template("survey").project, template("survey-dynamic").project
+    assert p.trajectory.time_line is not None and p.trajectory.time_line.speed_m_s > 0
+    assert type(p.scene.lighting.sun).__name__ == "SunOverTime"
+    clouds = p.scene.lighting.clouds
+    assert clouds is not None and 0 < clouds.cover <= 0.3 and clouds.depth <= 0.6
+    assert {o.shape for o in p.scene.moving_objects} == {"car", "person"}
+    assert p.scene.texture.variation is not None
+    # everything else is the example survey's
+    assert p.trajectory.flight_plan == base.trajectory.flight_plan
+    assert (p.cameras, p.effects, p.render) == (base.cameras, base.effects, base.render)
