@@ -36,6 +36,10 @@ def _filled_projects() -> list[m.Project]:
     first = dataclasses.replace(base, effects=effects, processing=processing, cameras=(cam,),
                                 trajectory=dataclasses.replace(base.trajectory, time_line=(
                                     m.TimeLine("2026-06-21T09:30:00Z", 5.0, 8.0, 2.0))))
+    first = edits.replace_path(first, "scene.lighting.clouds", m.CloudShadows())
+    E0, N0 = base.origin.E0, base.origin.N0
+    first = edits.replace_path(first, "scene.moving_objects", (m.MovingObject(
+        "car1", (m.PathPoint(E0 - 40, N0), m.PathPoint(E0 + 40, N0)), speed_m_s=3.0),))
     assert first.scene.targets.survey_accuracy is not None
     assert first.trajectory.flight_plan.pose_noise is not None
     second = edits.replace_path(first, "scene.terrain.source", m.FlatTerrain(1.5))

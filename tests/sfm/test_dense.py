@@ -11,6 +11,7 @@ import pytest
 import rasterio.crs
 from plyfile import PlyData
 
+from designer.core.layout import images_dir
 from designer.errors import DesignerError
 from designer.evaluate.compare import reference_mesh
 from designer.evaluate.distance import signed_distances
@@ -43,7 +44,7 @@ def sparse(survey, tmp_path_factory):
     name = next(iter(rec.images.values())).name
     assert np.allclose(world.find_image_with_name(name).projection_center() - origin,
                        rec.find_image_with_name(name).projection_center(), atol=1e-9)
-    return {"images": survey, "model": local, "origin": origin,
+    return {"images": images_dir(survey), "model": local, "origin": origin,
             "project": survey.parent / "project.xml",
             "n_sparse": rec.num_points3D(), "folder": folder}
 

@@ -61,7 +61,8 @@ class MovingObjectsPanel(Panel):
 
     # ------------------------------------------------------------------ access
     def _index(self) -> int:
-        return self.chooser.currentIndex()
+        """The chosen object; the first when none is chosen yet."""
+        return max(self.chooser.currentIndex(), 0)
 
     def _access(self, name: str):
         def get(p: m.Project):
