@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.atomic import write_text_atomic
+from designer.core.bounds import column_bounds
 from designer.errors import DesignerError
 from designer.evaluate.clouds import MAX_COORDINATE_SPACING_M, PointCloud
 from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics
@@ -89,8 +90,8 @@ def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True,
 def check_overlap(cloud_xyz: np.ndarray, vertices: np.ndarray, cloud_name: str,
                   mesh_name: str) -> None:
     """Raise a one-line error when cloud and mesh are obviously in different coordinates."""
-    c_lo, c_hi = cloud_xyz.min(axis=0), cloud_xyz.max(axis=0)
-    m_lo, m_hi = vertices.min(axis=0), vertices.max(axis=0)
+    c_lo, c_hi = column_bounds(cloud_xyz)
+    m_lo, m_hi = column_bounds(vertices)
     gap = np.maximum(0.0, np.maximum(c_lo - m_hi, m_lo - c_hi))
     size = max(float(np.max(m_hi - m_lo)), 1.0)
     if np.linalg.norm(gap) > 10 * size:

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.core.bounds import column_bounds
 from designer.errors import DesignerError
 
 #: points per chunk: ~100 bytes of temporary memory each
@@ -90,7 +91,7 @@ def build_mesh_index(mesh) -> MeshIndex:
     from designer.evaluate import _bvh, _topology
 
     vertices, faces = _mesh_arrays(mesh)
-    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    lo, hi = column_bounds(vertices)
     origin = 0.5 * (lo + hi)
     local = np.ascontiguousarray(vertices - origin)
     codes = _bvh.centroid_codes(local, faces.astype(np.int64, copy=False), lo - origin,

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.atomic import atomic_path
+from designer.core.bounds import column_bounds
 from designer.errors import DesignerError
 
 #: the largest grid side (cells) chosen automatically
@@ -58,7 +59,8 @@ def _nice(value: float) -> float:
 
 def auto_cell_size(xy: np.ndarray) -> float:
     """A cell size holding about two points per cell, at most MAX_CELLS_PER_SIDE cells."""
-    span = np.ptp(xy, axis=0)
+    lo, hi = column_bounds(xy)
+    span = hi - lo
     area = max(float(span[0] * span[1]), 1e-6)
     cell = max(math.sqrt(2.0 * area / len(xy)), float(span.max()) / MAX_CELLS_PER_SIDE, 1e-3)
     return _nice(cell)
@@ -74,14 +76,15 @@ def grid_errors(xy_world, values, *, cell_m: float | None = None,
     xy = np.asarray(xy_world, dtype=np.float64)[:, :2]
     values = np.asarray(values, dtype=np.float64)
     keep = np.isfinite(values)
-    xy, values = xy[keep], values[keep]
+    if not keep.all():  # a copy only when there is something to drop
+        xy, values = xy[keep], values[keep]
     if len(xy) == 0:
         raise DesignerError("no finite errors to map")
     cell = auto_cell_size(xy) if cell_m is None else float(cell_m)
     if not cell > 0:
         raise DesignerError(f"cell size {cell_m} m: give a value > 0")
     gap = 2.0 * cell if max_gap_m is None else float(max_gap_m)
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    lo, hi = column_bounds(xy)
     x_min = math.floor(lo[0] / cell) * cell
     y_max = math.ceil(hi[1] / cell) * cell
     cols = max(1, math.ceil((hi[0] - x_min) / cell) + (1 if hi[0] == x_min else 0))
