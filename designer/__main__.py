@@ -1,5 +1,3 @@
-import sys
+from designer.cli.main import entry
 
-from designer.cli.main import main
-
-sys.exit(main())
+entry()

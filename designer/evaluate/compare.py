@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import os
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -151,17 +152,28 @@ def compare_cloud(
         t1 = time.perf_counter()
         d = signed_distances(cloud.xyz, index, max_distance=max_distance)
         t2 = time.perf_counter()
-        stats = distance_statistics(d, tolerances)
-        figures.submit("write_histogram_png", out / files["histogram"], stats)
-        grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
-        figures.submit("write_error_map_png", out / files["error_map"], grid,
-                       limit_m=stats["abs_q95"] or None)
-        figures.submit("write_error_map_geotiff", out / files["error_map_geotiff"], grid,
-                       mesh.crs)
-        write_error_map_npy(out / files["error_map_npy"], grid)
-        write_distances_ply(out / "distances.ply", cloud.xyz, d, rgb=cloud.rgb,
-                            normals=cloud.normals,
-                            comments=(f"reference mesh {Path(mesh.source).name}",))
+        if not np.isfinite(d).any():  # before any file is written
+            distance_statistics(d, tolerances)  # raises its one-line error
+        # the largest file is written in its own thread (copying and file output release
+        # the GIL) while the statistics and the error map are computed
+        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="designer-ply") as pool:
+            ply = pool.submit(write_distances_ply, out / files["distances"], cloud.xyz, d,
+                              rgb=cloud.rgb, normals=cloud.normals,
+                              comments=(f"reference mesh {Path(mesh.source).name}",))
+            try:
+                stats = distance_statistics(d, tolerances)
+                figures.submit("write_histogram_png", out / files["histogram"], stats)
+                grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
+                figures.submit("write_error_map_png", out / files["error_map"], grid,
+                               limit_m=stats["abs_q95"] or None)
+                figures.submit("write_error_map_geotiff", out / files["error_map_geotiff"],
+                               grid, mesh.crs)
+                write_error_map_npy(out / files["error_map_npy"], grid)
+            except BaseException:
+                if ply.exception() is None:  # (waits for it) no results of a failed run
+                    (out / files["distances"]).unlink(missing_ok=True)
+                raise
+        ply.result()  # re-raises the writer's error
     rows, cols = grid.values.shape
     summary = {
         "inputs": {"cloud": cloud.source, "n_points": len(cloud), "mesh": mesh.source,

@@ -146,3 +146,35 @@ def test_cloudcompare_reads_our_scalar_and_agrees_on_a_small_case(tmp_path):
     same = np.sign(theirs) == np.sign(ours)
     assert same.mean() > 0.99
     assert np.max(np.abs(theirs[same] - ours[same])) < 1e-5
+
+
+def test_the_program_exits_at_once_with_every_product_written(tmp_path):
+    """``python -m designer compare`` ends without the interpreter's teardown: the exit
+    code, the printed summary and every product must still be complete; a user error
+    still exits 2 with its message and no distances file."""
+    import sys
+
+    mesh = small_terrain()
+    write_mesh_ply(mesh, tmp_path / "mesh.ply")
+    rng = np.random.default_rng(5)
+    write_cloud(tmp_path / "cloud.ply",
+                points_on_mesh(mesh.vertices_world, mesh.faces, 2000, 0.02, rng))
+    out = tmp_path / "out"
+    done = subprocess.run([sys.executable, "-m", "designer", "compare",
+                           str(tmp_path / "cloud.ply"), str(tmp_path / "mesh.ply"),
+                           "-o", str(out)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.rstrip().endswith("report.html")
+    summary = json.loads((out / "summary.json").read_text())
+    assert abs(summary["distances"]["median"] - 0.02) < 1e-9
+    d = PlyData.read(str(out / "distances.ply"))["vertex"].data["scalar_signed_distance"]
+    assert len(d) == 2000 and abs(np.median(d) - 0.02) < 1e-9
+    for name in ("histogram.png", "error_map.png", "error_map.tif", "error_map.npy",
+                 "report.md", "report.html"):
+        assert (out / name).stat().st_size > 0, name
+    bad = subprocess.run([sys.executable, "-m", "designer", "compare",
+                          str(tmp_path / "cloud.ply"), str(tmp_path / "mesh.ply"),
+                          "-o", str(tmp_path / "bad"), "--max-distance", "1e-9"],
+                         capture_output=True, text=True, timeout=600)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1, bad.stderr
+    assert not (tmp_path / "bad" / "distances.ply").exists()
