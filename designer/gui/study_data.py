@@ -68,22 +68,27 @@ def parse_levels(text: str) -> tuple[str, ...]:
             start, stop, step = (float(p) for p in parts)
         except ValueError:
             raise ValueError(f"'{text}': a range needs three numbers, e.g. 20:40:5") from None
+        from designer.study.spec import range_levels
+
         return range_levels(start, stop, step)
     return tuple(v for v in re.split(r"[\s,;]+", text) if v)
 
 
-def range_levels(start: float, stop: float, step: float) -> tuple[str, ...]:
-    """start, start + step, … up to stop (inclusive), formatted as the study reader does."""
-    from designer.study.xml import MAX_LEVELS
+def parse_range(text: str) -> tuple[float, float, float] | None:
+    """(start, stop, step) when ``text`` is a range START:STOP:STEP, else None (values, or
+    not usable: :func:`parse_levels` says why)."""
+    parts = text.strip().split(":")
+    if len(parts) != 3:
+        return None
+    try:
+        return tuple(float(p) for p in parts)
+    except ValueError:
+        return None
 
-    if not step > 0:
-        raise ValueError(f"step {step:g}: give a step greater than 0")
-    if stop < start:
-        raise ValueError(f"stop {stop:g} is below start {start:g}; give stop >= start")
-    n = int((stop - start) / step + 1e-9) + 1
-    if n > MAX_LEVELS:
-        raise ValueError(f"{n} levels are too many (at most {MAX_LEVELS}); use a larger step")
-    return tuple(f"{round(start + k * step, 10):g}" for k in range(n))
+
+def range_text(spec: tuple[float, float, float]) -> str:
+    """A range as the Study panel shows it: START:STOP:STEP."""
+    return ":".join(f"{v:.15g}" for v in spec)
 
 
 # ------------------------------------------------------------------ cost of a plan

@@ -11,7 +11,7 @@ from pathlib import Path
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QLineEdit, QToolButton, QWidget
 
-from designer.gui.study_data import parse_levels
+from designer.gui.study_data import parse_levels, parse_range
 
 LEVELS_HINT = "values separated by spaces (3 4 6 8), or a range START:STOP:STEP (20:40:5)"
 
@@ -57,6 +57,10 @@ class FactorRow(QWidget):
             raise ValueError(f"factor {self.name}: {error}") from None
         self.count.setText(f"{len(values)} level{'s' if len(values) != 1 else ''}")
         return values
+
+    def range_spec(self) -> tuple[float, float, float] | None:
+        """(start, stop, step) when the levels are typed as a range, else None."""
+        return parse_range(self.levels.text())
 
 
 _terrain_cache: dict[str, object] = {}

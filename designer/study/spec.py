@@ -42,6 +42,9 @@ class FactorSpec:
     description: str | None = None
     where: Where = field(default_factory=Where)
     values_where: Where = field(default_factory=Where)
+    #: (start, stop, step) when the levels were given as a ``<range>``, kept so the
+    #: study is written back as the range it was
+    range_spec: tuple[float, float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -69,3 +72,20 @@ class Study:
     @property
     def folder(self) -> Path:
         return self.source.parent if self.source is not None else Path.cwd()
+
+
+#: most levels a range may produce
+MAX_LEVELS = 1000
+
+
+def range_levels(start: float, stop: float, step: float) -> tuple[str, ...]:
+    """The levels of ``<range start stop step>``: start, start + step, … up to stop
+    (inclusive), as text. ValueError says what is wrong with the three numbers."""
+    if not step > 0:
+        raise ValueError(f"step {step:g}: give a step greater than 0")
+    if stop < start:
+        raise ValueError(f"stop {stop:g} is below start {start:g}; give stop >= start")
+    n = int((stop - start) / step + 1e-9) + 1
+    if n > MAX_LEVELS:
+        raise ValueError(f"{n} levels are too many (at most {MAX_LEVELS}); use a larger step")
+    return tuple(f"{round(start + k * step, 10):g}" for k in range(n))

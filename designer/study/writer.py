@@ -2,7 +2,8 @@
 
 :func:`study_to_xml` gives text the reader reads back to an equal study (factors, their
 levels, design, replicates, metrics, description and the base project: a file path
-relative to the study file, or the inline project). Levels are written as ``<values>``.
+relative to the study file, or the inline project). Levels are written as ``<values>``,
+or as the ``<range>`` they were given as while they still are that range.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from pathlib import Path
 from xml.sax.saxutils import escape, quoteattr
 
 from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS
-from designer.study.spec import Study
+from designer.study.spec import Study, range_levels
 
 
 def _check_levels(study: Study) -> None:
@@ -46,7 +47,11 @@ def study_to_xml(study: Study, base_file: str | None = None) -> str:
         lines.append(f"  <factor name={quoteattr(f.name)}>")
         if f.description:
             lines.append(f"    <description>{escape(f.description)}</description>")
-        lines.append(f"    <values>{escape(' '.join(f.values))}</values>")
+        if f.range_spec is not None and range_levels(*f.range_spec) == tuple(f.values):
+            start, stop, step = (f"{v:.15g}" for v in f.range_spec)
+            lines.append(f'    <range start="{start}" stop="{stop}" step="{step}"/>')
+        else:
+            lines.append(f"    <values>{escape(' '.join(f.values))}</values>")
         lines.append("  </factor>")
     lines.append(f"  <design>{study.design}</design>")
     rep = study.replicates

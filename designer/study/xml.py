@@ -24,6 +24,7 @@ from designer.study.spec import (
     Replicates,
     Study,
     Where,
+    range_levels,
 )
 
 STUDY_SCHEMA = "designer-study-1.0.xsd"
@@ -124,15 +125,17 @@ def _model(root, smap: SourceMap, text: str, source: str, path: Path | None) -> 
     factors = []
     for f in root.iterfind(f"{{{NAMESPACE}}}factor"):
         values_el = _child(f, "values")
+        range_spec = None
         if values_el is not None:
             values = tuple((values_el.text or "").split())
             values_where = _where(smap, values_el)
         else:
             r = _child(f, "range")
+            range_spec = tuple(float(r.get(k)) for k in ("start", "stop", "step"))
             values = _range_values(r, smap, source)
             values_where = _where(smap, r)
         factors.append(FactorSpec(f.get("name"), values, _text(_child(f, "description")),
-                                  _where(smap, f, "name"), values_where))
+                                  _where(smap, f, "name"), values_where, range_spec))
     rep_el = _child(root, "replicates")
     replicates = Replicates() if rep_el is None else Replicates(
         int(rep_el.get("count")), tuple(dict.fromkeys((rep_el.get("vary") or "").split())),
@@ -147,20 +150,11 @@ def _model(root, smap: SourceMap, text: str, source: str, path: Path | None) -> 
         where=_where(smap, root))
 
 
-#: most levels a range may produce
-MAX_LEVELS = 1000
-
-
 def _range_values(r: etree._Element, smap: SourceMap, source: str) -> tuple[str, ...]:
     start, stop, step = (float(r.get(k)) for k in ("start", "stop", "step"))
-    where = _where(smap, r)
-    if stop < start:
-        raise ProjectError(source, [Problem(
-            f"<range>: stop {stop:g} is below start {start:g}; give stop >= start",
-            where.line, where.column)])
-    n = int((stop - start) / step + 1e-9) + 1
-    if n > MAX_LEVELS:
-        raise ProjectError(source, [Problem(
-            f"<range>: {n} levels are too many (at most {MAX_LEVELS}); use a larger step",
-            where.line, where.column)])
-    return tuple(f"{round(start + k * step, 10):g}" for k in range(n))
+    try:
+        return range_levels(start, stop, step)
+    except ValueError as error:
+        where = _where(smap, r)
+        raise ProjectError(source, [Problem(f"<range>: {error}", where.line,
+                                            where.column)]) from None

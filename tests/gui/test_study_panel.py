@@ -104,7 +104,7 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     _checked(qtbot, w, panel)
     assert "factor sun-elevation-deg: stop 30 is below start 40" in panel.errors.text()
     sun.levels.selectAll()
-    qtbot.keyClicks(sun.levels, "30 40")
+    qtbot.keyClicks(sun.levels, "30:40:10")
     assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
     assert not panel.errors.isVisible()
 
@@ -121,6 +121,8 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     assert study.base.file == "../tiny-template-base.xml"
     assert [(f.name, f.values) for f in study.factors] == [
         ("marking-sigma-px", ("0.2", "2")), ("sun-elevation-deg", ("30", "40"))]
+    # the range is written as the range it was typed as
+    assert '<range start="30" stop="40" step="10"/>' in path.read_text()
     assert (study.design, study.replicates.count, study.replicates.vary) == (
         "one-at-a-time", 2, ("marking-error",))
     assert set(study.metrics) == {"check_rmse_xy_m", "check_rmse_z_m", "cloud_nmad_m",
@@ -135,7 +137,7 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     answer_file_dialog(path)
     qtbot.mouseClick(panel.open_button, Qt.MouseButton.LeftButton)
     assert [(r.name, r.levels.text()) for r in panel.rows] == [
-        ("marking-sigma-px", "0.2 2"), ("sun-elevation-deg", "30 40")]
+        ("marking-sigma-px", "0.2 2"), ("sun-elevation-deg", "30:40:10")]
     assert panel.name.text() == "sun-and-marks" and panel.replicates.value() == 2
     assert panel.vary["marking-error"].isChecked() and not panel.vary["pose-noise"].isChecked()
     assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)

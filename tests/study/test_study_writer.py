@@ -106,3 +106,20 @@ def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
     assert twice.render_s - twice.renders * RENDER_SETUP_S == pytest.approx(
         2 * (cost.render_s - cost.renders * RENDER_SETUP_S))
     assert twice.reconstruct_s == cost.reconstruct_s
+
+
+def test_a_range_is_written_back_as_the_range_while_it_still_is_one():
+    xml = ('<study xmlns="urn:designer:project:1" schema-version="1.0" name="r">'
+           '<base-project file="b.xml"/><factor name="k1"><range start="-0.1" stop="0.25" '
+           'step="0.05"/></factor></study>')
+    study = parse_study(xml.encode())
+    assert study.factors[0].range_spec == (-0.1, 0.25, 0.05)
+    text = study_to_xml(study)
+    assert '<range start="-0.1" stop="0.25" step="0.05"/>' in text and "<values>" not in text
+    again = parse_study(text.encode())
+    assert again.factors[0].values == study.factors[0].values
+    assert again.factors[0].range_spec == study.factors[0].range_spec
+    # levels edited away from the range are written as values
+    edited = replace(study, factors=(replace(study.factors[0], values=("0", "0.1")),))
+    text = study_to_xml(edited)
+    assert "<values>0 0.1</values>" in text and "<range" not in text

@@ -221,7 +221,8 @@ class StudyPanel(StudyFiles, Panel):
     def study(self, study_path: Path | None = None) -> Study:
         """The study the panel shows; ValueError for levels that are not usable."""
         path = study_path or self._path_for_check()
-        factors = tuple(FactorSpec(r.name, r.values()) for r in self.rows)
+        factors = tuple(FactorSpec(r.name, r.values(), range_spec=r.range_spec())
+                        for r in self.rows)
         metrics = tuple(self.metrics.item(k).text() for k in range(self.metrics.count())
                         if self.metrics.item(k).checkState() == checked_state(True))
         return Study(name=self.name.text().strip(), base=self._base(path), factors=factors,

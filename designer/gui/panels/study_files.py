@@ -11,6 +11,7 @@ from pathlib import Path
 
 from PySide6.QtWidgets import QFileDialog
 
+from designer.gui.study_data import range_text
 from designer.study.factors import FACTORS
 
 
@@ -88,7 +89,8 @@ class StudyFiles:
             self.inline_base = study.base.inline_xml.lstrip(b"\n")
         for f in study.factors:
             if f.name in FACTORS:
-                self.add_factor(f.name, " ".join(f.values))
+                levels = range_text(f.range_spec) if f.range_spec else " ".join(f.values)
+                self.add_factor(f.name, levels)
             else:
                 self._show_errors([f"{path}:{f.where.line}:{f.where.column}: <factor>: "
                                    f"unknown factor '{f.name}'; not shown"])
