@@ -10,7 +10,10 @@ Time estimate (seconds on one worker):
   figures), scaled by this machine's measured factor
   (:mod:`designer.gui.render_speed`);
 * reconstruction + comparison: per distinct processing, its images ×
-  :func:`reconstruct_seconds_per_image` (grows with the image size, measured).
+  :func:`reconstruct_seconds_per_image` (grows with the image size, measured); a
+  processing of images whose features and matches an earlier run of the study computed
+  (same images, camera start values and matching settings: the study's feature cache
+  hands them over) pays only the part after matching, 1 − :data:`FEATURE_SHARE`.
 """
 
 from __future__ import annotations
@@ -40,6 +43,22 @@ RECONSTRUCT_S_MAX = 7.0
 #: a dense cloud (``<dense mode="cpu"/>``) costs this much more: 46–54 s per nadir run of
 #: 12 images in the flight-geometry example against 21–54 s without (docs/studies.md)
 DENSE_FACTOR = 1.3
+
+
+#: the share of a reconstruction's time spent on feature extraction and matching, which
+#: runs of the same images share through the feature cache: ``designer demo`` on the
+#: example survey spent 129.8 s on features and 102.8 s on matching of 418.6 s, 56 %
+#: (dense cloud included; docs/benchmarks.md)
+FEATURE_SHARE = 0.55
+
+
+def _features_key(render_key: str, project) -> str:
+    """What a run's features and matches depend on besides the images: the camera's start
+    values (calibration settings) and the matching settings."""
+    processing = project.processing
+    if processing is None:
+        return render_key
+    return render_key + repr((processing.calibration, processing.matching))
 
 
 def reconstruct_seconds_per_image(project, interior) -> float:
@@ -125,6 +144,7 @@ def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
     renders: dict[str, tuple[int, float]] = {}
     render_s = 0.0
     processings: dict[str, int] = {}
+    features_done: set[str] = set()
     reconstruct_s = 0.0
     for run in plan.runs:
         project = run.project
@@ -139,7 +159,10 @@ def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
         if proc_key not in processings:
             n_images, per_image_s = renders[key]
             processings[proc_key] = n_images
-            reconstruct_s += n_images * per_image_s
+            features_key = _features_key(key, project)
+            shared = FEATURE_SHARE if features_key in features_done else 0.0
+            features_done.add(features_key)
+            reconstruct_s += n_images * per_image_s * (1.0 - shared)
     return PlanCost(plan.n_variants, len(plan.runs), len(renders), len(processings),
                     sum(n for n, _ in renders.values()), render_s, reconstruct_s)
 

@@ -108,6 +108,37 @@ def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
     assert twice.reconstruct_s == cost.reconstruct_s
 
 
+def test_the_estimate_counts_shared_features_once():
+    """gcp-count: 15 processings of one image set that differ only in the GCPs used —
+    the first extracts and matches, the other 14 reuse its features and matches."""
+    from designer.gui import derived
+    from designer.gui.study_data import FEATURE_SHARE, plan_cost, reconstruct_seconds_per_image
+    from designer.survey.project_poses import interior_from_camera, project_stations
+
+    plan = plan_study(read_study(ROOT / "resources" / "studies" / "gcp-count.xml"))
+    hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield
+    project = plan.runs[0].project
+    stations, camera_id = project_stations(project, hf)
+    per_run = len(stations) * reconstruct_seconds_per_image(
+        project, interior_from_camera(project.camera(camera_id)))
+    cost = plan_cost(plan, hf)
+    assert cost.reconstruct_s == pytest.approx(per_run * (1 + 14 * (1 - FEATURE_SHARE)))
+    # altitude: 4 image sets, each processed twice (the replicates re-draw the marking
+    # error): the second processing of each altitude reuses the first one's features
+    plan = plan_study(read_study(ROOT / "resources" / "studies" / "altitude.xml"))
+    hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield
+    per_altitude = {}
+    for run in plan.runs:
+        stations, camera_id = project_stations(run.project, hf)
+        per_altitude[len(stations), run.project.trajectory] = len(stations) * \
+            reconstruct_seconds_per_image(run.project,
+                                          interior_from_camera(run.project.camera(camera_id)))
+    assert len(per_altitude) == 4 and len(plan.runs) == 8
+    cost = plan_cost(plan, hf)
+    assert cost.reconstruct_s == pytest.approx(
+        sum(per_altitude.values()) * (1 + (1 - FEATURE_SHARE)))
+
+
 def test_a_range_is_written_back_as_the_range_while_it_still_is_one():
     xml = ('<study xmlns="urn:designer:project:1" schema-version="1.0" name="r">'
            '<base-project file="b.xml"/><factor name="k1"><range start="-0.1" stop="0.25" '
