@@ -123,19 +123,36 @@ def import_flight(
 ) -> m.Project:
     """Build and write (atomically) the project replaying the flight in ``source``."""
     from designer.project import load_project, validate_project, write_project
-    from designer.scene.build import build_heightfield
 
     out_path = Path(out_path)
     if not out_path.parent.is_dir():
         raise DesignerError(f"{out_path}: the folder {out_path.parent} does not exist; "
                             "create it first")
     base_path = Path(base_path)
-    base = load_project(base_path)
+    project = replay_project(
+        source, load_project(base_path), base_path.parent, height=height,
+        takeoff_height_m=takeoff_height_m, height_offset_m=height_offset_m, csv_crs=csv_crs)
+    project = _rebase(project, base_path.parent, out_path.parent)
+    validate_project(project, out_path.parent, str(out_path))
+    write_project(project, out_path)
+    return project
+
+
+def replay_project(
+    source: Path, base: m.Project, base_dir: Path, *, height: str = "absolute",
+    takeoff_height_m: float | None = None, height_offset_m: float = 0.0,
+    csv_crs: str | None = None,
+) -> m.Project:
+    """``base`` (whose files are relative to ``base_dir``) flying the photos of ``source``
+    as explicit exterior orientations, with the camera the metadata names; not written,
+    not validated."""
+    from designer.scene.build import build_heightfield
+
     georef = Georef(base.crs)
-    photos = read_source(source, csv_crs or base.crs)
+    photos = read_source(Path(source), csv_crs or base.crs)
     camera = pick_camera([p.camera for p in photos], base_camera(base))
     if height == "relative" and takeoff_height_m is None:
-        hf = build_heightfield(base.scene.terrain, base_path.parent, base.crs)
+        hf = build_heightfield(base.scene.terrain, Path(base_dir), base.crs)
         if hf is None:
             raise DesignerError("the base terrain is a mesh; give --takeoff-height-m")
         first = photos[0]
@@ -159,14 +176,11 @@ def import_flight(
     suffixes = {_FORMAT_OF_SUFFIX.get(Path(p.name).suffix.lower()) for p in photos}
     if len(suffixes) == 1 and None not in suffixes:
         render = dataclasses.replace(render, output_format=suffixes.pop())
-    project = dataclasses.replace(
-        _rebase(base, base_path.parent, out_path.parent), cameras=cameras, render=render,
+    return dataclasses.replace(
+        base, cameras=cameras, render=render,
         trajectory=m.Trajectory(exterior_orientations=tuple(eos)),
         description=(f"{base.description or base.name} — replaying the flight of "
                      f"{Path(source).name} ({len(eos)} photos)"))
-    validate_project(project, out_path.parent, str(out_path))
-    write_project(project, out_path)
-    return project
 
 
 def _rebase(project: m.Project, old_dir: Path, new_dir: Path) -> m.Project:

@@ -32,6 +32,7 @@ from designer.gui.panels.terrain import TerrainPanel
 from designer.gui.panels.texture import TexturePanel
 from designer.gui.scene_sync import SceneSync
 from designer.gui.scene_view import SceneView
+from designer.gui.site_flight_actions import SiteFlightActions
 from designer.gui.tasks import TaskRunner
 from designer.gui.undo import Editor
 
@@ -74,6 +75,7 @@ class MainWindow(QMainWindow):
         self.setCentralWidget(self.view)
         self.sync = SceneSync(self.document, self.view, self.tasks)
         self.file_actions = FileActions(self, self.settings)
+        self.site_flight_actions = SiteFlightActions(self)
 
         self.panels: dict[str, QWidget] = {}
         self.docks: dict[str, QDockWidget] = {}
@@ -200,6 +202,8 @@ class MainWindow(QMainWindow):
         bar = self.menuBar()
         self.file_actions.build_menu(bar.addMenu("&File"))
         file_menu = bar.actions()[0].menu()
+        file_menu.addSeparator()
+        self.site_flight_actions.build_menu(file_menu)
         file_menu.addSeparator()
         file_menu.addAction(self._action("Save screens&hot…", None, self._screenshot_dialog))
         file_menu.addAction(self._action("&Quit", QKeySequence.StandardKey.Quit, self.close))

@@ -179,3 +179,67 @@ def write_xyz_ply(path, xyz) -> None:
     data = np.empty(len(xyz), dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")])
     data["x"], data["y"], data["z"] = xyz.T
     PlyData([PlyElement.describe(data, "vertex")]).write(str(path))
+
+
+def answer_file_dialogs(answers, timeout_s: float = 20.0) -> None:
+    """Answer the next file dialogs in turn, as a person would: each answer is a path
+    (typed into the file name field, then Open/Save), ``(path, file type)`` (the file
+    type chosen first) or None (Cancel). Gives up like :func:`answer_file_dialog`."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QDialog, QFileDialog, QLineEdit
+
+    answers = list(answers)
+    deadline = [time.monotonic() + timeout_s]
+
+    def answer() -> None:
+        dialog = QApplication.activeModalWidget()
+        if not isinstance(dialog, QFileDialog) or not dialog.isVisible():
+            if time.monotonic() < deadline[0]:
+                QTimer.singleShot(50, answer)
+                return
+            seen = type(dialog).__name__ if dialog is not None else "no modal window"
+            if isinstance(dialog, QDialog):
+                dialog.reject()
+            raise AssertionError(f"no file dialog opened within {timeout_s:g} s for "
+                                 f"{answers[0]} (found: {seen})")
+        given = answers.pop(0)
+        if given is None:
+            dialog.reject()
+        else:
+            path, file_type = given if isinstance(given, tuple) else (given, None)
+            if file_type is not None:
+                assert file_type in dialog.nameFilters(), dialog.nameFilters()
+                dialog.selectNameFilter(file_type)
+            dialog.findChild(QLineEdit, "fileNameEdit").setText(str(path))
+            dialog.accept()
+        if answers:
+            deadline[0] = time.monotonic() + timeout_s
+            QTimer.singleShot(100, answer)
+
+    QTimer.singleShot(50, answer)
+
+
+def choose_menu(qtbot, window, *titles: str) -> None:
+    """Click through the menu bar: ``choose_menu(qtbot, w, "File", "Import flight",
+    "From a folder of images…")`` (titles without their & accelerators)."""
+    from PySide6.QtCore import Qt
+
+    def find(actions, title):
+        for action in actions:
+            if action.text().replace("&", "") == title:
+                return action
+        raise AssertionError(f"no menu entry '{title}' in "
+                             f"{[a.text() for a in actions if a.text()]}")
+
+    bar = window.menuBar()
+    action = find(bar.actions(), titles[0])
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.actionGeometry(action).center())
+    menu = action.menu()
+    qtbot.waitUntil(menu.isVisible, timeout=5000)
+    for title in titles[1:]:
+        action = find(menu.actions(), title)
+        qtbot.mouseClick(menu, Qt.MouseButton.LeftButton,
+                         pos=menu.actionGeometry(action).center())
+        if action.menu() is not None:
+            menu = action.menu()
+            qtbot.waitUntil(menu.isVisible, timeout=5000)

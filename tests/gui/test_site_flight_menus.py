@@ -1,0 +1,135 @@
+"""File → Import site, Import flight and Export flight plan, used with the mouse: the
+menus clicked, the file dialogs answered as a person would."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtTest import QTest
+
+from designer.flight.qgc import read_plan
+from designer.flight.wpml import read_wpml
+from designer.project import load_project
+from tests.flight.helpers import EXAMPLE, true_poses, write_dji_image
+from tests.gui.helpers import answer_file_dialogs, choose_menu, problems, wait_idle
+
+pytestmark = pytest.mark.gui
+
+
+def test_import_site_builds_opens_and_refuses_a_bad_dem(qtbot, window, sample_site,
+                                                        tmp_path):
+    w = window
+    path = tmp_path / "site.xml"
+    answer_file_dialogs([sample_site["dem"], sample_site["orthophoto"], path])
+    choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
+    wait_idle(qtbot, w)
+    assert w.document.path == path and path.is_file()
+    assert problems(w) == []
+    project = w.document.project
+    assert project == load_project(path)
+    assert project.scene.terrain.source.file.endswith("dem.tif")
+    assert project.scene.texture.source.file.endswith("orthophoto.tif")
+    assert project.crs.startswith("EPSG:")
+
+    # a file that is no GeoTIFF: the command's one-line error, nothing written
+    bad = tmp_path / "notes.tif"
+    bad.write_text("not a raster\n")
+    answer_file_dialogs([bad, None, tmp_path / "bad.xml"])
+    choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
+    lines = problems(w)
+    assert len(lines) == 1 and "notes.tif" in lines[0], lines
+    assert not (tmp_path / "bad.xml").exists()
+    assert w.document.path == path  # the open project stays
+
+
+def _flown_images(folder, n: int):
+    """DJI-style geotagged images of the example survey's first ``n`` true poses."""
+    project = load_project(EXAMPLE)
+    poses = true_poses(project, EXAMPLE.parent)[:n]
+    folder.mkdir()
+    for k, pose in enumerate(poses):
+        write_dji_image(folder / f"DJI_{k + 1:04d}.JPG", pose, project.crs)
+    return poses
+
+
+def test_import_flight_from_images_replays_the_poses_and_undoes(qtbot, window, tmp_path):
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    planned = w.document.project
+    poses = _flown_images(tmp_path / "flown", 6)
+
+    answer_file_dialogs([tmp_path / "flown"])
+    choose_menu(qtbot, w, "File", "Import flight", "From a folder of images…")
+    wait_idle(qtbot, w)
+    assert problems(w) == []
+    eos = w.document.project.trajectory.exterior_orientations
+    assert [e.name for e in eos] == [f"DJI_{k + 1:04d}.JPG" for k in range(6)]
+    C = np.array([[e.X, e.Y, e.Z] for e in eos])
+    assert np.abs(C - np.array([p.C_world for p in poses])).max() < 0.01
+    # the view draws the imported photos: six frusta, and six footprints on the ground
+    # around the nadir point of each photo
+    geometry = w.sync.stations.geometry
+    assert geometry.n_stations == 6
+    assert len(geometry.frustum_points) == 6 * 5  # apex + 4 corners each
+    footprints = geometry.footprint_points.reshape(6, -1, 3)
+    assert np.abs(footprints[:, :, :2].mean(axis=1) - C[:, :2]).max() < 15.0
+    assert (footprints[:, :, 2] < C[:, None, 2] - 30.0).all()  # on the ground, far below
+    assert w.view.plotter.actors["frusta"].GetVisibility()
+    assert w.view.plotter.actors["footprints"].GetVisibility()
+    assert w.document.dirty
+
+    # one undo step brings the planned flight back
+    w.activateWindow()
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    wait_idle(qtbot, w)
+    assert w.document.project == planned
+
+
+def test_import_flight_from_a_bad_csv_changes_nothing(qtbot, window, tmp_path):
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    before = w.document.project
+    bad = tmp_path / "reference.csv"
+    bad.write_text("Label,X,Y\nIMG_1.JPG,1,2\n")
+    answer_file_dialogs([bad])
+    choose_menu(qtbot, w, "File", "Import flight", "From a geo.txt or reference CSV…")
+    lines = problems(w)
+    assert len(lines) == 1 and "reference.csv" in lines[0], lines
+    assert w.document.project == before
+
+
+def test_export_flight_plan_in_each_format_reads_back(qtbot, window, tmp_path):
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    n_images = w.sync.stations.n_images
+
+    qgc = "QGroundControl plan, heights relative to take-off (*.plan)"
+    answer_file_dialogs([(tmp_path / "mission", qgc)])
+    choose_menu(qtbot, w, "File", "Export flight plan…")
+    assert problems(w) == []
+    plan = tmp_path / "mission.plan"  # the file type's suffix is added
+    points = read_plan(plan)
+    assert len(points) == n_images
+
+    wpml = "DJI WPML mission, heights above mean sea level (*.kmz)"
+    answer_file_dialogs([(tmp_path / "mission.kmz", wpml)])
+    choose_menu(qtbot, w, "File", "Export flight plan…")
+    assert problems(w) == []
+    flown = read_wpml(tmp_path / "mission.kmz")
+    assert len(flown) == n_images
+    # both files give the same photo positions (the planned exposures)
+    lonlat_qgc = np.array([[p.lon_deg, p.lat_deg] for p in points])
+    lonlat_wpml = np.array([[p.lon_deg, p.lat_deg] for p in flown])
+    assert np.abs(lonlat_qgc - lonlat_wpml).max() < 1e-9
