@@ -205,3 +205,44 @@ def observe_gcps(
                 continue
             out.append(GcpObservation(gcp.gcp_id, pose.image_name, proj.uv_px[m, i]))
     return out
+
+
+@dataclass(frozen=True, eq=False)
+class CameraSet:
+    """Several physical cameras in one survey (a multi-camera rig).
+
+    Attributes:
+        interiors: camera id → its interior orientation, in the order the exporters
+            number the cameras (COLMAP CAMERA_ID 1, 2, …).
+        image_camera: image name → the id of the camera that took it.
+    """
+
+    interiors: dict[str, InteriorOrientation]
+    image_camera: dict[str, str]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "interiors", dict(self.interiors))
+        object.__setattr__(self, "image_camera", dict(self.image_camera))
+        if not self.interiors:
+            raise InvalidDataError("a camera set needs at least one camera")
+        for camera_id in self.interiors:
+            check_name(camera_id, "camera id")
+        unknown = sorted(set(self.image_camera.values()) - set(self.interiors))
+        if unknown:
+            raise InvalidDataError(f"images refer to unknown camera(s) {unknown}")
+
+    def interior_of(self, image_name: str) -> InteriorOrientation:
+        """The interior orientation of the camera that took ``image_name``."""
+        try:
+            return self.interiors[self.image_camera[image_name]]
+        except KeyError:
+            raise InvalidDataError(f"image {image_name!r} has no camera in the set") from None
+
+    def camera_of(self, image_name: str) -> str:
+        return self.image_camera[image_name]
+
+    def covers(self, image_names: Iterable[str]) -> None:
+        """Raise InvalidDataError naming the first image without a camera."""
+        missing = next((n for n in image_names if n not in self.image_camera), None)
+        if missing is not None:
+            raise InvalidDataError(f"image {missing!r} has no camera in the camera set")

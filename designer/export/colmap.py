@@ -32,7 +32,11 @@ pycolmap's own projection in tests/export/test_colmap.py):
   ``--SiftExtraction.num_threads 1`` that is the sorted-name order, so a known-pose
   model triangulates without editing (several threads may finish out of order). Lines
   stay in pose (flight) order;
-* camera model (one camera, CAMERA_ID 1, shared by all images):
+* cameras: one camera, CAMERA_ID 1, shared by all images; a multi-camera rig
+  (:class:`designer.core.truth.CameraSet`) has one line per physical camera, CAMERA_IDs
+  1, 2, … in the set's order (a comment names each designer camera id), and each image
+  refers to its own camera's CAMERA_ID;
+* camera model:
   PINHOLE fx fy cx cy when there is no distortion; OPENCV fx fy cx cy k1 k2 p1 p2
   for Brown–Conrady with k3 = 0; FULL_OPENCV fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6
   with k4 = k5 = k6 = 0 (COLMAP's rational denominator) when k3 != 0;
@@ -59,7 +63,7 @@ import numpy as np
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import colmap_pose_from_photo
-from designer.core.truth import CameraPose
+from designer.core.truth import CameraPose, CameraSet
 from designer.export._text import (
     ExportError,
     check_offset,
@@ -147,8 +151,25 @@ def colmap_camera_model(interior: InteriorOrientation) -> tuple[str, list[float]
     raise ExportError(f"no COLMAP camera model for distortion {type(d).__name__}")
 
 
-def colmap_cameras_text(interior: InteriorOrientation) -> str:
-    """cameras.txt: one camera, ``CAMERA_ID MODEL WIDTH HEIGHT PARAMS...``."""
+def colmap_camera_ids(cameras: CameraSet) -> dict[str, int]:
+    """{designer camera id: COLMAP CAMERA_ID}: 1, 2, … in the camera set's order."""
+    return {camera_id: k for k, camera_id in enumerate(cameras.interiors, start=1)}
+
+
+def colmap_cameras_text(interior: InteriorOrientation | CameraSet) -> str:
+    """cameras.txt: ``CAMERA_ID MODEL WIDTH HEIGHT PARAMS...``, one camera or one line per
+    camera of a :class:`CameraSet`."""
+    if isinstance(interior, CameraSet):
+        numbers = colmap_camera_ids(interior)
+        lines = ["# Camera list with one line of data per camera:",
+                 "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]",
+                 f"# Number of cameras: {len(numbers)}",
+                 "# designer cameras: " + ", ".join(f"{k} = {c}" for c, k in numbers.items())]
+        for camera_id, k in numbers.items():
+            model, params = colmap_camera_model(interior.interiors[camera_id])
+            W, H = interior.interiors[camera_id].image_size_px
+            lines.append(f"{k} {model} {W} {H} {' '.join(fmt(p) for p in params)}")
+        return "\n".join(lines) + "\n"
     model, params = colmap_camera_model(interior)
     W, H = interior.image_size_px
     return (
@@ -159,13 +180,19 @@ def colmap_cameras_text(interior: InteriorOrientation) -> str:
     )
 
 
-def colmap_images_text(poses: Sequence[CameraPose], offset_world=None) -> str:
+def colmap_images_text(poses: Sequence[CameraPose], offset_world=None,
+                       cameras: CameraSet | None = None) -> str:
     """images.txt: ``IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME`` + an empty 2D line.
 
     IMAGE_IDs are 1, 2, … in sorted-name order (:func:`image_ids_by_name`); lines
     follow ``poses``. Coordinates are world minus ``offset_world`` (metres; default no
-    offset).
+    offset). CAMERA_ID is 1, or with ``cameras`` the image's own camera's
+    (:func:`colmap_camera_ids`).
     """
+    numbers = None
+    if cameras is not None:
+        cameras.covers(p.image_name for p in poses)
+        numbers = colmap_camera_ids(cameras)
     check_unique((p.image_name for p in poses), "image name")
     offset = check_offset(offset_world)
     lines = [
@@ -180,8 +207,9 @@ def colmap_images_text(poses: Sequence[CameraPose], offset_world=None) -> str:
     for pose in poses:
         image_id = ids[pose.image_name]
         q, t = colmap_pose_from_photo(pose.R_cam_to_world, pose.C_world - offset)
-        numbers = " ".join(fmt(v) for v in (*q, *t))
-        lines.append(f"{image_id} {numbers} {CAMERA_ID} {pose.image_name}")
+        values = " ".join(fmt(v) for v in (*q, *t))
+        camera = CAMERA_ID if numbers is None else numbers[cameras.camera_of(pose.image_name)]
+        lines.append(f"{image_id} {values} {camera} {pose.image_name}")
         lines.append("")  # no 2D points
     return "\n".join(lines) + "\n"
 
@@ -197,7 +225,7 @@ def colmap_points3d_text() -> str:
 
 def colmap_texts(
     folder: str | os.PathLike,
-    interior: InteriorOrientation,
+    interior: InteriorOrientation | CameraSet,
     poses: Sequence[CameraPose],
     offset_world=None,
     choice: str = "explicit",
@@ -210,7 +238,8 @@ def colmap_texts(
         choice = "none"
     return {
         folder / "cameras.txt": colmap_cameras_text(interior),
-        folder / "images.txt": colmap_images_text(poses, offset_world),
+        folder / "images.txt": colmap_images_text(
+            poses, offset_world, interior if isinstance(interior, CameraSet) else None),
         folder / "points3D.txt": colmap_points3d_text(),
         folder / OFFSET_FILE: colmap_offset_json(offset_world, choice, crs),
     }
@@ -218,7 +247,7 @@ def colmap_texts(
 
 def write_colmap_text_model(
     folder: str | os.PathLike,
-    interior: InteriorOrientation,
+    interior: InteriorOrientation | CameraSet,
     poses: Sequence[CameraPose],
     offset_world=None,
 ) -> Path:

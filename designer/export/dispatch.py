@@ -13,6 +13,11 @@ Layout under ``out_dir`` (keys of the returned dict in brackets):
   ``metashape/markers_reference.csv``, ``metashape/markers.xml``  [metashape_calibration,
   metashape_cameras, metashape_markers, metashape_markers_xml] — the XML carries the
   marker projections and control (enabled) / check (disabled) flags;
+* ``odm/cameras.json`` [odm_cameras] — a multi-camera rig's cameras only;
+* a multi-camera rig (``interior`` a :class:`~designer.core.truth.CameraSet`): COLMAP
+  one camera per physical camera, Metashape one sensor per camera (and
+  ``metashape/calibration_<CAMERA>.xml`` each) [metashape_calibration_<CAMERA>], and a
+  ``camera`` column in ``camera_poses_opk.csv`` and ``gcp_observations.csv``;
 * ``camera_poses_opk.csv``  [opk];
 * ``gcp_truth.csv``, ``gcp_observations.csv``  [gcp_truth, gcp_observations];
 * ``image_times.csv`` [image_times] and a ``time`` column in ``camera_poses_opk.csv`` —
@@ -31,7 +36,13 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from designer.core.interior import InteriorOrientation
-from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint, ImageTime
+from designer.core.truth import (
+    CameraPose,
+    CameraSet,
+    GcpObservation,
+    GroundControlPoint,
+    ImageTime,
+)
 from designer.export import colmap, metashape, odm, tables
 from designer.export._text import ExportError, check_crs, check_unique, write_texts
 
@@ -40,7 +51,7 @@ FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
 
 def write_all(
     out_dir: str | os.PathLike,
-    interior: InteriorOrientation,
+    interior: InteriorOrientation | CameraSet,
     poses: Sequence[CameraPose],
     gcps: Sequence[GroundControlPoint],
     observations: Sequence[GcpObservation],
@@ -54,6 +65,7 @@ def write_all(
     """Write the chosen ``formats`` (subset of FORMATS) under ``out_dir``; {key: path}.
 
     ``colmap_offset``: ``"local"``, ``"none"``, three numbers or ``"E,N,H"`` (metres).
+    ``interior``: the one camera, or a rig's :class:`CameraSet` (every image's camera).
     """
     unknown = [f for f in formats if f not in FORMATS]
     if unknown:
@@ -62,6 +74,9 @@ def write_all(
     check_unique((p.image_name for p in poses), "image name")
     check_unique((g.gcp_id for g in gcps), "GCP id")
     images = {p.image_name for p in poses}
+    cameras = interior if isinstance(interior, CameraSet) else None
+    if cameras is not None:
+        cameras.covers(images)
     ids = {g.gcp_id for g in gcps}
     for o in observations:
         if o.image_name not in images:
@@ -89,22 +104,31 @@ def write_all(
         add("odm_gcp_list", out / "odm" / "gcp_list.txt",
             odm.odm_gcp_list_text(gcps, observations, crs, odm_gcp_roles))
         add("odm_geo", out / "odm" / "geo.txt", odm.odm_geo_text(poses, crs))
+        if cameras is not None:
+            add("odm_cameras", out / "odm" / "cameras.json", odm.odm_cameras_json(cameras))
     if "metashape" in formats:
         folder = out / "metashape"
-        add("metashape_calibration", folder / "calibration.xml",
-            metashape.metashape_calibration_xml(interior))
+        if cameras is None:
+            add("metashape_calibration", folder / "calibration.xml",
+                metashape.metashape_calibration_xml(interior))
+        else:
+            for camera_id, camera in cameras.interiors.items():
+                add(f"metashape_calibration_{camera_id}",
+                    folder / f"calibration_{camera_id}.xml",
+                    metashape.metashape_calibration_xml(camera))
         add("metashape_cameras", folder / "cameras_reference.csv",
             metashape.metashape_cameras_csv(poses, crs))
         add("metashape_markers", folder / "markers_reference.csv",
             metashape.metashape_markers_csv(gcps, crs))
         add("metashape_markers_xml", folder / "markers.xml",
-            metashape.metashape_markers_xml(poses, gcps, observations, crs))
+            metashape.metashape_markers_xml(poses, gcps, observations, crs, cameras))
     if "opk" in formats:
-        add("opk", out / "camera_poses_opk.csv", tables.opk_csv(poses, crs, image_times))
+        add("opk", out / "camera_poses_opk.csv",
+            tables.opk_csv(poses, crs, image_times, cameras))
     if "gcp" in formats:
         add("gcp_truth", out / "gcp_truth.csv", tables.gcp_truth_csv(gcps, crs))
         add("gcp_observations", out / "gcp_observations.csv",
-            tables.gcp_observations_csv(observations))
+            tables.gcp_observations_csv(observations, cameras))
     if image_times is not None:
         add("image_times", out / "image_times.csv", tables.image_times_csv(image_times))
     write_texts(texts)

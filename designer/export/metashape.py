@@ -44,6 +44,12 @@ Marker.Projection(coord, pinned)):
   deviations (m); ``enabled="true"`` for control points and ``"false"`` for check
   points — an unticked marker in the Reference pane is a check point (used to score,
   not to georeference);
+* a multi-camera rig (:class:`designer.core.truth.CameraSet`): ``<sensors>`` with one
+  ``<sensor id="s" label="CAMERA_ID" type="frame">`` per physical camera (its
+  ``<resolution>`` and fixed ``<calibration>``, the values of its calibration XML), and
+  each camera's ``sensor_id`` is its sensor's; one camera writes no ``<sensors>`` and
+  every camera has ``sensor_id="0"``. Each sensor's calibration is also written as
+  ``calibration_<CAMERA_ID>.xml`` for Tools → Camera Calibration → Load;
 * ``<frames><frame id="0"><markers>``: per marker ``<marker marker_id="m">`` with one
   ``<location camera_id="k" pinned="true" x y/>`` per image point (pinned = placed by
   hand, i.e. a measured projection). x, y are Metashape pixel coordinates, origin at
@@ -64,7 +70,7 @@ from lxml import etree
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import opk_from_rotation
-from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint
+from designer.core.truth import CameraPose, CameraSet, GcpObservation, GroundControlPoint
 from designer.export._text import (
     ExportError,
     check_crs,
@@ -100,10 +106,15 @@ def metashape_calibration_values(interior: InteriorOrientation) -> dict[str, str
     return values
 
 
-def metashape_calibration_xml(interior: InteriorOrientation) -> str:
-    """Metashape camera calibration XML (Tools → Camera Calibration → Load)."""
-    root = etree.Element("calibration")
+def _calibration_element(interior: InteriorOrientation, parent=None) -> etree._Element:
+    root = (etree.Element("calibration") if parent is None
+            else etree.SubElement(parent, "calibration", type="frame", **{"class": "adjusted"}))
     for tag, value in metashape_calibration_values(interior).items():
+        if parent is not None and tag in ("projection", "width", "height"):
+            if tag == "width":
+                W, H = interior.image_size_px
+                etree.SubElement(root, "resolution", width=str(W), height=str(H))
+            continue
         if isinstance(value, str):
             text = value
         elif tag in ("width", "height"):
@@ -111,6 +122,12 @@ def metashape_calibration_xml(interior: InteriorOrientation) -> str:
         else:
             text = fmt(value)
         etree.SubElement(root, tag).text = text
+    return root
+
+
+def metashape_calibration_xml(interior: InteriorOrientation) -> str:
+    """Metashape camera calibration XML (Tools → Camera Calibration → Load)."""
+    root = _calibration_element(interior)
     # the declaration exactly as Metashape writes it (lxml would use single quotes)
     body = etree.tostring(root, pretty_print=True, encoding="unicode")
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + body
@@ -203,9 +220,11 @@ def metashape_markers_xml(
     gcps: Sequence[GroundControlPoint],
     observations: Sequence[GcpObservation],
     crs: str,
+    cameras: CameraSet | None = None,
 ) -> str:
     """Markers XML: cameras, markers with reference and enabled flag (control = enabled,
-    check = disabled), and every marker projection (see module doc)."""
+    check = disabled), and every marker projection (see module doc); with ``cameras``
+    (a rig) one sensor per physical camera."""
     crs = check_crs(crs)
     check_unique((p.image_name for p in poses), "image name")
     check_unique((g.gcp_id for g in gcps), "GCP id")
@@ -217,10 +236,25 @@ def metashape_markers_xml(
                               "GCP or image")
     doc = etree.Element("document", version="1.2.0")
     chunk = etree.SubElement(doc, "chunk", label="designer ground truth", enabled="true")
-    cameras = etree.SubElement(chunk, "cameras", next_id=str(len(poses)), next_group_id="0")
+    sensor_ids: dict[str, int] = {}
+    if cameras is not None:
+        cameras.covers(p.image_name for p in poses)
+        sensor_ids = {c: k for k, c in enumerate(cameras.interiors)}
+        sensors = etree.SubElement(chunk, "sensors", next_id=str(len(sensor_ids)))
+        for camera_id, k in sensor_ids.items():
+            interior = cameras.interiors[camera_id]
+            W, H = interior.image_size_px
+            sensor = etree.SubElement(sensors, "sensor", id=str(k), label=camera_id,
+                                      type="frame")
+            etree.SubElement(sensor, "resolution", width=str(W), height=str(H))
+            etree.SubElement(sensor, "property", name="fixed", value="true")
+            _calibration_element(interior, sensor)
+    camera_list = etree.SubElement(chunk, "cameras", next_id=str(len(poses)),
+                                   next_group_id="0")
     for p in poses:
-        etree.SubElement(cameras, "camera", id=str(camera_ids[p.image_name]), sensor_id="0",
-                         label=p.image_name)
+        sensor_id = 0 if cameras is None else sensor_ids[cameras.camera_of(p.image_name)]
+        etree.SubElement(camera_list, "camera", id=str(camera_ids[p.image_name]),
+                         sensor_id=str(sensor_id), label=p.image_name)
     markers = etree.SubElement(chunk, "markers", next_id=str(len(gcps)), next_group_id="0")
     for g in gcps:
         marker = etree.SubElement(markers, "marker", id=str(marker_ids[g.gcp_id]),

@@ -36,10 +36,20 @@ opensfm/features.py normalized_image_coordinates):
   the example site, up to ~3° at a UTM zone's edge). pitch and roll do not change.
   ODM's docs say the angles are used for radiometric calibration and, through
   compute_opk, as ω φ κ priors.
+* ``cameras.json`` (multi-camera rigs only): one OpenSfM camera model per physical
+  camera, keyed by the designer camera id, in the form ODM's ``--cameras`` option and
+  OpenSfM's camera_models_overrides.json take: ``projection_type`` brown (or
+  fisheye_opencv), ``width``, ``height``, ``focal_x``, ``focal_y`` = fx, fy / max(W, H),
+  ``c_x``, ``c_y`` = (cx − W/2, cy − H/2) / max(W, H) (OpenSfM's normalised
+  coordinates, origin at the image centre, whatever the pixel origin), and k1 k2 k3
+  p1 p2 (OpenCV's meaning) or k1..k4. ODM names a camera by its images' EXIF make,
+  model, size and focal; the images of a rig are told apart by their names
+  (``camera_poses_opk.csv`` lists each image's camera).
 """
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from collections.abc import Sequence
@@ -48,8 +58,15 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.crs import crs_token, meridian_convergence_deg, odm_crs_problem
+from designer.core.distortion import FisheyeEquidistant
 from designer.core.rotation import heading_tilt_roll_from_rotation
-from designer.core.truth import GCP_ROLES, CameraPose, GcpObservation, GroundControlPoint
+from designer.core.truth import (
+    GCP_ROLES,
+    CameraPose,
+    CameraSet,
+    GcpObservation,
+    GroundControlPoint,
+)
 from designer.export._text import (
     ExportError,
     check_crs,
@@ -160,6 +177,29 @@ def odm_geo_text(
         numbers = " ".join(fmt(v) for v in (*pose.C_world, yaw, pitch, roll))
         rows.append(f"{pose.image_name} {numbers}{accuracy}")
     return "\n".join(rows) + "\n"
+
+
+def odm_cameras_json(cameras: CameraSet) -> str:
+    """cameras.json: an OpenSfM camera model per physical camera (see the module doc)."""
+    out = {}
+    for camera_id, interior in cameras.interiors.items():
+        W, H = interior.image_size_px
+        size = float(max(W, H))
+        d = interior.distortion
+        model: dict = {"width": W, "height": H, "focal_x": interior.fx_px / size,
+                       "focal_y": interior.fy_px / size,
+                       "c_x": (interior.cx_px - W / 2) / size,
+                       "c_y": (interior.cy_px - H / 2) / size}
+        if isinstance(d, FisheyeEquidistant):
+            model = {"projection_type": "fisheye_opencv", **model,
+                     "k1": d.k1, "k2": d.k2, "k3": d.k3, "k4": d.k4}
+        else:
+            k1, k2, k3, p1, p2 = ((d.k1, d.k2, d.k3, d.p1, d.p2) if d is not None
+                                  else (0.0,) * 5)
+            model = {"projection_type": "brown", **model,
+                     "k1": k1, "k2": k2, "k3": k3, "p1": p1, "p2": p2}
+        out[camera_id] = model
+    return json.dumps(out, indent=1) + "\n"
 
 
 def write_odm_gcp_list(

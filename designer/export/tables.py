@@ -26,7 +26,13 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.rotation import opk_from_rotation, rotation_from_opk
-from designer.core.truth import CameraPose, GcpObservation, GroundControlPoint, ImageTime
+from designer.core.truth import (
+    CameraPose,
+    CameraSet,
+    GcpObservation,
+    GroundControlPoint,
+    ImageTime,
+)
 from designer.export._text import ExportError, check_crs, check_unique, fmt, write_texts
 
 OPK_COLUMNS = ("image", "X", "Y", "Z", "omega_deg", "phi_deg", "kappa_deg")
@@ -54,9 +60,11 @@ def _table(comments: Sequence[str], columns: Sequence[str], rows: Sequence[Seque
 
 
 def opk_csv(poses: Sequence[CameraPose], crs: str,
-            times: Sequence[ImageTime] | None = None) -> str:
+            times: Sequence[ImageTime] | None = None,
+            cameras: CameraSet | None = None) -> str:
     """Camera table: image, X, Y, Z (perspective centre), omega_deg, phi_deg, kappa_deg,
-    and ``time`` (ISO 8601 UTC) when the photos have ``times`` (in the same order)."""
+    ``time`` (ISO 8601 UTC) when the photos have ``times`` (in the same order) and
+    ``camera`` (the designer camera id) for a multi-camera rig's ``cameras``."""
     crs = check_crs(crs)
     check_unique((p.image_name for p in poses), "image name")
     if times is not None and [t.image_name for t in times] != [p.image_name for p in poses]:
@@ -65,7 +73,8 @@ def opk_csv(poses: Sequence[CameraPose], crs: str,
     for k, p in enumerate(poses):
         opk = np.degrees(opk_from_rotation(p.R_cam_to_world))
         rows.append([p.image_name, *(fmt(v) for v in (*p.C_world, *opk))]
-                    + ([] if times is None else [times[k].time_utc]))
+                    + ([] if times is None else [times[k].time_utc])
+                    + ([] if cameras is None else [cameras.camera_of(p.image_name)]))
     comments = [
         f"designer camera poses; CRS {crs}; {_WORLD}; X, Y, Z = perspective centre",
         "omega, phi, kappa in degrees: R = Rx(omega)*Ry(phi)*Rz(kappa) maps camera axes "
@@ -73,7 +82,11 @@ def opk_csv(poses: Sequence[CameraPose], crs: str,
     ]
     if times is not None:
         comments.append("time: the moment the photo is taken, ISO 8601 UTC")
-    return _table(comments, OPK_COLUMNS if times is None else OPK_TIME_COLUMNS, rows)
+    columns = OPK_COLUMNS if times is None else OPK_TIME_COLUMNS
+    if cameras is not None:
+        comments.append("camera: the id of the project camera (rig mount) that took it")
+        columns = (*columns, "camera")
+    return _table(comments, columns, rows)
 
 
 def image_times_csv(times: Sequence[ImageTime]) -> str:
@@ -105,11 +118,17 @@ def gcp_truth_csv(gcps: Sequence[GroundControlPoint], crs: str) -> str:
     return _table(comments, GCP_TRUTH_COLUMNS, rows)
 
 
-def gcp_observations_csv(observations: Sequence[GcpObservation]) -> str:
-    """GCP image-point table: gcp_id, image, u_px, v_px (designer's pixel convention)."""
-    rows = [[o.gcp_id, o.image_name, fmt(o.uv_px[0]), fmt(o.uv_px[1])] for o in observations]
+def gcp_observations_csv(observations: Sequence[GcpObservation],
+                         cameras: CameraSet | None = None) -> str:
+    """GCP image-point table: gcp_id, image, u_px, v_px (designer's pixel convention),
+    and ``camera`` (the designer camera id of the image) for a rig's ``cameras``."""
+    rows = [[o.gcp_id, o.image_name, fmt(o.uv_px[0]), fmt(o.uv_px[1])]
+            + ([] if cameras is None else [cameras.camera_of(o.image_name)])
+            for o in observations]
     comments = ["designer GCP image points: projections of the TRUE GCP positions", _PIXELS]
-    return _table(comments, GCP_OBSERVATION_COLUMNS, rows)
+    columns = GCP_OBSERVATION_COLUMNS if cameras is None else (*GCP_OBSERVATION_COLUMNS,
+                                                               "camera")
+    return _table(comments, columns, rows)
 
 
 # ----------------------------------------------------------------------- writers

@@ -457,10 +457,41 @@ class TimeLine:
 
 
 @dataclass(frozen=True)
+class Mount:
+    """One camera of a rig: the project camera ``camera`` mounted on the platform, rotated
+    by ω φ κ (deg) relative to it — R_cam_to_world = R_platform · Rx(ω)·Ry(φ)·Rz(κ), the
+    same convention as a photo's angles with the platform in place of the world. Its
+    images are named as the station's with ``suffix`` before the extension
+    (IMG_00001.png → IMG_00001_F.png)."""
+
+    camera: str
+    suffix: str
+    omega_deg: float = 0.0
+    phi_deg: float = 0.0
+    kappa_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class Rig:
+    """Several cameras fired together at each station (e.g. nadir + four 45° obliques);
+    a photo or flight plan whose ``camera`` is the rig's ``name`` takes one image per
+    mount. All mounts share the station's perspective centre."""
+
+    name: str
+    mounts: tuple[Mount, ...]
+
+
+@dataclass(frozen=True)
 class Trajectory:
     exterior_orientations: tuple[ExteriorOrientation, ...] = ()
     flight_plan: FlightPlan | None = None
     time_line: TimeLine | None = None
+    #: multi-camera rigs a photo or the flight plan may name instead of a camera
+    rigs: tuple[Rig, ...] = ()
+
+    def rig(self, name: str) -> Rig | None:
+        """The rig of this name, or None (a plain camera id)."""
+        return next((r for r in self.rigs if r.name == name), None)
 
 
 # ---------------------------------------------------------------------- effects, render

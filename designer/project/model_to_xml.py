@@ -191,6 +191,12 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
 
 def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
     el = _sub(parent, "trajectory")
+    for rig in traj.rigs:
+        rig_el = _sub(el, "rig", name=rig.name)
+        for mount in rig.mounts:
+            _sub(rig_el, "mount", camera=mount.camera, suffix=mount.suffix,
+                 omega=_num(mount.omega_deg), phi=_num(mount.phi_deg),
+                 kappa=_num(mount.kappa_deg))
     if traj.exterior_orientations:
         eo_el = _sub(el, "exterior-orientations")
         photo_tag = q("photo")

@@ -6,6 +6,7 @@ import math
 import re
 from collections import Counter
 
+from designer.core.rig import mount_tilt_deg
 from designer.project import model as m
 from designer.project.checks import BIT_DEPTHS, EXTENSIONS, finite_issues, is_ok
 from designer.project.geometry import (
@@ -24,6 +25,7 @@ def trajectory_issues(project: m.Project) -> list[Issue]:
     if not traj.exterior_orientations and traj.flight_plan is None:
         out.append(Issue(traj, "trajectory", "no photos: add <exterior-orientations> with "
                                              "<photo> elements or a <flight-plan>"))
+    out += rig_issues(project)
     out += _photos(project)
     if traj.flight_plan is not None:
         out += _flight_plan(project, traj.flight_plan)
@@ -41,7 +43,7 @@ def _lowest_ground(terrain: m.Terrain) -> float | None:
 
 def _photos(project: m.Project) -> list[Issue]:
     photos = project.trajectory.exterior_orientations
-    camera_ids = {c.id for c in project.cameras}
+    camera_ids = {c.id for c in project.cameras} | {r.name for r in project.trajectory.rigs}
     ground = _lowest_ground(project.scene.terrain)
     allowed = EXTENSIONS.get(project.render.output_format, ())
     out: list[Issue] = []
@@ -59,7 +61,8 @@ def _photos(project: m.Project) -> list[Issue]:
             out.append(Issue(p, "photo", f"image name '{p.name}' is used by {counts[p.name]} "
                                          "photos; give each photo its own name", attr="name"))
         if p.camera not in camera_ids:
-            out.append(Issue(p, "photo", _unknown_camera(p.camera, camera_ids), attr="camera"))
+            message = _unknown_camera(p.camera, camera_ids, bool(project.trajectory.rigs))
+            out.append(Issue(p, "photo", message, attr="camera"))
         if ground is not None and p.Z <= ground:
             out.append(Issue(p, "photo", f"photo '{p.name}' at Z {p.Z:g} m is not above the "
                              f"terrain (lowest ground {ground:g} m); raise Z", attr="Z"))
@@ -74,16 +77,63 @@ def _photos(project: m.Project) -> list[Issue]:
     return out
 
 
-def _unknown_camera(camera: str, camera_ids: set[str]) -> str:
+def _unknown_camera(camera: str, camera_ids: set[str], rigs: bool = False) -> str:
     known = ", ".join(sorted(camera_ids)) or "none"
-    return f"camera '{camera}' is not defined; use the id of a <camera> ({known})"
+    what = "a <camera> or <rig>" if rigs else "a <camera>"
+    return f"camera '{camera}' is not defined; use the id of {what} ({known})"
+
+
+#: largest angle (deg) between a mount's viewing axis and the platform's: beyond it the
+#: camera would look backwards, away from where the platform points
+MAX_MOUNT_TILT_DEG = 90.0
+
+
+def rig_issues(project: m.Project) -> list[Issue]:
+    """Rigs: unique names distinct from cameras, known cameras, unique suffixes, angles in
+    range and every mount looking no further than 90° from the platform's axis."""
+    camera_ids = {c.id for c in project.cameras}
+    out: list[Issue] = []
+    names = Counter(r.name for r in project.trajectory.rigs)
+    for rig in project.trajectory.rigs:
+        if rig.name in camera_ids:
+            out.append(Issue(rig, "rig", f"rig name '{rig.name}' is also a camera id; give "
+                             "the rig a name of its own", attr="name"))
+        if names[rig.name] > 1:
+            out.append(Issue(rig, "rig", f"rig name '{rig.name}' is used by {names[rig.name]} "
+                             "rigs; give each rig its own name", attr="name"))
+        if not rig.mounts:
+            out.append(Issue(rig, "rig", f"rig '{rig.name}' has no <mount>; add one per camera"))
+        suffixes = Counter(mt.suffix for mt in rig.mounts)
+        for mount in rig.mounts:
+            if mount.camera not in camera_ids:
+                known = ", ".join(sorted(camera_ids)) or "none"
+                out.append(Issue(mount, "mount", f"camera '{mount.camera}' of rig '{rig.name}' "
+                                 f"is not defined; use the id of a <camera> ({known})",
+                                 attr="camera"))
+            if suffixes[mount.suffix] > 1:
+                out.append(Issue(mount, "mount", f"suffix '{mount.suffix}' is used by "
+                                 f"{suffixes[mount.suffix]} mounts of rig '{rig.name}'; give "
+                                 "each mount its own suffix", attr="suffix"))
+            angles = (mount.omega_deg, mount.phi_deg, mount.kappa_deg)
+            bad = next((k for k, a in zip(("omega", "phi", "kappa"), angles, strict=True)
+                        if not (math.isfinite(a) and -180 <= a <= 180)), None)
+            if bad is not None:
+                out.append(Issue(mount, "mount", f"{bad} = {getattr(mount, bad + '_deg')!r} "
+                                 "must be from -180 to 180 degrees", attr=bad))
+            elif (tilt := mount_tilt_deg(*angles)) > MAX_MOUNT_TILT_DEG:
+                out.append(Issue(mount, "mount", f"mount '{mount.suffix}' of rig '{rig.name}' "
+                                 f"looks {tilt:.1f} degrees away from the platform's axis; "
+                                 f"keep omega and phi within {MAX_MOUNT_TILT_DEG:g} degrees "
+                                 "of it", attr="omega"))
+    return out
 
 
 def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     out = finite_issues(fp)
-    camera_ids = {c.id for c in project.cameras}
+    camera_ids = {c.id for c in project.cameras} | {r.name for r in project.trajectory.rigs}
     if fp.camera not in camera_ids:
-        out.append(Issue(fp, "flight-plan", _unknown_camera(fp.camera, camera_ids),
+        out.append(Issue(fp, "flight-plan", _unknown_camera(fp.camera, camera_ids,
+                                                         bool(project.trajectory.rigs)),
                          attr="camera"))
     out += _area(project, fp)
     if (fp.altitude_agl_m is None) == (fp.gsd_m is None):

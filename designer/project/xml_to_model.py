@@ -261,10 +261,20 @@ class _Reader:
             time_line = self.note(m.TimeLine(
                 tl_el.get("takeoff-utc").strip(), _f(tl_el, "speed-m-s"),
                 _opt_f(tl_el, "turn-s") or 0.0, _opt_f(tl_el, "trigger-interval-s")), tl_el)
-        trajectory = self.note(m.Trajectory(photos, plan, time_line), el)
+        rigs = tuple(self.rig(r) for r in el.iterchildren(q("rig")))
+        trajectory = self.note(m.Trajectory(photos, plan, time_line, rigs), el)
         if eo_el is not None:
             self.note(trajectory, eo_el)
         return trajectory
+
+    def rig(self, el: etree._Element) -> m.Rig:
+        mounts = []
+        for mount_el in el.iterchildren(q("mount")):
+            mount = m.Mount(mount_el.get("camera"), mount_el.get("suffix"),
+                            *(_opt_f(mount_el, k) or 0.0 for k in ("omega", "phi", "kappa")))
+            self.smap.add(mount, "mount", mount_el.sourceline)
+            mounts.append(mount)
+        return self.note(m.Rig(el.get("name"), tuple(mounts)), el)
 
     def photo(self, el: etree._Element) -> m.ExteriorOrientation:
         get = el.get

@@ -125,7 +125,7 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
     folder = images_dir(out_dir)
     for index, name in sorted(job.image_names.items()):
         path = folder / name
-        if not image_is_complete(path, job.width_px, job.height_px):
+        if not image_is_complete(path, *job.frame_size_px(index)):
             status.missing.append(name)
             continue
         inputs = (images.get(name) or {}).get("inputs")

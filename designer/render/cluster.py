@@ -72,7 +72,7 @@ def render_frames_on_cluster(
     todo = list(frames)
     if resume:
         report.skipped = [i for i in todo
-                          if image_is_complete(out_dir / names[i], job.width_px, job.height_px)
+                          if image_is_complete(out_dir / names[i], *job.frame_size_px(i))
                           and (keep is None or keep(i))]
         todo = [i for i in todo if i not in set(report.skipped)]
     try:

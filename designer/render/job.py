@@ -17,10 +17,11 @@ from designer import __version__
 from designer.core.interior import InteriorOrientation
 from designer.core.layout import IMAGES_DIR, JOB_DIR
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
-from designer.core.truth import CameraPose
+from designer.core.truth import CameraPose, CameraSet
 from designer.effects.distortion_render import pinhole_render_camera
 from designer.effects.from_model import effects_from_model
 from designer.effects.motion import flight_direction_uv
+from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
@@ -43,7 +44,7 @@ from designer.render.job_spec import (
 )
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.texture_variation import GAIN_ENCODING
-from designer.survey.project_poses import project_stations, render_interior
+from designer.survey.project_poses import project_images, render_interior
 from designer.survey.timeline import StationTime, iso_utc, project_station_times
 
 #: samples per pixel of each quality preset; measured costs in the README
@@ -66,6 +67,18 @@ class PreparedJob:
     moving_poses: tuple[tuple, ...] = ()
     #: {moving object id: (vertices, faces) in its own frame, m}
     moving_meshes: dict | None = None
+    #: a multi-camera rig: every camera's rendered interior and each image's camera
+    #: (None: one camera, ``interior``)
+    cameras: CameraSet | None = None
+
+    @property
+    def camera_model(self) -> InteriorOrientation | CameraSet:
+        """What the exporters take: the one interior, or the camera set of a rig."""
+        return self.interior if self.cameras is None else self.cameras
+
+    def interior_of(self, image_name: str) -> InteriorOrientation:
+        """The rendered interior orientation of one image's camera."""
+        return self.interior if self.cameras is None else self.cameras.interior_of(image_name)
 
 
 def prepare_job(
@@ -84,13 +97,26 @@ def prepare_job(
     job_dir.mkdir(parents=True, exist_ok=True)
     origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
     scene = build_scene(project, base_dir)
-    stations, camera_id = project_stations(project, scene.heightfield)
+    images = project_images(project, scene.heightfield)
+    stations = list(images.stations)
     poses = [CameraPose(s.image_name, s.C_world, s.R_cam_to_world) for s in stations]
-    interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
+    camera_order = images.camera_order()
+    camera_id = camera_order[0]
+    interiors = {c: render_interior(project.camera(c), project.render.resolution_scale)
+                 for c in camera_order}
+    interior = interiors[camera_id]
     # A distorted camera is rendered as a pinhole just large enough to cover its field,
     # then warped through the exact inverse (designer.effects): the warp is made once.
     render_camera, warp = pinhole_render_camera(interior,
                                                 project.render.distortion_oversample)
+    frame_cameras: list = [None] * len(stations)
+    cameras = None
+    if images.is_multi_camera:
+        cameras = CameraSet(interiors, dict(zip((s.image_name for s in stations),
+                                                images.camera_ids, strict=True)))
+        _check_rig_renderable(project, interiors)
+        specs = {c: blender_camera(i) for c, i in interiors.items()}
+        frame_cameras = [specs[c] for c in images.camera_ids]
     effects = None
     if not effects_from_model(project.effects, interior, warp=warp).is_empty:
         write_project(project, job_dir / "project.xml")
@@ -122,9 +148,13 @@ def prepare_job(
         terrain_uv = {"uv_texture": scene.texture_uv}
     save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
              faces=scene.terrain.faces, uv=scene.terrain.uv, **terrain_uv)
-    contexts = _frame_contexts(stations, interior, scene)
+    contexts = _frame_contexts(stations, [interiors[c] for c in images.camera_ids], scene)
     light = ObjectLighting(project, base_dir, scene, origin, job_dir, terrain_material)
-    times = project_station_times(project, stations)
+    # the time line is the platform's: every image of a rig station is taken then
+    times = project_station_times(project, images.platform)
+    if times is not None:
+        times = [StationTime(st.image_name, times[k].time_s, times[k].time_utc)
+                 for st, k in zip(stations, images.station_index, strict=True)]
     suns = frame_suns(project, times)
     clouds = project.scene.lighting.clouds
     drifting = clouds is not None and times is not None
@@ -182,25 +212,43 @@ def prepare_job(
         frames=tuple(FrameSpec(index=i, image_name=p.image_name,
                                matrix_world_local=_matrix_rows(blender_matrix_world(
                                    p.C_world, p.R_cam_to_world, origin)),
-                               **contexts[i])
+                               camera=frame_cameras[i], **contexts[i])
                      for i, p in enumerate(poses)),
     )
     job_path = job.write(job_dir / "job.json")
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
-                       suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes)
+                       suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
+                       cameras=cameras)
+
+
+def _check_rig_renderable(project: m.Project, interiors: dict[str, InteriorOrientation]
+                          ) -> None:
+    """A rig's images are rendered exactly as pinhole cameras; lens distortion and the
+    camera-effects chain are applied per camera only for one-camera projects so far."""
+    distorted = [c for c, i in interiors.items()
+                 if i.distortion is not None and not getattr(i.distortion, "is_identity", False)]
+    if distorted:
+        raise DesignerError(
+            f"camera(s) {', '.join(distorted)} of the rig have lens distortion, which is not "
+            "rendered for multi-camera rigs yet; remove <distortion> from their <camera>")
+    if not effects_from_model(project.effects, next(iter(interiors.values()))).is_empty:
+        raise DesignerError("camera <effects> are not rendered for multi-camera rigs yet; "
+                            "remove <effects> or fly one camera")
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:
     return tuple(tuple(float(v) for v in row) for row in M)
 
 
-def _frame_contexts(stations, interior: InteriorOrientation, scene: BuiltScene) -> list[dict]:
-    """Per frame: GSD at the principal point (m/px), the flight direction in the image and
-    the distance along the optical axis to the ground there (m)."""
+def _frame_contexts(stations, interiors: list[InteriorOrientation], scene: BuiltScene
+                    ) -> list[dict]:
+    """Per frame (with its camera's interior): GSD at the principal point (m/px), the
+    flight direction in the image and the distance along the optical axis to the ground
+    there (m)."""
     out = []
-    centre = np.array([[interior.cx_px, interior.cy_px]])
-    for st in stations:
+    for st, interior in zip(stations, interiors, strict=True):
+        centre = np.array([[interior.cx_px, interior.cy_px]])
         ray = pixel_rays_world(centre, st.R_cam_to_world, interior)
         depth = None
         if scene.heightfield is not None:

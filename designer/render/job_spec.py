@@ -172,6 +172,14 @@ class FrameSpec:
     #: per moving object (RenderJob.moving_objects, same order): (name, X, Y, Z local m
     #: of its base centre, heading deg clockwise from grid north) at ``time_s``
     moving_poses: tuple[tuple[str, float, float, float, float], ...] | None = None
+    #: this frame's camera when a multi-camera rig gives frames different cameras
+    #: (lens, sensor, resolution); None: the job's ``camera``
+    camera: CameraSpec | None = None
+
+
+#: FrameSpec fields left out of job.json and of provenance when None, so a job without
+#: them reads and hashes as before they existed
+OPTIONAL_FRAME_FIELDS = ("camera",)
 
 
 #: the FrameSpec fields of the world over time, left out of provenance when None
@@ -216,6 +224,7 @@ class RenderJob:
     #: posed per frame by FrameSpec.moving_poses
     moving_objects: tuple[MeshSpec, ...] = ()
     image_names: dict[int, str] = field(init=False, repr=False, compare=False)
+    _frames_by_index: dict[int, FrameSpec] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         names = {f.index: f.image_name for f in self.frames}
@@ -233,11 +242,27 @@ class RenderJob:
             raise JobError(f"image metadata {self.image_metadata!r}; use none or exif")
         object.__setattr__(self, "image_names",
                            {f.index: f.image_name for f in self.frames})
+        object.__setattr__(self, "_frames_by_index", {f.index: f for f in self.frames})
 
     def to_json(self) -> str:
         data = asdict(self)
-        del data["image_names"]
+        del data["image_names"], data["_frames_by_index"]
+        for frame in data["frames"]:
+            for key in OPTIONAL_FRAME_FIELDS:
+                if frame[key] is None:
+                    del frame[key]
         return json.dumps(data, indent=1)
+
+    def frame_size_px(self, index: int) -> tuple[int, int]:
+        """(width, height) of the image of frame ``index``."""
+        frame = self._frames_by_index[index]
+        if frame.camera is None:
+            return self.width_px, self.height_px
+        return frame.camera.resolution_x_px, frame.camera.resolution_y_px
+
+    def frame_camera(self, frame: FrameSpec) -> CameraSpec:
+        """The camera a frame is rendered with (its own, or the job's)."""
+        return frame.camera if frame.camera is not None else self.camera
 
     @classmethod
     def from_json(cls, text: str, source: str = "job.json") -> RenderJob:
@@ -308,4 +333,6 @@ def _mesh(data: dict) -> MeshSpec:
 
 
 def _frame(data: dict) -> FrameSpec:
-    return FrameSpec(**_known(FrameSpec, data))
+    data = _known(FrameSpec, data)
+    camera = data.pop("camera", None)
+    return FrameSpec(**data, camera=CameraSpec(**camera) if camera else None)

@@ -21,7 +21,7 @@ import numpy as np
 from designer.atomic import atomic_path, write_text_atomic
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
-from designer.core.truth import CameraPose
+from designer.core.truth import CameraPose, CameraSet
 from designer.scene.moving import MovingPose, posed_vertices
 
 MASK_DIR = "masks"
@@ -73,17 +73,20 @@ def _fill_triangle(mask: np.ndarray, corners: np.ndarray) -> None:
     mask[lo[1]:hi[1], lo[0]:hi[0]][inside] = 255
 
 
-def write_moving_truth(truth_dir: Path, interior: InteriorOrientation,
+def write_moving_truth(truth_dir: Path, interior: InteriorOrientation | CameraSet,
                        poses: tuple[CameraPose, ...], moving: tuple, meshes: dict
                        ) -> dict[str, Path]:
-    """Write ``masks/<image stem>_mask.png`` per image and ``moving_objects.csv``."""
+    """Write ``masks/<image stem>_mask.png`` per image and ``moving_objects.csv``
+    (``interior``: the one camera, or each image's camera of a rig)."""
     truth_dir = Path(truth_dir)
     (truth_dir / MASK_DIR).mkdir(parents=True, exist_ok=True)
     text = io.StringIO()
     writer = csv.writer(text, lineterminator="\n")
     writer.writerow(POSITION_COLUMNS)
     for camera, frame_poses in zip(poses, moving, strict=True):
-        mask = object_mask(frame_poses, meshes, camera, interior)
+        mask = object_mask(frame_poses, meshes, camera,
+                           interior.interior_of(camera.image_name)
+                           if isinstance(interior, CameraSet) else interior)
         path = truth_dir / MASK_DIR / mask_name(camera.image_name)
         with atomic_path(path) as tmp:
             if not cv2.imwrite(str(tmp), mask):

@@ -91,14 +91,27 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     if not targets:
         return []
     points = np.array([t.true_xyz for t in targets])
-    C = np.array([p.C_world for p in prepared.poses])
-    R = np.array([p.R_cam_to_world for p in prepared.poses])
     hf = prepared.scene.heightfield
     raycaster = TerrainRaycaster(hf) if hf is not None else None
-    pairs = visible_pairs(points, C, R, prepared.interior, raycaster)
-    order = np.lexsort((pairs.camera, pairs.point))
-    return [GcpObservation(targets[pairs.point[k]].target.id,
-                           prepared.poses[pairs.camera[k]].image_name, pairs.uv_px[k])
+    # one pass per physical camera (a rig has several), then in (GCP, image) order
+    groups: dict[int, list[int]] = {}
+    for k, pose in enumerate(prepared.poses):
+        groups.setdefault(id(prepared.interior_of(pose.image_name)), []).append(k)
+    image_index, point_index, uv = [], [], []
+    for members in groups.values():
+        members = np.array(members)
+        interior = prepared.interior_of(prepared.poses[members[0]].image_name)
+        C = np.array([prepared.poses[k].C_world for k in members])
+        R = np.array([prepared.poses[k].R_cam_to_world for k in members])
+        pairs = visible_pairs(points, C, R, interior, raycaster)
+        image_index.append(members[pairs.camera])
+        point_index.append(pairs.point)
+        uv.append(pairs.uv_px)
+    image_index, point_index = np.concatenate(image_index), np.concatenate(point_index)
+    uv = np.concatenate(uv)
+    order = np.lexsort((image_index, point_index))
+    return [GcpObservation(targets[point_index[k]].target.id,
+                           prepared.poses[image_index[k]].image_name, uv[k])
             for k in order]
 
 
@@ -109,7 +122,7 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
     gcps = [GroundControlPoint(t.target.id, t.target.role, t.true_xyz, t.surveyed_xyz,
                                t.sigma_xyz) for t in prepared.scene.targets]
     formats = project.outputs.ground_truth or DEFAULT_FORMATS
-    written = write_all(out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, gcps,
+    written = write_all(out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses, gcps,
                         ground_truth_observations(prepared), odm_crs(project.crs),
                         formats=formats, image_times=image_times(prepared),
                         colmap_offset=colmap_offset)
@@ -117,7 +130,7 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         from designer.render.moving_truth import write_moving_truth
 
         written = {**written, **write_moving_truth(
-            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
+            out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses,
             prepared.moving_poses, prepared.moving_meshes)}
     clouds = project.scene.lighting.clouds
     if clouds is not None:

@@ -147,7 +147,10 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
             parts["scene"] = _digest(background, *step_scene,
                                      *_objects_chunks(job.moving_objects, job_dir)[0])
         parts["targets"] = _digest(*chunks, _targets_in_view(target_vertices, frame, job))
+        if frame.camera is not None:  # a rig: each frame's own camera
+            parts["camera"] = _digest(_canonical([asdict(frame.camera)]))
         pose = asdict(frame)
+        pose.pop("camera")
         if job.effects is None:  # the effect context (GSD, distance) changes no pixel then
             pose = {k: pose[k] for k in ("index", "image_name", "matrix_world_local",
                                          *TIME_FIELDS)}
@@ -191,7 +194,7 @@ def _targets_in_view(mesh, frame: FrameSpec, job: RenderJob) -> str:
     R, t = M[:3, :3], M[:3, 3]
     cam = (vertices - t) @ R  # Blender camera axes: x right, y up, looking along -z
     depth = -cam[:, 2]
-    cam_spec = job.camera
+    cam_spec = job.frame_camera(frame)
     f_over_w = cam_spec.lens_mm / cam_spec.sensor_width_mm
     W, H = cam_spec.resolution_x_px, cam_spec.resolution_y_px
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -99,7 +99,7 @@ def render_frames(
     todo = list(frames)
     if resume:
         done = [i for i in todo
-                if image_is_complete(out_dir / names[i], job.width_px, job.height_px)
+                if image_is_complete(out_dir / names[i], *job.frame_size_px(i))
                 and (keep is None or keep(i))]
         report.skipped = done
         todo = [i for i in todo if i not in set(done)]

@@ -112,6 +112,14 @@ def add_camera(scene: bpy.types.Scene, camera: CameraSpec) -> bpy.types.Object:
     data = bpy.data.cameras.new("survey_camera")
     data.type = "PERSP"
     data.lens_unit = "MILLIMETERS"
+    _camera_data(data, camera)
+    obj = bpy.data.objects.new("survey_camera", data)
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def _camera_data(data, camera: CameraSpec) -> None:
     data.lens = camera.lens_mm
     data.sensor_fit = camera.sensor_fit
     data.sensor_width = camera.sensor_width_mm
@@ -119,10 +127,16 @@ def add_camera(scene: bpy.types.Scene, camera: CameraSpec) -> bpy.types.Object:
     data.shift_y = camera.shift_y
     data.clip_start = camera.clip_start_m
     data.clip_end = camera.clip_end_m
-    obj = bpy.data.objects.new("survey_camera", data)
-    scene.collection.objects.link(obj)
-    scene.camera = obj
-    return obj
+
+
+def set_camera(scene: bpy.types.Scene, obj: bpy.types.Object, camera: CameraSpec) -> None:
+    """Give the survey camera (and the render size) another camera's settings: the
+    frames of a multi-camera rig differ in lens, sensor and resolution."""
+    _camera_data(obj.data, camera)
+    scene.render.resolution_x = camera.resolution_x_px
+    scene.render.resolution_y = camera.resolution_y_px
+    scene.render.pixel_aspect_x = camera.pixel_aspect_x
+    scene.render.pixel_aspect_y = camera.pixel_aspect_y
 
 
 def load_image(path: str, interpolation_colour: str) -> bpy.types.Image:
@@ -336,6 +350,8 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     ``out_dir`` on the same file system); only the complete image is renamed into
     ``out_dir``, which therefore never holds anything but finished images.
     """
+    if frame.camera is not None:  # a rig: this frame's camera, then its pose
+        set_camera(scene, camera, frame.camera)
     camera.matrix_world = Matrix(frame.matrix_world_local)
     for name, x, y, z, heading_deg in frame.moving_poses or ():
         obj = bpy.data.objects[name]  # its mesh: base centre at 0, +Y forward

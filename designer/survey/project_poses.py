@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
+from designer.core.rig import mount_image_name, mount_rotation, mount_tilt_deg, mounted_rotation
 from designer.core.rotation import rotation_from_opk
 from designer.core.truth import CameraPose
 from designer.errors import DesignerError
@@ -74,28 +76,34 @@ def flight_plan_for(
         image_name_format=plan.image_prefix + "{index:05d}" + extension, first_index=1)
 
 
-def project_stations(
-    project: m.Project, hf: Heightfield | None
-) -> tuple[list[Station], str]:
-    """All stations of the project in order (explicit ones first) and their camera id.
+def planning_camera_id(project: m.Project, camera_or_rig: str) -> str:
+    """The camera a flight is planned for: the camera itself, or for a rig the camera of
+    the mount looking closest to the platform's axis (the first of equals)."""
+    rig = project.trajectory.rig(camera_or_rig)
+    if rig is None:
+        return camera_or_rig
+    tilts = [mount_tilt_deg(mt.omega_deg, mt.phi_deg, mt.kappa_deg) for mt in rig.mounts]
+    return rig.mounts[tilts.index(min(tilts))].camera
 
-    Explicit exterior orientations become stations of their own flight line each (they
-    have no planned neighbours). One camera per render: every station must use the same
-    camera.
-    """
+
+def _platform_stations(
+    project: m.Project, hf: Heightfield | None
+) -> tuple[list[Station], list[str]]:
+    """The stations in order (explicit ones first) and the camera or rig of each."""
     extension = IMAGE_EXTENSIONS[project.render.output_format]
     stations: list[Station] = []
-    camera_ids = []
+    carriers = []
     for k, eo in enumerate(project.trajectory.exterior_orientations):
         R = rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
                                                           eo.kappa_deg)))
         heading = math.degrees(math.atan2(R[0, 1], R[1, 1])) % 360.0
         stations.append(Station(eo.name, np.array([eo.X, eo.Y, eo.Z]), R, -1 - k, 0, heading))
-        camera_ids.append(eo.camera)
+        carriers.append(eo.camera)
     plan = project.trajectory.flight_plan
     if plan is not None:
         # Flight planning uses the full-size camera: overlaps do not depend on scaling.
-        interior = interior_from_camera(project.camera(plan.camera))
+        interior = interior_from_camera(project.camera(planning_camera_id(project,
+                                                                          plan.camera)))
         planned = list(flight_plan_for(plan, interior, hf, extension).stations)
         noise = plan.pose_noise
         if noise is not None:
@@ -104,20 +112,90 @@ def project_stations(
                 (noise.sigma_omega_deg, noise.sigma_phi_deg, noise.sigma_kappa_deg),
                 seed=plan.random_seed)
         stations.extend(planned)
-        camera_ids.extend([plan.camera] * len(planned))
+        carriers.extend([plan.camera] * len(planned))
     if not stations:
         raise DesignerError("the project has no camera stations: add exterior orientations "
                             "or a flight plan to its trajectory")
+    return stations, carriers
+
+
+def project_stations(
+    project: m.Project, hf: Heightfield | None
+) -> tuple[list[Station], str]:
+    """All stations of the project in order (explicit ones first) and their camera id.
+
+    Explicit exterior orientations become stations of their own flight line each (they
+    have no planned neighbours). A station flown with a rig is the platform's pose, with
+    the rig's planning camera (:func:`planning_camera_id`); :func:`project_images` gives
+    its images. Every station must use the same camera.
+    """
+    stations, carriers = _platform_stations(project, hf)
+    camera_ids = [planning_camera_id(project, c) for c in carriers]
     if len(set(camera_ids)) > 1:
         raise DesignerError(
             f"stations use several cameras ({', '.join(sorted(set(camera_ids)))}); render one "
-            "camera per project")
-    names = [s.image_name for s in stations]
+            "camera per project, or mount them on a <rig>")
+    _check_unique_names([s.image_name for s in stations])
+    return stations, camera_ids[0]
+
+
+@dataclass(frozen=True)
+class ProjectImages:
+    """Every image of a project in render order: a station without a rig gives one image,
+    a rig station one per mount (in mount order, the mount's camera turned by its
+    rotation, :mod:`designer.core.rig`).
+
+    ``stations[k]`` is image k's pose, ``camera_ids[k]`` its camera, ``station_index[k]``
+    the index of the platform station it was taken at (into ``platform``).
+    """
+
+    stations: tuple[Station, ...]
+    camera_ids: tuple[str, ...]
+    station_index: tuple[int, ...]
+    platform: tuple[Station, ...]
+
+    @property
+    def is_multi_camera(self) -> bool:
+        return len(set(self.camera_ids)) > 1
+
+    def camera_order(self) -> tuple[str, ...]:
+        """The distinct camera ids in order of first use."""
+        return tuple(dict.fromkeys(self.camera_ids))
+
+
+def project_images(project: m.Project, hf: Heightfield | None) -> ProjectImages:
+    """All images of the project (see :class:`ProjectImages`); a project without a rig has
+    one image per station, exactly :func:`project_stations`'."""
+    platform, carriers = _platform_stations(project, hf)
+    stations, cameras, index = [], [], []
+    for k, (st, carrier) in enumerate(zip(platform, carriers, strict=True)):
+        rig = project.trajectory.rig(carrier)
+        if rig is None:
+            stations.append(st)
+            cameras.append(carrier)
+            index.append(k)
+            continue
+        for mount in rig.mounts:
+            R = mounted_rotation(st.R_cam_to_world, mount_rotation(
+                mount.omega_deg, mount.phi_deg, mount.kappa_deg))
+            stations.append(Station(mount_image_name(st.image_name, mount.suffix), st.C_world,
+                                    R, st.line_index, st.grid_index, st.flight_azimuth_deg))
+            cameras.append(mount.camera)
+            index.append(k)
+    if len(set(cameras)) > 1 and not project.trajectory.rigs:
+        raise DesignerError(
+            f"stations use several cameras ({', '.join(sorted(set(cameras)))}); render one "
+            "camera per project, or mount them on a <rig>")
+    _check_unique_names([s.image_name for s in stations])
+    return ProjectImages(tuple(stations), tuple(cameras), tuple(index), tuple(platform))
+
+
+def _check_unique_names(names: list[str]) -> None:
     if len(set(names)) != len(names):
         dup = next(n for n in names if names.count(n) > 1)
         raise DesignerError(f"image name {dup} is used twice (explicit and planned stations "
-                            "overlap); change the flight plan's image-prefix")
-    return stations, camera_ids[0]
+                            "overlap, or a rig's suffix repeats a name); change the flight "
+                            "plan's image-prefix or the photo's name")
 
 
 def project_poses(

@@ -1,0 +1,45 @@
+"""Multi-camera rigs: a mount's rotation on the platform and the names of its images.
+
+Frames (docs/conventions.md): a station's pose is the platform's, ``R_platform`` mapping
+the platform's photogrammetric axes (x = image right, y = image top, z = backwards) to
+the world. A mount turns its camera by ω φ κ relative to the platform with the same
+convention as a photo's angles, so
+
+    R_cam_to_world = R_platform · R_mount,   R_mount = Rx(ω) · Ry(φ) · Rz(κ)
+
+and ω = φ = κ = 0 is a camera looking where the platform looks, image top forward. All
+mounts share the station's perspective centre (no lever arm).
+"""
+
+from __future__ import annotations
+
+import math
+import posixpath
+
+import numpy as np
+
+from designer.core.rotation import rotation_from_opk
+
+
+def mount_rotation(omega_deg: float, phi_deg: float, kappa_deg: float) -> np.ndarray:
+    """R_mount (3, 3): the mounted camera's axes → the platform's axes (angles in deg)."""
+    return rotation_from_opk(math.radians(omega_deg), math.radians(phi_deg),
+                             math.radians(kappa_deg))
+
+
+def mounted_rotation(R_platform_to_world: np.ndarray, R_mount: np.ndarray) -> np.ndarray:
+    """R_cam_to_world (3, 3) of a mounted camera on a platform posed ``R_platform_to_world``."""
+    return np.asarray(R_platform_to_world, float) @ np.asarray(R_mount, float)
+
+
+def mount_tilt_deg(omega_deg: float, phi_deg: float, kappa_deg: float = 0.0) -> float:
+    """Angle (deg, 0..180) between the mounted camera's viewing axis and the platform's."""
+    axis = mount_rotation(omega_deg, phi_deg, kappa_deg)[:, 2]  # camera z in platform axes
+    return math.degrees(math.acos(max(-1.0, min(1.0, float(axis[2])))))
+
+
+def mount_image_name(image_name: str, suffix: str) -> str:
+    """The station's image name with ``suffix`` before its extension:
+    IMG_00001.png, _F → IMG_00001_F.png (no extension: appended)."""
+    stem, ext = posixpath.splitext(image_name)
+    return f"{stem}{suffix}{ext}"
