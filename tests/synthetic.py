@@ -214,3 +214,48 @@ def small_flight_survey(samples=16, origin=(500000.0, 5000000.0, 250.0), effects
         cameras=(replace(project.cameras[0], distortion=distortion),), effects=effects,
         render=replace(project.render, workers=2), processing=None,
         outputs=m.Outputs("output", ("colmap", "odm", "opk", "gcp")))
+
+
+#: a five-camera oblique rig: (camera id, suffix, omega, phi, kappa deg, (W, H) px,
+#: focal length mm, principal point offset mm) — each its own interior orientation
+PENTA_MOUNTS = (
+    ("nadir", "_N", 0.0, 0.0, 0.0, (200, 150), 2.5, (0.0, 0.0)),
+    ("fwd", "_F", 45.0, 0.0, 0.0, (160, 120), 2.2, (0.05, -0.03)),
+    ("back", "_B", -45.0, 0.0, 180.0, (160, 120), 2.2, (-0.04, 0.02)),
+    ("left", "_L", 0.0, 45.0, 0.0, (180, 120), 2.0, (0.02, 0.04)),
+    ("right", "_R", 0.0, -45.0, 0.0, (180, 120), 2.0, (-0.03, -0.01)),
+)
+
+
+def rig_survey(origin=(500000.0, 5000000.0, 250.0), n_stations=6, samples=16,
+               tilt_deg=45.0) -> m.Project:
+    """:func:`small_survey`'s terrain and 9 targets flown at 12 m by a nadir + four
+    oblique rig (:data:`PENTA_MOUNTS`, obliques at ``tilt_deg``): tiny images of
+    different sizes and focal lengths in one job."""
+    from dataclasses import replace
+
+    base = small_survey(origin=origin, n_photos=0, samples=samples)
+    E0, N0, H0 = origin
+    cameras, mounts = [], []
+    for cam_id, suffix, omega, phi, kappa, (W, H), f_mm, (x0, y0) in PENTA_MOUNTS:
+        cameras.append(m.Camera(id=cam_id, focal_length_mm=f_mm, sensor_width_mm=W * 0.01,
+                                sensor_height_mm=H * 0.01, image_width_px=W,
+                                image_height_px=H, principal_point_x_mm=x0,
+                                principal_point_y_mm=y0))
+        scale = tilt_deg / 45.0
+        mounts.append(m.Mount(cam_id, suffix, omega * scale, phi * scale, kappa))
+    rng = np.random.default_rng(7)
+    photos = tuple(
+        m.ExteriorOrientation(f"ST_{k:03d}.png", "penta",
+                              E0 + float(rng.uniform(-4, 4)), N0 + float(rng.uniform(-4, 4)),
+                              H0 + 12.0 + float(rng.uniform(-0.5, 0.5)),
+                              float(rng.uniform(-3, 3)), float(rng.uniform(-3, 3)),
+                              float(rng.uniform(-12, 12)))
+        for k in range(n_stations))
+    # 3 m targets: seen at 45 degrees from ~17 m by 2 mm lenses they stay ~15 px tall, so
+    # the corner detector's window stays on the target
+    scene = replace(base.scene, targets=replace(base.scene.targets, targets=tuple(
+        replace(t, size_m=3.0) for t in base.scene.targets.targets)))
+    return replace(base, name="rig test", cameras=tuple(cameras), scene=scene,
+                   trajectory=m.Trajectory(exterior_orientations=photos,
+                                           rigs=(m.Rig("penta", tuple(mounts)),)))

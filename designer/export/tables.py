@@ -44,6 +44,9 @@ GCP_TRUTH_COLUMNS = (
     "surveyed_X", "surveyed_Y", "surveyed_Z", "sigma_X", "sigma_Y", "sigma_Z",
 )
 GCP_OBSERVATION_COLUMNS = ("gcp_id", "image", "u_px", "v_px")
+#: the OPK table's column layouts: plain, with time, and either with a rig's camera column
+_OPK_LAYOUTS = (OPK_COLUMNS, OPK_TIME_COLUMNS, (*OPK_COLUMNS, "camera"),
+                (*OPK_TIME_COLUMNS, "camera"))
 
 _WORLD = "X = Easting, Y = Northing, Z = height, metres"
 _PIXELS = (
@@ -165,11 +168,20 @@ def _read_rows(path: str | os.PathLike, columns: Sequence[str],
 def read_opk_csv(path: str | os.PathLike) -> list[CameraPose]:
     """Camera poses from :func:`opk_csv` text (angles → R with rotation_from_opk)."""
     poses = []
-    for row in _read_rows(path, OPK_COLUMNS, OPK_TIME_COLUMNS):
+    for row in _read_rows(path, *_OPK_LAYOUTS):
         C = [float(row[k]) for k in ("X", "Y", "Z")]
         opk = np.radians([float(row[k]) for k in ("omega_deg", "phi_deg", "kappa_deg")])
         poses.append(CameraPose(row["image"], C, rotation_from_opk(*opk)))
     return poses
+
+
+def read_image_cameras_csv(path: str | os.PathLike) -> dict[str, str] | None:
+    """{image: camera id} from an OPK table of a multi-camera rig; None when the table
+    has no camera column (one camera)."""
+    rows = _read_rows(path, *_OPK_LAYOUTS)
+    if rows and "camera" not in rows[0]:
+        return None
+    return {row["image"]: row["camera"] for row in rows}
 
 
 def read_image_times_csv(path: str | os.PathLike) -> list[ImageTime]:
@@ -195,5 +207,6 @@ def read_gcp_observations_csv(path: str | os.PathLike) -> list[GcpObservation]:
     """GCP image points from :func:`gcp_observations_csv` text."""
     return [
         GcpObservation(row["gcp_id"], row["image"], [float(row["u_px"]), float(row["v_px"])])
-        for row in _read_rows(path, GCP_OBSERVATION_COLUMNS)
+        for row in _read_rows(path, GCP_OBSERVATION_COLUMNS,
+                              (*GCP_OBSERVATION_COLUMNS, "camera"))
     ]
