@@ -482,12 +482,60 @@ class Rig:
 
 
 @dataclass(frozen=True)
+class OrbitPattern:
+    """Stations on a circle around a point of interest ``centre`` (world, m): radius
+    ``radius_m``, ``height_m`` above the centre, ``n_stations`` evenly spaced clockwise
+    from ``start_azimuth_deg`` (the station's direction from the centre, clockwise from
+    grid north). Each camera faces the centre, image top away from the ground, tilted
+    ``tilt_deg`` from nadir (None: aimed exactly at the centre). ``camera`` is a camera
+    id or a rig name; images are named ``image_prefix`` + 5-digit number."""
+
+    camera: str
+    image_prefix: str
+    centre: Point3
+    radius_m: float
+    height_m: float
+    n_stations: int
+    tilt_deg: float | None = None
+    start_azimuth_deg: float = 0.0
+
+
+FacadeSide = Literal["left", "right"]
+
+
+@dataclass(frozen=True)
+class FacadePattern:
+    """Rows of stations along a facade from ``start`` to ``end`` (world X, Y, m), on its
+    ``side`` (seen walking from start to end) at ``distance_m`` from it, every
+    ``spacing_m`` along it, one row per height in ``heights_m`` above ``base_Z`` (world
+    Z of the ground there, m), rows flown back and forth. Each camera faces the facade,
+    ``tilt_deg`` below the horizontal (0: level). ``camera`` is a camera id or a rig
+    name; images are named ``image_prefix`` + 5-digit number."""
+
+    camera: str
+    image_prefix: str
+    start: tuple[float, float]
+    end: tuple[float, float]
+    base_Z: float
+    distance_m: float
+    heights_m: tuple[float, ...]
+    spacing_m: float
+    side: FacadeSide = "right"
+    tilt_deg: float = 0.0
+
+
+FlightPattern = OrbitPattern | FacadePattern
+
+
+@dataclass(frozen=True)
 class Trajectory:
     exterior_orientations: tuple[ExteriorOrientation, ...] = ()
     flight_plan: FlightPlan | None = None
     time_line: TimeLine | None = None
     #: multi-camera rigs a photo or the flight plan may name instead of a camera
     rigs: tuple[Rig, ...] = ()
+    #: orbit and facade flights, flown after the photos and the flight plan
+    patterns: tuple[FlightPattern, ...] = ()
 
     def rig(self, name: str) -> Rig | None:
         """The rig of this name, or None (a plain camera id)."""

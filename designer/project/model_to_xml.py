@@ -209,6 +209,8 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
                 **({} if eo.time_s is None else {"time-s": _num(eo.time_s)})})
     if traj.flight_plan is not None:
         _flight_plan(el, traj.flight_plan)
+    for pattern in traj.patterns:
+        _pattern(el, pattern)
     tl = traj.time_line
     if tl is not None:
         attrs = {"takeoff_utc": tl.takeoff_utc, "speed_m_s": _num(tl.speed_m_s)}
@@ -217,6 +219,24 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
         if tl.trigger_interval_s is not None:
             attrs["trigger_interval_s"] = _num(tl.trigger_interval_s)
         _sub(el, "time-line", **attrs)
+
+
+def _pattern(el: etree._Element, p: m.FlightPattern) -> None:
+    if isinstance(p, m.OrbitPattern):
+        attrs = {"camera": p.camera, "image-prefix": p.image_prefix, "X": _num(p.centre.X),
+                 "Y": _num(p.centre.Y), "Z": _num(p.centre.Z), "radius-m": _num(p.radius_m),
+                 "height-m": _num(p.height_m), "stations": _num(p.n_stations)}
+        if p.tilt_deg is not None:
+            attrs["tilt-deg"] = _num(p.tilt_deg)
+        attrs["start-azimuth-deg"] = _num(p.start_azimuth_deg)
+        etree.SubElement(el, q("orbit"), attrs)
+        return
+    etree.SubElement(el, q("facade"), {
+        "camera": p.camera, "image-prefix": p.image_prefix, "X1": _num(p.start[0]),
+        "Y1": _num(p.start[1]), "X2": _num(p.end[0]), "Y2": _num(p.end[1]),
+        "base-Z": _num(p.base_Z), "distance-m": _num(p.distance_m),
+        "heights-m": " ".join(_num(h) for h in p.heights_m), "spacing-m": _num(p.spacing_m),
+        "side": p.side, "tilt-deg": _num(p.tilt_deg)})
 
 
 def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:

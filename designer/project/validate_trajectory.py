@@ -22,10 +22,11 @@ _IMAGE_SUFFIX = re.compile(r"\.(png|jpe?g|tiff?|exr|bmp)$", re.IGNORECASE)
 def trajectory_issues(project: m.Project) -> list[Issue]:
     traj = project.trajectory
     out: list[Issue] = []
-    if not traj.exterior_orientations and traj.flight_plan is None:
+    if not traj.exterior_orientations and traj.flight_plan is None and not traj.patterns:
         out.append(Issue(traj, "trajectory", "no photos: add <exterior-orientations> with "
                                              "<photo> elements or a <flight-plan>"))
     out += rig_issues(project)
+    out += pattern_issues(project)
     out += _photos(project)
     if traj.flight_plan is not None:
         out += _flight_plan(project, traj.flight_plan)
@@ -86,6 +87,31 @@ def _unknown_camera(camera: str, camera_ids: set[str], rigs: bool = False) -> st
 #: largest angle (deg) between a mount's viewing axis and the platform's: beyond it the
 #: camera would look backwards, away from where the platform points
 MAX_MOUNT_TILT_DEG = 90.0
+
+
+def pattern_issues(project: m.Project) -> list[Issue]:
+    """Orbit and facade flights: a known camera or rig, a facade of some length, rows at
+    finite heights, fewer than 100000 stations."""
+    camera_ids = {c.id for c in project.cameras} | {r.name for r in project.trajectory.rigs}
+    out: list[Issue] = []
+    for p in project.trajectory.patterns:
+        tag = "orbit" if isinstance(p, m.OrbitPattern) else "facade"
+        if p.camera not in camera_ids:
+            out.append(Issue(p, tag, _unknown_camera(p.camera, camera_ids,
+                                                     bool(project.trajectory.rigs)),
+                             attr="camera"))
+        if isinstance(p, m.FacadePattern):
+            length = math.dist(p.start, p.end)
+            if not length > 0:
+                out.append(Issue(p, tag, "the facade's two ends (X1, Y1) and (X2, Y2) are the "
+                                 "same point; give its ends on the ground", attr="X2"))
+            elif length / p.spacing_m * len(p.heights_m) > 100_000:
+                out.append(Issue(p, tag, f"spacing-m {p.spacing_m:g} gives more than 100000 "
+                                 "stations; increase it", attr="spacing-m"))
+            if not all(math.isfinite(h) for h in p.heights_m):
+                out.append(Issue(p, tag, "heights-m must be numbers (m above base-Z), e.g. "
+                                 "\"3 6 9\"", attr="heights-m"))
+    return out
 
 
 def rig_issues(project: m.Project) -> list[Issue]:

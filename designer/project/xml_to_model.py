@@ -262,7 +262,8 @@ class _Reader:
                 tl_el.get("takeoff-utc").strip(), _f(tl_el, "speed-m-s"),
                 _opt_f(tl_el, "turn-s") or 0.0, _opt_f(tl_el, "trigger-interval-s")), tl_el)
         rigs = tuple(self.rig(r) for r in el.iterchildren(q("rig")))
-        trajectory = self.note(m.Trajectory(photos, plan, time_line, rigs), el)
+        patterns = tuple(self.pattern(p) for p in el.iterchildren(q("orbit"), q("facade")))
+        trajectory = self.note(m.Trajectory(photos, plan, time_line, rigs, patterns), el)
         if eo_el is not None:
             self.note(trajectory, eo_el)
         return trajectory
@@ -275,6 +276,20 @@ class _Reader:
             self.smap.add(mount, "mount", mount_el.sourceline)
             mounts.append(mount)
         return self.note(m.Rig(el.get("name"), tuple(mounts)), el)
+
+    def pattern(self, el: etree._Element) -> m.FlightPattern:
+        common = (el.get("camera"), el.get("image-prefix"))
+        if etree.QName(el).localname == "orbit":
+            pattern = m.OrbitPattern(
+                *common, m.Point3(_f(el, "X"), _f(el, "Y"), _f(el, "Z")), _f(el, "radius-m"),
+                _f(el, "height-m"), int(el.get("stations")), _opt_f(el, "tilt-deg"),
+                _opt_f(el, "start-azimuth-deg") or 0.0)
+        else:
+            pattern = m.FacadePattern(
+                *common, (_f(el, "X1"), _f(el, "Y1")), (_f(el, "X2"), _f(el, "Y2")),
+                _f(el, "base-Z"), _f(el, "distance-m"), _numbers(el.get("heights-m")),
+                _f(el, "spacing-m"), el.get("side", "right"), _opt_f(el, "tilt-deg") or 0.0)
+        return self.note(pattern, el)
 
     def photo(self, el: etree._Element) -> m.ExteriorOrientation:
         get = el.get

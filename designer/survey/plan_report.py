@@ -22,7 +22,12 @@ from designer.project import model as m
 from designer.scene.build import BuiltTarget, build_heightfield, build_targets
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
-from designer.survey.project_poses import project_stations, render_interior
+from designer.survey.project_poses import (
+    platform_stations,
+    project_images,
+    project_stations,
+    render_interior,
+)
 
 #: Render cost on the reference machine (2 cores) for the baked-emission scenes, from
 #: ``designer bench render`` (docs/benchmarks.md): seconds per megapixel per frame, plus
@@ -39,6 +44,10 @@ class PlanResult:
     targets: tuple[BuiltTarget, ...]
     analysis: PlanAnalysis
     footprint_m: tuple[float, float]
+    #: the camera or rig of each station
+    carriers: tuple[str, ...] = ()
+    #: images of all cameras (a rig takes several per station)
+    n_images_all_cameras: int | None = None
 
 
 def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None) -> PlanResult:
@@ -48,6 +57,8 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
         raise DesignerError("designer plan needs a height-field terrain (flat, procedural or "
                             "DEM); a mesh terrain cannot be analysed yet")
     stations, camera_id = project_stations(project, hf)
+    carriers = tuple(platform_stations(project, hf)[1])
+    n_all = len(project_images(project, hf).stations)
     targets = build_targets(project, hf)
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
     plan = project.trajectory.flight_plan
@@ -59,7 +70,8 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
         seconds_per_megapixel_sample=SECONDS_PER_MEGAPIXEL_SAMPLE + SECONDS_PER_MEGAPIXEL / spp)
     gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
     W, H = interior.image_size_px
-    return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd))
+    return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),
+                      carriers, n_all)
 
 
 def _extent_polygon(project: m.Project) -> np.ndarray:
@@ -77,6 +89,7 @@ def plan_summary(result: PlanResult) -> dict:
     out["gsd_terrain_m"] = ({"min": float(finite.min()), "mean": float(finite.mean()),
                              "max": float(finite.max())} if finite.size else None)
     out["warnings"] = plan_warnings(result, out)
+    out.update(rig_and_pattern_summary(result))
     if result.analysis.gcps is not None:
         out["gcps"] = [{"id": t.target.id, "role": t.target.role,
                         "images": int(result.analysis.gcps.counts[k])}
@@ -86,6 +99,38 @@ def plan_summary(result: PlanResult) -> dict:
 
 #: a texture finer than GSD / this aliases: pixels average too few texels per sample
 ALIASING_RATIO = 3.0
+
+
+def rig_and_pattern_summary(result: PlanResult) -> dict:
+    """The rigs flown (cameras, images) and the orbit / facade flights (stations)."""
+    traj = result.project.trajectory
+    out: dict = {}
+    if traj.rigs:
+        out["n_images_all_cameras"] = result.n_images_all_cameras
+        out["rigs"] = [{"name": r.name, "cameras": [mt.camera for mt in r.mounts],
+                        "suffixes": [mt.suffix for mt in r.mounts],
+                        "stations": result.carriers.count(r.name),
+                        "images": result.carriers.count(r.name) * len(r.mounts)}
+                       for r in traj.rigs]
+    if traj.patterns:
+        patterns = []
+        for p in traj.patterns:
+            if isinstance(p, m.OrbitPattern):
+                n = p.n_stations
+            else:
+                n = len(p.heights_m) * (math.floor(math.dist(p.start, p.end) / p.spacing_m
+                                                   + 1e-9) + 1)
+            if isinstance(p, m.OrbitPattern):
+                patterns.append({"kind": "orbit", "camera": p.camera, "prefix": p.image_prefix,
+                                 "stations": n, "radius_m": p.radius_m,
+                                 "height_m": p.height_m, "tilt_deg": p.tilt_deg})
+            else:
+                patterns.append({"kind": "facade", "camera": p.camera,
+                                 "prefix": p.image_prefix, "stations": n,
+                                 "distance_m": p.distance_m, "rows": len(p.heights_m),
+                                 "spacing_m": p.spacing_m, "tilt_deg": p.tilt_deg})
+        out["patterns"] = patterns
+    return out
 
 
 def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
@@ -134,6 +179,21 @@ def format_plan(result: PlanResult, source: str) -> str:
     """A plain-text report a surveyor can read."""
     s = plan_summary(result)
     lines = [f"{source}: {s['n_images']} images ({s['stations_over_area']} over the area)"]
+    for r in s.get("rigs", ()):
+        lines.append(f"  rig {r['name']}: {len(r['cameras'])} cameras "
+                     f"({', '.join(r['cameras'])}) at {r['stations']} stations = "
+                     f"{r['images']} images; {s['n_images_all_cameras']} images in all "
+                     "(figures below: each station's planning camera)")
+    for p in s.get("patterns", ()):
+        if p["kind"] == "orbit":
+            tilt = "aimed at the centre" if p["tilt_deg"] is None else f"tilt {p['tilt_deg']:g}°"
+            lines.append(f"  orbit {p['prefix']} ({p['camera']}): {p['stations']} stations, "
+                         f"radius {p['radius_m']:g} m, {p['height_m']:g} m above the centre, "
+                         f"{tilt}")
+        else:
+            lines.append(f"  facade {p['prefix']} ({p['camera']}): {p['stations']} stations in "
+                         f"{p['rows']} rows every {p['spacing_m']:g} m, {p['distance_m']:g} m "
+                         f"from the facade, {p['tilt_deg']:g}° below level")
     g = s["gsd_terrain_m"]
     if g:
         lines.append(f"  GSD over the terrain: {100 * g['min']:.2f} / {100 * g['mean']:.2f} / "
@@ -166,12 +226,14 @@ def project_with_explicit_poses(result: PlanResult) -> m.Project:
     exactly the same images.
     """
     project = result.project
-    camera_id = (project.trajectory.flight_plan.camera if project.trajectory.flight_plan
-                 else project.trajectory.exterior_orientations[0].camera)
+    carriers = result.carriers or (project.trajectory.flight_plan.camera
+                                   if project.trajectory.flight_plan
+                                   else project.trajectory.exterior_orientations[0].camera,
+                                   ) * len(result.stations)
     eos = []
-    for st in result.stations:
+    for st, camera_id in zip(result.stations, carriers, strict=True):
         omega, phi, kappa = (float(np.degrees(a)) for a in opk_from_rotation(st.R_cam_to_world))
         eos.append(m.ExteriorOrientation(st.image_name, camera_id, *map(float, st.C_world),
                                          omega, phi, kappa))
-    trajectory = m.Trajectory(exterior_orientations=tuple(eos))
+    trajectory = m.Trajectory(exterior_orientations=tuple(eos), rigs=project.trajectory.rigs)
     return dataclasses.replace(project, trajectory=trajectory)

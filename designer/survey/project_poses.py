@@ -22,6 +22,7 @@ from designer.core.truth import CameraPose
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.survey.flight import FlightPlan, Station, apply_pose_noise, plan_flight
+from designer.survey.patterns import facade_stations, orbit_stations
 
 IMAGE_EXTENSIONS = {"png": ".png", "jpeg": ".jpg", "tiff": ".tif", "exr": ".exr"}
 
@@ -86,7 +87,7 @@ def planning_camera_id(project: m.Project, camera_or_rig: str) -> str:
     return rig.mounts[tilts.index(min(tilts))].camera
 
 
-def _platform_stations(
+def platform_stations(
     project: m.Project, hf: Heightfield | None
 ) -> tuple[list[Station], list[str]]:
     """The stations in order (explicit ones first) and the camera or rig of each."""
@@ -113,9 +114,23 @@ def _platform_stations(
                 seed=plan.random_seed)
         stations.extend(planned)
         carriers.extend([plan.camera] * len(planned))
+    for pattern in project.trajectory.patterns:
+        line = 1 + max((s.line_index for s in stations), default=-1)
+        name_format = pattern.image_prefix + "{index:05d}" + extension
+        if isinstance(pattern, m.OrbitPattern):
+            c = pattern.centre
+            flown = orbit_stations((c.X, c.Y, c.Z), pattern.radius_m, pattern.height_m,
+                                   pattern.n_stations, pattern.tilt_deg,
+                                   pattern.start_azimuth_deg, name_format, 1, line)
+        else:
+            flown = facade_stations(pattern.start, pattern.end, pattern.base_Z,
+                                    pattern.distance_m, pattern.heights_m, pattern.spacing_m,
+                                    pattern.side, pattern.tilt_deg, name_format, 1, line)
+        stations.extend(flown)
+        carriers.extend([pattern.camera] * len(flown))
     if not stations:
-        raise DesignerError("the project has no camera stations: add exterior orientations "
-                            "or a flight plan to its trajectory")
+        raise DesignerError("the project has no camera stations: add exterior orientations, "
+                            "a flight plan, an orbit or a facade to its trajectory")
     return stations, carriers
 
 
@@ -129,7 +144,7 @@ def project_stations(
     the rig's planning camera (:func:`planning_camera_id`); :func:`project_images` gives
     its images. Every station must use the same camera.
     """
-    stations, carriers = _platform_stations(project, hf)
+    stations, carriers = platform_stations(project, hf)
     camera_ids = [planning_camera_id(project, c) for c in carriers]
     if len(set(camera_ids)) > 1:
         raise DesignerError(
@@ -166,7 +181,7 @@ class ProjectImages:
 def project_images(project: m.Project, hf: Heightfield | None) -> ProjectImages:
     """All images of the project (see :class:`ProjectImages`); a project without a rig has
     one image per station, exactly :func:`project_stations`'."""
-    platform, carriers = _platform_stations(project, hf)
+    platform, carriers = platform_stations(project, hf)
     stations, cameras, index = [], [], []
     for k, (st, carrier) in enumerate(zip(platform, carriers, strict=True)):
         rig = project.trajectory.rig(carrier)
