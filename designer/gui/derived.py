@@ -24,6 +24,7 @@ from designer.gui.view_geometry import (
     station_geometry,
     terrain_display,
     vertex_normals,
+    with_mount_frusta,
 )
 from designer.project import model as m
 from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
@@ -246,8 +247,32 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
                            side_overlap_fraction=plan.side_overlap_percent / 100,
                            orientation=plan.orientation)
     seconds = len(stations) * render_seconds_per_image(project, interior)
-    return StationsResult(geometry, len(stations), camera_id, interior, calc, seconds, C, R,
+    n_images = len(stations)
+    if project.trajectory.rigs:
+        geometry, n_images, seconds = _rig_geometry(project, hf, geometry, terrain)
+    return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations))
+
+
+def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
+                  terrain: TerrainResult | None) -> tuple[StationGeometry, int, float]:
+    """Frusta and footprints of every mount of the rigs flown, the image count and render
+    seconds of all cameras."""
+    from designer.survey.project_poses import interior_from_camera, project_images
+
+    images = project_images(project, hf)
+    rc = terrain.raycaster if terrain is not None else None
+    mounts, seconds = [], 0.0
+    for camera_id in images.camera_order():
+        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
+        interior = interior_from_camera(project.camera(camera_id))
+        st = [images.stations[i] for i in k]
+        mounts.append(station_geometry(
+            np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
+            np.array([s.line_index for s in st]), interior, rc.first_hit if rc else None,
+            terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
+        seconds += len(k) * render_seconds_per_image(project, interior)
+    return with_mount_frusta(platform, mounts), len(images.stations), seconds
 
 
 @dataclass(frozen=True, eq=False)

@@ -256,3 +256,32 @@ def set_effect(project: m.Project, name: str, value) -> m.Project:
     if all(getattr(effects, f.name) is None for f in dataclasses.fields(effects)):
         effects = None
     return dataclasses.replace(project, effects=effects)
+
+
+# ---------------------------------------------------------------------- rigs
+#: the quick oblique rig: (suffix, ω, φ, κ) of a nadir camera and four obliques at 45°
+PENTA_MOUNTS = (("_N", 0.0, 0.0, 0.0), ("_F", 45.0, 0.0, 0.0), ("_B", -45.0, 0.0, 180.0),
+                ("_L", 0.0, 45.0, 0.0), ("_R", 0.0, -45.0, 0.0))
+
+
+def add_oblique_rig(project: m.Project, name: str = "penta") -> m.Project:
+    """The project with a nadir + four 45° oblique rig of its first camera, flown by the
+    flight plan (created if there is none)."""
+    camera = project.cameras[0].id if project.cameras else "camera"
+    taken = {r.name for r in project.trajectory.rigs} | {c.id for c in project.cameras}
+    base, k = name, 1
+    while name in taken:
+        k += 1
+        name = f"{base}{k}"
+    rig = m.Rig(name, tuple(m.Mount(camera, s, o, p, kp) for s, o, p, kp in PENTA_MOUNTS))
+    project = replace_path(project, "trajectory.rigs", (*project.trajectory.rigs, rig))
+    return set_flight(project, camera=name)
+
+
+def set_mount(project: m.Project, rig_index: int, mount_index: int, **fields) -> m.Project:
+    """Replace fields (camera, suffix, omega_deg, phi_deg, kappa_deg) of one mount."""
+    rigs = list(project.trajectory.rigs)
+    mounts = list(rigs[rig_index].mounts)
+    mounts[mount_index] = dataclasses.replace(mounts[mount_index], **fields)
+    rigs[rig_index] = dataclasses.replace(rigs[rig_index], mounts=tuple(mounts))
+    return replace_path(project, "trajectory.rigs", tuple(rigs))

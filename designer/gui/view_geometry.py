@@ -120,6 +120,38 @@ class StationGeometry:
         return len(self.C_world)
 
 
+def offset_cells(cells: np.ndarray, offset: int) -> np.ndarray:
+    """VTK cells ``[k, id…, k, id…]`` with every id (not the counts) moved by ``offset``."""
+    out = np.array(cells, dtype=np.int64)
+    i = 0
+    while i < len(out):
+        k = int(out[i])
+        out[i + 1:i + 1 + k] += offset
+        i += k + 1
+    return out
+
+
+def with_mount_frusta(platform: StationGeometry,
+                      mounts: list[StationGeometry]) -> StationGeometry:
+    """``platform``'s flight lines with the frusta and footprints of every camera of a
+    rig (``mounts``: one geometry per physical camera, its images only)."""
+    def joined(points_name: str, lines_name: str):
+        points, lines, offset = [], [], 0
+        for g in mounts:
+            pts = getattr(g, points_name)
+            points.append(pts)
+            lines.append(offset_cells(getattr(g, lines_name), offset))
+            offset += len(pts)
+        return (np.concatenate(points).reshape(-1, 3),
+                np.concatenate(lines).astype(np.int64) if lines else np.zeros(0, np.int64))
+
+    fr_points, fr_lines = joined("frustum_points", "frustum_lines")
+    fp_points, fp_lines = joined("footprint_points", "footprint_lines")
+    return StationGeometry(platform.C_world, platform.line_index, fr_points, fr_lines,
+                           fp_points, fp_lines, platform.flight_points, platform.flight_lines,
+                           platform.glyph_m)
+
+
 def border_pixels(interior: InteriorOrientation, per_edge: int = 1) -> np.ndarray:
     """Points (4·per_edge, 2) around the image border, clockwise from the top-left."""
     W, H = interior.image_size_px

@@ -3,6 +3,7 @@ crosshatch, terrain following, tilt, pose noise; image count and render time liv
 
 from __future__ import annotations
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QButtonGroup,
     QCheckBox,
@@ -22,6 +23,9 @@ from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readou
 from designer.project import model as m
 
 FP = "trajectory.flight_plan"
+#: the rig mount table: (header, Mount field or "rig")
+MOUNT_COLUMNS = (("rig", "rig"), ("camera", "camera"), ("suffix", "suffix"),
+                 ("ω °", "omega_deg"), ("φ °", "phi_deg"), ("κ °", "kappa_deg"))
 
 
 def _fmt_time(seconds: float) -> str:
@@ -141,6 +145,22 @@ class FlightPanel(Panel):
                                                     "Image prefix"))
         layout.addWidget(grid)
 
+        rig = QGroupBox("oblique rig (cameras fired together at each station)")
+        rig.setToolTip("choose the rig as the flight's camera; each mount's camera is turned "
+                       "by ω φ κ relative to the platform (docs/world.md)")
+        f = form(rig)
+        self.add_rig = QPushButton("Add a nadir + four 45° oblique rig")
+        self.add_rig.clicked.connect(lambda: self.editor.edit(
+            edits.add_oblique_rig(self.project), "Add oblique rig"))
+        f.addRow(self.add_rig)
+        self.mount_table = QTableWidget(0, len(MOUNT_COLUMNS))
+        self.mount_table.setObjectName("rig-mounts")
+        self.mount_table.setHorizontalHeaderLabels([c[0] for c in MOUNT_COLUMNS])
+        self.mount_table.setMinimumHeight(150)
+        self.mount_table.itemChanged.connect(self._mount_typed)
+        f.addRow(self.mount_table)
+        layout.addWidget(rig)
+
         noise = QGroupBox("pose noise (σ)")
         noise.setToolTip("position σ along the world axes, angle σ about the camera axes")
         f = form(noise)
@@ -188,7 +208,10 @@ class FlightPanel(Panel):
         self.camera.clear()
         for cam in project.cameras:
             self.camera.addItem(cam.name or cam.id, cam.id)
+        for rig in project.trajectory.rigs:
+            self.camera.addItem(f"rig {rig.name} ({len(rig.mounts)} cameras)", rig.name)
         self.camera.blockSignals(blocked)
+        self._mounts_to_table()
         super().refresh()
         plan = project.trajectory.flight_plan
         self.create.setVisible(plan is None)
@@ -207,6 +230,40 @@ class FlightPanel(Panel):
             self.area_table.setItem(r, 1, QTableWidgetItem(f"{y:.3f}"))
         self.area_table.blockSignals(False)
         self._readouts()
+
+    def _mounts_to_table(self) -> None:
+        rows = [(r, k, rig, mount) for r, rig in enumerate(self.project.trajectory.rigs)
+                for k, mount in enumerate(rig.mounts)]
+        self.mount_table.blockSignals(True)
+        self.mount_table.setRowCount(len(rows))
+        self._mount_rows = [(r, k) for r, k, _, _ in rows]
+        for row, (_, _, rig, mount) in enumerate(rows):
+            for col, (_, field) in enumerate(MOUNT_COLUMNS):
+                value = rig.name if field == "rig" else getattr(mount, field)
+                text = f"{value:g}" if isinstance(value, float) else str(value)
+                item = QTableWidgetItem(text)
+                if field == "rig":
+                    item.setFlags(item.flags() & ~Qt.ItemFlag.ItemIsEditable)
+                self.mount_table.setItem(row, col, item)
+        self.mount_table.blockSignals(False)
+        self.add_rig.setVisible(not self.project.trajectory.rigs)
+
+    def _mount_typed(self, item: QTableWidgetItem) -> None:
+        """A typed mount value goes through the undo stack; a bad number is put back."""
+        rig_index, mount_index = self._mount_rows[item.row()]
+        field = MOUNT_COLUMNS[item.column()][1]
+        text = item.text().strip()
+        if field.endswith("_deg"):
+            try:
+                value = float(text)
+            except ValueError:
+                self._mounts_to_table()
+                return
+        else:
+            value = text
+        self.editor.edit(edits.set_mount(self.project, rig_index, mount_index,
+                                         **{field: value}),
+                         f"Rig mount {MOUNT_COLUMNS[item.column()][0]}")
 
     def _readouts(self) -> None:
         stations = self.sync.stations
