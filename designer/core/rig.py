@@ -18,7 +18,7 @@ import posixpath
 
 import numpy as np
 
-from designer.core.rotation import rotation_from_opk
+from designer.core.rotation import opk_from_rotation, rotation_from_opk, rotation_from_rotvec
 
 
 def mount_rotation(omega_deg: float, phi_deg: float, kappa_deg: float) -> np.ndarray:
@@ -43,3 +43,21 @@ def mount_image_name(image_name: str, suffix: str) -> str:
     IMG_00001.png, _F → IMG_00001_F.png (no extension: appended)."""
     stem, ext = posixpath.splitext(image_name)
     return f"{stem}{suffix}{ext}"
+
+
+def retilted_mount_deg(omega_deg: float, phi_deg: float, kappa_deg: float,
+                       tilt_deg: float) -> tuple[float, float, float]:
+    """ω φ κ (deg) of the mount turned about the axis perpendicular to the platform's
+    axis and its own, so that it looks ``tilt_deg`` from the platform's axis in the same
+    direction (ω = 45, φ = 0 → ω = tilt_deg). A mount along the platform's axis has no
+    direction to tilt in and is returned unchanged."""
+    R = mount_rotation(omega_deg, phi_deg, kappa_deg)
+    view = -R[:, 2]  # the viewing axis in platform axes; the platform looks along −z
+    axis = np.cross([0.0, 0.0, -1.0], view)
+    norm = float(np.linalg.norm(axis))
+    if norm < 1e-12:
+        return omega_deg, phi_deg, kappa_deg
+    turn = math.radians(tilt_deg - mount_tilt_deg(omega_deg, phi_deg, kappa_deg))
+    R_new = rotation_from_rotvec(axis / norm * turn) @ R
+    # rounded to 1e-12 deg so that 45 → 30 reads back as 30, not 29.999999999999996
+    return tuple(round(float(math.degrees(a)), 12) + 0.0 for a in opk_from_rotation(R_new))

@@ -189,6 +189,40 @@ def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
     return replace(p, scene=replace(p.scene, moving_objects=moving))
 
 
+def _oblique_tilt(p: m.Project) -> float | None:
+    """The tilt (deg from the platform's axis) of the first rig's most tilted mount."""
+    from designer.core.rig import mount_tilt_deg
+
+    if not p.trajectory.rigs:
+        return None
+    tilts = [mount_tilt_deg(mt.omega_deg, mt.phi_deg, mt.kappa_deg)
+             for mt in p.trajectory.rigs[0].mounts]
+    return round(max(tilts), 9)
+
+
+def _with_oblique_tilt(p: m.Project, tilt_deg: float) -> m.Project:
+    """Every oblique mount (not along the platform's axis) of every rig turned to look
+    ``tilt_deg`` from the platform's axis, in the direction it looked before."""
+    from designer.core.rig import mount_tilt_deg, retilted_mount_deg
+
+    if not p.trajectory.rigs:
+        raise ValueError("the base project has no <rig> in its trajectory; add an oblique "
+                         "rig to vary its tilt")
+    if not 0 < tilt_deg <= 90:
+        raise ValueError("the oblique tilt must be greater than 0 and at most 90 degrees")
+    rigs = []
+    for rig in p.trajectory.rigs:
+        mounts = []
+        for mt in rig.mounts:
+            angles = (mt.omega_deg, mt.phi_deg, mt.kappa_deg)
+            if mount_tilt_deg(*angles) > 1e-6:
+                angles = retilted_mount_deg(*angles, tilt_deg)
+            mounts.append(replace(mt, omega_deg=angles[0], phi_deg=angles[1],
+                                  kappa_deg=angles[2]))
+        rigs.append(replace(rig, mounts=tuple(mounts)))
+    return replace(p, trajectory=replace(p.trajectory, rigs=tuple(rigs)))
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -342,6 +376,8 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        "render", _float,
        lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
        _with_moving_speed),
+    _F("oblique-tilt-deg", "tilt of every oblique rig mount from the platform's axis (deg; "
+       "the nadir mounts stay)", "render", _float, _oblique_tilt, _with_oblique_tilt),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),
