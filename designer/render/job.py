@@ -21,7 +21,6 @@ from designer.core.truth import CameraPose, CameraSet
 from designer.effects.distortion_render import pinhole_render_camera
 from designer.effects.from_model import effects_from_model
 from designer.effects.motion import flight_direction_uv
-from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
@@ -106,25 +105,38 @@ def prepare_job(
                  for c in camera_order}
     interior = interiors[camera_id]
     # A distorted camera is rendered as a pinhole just large enough to cover its field,
-    # then warped through the exact inverse (designer.effects): the warp is made once.
-    render_camera, warp = pinhole_render_camera(interior,
-                                                project.render.distortion_oversample)
-    frame_cameras: list = [None] * len(stations)
+    # then warped through the exact inverse (designer.effects): the warp is made once
+    # per camera.
+    rendered = {c: pinhole_render_camera(i, project.render.distortion_oversample)
+                for c, i in interiors.items()}
+    render_camera = rendered[camera_id][0]
+    multi = images.is_multi_camera
+    n = len(stations)
+    frame_cameras, frame_ids, frame_sizes = [None] * n, [None] * n, [None] * n
     cameras = None
-    if images.is_multi_camera:
+    if multi:
         cameras = CameraSet(interiors, dict(zip((s.image_name for s in stations),
                                                 images.camera_ids, strict=True)))
-        _check_rig_renderable(project, interiors)
-        specs = {c: blender_camera(i) for c, i in interiors.items()}
+        specs = {c: blender_camera(rendered[c][0]) for c in interiors}
         frame_cameras = [specs[c] for c in images.camera_ids]
+        frame_ids = list(images.camera_ids)
+        frame_sizes = [interiors[c].image_size_px for c in images.camera_ids]
     effects = None
-    if not effects_from_model(project.effects, interior, warp=warp).is_empty:
+    with_effects = [c for c, i in interiors.items()
+                    if not effects_from_model(project.effects, i, warp=rendered[c][1]).is_empty]
+    if with_effects:
         write_project(project, job_dir / "project.xml")
-        if warp is not None:
-            warp.save(job_dir / "distortion_warp.npz")
+        warps: dict[str, str | None] = {}
+        for c in with_effects:
+            w = rendered[c][1]
+            warps[c] = None
+            if w is not None:
+                warps[c] = "distortion_warp.npz" if not multi else f"distortion_warp_{c}.npz"
+                w.save(job_dir / warps[c])
         effects = EffectsSpec(project="project.xml", camera_id=camera_id,
                               resolution_scale=project.render.resolution_scale,
-                              warp="distortion_warp.npz" if warp is not None else None)
+                              warp=warps.get(camera_id),
+                              camera_warps=warps if multi else None)
 
     write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
     terrain_material = MaterialSpec(texture="texture.png",
@@ -212,7 +224,8 @@ def prepare_job(
         frames=tuple(FrameSpec(index=i, image_name=p.image_name,
                                matrix_world_local=_matrix_rows(blender_matrix_world(
                                    p.C_world, p.R_cam_to_world, origin)),
-                               camera=frame_cameras[i], **contexts[i])
+                               camera=frame_cameras[i], camera_id=frame_ids[i],
+                               size_px=frame_sizes[i], **contexts[i])
                      for i, p in enumerate(poses)),
     )
     job_path = job.write(job_dir / "job.json")
@@ -220,21 +233,6 @@ def prepare_job(
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
                        cameras=cameras)
-
-
-def _check_rig_renderable(project: m.Project, interiors: dict[str, InteriorOrientation]
-                          ) -> None:
-    """A rig's images are rendered exactly as pinhole cameras; lens distortion and the
-    camera-effects chain are applied per camera only for one-camera projects so far."""
-    distorted = [c for c, i in interiors.items()
-                 if i.distortion is not None and not getattr(i.distortion, "is_identity", False)]
-    if distorted:
-        raise DesignerError(
-            f"camera(s) {', '.join(distorted)} of the rig have lens distortion, which is not "
-            "rendered for multi-camera rigs yet; remove <distortion> from their <camera>")
-    if not effects_from_model(project.effects, next(iter(interiors.values()))).is_empty:
-        raise DesignerError("camera <effects> are not rendered for multi-camera rigs yet; "
-                            "remove <effects> or fly one camera")
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

@@ -143,6 +143,10 @@ class EffectsSpec:
     camera_id: str
     resolution_scale: float
     warp: str | None = None
+    #: a multi-camera rig: camera id → its warp file (None: no distortion) for every
+    #: camera whose images have effects; frames name their camera (FrameSpec.camera_id).
+    #: None: one camera, ``camera_id`` and ``warp``
+    camera_warps: dict[str, str | None] | None = None
 
 
 @dataclass(frozen=True)
@@ -173,13 +177,16 @@ class FrameSpec:
     #: of its base centre, heading deg clockwise from grid north) at ``time_s``
     moving_poses: tuple[tuple[str, float, float, float, float], ...] | None = None
     #: this frame's camera when a multi-camera rig gives frames different cameras
-    #: (lens, sensor, resolution); None: the job's ``camera``
+    #: (lens, sensor, resolution as rendered), the project camera's id and the finished
+    #: image's (width, height) px; None: the job's ``camera``, width_px and height_px
     camera: CameraSpec | None = None
+    camera_id: str | None = None
+    size_px: tuple[int, int] | None = None
 
 
 #: FrameSpec fields left out of job.json and of provenance when None, so a job without
 #: them reads and hashes as before they existed
-OPTIONAL_FRAME_FIELDS = ("camera",)
+OPTIONAL_FRAME_FIELDS = ("camera", "camera_id", "size_px")
 
 
 #: the FrameSpec fields of the world over time, left out of provenance when None
@@ -251,14 +258,20 @@ class RenderJob:
             for key in OPTIONAL_FRAME_FIELDS:
                 if frame[key] is None:
                     del frame[key]
+        if data["effects"] is not None and data["effects"]["camera_warps"] is None:
+            del data["effects"]["camera_warps"]
         return json.dumps(data, indent=1)
 
     def frame_size_px(self, index: int) -> tuple[int, int]:
         """(width, height) of the image of frame ``index``."""
         frame = self._frames_by_index[index]
-        if frame.camera is None:
+        return self.frame_size(frame)
+
+    def frame_size(self, frame: FrameSpec) -> tuple[int, int]:
+        """(width, height) of a frame's finished image."""
+        if frame.size_px is None:
             return self.width_px, self.height_px
-        return frame.camera.resolution_x_px, frame.camera.resolution_y_px
+        return tuple(frame.size_px)
 
     def frame_camera(self, frame: FrameSpec) -> CameraSpec:
         """The camera a frame is rendered with (its own, or the job's)."""
@@ -283,7 +296,7 @@ class RenderJob:
                 width_px=int(data["width_px"]),
                 height_px=int(data["height_px"]),
                 **{k: _tuple(data[k]) for k in ("origin_world", "background_rgb") if k in data},
-                effects=EffectsSpec(**data["effects"]) if data.get("effects") else None,
+                effects=_effects(data["effects"]) if data.get("effects") else None,
                 **{k: data[k] for k in ("designer_version", "project") if k in data},
             )
         except JobError as error:
@@ -330,6 +343,12 @@ def _material(data: dict) -> MaterialSpec:
 
 def _mesh(data: dict) -> MeshSpec:
     return MeshSpec(data["name"], data["mesh"], tuple(_material(m) for m in data["materials"]))
+
+
+def _effects(data: dict) -> EffectsSpec:
+    data = dict(data)
+    warps = data.pop("camera_warps", None)
+    return EffectsSpec(**data, camera_warps=dict(warps) if warps is not None else None)
 
 
 def _frame(data: dict) -> FrameSpec:

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from designer import __version__
-from designer.render.job_spec import TIME_FIELDS, FrameSpec, RenderJob
+from designer.render.job_spec import OPTIONAL_FRAME_FIELDS, TIME_FIELDS, FrameSpec, RenderJob
 
 PARTS = ("software", "render", "camera", "scene", "targets", "effects", "pose")
 #: the name the job builder gives the GCP targets' mesh (hashed per frame)
@@ -137,6 +137,11 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         effects = _digest(repr(project.effects), repr(project.camera(spec.camera_id)),
                           repr(spec.resolution_scale),
                           _file_digest(job_dir / spec.warp) if spec.warp else "no warp")
+        if spec.camera_warps is not None:  # a rig: each camera's own effects
+            rig_effects = {c: _digest(repr(project.effects), repr(project.camera(c)),
+                                      repr(spec.resolution_scale),
+                                      _file_digest(job_dir / w) if w else "no warp")
+                           for c, w in spec.camera_warps.items()}
     common["effects"] = effects
     out = {}
     for frame in job.frames:
@@ -148,9 +153,13 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
                                      *_objects_chunks(job.moving_objects, job_dir)[0])
         parts["targets"] = _digest(*chunks, _targets_in_view(target_vertices, frame, job))
         if frame.camera is not None:  # a rig: each frame's own camera
-            parts["camera"] = _digest(_canonical([asdict(frame.camera)]))
+            parts["camera"] = _digest(_canonical([asdict(frame.camera),
+                                                  list(job.frame_size(frame))]))
+            if job.effects is not None and job.effects.camera_warps is not None:
+                parts["effects"] = rig_effects.get(frame.camera_id, "none")
         pose = asdict(frame)
-        pose.pop("camera")
+        for key in OPTIONAL_FRAME_FIELDS:
+            pose.pop(key)
         if job.effects is None:  # the effect context (GSD, distance) changes no pixel then
             pose = {k: pose[k] for k in ("index", "image_name", "matrix_world_local",
                                          *TIME_FIELDS)}

@@ -391,20 +391,27 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
             "effects_seconds": time.perf_counter() - t1}
 
 
-def load_effects(job: RenderJob, base: Path):
-    """The camera-effects chain of the job, or None when the images are final as rendered."""
+def load_effects(job: RenderJob, base: Path) -> dict:
+    """The camera-effects chain of each camera: {camera id: chain} for a multi-camera rig
+    (cameras whose images are final as rendered are absent), {None: chain} for one camera;
+    {} when every image is final as rendered."""
     spec = job.effects
     if spec is None:
-        return None
+        return {}
     from designer.effects.distortion_render import DistortionWarp
     from designer.effects.from_model import effects_from_model
     from designer.project import read_project
     from designer.survey.project_poses import render_interior
 
     project = read_project(base / spec.project)
-    interior = render_interior(project.camera(spec.camera_id), spec.resolution_scale)
-    warp = DistortionWarp.load(base / spec.warp, interior) if spec.warp else None
-    return effects_from_model(project.effects, interior, warp=warp)
+    warps = {None: spec.warp} if spec.camera_warps is None else spec.camera_warps
+    chains = {}
+    for key, warp_file in warps.items():
+        interior = render_interior(project.camera(spec.camera_id if key is None else key),
+                                   spec.resolution_scale)
+        warp = DistortionWarp.load(base / warp_file, interior) if warp_file else None
+        chains[key] = effects_from_model(project.effects, interior, warp=warp)
+    return chains
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -427,7 +434,7 @@ def main(argv: list[str] | None = None) -> int:
     ext = job.render.extension
     t0 = time.perf_counter()
     scene, camera = build_scene(job, base)
-    chain = load_effects(job, base)
+    chains = load_effects(job, base)
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
     current = {spec.name: spec for spec in job.objects}
     exif = job.image_metadata == "exif"
@@ -435,8 +442,9 @@ def main(argv: list[str] | None = None) -> int:
         step = frames[index].light_step
         if step is not None:
             apply_light_step(scene, current, job.light_steps[step], base)
-        done = render_frame(scene, camera, frames[index], out_dir, ext, base / PARTIAL_DIR,
-                            chain, exif)
+        frame = frames[index]
+        done = render_frame(scene, camera, frame, out_dir, ext, base / PARTIAL_DIR,
+                            chains.get(frame.camera_id), exif)
         emit(progress, event="frame_done", index=index, **done)
     import resource
 

@@ -278,3 +278,39 @@ def test_colmap_command_line_reads_the_multi_camera_model(rendered):
     assert run.returncode == 0, output
     assert re.search(r"Cameras:\s*5\b", output), output
     assert re.search(rf"Images:\s*{N_STATIONS * 5}\b", output), output
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_a_rig_with_lens_distortion_and_effects_warps_each_camera_by_its_own_lens(tmp_path):
+    pycolmap = pytest.importorskip("pycolmap")
+    project = rig_survey(n_stations=5)
+    distorted = {"fwd": m.BrownConradyDistortion(k1=-0.15, k2=0.02),
+                 "left": m.BrownConradyDistortion(k1=0.1, p1=0.002)}
+    project = replace(project, cameras=tuple(
+        replace(c, distortion=distorted.get(c.id)) for c in project.cameras),
+        effects=m.Effects(vignetting=m.Vignetting(corner_falloff=0.2)))
+    summary = render_project(write_project_file(project, tmp_path), tmp_path / "out",
+                             workers=1)
+    job = RenderJob.read(summary.prepared.job_path)
+    assert sorted(c for c, w in job.effects.camera_warps.items() if w) == sorted(distorted)
+    _, by_camera = _observations_by_camera(summary)
+    rec = pycolmap.Reconstruction(str(summary.ground_truth["colmap"]))
+    offset = model_offset_world(summary.ground_truth["colmap"])
+    truth = {g.gcp_id: g.true_xyz
+             for g in read_gcp_truth_csv(summary.ground_truth["gcp_truth"])}
+    rng = np.random.default_rng(1)
+    for cam_id in distorted:
+        assert rec.cameras[rec.find_image_with_name(by_camera[cam_id][0].image_name)
+                           .camera_id].model.name == "OPENCV"
+        errors = []
+        for o in by_camera[cam_id]:
+            image = rec.find_image_with_name(o.image_name)
+            assert np.abs(image.project_point(truth[o.gcp_id] - offset) - o.uv_px).max() < 1e-6
+            W, H = CAMERAS[cam_id][5]
+            if 12 < o.uv_px[0] < W - 12 and 12 < o.uv_px[1] < H - 12:
+                gray = cv2.imread(str(summary.images_dir / o.image_name), cv2.IMREAD_GRAYSCALE)
+                assert gray.shape[::-1] == (W, H)
+                errors.append(detect_centres(gray, np.array([o.uv_px]), rng)[0] - o.uv_px)
+        # an undistorted render, or another camera's warp, misplaces them by pixels
+        assert errors and np.abs(errors).max() < 0.3, (cam_id, errors)
