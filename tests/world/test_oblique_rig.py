@@ -314,3 +314,23 @@ def test_a_rig_with_lens_distortion_and_effects_warps_each_camera_by_its_own_len
                 errors.append(detect_centres(gray, np.array([o.uv_px]), rng)[0] - o.uv_px)
         # an undistorted render, or another camera's warp, misplaces them by pixels
         assert errors and np.abs(errors).max() < 0.3, (cam_id, errors)
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_a_rendered_rig_folder_is_up_to_date_and_a_turned_mount_makes_its_images_stale(
+        rendered, tmp_path):
+    from designer.render.check_output import check_output
+
+    project_path = rendered.out_dir.parent / "project.xml"
+    status = check_output(rendered.out_dir, project_path)
+    assert status.ok, status.summary()
+    assert len(status.up_to_date) == N_STATIONS * 5
+    project = load_project(project_path)
+    rig = project.trajectory.rigs[0]
+    turned = replace(rig, mounts=tuple(replace(mt, phi_deg=40.0) if mt.suffix == "_L" else mt
+                                       for mt in rig.mounts))
+    changed = replace(project, trajectory=replace(project.trajectory, rigs=(turned,)))
+    status = check_output(rendered.out_dir, project_path, project=changed)
+    assert sorted(status.stale) == sorted(n for n in status.stale if n.endswith("_L.png"))
+    assert len(status.stale) == N_STATIONS and status.ground_truth.startswith("out of date")
