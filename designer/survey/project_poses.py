@@ -142,11 +142,14 @@ def project_stations(
     Explicit exterior orientations become stations of their own flight line each (they
     have no planned neighbours). A station flown with a rig is the platform's pose, with
     the rig's planning camera (:func:`planning_camera_id`); :func:`project_images` gives
-    its images. Every station must use the same camera.
+    its images. Without a rig every station must use the same camera; with one the
+    returned camera is the first station's planning camera.
     """
     stations, carriers = platform_stations(project, hf)
     camera_ids = [planning_camera_id(project, c) for c in carriers]
-    if len(set(camera_ids)) > 1:
+    # with rigs several cameras are the point: the figures are then the first station's
+    # planning camera's (project_images gives every image its own)
+    if len(set(camera_ids)) > 1 and not project.trajectory.rigs:
         raise DesignerError(
             f"stations use several cameras ({', '.join(sorted(set(camera_ids)))}); render one "
             "camera per project, or mount them on a <rig>")
