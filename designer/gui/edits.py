@@ -229,7 +229,8 @@ def set_flight(project: m.Project, **fields) -> m.Project:
 # ---------------------------------------------------------------------- camera
 def set_camera(project: m.Project, camera: m.Camera, index: int = 0) -> m.Project:
     """Replace camera ``index`` (add it when there is none); a new id is followed by the
-    flight plan and by every exterior orientation that used the old one."""
+    flight plan, every exterior orientation, rig mount and orbit or facade flight that
+    used the old one."""
     cameras = list(project.cameras)
     old_id = cameras[index].id if index < len(cameras) else None
     if index < len(cameras):
@@ -244,7 +245,13 @@ def set_camera(project: m.Project, camera: m.Camera, index: int = 0) -> m.Projec
         plan = traj.flight_plan
         if plan is not None and plan.camera == old_id:
             plan = dataclasses.replace(plan, camera=camera.id)
-        project = dataclasses.replace(project, trajectory=m.Trajectory(eos, plan))
+        rigs = tuple(dataclasses.replace(rig, mounts=tuple(
+            dataclasses.replace(mt, camera=camera.id) if mt.camera == old_id else mt
+            for mt in rig.mounts)) for rig in traj.rigs)
+        patterns = tuple(dataclasses.replace(p, camera=camera.id) if p.camera == old_id else p
+                         for p in traj.patterns)
+        project = dataclasses.replace(project, trajectory=dataclasses.replace(
+            traj, exterior_orientations=eos, flight_plan=plan, rigs=rigs, patterns=patterns))
     return project
 
 

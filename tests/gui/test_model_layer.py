@@ -127,6 +127,17 @@ def test_set_camera_renames_the_flight_camera():
     assert [c.id for c in q.cameras] == ["sony"]
 
 
+def test_set_camera_renames_rig_mounts_and_patterns_and_keeps_the_time_line():
+    p = edits.add_oblique_rig(template("survey-dynamic").project)
+    orbit = m.OrbitPattern("p4p", "ORB_", m.Point3(0.0, 0.0, 0.0), 10.0, 10.0, 4)
+    p = edits.replace_path(p, "trajectory.patterns", (orbit,))
+    q = edits.set_camera(p, camera_presets.preset("a6000").camera("sony"))
+    assert {mt.camera for mt in q.trajectory.rigs[0].mounts} == {"sony"}
+    assert q.trajectory.patterns[0].camera == "sony"
+    assert q.trajectory.flight_plan.camera == p.trajectory.rigs[0].name
+    assert q.trajectory.time_line == p.trajectory.time_line is not None
+
+
 # ------------------------------------------------------------------- view geometry
 def test_nadir_footprints_on_flat_ground_match_camera_calc():
     interior = InteriorOrientation(8.8, 13.2, 8.8, 5472, 3648)
