@@ -45,6 +45,31 @@ def test_import_site_builds_opens_and_refuses_a_bad_dem(qtbot, window, sample_si
     assert w.document.path == path  # the open project stays
 
 
+def test_an_imported_orthophoto_lies_where_its_geotransform_puts_it(qtbot, window,
+                                                                   sample_site, tmp_path):
+    """The 3D view drapes the orthophoto as the renderer does: each drawn terrain vertex
+    gets the orthophoto pixel of its own position, not a tile stretched over the extent."""
+    from designer.scene.build import build_orthophoto
+    from designer.scene.orthophoto import orthophoto_uv
+
+    w = window
+    path = tmp_path / "site.xml"
+    answer_file_dialogs([sample_site["dem"], sample_site["orthophoto"], path])
+    choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
+    wait_idle(qtbot, w)
+    qtbot.waitUntil(lambda: w.sync.texture is not None, timeout=30000)
+    project = w.document.project
+    ortho = build_orthophoto(project.scene.texture, project.scene.terrain, path.parent,
+                             project.crs)
+    mesh = w.view.plotter.actors["terrain"].mapper.dataset
+    points_world = np.asarray(mesh.points, float) + w.view.offset
+    expected = orthophoto_uv(ortho, points_world[:, :2], project.crs)
+    drawn = np.asarray(mesh.active_texture_coordinates, float)
+    assert np.abs(drawn - expected).max() < 1e-5
+    tiled = w.sync.terrain.display.uv  # what was drawn before: the extent as one tile
+    assert np.abs(tiled - expected).max() > 1e-3
+
+
 def _flown_images(folder, n: int):
     """DJI-style geotagged images of the example survey's first ``n`` true poses."""
     project = load_project(EXAMPLE)
