@@ -107,6 +107,11 @@ def test_import_flight_from_images_replays_the_poses_and_undoes(qtbot, window, t
     assert (footprints[:, :, 2] < C[:, None, 2] - 30.0).all()  # on the ground, far below
     assert w.view.plotter.actors["frusta"].GetVisibility()
     assert w.view.plotter.actors["footprints"].GetVisibility()
+    # the Flight panel's figures for the imported photos: numbers or words, never nan
+    qtbot.waitUntil(lambda: w.sync.plan is not None, timeout=30000)
+    flight = w.panels["Flight"]
+    figures = [flight.real_gsd.text(), flight.real_overlap.text(), flight.real_images.text()]
+    assert all(figures) and not any("nan" in t for t in figures), figures
     assert w.document.dirty
 
     # one undo step brings the planned flight back
@@ -158,3 +163,13 @@ def test_export_flight_plan_in_each_format_reads_back(qtbot, window, tmp_path):
     lonlat_qgc = np.array([[p.lon_deg, p.lat_deg] for p in points])
     lonlat_wpml = np.array([[p.lon_deg, p.lat_deg] for p in flown])
     assert np.abs(lonlat_qgc - lonlat_wpml).max() < 1e-9
+
+
+def test_flight_figures_that_do_not_exist_are_said_in_words():
+    from designer.gui.panels.flight import _gsd_text
+
+    nan = float("nan")
+    assert _gsd_text(0.0492, 0.0635, 0.0532) == (
+        "4.92 to 6.35 cm over the area, median 5.32 cm at the centres of the images over it")
+    assert _gsd_text(0.0492, 0.0635, nan).endswith("no image is centred over it")
+    assert "nan" not in _gsd_text(nan, nan, nan)
