@@ -4,7 +4,6 @@ crosshatch, terrain following, tilt, pose noise; image count and render time liv
 from __future__ import annotations
 
 import numpy as np
-
 from PySide6.QtWidgets import (
     QButtonGroup,
     QCheckBox,
