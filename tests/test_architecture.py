@@ -40,7 +40,7 @@ MAY_IMPORT: dict[str, set[str]] = {
     "study": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
               "render"},
     "gui": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-            "render", "study"},
+            "render", "study", "flight"},
     "bench": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
               "render", "validate", "gui", "study"},
     "cli": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",

@@ -39,6 +39,10 @@ def register(subparsers) -> None:
     parser.add_argument("--cell-m", type=float, metavar="M", help="error-map cell size (m)")
     parser.add_argument("--no-targets", action="store_true",
                         help="project XML: compare with the terrain alone, not the GCP plates")
+    parser.add_argument("--surface", choices=("dtm", "dsm"),
+                        help="with a project XML as the reference: compare with the bare "
+                             "earth (dtm) or the surface with objects, buildings and "
+                             "vegetation (dsm, the default)")
     parser.add_argument("--at-time", type=float, metavar="T",
                         help="project XML: include its moving objects posed at T seconds "
                              "after take-off (default: the static ground without them)")
@@ -167,13 +171,16 @@ def _compare(args, loader) -> int:
                              offset_hint=lambda: _project_origin(args.reference))
     for warning in coarse_warnings(cloud):
         print(f"warning: {args.cloud}: {warning}", file=sys.stderr)
+    if args.surface is not None and args.reference.suffix.lower() != ".xml":
+        raise DesignerError(f"--surface {args.surface}: needs a project XML as the reference, "
+                            f"not {args.reference.name} (a mesh file is its own surface)")
     if args.at_time is not None and args.reference.suffix.lower() != ".xml":
         raise DesignerError(f"--at-time {args.at_time}: needs a project XML as the reference, "
                             f"not {args.reference.name}")
     if args.at_time is not None and not (args.at_time >= 0 and args.at_time < 1e7):
         raise DesignerError(f"--at-time {args.at_time}: give seconds after take-off, >= 0")
     mesh = reference_mesh(args.reference, with_targets=not args.no_targets,
-                          at_time_s=args.at_time)
+                          at_time_s=args.at_time, surface=args.surface or "dsm")
     gcps, cameras = extra_errors(args)
     loader.join()
     summary = compare_cloud(cloud, mesh, args.output, max_distance=args.max_distance,

@@ -40,48 +40,25 @@ class ReferenceMesh:
     faces: np.ndarray
     source: str
     crs: str | None = None
+    #: "dtm" or "dsm" when built from a project, ``None`` for a mesh file
+    surface: str | None = None
 
 
 def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True,
-                   at_time_s: float | None = None) -> ReferenceMesh:
-    """The true surface from a mesh file or a project XML (terrain, scene objects and
-    GCP targets; the static ground: moving objects only with ``at_time_s``, posed then,
-    seconds after take-off)."""
+                   at_time_s: float | None = None, surface: str = "dsm") -> ReferenceMesh:
+    """The true surface from a mesh file or a project XML: its bare earth (``surface``
+    "dtm": terrain and GCP targets) or the surface with what stands on it ("dsm": plus
+    scene objects, buildings, vegetation; moving objects only with ``at_time_s``, posed
+    then, seconds after take-off). See :mod:`designer.scene.surfaces`."""
     path = Path(path)
     if path.suffix.lower() == ".xml":
         from designer.project import load_project
-        from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
-        from designer.scene.objects import place_objects
+        from designer.scene.surfaces import true_surface
 
         project = load_project(path)
-        terrain = project.scene.terrain
-        origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
-        # Only the geometry is needed: build the terrain and targets, not the texture.
-        hf = build_heightfield(terrain, path.parent, project.crs)
-        mesh = build_terrain_mesh(terrain, hf, path.parent, origin)
-        vertices, faces = [mesh.vertices_world], [mesh.faces]
-        if with_targets:
-            n = len(mesh.vertices_world)
-            for t in build_targets(project, hf):
-                quads = np.asarray(t.faces, np.int64)  # counter-clockwise quads
-                vertices.append(t.vertices_world)
-                faces.append(np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) + n)
-                n += len(t.vertices_world)
-        _, object_vertices, object_faces, _ = place_objects(project, path.parent)
-        vertices.append(object_vertices)
-        faces.append(object_faces + sum(len(v) for v in vertices[:-1]))
-        if at_time_s is not None:
-            from types import SimpleNamespace
-
-            from designer.scene.moving import pose_at, posed_vertices, shape_mesh
-
-            ground = SimpleNamespace(heightfield=hf, terrain=mesh)
-            for obj in project.scene.moving_objects:
-                v, f = shape_mesh(obj, path.parent)
-                n = sum(len(x) for x in vertices)
-                vertices.append(posed_vertices(v, pose_at(obj, at_time_s, ground)))
-                faces.append(f + n)
-        return ReferenceMesh(np.vstack(vertices), np.vstack(faces), str(path), project.crs)
+        vertices, faces = true_surface(project, path.parent, surface,
+                                       with_targets=with_targets, at_time_s=at_time_s)
+        return ReferenceMesh(vertices, faces, str(path), project.crs, surface)
     from designer.scene.mesh import load_mesh
 
     mesh = load_mesh(path)
@@ -177,7 +154,7 @@ def compare_cloud(
     rows, cols = grid.values.shape
     summary = {
         "inputs": {"cloud": cloud.source, "n_points": len(cloud), "mesh": mesh.source,
-                   "n_faces": len(mesh.faces), "crs": mesh.crs,
+                   "surface": mesh.surface, "n_faces": len(mesh.faces), "crs": mesh.crs,
                    "offset": None if offset is None else [float(v) for v in offset],
                    "max_distance": max_distance,
                    "coordinate_spacing_m": cloud.coordinate_spacing_m},

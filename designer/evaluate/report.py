@@ -20,6 +20,10 @@ from designer.evaluate.statistics import format_statistics
 def format_summary(summary: dict) -> str:
     """A plain-text table of the distance statistics (and GCP / pose RMSE if present)."""
     rows = format_statistics(summary["distances"])
+    surface = summary["inputs"].get("surface")
+    if surface:
+        rows.insert(0, ("true surface", {"dtm": "DTM (bare earth)",
+                                         "dsm": "DSM (surface)"}[surface]))
     gcp = summary.get("gcps")
     if gcp:
         for role in ("check", "control"):
@@ -39,11 +43,19 @@ def format_summary(summary: dict) -> str:
     return "\n".join(lines)
 
 
+_SURFACE_WORDS = {
+    "dtm": "DTM, bare earth (terrain and GCP targets; no objects, buildings or vegetation)",
+    "dsm": "DSM, the surface with what stands on the ground (objects, buildings, vegetation)",
+}
+
+
 def _markdown(summary: dict, images: dict[str, str]) -> str:
     inp = summary["inputs"]
     lines = ["# Accuracy report", "",
              f"- cloud: `{inp['cloud']}` ({inp['n_points']:,} points)",
              f"- reference mesh: `{inp['mesh']}` ({inp['n_faces']:,} triangles)"]
+    if inp.get("surface"):
+        lines.append(f"- true surface: {_SURFACE_WORDS[inp['surface']]}")
     if inp.get("offset"):
         lines.append(f"- offset added to the cloud: {inp['offset']} m")
     if inp.get("max_distance") is not None:

@@ -1,0 +1,105 @@
+"""The true surfaces of a project: bare earth (DTM) and the surface with what stands on it
+(DSM), as world-coordinate triangles.
+
+* ``dtm`` — the terrain and, when asked, the GCP target plates lying on it;
+* ``dsm`` — the DTM plus everything standing on the ground at the reference time: scene
+  objects (mesh files), and every layer in :data:`DSM_LAYERS` (buildings, vegetation…);
+  moving objects only when a moment ``at_time_s`` (seconds after take-off) is given.
+
+A project with none of these elements has DTM = DSM = the terrain (and targets), the
+surface ``designer compare`` has always used.
+
+:data:`DSM_LAYERS` is the one place where a scene element that stands on the ground says
+what it adds to the surface: a function ``(project, base_dir, ground, at_time_s) ->
+list[(vertices_world (N, 3) float64, faces (M, 3) int64)]``, returning ``[]`` when the
+project does not use that element.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.project import model as m
+
+SURFACES = ("dtm", "dsm")
+
+Triangles = tuple[np.ndarray, np.ndarray]
+
+
+@dataclass(frozen=True)
+class Ground:
+    """What a layer may need to stand on the ground: the terrain's heightfield (or
+    ``None`` for a mesh terrain) and its triangle mesh (``vertices_world``, ``faces``)."""
+
+    heightfield: object
+    terrain: object
+
+
+def _scene_objects(project: m.Project, base_dir: Path, ground: Ground,
+                   at_time_s: float | None) -> list[Triangles]:
+    from designer.scene.objects import place_objects
+
+    _, vertices, faces, _ = place_objects(project, base_dir)
+    return [(vertices, faces)] if len(faces) else []
+
+
+def _moving_objects(project: m.Project, base_dir: Path, ground: Ground,
+                    at_time_s: float | None) -> list[Triangles]:
+    if at_time_s is None or not project.scene.moving_objects:
+        return []
+    from designer.scene.moving import pose_at, posed_vertices, shape_mesh
+
+    layers = []
+    for obj in project.scene.moving_objects:
+        v, f = shape_mesh(obj, base_dir)
+        layers.append((posed_vertices(v, pose_at(obj, at_time_s, ground)), f))
+    return layers
+
+
+#: what stands on the ground, in the order it is added to the DSM
+DSM_LAYERS: list[Callable[[m.Project, Path, Ground, float | None], list[Triangles]]] = [
+    _scene_objects,
+    _moving_objects,
+]
+
+
+def merge_triangles(parts: list[Triangles]) -> Triangles:
+    """One vertex and face array from several (face indices shifted)."""
+    vertices, faces, n = [], [], 0
+    for v, f in parts:
+        vertices.append(np.asarray(v, np.float64).reshape(-1, 3))
+        faces.append(np.asarray(f, np.int64).reshape(-1, 3) + n)
+        n += len(vertices[-1])
+    if not vertices:
+        return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
+    return np.vstack(vertices), np.vstack(faces)
+
+
+def true_surface(project: m.Project, base_dir: Path, surface: str = "dsm", *,
+                 with_targets: bool = True, at_time_s: float | None = None) -> Triangles:
+    """The ``surface`` ("dtm" or "dsm") of ``project`` as world triangles (float64)."""
+    if surface not in SURFACES:
+        raise ValueError(f"surface {surface!r}: give one of {', '.join(SURFACES)}")
+    from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
+
+    base_dir = Path(base_dir)
+    terrain = project.scene.terrain
+    origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
+    # Only the geometry is needed: build the terrain and targets, not the texture.
+    hf = build_heightfield(terrain, base_dir, project.crs)
+    mesh = build_terrain_mesh(terrain, hf, base_dir, origin)
+    parts: list[Triangles] = [(mesh.vertices_world, mesh.faces)]
+    if with_targets:
+        for t in build_targets(project, hf):
+            quads = np.asarray(t.faces, np.int64)  # counter-clockwise quads
+            parts.append((t.vertices_world,
+                          np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])))
+    if surface == "dsm":
+        ground = Ground(heightfield=hf, terrain=mesh)
+        for layer in DSM_LAYERS:
+            parts.extend(layer(project, base_dir, ground, at_time_s))
+    return merge_triangles(parts)
