@@ -48,6 +48,9 @@ class PlanResult:
     carriers: tuple[str, ...] = ()
     #: images of all cameras (a rig takes several per station)
     n_images_all_cameras: int | None = None
+    #: per camera of a rig project: (camera id, images, median GSD at the principal point
+    #: on the terrain m/px or NaN, median distance there m or NaN)
+    cameras: tuple[tuple[str, int, float, float], ...] = ()
 
 
 def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None) -> PlanResult:
@@ -58,7 +61,9 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
                             "DEM); a mesh terrain cannot be analysed yet")
     stations, camera_id = project_stations(project, hf)
     carriers = tuple(platform_stations(project, hf)[1])
-    n_all = len(project_images(project, hf).stations)
+    images = project_images(project, hf)
+    n_all = len(images.stations)
+    per_camera = _camera_figures(project, images, hf) if project.trajectory.rigs else ()
     targets = build_targets(project, hf)
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
     plan = project.trajectory.flight_plan
@@ -71,7 +76,32 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),
-                      carriers, n_all)
+                      carriers, n_all, per_camera)
+
+
+def _camera_figures(project: m.Project, images, hf: Heightfield
+                    ) -> tuple[tuple[str, int, float, float], ...]:
+    """Per camera: its image count, the median GSD (m/px) and distance (m) where its
+    principal ray meets the terrain (NaN where none does)."""
+    from designer.core.projection import ground_sample_distance_m, pixel_rays_world
+
+    out = []
+    for camera_id in images.camera_order():
+        interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
+        mine = [st for st, c in zip(images.stations, images.camera_ids, strict=True)
+                if c == camera_id]
+        centre = np.array([[interior.cx_px, interior.cy_px]])
+        C = np.array([st.C_world for st in mine])
+        rays = np.concatenate([pixel_rays_world(centre, st.R_cam_to_world, interior)
+                               for st in mine])
+        hits = hf.intersect_rays(C, rays)
+        depth = np.einsum("ij,ij->i", hits - C, -np.array([st.R_cam_to_world[:, 2]
+                                                             for st in mine]))
+        ok = np.isfinite(depth)
+        distance = float(np.median(depth[ok])) if ok.any() else math.nan
+        gsd = float(ground_sample_distance_m(interior, distance))
+        out.append((camera_id, len(mine), gsd, distance))
+    return tuple(out)
 
 
 def _extent_polygon(project: m.Project) -> np.ndarray:
@@ -107,6 +137,10 @@ def rig_and_pattern_summary(result: PlanResult) -> dict:
     out: dict = {}
     if traj.rigs:
         out["n_images_all_cameras"] = result.n_images_all_cameras
+        out["cameras"] = [{"id": c, "images": n,
+                           "gsd_centre_median_m": None if math.isnan(g) else g,
+                           "distance_centre_median_m": None if math.isnan(d) else d}
+                          for c, n, g, d in result.cameras]
         out["rigs"] = [{"name": r.name, "cameras": [mt.camera for mt in r.mounts],
                         "suffixes": [mt.suffix for mt in r.mounts],
                         "stations": result.carriers.count(r.name),
@@ -184,6 +218,12 @@ def format_plan(result: PlanResult, source: str) -> str:
                      f"({', '.join(r['cameras'])}) at {r['stations']} stations = "
                      f"{r['images']} images; {s['n_images_all_cameras']} images in all "
                      "(figures below: each station's planning camera)")
+    for c in s.get("cameras", ()):
+        gsd = c["gsd_centre_median_m"]
+        where = ("its principal ray misses the terrain" if gsd is None else
+                 f"GSD at the image centre {100 * gsd:.2f} cm, "
+                 f"{c['distance_centre_median_m']:.1f} m away (medians)")
+        lines.append(f"    camera {c['id']}: {c['images']} images, {where}")
     for p in s.get("patterns", ()):
         if p["kind"] == "orbit":
             tilt = "aimed at the centre" if p["tilt_deg"] is None else f"tilt {p['tilt_deg']:g}°"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -105,6 +106,15 @@ def test_plan_reports_rig_orbit_and_facade(tmp_path):
     assert "rig penta: 5 cameras" in out and "60 images in all" in out
     assert re.search(r"orbit ORB_ \(penta\): 8 stations, radius 15 m", out), out
     assert re.search(r"facade FAC_ \(nadir\): 10 stations in 2 rows every 5 m", out), out
+    # every camera of the rig has its own GSD line
+    gsd = {c: float(v) for c, v in re.findall(
+        r"camera (\w+): \d+ images, GSD at the image centre ([\d.]+) cm", out)}
+    assert set(gsd) == {"nadir", "fwd", "back", "left", "right"}
+    run = subprocess.run([sys.executable, "-m", "designer", "plan", str(path), "--json"],
+                         capture_output=True, text=True, timeout=300)
+    figures = json.loads(run.stdout)
+    assert figures["n_images_all_cameras"] == 60
+    assert {c["id"]: c["images"] for c in figures["cameras"]}["fwd"] == 10
 
 
 @pytest.mark.parametrize(("edit", "words"), [
