@@ -136,3 +136,20 @@ def test_bad_patterns_are_one_line_errors(tmp_path, edit, words):
     lines = info.value.lines
     assert any(words in x for x in lines), lines
     assert all("\n" not in x for x in lines)
+
+
+def test_written_poses_of_a_rig_flight_give_the_same_images(tmp_path):
+    project, path = _patterned(tmp_path)
+    out = tmp_path / "poses.xml"
+    run = subprocess.run([sys.executable, "-m", "designer", "plan", str(path),
+                          "--write-poses", str(out)], capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr
+    explicit = load_project(out)
+    assert explicit.trajectory.patterns == () and explicit.trajectory.rigs
+    a, b = project_images(project, None), project_images(explicit, None)
+    assert [s.image_name for s in a.stations] == [s.image_name for s in b.stations]
+    assert a.camera_ids == b.camera_ids
+    for s, t in zip(a.stations, b.stations, strict=True):
+        assert np.allclose(s.C_world, t.C_world, atol=1e-9)
+        assert np.allclose(s.R_cam_to_world, t.R_cam_to_world, atol=1e-12)
