@@ -21,9 +21,11 @@ from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, JOB_DIR, MANIFEST
 
 
 def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping[str, Path],
-                *, project: str = "", image_size_px: tuple[int, int] | None = None) -> str:
+                *, project: str = "", image_size_px: tuple[int, int] | None = None,
+                camera_sizes_px: Mapping[str, tuple[int, int]] | None = None) -> str:
     """The README of ``out_dir`` whose images are ``image_names`` and whose ground truth
-    is ``ground_truth`` ({write_all key: path})."""
+    is ``ground_truth`` ({write_all key: path}); ``camera_sizes_px`` the image size of
+    each camera of a multi-camera rig (instead of ``image_size_px``)."""
     out_dir = Path(out_dir)
 
     def rel(key: str) -> str | None:
@@ -40,6 +42,9 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
     names = sorted(image_names)
     suffixes = sorted({Path(n).suffix.lower().lstrip(".").upper() for n in names})
     size = f", {image_size_px[0]} x {image_size_px[1]} px" if image_size_px else ""
+    if camera_sizes_px:
+        size = f", {len(camera_sizes_px)} cameras (" + ", ".join(
+            f"{c} {w} x {h} px" for c, (w, h) in camera_sizes_px.items()) + ")"
     span = f" ({names[0]} … {names[-1]})" if len(names) > 1 else (
         f" ({names[0]})" if names else "")
     lines = [
@@ -79,14 +84,19 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
             images=f"--image_path {IMAGES_DIR}")
     used |= {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D"}
     gcp_list, geo = rel("odm_gcp_list"), rel("odm_geo")
-    section("OpenDroneMap", [("GCP image points", gcp_list), ("image positions", geo)],
+    section("OpenDroneMap", [("GCP image points", gcp_list), ("image positions", geo),
+                             ("camera models", rel("odm_cameras"))],
             ["ODM reads a project folder PROJECT with the images in PROJECT/images/ and",
              "gcp_list.txt and geo.txt in PROJECT itself (beside images/, not inside it);",
              "copy them there, or pass --gcp and --geo with the paths above. WebODM: upload",
              "them together with the images."], images=f"{IMAGES_DIR}/")
-    used |= {"odm_gcp_list", "odm_geo"}
+    used |= {"odm_gcp_list", "odm_geo", "odm_cameras"}
+    per_camera = sorted(k for k in ground_truth if k.startswith("metashape_calibration_"))
+    used |= set(per_camera)
     section("Agisoft Metashape",
             [("camera calibration", rel("metashape_calibration")),
+             *((f"calibration {k.removeprefix('metashape_calibration_')}", rel(k))
+               for k in per_camera),
              ("camera reference", rel("metashape_cameras")),
              ("markers reference", rel("metashape_markers"))],
             ["Calibration: Tools > Camera Calibration > Load. References: Reference pane >",

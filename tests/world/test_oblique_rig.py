@@ -225,6 +225,11 @@ def test_metashape_and_odm_carry_every_camera(rendered):
         assert (model["width"], model["height"]) == (W, H)
         assert model["focal_x"] * max(W, H) == pytest.approx(f_mm / 0.01)
         assert model["c_x"] * max(W, H) == pytest.approx(x0 / 0.01)
+    readme = (rendered.out_dir / "README.txt").read_text()
+    assert "5 cameras (nadir 200 x 150 px, fwd 160 x 120 px" in readme
+    assert "ground-truth/odm/cameras.json" in readme.split("Agisoft")[0]
+    for cam_id in CAMERAS:
+        assert f"calibration {cam_id}:" in readme.split("Tables")[0]
     obs = {(o.gcp_id, o.image_name): o.uv_px
            for o in read_gcp_observations_csv(gt["gcp_observations"])}
     for line in gt["odm_gcp_list"].read_text().splitlines()[1:]:
