@@ -132,13 +132,16 @@ def _footprint_issue(b: m.Building, xy: list[tuple[float, float]],
         if xy[i] == xy[i - 1]:
             return issue(f"vertex {i + 1 if i else len(xy)} repeats the one before; remove it "
                          "(the polygon closes itself: do not repeat the first vertex)")
-    if polygon_is_degenerate(xy) or abs(polygon_area(xy)) < 1e-6:
-        return issue("the footprint has zero area (its vertices lie on a line)")
+    zero = issue("the footprint has zero area (its vertices lie on a line)")
+    if polygon_is_degenerate(xy):
+        return zero
     crossing = polygon_self_intersection(xy)
     if crossing is not None:
         i, j = crossing
         return issue(f"the footprint crosses itself: edge {i + 1} meets edge {j + 1}; list "
                      "the vertices in order around the building")
+    if abs(polygon_area(xy)) < 1e-6:
+        return zero
     for i, (x, y) in enumerate(xy):
         if not extent.contains(x, y):
             return issue(f"vertex {i + 1} (X {x:.3f}, Y {y:.3f}) lies outside the terrain "

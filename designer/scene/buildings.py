@@ -156,7 +156,7 @@ def base_height_m(ground, xy: np.ndarray) -> float:
     step = cell * BASE_EDGE_STEP_CELLS
     samples = [xy]
     for a, b in zip(xy, np.roll(xy, -1, axis=0), strict=True):
-        n = max(1, int(math.ceil(np.linalg.norm(b - a) / step)))
+        n = max(1, math.ceil(np.linalg.norm(b - a) / step))
         t = np.arange(n)[:, None] / n
         samples.append(a + t * (b - a))
     edge = np.vstack(samples)
