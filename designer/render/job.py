@@ -66,6 +66,8 @@ class PreparedJob:
     moving_poses: tuple[tuple, ...] = ()
     #: {moving object id: (vertices, faces) in its own frame, m}
     moving_meshes: dict | None = None
+    #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
+    buildings: tuple = ()
 
 
 def prepare_job(
@@ -188,7 +190,8 @@ def prepare_job(
     job_path = job.write(job_dir / "job.json")
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
-                       suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes)
+                       suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
+                       buildings=tuple(light.buildings))
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:
