@@ -66,6 +66,8 @@ class PreparedJob:
     moving_poses: tuple[tuple, ...] = ()
     #: {moving object id: (vertices, faces) in its own frame, m}
     moving_meshes: dict | None = None
+    #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
+    buildings: tuple = ()
     #: a multi-camera rig: every camera's rendered interior and each image's camera
     #: (None: one camera, ``interior``)
     cameras: CameraSet | None = None
@@ -232,7 +234,7 @@ def prepare_job(
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
-                       cameras=cameras)
+                       buildings=tuple(light.buildings), cameras=cameras)
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

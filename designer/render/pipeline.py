@@ -93,6 +93,12 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     points = np.array([t.true_xyz for t in targets])
     hf = prepared.scene.heightfield
     raycaster = TerrainRaycaster(hf) if hf is not None else None
+    if prepared.buildings:
+        # a target hidden behind a building is not observed in that image
+        from designer.survey.mesh_occlusion import MeshOccluder, OccluderStack
+
+        raycaster = OccluderStack(raycaster, [MeshOccluder(b.vertices_world, b.faces)
+                                              for b in prepared.buildings])
     # one pass per physical camera (a rig has several), then in (GCP, image) order
     groups: dict[int, list[int]] = {}
     for k, pose in enumerate(prepared.poses):
@@ -132,6 +138,11 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         written = {**written, **write_moving_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses,
             prepared.moving_poses, prepared.moving_meshes)}
+    if prepared.buildings:
+        from designer.render.building_truth import write_building_truth
+
+        written = {**written, **write_building_truth(
+            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, prepared.buildings)}
     clouds = project.scene.lighting.clouds
     if clouds is not None:
         from designer.atomic import write_text_atomic

@@ -223,6 +223,21 @@ def _with_oblique_tilt(p: m.Project, tilt_deg: float) -> m.Project:
     return replace(p, trajectory=replace(p.trajectory, rigs=tuple(rigs)))
 
 
+def _extruded(p: m.Project) -> list[m.Building]:
+    return [b for b in p.scene.buildings if b.file is None]
+
+
+def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
+    """Every extruded building's walls ``eave_m`` high; a pitched roof keeps its rise."""
+    if not _extruded(p):
+        raise ValueError("the base project has no <buildings> with a footprint; add one to "
+                         "vary their height")
+    buildings = tuple(b if b.file is not None else replace(
+        b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
+        else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
+    return replace(p, scene=replace(p.scene, buildings=buildings))
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -378,6 +393,10 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        _with_moving_speed),
     _F("oblique-tilt-deg", "tilt of every oblique rig mount from the platform's axis (deg; "
        "the nadir mounts stay)", "render", _float, _oblique_tilt, _with_oblique_tilt),
+    _F("building-eave-height-m", "wall height of every extruded building above its base "
+       "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
+       lambda p: _extruded(p)[0].eave_height_m if _extruded(p) else None,
+       _with_eave_height),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),
