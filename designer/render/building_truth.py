@@ -23,7 +23,7 @@ import numpy as np
 from designer.atomic import atomic_path
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
-from designer.core.truth import CameraPose
+from designer.core.truth import CameraPose, CameraSet
 from designer.render.moving_truth import _fill_triangle
 
 BUILDING_MASK_DIR = "building_masks"
@@ -67,15 +67,18 @@ def write_buildings_ply(path: Path, buildings) -> None:
         f.write(face.tobytes())
 
 
-def write_building_truth(truth_dir: Path, interior: InteriorOrientation,
+def write_building_truth(truth_dir: Path, interior: InteriorOrientation | CameraSet,
                          poses: tuple[CameraPose, ...], buildings) -> dict[str, Path]:
-    """Write ``buildings.ply`` and ``building_masks/<image stem>.png`` per image."""
+    """Write ``buildings.ply`` and ``building_masks/<image stem>.png`` per image
+    (``interior``: the one camera, or each image's camera of a rig)."""
     truth_dir = Path(truth_dir)
     (truth_dir / BUILDING_MASK_DIR).mkdir(parents=True, exist_ok=True)
     for camera in poses:
         path = truth_dir / BUILDING_MASK_DIR / f"{Path(camera.image_name).stem}.png"
         with atomic_path(path) as tmp:
-            if not cv2.imwrite(str(tmp), building_mask(buildings, camera, interior)):
+            own = (interior.interior_of(camera.image_name)
+                   if isinstance(interior, CameraSet) else interior)
+            if not cv2.imwrite(str(tmp), building_mask(buildings, camera, own)):
                 raise OSError(f"could not write {path}")
     ply = truth_dir / BUILDINGS_PLY
     write_buildings_ply(ply, list(buildings))

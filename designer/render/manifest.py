@@ -76,6 +76,10 @@ class Manifest:
             "images_folder": IMAGES_DIR,
             "images": {},
         }
+        if prepared.cameras is not None:  # a rig: each camera's image size (image_size_px
+            # is the first camera's)
+            self.data["image_size_px_by_camera"] = {
+                c: list(i.image_size_px) for c, i in prepared.cameras.interiors.items()}
 
     def changed_parts(self, index: int) -> list[str]:
         """What changed since the image of frame ``index`` was rendered ([] = nothing)."""

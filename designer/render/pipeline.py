@@ -142,7 +142,8 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         from designer.render.building_truth import write_building_truth
 
         written = {**written, **write_building_truth(
-            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, prepared.buildings)}
+            out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses,
+            prepared.buildings)}
     clouds = project.scene.lighting.clouds
     if clouds is not None:
         from designer.atomic import write_text_atomic
