@@ -241,9 +241,12 @@ def _range_issue(obj, tag: str, attr: str, value, lo: float, hi: float, unit: st
           and (value < hi if high_open else value <= hi))
     if ok:
         return []
-    low = f"greater than {lo:g}" if low_open else f"from {lo:g}"
-    high = f"below {hi:g}" if high_open else f"at most {hi:g}"
-    return [Issue(obj, tag, f"{attr} = {value!r} must be {low} and {high}{unit}", attr=attr)]
+    if not (low_open or high_open):
+        text = f"from {lo:g} to {hi:g}"
+    else:
+        low = f"greater than {lo:g}" if low_open else f"at least {lo:g}"
+        text = f"{low} and " + (f"below {hi:g}" if high_open else f"at most {hi:g}")
+    return [Issue(obj, tag, f"{attr} = {value!r} must be {text}{unit}", attr=attr)]
 
 
 def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:

@@ -72,7 +72,7 @@ class PlantSet:
 
 # ------------------------------------------------------------------ templates
 def _ellipsoid(rx: float, rz: float, z0: float, segments: int = 8,
-               rings: int = 5) -> tuple[np.ndarray, np.ndarray]:
+               rings: int = 6) -> tuple[np.ndarray, np.ndarray]:
     """A low-poly ellipsoid (radii rx, rx, rz) centred at height z0."""
     verts = [[0.0, 0.0, z0 - rz]]
     for i in range(1, rings):
@@ -117,7 +117,7 @@ def _grass_tuft(blades: int = 7) -> tuple[np.ndarray, np.ndarray]:
         a = 2 * math.pi * k / blades + 0.4 * math.sin(3 * k)
         d = np.array([math.cos(a), math.sin(a), 0.0])
         side = np.array([-d[1], d[0], 0.0])
-        reach = 0.5 * (0.6 + 0.4 * ((k * 5) % blades) / blades)
+        reach = 0.5 * (0.6 + 0.4 * ((k * 5) % blades) / (blades - 1))
         tip_z = 1.0 - 0.25 * ((k * 3) % blades) / blades
         n = len(verts)
         verts += [list(-0.06 * side + [0, 0, -ROOT_DEPTH_M]),
