@@ -95,7 +95,7 @@ def test_plants_stay_off_the_targets_and_the_table_lists_them(renders):
 
 
 def test_changed_vegetation_invalidates_the_images(renders, tmp_path):
-    p, path, out, prepared = renders
+    p, path, _, prepared = renders
     base = job_provenance(prepared.job, prepared.job_path.parent)
     for changed in (replace(p.scene.vegetation, seed=6),
                     replace(p.scene.vegetation, wind=replace(p.scene.vegetation.wind,
