@@ -30,6 +30,7 @@ from designer.gui.panels.lighting import LightingPanel
 from designer.gui.panels.moving import MovingObjectsPanel
 from designer.gui.panels.terrain import TerrainPanel
 from designer.gui.panels.texture import TexturePanel
+from designer.gui.panels.vegetation import VegetationPanel
 from designer.gui.scene_sync import SceneSync
 from designer.gui.scene_view import SceneView
 from designer.gui.site_flight_actions import SiteFlightActions
@@ -79,7 +80,8 @@ class MainWindow(QMainWindow):
 
         self.panels: dict[str, QWidget] = {}
         self.docks: dict[str, QDockWidget] = {}
-        left = [TerrainPanel, TexturePanel, LightingPanel, GcpPanel, MovingObjectsPanel]
+        left = [TerrainPanel, TexturePanel, LightingPanel, GcpPanel, MovingObjectsPanel,
+                VegetationPanel]
         right = [CameraPanel, FlightPanel, EffectsPanel]
         for side, cls in [("left", c) for c in left] + [("right", c) for c in right] + \
                 _extra_panels():
@@ -88,7 +90,8 @@ class MainWindow(QMainWindow):
             # a finished render is something to reconstruct
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
-        self._tabify(["Terrain", "Texture", "Lighting", "GCPs", "Moving objects"])
+        self._tabify(["Terrain", "Texture", "Lighting", "GCPs", "Moving objects",
+                      "Vegetation"])
         self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results",
                       "Study"])
         self.docks["Terrain"].raise_()

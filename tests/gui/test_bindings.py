@@ -40,6 +40,8 @@ def _filled_projects() -> list[m.Project]:
     E0, N0 = base.origin.E0, base.origin.N0
     first = edits.replace_path(first, "scene.moving_objects", (m.MovingObject(
         "car1", (m.PathPoint(E0 - 40, N0), m.PathPoint(E0 + 40, N0)), speed_m_s=3.0),))
+    first = edits.replace_path(first, "scene.vegetation", m.Vegetation(
+        (m.PlantGroup(0.05, "shrub", height_m=1.0, crown_m=1.2),), wind=m.Wind()))
     assert first.scene.targets.survey_accuracy is not None
     assert first.trajectory.flight_plan.pose_noise is not None
     second = edits.replace_path(first, "scene.terrain.source", m.FlatTerrain(1.5))
