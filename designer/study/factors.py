@@ -189,6 +189,38 @@ def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
     return replace(p, scene=replace(p.scene, moving_objects=moving))
 
 
+def _vegetation_density(p: m.Project) -> float:
+    veg = p.scene.vegetation
+    return float(sum(g.density_per_m2 for g in veg.plants)) if veg is not None else 0.0
+
+
+def _with_vegetation_density(p: m.Project, density_per_m2: float) -> m.Project:
+    """Every group scaled so the densities add up to ``density_per_m2`` (their shares
+    kept); 0 removes the vegetation; a base without one gets shrubs."""
+    veg = p.scene.vegetation
+    if not density_per_m2:
+        return replace(p, scene=replace(p.scene, vegetation=None))
+    if veg is None or not veg.plants:
+        height, crown = m.PLANT_KINDS["shrub"]
+        veg = m.Vegetation((m.PlantGroup(density_per_m2, "shrub", height_m=height,
+                                         crown_m=crown),))
+    else:
+        total = _vegetation_density(p)
+        veg = replace(veg, plants=tuple(
+            replace(g, density_per_m2=density_per_m2 * g.density_per_m2 / total)
+            for g in veg.plants))
+    return replace(p, scene=replace(p.scene, vegetation=veg))
+
+
+def _with_wind_amplitude(p: m.Project, amplitude_deg: float) -> m.Project:
+    veg = p.scene.vegetation
+    if veg is None:
+        raise ValueError("the base project has no <vegetation> in its scene; add one to vary "
+                         "the wind's sway")
+    wind = replace(veg.wind or m.Wind(), amplitude_deg=amplitude_deg)
+    return replace(p, scene=replace(p.scene, vegetation=replace(veg, wind=wind)))
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -342,6 +374,14 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        "render", _float,
        lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
        _with_moving_speed),
+    _F("vegetation-density-per-m2", "plants per m² over all plant groups (their shares "
+       "kept); 0 removes the vegetation, a base without one gets shrubs", "render", _float,
+       _vegetation_density, _with_vegetation_density),
+    _F("vegetation-wind-amplitude-deg", "largest lean of the plants swaying in the wind "
+       "(deg; 0: they stand still)", "render", _float,
+       lambda p: (p.scene.vegetation.wind.amplitude_deg
+                  if p.scene.vegetation is not None and p.scene.vegetation.wind else 0.0),
+       _with_wind_amplitude),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),
