@@ -16,6 +16,12 @@ The "+movers" row renders the survey preset with a time line, the static sun and
 moving objects (10 cars, 10 people) crossing the site: the worker poses them before each
 frame; its ``prepare s/img`` includes writing their ground truth (a mask per image and
 the positions table).
+The "+plants" row renders the survey preset with a time line, the static sun and
+vegetation over the whole site — grass tufts (1 per m²), shrubs (0.05 per m²) and trees
+(0.004 per m²), about 10,500 plants swaying in a 5° wind: the worker instances one mesh
+per kind and turns every plant before each frame; its ``prepare s/img`` includes placing
+the plants and writing their ground truth (a mask per image and the plant table). The
+table ends with its cost relative to the plain survey row.
 The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
 light map per photo, the direct sun dimmed by the clouds at the photo's time.
 """
@@ -58,6 +64,18 @@ def _with_movers(project: m.Project) -> m.Project:
                        "2026-06-21T06:30:00Z", 8.0, 10.0)))
 
 
+def _with_plants(project: m.Project) -> m.Project:
+    """``project`` with a time line (static sun) and grass, shrubs and trees over its
+    whole extent, swaying in a 5° wind."""
+    veg = m.Vegetation((m.PlantGroup(1.0, "grass-tuft", height_sd_m=0.05),
+                        m.PlantGroup(0.05, "shrub", height_sd_m=0.2),
+                        m.PlantGroup(0.004, "tree", height_sd_m=1.5)), seed=1,
+                       wind=m.Wind(5.0, 4.0, 90.0))
+    return replace(project, scene=replace(project.scene, vegetation=veg),
+                   trajectory=replace(project.trajectory, time_line=m.TimeLine(
+                       "2026-06-21T06:30:00Z", 8.0, 10.0)))
+
+
 def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
     n_frames = max(2, round(20 * scale))
     n_naive = max(1, round(5 * scale))
@@ -81,6 +99,7 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "static", "tiled", tiled),
                                          ("survey", "over time", texture, timed),
                                          ("survey", "+movers", texture, _with_movers(project)),
+                                         ("survey", "+plants", texture, _with_plants(project)),
                                          ("survey", "clouds", texture, cloudy)):
             out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
             naive = sun == "static" and proj is project
@@ -92,6 +111,13 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
                 write_moving_truth(out / JOB_DIR / "truth", prepared.interior, prepared.poses,
                                    prepared.moving_poses, prepared.moving_meshes)
+            if proj.scene.vegetation is not None:
+                from designer.render.job import JOB_DIR
+                from designer.render.vegetation_truth import write_vegetation_truth
+
+                write_vegetation_truth(out / JOB_DIR / "truth", prepared.interior,
+                                       prepared.poses, [t.time_s for t in prepared.times],
+                                       list(prepared.plants), proj.scene.vegetation.wind)
             prepare = time.perf_counter() - t_prepare
             frames = list(range(n_frames))
             report = render_frames(prepared.job_path, frames)
@@ -104,6 +130,7 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
             per_image = report.wall_seconds / n_frames
             rows.append({
                 "quality": quality, "sun": sun, "texture": kind, "image": f"{W}x{H}",
+                "plants": sum(len(g) for g in prepared.plants),
                 "frames": n_frames,
                 "prepare_per_image_s": prepare / len(prepared.job.frames),
                 "workers": len(report.peak_rss_mb),
@@ -133,6 +160,16 @@ def format_table(rows: list[dict]) -> str:
             f"{r['overhead_ratio']:>8.3f} {_or_dash(r['naive_per_image_s'], 11, '.2f')} "
             f"{_or_dash(r['speedup_vs_naive'], 7, '.1f')}x "
             f"{r['peak_rss_mb_per_worker']:>14.0f}")
+    plain = next((r for r in rows if (r["quality"], r["sun"], r.get("texture")) ==
+                  ("survey", "static", rows[0].get("texture"))), None)
+    for r in rows:
+        if r["sun"] == "+plants" and plain is not None:
+            lines.append(
+                f"+plants ({r.get('plants', 0):,} plants) vs the plain survey row: wall "
+                f"{r['wall_per_image_s'] / plain['wall_per_image_s']:.2f}x, Cycles "
+                f"{r['bare_cycles_per_image_s'] / plain['bare_cycles_per_image_s']:.2f}x, "
+                f"peak memory {r['peak_rss_mb_per_worker'] - plain['peak_rss_mb_per_worker']:+.0f}"
+                " MB per worker")
     lines.append("wall: designer's local runner incl. process start and scene build; Cycles: "
                  "time inside the render call per worker; naive: a new Blender process per "
                  "image; prepare: building the job (scene, light maps) per image of the flight")

@@ -22,7 +22,6 @@ from designer.atomic import atomic_path, write_text_atomic
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
 from designer.core.truth import CameraPose
-from designer.render.moving_truth import fill_triangle
 from designer.scene.vegetation import PlantSet, posed_set
 
 MASK_DIR = "vegetation_masks"
@@ -54,9 +53,47 @@ def vegetation_mask(plants: list[PlantSet], wind, time_s: float | None, pose: Ca
         tri = tri[(hi[:, 0] >= 0) & (hi[:, 1] >= 0) & (lo[:, 0] <= W) & (lo[:, 1] <= H)]
         if not len(tri):
             continue
-        for corners in tri:  # one by one: a pixel centre inside any triangle
-            fill_triangle(mask, corners)
+        fill_triangles(mask, tri)
     return mask
+
+
+#: pixels tested at once when filling triangles (memory of the vectorised test)
+_FILL_BATCH_PX = 2_000_000
+
+
+def fill_triangles(mask: np.ndarray, tri: np.ndarray) -> None:
+    """Set to 255 the pixels of ``mask`` whose centre (i + 0.5, j + 0.5) lies inside or on
+    the edge of any triangle ``tri`` (T, 3, 2) px — the rule of
+    designer.render.moving_truth.fill_triangle, tested for many triangles at once:
+    triangles are grouped by the size of their pixel box (powers of two) and each group's
+    boxes are tested as one array."""
+    H, W = mask.shape
+    tri = np.asarray(tri, float).reshape(-1, 3, 2)
+    lo = np.maximum(np.floor(tri.min(axis=1) - 0.5), 0).astype(np.int64)
+    hi = np.minimum(np.ceil(tri.max(axis=1) + 0.5), [W, H]).astype(np.int64)
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    ok = (hi > lo).all(axis=1) & (area != 0)
+    size = np.where(ok, (hi - lo).max(axis=1), 0)
+    edges = ((a, b), (b, c), (c, a))
+    S = 1
+    while ok.any():
+        group = np.flatnonzero(ok & (size <= S))
+        ok[group] = False
+        step = max(1, _FILL_BATCH_PX // (S * S))
+        dv, du = np.mgrid[:S, :S]
+        for start in range(0, len(group), step):
+            ids = group[start:start + step]
+            u = lo[ids, 0, None, None] + du + 0.5
+            v = lo[ids, 1, None, None] + dv + 0.5
+            inside = (u < hi[ids, 0, None, None]) & (v < hi[ids, 1, None, None])
+            sign = np.sign(area[ids])[:, None, None]
+            for p, q in edges:
+                p, q = p[ids, :, None, None], q[ids, :, None, None]
+                inside &= sign * ((q[:, 0] - p[:, 0]) * (v - p[:, 1])
+                                  - (q[:, 1] - p[:, 1]) * (u - p[:, 0])) >= 0
+            mask[v[inside].astype(np.int64), u[inside].astype(np.int64)] = 255
+        S *= 2
 
 
 def plants_csv(plants: list[PlantSet]) -> str:
