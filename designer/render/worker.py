@@ -383,6 +383,10 @@ def pose_plants(plants: list[dict], wind, time_s: float | None) -> None:
     from designer.scene.vegetation import plant_rotations, quaternions_wxyz
 
     for group in plants:
+        key = time_s if wind is not None else None  # still plants are posed once
+        if group.get("posed", ()) == key:
+            continue
+        group["posed"] = key
         q = quaternions_wxyz(plant_rotations(group["yaw_rad"], group["phase_rad"], wind,
                                              time_s))
         mesh = group["mesh"]
