@@ -185,13 +185,11 @@ def ground_heights_m(ground, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     x, y = np.asarray(x, float), np.asarray(y, float)
     if ground.heightfield is not None:
         return np.asarray(ground.heightfield.height_at_clamped(x, y), float).reshape(x.shape)
+    from scipy.spatial import cKDTree
+
     v = np.asarray(ground.terrain.vertices_world, float)
-    out = np.empty(len(x))
-    for start in range(0, len(x), 256):
-        sl = slice(start, start + 256)
-        d = (v[None, :, 0] - x[sl, None]) ** 2 + (v[None, :, 1] - y[sl, None]) ** 2
-        out[sl] = v[np.argmin(d, axis=1), 2]
-    return out
+    _, nearest = cKDTree(v[:, :2]).query(np.column_stack([x, y]))
+    return v[np.asarray(nearest, np.int64), 2]
 
 
 def place_vegetation(project: m.Project, base_dir: Path, ground) -> list[PlantSet]:

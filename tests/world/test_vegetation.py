@@ -199,3 +199,16 @@ def test_bad_vegetation_values_are_located_one_line_errors(tmp_path, edit, needl
     located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
     assert any(words in x for x in located), lines
     assert all("\n" not in x for x in lines)
+
+
+def test_on_a_mesh_terrain_plants_stand_on_the_nearest_vertex():
+    from types import SimpleNamespace
+
+    from designer.scene.vegetation import ground_heights_m
+
+    rng = np.random.default_rng(2)
+    v = np.column_stack([rng.uniform(0, 10, (500, 2)), rng.uniform(0, 3, 500)])
+    ground = SimpleNamespace(heightfield=None, terrain=SimpleNamespace(vertices_world=v))
+    x, y = rng.uniform(0, 10, 50), rng.uniform(0, 10, 50)
+    d = (v[None, :, 0] - x[:, None]) ** 2 + (v[None, :, 1] - y[:, None]) ** 2
+    np.testing.assert_array_equal(ground_heights_m(ground, x, y), v[np.argmin(d, axis=1), 2])
