@@ -117,3 +117,27 @@ def test_a_project_without_vegetation_has_no_plants_and_no_vegetation_truth(rend
     prepared = prepare_job(bare, tmp_path, tmp_path / "out")
     assert prepared.job.vegetation == () and prepared.job.wind is None
     assert not list((tmp_path / "out" / ".designer-job").glob("plants_*"))
+
+
+def test_mesh_file_plants_are_rendered_where_their_masks_say(tmp_path):
+    """A group of mesh plants (a square pyramid in the plant's frame, scaled to the group's
+    height): rendered silhouettes match the masks."""
+    (tmp_path / "bush.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+        "end_header\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n0 0 2\n"
+        "3 0 1 4\n3 1 2 4\n3 2 3 4\n3 3 0 4\n")
+    p = vegetation_project((0.0, 1.0), samples=8)
+    group = replace(p.scene.vegetation.plants[0], kind=None, mesh="bush.ply", crown_m=None)
+    p = replace(p, scene=replace(p.scene, vegetation=replace(p.scene.vegetation,
+                                                             plants=(group,))))
+    render_project(write_project_file(p, tmp_path), tmp_path / "out")
+    rows = read_plants_csv(tmp_path / "out" / "ground-truth" / "vegetation.csv")
+    assert rows and {r["kind"] for r in rows} == {"bush.ply"}
+    # scaled to the group's height, the crown with it (the mesh is 2 m tall, 2.83 m wide)
+    assert [r["crown_m"] / r["height_m"] for r in rows] == pytest.approx(
+        [2 * np.sqrt(2) / 2] * len(rows))
+    for name in NAMES:
+        mask = cv2.imread(str(tmp_path / "out/ground-truth/vegetation_masks" / name), 0) > 0
+        seen = _red(tmp_path / "out" / "images" / name)
+        assert mask.mean() > 0.05 and _iou(seen, mask) > 0.9, _iou(seen, mask)
