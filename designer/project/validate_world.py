@@ -275,8 +275,9 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
         if g.height_m is not None:
             out += _range_issue(g, "plants", "height-m", g.height_m, 0, 150, " m",
                                 low_open=True)
-        out += _range_issue(g, "plants", "height-sd-m", g.height_sd_m, 0,
-                            (g.height_m or 150.0), " m (the mean height)")
+        mean_m = g.height_m or m.PLANT_KINDS.get(g.kind, (150.0,))[0]
+        out += _range_issue(g, "plants", "height-sd-m", g.height_sd_m, 0, mean_m,
+                            " m (the mean height)")
         if g.crown_m is not None:
             out += _range_issue(g, "plants", "crown-m", g.crown_m, 0, 100, " m",
                                 low_open=True)
