@@ -21,6 +21,12 @@ The "+houses" row renders the survey preset with the static sun and 11 buildings
 near a GCP left empty: its ``prepare s/img`` includes building them and writing their
 ground truth (a mask per image and buildings.ply); its ``wall s/img`` over the plain
 survey row's is their render cost.
+The "+plants" row renders the survey preset with a time line, the static sun and
+vegetation over the whole site — grass tufts (1 per m²), shrubs (0.05 per m²) and trees
+(0.004 per m²), about 10,500 plants swaying in a 5° wind: the worker instances one mesh
+per kind and turns every plant before each frame; its ``prepare s/img`` includes placing
+the plants and writing their ground truth (a mask per image and the plant table). The
+table ends with its cost relative to the plain survey row.
 The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
 light map per photo, the direct sun dimmed by the clouds at the photo's time.
 The row "rig x5" flies the example's grid with a nadir + four 45° oblique rig of its
@@ -101,6 +107,16 @@ def _with_houses(project: m.Project) -> m.Project:
             houses.append(m.Building(f"h{i}{j}", tuple(m.PathPoint(*c) for c in corners),
                                      roof, 6.0, None if roof == "flat" else 9.0))
     return replace(project, scene=replace(project.scene, buildings=tuple(houses)))
+def _with_plants(project: m.Project) -> m.Project:
+    """``project`` with a time line (static sun) and grass, shrubs and trees over its
+    whole extent, swaying in a 5° wind."""
+    veg = m.Vegetation((m.PlantGroup(1.0, "grass-tuft", height_sd_m=0.05),
+                        m.PlantGroup(0.05, "shrub", height_sd_m=0.2),
+                        m.PlantGroup(0.004, "tree", height_sd_m=1.5)), seed=1,
+                       wind=m.Wind(5.0, 4.0, 90.0))
+    return replace(project, scene=replace(project.scene, vegetation=veg),
+                   trajectory=replace(project.trajectory, time_line=m.TimeLine(
+                       "2026-06-21T06:30:00Z", 8.0, 10.0)))
 
 
 def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
@@ -127,6 +143,7 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "over time", texture, timed),
                                          ("survey", "+movers", texture, _with_movers(project)),
                                          ("survey", "+houses", texture, _with_houses(project)),
+                                         ("survey", "+plants", texture, _with_plants(project)),
                                          ("survey", "clouds", texture, cloudy),
                                          ("survey", "rig x5", texture, _with_rig(project))):
             out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
@@ -145,6 +162,13 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
                 write_building_truth(out / JOB_DIR / "truth", prepared.interior,
                                      prepared.poses, prepared.buildings)
+            if proj.scene.vegetation is not None:
+                from designer.render.job import JOB_DIR
+                from designer.render.vegetation_truth import write_vegetation_truth
+
+                write_vegetation_truth(out / JOB_DIR / "truth", prepared.interior,
+                                       prepared.poses, [t.time_s for t in prepared.times],
+                                       list(prepared.plants), proj.scene.vegetation.wind)
             prepare = time.perf_counter() - t_prepare
             frames = list(range(n_frames))
             report = render_frames(prepared.job_path, frames)
@@ -157,6 +181,7 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
             per_image = report.wall_seconds / n_frames
             rows.append({
                 "quality": quality, "sun": sun, "texture": kind, "image": f"{W}x{H}",
+                "plants": sum(len(g) for g in prepared.plants),
                 "frames": n_frames,
                 "prepare_per_image_s": prepare / len(prepared.job.frames),
                 "workers": len(report.peak_rss_mb),
@@ -189,6 +214,16 @@ def format_table(rows: list[dict]) -> str:
             f"{_or_dash(r['speedup_vs_naive'], 7, '.1f')}x "
             f"{r['peak_rss_mb_per_worker']:>14.0f} "
             f"{r['wall_per_image_s'] * r.get('images_per_station', 1):>9.2f}")
+    plain = next((r for r in rows if (r["quality"], r["sun"], r.get("texture")) ==
+                  ("survey", "static", rows[0].get("texture"))), None)
+    for r in rows:
+        if r["sun"] == "+plants" and plain is not None:
+            lines.append(
+                f"+plants ({r.get('plants', 0):,} plants) vs the plain survey row: wall "
+                f"{r['wall_per_image_s'] / plain['wall_per_image_s']:.2f}x, Cycles "
+                f"{r['bare_cycles_per_image_s'] / plain['bare_cycles_per_image_s']:.2f}x, "
+                f"peak memory {r['peak_rss_mb_per_worker'] - plain['peak_rss_mb_per_worker']:+.0f}"
+                " MB per worker")
     lines.append("wall: designer's local runner incl. process start and scene build; Cycles: "
                  "time inside the render call per worker; naive: a new Blender process per "
                  "image; prepare: building the job (scene, light maps) per image of the flight")

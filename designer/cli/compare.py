@@ -45,7 +45,8 @@ def register(subparsers) -> None:
                              "vegetation (dsm, the default)")
     parser.add_argument("--at-time", type=float, metavar="T",
                         help="project XML: include its moving objects posed at T seconds "
-                             "after take-off (default: the static ground without them)")
+                             "after take-off and its plants as they sway then (default: "
+                             "the static ground without moving objects, plants upright)")
     parser.add_argument("--truth", type=Path, metavar="DIR",
                         help="a rendered survey folder (or its ground-truth/): adds GCP and "
                              "camera errors")

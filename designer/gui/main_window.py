@@ -31,6 +31,7 @@ from designer.gui.panels.lighting import LightingPanel
 from designer.gui.panels.moving import MovingObjectsPanel
 from designer.gui.panels.terrain import TerrainPanel
 from designer.gui.panels.texture import TexturePanel
+from designer.gui.panels.vegetation import VegetationPanel
 from designer.gui.scene_sync import SceneSync
 from designer.gui.scene_view import SceneView
 from designer.gui.site_flight_actions import SiteFlightActions
@@ -82,7 +83,7 @@ class MainWindow(QMainWindow):
         self.panels: dict[str, QWidget] = {}
         self.docks: dict[str, QDockWidget] = {}
         left = [TerrainPanel, TexturePanel, LightingPanel, GcpPanel, MovingObjectsPanel,
-                BuildingsPanel]
+                BuildingsPanel, VegetationPanel]
         right = [CameraPanel, FlightPanel, EffectsPanel]
         for side, cls in [("left", c) for c in left] + [("right", c) for c in right] + \
                 _extra_panels():
@@ -91,7 +92,8 @@ class MainWindow(QMainWindow):
             # a finished render is something to reconstruct
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
-        self._tabify(["Terrain", "Texture", "Lighting", "GCPs", "Moving objects", "Buildings"])
+        self._tabify(["Terrain", "Texture", "Lighting", "GCPs", "Moving objects", "Buildings",
+                      "Vegetation"])
         self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results",
                       "Study"])
         self.docks["Terrain"].raise_()

@@ -311,6 +311,51 @@ class Building:
     file: str | None = None
     position: PathPoint | None = None
     heading_deg: float = 0.0
+#: built-in plant kinds: name → (height, crown diameter) m defaults
+PLANT_KINDS = {"grass-tuft": (0.3, 0.2), "shrub": (1.0, 1.2), "tree": (8.0, 5.0)}
+
+
+@dataclass(frozen=True)
+class PlantGroup:
+    """Plants of one kind scattered over the terrain at ``density_per_m2`` (plants per
+    m²): exactly one of ``kind`` (PLANT_KINDS) and ``mesh`` (a mesh file in the plant's
+    frame: origin at the base centre, +Z up, m). Each plant's height is drawn from a
+    normal distribution (``height_m`` ± ``height_sd_m``, m; None: the kind's default or
+    the mesh's own height); its crown diameter ``crown_m`` (m; None: the kind's default
+    or the mesh's width) scales with its height. ``albedo_rgb`` (linear; None: the
+    kind's green) is the foliage colour."""
+
+    density_per_m2: float
+    kind: str | None = "shrub"
+    mesh: str | None = None
+    height_m: float | None = None
+    height_sd_m: float = 0.0
+    crown_m: float | None = None
+    albedo_rgb: tuple[float, float, float] | None = None
+
+
+@dataclass(frozen=True)
+class Wind:
+    """Plants sway about their base: ``amplitude_deg`` · sin(2π t / ``gust_period_s`` +
+    a phase per plant), leaning towards ``direction_deg`` (the direction the wind blows
+    to, deg clockwise from grid north). Needs the flight time line; without one the
+    plants stand upright."""
+
+    amplitude_deg: float = 5.0
+    gust_period_s: float = 4.0
+    direction_deg: float = 90.0
+
+
+@dataclass(frozen=True)
+class Vegetation:
+    """Plants placed by a seeded Poisson process (``seed``) inside the terrain extent,
+    ``clearance_m`` (m) clear of every GCP target plate, standing on the terrain; an
+    optional wind (docs/world.md, Vegetation and wind)."""
+
+    plants: tuple[PlantGroup, ...]
+    seed: int = 0
+    clearance_m: float = 0.5
+    wind: Wind | None = None
 
 
 @dataclass(frozen=True)
@@ -376,6 +421,8 @@ class Scene:
     objects: tuple[SceneObject, ...] = ()
     moving_objects: tuple[MovingObject, ...] = ()
     buildings: tuple[Building, ...] = ()
+    #: None: no plants (the static ideal)
+    vegetation: Vegetation | None = None
 
 
 # ---------------------------------------------------------------------- cameras

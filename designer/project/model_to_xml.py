@@ -148,6 +148,8 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.buildings:
         _buildings(_sub(el, "buildings"), scene.buildings)
 
+    if scene.vegetation is not None:
+        _vegetation(el, scene.vegetation)
     light = scene.lighting
     light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),
                     sky_strength=_num(light.sky_strength))
@@ -170,6 +172,26 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
              wind_speed_m_s=_num(c.wind_speed_m_s),
              wind_direction_deg=_num(c.wind_direction_deg), seed=str(c.seed))
 
+
+def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
+    el = _sub(parent, "vegetation", seed=str(veg.seed), clearance_m=_num(veg.clearance_m))
+    for g in veg.plants:
+        g_el = _sub(el, "plants")
+        if g.kind is not None:
+            g_el.set("kind", g.kind)
+        if g.mesh is not None:
+            g_el.set("mesh", g.mesh)
+        g_el.set("density-per-m2", _num(g.density_per_m2))
+        for name, value in (("height-m", g.height_m), ("height-sd-m", g.height_sd_m),
+                            ("crown-m", g.crown_m)):
+            if value is not None:
+                g_el.set(name, _num(value))
+        if g.albedo_rgb is not None:
+            g_el.set("albedo-rgb", " ".join(_num(v) for v in g.albedo_rgb))
+    w = veg.wind
+    if w is not None:
+        _sub(el, "wind", amplitude_deg=_num(w.amplitude_deg),
+             gust_period_s=_num(w.gust_period_s), direction_deg=_num(w.direction_deg))
 
 def _camera(parent: etree._Element, cam: m.Camera) -> None:
     el = _sub(parent, "camera", id=cam.id)

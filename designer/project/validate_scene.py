@@ -40,6 +40,9 @@ def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
             + [i for obj in scene.moving_objects if base is not None and obj.file is not None
                for i in file_issue(obj, "object", mesh_problem(resolve(base, obj.file)))]
             + building_issues(scene, base)
+            + [i for g in (scene.vegetation.plants if scene.vegetation else ())
+               if base is not None and g.mesh is not None
+               for i in file_issue(g, "plants", mesh_problem(resolve(base, g.mesh)))]
             + _lighting(scene.lighting))
 
 

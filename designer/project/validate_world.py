@@ -47,6 +47,8 @@ def world_issues(project: m.Project) -> list[Issue]:
     traj = project.trajectory
     tl = traj.time_line
     out: list[Issue] = _moving_objects(project)
+    if project.scene.vegetation is not None:
+        out += _vegetation(project, project.scene.vegetation)
     if tl is not None:
         out += _time_line(project, tl)
     timed = [p for p in traj.exterior_orientations if p.time_s is not None]
@@ -225,4 +227,76 @@ def _moving_objects(project: m.Project) -> list[Issue]:
                  for a, b in zip(obj.path, obj.path[1:], strict=False)) <= 0:
             out.append(Issue(obj, "path", f"the path of '{obj.id}' has no length; give "
                              "points that differ", key="path"))
+    return out
+
+
+#: most plants a project may hold (memory and render time grow with the count)
+MAX_PLANTS = 1_000_000
+
+
+def _range_issue(obj, tag: str, attr: str, value, lo: float, hi: float, unit: str,
+                 low_open: bool = False, high_open: bool = False) -> list[Issue]:
+    ok = (value is not None and math.isfinite(value)
+          and (lo < value if low_open else lo <= value)
+          and (value < hi if high_open else value <= hi))
+    if ok:
+        return []
+    if not (low_open or high_open):
+        text = f"from {lo:g} to {hi:g}"
+    else:
+        low = f"greater than {lo:g}" if low_open else f"at least {lo:g}"
+        text = f"{low} and " + (f"below {hi:g}" if high_open else f"at most {hi:g}")
+    return [Issue(obj, tag, f"{attr} = {value!r} must be {text}{unit}", attr=attr)]
+
+
+def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
+    """Problems of the scene's vegetation (docs/world.md, Vegetation and wind)."""
+    out: list[Issue] = []
+    if veg.seed < 0:
+        out.append(Issue(veg, "vegetation", f"seed = {veg.seed} must be 0 or more",
+                         attr="seed"))
+    out += _range_issue(veg, "vegetation", "clearance-m", veg.clearance_m, 0, 100, " m")
+    if not veg.plants:
+        out.append(Issue(veg, "vegetation", "<vegetation> has no <plants>; add one, e.g. "
+                         "<plants kind=\"shrub\" density-per-m2=\"0.1\"/>"))
+    ext = project.scene.terrain.extent
+    area_m2 = max(ext.max_X - ext.min_X, 0.0) * max(ext.max_Y - ext.min_Y, 0.0)
+    total = 0.0
+    for g in veg.plants:
+        if (g.kind is None) == (g.mesh is None):
+            kinds = ", ".join(f'"{k}"' for k in m.PLANT_KINDS)
+            out.append(Issue(g, "plants", "<plants> needs exactly one of kind and mesh; give "
+                             f"kind={kinds} or a mesh file", attr="kind"))
+        elif g.kind is not None and g.kind not in m.PLANT_KINDS:
+            out.append(Issue(g, "plants", f"unknown plant kind {g.kind!r}; use one of "
+                             f"{', '.join(m.PLANT_KINDS)} or give a mesh file", attr="kind"))
+        out += _range_issue(g, "plants", "density-per-m2", g.density_per_m2, 0, 100,
+                            " plants per m²", low_open=True)
+        if g.height_m is not None:
+            out += _range_issue(g, "plants", "height-m", g.height_m, 0, 150, " m",
+                                low_open=True)
+        mean_m = g.height_m or m.PLANT_KINDS.get(g.kind, (150.0,))[0]
+        out += _range_issue(g, "plants", "height-sd-m", g.height_sd_m, 0, mean_m,
+                            " m (the mean height)")
+        if g.crown_m is not None:
+            out += _range_issue(g, "plants", "crown-m", g.crown_m, 0, 100, " m",
+                                low_open=True)
+        if g.albedo_rgb is not None and (len(g.albedo_rgb) != 3 or not all(
+                math.isfinite(v) and 0 <= v <= 1 for v in g.albedo_rgb)):
+            out.append(Issue(g, "plants", "albedo-rgb must be three numbers from 0 to 1 "
+                             "(linear red green blue), e.g. \"0.1 0.3 0.05\"",
+                             attr="albedo-rgb"))
+        if math.isfinite(g.density_per_m2) and g.density_per_m2 > 0:
+            total += g.density_per_m2 * area_m2
+    if total > MAX_PLANTS:
+        out.append(Issue(veg, "vegetation", f"the densities give about {total:.3g} plants on "
+                         f"the {area_m2:.3g} m² terrain, more than {MAX_PLANTS:,}; lower "
+                         "density-per-m2"))
+    w = veg.wind
+    if w is not None:
+        out += _range_issue(w, "wind", "amplitude-deg", w.amplitude_deg, 0, 45, " deg")
+        out += _range_issue(w, "wind", "gust-period-s", w.gust_period_s, 0, 3600, " s",
+                            low_open=True)
+        out += _range_issue(w, "wind", "direction-deg", w.direction_deg, 0, 360, " deg",
+                            high_open=True)
     return out

@@ -86,6 +86,7 @@ class _Reader:
         objects_el = el.find(q("objects"))
         moving_el = el.find(q("moving-objects"))
         buildings_el = el.find(q("buildings"))
+        vegetation_el = el.find(q("vegetation"))
         scene = m.Scene(
             terrain=self.terrain(el.find(q("terrain"))),
             texture=self.texture(el.find(q("texture"))),
@@ -97,6 +98,7 @@ class _Reader:
                 self.moving_object(o) for o in moving_el.iterchildren(q("object"))),
             buildings=() if buildings_el is None else tuple(
                 self.building(b) for b in buildings_el.iterchildren(q("building"))),
+            vegetation=None if vegetation_el is None else self.vegetation(vegetation_el),
         )
         return self.note(scene, el)
 
@@ -210,6 +212,29 @@ class _Reader:
         if fp_el is not None:
             self.note(building, fp_el, "footprint")
         return self.note(building, el)
+    def vegetation(self, el: etree._Element) -> m.Vegetation:
+        groups = []
+        for g in el.iterchildren(q("plants")):
+            albedo = g.get("albedo-rgb")
+            groups.append(self.note(m.PlantGroup(
+                density_per_m2=_f(g, "density-per-m2"), kind=g.get("kind"),
+                mesh=g.get("mesh"), height_m=_opt_f(g, "height-m"),
+                height_sd_m=_opt_f(g, "height-sd-m") or 0.0, crown_m=_opt_f(g, "crown-m"),
+                albedo_rgb=None if albedo is None else _numbers(albedo)), g))
+        wind_el = el.find(q("wind"))
+        wind = None
+        if wind_el is not None:
+            d = m.Wind()
+            wind = self.note(m.Wind(
+                *(d_v if v is None else v for v, d_v in (
+                    (_opt_f(wind_el, "amplitude-deg"), d.amplitude_deg),
+                    (_opt_f(wind_el, "gust-period-s"), d.gust_period_s),
+                    (_opt_f(wind_el, "direction-deg"), d.direction_deg)))), wind_el)
+        clearance = _opt_f(el, "clearance-m")
+        veg = m.Vegetation(tuple(groups), seed=int(el.get("seed", "0")),
+                           clearance_m=m.Vegetation.clearance_m if clearance is None
+                           else clearance, wind=wind)
+        return self.note(veg, el)
 
     def scene_object(self, el: etree._Element) -> m.SceneObject:
         p = el.find(q("placement"))

@@ -68,6 +68,8 @@ class PreparedJob:
     moving_meshes: dict | None = None
     #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
     buildings: tuple = ()
+    #: the placed plants, one PlantSet per group (empty: no vegetation)
+    plants: tuple = ()
     #: a multi-camera rig: every camera's rendered interior and each image's camera
     #: (None: one camera, ``interior``)
     cameras: CameraSet | None = None
@@ -197,6 +199,12 @@ def prepare_job(
         moving = frame_moving_poses(project, scene, [t.time_s for t in times])
         for i, frame_poses in enumerate(moving):
             contexts[i]["moving_poses"] = local_poses(frame_poses, origin)
+    plant_specs, wind_spec, plants = (), None, []
+    if project.scene.vegetation is not None:
+        from designer.render.job_vegetation import vegetation_job
+
+        plant_specs, wind_spec, plants = vegetation_job(project, base_dir, scene, job_dir,
+                                                        origin)
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
     preset = quality or (render.preset if render.samples is None else None)
@@ -221,6 +229,8 @@ def prepare_job(
         objects=tuple(objects),
         light_steps=steps,
         moving_objects=moving_specs,
+        vegetation=plant_specs,
+        wind=wind_spec,
         image_metadata=render.image_metadata,
         effects=effects,
         frames=tuple(FrameSpec(index=i, image_name=p.image_name,
@@ -234,7 +244,8 @@ def prepare_job(
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
-                       buildings=tuple(light.buildings), cameras=cameras)
+                       buildings=tuple(light.buildings), plants=tuple(plants),
+                       cameras=cameras)
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

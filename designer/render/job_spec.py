@@ -135,6 +135,29 @@ class MeshSpec:
 
 
 @dataclass(frozen=True)
+class PlantSetSpec:
+    """One plant group: its template mesh (an .npz beside job.json in the plant's frame:
+    ``vertices_local``, ``faces``, ``material_index``) instanced at every plant of the
+    ``instances`` .npz (``base_local`` (N, 3) m, ``scale`` (N, 3), ``yaw_rad``,
+    ``phase_rad``), with its materials (foliage, wood)."""
+
+    name: str
+    template: str
+    instances: str
+    materials: tuple[MaterialSpec, ...]
+
+
+@dataclass(frozen=True)
+class WindSpec:
+    """The plants' sway (designer.scene.vegetation): lean amplitude (deg), period (s) and
+    the direction the wind blows to (deg clockwise from grid north)."""
+
+    amplitude_deg: float
+    gust_period_s: float
+    direction_deg: float
+
+
+@dataclass(frozen=True)
 class EffectsSpec:
     """Where the worker finds the camera-effects chain: the project copy beside job.json,
     the camera, the render scale and the cached distortion warp (if any)."""
@@ -230,6 +253,10 @@ class RenderJob:
     #: moving objects, each mesh in its own frame (base centre at 0, +Y forward, m),
     #: posed per frame by FrameSpec.moving_poses
     moving_objects: tuple[MeshSpec, ...] = ()
+    #: plant groups, each one template instanced at its plants, posed per frame at its
+    #: ``time_s`` by ``wind`` (upright without a time or wind)
+    vegetation: tuple[PlantSetSpec, ...] = ()
+    wind: WindSpec | None = None
     image_names: dict[int, str] = field(init=False, repr=False, compare=False)
     _frames_by_index: dict[int, FrameSpec] = field(init=False, repr=False, compare=False)
 
@@ -292,6 +319,10 @@ class RenderJob:
                                   for s in data.get("light_steps", ())),
                 image_metadata=data.get("image_metadata", "none"),
                 moving_objects=tuple(_mesh(o) for o in data.get("moving_objects", ())),
+                vegetation=tuple(PlantSetSpec(v["name"], v["template"], v["instances"],
+                                              tuple(_material(m) for m in v["materials"]))
+                                 for v in data.get("vegetation", ())),
+                wind=WindSpec(**data["wind"]) if data.get("wind") else None,
                 frames=tuple(_frame(f) for f in data["frames"]),
                 width_px=int(data["width_px"]),
                 height_px=int(data["height_px"]),

@@ -49,11 +49,11 @@ def object_mask(poses: tuple[MovingPose, ...], meshes: dict, pose: CameraPose,
         tri = uv[faces[ok]]
         tri = tri[np.isfinite(tri).all(axis=(1, 2))]
         for corners in tri:
-            _fill_triangle(mask, corners)
+            fill_triangle(mask, corners)
     return mask
 
 
-def _fill_triangle(mask: np.ndarray, corners: np.ndarray) -> None:
+def fill_triangle(mask: np.ndarray, corners: np.ndarray) -> None:
     """Set to 255 the pixels of ``mask`` whose centre (i + 0.5, j + 0.5) lies inside the
     triangle ``corners`` (3, 2) px or on its edge."""
     H, W = mask.shape

@@ -144,6 +144,14 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         written = {**written, **write_building_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses,
             prepared.buildings)}
+    if project.scene.vegetation is not None:
+        from designer.render.vegetation_truth import write_vegetation_truth
+
+        times = ([t.time_s for t in prepared.times] if prepared.times is not None
+                 else [None] * len(prepared.poses))
+        written = {**written, **write_vegetation_truth(
+            out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses, times,
+            list(prepared.plants), project.scene.vegetation.wind)}
     clouds = project.scene.lighting.clouds
     if clouds is not None:
         from designer.atomic import write_text_atomic

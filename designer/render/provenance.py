@@ -126,6 +126,10 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
     scene_chunks, target_chunks, target_vertices = _objects_chunks(job.objects, job_dir)
     if job.moving_objects:  # their poses are in each frame's pose
         scene_chunks += _objects_chunks(job.moving_objects, job_dir)[0]
+    # plants: their templates, placements, materials and wind (their sway is in each
+    # frame's time, part of its pose)
+    plant_chunks = _plant_chunks(job, job_dir)
+    scene_chunks += plant_chunks
     common["scene"] = _digest(background, *scene_chunks)
     # a sun over time: each light step is the scene (and target lighting) of its frames
     steps = [_objects_chunks(step.objects, job_dir) for step in job.light_steps]
@@ -151,7 +155,8 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         if frame.light_step is not None:
             step_scene, chunks, _ = steps[frame.light_step]
             parts["scene"] = _digest(background, *step_scene,
-                                     *_objects_chunks(job.moving_objects, job_dir)[0])
+                                     *_objects_chunks(job.moving_objects, job_dir)[0],
+                                     *plant_chunks)
         parts["targets"] = _digest(*chunks, _targets_in_view(target_vertices, frame, job))
         if frame.camera is not None:  # a rig: each frame's own camera
             parts["camera"] = _digest(_canonical([asdict(frame.camera),
@@ -170,6 +175,17 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
             pose["image_metadata"] = job.image_metadata
         parts["pose"] = _digest(_canonical(pose))
         out[frame.index] = ImageProvenance({p: parts[p] for p in PARTS})
+    return out
+
+
+def _plant_chunks(job: RenderJob, job_dir: Path) -> list[str]:
+    """Canonical descriptions of a job's plant groups and wind ([] without plants)."""
+    if not job.vegetation:
+        return []
+    out = [_canonical(asdict(job.wind) if job.wind is not None else None)]
+    for spec in job.vegetation:
+        out += [_canonical([spec.name, [_material_fields(mat) for mat in spec.materials]]),
+                _file_digest(job_dir / spec.template), _file_digest(job_dir / spec.instances)]
     return out
 
 

@@ -35,6 +35,7 @@ from designer.render.job_spec import (
     LightStep,
     MaterialSpec,
     MeshSpec,
+    PlantSetSpec,
     RenderJob,
 )
 from designer.render.png_text import move_without_text
@@ -326,6 +327,88 @@ def add_mesh(scene: bpy.types.Scene, spec: MeshSpec, base: Path) -> bpy.types.Ob
     return obj
 
 
+#: per-plant brightness spread of the foliage (emission × 1 ± this, by instance)
+PLANT_BRIGHTNESS_SPREAD = 0.2
+
+
+def add_plants(scene: bpy.types.Scene, spec: PlantSetSpec, base: Path) -> dict:
+    """One plant group: its template mesh (kept out of the scene) instanced by geometry
+    nodes on a point per plant, each turned by the point's ``plant_rotation``
+    (quaternion, set per frame by :func:`pose_plants`) and scaled by ``plant_scale``:
+    Blender then holds one mesh per group however many plants it has."""
+    template = add_mesh(scene, MeshSpec(spec.name + ":template", spec.template,
+                                        spec.materials), base)
+    scene.collection.objects.unlink(template)
+    for mat in template.data.materials:  # each plant a little brighter or darker
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        emit = next(n for n in nodes if n.bl_idname == "ShaderNodeEmission")
+        info = nodes.new("ShaderNodeObjectInfo")
+        spread = nodes.new("ShaderNodeMath")
+        spread.operation = "MULTIPLY_ADD"
+        spread.inputs[1].default_value = 2 * PLANT_BRIGHTNESS_SPREAD
+        spread.inputs[2].default_value = 1.0 - PLANT_BRIGHTNESS_SPREAD
+        links.new(info.outputs["Random"], spread.inputs[0])
+        strength = nodes.new("ShaderNodeMath")
+        strength.operation = "MULTIPLY"
+        strength.inputs[1].default_value = emit.inputs["Strength"].default_value
+        links.new(spread.outputs["Value"], strength.inputs[0])
+        links.new(strength.outputs["Value"], emit.inputs["Strength"])
+    data = np.load(base / spec.instances)
+    at = {k: np.asarray(data[k], float) for k in ("base_local", "scale", "yaw_rad",
+                                                  "phase_rad")}
+    n = len(at["base_local"])
+    mesh = bpy.data.meshes.new(spec.name)
+    mesh.vertices.add(n)
+    mesh.vertices.foreach_set("co", np.ascontiguousarray(at["base_local"], np.float32).ravel())
+    mesh.attributes.new("plant_rotation", "QUATERNION", "POINT")
+    scale = mesh.attributes.new("plant_scale", "FLOAT_VECTOR", "POINT")
+    scale.data.foreach_set("vector", np.ascontiguousarray(at["scale"], np.float32).ravel())
+    mesh.update()
+    carrier = bpy.data.objects.new(spec.name, mesh)
+    scene.collection.objects.link(carrier)
+    tree = bpy.data.node_groups.new(spec.name, "GeometryNodeTree")
+    tree.interface.new_socket(name="Geometry", in_out="INPUT",
+                              socket_type="NodeSocketGeometry")
+    tree.interface.new_socket(name="Geometry", in_out="OUTPUT",
+                              socket_type="NodeSocketGeometry")
+    nodes, links = tree.nodes, tree.links
+    group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    instance = nodes.new("GeometryNodeInstanceOnPoints")
+    info = nodes.new("GeometryNodeObjectInfo")
+    info.transform_space = "ORIGINAL"
+    info.inputs["Object"].default_value = template
+    rotation = nodes.new("GeometryNodeInputNamedAttribute")
+    rotation.data_type = "QUATERNION"
+    rotation.inputs["Name"].default_value = "plant_rotation"
+    size = nodes.new("GeometryNodeInputNamedAttribute")
+    size.data_type = "FLOAT_VECTOR"
+    size.inputs["Name"].default_value = "plant_scale"
+    links.new(group_in.outputs[0], instance.inputs["Points"])
+    links.new(info.outputs["Geometry"], instance.inputs["Instance"])
+    links.new(rotation.outputs["Attribute"], instance.inputs["Rotation"])
+    links.new(size.outputs["Attribute"], instance.inputs["Scale"])
+    links.new(instance.outputs["Instances"], group_out.inputs[0])
+    carrier.modifiers.new("plants", "NODES").node_group = tree
+    return {"mesh": mesh, "yaw_rad": at["yaw_rad"], "phase_rad": at["phase_rad"]}
+
+
+def pose_plants(plants: list[dict], wind, time_s: float | None) -> None:
+    """Turn every plant to its sway at ``time_s`` (designer.scene.vegetation)."""
+    from designer.scene.vegetation import plant_rotations, quaternions_wxyz
+
+    for group in plants:
+        key = time_s if wind is not None else None  # still plants are posed once
+        if group.get("posed", ()) == key:
+            continue
+        group["posed"] = key
+        q = quaternions_wxyz(plant_rotations(group["yaw_rad"], group["phase_rad"], wind,
+                                             time_s))
+        mesh = group["mesh"]
+        mesh.attributes["plant_rotation"].data.foreach_set(
+            "value", np.ascontiguousarray(q, np.float32).ravel())
+        mesh.update()
+
+
 def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.Object]:
     scene = reset_scene()
     configure_render(scene, job)
@@ -434,6 +517,7 @@ def main(argv: list[str] | None = None) -> int:
     ext = job.render.extension
     t0 = time.perf_counter()
     scene, camera = build_scene(job, base)
+    plants = [add_plants(scene, spec, base) for spec in job.vegetation]
     chains = load_effects(job, base)
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
     current = {spec.name: spec for spec in job.objects}
@@ -443,6 +527,8 @@ def main(argv: list[str] | None = None) -> int:
         if step is not None:
             apply_light_step(scene, current, job.light_steps[step], base)
         frame = frames[index]
+        if plants:
+            pose_plants(plants, job.wind, frame.time_s)
         done = render_frame(scene, camera, frame, out_dir, ext, base / PARTIAL_DIR,
                             chains.get(frame.camera_id), exif)
         emit(progress, event="frame_done", index=index, **done)

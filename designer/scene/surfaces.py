@@ -69,11 +69,22 @@ def _buildings(project: m.Project, base_dir: Path, ground: Ground,
     return building_meshes_world(project, base_dir, ground)
 
 
+def _vegetation(project: m.Project, base_dir: Path, ground: Ground,
+                at_time_s: float | None) -> list[Triangles]:
+    if project.scene.vegetation is None:
+        return []
+    from designer.scene.vegetation import vegetation_mesh_world
+
+    # the plants as they sway at the reference time; upright without one
+    return vegetation_mesh_world(project, base_dir, ground, at_time_s)
+
+
 #: what stands on the ground, in the order it is added to the DSM
 DSM_LAYERS: list[Callable[[m.Project, Path, Ground, float | None], list[Triangles]]] = [
     _scene_objects,
     _moving_objects,
     _buildings,
+    _vegetation,
 ]
 
 

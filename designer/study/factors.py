@@ -236,6 +236,36 @@ def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
         b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
         else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
     return replace(p, scene=replace(p.scene, buildings=buildings))
+def _vegetation_density(p: m.Project) -> float:
+    veg = p.scene.vegetation
+    return float(sum(g.density_per_m2 for g in veg.plants)) if veg is not None else 0.0
+
+
+def _with_vegetation_density(p: m.Project, density_per_m2: float) -> m.Project:
+    """Every group scaled so the densities add up to ``density_per_m2`` (their shares
+    kept); 0 removes the vegetation; a base without one gets shrubs."""
+    veg = p.scene.vegetation
+    if not density_per_m2:
+        return replace(p, scene=replace(p.scene, vegetation=None))
+    if veg is None or not veg.plants:
+        height, crown = m.PLANT_KINDS["shrub"]
+        veg = m.Vegetation((m.PlantGroup(density_per_m2, "shrub", height_m=height,
+                                         crown_m=crown),))
+    else:
+        total = _vegetation_density(p)
+        veg = replace(veg, plants=tuple(
+            replace(g, density_per_m2=density_per_m2 * g.density_per_m2 / total)
+            for g in veg.plants))
+    return replace(p, scene=replace(p.scene, vegetation=veg))
+
+
+def _with_wind_amplitude(p: m.Project, amplitude_deg: float) -> m.Project:
+    veg = p.scene.vegetation
+    if veg is None:
+        raise ValueError("the base project has no <vegetation> in its scene; add one to vary "
+                         "the wind's sway")
+    wind = replace(veg.wind or m.Wind(), amplitude_deg=amplitude_deg)
+    return replace(p, scene=replace(p.scene, vegetation=replace(veg, wind=wind)))
 
 
 def _texture_source(p: m.Project):
@@ -397,6 +427,14 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
        lambda p: _extruded(p)[0].eave_height_m if _extruded(p) else None,
        _with_eave_height),
+    _F("vegetation-density-per-m2", "plants per m² over all plant groups (their shares "
+       "kept); 0 removes the vegetation, a base without one gets shrubs", "render", _float,
+       _vegetation_density, _with_vegetation_density),
+    _F("vegetation-wind-amplitude-deg", "largest lean of the plants swaying in the wind "
+       "(deg; 0: they stand still)", "render", _float,
+       lambda p: (p.scene.vegetation.wind.amplitude_deg
+                  if p.scene.vegetation is not None and p.scene.vegetation.wind else 0.0),
+       _with_wind_amplitude),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),

@@ -44,6 +44,8 @@ def _filled_projects() -> list[m.Project]:
         "house1", tuple(m.PathPoint(E0 + x, N0 + y) for x, y in ((5, 5), (15, 5), (15, 13),
                                                                   (5, 13))),
         "gable", 6.0, 9.0),))
+    first = edits.replace_path(first, "scene.vegetation", m.Vegetation(
+        (m.PlantGroup(0.05, "shrub", height_m=1.0, crown_m=1.2),), wind=m.Wind()))
     assert first.scene.targets.survey_accuracy is not None
     assert first.trajectory.flight_plan.pose_noise is not None
     second = edits.replace_path(first, "scene.terrain.source", m.FlatTerrain(1.5))

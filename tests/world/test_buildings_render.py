@@ -161,3 +161,29 @@ def test_a_project_without_buildings_in_view_renders_the_same_bytes(renders, tmp
     assert not (bare / "ground-truth/buildings.ply").exists()
     job = json.loads((bare / ".designer-job/job.json").read_text())
     assert "buildings" not in {o["name"] for o in job["objects"]}
+
+
+def test_with_a_sun_over_time_each_photo_lights_the_buildings_with_its_own_sun(tmp_path):
+    from designer.scene.lighting import irradiance, sun_direction_world
+    from tests.world.helpers import TAKEOFF
+
+    p = building_project()
+    photos = tuple(replace(e, time_s=t) for e, t in
+                   zip(p.trajectory.exterior_orientations, (0.0, 7200.0), strict=True))
+    p = replace(p, trajectory=m.Trajectory(photos, None, m.TimeLine(TAKEOFF, 5.0, 8.0)),
+                scene=replace(p.scene, lighting=m.Lighting(m.SunOverTime())))
+    summary = render_project(write_project_file(p, tmp_path), tmp_path / "out")
+    assert sorted(summary.report.rendered) == [0, 1]
+    job = summary.prepared.job
+    assert [f.light_step for f in job.frames] == [0, 1]
+    lights = []
+    for step in job.light_steps:
+        (spec,) = [o for o in step.objects if o.name == "buildings"]
+        sun = sun_direction_world(step.sun_azimuth_deg, step.sun_elevation_deg)
+        east_wall = irradiance(np.array([[1.0, 0.0, 0.0]]), np.ones(1), sun,
+                               p.scene.lighting.sun_strength, p.scene.lighting.sky_strength)[0]
+        strengths = [mat.strength for mat in spec.materials]
+        assert min(abs(s - east_wall) for s in strengths) < 1e-9
+        assert min(abs(s - 1.0) for s in strengths) < 1e-12  # the level roofs
+        lights.append(east_wall)
+    assert abs(lights[0] - lights[1]) > 0.1  # the morning sun moved
