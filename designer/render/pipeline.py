@@ -96,9 +96,19 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     hf = prepared.scene.heightfield
     raycaster = TerrainRaycaster(hf) if hf is not None else None
     pairs = visible_pairs(points, C, R, prepared.interior, raycaster)
+    uv = pairs.uv_px
     order = np.lexsort((pairs.camera, pairs.point))
+    if prepared.rolling_shutter is not None:
+        # where the rolling-shutter image shows the target (the rows' own poses); a
+        # target it moves out of the image is not observed
+        from designer.render.rolling_truth import rolling_shutter_uv
+
+        uv = rolling_shutter_uv(prepared, pairs.camera, pairs.point, points)
+        W, H = prepared.interior.image_size_px
+        inside = (uv[:, 0] >= 0) & (uv[:, 0] < W) & (uv[:, 1] >= 0) & (uv[:, 1] < H)
+        order = order[inside[order]]
     return [GcpObservation(targets[pairs.point[k]].target.id,
-                           prepared.poses[pairs.camera[k]].image_name, pairs.uv_px[k])
+                           prepared.poses[pairs.camera[k]].image_name, uv[k])
             for k in order]
 
 
@@ -119,6 +129,13 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         written = {**written, **write_moving_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
             prepared.moving_poses, prepared.moving_meshes)}
+    if prepared.rolling_shutter is not None:
+        from designer.atomic import write_text_atomic
+        from designer.render.rolling_truth import ROLLING_SHUTTER_CSV, rolling_shutter_csv
+
+        path = out_dir / GROUND_TRUTH_DIR / ROLLING_SHUTTER_CSV
+        write_text_atomic(path, rolling_shutter_csv(prepared))
+        written["rolling_shutter"] = path
     clouds = project.scene.lighting.clouds
     if clouds is not None:
         from designer.atomic import write_text_atomic
