@@ -208,8 +208,10 @@ def render_project(
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
+    rolling = prepared.rolling_shutter
     write_readme(out_dir, list(names.values()), ground_truth, project=project_path.name,
-                 image_size_px=prepared.interior.image_size_px)
+                 image_size_px=prepared.interior.image_size_px,
+                 readout_s=rolling.readout_s if rolling is not None else None)
     move_old_layout_images(out_dir, names.values())
     images = Path(prepared.job.output_dir)
     # complete-looking images rendered from other inputs (or with no record of them)

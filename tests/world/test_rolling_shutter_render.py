@@ -99,3 +99,19 @@ def test_every_export_carries_the_rolling_shutter_pixels(rendered):
     assert first[1:3] == [repr(READOUT_S), direction]
     # 10 m/s towards azimuth 60°
     assert [float(x) for x in first[3:6]] == pytest.approx([8.660254, 5.0, 0.0])
+
+
+def test_a_changed_readout_makes_the_images_and_ground_truth_out_of_date(rendered):
+    from designer.render.check_output import check_output
+
+    _, summary = rendered
+    assert "--rolling-shutter-readout 30" in (summary.out_dir / "README.txt").read_text()
+    project_path = summary.out_dir.parent / "project.xml"
+    assert check_output(summary.out_dir, project_path).ok
+    text = project_path.read_text()
+    changed = summary.out_dir.parent / "changed.xml"
+    changed.write_text(text.replace(f'readout-s="{READOUT_S}"', 'readout-s="0.02"'))
+    status = check_output(summary.out_dir, changed)
+    assert sorted(status.stale) == ["IMG_000.png", "IMG_001.png"]
+    assert all(parts == ["pose"] for parts in status.stale.values())
+    assert status.ground_truth.startswith("out of date")
