@@ -189,6 +189,17 @@ def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
     return replace(p, scene=replace(p.scene, moving_objects=moving))
 
 
+def _with_readout(p: m.Project, readout_s: float) -> m.Project:
+    """The camera's rolling shutter with this readout (0: none), its direction kept."""
+    if readout_s and p.trajectory.time_line is None:
+        raise ValueError("the base project has no <time-line> in its trajectory; a rolling "
+                         "shutter moves the camera along it: add one (takeoff-utc, speed-m-s)")
+    rs = _camera(p).rolling_shutter
+    direction = rs.direction if rs is not None else "top-to-bottom"
+    return _with_camera(p, rolling_shutter=m.RollingShutter(readout_s, direction)
+                        if readout_s else None)
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -342,6 +353,9 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        "render", _float,
        lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
        _with_moving_speed),
+    _F("rolling-shutter-readout-s", "rolling-shutter readout time of the camera per frame "
+       "(s; 0: a global shutter; needs a <time-line>)", "render", _float,
+       lambda p: _camera(p).readout_s, _with_readout),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),
