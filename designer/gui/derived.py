@@ -137,6 +137,36 @@ def compute_texture(project: m.Project, base_dir: Path) -> np.ndarray:
                           project.crs)
 
 
+@dataclass(frozen=True, eq=False)
+class TextureResult:
+    """The texture image (H, W, 3) uint8 and, for an orthophoto, the crop that places it
+    by its geotransform (``orthophoto``; ``None``: the image is tiled over the terrain)."""
+
+    rgb: np.ndarray
+    orthophoto: object | None = None
+    crs: str | None = None
+
+    def display_uv(self, display: TerrainDisplay) -> np.ndarray:
+        """Texture coordinates of the drawn terrain's vertices, as the renderer maps it:
+        an orthophoto by its geotransform, any other texture by the display's tiling."""
+        if self.orthophoto is None:
+            return display.uv
+        from designer.scene.orthophoto import orthophoto_uv
+
+        return orthophoto_uv(self.orthophoto, display.points_world[:, :2], self.crs)
+
+
+def compute_texture_result(project: m.Project, base_dir: Path) -> TextureResult:
+    """:func:`compute_texture` with what places an orthophoto on the terrain."""
+    from designer.scene.build import build_orthophoto
+
+    tex, terrain = project.scene.texture, project.scene.terrain
+    ortho = build_orthophoto(tex, terrain, Path(base_dir), project.crs)
+    if ortho is not None:
+        return TextureResult(ortho.rgb, ortho, project.crs)
+    return TextureResult(compute_texture(project, base_dir))
+
+
 def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[float, float]:
     """Ground size (m) of one texel along X and Y (NaN when unknown)."""
     tex = project.scene.texture

@@ -55,6 +55,7 @@ class SceneSync(QObject):
         self.document, self.view, self.tasks = document, view, tasks
         self.terrain: derived.TerrainResult | None = None
         self.texture_rgb: np.ndarray | None = None
+        self.texture: derived.TextureResult | None = None
         self.targets: derived.TargetsResult | None = None
         self.stations: derived.StationsResult | None = None
         self.coverage: derived.CoverageResult | None = None
@@ -135,7 +136,7 @@ class SceneSync(QObject):
         self._tiles = (p.repeat_X, p.repeat_Y)
         display = (result.display if self._tiles == result.tiles
                    else derived.retile(result, self._tiles))
-        self.view.show_terrain(display.points_world, display.faces, display.uv,
+        self.view.show_terrain(display.points_world, display.faces, self._uv(display),
                                self.texture_rgb, p.interpolation == "linear",
                                result.irradiance)
         if first:
@@ -152,7 +153,7 @@ class SceneSync(QObject):
             return
         self._tiles = tiles
         display = derived.retile(self.terrain, tiles)
-        self.view.show_terrain(display.points_world, display.faces, display.uv,
+        self.view.show_terrain(display.points_world, display.faces, self._uv(display),
                                self.texture_rgb, tex.interpolation == "linear",
                                self.terrain.irradiance)
 
@@ -201,19 +202,34 @@ class SceneSync(QObject):
 
     # ------------------------------------------------------------------ texture
     def refresh_texture(self) -> None:
-        self.tasks.submit("texture", derived.compute_texture, self.document.project,
+        self.tasks.submit("texture", derived.compute_texture_result, self.document.project,
                           self.document.base_dir, on_done=self._texture_done,
                           on_error=self._texture_failed)
 
-    def _texture_done(self, rgb: np.ndarray) -> None:
+    def _uv(self, display) -> np.ndarray:
+        """The drawn terrain's texture coordinates for the current texture."""
+        return display.uv if self.texture is None else self.texture.display_uv(display)
+
+    def _displayed(self):
+        """The terrain display as drawn now (its current tiling), or None."""
+        if self.terrain is None:
+            return None
+        return (self.terrain.display if self._tiles in (None, self.terrain.tiles)
+                else derived.retile(self.terrain, self._tiles))
+
+    def _texture_done(self, result: derived.TextureResult) -> None:
         self.errors.pop("texture", None)
-        self.texture_rgb = rgb
+        placed_before = self.texture is not None and self.texture.orthophoto is not None
+        self.texture, self.texture_rgb = result, result.rgb
         tex = self.document.project.scene.texture
-        self.view.set_texture(rgb, tex.interpolation == "linear")
+        display = self._displayed()
+        if display is not None and (placed_before or result.orthophoto is not None):
+            self.view.set_terrain_uv(self._uv(display))
+        self.view.set_texture(result.rgb, tex.interpolation == "linear")
         self.texture_changed.emit()
 
     def _texture_failed(self, error: BaseException) -> None:
-        self.texture_rgb = None
+        self.texture, self.texture_rgb = None, None
         self.view.set_texture(None)
         self._fail("texture", error)
         self.texture_changed.emit()

@@ -242,6 +242,15 @@ class SceneView(OverlayLayers, QWidget):
         texture.mipmap = linear
         return texture
 
+    def set_terrain_uv(self, uv: np.ndarray) -> None:
+        """New texture coordinates for the drawn terrain (same vertices)."""
+        actor = self.plotter.actors.get("terrain")
+        if actor is None:
+            return
+        mesh = actor.mapper.dataset
+        mesh.active_texture_coordinates = np.asarray(uv, dtype=np.float32)
+        self.request_render()
+
     def set_texture(self, rgb: np.ndarray | None, linear: bool = True) -> None:
         """Swap the terrain's texture (None: plain colour)."""
         self._texture = self._make_texture(rgb, linear) if rgb is not None else None

@@ -27,9 +27,10 @@ METRIC_COLUMNS = (
     "check_rmse_x_m", "check_rmse_y_m", "check_rmse_z_m", "check_rmse_xy_m",
     "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd", "check_rmse_z_gsd",
     "control_rmse_x_m", "control_rmse_y_m", "control_rmse_z_m", "control_rmse_xyz_m",
-    "cloud_median_m", "cloud_nmad_m", "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m",
-    "focal_error_px", "k1_error", "render_s", "reconstruct_s", "compare_s", "total_s",
-    "amortised_s",
+    "cloud_median_m", "cloud_nmad_m", "cloud_mean_m", "cloud_rmse_m",
+    "dtm_cloud_median_m", "dtm_cloud_nmad_m", "dtm_cloud_mean_m", "dtm_cloud_rmse_m",
+    "dome_amplitude_m", "focal_error_px", "k1_error", "render_s", "reconstruct_s",
+    "compare_s", "total_s", "amortised_s",
 )
 
 _FIRST = ("run", "variant", "replicate")
@@ -39,7 +40,9 @@ _LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
          "check_rmse_xy_m", "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd",
          "check_rmse_z_gsd", "control_n", "control_rmse_x_m", "control_rmse_y_m",
          "control_rmse_z_m", "control_rmse_xyz_m", "cloud_median_m", "cloud_nmad_m",
-         "cloud_mean_m", "cloud_rmse_m", "dome_amplitude_m", "focal_error_px", "k1_error",
+         "cloud_mean_m", "cloud_rmse_m", "dtm_cloud_median_m", "dtm_cloud_nmad_m",
+         "dtm_cloud_mean_m", "dtm_cloud_rmse_m", "dome_amplitude_m", "focal_error_px",
+         "k1_error",
          "render_reused", "processing_reused", "features_reused", "matches_reused",
          "image_hash", "processing_hash",
          "error_map", "status")

@@ -156,12 +156,19 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
     row["k1_error"] = intr.get("delta_k1")
     row["dome_amplitude_m"] = (s.get("dense") or {}).get("dome_amplitude_m")
     if rec.n_points >= 10:
-        summary = compare_cloud(read_point_cloud(rec.cloud_ply), reference_mesh(project_path),
-                                out / "compare")
+        cloud = read_point_cloud(rec.cloud_ply)
+        dsm = reference_mesh(project_path, surface="dsm")
+        summary = compare_cloud(cloud, dsm, out / "compare")
         d = summary["distances"]
         row.update({"cloud_median_m": d["median"], "cloud_nmad_m": d["nmad"],
                     "cloud_mean_m": d["mean"], "cloud_rmse_m": d["rmse"],
                     "error_map": str((out / "compare" / "error_map.png").relative_to(out))})
+        # against the bare earth too, when something stands on it (else the same figures)
+        dtm = reference_mesh(project_path, surface="dtm")
+        if len(dtm.faces) != len(dsm.faces):
+            d = compare_cloud(cloud, dtm, out / "compare_dtm")["distances"]
+        row.update({"dtm_cloud_median_m": d["median"], "dtm_cloud_nmad_m": d["nmad"],
+                    "dtm_cloud_mean_m": d["mean"], "dtm_cloud_rmse_m": d["rmse"]})
     row["compare_s"] = time.perf_counter() - t1
     return row
 

@@ -45,6 +45,31 @@ def test_import_site_builds_opens_and_refuses_a_bad_dem(qtbot, window, sample_si
     assert w.document.path == path  # the open project stays
 
 
+def test_an_imported_orthophoto_lies_where_its_geotransform_puts_it(qtbot, window,
+                                                                   sample_site, tmp_path):
+    """The 3D view drapes the orthophoto as the renderer does: each drawn terrain vertex
+    gets the orthophoto pixel of its own position, not a tile stretched over the extent."""
+    from designer.scene.build import build_orthophoto
+    from designer.scene.orthophoto import orthophoto_uv
+
+    w = window
+    path = tmp_path / "site.xml"
+    answer_file_dialogs([sample_site["dem"], sample_site["orthophoto"], path])
+    choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
+    wait_idle(qtbot, w)
+    qtbot.waitUntil(lambda: w.sync.texture is not None, timeout=30000)
+    project = w.document.project
+    ortho = build_orthophoto(project.scene.texture, project.scene.terrain, path.parent,
+                             project.crs)
+    mesh = w.view.plotter.actors["terrain"].mapper.dataset
+    points_world = np.asarray(mesh.points, float) + w.view.offset
+    expected = orthophoto_uv(ortho, points_world[:, :2], project.crs)
+    drawn = np.asarray(mesh.active_texture_coordinates, float)
+    assert np.abs(drawn - expected).max() < 1e-5
+    tiled = w.sync.terrain.display.uv  # what was drawn before: the extent as one tile
+    assert np.abs(tiled - expected).max() > 1e-3
+
+
 def _flown_images(folder, n: int):
     """DJI-style geotagged images of the example survey's first ``n`` true poses."""
     project = load_project(EXAMPLE)
@@ -82,6 +107,11 @@ def test_import_flight_from_images_replays_the_poses_and_undoes(qtbot, window, t
     assert (footprints[:, :, 2] < C[:, None, 2] - 30.0).all()  # on the ground, far below
     assert w.view.plotter.actors["frusta"].GetVisibility()
     assert w.view.plotter.actors["footprints"].GetVisibility()
+    # the Flight panel's figures for the imported photos: numbers or words, never nan
+    qtbot.waitUntil(lambda: w.sync.plan is not None, timeout=30000)
+    flight = w.panels["Flight"]
+    figures = [flight.real_gsd.text(), flight.real_overlap.text(), flight.real_images.text()]
+    assert all(figures) and not any("nan" in t for t in figures), figures
     assert w.document.dirty
 
     # one undo step brings the planned flight back
@@ -133,3 +163,13 @@ def test_export_flight_plan_in_each_format_reads_back(qtbot, window, tmp_path):
     lonlat_qgc = np.array([[p.lon_deg, p.lat_deg] for p in points])
     lonlat_wpml = np.array([[p.lon_deg, p.lat_deg] for p in flown])
     assert np.abs(lonlat_qgc - lonlat_wpml).max() < 1e-9
+
+
+def test_flight_figures_that_do_not_exist_are_said_in_words():
+    from designer.gui.panels.flight import _gsd_text
+
+    nan = float("nan")
+    assert _gsd_text(0.0492, 0.0635, 0.0532) == (
+        "4.92 to 6.35 cm over the area, median 5.32 cm at the centres of the images over it")
+    assert _gsd_text(0.0492, 0.0635, nan).endswith("no image is centred over it")
+    assert "nan" not in _gsd_text(nan, nan, nan)

@@ -102,6 +102,8 @@ def test_a_processing_only_factor_renders_once(killed_and_resumed):
     for r in rows:
         assert int(r["registered"]) == int(r["images"]) > 3
         assert float(r["cloud_nmad_m"]) > 0
+        # nothing stands on this ground: the bare earth is the surface, one truth
+        assert r["dtm_cloud_nmad_m"] == r["cloud_nmad_m"]
 
 
 def test_the_report_and_every_run_project_stand_on_their_own(killed_and_resumed):

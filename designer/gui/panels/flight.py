@@ -3,6 +3,7 @@ crosshatch, terrain following, tilt, pose noise; image count and render time liv
 
 from __future__ import annotations
 
+import numpy as np
 from PySide6.QtWidgets import (
     QButtonGroup,
     QCheckBox,
@@ -263,9 +264,7 @@ class FlightPanel(Panel):
             return
         scale = self.project.render.resolution_scale
         of = "" if scale == 1.0 else f" (rendered images, scale {scale:g})"
-        self.real_gsd.setText(f"{100 * f.gsd_min_m:.2f} to {100 * f.gsd_max_m:.2f} cm over "
-                              f"the area, median {100 * f.gsd_median_m:.2f} cm at the centres "
-                              f"of the images over it{of}")
+        self.real_gsd.setText(_gsd_text(f.gsd_min_m, f.gsd_max_m, f.gsd_median_m) + of)
         self.real_overlap.setText(
             f"front {_pct(f.front_overlap_median)} (5 % of images below "
             f"{_pct(f.front_overlap_p05)}), side {_pct(f.side_overlap_median)} (5 % below "
@@ -345,6 +344,17 @@ class FlightPanel(Panel):
 
 #: the time line a project gets when its photos are given times in the panel
 DEFAULT_TIME_LINE = m.TimeLine("2026-06-21T09:30:00Z", speed_m_s=5.0, turn_s=8.0)
+
+
+def _gsd_text(gsd_min_m: float, gsd_max_m: float, gsd_median_m: float) -> str:
+    """The ground sample distance over the area, in words; figures that do not exist
+    (no image sees the area, or none is centred over it) are said so, not shown as nan."""
+    if not (np.isfinite(gsd_min_m) and np.isfinite(gsd_max_m)):
+        return "– (no image sees the area)"
+    text = f"{100 * gsd_min_m:.2f} to {100 * gsd_max_m:.2f} cm over the area, "
+    if not np.isfinite(gsd_median_m):
+        return text + "no image is centred over it"
+    return text + f"median {100 * gsd_median_m:.2f} cm at the centres of the images over it"
 
 
 def _pct(v: float) -> str:
