@@ -126,9 +126,11 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
     if prepared.moving_poses:
         from designer.render.moving_truth import write_moving_truth
 
+        rs = prepared.rolling_shutter
         written = {**written, **write_moving_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
-            prepared.moving_poses, prepared.moving_meshes)}
+            prepared.moving_poses, prepared.moving_meshes,
+            None if rs is None else (rs.readout_s, rs.direction, prepared.velocities_m_s))}
     if prepared.rolling_shutter is not None:
         from designer.atomic import write_text_atomic
         from designer.render.rolling_truth import ROLLING_SHUTTER_CSV, rolling_shutter_csv

@@ -115,3 +115,36 @@ def test_a_changed_readout_makes_the_images_and_ground_truth_out_of_date(rendere
     assert sorted(status.stale) == ["IMG_000.png", "IMG_001.png"]
     assert all(parts == ["pose"] for parts in status.stale.values())
     assert status.ground_truth.startswith("out of date")
+
+
+def test_moving_object_masks_follow_the_rolling_shutter(tmp_path):
+    """A box on the ground under a camera flying north with a 50 ms readout: its mask is
+    where the rows see it (each row from its own pose), not where the first row's pose
+    would put it."""
+    from dataclasses import replace
+
+    from designer.core.truth import CameraPose
+    from designer.project import model as m
+    from designer.render.moving_truth import object_mask
+    from tests.world.moving_helpers import moving_project
+    from tests.world.test_moving_objects import _coverage
+
+    p = moving_project()
+    p = replace(p, cameras=(replace(p.cameras[0], rolling_shutter=m.RollingShutter(0.05)),))
+    bare = replace(p, scene=replace(p.scene, moving_objects=()))
+    out = render_project(write_project_file(p, tmp_path / "moving"), tmp_path / "moving/out")
+    ground = render_project(write_project_file(bare, tmp_path / "bare"), tmp_path / "bare/out")
+    prepared = out.prepared
+    for k, name in enumerate(("IMG_000.png", "IMG_001.png")):
+        mask = cv2.imread(str(out.out_dir / "ground-truth/masks" / name.replace(".png",
+                                                                                "_mask.png")),
+                          cv2.IMREAD_UNCHANGED) > 0
+        covered = _coverage(out.images_dir / name, ground.images_dir / name) >= 0.5
+        iou = (covered & mask).sum() / (covered | mask).sum()
+        pose: CameraPose = prepared.poses[k]
+        first_row = object_mask(prepared.moving_poses[k], prepared.moving_meshes, pose,
+                                prepared.interior) > 0
+        iou_first_row = (covered & first_row).sum() / (covered | first_row).sum()
+        print(f"{name}: mask IoU {iou:.3f}, first-row-pose mask IoU {iou_first_row:.3f}")
+        assert iou >= 0.98
+        assert iou_first_row < 0.95
