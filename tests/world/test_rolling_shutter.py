@@ -66,6 +66,14 @@ def test_bad_rolling_shutters_are_located_one_line_errors(tmp_path, edit, words)
     assert "\n" not in located[0]
 
 
+def test_designer_check_names_the_rolling_shutter(tmp_path):
+    from designer.project.summary import summary_line
+
+    p = rolling_project(readout_s=0.025)
+    assert "rolling shutter (25 ms readout)" in summary_line("p.xml", p)
+    assert "rolling shutter" not in summary_line("p.xml", global_shutter(p))
+
+
 def test_a_readout_of_zero_needs_no_time_line(tmp_path):
     p = rolling_project(readout_s=0.0, time_line=False)
     assert load_project(write_project_file(p, tmp_path)).cameras[0].readout_s == 0.0
