@@ -16,6 +16,11 @@ The "+movers" row renders the survey preset with a time line, the static sun and
 moving objects (10 cars, 10 people) crossing the site: the worker poses them before each
 frame; its ``prepare s/img`` includes writing their ground truth (a mask per image and
 the positions table).
+The "+houses" row renders the survey preset with the static sun and 11 buildings (10 m ×
+8 m; gable, hip and flat roofs, 6 m walls) on a 4 × 4 grid over the flown area, the spots
+near a GCP left empty: its ``prepare s/img`` includes building them and writing their
+ground truth (a mask per image and buildings.ply); its ``wall s/img`` over the plain
+survey row's is their render cost.
 The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
 light map per photo, the direct sun dimmed by the clouds at the photo's time.
 The rows "pinhole" and "rolling" fly the same time line with the camera's lens distortion
@@ -76,6 +81,28 @@ def _pinhole(project: m.Project, readout_s: float = 0.0) -> m.Project:
         project.trajectory, time_line=m.TimeLine("2026-06-21T06:30:00Z", 8.0, 10.0)))
 
 
+def _with_houses(project: m.Project) -> m.Project:
+    """``project`` with buildings on a 4 × 4 grid over the central 70 % of its extent,
+    roofs gable, hip and flat in turn, none within 2 m of a GCP."""
+    from designer.project.geometry import point_in_polygon
+
+    e = project.scene.terrain.extent
+    cx, cy = (e.min_X + e.max_X) / 2, (e.min_Y + e.max_Y) / 2
+    w, h = e.max_X - e.min_X, e.max_Y - e.min_Y
+    houses = []
+    for i in range(4):
+        for j in range(4):
+            x, y = cx + (i / 3 - 0.5) * 0.7 * w, cy + (j / 3 - 0.5) * 0.7 * h + 6.0
+            corners = ((x - 5, y - 4), (x + 5, y - 4), (x + 5, y + 4), (x - 5, y + 4))
+            margin = ((x - 7, y - 6), (x + 7, y - 6), (x + 7, y + 6), (x - 7, y + 6))
+            if any(point_in_polygon(t.true.X, t.true.Y, margin) for t in project.targets):
+                continue
+            roof = ("gable", "hip", "flat")[len(houses) % 3]
+            houses.append(m.Building(f"h{i}{j}", tuple(m.PathPoint(*c) for c in corners),
+                                     roof, 6.0, None if roof == "flat" else 9.0))
+    return replace(project, scene=replace(project.scene, buildings=tuple(houses)))
+
+
 def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
     n_frames = max(2, round(20 * scale))
     n_naive = max(1, round(5 * scale))
@@ -99,6 +126,7 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "static", "tiled", tiled),
                                          ("survey", "over time", texture, timed),
                                          ("survey", "+movers", texture, _with_movers(project)),
+                                         ("survey", "+houses", texture, _with_houses(project)),
                                          ("survey", "clouds", texture, cloudy),
                                          ("survey", "pinhole", texture, _pinhole(project)),
                                          ("survey", "rolling", texture,
@@ -113,6 +141,12 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
                 write_moving_truth(out / JOB_DIR / "truth", prepared.interior, prepared.poses,
                                    prepared.moving_poses, prepared.moving_meshes)
+            if prepared.buildings:
+                from designer.render.building_truth import write_building_truth
+                from designer.render.job import JOB_DIR
+
+                write_building_truth(out / JOB_DIR / "truth", prepared.interior,
+                                     prepared.poses, prepared.buildings)
             prepare = time.perf_counter() - t_prepare
             frames = list(range(n_frames))
             report = render_frames(prepared.job_path, frames)

@@ -44,7 +44,8 @@ def changed_parts(old: m.Project | None, new: m.Project) -> set[str]:
         out.add("lighting")
     if so.targets != sn.targets:
         out.add("targets")
-    if so.objects != sn.objects or so.moving_objects != sn.moving_objects:
+    if (so.objects != sn.objects or so.moving_objects != sn.moving_objects
+            or so.buildings != sn.buildings):
         out.add("objects")
     for part in ("cameras", "trajectory", "effects", "render", "outputs", "processing"):
         if getattr(old, part) != getattr(new, part):

@@ -28,6 +28,7 @@ from designer.project.files import (
     resolve,
 )
 from designer.project.problems import Issue
+from designer.project.validate_buildings import building_issues
 
 
 def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
@@ -38,6 +39,7 @@ def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
             + _objects(scene.objects, base)
             + [i for obj in scene.moving_objects if base is not None and obj.file is not None
                for i in file_issue(obj, "object", mesh_problem(resolve(base, obj.file)))]
+            + building_issues(scene, base)
             + _lighting(scene.lighting))
 
 

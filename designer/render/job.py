@@ -71,6 +71,8 @@ class PreparedJob:
     #: platform's velocity at each image (world m/s, (N, 3))
     rolling_shutter: m.RollingShutter | None = None
     velocities_m_s: np.ndarray | None = None
+    #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
+    buildings: tuple = ()
 
 
 def prepare_job(
@@ -202,7 +204,8 @@ def prepare_job(
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
-                       rolling_shutter=rolling, velocities_m_s=velocities)
+                       rolling_shutter=rolling, velocities_m_s=velocities,
+                       buildings=tuple(light.buildings))
 
 
 def _rolling_shutter(project: m.Project, camera_id: str, stations, times):

@@ -95,6 +95,12 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     R = np.array([p.R_cam_to_world for p in prepared.poses])
     hf = prepared.scene.heightfield
     raycaster = TerrainRaycaster(hf) if hf is not None else None
+    if prepared.buildings:
+        # a target hidden behind a building is not observed in that image
+        from designer.survey.mesh_occlusion import MeshOccluder, OccluderStack
+
+        raycaster = OccluderStack(raycaster, [MeshOccluder(b.vertices_world, b.faces)
+                                              for b in prepared.buildings])
     pairs = visible_pairs(points, C, R, prepared.interior, raycaster)
     uv = pairs.uv_px
     order = np.lexsort((pairs.camera, pairs.point))
@@ -123,14 +129,21 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
                         ground_truth_observations(prepared), odm_crs(project.crs),
                         formats=formats, image_times=image_times(prepared),
                         colmap_offset=colmap_offset)
+    rs = prepared.rolling_shutter
+    # masks of a rolling-shutter camera: each row sees from its own pose
+    rolling = None if rs is None else (rs.readout_s, rs.direction, prepared.velocities_m_s)
     if prepared.moving_poses:
         from designer.render.moving_truth import write_moving_truth
 
-        rs = prepared.rolling_shutter
         written = {**written, **write_moving_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
-            prepared.moving_poses, prepared.moving_meshes,
-            None if rs is None else (rs.readout_s, rs.direction, prepared.velocities_m_s))}
+            prepared.moving_poses, prepared.moving_meshes, rolling)}
+    if prepared.buildings:
+        from designer.render.building_truth import write_building_truth
+
+        written = {**written, **write_building_truth(
+            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, prepared.buildings,
+            rolling)}
     if prepared.rolling_shutter is not None:
         from designer.atomic import write_text_atomic
         from designer.render.rolling_truth import ROLLING_SHUTTER_CSV, rolling_shutter_csv

@@ -60,10 +60,20 @@ def _moving_objects(project: m.Project, base_dir: Path, ground: Ground,
     return layers
 
 
+def _buildings(project: m.Project, base_dir: Path, ground: Ground,
+               at_time_s: float | None) -> list[Triangles]:
+    if not project.scene.buildings:
+        return []
+    from designer.scene.buildings import building_meshes_world
+
+    return building_meshes_world(project, base_dir, ground)
+
+
 #: what stands on the ground, in the order it is added to the DSM
 DSM_LAYERS: list[Callable[[m.Project, Path, Ground, float | None], list[Triangles]]] = [
     _scene_objects,
     _moving_objects,
+    _buildings,
 ]
 
 

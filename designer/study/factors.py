@@ -200,6 +200,21 @@ def _with_readout(p: m.Project, readout_s: float) -> m.Project:
                         if readout_s else None)
 
 
+def _extruded(p: m.Project) -> list[m.Building]:
+    return [b for b in p.scene.buildings if b.file is None]
+
+
+def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
+    """Every extruded building's walls ``eave_m`` high; a pitched roof keeps its rise."""
+    if not _extruded(p):
+        raise ValueError("the base project has no <buildings> with a footprint; add one to "
+                         "vary their height")
+    buildings = tuple(b if b.file is not None else replace(
+        b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
+        else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
+    return replace(p, scene=replace(p.scene, buildings=buildings))
+
+
 def _texture_source(p: m.Project):
     return p.scene.texture.source
 
@@ -356,6 +371,10 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
     _F("rolling-shutter-readout-s", "rolling-shutter readout time of the camera per frame "
        "(s; 0: a global shutter; needs a <time-line>)", "render", _float,
        lambda p: _camera(p).readout_s, _with_readout),
+    _F("building-eave-height-m", "wall height of every extruded building above its base "
+       "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
+       lambda p: _extruded(p)[0].eave_height_m if _extruded(p) else None,
+       _with_eave_height),
     _F("texture-file", "ground texture image (path relative to the study file)", "render", str,
        lambda p: getattr(_texture_source(p), "file", None),
        lambda p, v: _with_texture_source(p, m.ImageTexture(v))),

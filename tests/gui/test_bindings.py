@@ -41,6 +41,10 @@ def _filled_projects() -> list[m.Project]:
     E0, N0 = base.origin.E0, base.origin.N0
     first = edits.replace_path(first, "scene.moving_objects", (m.MovingObject(
         "car1", (m.PathPoint(E0 - 40, N0), m.PathPoint(E0 + 40, N0)), speed_m_s=3.0),))
+    first = edits.replace_path(first, "scene.buildings", (m.Building(
+        "house1", tuple(m.PathPoint(E0 + x, N0 + y) for x, y in ((5, 5), (15, 5), (15, 13),
+                                                                  (5, 13))),
+        "gable", 6.0, 9.0),))
     assert first.scene.targets.survey_accuracy is not None
     assert first.trajectory.flight_plan.pose_noise is not None
     second = edits.replace_path(first, "scene.terrain.source", m.FlatTerrain(1.5))
