@@ -29,6 +29,10 @@ the plants and writing their ground truth (a mask per image and the plant table)
 table ends with its cost relative to the plain survey row.
 The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
 light map per photo, the direct sun dimmed by the clouds at the photo's time.
+The rows "pinhole" and "rolling" fly the same time line with the camera's lens distortion
+removed (a rolling shutter is rendered for a pinhole camera only): "pinhole" with a global
+shutter, "rolling" with a rolling shutter read out over 30 ms (Cycles' rolling shutter, the
+camera keyed along the leg); their ratio is the rolling shutter's cost.
 """
 
 from __future__ import annotations
@@ -67,6 +71,20 @@ def _with_movers(project: m.Project) -> m.Project:
     return replace(project, scene=replace(project.scene, moving_objects=tuple(movers)),
                    trajectory=replace(project.trajectory, time_line=m.TimeLine(
                        "2026-06-21T06:30:00Z", 8.0, 10.0)))
+
+
+#: the bench's rolling-shutter readout (s), a typical consumer drone camera's
+ROLLING_READOUT_S = 0.03
+
+
+def _pinhole(project: m.Project, readout_s: float = 0.0) -> m.Project:
+    """``project`` on a time line with its camera's distortion removed and, when
+    ``readout_s``, a rolling shutter."""
+    rolling = m.RollingShutter(readout_s) if readout_s else None
+    cameras = tuple(replace(c, distortion=None, rolling_shutter=rolling)
+                    for c in project.cameras)
+    return replace(project, cameras=cameras, trajectory=replace(
+        project.trajectory, time_line=m.TimeLine("2026-06-21T06:30:00Z", 8.0, 10.0)))
 
 
 def _with_houses(project: m.Project) -> m.Project:
@@ -126,7 +144,10 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "+movers", texture, _with_movers(project)),
                                          ("survey", "+houses", texture, _with_houses(project)),
                                          ("survey", "+plants", texture, _with_plants(project)),
-                                         ("survey", "clouds", texture, cloudy)):
+                                         ("survey", "clouds", texture, cloudy),
+                                         ("survey", "pinhole", texture, _pinhole(project)),
+                                         ("survey", "rolling", texture,
+                                          _pinhole(project, ROLLING_READOUT_S))):
             out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
             naive = sun == "static" and proj is project
             t_prepare = time.perf_counter()

@@ -212,6 +212,9 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
     elif isinstance(d, m.FisheyeEquidistantDistortion):
         _sub(el, "fisheye-equidistant", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
              k4=_num(d.k4))
+    rs = cam.rolling_shutter
+    if rs is not None:
+        _sub(el, "rolling-shutter", readout_s=_num(rs.readout_s), direction=rs.direction)
 
 
 def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:

@@ -18,6 +18,10 @@ def summary_line(path: str | os.PathLike, project: m.Project) -> str:
     e = terrain.extent
     parts = [f"terrain {terrain.kind} {e.width_m:g} x {e.length_m:g} m",
              _plural(len(project.cameras), "camera")]
+    readouts = sorted({c.readout_s for c in project.cameras if c.readout_s > 0})
+    if readouts:
+        parts.append("rolling shutter (" + ", ".join(f"{1000 * r:g}" for r in readouts)
+                     + " ms readout)")
     photos = len(project.trajectory.exterior_orientations)
     if photos:
         parts.append(_plural(photos, "photo"))

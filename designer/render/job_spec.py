@@ -195,11 +195,15 @@ class FrameSpec:
     #: per moving object (RenderJob.moving_objects, same order): (name, X, Y, Z local m
     #: of its base centre, heading deg clockwise from grid north) at ``time_s``
     moving_poses: tuple[tuple[str, float, float, float, float], ...] | None = None
+    #: a rolling-shutter camera (designer.render.job_rolling): the camera matrices (local)
+    #: at the start and the end of Cycles' shutter, between which it moves linearly while
+    #: the rows are read; None: a global shutter (``matrix_world_local`` only)
+    shutter_matrices_local: tuple[tuple[tuple[float, ...], ...], ...] | None = None
 
 
 #: the FrameSpec fields of the world over time, left out of provenance when None
 TIME_FIELDS = ("time_s", "time_utc", "sun_azimuth_deg", "sun_elevation_deg", "light_step",
-               "moving_poses")
+               "moving_poses", "shutter_matrices_local")
 
 
 @dataclass(frozen=True)

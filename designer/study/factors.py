@@ -189,6 +189,17 @@ def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
     return replace(p, scene=replace(p.scene, moving_objects=moving))
 
 
+def _with_readout(p: m.Project, readout_s: float) -> m.Project:
+    """The camera's rolling shutter with this readout (0: none), its direction kept."""
+    if readout_s and p.trajectory.time_line is None:
+        raise ValueError("the base project has no <time-line> in its trajectory; a rolling "
+                         "shutter moves the camera along it: add one (takeoff-utc, speed-m-s)")
+    rs = _camera(p).rolling_shutter
+    direction = rs.direction if rs is not None else "top-to-bottom"
+    return _with_camera(p, rolling_shutter=m.RollingShutter(readout_s, direction)
+                        if readout_s else None)
+
+
 def _extruded(p: m.Project) -> list[m.Building]:
     return [b for b in p.scene.buildings if b.file is None]
 
@@ -387,6 +398,9 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        "render", _float,
        lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
        _with_moving_speed),
+    _F("rolling-shutter-readout-s", "rolling-shutter readout time of the camera per frame "
+       "(s; 0: a global shutter; needs a <time-line>)", "render", _float,
+       lambda p: _camera(p).readout_s, _with_readout),
     _F("building-eave-height-m", "wall height of every extruded building above its base "
        "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
        lambda p: _extruded(p)[0].eave_height_m if _extruded(p) else None,
