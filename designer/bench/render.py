@@ -22,6 +22,11 @@ vegetation over the whole site — grass tufts (1 per m²), shrubs (0.05 per m²
 per kind and turns every plant before each frame; its ``prepare s/img`` includes placing
 the plants and writing their ground truth (a mask per image and the plant table). The
 table ends with its cost relative to the plain survey row.
+The "+houses" row renders the survey preset with the static sun and 11 buildings (10 m ×
+8 m; gable, hip and flat roofs, 6 m walls) on a 4 × 4 grid over the flown area, the spots
+near a GCP left empty: its ``prepare s/img`` includes building them and writing their
+ground truth (a mask per image and buildings.ply); its ``wall s/img`` over the plain
+survey row's is their render cost.
 The row "clouds" has the same time line, the static sun and drifting cloud shadows: one
 light map per photo, the direct sun dimmed by the clouds at the photo's time.
 """
@@ -76,6 +81,28 @@ def _with_plants(project: m.Project) -> m.Project:
                        "2026-06-21T06:30:00Z", 8.0, 10.0)))
 
 
+def _with_houses(project: m.Project) -> m.Project:
+    """``project`` with buildings on a 4 × 4 grid over the central 70 % of its extent,
+    roofs gable, hip and flat in turn, none within 2 m of a GCP."""
+    from designer.project.geometry import point_in_polygon
+
+    e = project.scene.terrain.extent
+    cx, cy = (e.min_X + e.max_X) / 2, (e.min_Y + e.max_Y) / 2
+    w, h = e.max_X - e.min_X, e.max_Y - e.min_Y
+    houses = []
+    for i in range(4):
+        for j in range(4):
+            x, y = cx + (i / 3 - 0.5) * 0.7 * w, cy + (j / 3 - 0.5) * 0.7 * h + 6.0
+            corners = ((x - 5, y - 4), (x + 5, y - 4), (x + 5, y + 4), (x - 5, y + 4))
+            margin = ((x - 7, y - 6), (x + 7, y - 6), (x + 7, y + 6), (x - 7, y + 6))
+            if any(point_in_polygon(t.true.X, t.true.Y, margin) for t in project.targets):
+                continue
+            roof = ("gable", "hip", "flat")[len(houses) % 3]
+            houses.append(m.Building(f"h{i}{j}", tuple(m.PathPoint(*c) for c in corners),
+                                     roof, 6.0, None if roof == "flat" else 9.0))
+    return replace(project, scene=replace(project.scene, buildings=tuple(houses)))
+
+
 def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
     n_frames = max(2, round(20 * scale))
     n_naive = max(1, round(5 * scale))
@@ -100,6 +127,7 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "over time", texture, timed),
                                          ("survey", "+movers", texture, _with_movers(project)),
                                          ("survey", "+plants", texture, _with_plants(project)),
+                                         ("survey", "+houses", texture, _with_houses(project)),
                                          ("survey", "clouds", texture, cloudy)):
             out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
             naive = sun == "static" and proj is project
@@ -118,6 +146,12 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                 write_vegetation_truth(out / JOB_DIR / "truth", prepared.interior,
                                        prepared.poses, [t.time_s for t in prepared.times],
                                        list(prepared.plants), proj.scene.vegetation.wind)
+            if prepared.buildings:
+                from designer.render.building_truth import write_building_truth
+                from designer.render.job import JOB_DIR
+
+                write_building_truth(out / JOB_DIR / "truth", prepared.interior,
+                                     prepared.poses, prepared.buildings)
             prepare = time.perf_counter() - t_prepare
             frames = list(range(n_frames))
             report = render_frames(prepared.job_path, frames)

@@ -179,6 +179,36 @@ def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[fl
     return e.width_m / tex.repeat_X / w, e.length_m / tex.repeat_Y / h
 
 
+@dataclass(frozen=True, eq=False)
+class BuildingsResult:
+    """The buildings as the renderer draws them: one merged mesh (``vertices_world``,
+    ``faces``), each face's relative light and whether it is roof (else facade)."""
+
+    vertices_world: np.ndarray
+    faces: np.ndarray
+    face_irradiance: np.ndarray
+    face_roof: np.ndarray
+
+
+def compute_buildings(project: m.Project, base_dir: Path, terrain: TerrainResult
+                      ) -> BuildingsResult:
+    """Every building standing on the computed terrain, lit by the project's sun."""
+    from designer.scene.buildings import ROOF, build_buildings
+    from designer.scene.lighting import irradiance, sun_direction_world
+    from designer.scene.surfaces import Ground, merge_triangles
+
+    built = build_buildings(project, Path(base_dir), Ground(terrain.heightfield, terrain.mesh))
+    v, f = merge_triangles([(b.vertices_world, b.faces) for b in built])
+    normal = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    length = np.linalg.norm(normal, axis=1, keepdims=True)
+    normal = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+    light = project.scene.lighting
+    sun = sun_direction_world(*sun_angles_deg(light, project))
+    e = irradiance(normal, np.ones(len(f)), sun, light.sun_strength, light.sky_strength)
+    roof = np.concatenate([b.face_kind == ROOF for b in built]) if built else np.zeros(0, bool)
+    return BuildingsResult(v, f, e, roof)
+
+
 #: the scene's objects as the renderer draws them (designer.scene.objects)
 ObjectsResult = PlacedObjects
 

@@ -45,7 +45,7 @@ def changed_parts(old: m.Project | None, new: m.Project) -> set[str]:
     if so.targets != sn.targets:
         out.add("targets")
     if (so.objects != sn.objects or so.moving_objects != sn.moving_objects
-            or so.vegetation != sn.vegetation):
+            or so.vegetation != sn.vegetation or so.buildings != sn.buildings):
         out.add("objects")
     for part in ("cameras", "trajectory", "effects", "render", "outputs", "processing"):
         if getattr(old, part) != getattr(new, part):

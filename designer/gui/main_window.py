@@ -22,6 +22,7 @@ from PySide6.QtWidgets import (
 from designer.gui import files
 from designer.gui.document import ProjectDocument
 from designer.gui.file_actions import FileActions
+from designer.gui.panels.buildings import BuildingsPanel
 from designer.gui.panels.camera import CameraPanel
 from designer.gui.panels.effects import EffectsPanel
 from designer.gui.panels.flight import FlightPanel
@@ -37,7 +38,8 @@ from designer.gui.site_flight_actions import SiteFlightActions
 from designer.gui.tasks import TaskRunner
 from designer.gui.undo import Editor
 
-LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("targets", "GCP targets"),
+LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("buildings", "Buildings"),
+          ("targets", "GCP targets"),
           ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
           ("flight", "Flight lines"),
           ("area", "Survey area"), ("cloud", "Point cloud"), ("residuals", "GCP errors")]
@@ -81,7 +83,7 @@ class MainWindow(QMainWindow):
         self.panels: dict[str, QWidget] = {}
         self.docks: dict[str, QDockWidget] = {}
         left = [TerrainPanel, TexturePanel, LightingPanel, GcpPanel, MovingObjectsPanel,
-                VegetationPanel]
+                BuildingsPanel, VegetationPanel]
         right = [CameraPanel, FlightPanel, EffectsPanel]
         for side, cls in [("left", c) for c in left] + [("right", c) for c in right] + \
                 _extra_panels():
@@ -91,7 +93,7 @@ class MainWindow(QMainWindow):
             self.panels["Render"].process.finished.connect(
                 lambda *_: self.panels["Results"].survey_readout())
         self._tabify(["Terrain", "Texture", "Lighting", "GCPs", "Moving objects",
-                      "Vegetation"])
+                      "Buildings", "Vegetation"])
         self._tabify(["Camera", "Flight", "Effects", "Render", "Processing", "Results",
                       "Study"])
         self.docks["Terrain"].raise_()

@@ -5,7 +5,8 @@ depends on them, in worker threads (:class:`~designer.gui.tasks.TaskRunner`):
 
 terrain → height field, ray caster, display mesh and its light → targets, stations,
 coverage; texture → texture image (1–2 s for a procedural one) and the display UVs;
-lighting → the light on the drawn terrain and objects; objects → the placed meshes;
+lighting → the light on the drawn terrain and objects; objects → the placed meshes and
+the buildings (also rebuilt on the new terrain);
 cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
 
 Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
@@ -60,6 +61,7 @@ class SceneSync(QObject):
         self.stations: derived.StationsResult | None = None
         self.coverage: derived.CoverageResult | None = None
         self.objects: derived.ObjectsResult | None = None
+        self.buildings: derived.BuildingsResult | None = None
         #: the flight over the real terrain (designer.gui.plan_figures), or None
         self.plan = None
         self.errors: dict[str, str] = {}
@@ -98,6 +100,8 @@ class SceneSync(QObject):
             self.refresh_lighting()
         if parts & {"objects", "lighting"}:
             self.refresh_objects()
+            if not parts & TERRAIN_PARTS:
+                self.refresh_buildings()
         if "trajectory" in parts or "terrain" in parts:
             self._show_area()
 
@@ -119,6 +123,7 @@ class SceneSync(QObject):
         self.terrain_changed.emit()
         self.refresh_targets()
         self.refresh_stations()
+        self.refresh_buildings()
 
     def _terrain_done(self, result: derived.TerrainResult) -> None:
         self.errors.pop("terrain", None)
@@ -144,6 +149,7 @@ class SceneSync(QObject):
         self.terrain_changed.emit()
         self.refresh_targets()
         self.refresh_stations()
+        self.refresh_buildings()
         self._show_area()
 
     def _retile(self) -> None:
@@ -181,6 +187,31 @@ class SceneSync(QObject):
         self.objects = None
         self.view.show_objects(None)
         self._fail("objects", error)
+
+    # ------------------------------------------------------------------ buildings
+    def refresh_buildings(self) -> None:
+        """Build the scene's buildings on the computed terrain (a worker thread)."""
+        if not self.document.project.scene.buildings or self.terrain is None:
+            self.tasks.cancel("buildings")
+            self._buildings_done(None)
+            return
+        self.tasks.submit("buildings", derived.compute_buildings, self.document.project,
+                          self.document.base_dir, self.terrain, on_done=self._buildings_done,
+                          on_error=self._buildings_failed)
+
+    def _buildings_done(self, result: derived.BuildingsResult | None) -> None:
+        self.errors.pop("buildings", None)
+        self.buildings = result
+        if result is None:
+            self.view.show_buildings(None)
+        else:
+            self.view.show_buildings(result.vertices_world, result.faces,
+                                     result.face_irradiance, result.face_roof)
+
+    def _buildings_failed(self, error: BaseException) -> None:
+        self.buildings = None
+        self.view.show_buildings(None)
+        self._fail("buildings", error)
 
     # ------------------------------------------------------------------ lighting
     def refresh_lighting(self) -> None:

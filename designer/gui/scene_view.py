@@ -33,6 +33,8 @@ LAYER_STYLE = {
 MAX_DISPLAY_TEXTURE_PX = 2048
 TERRAIN_COLOUR = (0.55, 0.6, 0.45)
 OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
+#: the buildings' facades and roofs (about the mean colour of their textures)
+FACADE_COLOUR, ROOF_COLOUR = (0.80, 0.72, 0.60), (0.58, 0.27, 0.17)
 MODE_TEXT = {
     "place": "Placing GCPs: click the terrain to add one, drag a GCP to move it · "
              "Esc: stop placing",
@@ -323,6 +325,29 @@ class SceneView(OverlayLayers, QWidget):
                               reset_camera=False, render=False)
         self._meshes["objects"] = mesh
         self.plotter.actors["objects"].SetVisibility(self._visible.get("objects", True))
+        self.request_render()
+
+    def show_buildings(self, vertices_world: np.ndarray | None, faces: np.ndarray | None = None,
+                       face_irradiance: np.ndarray | None = None,
+                       face_roof: np.ndarray | None = None) -> None:
+        """The buildings (one merged mesh): facades and roofs in their colours, each face
+        shaded by its light."""
+        from designer.gui.view_geometry import shade_rgb
+
+        self.remove_layer("buildings")
+        if vertices_world is None or not len(faces):
+            self.request_render()
+            return
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = self._pv.PolyData(self.local(vertices_world),
+                                 np.column_stack([np.full(len(f), 3), f]).ravel())
+        mesh.cell_data["rgb"] = np.where(np.asarray(face_roof)[:, None],
+                                         shade_rgb(face_irradiance, ROOF_COLOUR),
+                                         shade_rgb(face_irradiance, FACADE_COLOUR))
+        self.plotter.add_mesh(mesh, name="buildings", scalars="rgb", rgb=True, lighting=False,
+                              reset_camera=False, render=False)
+        self._meshes["buildings"] = mesh
+        self.plotter.actors["buildings"].SetVisibility(self._visible.get("buildings", True))
         self.request_render()
 
     def target_positions(self) -> list[tuple[str, np.ndarray]]:

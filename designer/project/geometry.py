@@ -67,3 +67,37 @@ def polygon_self_intersection(
             if _segments_touch(a, b, pts[j], pts[(j + 1) % n]):
                 return i, j
     return None
+
+
+def point_in_polygon(x: float, y: float, vertices: Sequence[tuple[float, float]]) -> bool:
+    """True if (x, y) lies inside the polygon ``vertices`` (even-odd rule; either
+    orientation; relative to the first vertex for UTM-sized coordinates)."""
+    if len(vertices) < 3:
+        return False
+    x0, y0 = vertices[0]
+    px, py = x - x0, y - y0
+    pts = [(vx - x0, vy - y0) for vx, vy in vertices]
+    inside = False
+    for (xa, ya), (xb, yb) in zip(pts, pts[1:] + pts[:1], strict=True):
+        if (ya > py) != (yb > py) and px < xa + (py - ya) * (xb - xa) / (yb - ya):
+            inside = not inside
+    return inside
+
+
+def rectangle_corner_error_deg(vertices: Sequence[tuple[float, float]]) -> float:
+    """The largest departure (deg) of a corner of the quadrilateral ``vertices`` from a
+    right angle; infinite unless there are exactly four vertices."""
+    import math
+
+    if len(vertices) != 4:
+        return math.inf
+    worst = 0.0
+    for i in range(4):
+        (xa, ya), (xb, yb), (xc, yc) = vertices[i - 1], vertices[i], vertices[(i + 1) % 4]
+        u, v = (xa - xb, ya - yb), (xc - xb, yc - yb)
+        nu, nv = math.hypot(*u), math.hypot(*v)
+        if nu == 0 or nv == 0:
+            return math.inf
+        cos = max(-1.0, min(1.0, (u[0] * v[0] + u[1] * v[1]) / (nu * nv)))
+        worst = max(worst, abs(math.degrees(math.acos(cos)) - 90.0))
+    return worst

@@ -287,6 +287,32 @@ class MovingObject:
     albedo_rgb: tuple[float, float, float] = (0.85, 0.82, 0.78)
 
 
+#: roof shapes of an extruded building (docs/world.md, Buildings and structures)
+ROOF_SHAPES = ("flat", "gable", "hip")
+
+
+@dataclass(frozen=True)
+class Building:
+    """A building standing on the terrain: its base is the lowest terrain height under
+    its footprint, its walls go down to it. Either an extruded ``footprint`` (a simple
+    polygon, world X/Y m) with a ``roof`` (ROOF_SHAPES): walls up to ``eave_height_m``
+    above the base, a gable or hip roof rising to ``ridge_height_m`` above the base
+    (rectangular footprints only) with the ridge along ``ridge_direction_deg``
+    (clockwise from grid north; None: along the longer side) — or a mesh ``file`` in the
+    building's frame (origin at the base centre, +Y forward, +Z up, m) placed with its
+    origin at ``position`` (X, Y) turned by ``heading_deg`` (clockwise from grid north)."""
+
+    id: str
+    footprint: tuple[PathPoint, ...] = ()
+    roof: str = "flat"
+    eave_height_m: float = 6.0
+    ridge_height_m: float | None = None
+    ridge_direction_deg: float | None = None
+    file: str | None = None
+    position: PathPoint | None = None
+    heading_deg: float = 0.0
+
+
 #: built-in plant kinds: name → (height, crown diameter) m defaults
 PLANT_KINDS = {"grass-tuft": (0.3, 0.2), "shrub": (1.0, 1.2), "tree": (8.0, 5.0)}
 
@@ -396,6 +422,7 @@ class Scene:
     targets: Targets | None = None
     objects: tuple[SceneObject, ...] = ()
     moving_objects: tuple[MovingObject, ...] = ()
+    buildings: tuple[Building, ...] = ()
     #: None: no plants (the static ideal)
     vegetation: Vegetation | None = None
 

@@ -145,8 +145,12 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
             for point in obj.path:
                 _point_attrs(_sub(path_el, "point"), point.X, point.Y, None)
 
+    if scene.buildings:
+        _buildings(_sub(el, "buildings"), scene.buildings)
+
     if scene.vegetation is not None:
         _vegetation(el, scene.vegetation)
+
     light = scene.lighting
     light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),
                     sky_strength=_num(light.sky_strength))
@@ -383,3 +387,23 @@ def project_to_bytes(project: m.Project) -> bytes:
 def write_project(project: m.Project, path: str | os.PathLike) -> None:
     """Write ``project`` to ``path`` atomically (temporary file + rename). No validation."""
     write_bytes_atomic(path, project_to_bytes(project))
+
+
+def _buildings(parent: etree._Element, buildings: tuple[m.Building, ...]) -> None:
+    for b in buildings:
+        b_el = _sub(parent, "building", id=b.id)
+        if b.file is not None:
+            b_el.set("file", b.file)
+            if b.position is not None:
+                b_el.set("X", _num(b.position.X))
+                b_el.set("Y", _num(b.position.Y))
+            b_el.set("heading-deg", _num(b.heading_deg))
+        else:
+            b_el.set("roof", b.roof)
+            b_el.set("eave-height-m", _num(b.eave_height_m))
+            if b.ridge_height_m is not None:
+                b_el.set("ridge-height-m", _num(b.ridge_height_m))
+            if b.ridge_direction_deg is not None:
+                b_el.set("ridge-direction-deg", _num(b.ridge_direction_deg))
+        if b.footprint:
+            _sub(b_el, "footprint", " ".join(f"{_num(p.X)} {_num(p.Y)}" for p in b.footprint))

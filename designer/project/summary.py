@@ -30,4 +30,6 @@ def summary_line(path: str | os.PathLike, project: m.Project) -> str:
                  if targets else "no GCPs")
     if project.scene.objects:
         parts.append(_plural(len(project.scene.objects), "object"))
+    if project.scene.buildings:
+        parts.append(_plural(len(project.scene.buildings), "building"))
     return (f"{path}: valid designer project {project.schema_version} — " + ", ".join(parts))

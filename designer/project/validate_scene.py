@@ -28,6 +28,7 @@ from designer.project.files import (
     resolve,
 )
 from designer.project.problems import Issue
+from designer.project.validate_buildings import building_issues
 
 
 def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
@@ -41,6 +42,7 @@ def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
             + [i for g in (scene.vegetation.plants if scene.vegetation else ())
                if base is not None and g.mesh is not None
                for i in file_issue(g, "plants", mesh_problem(resolve(base, g.mesh)))]
+            + building_issues(scene, base)
             + _lighting(scene.lighting))
 
 

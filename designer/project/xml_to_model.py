@@ -85,6 +85,7 @@ class _Reader:
         targets_el = el.find(q("targets"))
         objects_el = el.find(q("objects"))
         moving_el = el.find(q("moving-objects"))
+        buildings_el = el.find(q("buildings"))
         vegetation_el = el.find(q("vegetation"))
         scene = m.Scene(
             terrain=self.terrain(el.find(q("terrain"))),
@@ -95,6 +96,8 @@ class _Reader:
                 self.scene_object(o) for o in objects_el.iterchildren(q("object"))),
             moving_objects=() if moving_el is None else tuple(
                 self.moving_object(o) for o in moving_el.iterchildren(q("object"))),
+            buildings=() if buildings_el is None else tuple(
+                self.building(b) for b in buildings_el.iterchildren(q("building"))),
             vegetation=None if vegetation_el is None else self.vegetation(vegetation_el),
         )
         return self.note(scene, el)
@@ -188,6 +191,27 @@ class _Reader:
             albedo_rgb=m.MovingObject.albedo_rgb if albedo is None else _numbers(albedo))
         self.note(obj, path_el, "path")
         return self.note(obj, el)
+
+    def building(self, el: etree._Element) -> m.Building:
+        fp_el = el.find(q("footprint"))
+        footprint = ()
+        if fp_el is not None:
+            xy = _numbers(_text(fp_el))
+            xy += (float("nan"),) * (len(xy) % 2)  # an odd count: a NaN Y validation names
+            footprint = tuple(m.PathPoint(x, y) for x, y in zip(xy[::2], xy[1::2], strict=True))
+        X, Y = _opt_f(el, "X"), _opt_f(el, "Y")
+        building = m.Building(
+            id=el.get("id"), footprint=footprint, roof=el.get("roof", "flat"),
+            eave_height_m=float(el.get("eave-height-m", m.Building.eave_height_m)),
+            ridge_height_m=_opt_f(el, "ridge-height-m"),
+            ridge_direction_deg=_opt_f(el, "ridge-direction-deg"),
+            file=el.get("file"),
+            position=None if X is None and Y is None else m.PathPoint(
+                float("nan") if X is None else X, float("nan") if Y is None else Y),
+            heading_deg=float(el.get("heading-deg", 0.0)))
+        if fp_el is not None:
+            self.note(building, fp_el, "footprint")
+        return self.note(building, el)
 
     def vegetation(self, el: etree._Element) -> m.Vegetation:
         groups = []

@@ -68,6 +68,8 @@ class PreparedJob:
     moving_meshes: dict | None = None
     #: the placed plants, one PlantSet per group (empty: no vegetation)
     plants: tuple = ()
+    #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
+    buildings: tuple = ()
 
 
 def prepare_job(
@@ -199,7 +201,7 @@ def prepare_job(
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
-                       plants=tuple(plants))
+                       plants=tuple(plants), buildings=tuple(light.buildings))
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

@@ -59,6 +59,21 @@ class ObjectLighting:
         #: per sun: its targets and scene objects; its (light map, direct part)
         self._others: dict[tuple[float, float], list[MeshSpec]] = {}
         self._bakes: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
+        #: the buildings standing on the terrain (built on first use)
+        self._buildings: list | None = None
+
+    @property
+    def buildings(self) -> list:
+        """The project's buildings (:class:`designer.scene.buildings.BuildingMesh`)."""
+        if self._buildings is None:
+            self._buildings = []
+            if self.project.scene.buildings:
+                from designer.render.job_buildings import write_building_textures
+                from designer.scene.buildings import build_buildings
+
+                self._buildings = build_buildings(self.project, self.base_dir, self.scene)
+                write_building_textures(self.job_dir)
+        return self._buildings
 
     def lightmap_size_px(self) -> tuple[int, int]:
         x0, x1, y0, y1 = self.scene.heightfield.extent_m
@@ -97,6 +112,12 @@ class ObjectLighting:
         if not placed.is_empty:
             others.append(_scene_objects(placed, self.origin, self.job_dir,
                                          f"objects{tag}.npz"))
+        if self.buildings:
+            from designer.render.job_buildings import buildings_object
+
+            others.append(buildings_object(self.buildings, self.origin, self.job_dir,
+                                           azimuth_deg, elevation_deg, scene.sun_strength,
+                                           scene.sky_strength, f"buildings{tag}.npz"))
         cache[(azimuth_deg, elevation_deg)] = others
         return objects + others
 

@@ -95,6 +95,12 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     R = np.array([p.R_cam_to_world for p in prepared.poses])
     hf = prepared.scene.heightfield
     raycaster = TerrainRaycaster(hf) if hf is not None else None
+    if prepared.buildings:
+        # a target hidden behind a building is not observed in that image
+        from designer.survey.mesh_occlusion import MeshOccluder, OccluderStack
+
+        raycaster = OccluderStack(raycaster, [MeshOccluder(b.vertices_world, b.faces)
+                                              for b in prepared.buildings])
     pairs = visible_pairs(points, C, R, prepared.interior, raycaster)
     order = np.lexsort((pairs.camera, pairs.point))
     return [GcpObservation(targets[pairs.point[k]].target.id,
@@ -119,6 +125,11 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         written = {**written, **write_moving_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses,
             prepared.moving_poses, prepared.moving_meshes)}
+    if prepared.buildings:
+        from designer.render.building_truth import write_building_truth
+
+        written = {**written, **write_building_truth(
+            out_dir / GROUND_TRUTH_DIR, prepared.interior, prepared.poses, prepared.buildings)}
     if project.scene.vegetation is not None:
         from designer.render.vegetation_truth import write_vegetation_truth
 

@@ -10,8 +10,9 @@ part          what goes in                                                      
 ``software``  designer's version and the bpy package's version                 all
 ``render``    Cycles settings (samples, filter, seed, format, bit depth)       all
 ``camera``    the Blender camera (lens, sensor, shift, resolution)             all
-``scene``     terrain mesh, texture (+ variation), light map, objects, sky;   all /
-              with a sun over time the frame's own light step (its sun)       per image
+``scene``     terrain mesh, texture (+ variation), light map, objects,        all /
+              buildings (mesh, textures, light), sky; with a sun over time    per image
+              the frame's own light step (its sun)
 ``targets``   GCP target materials; target geometry inside the frame's view    per image
 ``effects``   the camera-effects model, camera id, scale, distortion warp      all
 ``pose``      the frame's index, name, camera matrix (+ effect context, time)  per image

@@ -60,6 +60,15 @@ def _moving_objects(project: m.Project, base_dir: Path, ground: Ground,
     return layers
 
 
+def _buildings(project: m.Project, base_dir: Path, ground: Ground,
+               at_time_s: float | None) -> list[Triangles]:
+    if not project.scene.buildings:
+        return []
+    from designer.scene.buildings import building_meshes_world
+
+    return building_meshes_world(project, base_dir, ground)
+
+
 def _vegetation(project: m.Project, base_dir: Path, ground: Ground,
                 at_time_s: float | None) -> list[Triangles]:
     if project.scene.vegetation is None:
@@ -74,6 +83,7 @@ def _vegetation(project: m.Project, base_dir: Path, ground: Ground,
 DSM_LAYERS: list[Callable[[m.Project, Path, Ground, float | None], list[Triangles]]] = [
     _scene_objects,
     _moving_objects,
+    _buildings,
     _vegetation,
 ]
 

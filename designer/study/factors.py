@@ -189,6 +189,21 @@ def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
     return replace(p, scene=replace(p.scene, moving_objects=moving))
 
 
+def _extruded(p: m.Project) -> list[m.Building]:
+    return [b for b in p.scene.buildings if b.file is None]
+
+
+def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
+    """Every extruded building's walls ``eave_m`` high; a pitched roof keeps its rise."""
+    if not _extruded(p):
+        raise ValueError("the base project has no <buildings> with a footprint; add one to "
+                         "vary their height")
+    buildings = tuple(b if b.file is not None else replace(
+        b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
+        else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
+    return replace(p, scene=replace(p.scene, buildings=buildings))
+
+
 def _vegetation_density(p: m.Project) -> float:
     veg = p.scene.vegetation
     return float(sum(g.density_per_m2 for g in veg.plants)) if veg is not None else 0.0
@@ -374,6 +389,10 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        "render", _float,
        lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
        _with_moving_speed),
+    _F("building-eave-height-m", "wall height of every extruded building above its base "
+       "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
+       lambda p: _extruded(p)[0].eave_height_m if _extruded(p) else None,
+       _with_eave_height),
     _F("vegetation-density-per-m2", "plants per m² over all plant groups (their shares "
        "kept); 0 removes the vegetation, a base without one gets shrubs", "render", _float,
        _vegetation_density, _with_vegetation_density),

@@ -42,6 +42,10 @@ def _filled_projects() -> list[m.Project]:
         "car1", (m.PathPoint(E0 - 40, N0), m.PathPoint(E0 + 40, N0)), speed_m_s=3.0),))
     first = edits.replace_path(first, "scene.vegetation", m.Vegetation(
         (m.PlantGroup(0.05, "shrub", height_m=1.0, crown_m=1.2),), wind=m.Wind()))
+    first = edits.replace_path(first, "scene.buildings", (m.Building(
+        "house1", tuple(m.PathPoint(E0 + x, N0 + y) for x, y in ((5, 5), (15, 5), (15, 13),
+                                                                  (5, 13))),
+        "gable", 6.0, 9.0),))
     assert first.scene.targets.survey_accuracy is not None
     assert first.trajectory.flight_plan.pose_noise is not None
     second = edits.replace_path(first, "scene.terrain.source", m.FlatTerrain(1.5))
