@@ -24,7 +24,7 @@ from designer.atomic import atomic_path
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
 from designer.core.truth import CameraPose
-from designer.render.moving_truth import _fill_triangle
+from designer.render.moving_truth import fill_triangle
 
 BUILDING_MASK_DIR = "building_masks"
 BUILDINGS_PLY = "buildings.ply"
@@ -41,7 +41,7 @@ def building_mask(buildings, pose: CameraPose, interior: InteriorOrientation) ->
         tri = uv[b.faces[ok]]
         tri = tri[np.isfinite(tri).all(axis=(1, 2))]
         for corners in tri:
-            _fill_triangle(mask, corners)
+            fill_triangle(mask, corners)
     return mask
 
 
