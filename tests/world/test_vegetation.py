@@ -232,3 +232,13 @@ def test_plants_keep_out_of_buildings(tmp_path):
     dy = np.maximum(np.maximum(3 - y, y - 11), 0)
     assert (np.hypot(dx, dy) >= reach - 1e-9).all()
     assert len(free) - len(plants) > 80  # about 10 m × 8 m and a margin of plants dropped
+
+
+def test_designer_check_names_the_vegetation(tmp_path):
+    from designer.project.summary import summary_line
+
+    p = vegetation_project(density_per_m2=0.25)
+    line = summary_line("x.xml", p)
+    assert "1 plant group (about 400 plants, wind)" in line  # 0.25 per m² on 40 × 40 m
+    assert "plant" not in summary_line("x.xml", replace(p, scene=replace(p.scene,
+                                                                         vegetation=None)))
