@@ -107,6 +107,8 @@ def _with_houses(project: m.Project) -> m.Project:
             houses.append(m.Building(f"h{i}{j}", tuple(m.PathPoint(*c) for c in corners),
                                      roof, 6.0, None if roof == "flat" else 9.0))
     return replace(project, scene=replace(project.scene, buildings=tuple(houses)))
+
+
 def _with_plants(project: m.Project) -> m.Project:
     """``project`` with a time line (static sun) and grass, shrubs and trees over its
     whole extent, swaying in a 5° wind."""

@@ -311,6 +311,8 @@ class Building:
     file: str | None = None
     position: PathPoint | None = None
     heading_deg: float = 0.0
+
+
 #: built-in plant kinds: name → (height, crown diameter) m defaults
 PLANT_KINDS = {"grass-tuft": (0.3, 0.2), "shrub": (1.0, 1.2), "tree": (8.0, 5.0)}
 

@@ -193,6 +193,7 @@ def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
         _sub(el, "wind", amplitude_deg=_num(w.amplitude_deg),
              gust_period_s=_num(w.gust_period_s), direction_deg=_num(w.direction_deg))
 
+
 def _camera(parent: etree._Element, cam: m.Camera) -> None:
     el = _sub(parent, "camera", id=cam.id)
     if cam.name is not None:

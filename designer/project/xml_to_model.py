@@ -212,6 +212,7 @@ class _Reader:
         if fp_el is not None:
             self.note(building, fp_el, "footprint")
         return self.note(building, el)
+
     def vegetation(self, el: etree._Element) -> m.Vegetation:
         groups = []
         for g in el.iterchildren(q("plants")):

@@ -213,6 +213,8 @@ def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
         b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
         else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
     return replace(p, scene=replace(p.scene, buildings=buildings))
+
+
 def _vegetation_density(p: m.Project) -> float:
     veg = p.scene.vegetation
     return float(sum(g.density_per_m2 for g in veg.plants)) if veg is not None else 0.0
