@@ -33,6 +33,10 @@ The row "rig x5" flies the example's grid with a nadir + four 45° oblique rig o
 camera (docs/world.md): five images per station, each through its camera's lens warp and
 effects; ``s/station`` is what one station of the flight costs (wall s/img × images per
 station, 1 for the other rows).
+The rows "pinhole" and "rolling" fly the same time line with the camera's lens distortion
+removed (a rolling shutter is rendered for a pinhole camera only): "pinhole" with a global
+shutter, "rolling" with a rolling shutter read out over 30 ms (Cycles' rolling shutter, the
+camera keyed along the leg); their ratio is the rolling shutter's cost.
 """
 
 from __future__ import annotations
@@ -87,6 +91,20 @@ def _with_rig(project: m.Project) -> m.Project:
                                                flight_plan=plan))
 
 
+#: the bench's rolling-shutter readout (s), a typical consumer drone camera's
+ROLLING_READOUT_S = 0.03
+
+
+def _pinhole(project: m.Project, readout_s: float = 0.0) -> m.Project:
+    """``project`` on a time line with its camera's distortion removed and, when
+    ``readout_s``, a rolling shutter."""
+    rolling = m.RollingShutter(readout_s) if readout_s else None
+    cameras = tuple(replace(c, distortion=None, rolling_shutter=rolling)
+                    for c in project.cameras)
+    return replace(project, cameras=cameras, trajectory=replace(
+        project.trajectory, time_line=m.TimeLine("2026-06-21T06:30:00Z", 8.0, 10.0)))
+
+
 def _with_houses(project: m.Project) -> m.Project:
     """``project`` with buildings on a 4 × 4 grid over the central 70 % of its extent,
     roofs gable, hip and flat in turn, none within 2 m of a GCP."""
@@ -107,6 +125,8 @@ def _with_houses(project: m.Project) -> m.Project:
             houses.append(m.Building(f"h{i}{j}", tuple(m.PathPoint(*c) for c in corners),
                                      roof, 6.0, None if roof == "flat" else 9.0))
     return replace(project, scene=replace(project.scene, buildings=tuple(houses)))
+
+
 def _with_plants(project: m.Project) -> m.Project:
     """``project`` with a time line (static sun) and grass, shrubs and trees over its
     whole extent, swaying in a 5° wind."""
@@ -145,6 +165,9 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
                                          ("survey", "+houses", texture, _with_houses(project)),
                                          ("survey", "+plants", texture, _with_plants(project)),
                                          ("survey", "clouds", texture, cloudy),
+                                         ("survey", "pinhole", texture, _pinhole(project)),
+                                         ("survey", "rolling", texture,
+                                          _pinhole(project, ROLLING_READOUT_S)),
                                          ("survey", "rig x5", texture, _with_rig(project))):
             out = tmp / f"out-{quality}-{sun.replace(' ', '-').replace('+', '')}-{kind}"
             naive = sun == "static" and proj is project

@@ -311,6 +311,8 @@ class Building:
     file: str | None = None
     position: PathPoint | None = None
     heading_deg: float = 0.0
+
+
 #: built-in plant kinds: name → (height, crown diameter) m defaults
 PLANT_KINDS = {"grass-tuft": (0.3, 0.2), "shrub": (1.0, 1.2), "tree": (8.0, 5.0)}
 
@@ -447,9 +449,25 @@ class FisheyeEquidistantDistortion:
     k4: float = 0.0
 
 
+#: the order the rows of a rolling-shutter sensor are read in
+RollingShutterDirection = Literal["top-to-bottom", "bottom-to-top"]
+
+
+@dataclass(frozen=True)
+class RollingShutter:
+    """A rolling-shutter sensor (docs/world.md, "Rolling shutter"): the rows are read one
+    after the other over ``readout_s`` seconds per frame, the first row read at the
+    photo's time; row r (counted from the first row read) at + r / H · readout_s.
+    ``readout_s`` 0 is a global shutter."""
+
+    readout_s: float
+    direction: RollingShutterDirection = "top-to-bottom"
+
+
 @dataclass(frozen=True)
 class Camera:
-    """Interior orientation in photogrammetric terms (mm, px); see core.interior."""
+    """Interior orientation in photogrammetric terms (mm, px); see core.interior.
+    ``rolling_shutter`` None (or a readout of 0): a global shutter."""
 
     id: str
     focal_length_mm: float
@@ -462,6 +480,12 @@ class Camera:
     pixel_aspect: float | None = None
     distortion: BrownConradyDistortion | FisheyeEquidistantDistortion | None = None
     name: str | None = None
+    rolling_shutter: RollingShutter | None = None
+
+    @property
+    def readout_s(self) -> float:
+        """Rolling-shutter readout time per frame (s); 0 for a global shutter."""
+        return self.rolling_shutter.readout_s if self.rolling_shutter is not None else 0.0
 
 
 # ---------------------------------------------------------------------- trajectory

@@ -193,6 +193,7 @@ def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
         _sub(el, "wind", amplitude_deg=_num(w.amplitude_deg),
              gust_period_s=_num(w.gust_period_s), direction_deg=_num(w.direction_deg))
 
+
 def _camera(parent: etree._Element, cam: m.Camera) -> None:
     el = _sub(parent, "camera", id=cam.id)
     if cam.name is not None:
@@ -212,6 +213,9 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
     elif isinstance(d, m.FisheyeEquidistantDistortion):
         _sub(el, "fisheye-equidistant", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
              k4=_num(d.k4))
+    rs = cam.rolling_shutter
+    if rs is not None:
+        _sub(el, "rolling-shutter", readout_s=_num(rs.readout_s), direction=rs.direction)
 
 
 def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:

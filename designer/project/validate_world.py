@@ -49,6 +49,7 @@ def world_issues(project: m.Project) -> list[Issue]:
     out: list[Issue] = _moving_objects(project)
     if project.scene.vegetation is not None:
         out += _vegetation(project, project.scene.vegetation)
+    out += _rolling_shutters(project)
     if tl is not None:
         out += _time_line(project, tl)
     timed = [p for p in traj.exterior_orientations if p.time_s is not None]
@@ -116,6 +117,50 @@ def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
                          f"the camera's trigger interval of {interval:g} s; fly at most "
                          f"{distance / interval:.3g} m/s or lower the front overlap",
                          attr="trigger-interval-s"))
+    return out
+
+
+#: the longest readout a camera may have (s); consumer sensors read in 0.01 to 0.05 s
+MAX_READOUT_S = 0.5
+
+
+def _rolling_shutters(project: m.Project) -> list[Issue]:
+    """A rolling shutter's readout range, and what it needs: the flight's time line (the
+    rows' poses follow the flight), a readout shorter than the trigger interval and a
+    lens without distortion (the render is exact for a pinhole camera only)."""
+    out = []
+    tl = project.trajectory.time_line
+    for cam in project.cameras:
+        rs = cam.rolling_shutter
+        if rs is None:
+            continue
+        readout = rs.readout_s
+        if rs.direction not in ("top-to-bottom", "bottom-to-top"):
+            out.append(Issue(rs, "rolling-shutter", f"direction {rs.direction!r} must be "
+                             "top-to-bottom or bottom-to-top", attr="direction"))
+        if not (isinstance(readout, int | float) and math.isfinite(readout)
+                and 0 <= readout <= MAX_READOUT_S):
+            out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}': readout-s = "
+                             f"{readout!r} must be from 0 (global shutter) to {MAX_READOUT_S:g} "
+                             "s", attr="readout-s"))
+            continue
+        if readout == 0:
+            continue
+        if tl is None:
+            out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}' reads its rows out "
+                             f"over {readout:g} s, but the trajectory has no <time-line> to "
+                             "move the camera along; add a <time-line> to <trajectory> or set "
+                             "readout-s 0", attr="readout-s"))
+        elif tl.trigger_interval_s is not None and readout >= tl.trigger_interval_s:
+            out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}': readout-s {readout:g} "
+                             "s is not shorter than the time line's trigger-interval-s "
+                             f"{tl.trigger_interval_s:g} s; a frame must be read before the "
+                             "next is taken: shorten the readout", attr="readout-s"))
+        if cam.distortion is not None:
+            out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}' has lens distortion "
+                             "and a rolling shutter, which designer does not render exactly; "
+                             "remove the distortion element or set readout-s 0",
+                             attr="readout-s"))
     return out
 
 

@@ -212,6 +212,7 @@ class _Reader:
         if fp_el is not None:
             self.note(building, fp_el, "footprint")
         return self.note(building, el)
+
     def vegetation(self, el: etree._Element) -> m.Vegetation:
         groups = []
         for g in el.iterchildren(q("plants")):
@@ -291,10 +292,17 @@ class _Reader:
             principal_point_y_mm=0.0 if pp is None else _f(pp, "y-mm"),
             pixel_aspect=None if aspect is None else float(aspect),
             distortion=distortion,
+            rolling_shutter=self.rolling_shutter(el.find(q("rolling-shutter"))),
         )
         self.note(camera, el)
         self.child_lines(camera, el)
         return camera
+
+    def rolling_shutter(self, el: etree._Element | None) -> m.RollingShutter | None:
+        if el is None:
+            return None
+        return self.note(m.RollingShutter(_f(el, "readout-s"),
+                                          el.get("direction", "top-to-bottom")), el)
 
     # ----------------------------------------------------------------- trajectory
     def trajectory(self, el: etree._Element) -> m.Trajectory:

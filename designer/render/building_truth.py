@@ -23,6 +23,7 @@ import numpy as np
 from designer.atomic import atomic_path
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
+from designer.core.rolling_shutter import rolling_shutter_projection
 from designer.core.truth import CameraPose, CameraSet
 from designer.render.moving_truth import fill_triangle
 
@@ -30,13 +31,24 @@ BUILDING_MASK_DIR = "building_masks"
 BUILDINGS_PLY = "buildings.ply"
 
 
-def building_mask(buildings, pose: CameraPose, interior: InteriorOrientation) -> np.ndarray:
-    """(H, W) uint8 mask, 255 where a building's projection covers the pixel centre."""
+def building_mask(buildings, pose: CameraPose, interior: InteriorOrientation,
+                  rolling: tuple | None = None) -> np.ndarray:
+    """(H, W) uint8 mask, 255 where a building's projection covers the pixel centre.
+    ``rolling`` (readout s, direction, velocity (3,) m/s): a rolling-shutter camera, each
+    row seeing the buildings from its own pose (designer.core.rolling_shutter)."""
     W, H = interior.image_size_px
     mask = np.zeros((H, W), np.uint8)
     for b in buildings:
-        proj = project_points(b.vertices_world, pose.C_world, pose.R_cam_to_world, interior)
-        uv, front = proj.uv_px[0], proj.in_front[0]
+        if rolling is not None:
+            readout_s, direction, velocity = rolling
+            uv = rolling_shutter_projection(b.vertices_world, pose.C_world,
+                                            pose.R_cam_to_world, velocity, readout_s,
+                                            interior, direction)
+            front = np.isfinite(uv).all(axis=1)
+        else:
+            proj = project_points(b.vertices_world, pose.C_world, pose.R_cam_to_world,
+                                  interior)
+            uv, front = proj.uv_px[0], proj.in_front[0]
         ok = front[b.faces].all(axis=1)
         tri = uv[b.faces[ok]]
         tri = tri[np.isfinite(tri).all(axis=(1, 2))]
@@ -68,17 +80,21 @@ def write_buildings_ply(path: Path, buildings) -> None:
 
 
 def write_building_truth(truth_dir: Path, interior: InteriorOrientation | CameraSet,
-                         poses: tuple[CameraPose, ...], buildings) -> dict[str, Path]:
-    """Write ``buildings.ply`` and ``building_masks/<image stem>.png`` per image
-    (``interior``: the one camera, or each image's camera of a rig)."""
+                         poses: tuple[CameraPose, ...], buildings, rolling=None
+                         ) -> dict[str, Path]:
+    """Write ``buildings.ply`` and ``building_masks/<image stem>.png`` per image;
+    ``interior``: the one camera, or each image's camera of a rig; ``rolling`` (readout
+    s, direction, velocities (N, 3) m/s): a rolling-shutter camera."""
     truth_dir = Path(truth_dir)
     (truth_dir / BUILDING_MASK_DIR).mkdir(parents=True, exist_ok=True)
-    for camera in poses:
+    for k, camera in enumerate(poses):
         path = truth_dir / BUILDING_MASK_DIR / f"{Path(camera.image_name).stem}.png"
+        frame_rolling = None if rolling is None else (rolling[0], rolling[1], rolling[2][k])
         with atomic_path(path) as tmp:
             own = (interior.interior_of(camera.image_name)
                    if isinstance(interior, CameraSet) else interior)
-            if not cv2.imwrite(str(tmp), building_mask(buildings, camera, own)):
+            if not cv2.imwrite(str(tmp), building_mask(buildings, camera, own,
+                                                       frame_rolling)):
                 raise OSError(f"could not write {path}")
     ply = truth_dir / BUILDINGS_PLY
     write_buildings_ply(ply, list(buildings))

@@ -21,6 +21,7 @@ from designer.core.truth import CameraPose, CameraSet
 from designer.effects.distortion_render import pinhole_render_camera
 from designer.effects.from_model import effects_from_model
 from designer.effects.motion import flight_direction_uv
+from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project import write_project
 from designer.render.blender_camera import blender_camera, blender_matrix_world
@@ -66,6 +67,10 @@ class PreparedJob:
     moving_poses: tuple[tuple, ...] = ()
     #: {moving object id: (vertices, faces) in its own frame, m}
     moving_meshes: dict | None = None
+    #: the camera's rolling shutter (None: a global shutter) and, with one, the
+    #: platform's velocity at each image (world m/s, (N, 3))
+    rolling_shutter: m.RollingShutter | None = None
+    velocities_m_s: np.ndarray | None = None
     #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
     buildings: tuple = ()
     #: the placed plants, one PlantSet per group (empty: no vegetation)
@@ -205,6 +210,18 @@ def prepare_job(
 
         plant_specs, wind_spec, plants = vegetation_job(project, base_dir, scene, job_dir,
                                                         origin)
+    if multi and any(project.camera(c).rolling_shutter is not None for c in interiors):
+        raise DesignerError("a multi-camera rig with a rolling-shutter camera is not rendered "
+                            "yet; remove <rolling-shutter> from the rig's cameras or fly one "
+                            "camera")
+    rolling, velocities = _rolling_shutter(project, camera_id, stations, times)
+    if rolling is not None:
+        from designer.render.job_rolling import shutter_matrices_local
+
+        for i, pose in enumerate(poses):
+            contexts[i]["shutter_matrices_local"] = shutter_matrices_local(
+                pose, velocities[i], rolling.readout_s, rolling.direction,
+                interior.image_height_px, origin)
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
     preset = quality or (render.preset if render.samples is None else None)
@@ -244,8 +261,23 @@ def prepare_job(
     return PreparedJob(job_path=job_path, job=job, interior=interior, poses=tuple(poses),
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
+                       rolling_shutter=rolling, velocities_m_s=velocities,
                        buildings=tuple(light.buildings), plants=tuple(plants),
                        cameras=cameras)
+
+
+def _rolling_shutter(project: m.Project, camera_id: str, stations, times):
+    """(the camera's rolling shutter, the platform velocity at each station (N, 3) m/s),
+    or (None, None) for a global shutter (no element, or a readout of 0)."""
+    rolling = project.camera(camera_id).rolling_shutter
+    if rolling is None or rolling.readout_s == 0:
+        return None, None
+    if times is None:
+        raise DesignerError(f"camera '{camera_id}' has a rolling shutter but the trajectory "
+                            "has no <time-line>; add one or set readout-s 0")
+    from designer.survey.timeline import station_velocities_m_s
+
+    return rolling, station_velocities_m_s(stations, project.trajectory.time_line)
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

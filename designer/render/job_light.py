@@ -185,8 +185,6 @@ def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,
                      MaterialSpec(color=(TARGET_BLACK * e,) * 3)))
 
 
-
-
 def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path,
                    file_name: str = "objects.npz") -> MeshSpec:
     """The scene's mesh objects as one mesh, each face drawn with its light (quantised

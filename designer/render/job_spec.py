@@ -199,6 +199,10 @@ class FrameSpec:
     #: per moving object (RenderJob.moving_objects, same order): (name, X, Y, Z local m
     #: of its base centre, heading deg clockwise from grid north) at ``time_s``
     moving_poses: tuple[tuple[str, float, float, float, float], ...] | None = None
+    #: a rolling-shutter camera (designer.render.job_rolling): the camera matrices (local)
+    #: at the start and the end of Cycles' shutter, between which it moves linearly while
+    #: the rows are read; None: a global shutter (``matrix_world_local`` only)
+    shutter_matrices_local: tuple[tuple[tuple[float, ...], ...], ...] | None = None
     #: this frame's camera when a multi-camera rig gives frames different cameras
     #: (lens, sensor, resolution as rendered), the project camera's id and the finished
     #: image's (width, height) px; None: the job's ``camera``, width_px and height_px
@@ -214,7 +218,7 @@ OPTIONAL_FRAME_FIELDS = ("camera", "camera_id", "size_px")
 
 #: the FrameSpec fields of the world over time, left out of provenance when None
 TIME_FIELDS = ("time_s", "time_utc", "sun_azimuth_deg", "sun_elevation_deg", "light_step",
-               "moving_poses")
+               "moving_poses", "shutter_matrices_local")
 
 
 @dataclass(frozen=True)

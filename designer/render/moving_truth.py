@@ -21,6 +21,7 @@ import numpy as np
 from designer.atomic import atomic_path, write_text_atomic
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
+from designer.core.rolling_shutter import rolling_shutter_projection
 from designer.core.truth import CameraPose, CameraSet
 from designer.scene.moving import MovingPose, posed_vertices
 
@@ -35,16 +36,25 @@ def mask_name(image_name: str) -> str:
 
 
 def object_mask(poses: tuple[MovingPose, ...], meshes: dict, pose: CameraPose,
-                interior: InteriorOrientation) -> np.ndarray:
+                interior: InteriorOrientation, rolling: tuple | None = None) -> np.ndarray:
     """(H, W) uint8 mask, 255 where a moving object's projection covers the pixel
-    centre (i + 0.5, j + 0.5)."""
+    centre (i + 0.5, j + 0.5). ``rolling`` (readout s, direction, velocity (3,) m/s): a
+    rolling-shutter camera, whose rows see the objects (posed at the photo's time) each
+    from its own pose (designer.core.rolling_shutter)."""
     W, H = interior.image_size_px
     mask = np.zeros((H, W), np.uint8)
     for p in poses:
         vertices, faces = meshes[p.object_id]
-        proj = project_points(posed_vertices(vertices, p), pose.C_world,
-                              pose.R_cam_to_world, interior)
-        uv, front = proj.uv_px[0], proj.in_front[0]
+        if rolling is not None:
+            readout_s, direction, velocity = rolling
+            uv = rolling_shutter_projection(posed_vertices(vertices, p), pose.C_world,
+                                            pose.R_cam_to_world, velocity, readout_s,
+                                            interior, direction)
+            front = np.isfinite(uv).all(axis=1)
+        else:
+            proj = project_points(posed_vertices(vertices, p), pose.C_world,
+                                  pose.R_cam_to_world, interior)
+            uv, front = proj.uv_px[0], proj.in_front[0]
         ok = front[faces].all(axis=1)
         tri = uv[faces[ok]]
         tri = tri[np.isfinite(tri).all(axis=(1, 2))]
@@ -74,19 +84,21 @@ def fill_triangle(mask: np.ndarray, corners: np.ndarray) -> None:
 
 
 def write_moving_truth(truth_dir: Path, interior: InteriorOrientation | CameraSet,
-                       poses: tuple[CameraPose, ...], moving: tuple, meshes: dict
-                       ) -> dict[str, Path]:
-    """Write ``masks/<image stem>_mask.png`` per image and ``moving_objects.csv``
-    (``interior``: the one camera, or each image's camera of a rig)."""
+                       poses: tuple[CameraPose, ...], moving: tuple, meshes: dict,
+                       rolling=None) -> dict[str, Path]:
+    """Write ``masks/<image stem>_mask.png`` per image and ``moving_objects.csv``;
+    ``interior``: the one camera, or each image's camera of a rig; ``rolling`` (readout
+    s, direction, velocities (N, 3) m/s): a rolling-shutter camera."""
     truth_dir = Path(truth_dir)
     (truth_dir / MASK_DIR).mkdir(parents=True, exist_ok=True)
     text = io.StringIO()
     writer = csv.writer(text, lineterminator="\n")
     writer.writerow(POSITION_COLUMNS)
-    for camera, frame_poses in zip(poses, moving, strict=True):
-        mask = object_mask(frame_poses, meshes, camera,
-                           interior.interior_of(camera.image_name)
-                           if isinstance(interior, CameraSet) else interior)
+    for k, (camera, frame_poses) in enumerate(zip(poses, moving, strict=True)):
+        own = (interior.interior_of(camera.image_name) if isinstance(interior, CameraSet)
+               else interior)
+        mask = object_mask(frame_poses, meshes, camera, own, None if rolling is None
+                           else (rolling[0], rolling[1], rolling[2][k]))
         path = truth_dir / MASK_DIR / mask_name(camera.image_name)
         with atomic_path(path) as tmp:
             if not cv2.imwrite(str(tmp), mask):

@@ -99,6 +99,22 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
 
         raycaster = OccluderStack(raycaster, [MeshOccluder(b.vertices_world, b.faces)
                                               for b in prepared.buildings])
+    if prepared.rolling_shutter is not None:  # one camera: a rig has no rolling shutter
+        C = np.array([p.C_world for p in prepared.poses])
+        R = np.array([p.R_cam_to_world for p in prepared.poses])
+        pairs = visible_pairs(points, C, R, prepared.interior, raycaster)
+        order = np.lexsort((pairs.camera, pairs.point))
+        # where the rolling-shutter image shows the target (the rows' own poses); a
+        # target it moves out of the image is not observed
+        from designer.render.rolling_truth import rolling_shutter_uv
+
+        uv = rolling_shutter_uv(prepared, pairs.camera, pairs.point, points)
+        W, H = prepared.interior.image_size_px
+        inside = (uv[:, 0] >= 0) & (uv[:, 0] < W) & (uv[:, 1] >= 0) & (uv[:, 1] < H)
+        order = order[inside[order]]
+        return [GcpObservation(targets[pairs.point[k]].target.id,
+                               prepared.poses[pairs.camera[k]].image_name, uv[k])
+                for k in order]
     # one pass per physical camera (a rig has several), then in (GCP, image) order
     groups: dict[int, list[int]] = {}
     for k, pose in enumerate(prepared.poses):
@@ -132,18 +148,21 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
                         ground_truth_observations(prepared), odm_crs(project.crs),
                         formats=formats, image_times=image_times(prepared),
                         colmap_offset=colmap_offset)
+    rs = prepared.rolling_shutter
+    # masks of a rolling-shutter camera: each row sees from its own pose
+    rolling = None if rs is None else (rs.readout_s, rs.direction, prepared.velocities_m_s)
     if prepared.moving_poses:
         from designer.render.moving_truth import write_moving_truth
 
         written = {**written, **write_moving_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses,
-            prepared.moving_poses, prepared.moving_meshes)}
+            prepared.moving_poses, prepared.moving_meshes, rolling)}
     if prepared.buildings:
         from designer.render.building_truth import write_building_truth
 
         written = {**written, **write_building_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses,
-            prepared.buildings)}
+            prepared.buildings, rolling)}
     if project.scene.vegetation is not None:
         from designer.render.vegetation_truth import write_vegetation_truth
 
@@ -151,7 +170,14 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
                  else [None] * len(prepared.poses))
         written = {**written, **write_vegetation_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses, times,
-            list(prepared.plants), project.scene.vegetation.wind)}
+            list(prepared.plants), project.scene.vegetation.wind, rolling)}
+    if prepared.rolling_shutter is not None:
+        from designer.atomic import write_text_atomic
+        from designer.render.rolling_truth import ROLLING_SHUTTER_CSV, rolling_shutter_csv
+
+        path = out_dir / GROUND_TRUTH_DIR / ROLLING_SHUTTER_CSV
+        write_text_atomic(path, rolling_shutter_csv(prepared))
+        written["rolling_shutter"] = path
     clouds = project.scene.lighting.clouds
     if clouds is not None:
         from designer.atomic import write_text_atomic
@@ -224,10 +250,12 @@ def render_project(
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
+    rolling = prepared.rolling_shutter
     sizes = (None if prepared.cameras is None else
              {c: i.image_size_px for c, i in prepared.cameras.interiors.items()})
     write_readme(out_dir, list(names.values()), ground_truth, project=project_path.name,
-                 image_size_px=prepared.interior.image_size_px, camera_sizes_px=sizes)
+                 image_size_px=prepared.interior.image_size_px, camera_sizes_px=sizes,
+                 readout_s=rolling.readout_s if rolling is not None else None)
     move_old_layout_images(out_dir, names.values())
     images = Path(prepared.job.output_dir)
     # complete-looking images rendered from other inputs (or with no record of them)

@@ -22,10 +22,12 @@ from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, JOB_DIR, MANIFEST
 
 def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping[str, Path],
                 *, project: str = "", image_size_px: tuple[int, int] | None = None,
-                camera_sizes_px: Mapping[str, tuple[int, int]] | None = None) -> str:
+                camera_sizes_px: Mapping[str, tuple[int, int]] | None = None,
+                readout_s: float | None = None) -> str:
     """The README of ``out_dir`` whose images are ``image_names`` and whose ground truth
     is ``ground_truth`` ({write_all key: path}); ``camera_sizes_px`` the image size of
-    each camera of a multi-camera rig (instead of ``image_size_px``)."""
+    each camera of a multi-camera rig (instead of ``image_size_px``); ``readout_s`` the
+    rolling-shutter readout of the camera (None: a global shutter)."""
     out_dir = Path(out_dir)
 
     def rel(key: str) -> str | None:
@@ -107,6 +109,15 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
             [("camera poses (OPK)", rel("opk")), ("GCP coordinates", rel("gcp_truth")),
              ("GCP image points", rel("gcp_observations"))])
     used |= {"opk", "gcp_truth", "gcp_observations"}
+    if readout_s:
+        section("Rolling shutter (the images' rows are read over "
+                f"{readout_s * 1000:g} ms, the camera moving)",
+                [("readout and velocity", rel("rolling_shutter"))],
+                [f"ODM: --rolling-shutter --rolling-shutter-readout {readout_s * 1000:g}",
+                 "Metashape: Camera Calibration > Rolling shutter compensation; Pix4D: the",
+                 "linear rolling shutter model. Poses everywhere are those of the first row",
+                 "read; GCP image points are where the rolling-shutter images show them."])
+        used.add("rolling_shutter")
     others = [(key, rel(key)) for key in sorted(ground_truth) if key not in used]
     section("Other ground-truth files", others)
     lines += [

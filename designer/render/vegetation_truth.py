@@ -21,6 +21,7 @@ import numpy as np
 from designer.atomic import atomic_path, write_text_atomic
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
+from designer.core.rolling_shutter import rolling_shutter_projection
 from designer.core.truth import CameraPose, CameraSet
 from designer.scene.vegetation import PlantSet, posed_set
 
@@ -36,16 +37,24 @@ def mask_name(image_name: str) -> str:
 
 
 def vegetation_mask(plants: list[PlantSet], wind, time_s: float | None, pose: CameraPose,
-                    interior: InteriorOrientation) -> np.ndarray:
-    """(H, W) uint8 mask, 255 where a plant posed at ``time_s`` covers the pixel centre."""
+                    interior: InteriorOrientation, rolling: tuple | None = None) -> np.ndarray:
+    """(H, W) uint8 mask, 255 where a plant posed at ``time_s`` covers the pixel centre.
+    ``rolling`` (readout s, direction, velocity (3,) m/s): a rolling-shutter camera, each
+    row seeing the plants (posed at the photo's time) from its own pose."""
     W, H = interior.image_size_px
     mask = np.zeros((H, W), np.uint8)
     for group in plants:
         if not len(group):
             continue
         vertices, faces = posed_set(group, wind, time_s)
-        proj = project_points(vertices, pose.C_world, pose.R_cam_to_world, interior)
-        uv, front = proj.uv_px[0], proj.in_front[0]
+        if rolling is not None:
+            readout_s, direction, velocity = rolling
+            uv = rolling_shutter_projection(vertices, pose.C_world, pose.R_cam_to_world,
+                                            velocity, readout_s, interior, direction)
+            front = np.isfinite(uv).all(axis=1)
+        else:
+            proj = project_points(vertices, pose.C_world, pose.R_cam_to_world, interior)
+            uv, front = proj.uv_px[0], proj.in_front[0]
         ok = front[faces].all(axis=1)
         tri = uv[faces[ok]]
         tri = tri[np.isfinite(tri).all(axis=(1, 2))]
@@ -115,15 +124,17 @@ def plants_csv(plants: list[PlantSet]) -> str:
 
 def write_vegetation_truth(truth_dir: Path, interior: InteriorOrientation | CameraSet,
                            poses: tuple[CameraPose, ...], times_s: list[float | None],
-                           plants: list[PlantSet], wind) -> dict[str, Path]:
-    """Write ``vegetation_masks/<image stem>.png`` per image and ``vegetation.csv``
-    (``interior``: the one camera, or each image's camera of a rig)."""
+                           plants: list[PlantSet], wind, rolling=None) -> dict[str, Path]:
+    """Write ``vegetation_masks/<image stem>.png`` per image and ``vegetation.csv``;
+    ``interior``: the one camera, or each image's camera of a rig; ``rolling`` (readout
+    s, direction, velocities (N, 3) m/s): a rolling-shutter camera."""
     truth_dir = Path(truth_dir)
     (truth_dir / MASK_DIR).mkdir(parents=True, exist_ok=True)
-    for camera, t in zip(poses, times_s, strict=True):
+    for k, (camera, t) in enumerate(zip(poses, times_s, strict=True)):
         own = (interior.interior_of(camera.image_name) if isinstance(interior, CameraSet)
                else interior)
-        mask = vegetation_mask(plants, wind, t, camera, own)
+        mask = vegetation_mask(plants, wind, t, camera, own, None if rolling is None
+                               else (rolling[0], rolling[1], rolling[2][k]))
         path = truth_dir / MASK_DIR / mask_name(camera.image_name)
         with atomic_path(path) as tmp:
             if not cv2.imwrite(str(tmp), mask):

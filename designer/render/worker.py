@@ -436,6 +436,8 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     if frame.camera is not None:  # a rig: this frame's camera, then its pose
         set_camera(scene, camera, frame.camera)
     camera.matrix_world = Matrix(frame.matrix_world_local)
+    if frame.shutter_matrices_local is not None or scene.render.use_motion_blur:
+        set_rolling_shutter(scene, camera, frame.shutter_matrices_local)
     for name, x, y, z, heading_deg in frame.moving_poses or ():
         obj = bpy.data.objects[name]  # its mesh: base centre at 0, +Y forward
         obj.location = (x, y, z)
@@ -472,6 +474,34 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     return {"path": str(final), "seconds": time.perf_counter() - t0,
             "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
             "effects_seconds": time.perf_counter() - t1}
+
+
+def set_rolling_shutter(scene, camera, matrices) -> None:
+    """Cycles' own rolling shutter, exact (designer.render.job_rolling): motion blur on a
+    shutter of one frame from frame 1, the rows read top to bottom over the whole shutter
+    (duration 0: no motion blur), the camera keyed linearly from the first matrix at frame
+    1 to the second at frame 2. ``matrices`` None turns it off again (a global shutter)."""
+    camera.animation_data_clear()
+    if matrices is None:
+        scene.render.use_motion_blur = False
+        return
+    scene.render.use_motion_blur = True
+    scene.render.motion_blur_position = "START"
+    scene.render.motion_blur_shutter = 1.0
+    scene.cycles.rolling_shutter_type = "TOP"
+    scene.cycles.rolling_shutter_duration = 0.0
+    for frame_number, matrix in zip((1, 2), matrices, strict=True):
+        camera.matrix_world = Matrix(matrix)
+        camera.keyframe_insert("location", frame=frame_number)
+        camera.keyframe_insert("rotation_euler", frame=frame_number)
+    from bpy_extras import anim_utils
+
+    action = camera.animation_data.action
+    channels = anim_utils.action_get_channelbag_for_slot(action, camera.animation_data.action_slot)
+    for curve in channels.fcurves:
+        for key in curve.keyframe_points:
+            key.interpolation = "LINEAR"
+    scene.frame_set(1)
 
 
 def load_effects(job: RenderJob, base: Path) -> dict:

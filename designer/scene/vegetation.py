@@ -199,7 +199,8 @@ def place_vegetation(project: m.Project, base_dir: Path, ground) -> list[PlantSe
     Poisson number of plants for the extent's area, their positions (uniform), heights
     (normal, clipped to 0.2–3 × the mean), yaws and sway phases (uniform); plants whose
     crown would leave the extent or come within ``clearance_m`` of a target plate are
-    then dropped. Adding a group therefore leaves the others as they were.
+    then dropped, as are plants that would reach into a building (the convex hull of its
+    ground plan). Adding a group therefore leaves the others as they were.
     """
     veg = project.scene.vegetation
     if veg is None:
@@ -210,6 +211,7 @@ def place_vegetation(project: m.Project, base_dir: Path, ground) -> list[PlantSe
     # half the plate's diagonal: the plate turns with the terrain but stays in this circle
     target_r = np.array([t.size_m * math.sqrt(0.5) for t in targets], float)
     lean = math.sin(math.radians(veg.wind.amplitude_deg)) if veg.wind is not None else 0.0
+    footprints = _building_footprints(project, base_dir, ground)
     sets, next_id = [], 1
     for g, group in enumerate(veg.plants):
         template = group_template(group, base_dir)
@@ -230,6 +232,8 @@ def place_vegetation(project: m.Project, base_dir: Path, ground) -> list[PlantSe
         if len(target_xy):
             d = np.hypot(x[:, None] - target_xy[:, 0], y[:, None] - target_xy[:, 1])
             keep &= (d >= target_r + reach[:, None] + veg.clearance_m).all(axis=1)
+        for hull in footprints:
+            keep &= _clear_of(hull, x, y, reach)
         x, y, height, crown, yaw, phase = (a[keep] for a in (x, y, height, crown, yaw, phase))
         z = ground_heights_m(ground, x, y) if len(x) else np.zeros(0)
         scale = np.column_stack([crown / template.crown_m, crown / template.crown_m,
@@ -241,6 +245,32 @@ def place_vegetation(project: m.Project, base_dir: Path, ground) -> list[PlantSe
         sets.append(PlantSet(g, kind, template, ids, np.column_stack([x, y, z]), height,
                              crown, scale, yaw, phase, tuple(float(c) for c in albedo)))
     return sets
+
+
+def _building_footprints(project: m.Project, base_dir: Path, ground) -> list[np.ndarray]:
+    """The convex hull (k, 2) of every building's ground plan (world X/Y m)."""
+    if not getattr(project.scene, "buildings", ()):
+        return []
+    from designer.scene.buildings import building_meshes_world, convex_hull_xy
+
+    return [convex_hull_xy(v[:, :2]) for v, _ in building_meshes_world(project, base_dir,
+                                                                      ground)]
+
+
+def _clear_of(hull: np.ndarray, x: np.ndarray, y: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """Which plants (bases x, y; reach m) stay out of the convex polygon ``hull``: base
+    outside it and farther than ``reach`` from its edges."""
+    from designer.scene.buildings import points_in_polygon
+
+    if len(hull) < 3 or not len(x):
+        return np.ones(len(x), bool)
+    a, b = hull, np.roll(hull, -1, axis=0)
+    ab = b - a
+    t = ((x[:, None] - a[:, 0]) * ab[:, 0] + (y[:, None] - a[:, 1]) * ab[:, 1]) / np.maximum(
+        (ab ** 2).sum(axis=1), 1e-12)
+    t = np.clip(t, 0.0, 1.0)
+    d = np.hypot(x[:, None] - (a[:, 0] + t * ab[:, 0]), y[:, None] - (a[:, 1] + t * ab[:, 1]))
+    return ~points_in_polygon(x, y, hull) & (d.min(axis=1) >= reach)
 
 
 # ------------------------------------------------------------------ wind

@@ -223,6 +223,17 @@ def _with_oblique_tilt(p: m.Project, tilt_deg: float) -> m.Project:
     return replace(p, trajectory=replace(p.trajectory, rigs=tuple(rigs)))
 
 
+def _with_readout(p: m.Project, readout_s: float) -> m.Project:
+    """The camera's rolling shutter with this readout (0: none), its direction kept."""
+    if readout_s and p.trajectory.time_line is None:
+        raise ValueError("the base project has no <time-line> in its trajectory; a rolling "
+                         "shutter moves the camera along it: add one (takeoff-utc, speed-m-s)")
+    rs = _camera(p).rolling_shutter
+    direction = rs.direction if rs is not None else "top-to-bottom"
+    return _with_camera(p, rolling_shutter=m.RollingShutter(readout_s, direction)
+                        if readout_s else None)
+
+
 def _extruded(p: m.Project) -> list[m.Building]:
     return [b for b in p.scene.buildings if b.file is None]
 
@@ -236,6 +247,8 @@ def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
         b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
         else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
     return replace(p, scene=replace(p.scene, buildings=buildings))
+
+
 def _vegetation_density(p: m.Project) -> float:
     veg = p.scene.vegetation
     return float(sum(g.density_per_m2 for g in veg.plants)) if veg is not None else 0.0
@@ -423,6 +436,9 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        _with_moving_speed),
     _F("oblique-tilt-deg", "tilt of every oblique rig mount from the platform's axis (deg; "
        "the nadir mounts stay)", "render", _float, _oblique_tilt, _with_oblique_tilt),
+    _F("rolling-shutter-readout-s", "rolling-shutter readout time of the camera per frame "
+       "(s; 0: a global shutter; needs a <time-line>)", "render", _float,
+       lambda p: _camera(p).readout_s, _with_readout),
     _F("building-eave-height-m", "wall height of every extruded building above its base "
        "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
        lambda p: _extruded(p)[0].eave_height_m if _extruded(p) else None,

@@ -88,3 +88,30 @@ def project_station_times(project: m.Project, stations: Sequence[Station]
 def iso_utc(moment: _dt.datetime) -> str:
     """ISO 8601 text of a UTC moment with microseconds and 'Z': 2026-06-21T09:30:04.250000Z."""
     return moment.astimezone(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
+
+
+def station_velocities_m_s(stations: Sequence[Station], time_line: m.TimeLine) -> np.ndarray:
+    """(N, 3) velocity of the platform at each station, world m/s (docs/world.md,
+    "Rolling shutter"): ``speed_m_s`` along the leg flown from the station to the next
+    one; where that leg is a turn to another flight line (or there is no next station),
+    along the leg that led to it; a station with neither flies horizontally along its
+    flight azimuth. The legs are straight and flown at constant speed, as the time line
+    times them."""
+    n = len(stations)
+    out = np.zeros((n, 3))
+
+    def straight(a: Station, b: Station) -> np.ndarray | None:
+        turn = a.line_index >= 0 and b.line_index >= 0 and a.line_index != b.line_index
+        leg = b.C_world - a.C_world
+        length = float(np.linalg.norm(leg))
+        return None if turn or length == 0.0 else leg / length
+
+    for k, st in enumerate(stations):
+        direction = straight(st, stations[k + 1]) if k + 1 < n else None
+        if direction is None and k > 0:
+            direction = straight(stations[k - 1], st)
+        if direction is None:
+            az = np.radians(st.flight_azimuth_deg)
+            direction = np.array([np.sin(az), np.cos(az), 0.0])
+        out[k] = time_line.speed_m_s * direction
+    return out

@@ -32,7 +32,8 @@ def _filled_projects() -> list[m.Project]:
         position_prior=m.PositionPrior("rtk", 0.02, 0.03, 5),
         matching=m.Matching(4096, "exhaustive", 2), dense="cpu")
     cam = dataclasses.replace(base.cameras[0], name="P4P",
-                              distortion=m.BrownConradyDistortion(-0.01, 0.002))
+                              distortion=m.BrownConradyDistortion(-0.01, 0.002),
+                              rolling_shutter=m.RollingShutter(0.03))
     first = dataclasses.replace(base, effects=effects, processing=processing, cameras=(cam,),
                                 trajectory=dataclasses.replace(base.trajectory, time_line=(
                                     m.TimeLine("2026-06-21T09:30:00Z", 5.0, 8.0, 2.0))))

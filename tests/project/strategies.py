@@ -97,7 +97,11 @@ def cameras(draw, camera_id: str) -> m.Camera:
         camera_id, focal, sw, sh, W, H,
         principal_point_x_mm=draw(reals(-0.2, 0.2)) * sw,
         principal_point_y_mm=draw(reals(-0.2, 0.2)) * sh,
-        pixel_aspect=pixel_aspect, distortion=distortion, name=draw(st.none() | texts))
+        pixel_aspect=pixel_aspect, distortion=distortion, name=draw(st.none() | texts),
+        # a readout of 0 (a global shutter) is valid without a time line
+        rolling_shutter=draw(st.none() | st.builds(
+            m.RollingShutter, st.just(0.0), st.sampled_from(["top-to-bottom",
+                                                             "bottom-to-top"]))))
 
 
 @st.composite

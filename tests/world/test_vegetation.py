@@ -215,3 +215,30 @@ def test_on_a_mesh_terrain_plants_stand_on_the_nearest_vertex():
     x, y = rng.uniform(0, 10, 50), rng.uniform(0, 10, 50)
     d = (v[None, :, 0] - x[:, None]) ** 2 + (v[None, :, 1] - y[:, None]) ** 2
     np.testing.assert_array_equal(ground_heights_m(ground, x, y), v[np.argmin(d, axis=1), 2])
+
+
+def test_plants_keep_out_of_buildings(tmp_path):
+    E0, N0, _ = ORIGIN
+    p = vegetation_project(density_per_m2=1.0)
+    house = m.Building("house", tuple(m.PathPoint(E0 + x, N0 + y) for x, y in
+                                      ((3, 3), (13, 3), (13, 11), (3, 11))), "flat", 6.0)
+    ground = _ground(p, tmp_path)
+    free = place_vegetation(p, tmp_path, ground)[0]
+    built = replace(p, scene=replace(p.scene, buildings=(house,)))
+    (plants,) = place_vegetation(built, tmp_path, ground)
+    reach = plants.crown_m / 2 + np.sin(np.radians(WIND.amplitude_deg)) * plants.height_m
+    x, y = plants.base_world[:, 0] - E0, plants.base_world[:, 1] - N0
+    dx = np.maximum(np.maximum(3 - x, x - 13), 0)
+    dy = np.maximum(np.maximum(3 - y, y - 11), 0)
+    assert (np.hypot(dx, dy) >= reach - 1e-9).all()
+    assert len(free) - len(plants) > 80  # about 10 m × 8 m and a margin of plants dropped
+
+
+def test_designer_check_names_the_vegetation(tmp_path):
+    from designer.project.summary import summary_line
+
+    p = vegetation_project(density_per_m2=0.25)
+    line = summary_line("x.xml", p)
+    assert "1 plant group (about 400 plants, wind)" in line  # 0.25 per m² on 40 × 40 m
+    assert "plant" not in summary_line("x.xml", replace(p, scene=replace(p.scene,
+                                                                         vegetation=None)))

@@ -8,9 +8,11 @@ from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
 
 from designer.errors import DesignerError
 from designer.gui import camera_presets, edits
+from designer.gui.edits import AbsentElement, get_path
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readout
 from designer.project import model as m
+from designer.project.validate_world import MAX_READOUT_S
 
 CAM = "cameras[0]"
 BROWN = ("k1", "k2", "k3", "p1", "p2")
@@ -63,6 +65,21 @@ class CameraPanel(Panel):
             f.addRow(name, box)
         self._dist_form = f
         layout.addWidget(dist)
+
+        shutter = QGroupBox("rolling shutter (0 s: a global shutter)")
+        f = form(shutter)
+        f.addRow("readout", self.bindings.bind(dspin(0.0, MAX_READOUT_S, 4, 0.001, "s"), (
+            model_getter(f"{CAM}.rolling_shutter", lambda rs: rs.readout_s if rs else 0.0),
+            _set_readout), "Rolling-shutter readout"))
+        f.addRow("first row", self.bindings.bind(combo([
+            ("top (top to bottom)", "top-to-bottom"),
+            ("bottom (bottom to top)", "bottom-to-top")]), (
+            model_getter(f"{CAM}.rolling_shutter", _direction),
+            lambda p, v: edits.replace_path(p, f"{CAM}.rolling_shutter.direction", v)),
+            "Rolling-shutter direction"))
+        self.shutter_label = readout()
+        f.addRow("during readout", self.shutter_label)
+        layout.addWidget(shutter)
 
         info = form()
         self.pitch_label, self.fov_label, self.gsd_label = readout(), readout(), readout()
@@ -122,6 +139,21 @@ class CameraPanel(Panel):
         else:
             gsd = 100 * 100 * px / cam.focal_length_mm
             self.gsd_label.setText(f"{gsd:.2f} cm at 100 m")
+        self.shutter_label.setText(self._shutter_text(cam))
+
+    def _shutter_text(self, cam: m.Camera) -> str:
+        """How far the ground moves in the image while the rows are read."""
+        if cam.readout_s == 0:
+            return "global shutter"
+        tl = self.project.trajectory.time_line
+        if tl is None:
+            return "needs the flight's time line (Flight panel)"
+        stations = self.sync.stations
+        motion_m = tl.speed_m_s * cam.readout_s
+        if stations is not None and stations.calc is not None:
+            return (f"{100 * motion_m:.1f} cm flown, {motion_m / stations.calc.gsd_m:.1f} px "
+                    "between the first and the last row")
+        return f"{100 * motion_m:.1f} cm flown"
 
     # ------------------------------------------------------------------ view → model
     def _preset_chosen(self) -> None:
@@ -146,6 +178,21 @@ class CameraPanel(Panel):
         self.editor.edit(edits.set_camera(self.project,
                                           dataclasses.replace(cam, distortion=distortion)),
                          f"Distortion {kind}")
+
+
+def _set_readout(project: m.Project, readout_s: float) -> m.Project:
+    """Readout 0 removes the rolling shutter (a global shutter); another keeps its
+    direction."""
+    rs = get_path(project, f"{CAM}.rolling_shutter")
+    new = None if readout_s == 0 else m.RollingShutter(
+        readout_s, rs.direction if rs is not None else "top-to-bottom")
+    return edits.replace_path(project, f"{CAM}.rolling_shutter", new)
+
+
+def _direction(rs: m.RollingShutter | None) -> str:
+    if rs is None:  # a global shutter reads no rows: the field is off
+        raise AbsentElement(f"{CAM}.rolling_shutter.direction", "rolling_shutter", None)
+    return rs.direction
 
 
 def _line() -> QLineEdit:

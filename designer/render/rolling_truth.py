@@ -1,0 +1,45 @@
+"""Ground truth of a rolling-shutter camera (docs/world.md, "Rolling shutter").
+
+``ground-truth/rolling_shutter.csv`` states the model as Metashape and Pix4D use it: per
+image the pose of the first row read (the image's pose in every other file), the readout
+time and the platform's velocity during it (world frame, m/s); and the pixel coordinates
+of the GCPs in every export are where the rolling-shutter image shows them
+(:func:`designer.core.rolling_shutter.rolling_shutter_projection`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from designer.core.rolling_shutter import rolling_shutter_projection
+
+ROLLING_SHUTTER_CSV = "rolling_shutter.csv"
+COLUMNS = ("image", "readout_s", "direction", "velocity_E_m_s", "velocity_N_m_s",
+           "velocity_H_m_s", "first_row_time", "first_row_time_s")
+
+
+def rolling_shutter_uv(prepared, camera: np.ndarray, point: np.ndarray,
+                       points_world: np.ndarray) -> np.ndarray:
+    """(K, 2) pixel coordinates of ``points_world[point[k]]`` in image ``camera[k]`` of a
+    prepared rolling-shutter job."""
+    rs = prepared.rolling_shutter
+    uv = np.full((len(camera), 2), np.nan)
+    for c in np.unique(camera):
+        pick = np.flatnonzero(camera == c)
+        pose = prepared.poses[c]
+        uv[pick] = rolling_shutter_projection(
+            points_world[point[pick]], pose.C_world, pose.R_cam_to_world,
+            prepared.velocities_m_s[c], rs.readout_s, prepared.interior, rs.direction)
+    return uv
+
+
+def rolling_shutter_csv(prepared) -> str:
+    """The table of ROLLING_SHUTTER_CSV (COLUMNS), one row per image; velocities to 1e-6
+    m/s, the first row's time as ISO 8601 UTC and seconds after take-off."""
+    rs = prepared.rolling_shutter
+    rows = [",".join(COLUMNS)]
+    for pose, vel, t, frame in zip(prepared.poses, prepared.velocities_m_s, prepared.times,
+                                   prepared.job.frames, strict=True):
+        rows.append(f"{pose.image_name},{rs.readout_s!r},{rs.direction},"
+                    f"{vel[0]:.6f},{vel[1]:.6f},{vel[2]:.6f},{frame.time_utc},{t.time_s!r}")
+    return "\n".join(rows) + "\n"
