@@ -14,7 +14,8 @@ from pathlib import Path
 
 from designer.errors import DesignerError
 
-TEMPLATES = ("survey", "survey-ideal", "survey-dynamic", "validation-cube", "psf", "texture")
+TEMPLATES = ("survey", "survey-ideal", "survey-dynamic", "survey-structures", "validation-cube",
+             "psf", "texture")
 
 
 def register(subparsers) -> None:

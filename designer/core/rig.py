@@ -20,6 +20,11 @@ import numpy as np
 
 from designer.core.rotation import opk_from_rotation, rotation_from_opk, rotation_from_rotvec
 
+#: a nadir + four 45° oblique rig: (suffix, ω, φ, κ deg) of each mount — forward,
+#: backward (turned 180° so the image top points away), left and right
+PENTA_MOUNTS = (("_N", 0.0, 0.0, 0.0), ("_F", 45.0, 0.0, 0.0), ("_B", -45.0, 0.0, 180.0),
+                ("_L", 0.0, 45.0, 0.0), ("_R", 0.0, -45.0, 0.0))
+
 
 def mount_rotation(omega_deg: float, phi_deg: float, kappa_deg: float) -> np.ndarray:
     """R_mount (3, 3): the mounted camera's axes → the platform's axes (angles in deg)."""

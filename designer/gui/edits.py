@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from designer.core.rig import PENTA_MOUNTS
 from designer.project import model as m
 
 _INDEX = re.compile(r"^(\w+)\[(\d+)\]$")
@@ -266,11 +267,6 @@ def set_effect(project: m.Project, name: str, value) -> m.Project:
 
 
 # ---------------------------------------------------------------------- rigs
-#: the quick oblique rig: (suffix, ω, φ, κ) of a nadir camera and four obliques at 45°
-PENTA_MOUNTS = (("_N", 0.0, 0.0, 0.0), ("_F", 45.0, 0.0, 0.0), ("_B", -45.0, 0.0, 180.0),
-                ("_L", 0.0, 45.0, 0.0), ("_R", 0.0, -45.0, 0.0))
-
-
 def add_oblique_rig(project: m.Project, name: str = "penta") -> m.Project:
     """The project with a nadir + four 45° oblique rig of its first camera, flown by the
     flight plan (created if there is none)."""

@@ -14,8 +14,8 @@ import numpy as np
 from designer.project import model as m
 from designer.project.assets import cube_obj_bytes, seamless_texture_png
 
-TEMPLATE_NAMES = ("survey", "survey-ideal", "survey-dynamic", "validation-cube", "psf",
-                  "texture")
+TEMPLATE_NAMES = ("survey", "survey-ideal", "survey-dynamic", "survey-structures",
+                  "validation-cube", "psf", "texture")
 
 
 @dataclass(frozen=True)
@@ -155,6 +155,66 @@ def survey_dynamic() -> Template:
     return Template(project)
 
 
+def _house(id_: str, E: float, N: float, width_m: float, depth_m: float, roof: str,
+           eave_m: float, ridge_m: float | None = None) -> m.Building:
+    """A rectangular building centred on (E, N), ``width_m`` east-west, ``depth_m``
+    north-south."""
+    w, d = width_m / 2, depth_m / 2
+    corners = ((E - w, N - d), (E + w, N - d), (E + w, N + d), (E - w, N + d))
+    return m.Building(id_, tuple(m.PathPoint(x, y) for x, y in corners), roof, eave_m, ridge_m)
+
+
+def survey_structures() -> Template:
+    """The example survey with what practitioners lose accuracy to (docs/world.md): four
+    buildings (gable, hip, a flat 12 m block), grass, shrubs and trees swaying in a 5°
+    wind; the grid flown at 5 m/s by a drone camera with a rolling shutter (20 ms
+    readout), then an orbit around the buildings by a nadir + four 45° oblique rig (a
+    longer lens on the obliques)."""
+    import dataclasses
+
+    from designer.core.rig import PENTA_MOUNTS
+
+    tpl = survey()
+    p = tpl.project
+    E0, N0 = p.origin.E0, p.origin.N0
+    sensor = dataclasses.replace(phantom4pro("nadir"), distortion=None,
+                                 name="1-inch 20 MP, 8.8 mm, global shutter")
+    drone = dataclasses.replace(
+        sensor, id="drone", rolling_shutter=m.RollingShutter(readout_s=0.02),
+        name="1-inch 20 MP, 8.8 mm, electronic (rolling) shutter, 20 ms readout")
+    oblique = dataclasses.replace(sensor, id="oblique", focal_length_mm=12.0,
+                                  name="1-inch 20 MP, 12 mm, global shutter")
+    rig = m.Rig("penta", tuple(m.Mount("nadir" if s == "_N" else "oblique", s, o, ph, k)
+                               for s, o, ph, k in PENTA_MOUNTS))
+    buildings = (
+        _house("house1", E0 - 19, N0 - 19, 10.0, 8.0, "gable", 5.0, 8.0),
+        _house("house2", E0 + 19, N0 - 19, 12.0, 9.0, "hip", 4.5, 7.5),
+        _house("block", E0 - 19, N0 + 19, 14.0, 10.0, "flat", 12.0),
+        _house("barn", E0 - 19, N0, 8.0, 12.0, "gable", 4.0, 7.0),
+    )
+    vegetation = m.Vegetation(
+        (m.PlantGroup(0.5, "grass-tuft", height_sd_m=0.05),
+         m.PlantGroup(0.02, "shrub", height_sd_m=0.2),
+         m.PlantGroup(0.002, "tree", height_m=7.0, height_sd_m=1.5)),
+        seed=5, clearance_m=1.0, wind=m.Wind(5.0, 4.0, 60.0))
+    scene = dataclasses.replace(p.scene, buildings=buildings, vegetation=vegetation)
+    plan = dataclasses.replace(p.trajectory.flight_plan, camera=drone.id, pose_noise=None)
+    orbit = m.OrbitPattern(camera=rig.name, image_prefix="ORBIT_",
+                           centre=m.Point3(E0 - 5, N0, 0.0), radius_m=35.0, height_m=40.0,
+                           n_stations=12)
+    trajectory = dataclasses.replace(
+        p.trajectory, flight_plan=plan, rigs=(rig,), patterns=(orbit,),
+        time_line=m.TimeLine("2026-06-21T09:30:00Z", speed_m_s=5.0, turn_s=8.0))
+    project = dataclasses.replace(
+        p, name="Example survey with structures", cameras=(drone, sensor, oblique),
+        scene=scene, trajectory=trajectory,
+        description=("The example survey with four buildings, grass, shrubs and trees "
+                     "swaying in the wind: the grid flown at 5 m/s by a rolling-shutter "
+                     "camera (20 ms readout), then an orbit of a nadir + four 45° oblique "
+                     "rig around the buildings. Compare its clouds with the bare earth "
+                     "(designer compare --surface dtm) or the surface (dsm)."))
+    return Template(project)
+
 def validation_cube() -> Template:
     """A 4 m cube on flat ground seen by 24 oblique photos on a circle: exact geometry."""
     cam = m.Camera(id="a7r4", name="Sony a7R IV, 35 mm lens", focal_length_mm=35.0,
@@ -265,6 +325,7 @@ def texture() -> Template:
 
 
 _BUILDERS = {"survey": survey, "survey-ideal": survey_ideal, "survey-dynamic": survey_dynamic,
+             "survey-structures": survey_structures,
              "validation-cube": validation_cube, "psf": psf, "texture": texture}
 
 

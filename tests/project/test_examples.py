@@ -85,3 +85,28 @@ def test_the_dynamic_survey_switches_on_every_changing_element_lightly():
     # everything else is the example survey's
     assert p.trajectory.flight_plan == base.trajectory.flight_plan
     assert (p.cameras, p.effects, p.render) == (base.cameras, base.effects, base.render)
+
+
+def test_the_structures_survey_has_buildings_plants_a_rig_and_a_rolling_shutter():
+    from designer.core.rig import PENTA_MOUNTS
+    from designer.scene.build import build_heightfield
+    from designer.survey.project_poses import project_images
+
+    base, p = template("survey").project, template("survey-structures").project
+    assert {b.roof for b in p.scene.buildings} == {"flat", "gable", "hip"}
+    assert {g.kind for g in p.scene.vegetation.plants} == {"grass-tuft", "shrub", "tree"}
+    assert p.scene.vegetation.wind.amplitude_deg > 0 and p.trajectory.time_line is not None
+    drone = p.camera(p.trajectory.flight_plan.camera)
+    assert drone.readout_s > 0 and drone.distortion is None  # rolling shutter, exactly
+    (rig,) = p.trajectory.rigs
+    assert [m.suffix for m in rig.mounts] == [s for s, *_ in PENTA_MOUNTS]
+    focal = {p.camera(m.camera).focal_length_mm for m in rig.mounts}
+    assert len(focal) == 2  # the obliques have their own interior orientation
+    assert all(p.camera(m.camera).readout_s == 0 for m in rig.mounts)
+    (orbit,) = p.trajectory.patterns
+    assert orbit.camera == rig.name
+    # the grid is the example survey's; the orbit adds one image per mount and station
+    hf = build_heightfield(p.scene.terrain, EXAMPLES / "survey", p.crs)
+    n_grid = len(project_images(base, hf).stations)
+    assert len(project_images(p, hf).stations) == n_grid + orbit.n_stations * len(rig.mounts)
+    assert (p.scene.terrain, p.scene.targets) == (base.scene.terrain, base.scene.targets)
