@@ -83,13 +83,14 @@ def write_building_truth(truth_dir: Path, interior: InteriorOrientation | Camera
                          poses: tuple[CameraPose, ...], buildings, rolling=None
                          ) -> dict[str, Path]:
     """Write ``buildings.ply`` and ``building_masks/<image stem>.png`` per image;
-    ``interior``: the one camera, or each image's camera of a rig; ``rolling`` (readout
-    s, direction, velocities (N, 3) m/s): a rolling-shutter camera."""
+    ``interior``: the one camera, or each image's camera of a rig; ``rolling``: per image,
+    its rolling shutter (readout s, direction, velocity (3,) m/s) or None (a global
+    shutter)."""
     truth_dir = Path(truth_dir)
     (truth_dir / BUILDING_MASK_DIR).mkdir(parents=True, exist_ok=True)
     for k, camera in enumerate(poses):
         path = truth_dir / BUILDING_MASK_DIR / f"{Path(camera.image_name).stem}.png"
-        frame_rolling = None if rolling is None else (rolling[0], rolling[1], rolling[2][k])
+        frame_rolling = None if rolling is None else rolling[k]
         with atomic_path(path) as tmp:
             own = (interior.interior_of(camera.image_name)
                    if isinstance(interior, CameraSet) else interior)

@@ -67,10 +67,14 @@ class PreparedJob:
     moving_poses: tuple[tuple, ...] = ()
     #: {moving object id: (vertices, faces) in its own frame, m}
     moving_meshes: dict | None = None
-    #: the camera's rolling shutter (None: a global shutter) and, with one, the
-    #: platform's velocity at each image (world m/s, (N, 3))
+    #: the one camera's rolling shutter (None: a global shutter, or several cameras: see
+    #: ``frame_shutters``) and, when any image has one, the platform's velocity at each
+    #: image (world m/s, (N, 3))
     rolling_shutter: m.RollingShutter | None = None
     velocities_m_s: np.ndarray | None = None
+    #: each image's rolling shutter, its own camera's (None: a global shutter); empty
+    #: when no image has one
+    frame_shutters: tuple = ()
     #: the buildings as drawn (designer.scene.buildings.BuildingMesh; empty: none)
     buildings: tuple = ()
     #: the placed plants, one PlantSet per group (empty: no vegetation)
@@ -210,18 +214,17 @@ def prepare_job(
 
         plant_specs, wind_spec, plants = vegetation_job(project, base_dir, scene, job_dir,
                                                         origin)
-    if multi and any(project.camera(c).rolling_shutter is not None for c in interiors):
-        raise DesignerError("a multi-camera rig with a rolling-shutter camera is not rendered "
-                            "yet; remove <rolling-shutter> from the rig's cameras or fly one "
-                            "camera")
-    rolling, velocities = _rolling_shutter(project, camera_id, stations, times)
-    if rolling is not None:
-        from designer.render.job_rolling import shutter_matrices_local
+    frame_shutters, velocities = _rolling_shutters(project, images, times)
+    for i, (pose, rs) in enumerate(zip(poses, frame_shutters, strict=True)):
+        if rs is not None:
+            from designer.render.job_rolling import shutter_matrices_local
 
-        for i, pose in enumerate(poses):
             contexts[i]["shutter_matrices_local"] = shutter_matrices_local(
-                pose, velocities[i], rolling.readout_s, rolling.direction,
-                interior.image_height_px, origin)
+                pose, velocities[i], rs.readout_s, rs.direction,
+                interiors[images.camera_ids[i]].image_height_px, origin)
+    rolling = frame_shutters[0] if not multi else None
+    if velocities is None:
+        frame_shutters = ()
     render = project.render
     samples = QUALITY_SAMPLES[quality] if quality else render.effective_samples
     preset = quality or (render.preset if render.samples is None else None)
@@ -262,22 +265,30 @@ def prepare_job(
                        scene=scene, times=None if times is None else tuple(times),
                        suns=tuple(suns), moving_poses=tuple(moving), moving_meshes=meshes,
                        rolling_shutter=rolling, velocities_m_s=velocities,
+                       frame_shutters=tuple(frame_shutters),
                        buildings=tuple(light.buildings), plants=tuple(plants),
                        cameras=cameras)
 
 
-def _rolling_shutter(project: m.Project, camera_id: str, stations, times):
-    """(the camera's rolling shutter, the platform velocity at each station (N, 3) m/s),
-    or (None, None) for a global shutter (no element, or a readout of 0)."""
-    rolling = project.camera(camera_id).rolling_shutter
-    if rolling is None or rolling.readout_s == 0:
-        return None, None
+def _rolling_shutters(project: m.Project, images, times):
+    """(each image's rolling shutter, its own camera's: None for a global shutter (no
+    element, or a readout of 0); the platform velocity at each image (N, 3) m/s, None when
+    no image has a rolling shutter). Every image of a rig station shares its velocity."""
+    shutters = {}
+    for c in images.camera_order():
+        rs = project.camera(c).rolling_shutter
+        shutters[c] = None if rs is None or rs.readout_s == 0 else rs
+    frame_shutters = [shutters[c] for c in images.camera_ids]
+    rolling = [c for c, rs in shutters.items() if rs is not None]
+    if not rolling:
+        return frame_shutters, None
     if times is None:
-        raise DesignerError(f"camera '{camera_id}' has a rolling shutter but the trajectory "
+        raise DesignerError(f"camera '{rolling[0]}' has a rolling shutter but the trajectory "
                             "has no <time-line>; add one or set readout-s 0")
     from designer.survey.timeline import station_velocities_m_s
 
-    return rolling, station_velocities_m_s(stations, project.trajectory.time_line)
+    platform = station_velocities_m_s(images.platform, project.trajectory.time_line)
+    return frame_shutters, platform[np.asarray(images.station_index)]
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

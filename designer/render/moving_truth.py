@@ -87,8 +87,9 @@ def write_moving_truth(truth_dir: Path, interior: InteriorOrientation | CameraSe
                        poses: tuple[CameraPose, ...], moving: tuple, meshes: dict,
                        rolling=None) -> dict[str, Path]:
     """Write ``masks/<image stem>_mask.png`` per image and ``moving_objects.csv``;
-    ``interior``: the one camera, or each image's camera of a rig; ``rolling`` (readout
-    s, direction, velocities (N, 3) m/s): a rolling-shutter camera."""
+    ``interior``: the one camera, or each image's camera of a rig; ``rolling``: per image,
+    its rolling shutter (readout s, direction, velocity (3,) m/s) or None (a global
+    shutter)."""
     truth_dir = Path(truth_dir)
     (truth_dir / MASK_DIR).mkdir(parents=True, exist_ok=True)
     text = io.StringIO()
@@ -97,8 +98,8 @@ def write_moving_truth(truth_dir: Path, interior: InteriorOrientation | CameraSe
     for k, (camera, frame_poses) in enumerate(zip(poses, moving, strict=True)):
         own = (interior.interior_of(camera.image_name) if isinstance(interior, CameraSet)
                else interior)
-        mask = object_mask(frame_poses, meshes, camera, own, None if rolling is None
-                           else (rolling[0], rolling[1], rolling[2][k]))
+        mask = object_mask(frame_poses, meshes, camera, own,
+                           None if rolling is None else rolling[k])
         path = truth_dir / MASK_DIR / mask_name(camera.image_name)
         with atomic_path(path) as tmp:
             if not cv2.imwrite(str(tmp), mask):

@@ -99,22 +99,6 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
 
         raycaster = OccluderStack(raycaster, [MeshOccluder(b.vertices_world, b.faces)
                                               for b in prepared.buildings])
-    if prepared.rolling_shutter is not None:  # one camera: a rig has no rolling shutter
-        C = np.array([p.C_world for p in prepared.poses])
-        R = np.array([p.R_cam_to_world for p in prepared.poses])
-        pairs = visible_pairs(points, C, R, prepared.interior, raycaster)
-        order = np.lexsort((pairs.camera, pairs.point))
-        # where the rolling-shutter image shows the target (the rows' own poses); a
-        # target it moves out of the image is not observed
-        from designer.render.rolling_truth import rolling_shutter_uv
-
-        uv = rolling_shutter_uv(prepared, pairs.camera, pairs.point, points)
-        W, H = prepared.interior.image_size_px
-        inside = (uv[:, 0] >= 0) & (uv[:, 0] < W) & (uv[:, 1] >= 0) & (uv[:, 1] < H)
-        order = order[inside[order]]
-        return [GcpObservation(targets[pairs.point[k]].target.id,
-                               prepared.poses[pairs.camera[k]].image_name, uv[k])
-                for k in order]
     # one pass per physical camera (a rig has several), then in (GCP, image) order
     groups: dict[int, list[int]] = {}
     for k, pose in enumerate(prepared.poses):
@@ -126,9 +110,21 @@ def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
         C = np.array([prepared.poses[k].C_world for k in members])
         R = np.array([prepared.poses[k].R_cam_to_world for k in members])
         pairs = visible_pairs(points, C, R, interior, raycaster)
-        image_index.append(members[pairs.camera])
-        point_index.append(pairs.point)
-        uv.append(pairs.uv_px)
+        pair_camera, pair_point, pair_uv = pairs.camera, pairs.point, pairs.uv_px
+        if prepared.frame_shutters and prepared.frame_shutters[members[0]] is not None:
+            # a rolling-shutter camera: where its images show the targets (the rows' own
+            # poses); a target they move out of the image is not observed
+            from designer.render.rolling_truth import rolling_shutter_uv
+
+            pair_uv = rolling_shutter_uv(prepared, members[pair_camera], pair_point, points)
+            W, H = interior.image_size_px
+            inside = ((pair_uv[:, 0] >= 0) & (pair_uv[:, 0] < W) & (pair_uv[:, 1] >= 0)
+                      & (pair_uv[:, 1] < H))
+            pair_camera, pair_point, pair_uv = (pair_camera[inside], pair_point[inside],
+                                                pair_uv[inside])
+        image_index.append(members[pair_camera])
+        point_index.append(pair_point)
+        uv.append(pair_uv)
     image_index, point_index = np.concatenate(image_index), np.concatenate(point_index)
     uv = np.concatenate(uv)
     order = np.lexsort((image_index, point_index))
@@ -148,9 +144,12 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
                         ground_truth_observations(prepared), odm_crs(project.crs),
                         formats=formats, image_times=image_times(prepared),
                         colmap_offset=colmap_offset)
-    rs = prepared.rolling_shutter
-    # masks of a rolling-shutter camera: each row sees from its own pose
-    rolling = None if rs is None else (rs.readout_s, rs.direction, prepared.velocities_m_s)
+    # masks of a rolling-shutter image: each row sees from its own pose
+    rolling = None
+    if prepared.frame_shutters:
+        rolling = [None if rs is None else (rs.readout_s, rs.direction, v)
+                   for rs, v in zip(prepared.frame_shutters, prepared.velocities_m_s,
+                                    strict=True)]
     if prepared.moving_poses:
         from designer.render.moving_truth import write_moving_truth
 
@@ -171,7 +170,7 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
         written = {**written, **write_vegetation_truth(
             out_dir / GROUND_TRUTH_DIR, prepared.camera_model, prepared.poses, times,
             list(prepared.plants), project.scene.vegetation.wind, rolling)}
-    if prepared.rolling_shutter is not None:
+    if prepared.frame_shutters:
         from designer.atomic import write_text_atomic
         from designer.render.rolling_truth import ROLLING_SHUTTER_CSV, rolling_shutter_csv
 
@@ -250,7 +249,8 @@ def render_project(
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
-    rolling = prepared.rolling_shutter
+    # the readout ODM is told: the first rolling-shutter image's
+    rolling = next((rs for rs in prepared.frame_shutters if rs is not None), None)
     sizes = (None if prepared.cameras is None else
              {c: i.image_size_px for c, i in prepared.cameras.interiors.items()})
     write_readme(out_dir, list(names.values()), ground_truth, project=project_path.name,

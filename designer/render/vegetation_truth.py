@@ -126,15 +126,16 @@ def write_vegetation_truth(truth_dir: Path, interior: InteriorOrientation | Came
                            poses: tuple[CameraPose, ...], times_s: list[float | None],
                            plants: list[PlantSet], wind, rolling=None) -> dict[str, Path]:
     """Write ``vegetation_masks/<image stem>.png`` per image and ``vegetation.csv``;
-    ``interior``: the one camera, or each image's camera of a rig; ``rolling`` (readout
-    s, direction, velocities (N, 3) m/s): a rolling-shutter camera."""
+    ``interior``: the one camera, or each image's camera of a rig; ``rolling``: per image,
+    its rolling shutter (readout s, direction, velocity (3,) m/s) or None (a global
+    shutter)."""
     truth_dir = Path(truth_dir)
     (truth_dir / MASK_DIR).mkdir(parents=True, exist_ok=True)
     for k, (camera, t) in enumerate(zip(poses, times_s, strict=True)):
         own = (interior.interior_of(camera.image_name) if isinstance(interior, CameraSet)
                else interior)
-        mask = vegetation_mask(plants, wind, t, camera, own, None if rolling is None
-                               else (rolling[0], rolling[1], rolling[2][k]))
+        mask = vegetation_mask(plants, wind, t, camera, own,
+                               None if rolling is None else rolling[k])
         path = truth_dir / MASK_DIR / mask_name(camera.image_name)
         with atomic_path(path) as tmp:
             if not cv2.imwrite(str(tmp), mask):
