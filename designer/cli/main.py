@@ -103,7 +103,16 @@ def entry() -> None:
     after flushing its output. Called in-process (tests, scripts), :func:`main` returns
     normally and nothing is skipped.
     """
-    code = main()
+    try:
+        code = main()
+        if _exit_at_once:
+            sys.stdout.flush()
+    except BrokenPipeError:
+        # the reader went away (``designer plan P.xml | head``): stop quietly, as other
+        # command-line tools do, without a traceback or a second error at exit
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        sys.exit(1)
     if _exit_at_once:
         sys.stdout.flush()
         sys.stderr.flush()

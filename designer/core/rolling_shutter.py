@@ -111,23 +111,43 @@ def rolling_shutter_projection(
     ok = np.isfinite(uv[:, 1])
     v = np.where(ok, uv[:, 1], 0.0)
     step_v = 1e-3  # px: finite-difference step of the row function's slope
-    converged = False
+    # Newton on each point's row; a point whose iteration breaks down (its image moving
+    # as fast as the readout sweeps, or leaving the camera's front) is dropped (NaN) —
+    # allowed only far outside the image, where masks and observations do not look
+    active, failed = ok.copy(), np.zeros(len(P), bool)
     for _ in range(MAX_ITERATIONS):
-        g = project_at(v)[:, 1]
-        slope = np.where(ok, (project_at(v + step_v)[:, 1] - g) / step_v, 0.0)
+        if not active.any():
+            break
+        idx = np.flatnonzero(active)
+        vi = v[idx]
+        sub = P[idx]
+        delay = row_delay_s(vi, H, readout_s, direction)
+        g = project_points(sub - delay[:, None] * vel, C, R, interior).uv_px[0][:, 1]
+        delay2 = row_delay_s(vi + step_v, H, readout_s, direction)
+        g2 = project_points(sub - delay2[:, None] * vel, C, R, interior).uv_px[0][:, 1]
+        slope = (g2 - g) / step_v
         # slope ≥ 1: the image moves down as fast as the readout sweeps it
-        if not np.all(np.isfinite(slope) & (slope < 1.0 - 1e-6)):
-            break
-        dv = np.where(ok, (g - v) / (1.0 - slope), 0.0)
-        v = v + dv
-        if np.all(np.abs(dv) < TOLERANCE_PX):
-            converged = True
-            break
-    if converged:
-        uv = project_at(v)
-        if np.all(np.abs(uv[ok, 1] - v[ok]) < RESIDUAL_PX):
-            uv[~ok] = np.nan
-            return uv
+        bad = ~(np.isfinite(g) & np.isfinite(slope) & (slope < 1.0 - 1e-6))
+        failed[idx[bad]] = True
+        active[idx[bad]] = False
+        good = ~bad
+        dv = (g[good] - vi[good]) / (1.0 - slope[good])
+        v[idx[good]] = vi[good] + dv
+        active[idx[good][np.abs(dv) < TOLERANCE_PX]] = False
+    failed |= active  # not converged within MAX_ITERATIONS
+    uv = project_at(np.where(failed | ~ok, 0.0, v))
+    failed |= ok & ~(np.abs(uv[:, 1] - v) < RESIDUAL_PX)
+    uv[~ok | failed] = np.nan
+    if not failed.any():
+        return uv
+    # dropped points must be far outside the image (their global-shutter position)
+    W = interior.image_width_px
+    glob = project_points(P[failed], C, R, interior).uv_px[0]
+    margin = 0.5 * max(W, H)
+    inside = (np.isfinite(glob).all(axis=1) & (glob[:, 0] > -margin)
+              & (glob[:, 0] < W + margin) & (glob[:, 1] > -margin) & (glob[:, 1] < H + margin))
+    if not inside.any():
+        return uv
     raise RollingShutterError(
         "the rolling-shutter projection did not converge: the camera moves across the "
         "image faster than the readout sweeps it (velocity "

@@ -87,3 +87,16 @@ def test_plan_warns_when_the_tiled_texture_repeats_inside_the_footprint(tmp_path
     (warning,) = _texture_warnings(with_texture(variation=None, repeat_X=2, repeat_Y=2),
                                    tmp_path, capsys)
     assert warning.startswith("texture repeats every 50 m")
+
+
+def test_a_reader_that_stops_early_gets_no_traceback():
+    """``designer plan P.xml | head -1``: the program stops quietly when the pipe closes."""
+    proc = subprocess.Popen([sys.executable, "-m", "designer", "plan", EXAMPLE],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    first = proc.stdout.readline()
+    proc.stdout.close()  # the reader goes away after one line
+    err = proc.stderr.read().decode()
+    proc.stderr.close()
+    proc.wait(timeout=300)
+    assert first.startswith(b"resources/examples/survey/survey.xml:")
+    assert "Traceback" not in err and "BrokenPipe" not in err, err

@@ -110,3 +110,21 @@ def test_a_camera_faster_than_the_readout_raises():
     with pytest.raises(RollingShutterError, match="did not converge"):
         rolling_shutter_projection(P, C, np.eye(3), np.array([0.0, 1000.0, 0.0]), 0.05,
                                    interior)
+
+
+def test_a_point_far_outside_the_image_that_breaks_down_is_dropped_not_fatal():
+    """A scene vertex beside the camera (a mask's far-away plant seen from an oblique
+    view) may pass behind the camera during the readout: it is NaN, and the points in the
+    image are projected as ever."""
+    interior = phantom4()
+    C = ORIGIN_WORLD + np.array([0.0, 0.0, 30.0])
+    # looking north, level: x = east (image right), y = up (image top), z = south
+    R = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    velocity = np.array([0.0, 10.0, 0.0])  # flying north, towards what it sees
+    beside = C + [100.0, 0.01, 0.0]  # 1 cm in front of the camera, 100 m to the right
+    ahead = C + [2.0, 50.0, -3.0]
+    uv = rolling_shutter_projection(np.array([beside, ahead]), C, R, velocity, 0.03, interior)
+    assert np.isnan(uv[0]).all()
+    alone = rolling_shutter_projection(ahead[None], C, R, velocity, 0.03, interior)
+    np.testing.assert_allclose(uv[1], alone[0], atol=1e-9)
+    assert np.isfinite(alone).all()

@@ -96,17 +96,20 @@ def test_the_structures_survey_has_buildings_plants_a_rig_and_a_rolling_shutter(
     assert {b.roof for b in p.scene.buildings} == {"flat", "gable", "hip"}
     assert {g.kind for g in p.scene.vegetation.plants} == {"grass-tuft", "shrub", "tree"}
     assert p.scene.vegetation.wind.amplitude_deg > 0 and p.trajectory.time_line is not None
-    drone = p.camera(p.trajectory.flight_plan.camera)
+    (orbit,) = p.trajectory.patterns
+    drone = p.camera(orbit.camera)
     assert drone.readout_s > 0 and drone.distortion is None  # rolling shutter, exactly
     (rig,) = p.trajectory.rigs
+    assert p.trajectory.flight_plan.camera == rig.name
     assert [m.suffix for m in rig.mounts] == [s for s, *_ in PENTA_MOUNTS]
     focal = {p.camera(m.camera).focal_length_mm for m in rig.mounts}
     assert len(focal) == 2  # the obliques have their own interior orientation
     assert all(p.camera(m.camera).readout_s == 0 for m in rig.mounts)
-    (orbit,) = p.trajectory.patterns
-    assert orbit.camera == rig.name
-    # the grid is the example survey's; the orbit adds one image per mount and station
+    # five images per station of the grid, then one per orbit station
     hf = build_heightfield(p.scene.terrain, EXAMPLES / "survey", p.crs)
-    n_grid = len(project_images(base, hf).stations)
-    assert len(project_images(p, hf).stations) == n_grid + orbit.n_stations * len(rig.mounts)
+    images = project_images(p, hf)
+    n_orbit = sum(c == drone.id for c in images.camera_ids)
+    assert n_orbit == orbit.n_stations
+    assert (len(images.stations) - n_orbit) % len(rig.mounts) == 0
+    assert len(images.stations) - n_orbit > len(project_images(base, hf).stations)
     assert (p.scene.terrain, p.scene.targets) == (base.scene.terrain, base.scene.targets)
