@@ -247,7 +247,8 @@ def ground_truth_digest(folder: Path) -> str:
 def describe_parts(parts: list[str]) -> str:
     """'pose, targets' → words for a person: 'the pose and the GCP targets'."""
     words = {"software": "the designer or Blender version", "render": "the render settings",
-             "camera": "the camera", "scene": "the terrain, texture or lighting",
+             "camera": "the camera",
+             "scene": "the scene (terrain, texture, lighting, buildings or plants)",
              "targets": "the GCP targets in view", "effects": "the camera effects",
              "pose": "the pose", "unrecorded": "no record of its inputs",
              "missing": "the image is missing"}
