@@ -13,7 +13,8 @@ setup: system $(STAMP)
 system:
 	@bash scripts/install-system-packages.sh
 
-$(STAMP): pyproject.toml
+# the compiled kernels are rebuilt by pip install when their sources change
+$(STAMP): pyproject.toml setup.py $(wildcard designer/evaluate/csrc/*.[ch])
 	@command -v $(PYTHON) >/dev/null || { echo "error: $(PYTHON) not found; install Python 3.11 (the bpy wheels exist only for 3.11)"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip

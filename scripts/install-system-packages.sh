@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages the tests and the GUI need, when they are missing.
+# Installs the Debian packages the tests and the GUI need, and the C compiler that builds
+# designer's compiled kernels, when they are missing.
 # As root it uses apt-get; otherwise it names the packages to install and stops.
 set -euo pipefail
 packages=(
@@ -8,6 +9,7 @@ packages=(
   libxcb-cursor0 libxcb-icccm4 libxcb-keysyms1 libxcb-shape0 libxcb-xinerama0
   libxcb-randr0 libxcb-render-util0 libxcb-image0 libxxf86vm1 libsm6 libice6
   cloudcompare colmap
+  gcc libc6-dev
 )
 missing=()
 for p in "${packages[@]}"; do

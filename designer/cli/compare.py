@@ -134,15 +134,13 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
 
 def run(args) -> int:
     from designer.cli.main import exit_at_once_when_done
-    from designer.evaluate import figures, kernels
+    from designer.evaluate import figures
 
-    # Start what does not depend on the inputs first: a thread loads the compiled
-    # kernels while the inputs are read, then the figure thread imports matplotlib
-    # while the kernels compute.
-    loader = kernels.load_in_background()
-    figures.prestart(after=loader.done)
+    # Start what does not depend on the inputs first: the figure thread imports
+    # matplotlib while the inputs are read and the kernels compute.
+    figures.prestart()
     try:
-        code = _compare(args, loader)
+        code = _compare(args)
     finally:
         figures.discard_prestarted()
     # every product is written and closed: skip the interpreter's slow teardown
@@ -150,7 +148,7 @@ def run(args) -> int:
     return code
 
 
-def _compare(args, loader) -> int:
+def _compare(args) -> int:
     from designer.errors import DesignerError
     from designer.evaluate.clouds import read_point_cloud
     from designer.evaluate.compare import coarse_warnings, compare_cloud, reference_mesh
@@ -183,7 +181,6 @@ def _compare(args, loader) -> int:
     mesh = reference_mesh(args.reference, with_targets=not args.no_targets,
                           at_time_s=args.at_time, surface=args.surface or "dsm")
     gcps, cameras = extra_errors(args)
-    loader.join()
     summary = compare_cloud(cloud, mesh, args.output, max_distance=args.max_distance,
                             tolerances=tolerances, cell_m=args.cell_m, gcps=gcps,
                             cameras=cameras, offset=args.offset)

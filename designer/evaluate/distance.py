@@ -143,8 +143,6 @@ def signed_distances(
     (N,) of each point's nearest face (−1 where NaN). ``points_world`` may be a memory
     map: it is read ``chunk`` rows at a time and never copied whole.
     """
-    from numba import parallel_chunksize
-
     from designer.evaluate import _bvh
 
     index = mesh if isinstance(mesh, MeshIndex) else build_mesh_index(mesh)
@@ -162,21 +160,15 @@ def signed_distances(
     dist = np.empty(n)
     faces = np.empty(n, dtype=np.int64) if return_faces else None
     for s in range(0, n, chunk):
-        local = np.asarray(points[s:s + chunk], dtype=np.float64) - index.origin_world
-        if not np.isfinite(local).all():
-            bad = s + int(np.flatnonzero(~np.isfinite(local).all(axis=1))[0])
+        block = np.ascontiguousarray(points[s:s + chunk], dtype=np.float64)
+        if not np.isfinite(block).all():
+            bad = s + int(np.flatnonzero(~np.isfinite(block).all(axis=1))[0])
             raise DesignerError(f"point {bad} has a NaN or infinite coordinate")
-        # Spatially sorted points share most of their search path and warm-start
-        # each other with the previous point's triangle.
-        order = _bvh.radix_argsort(_bvh.morton_codes(local, lo, scale) >> np.uint64(31))
-        # blocks handed out a few at a time, not split evenly up front: a thread that
-        # the system delays (other work on the machine) does not hold up the others
-        with parallel_chunksize(4):
-            d, t = _bvh.query(np.ascontiguousarray(local[order]), index.triangles,
-                              index.box, index.link, limit_d2, index.normals_face,
-                              index.neighbours, index.crowded_edge_normals,
-                              index.normals_vertex, index.corner_vertex)
-        dist[s + order] = d
-        if faces is not None:
-            faces[s + order] = np.where(t >= 0, index.face_order[np.maximum(t, 0)], -1)
+        part = slice(s, s + len(block))
+        _bvh.query(block, index.origin_world, lo, scale, index.triangles, index.box,
+                   index.link, limit_d2, index.normals_face, index.neighbours,
+                   index.crowded_edge_normals, index.normals_vertex, index.corner_vertex,
+                   dist[part], None if faces is None else faces[part])
+    if faces is not None:  # BVH order -> the mesh's own face numbers
+        faces[:] = np.where(faces >= 0, index.face_order[np.maximum(faces, 0)], -1)
     return (dist, faces) if return_faces else dist

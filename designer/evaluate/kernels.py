@@ -1,26 +1,19 @@
-"""Compile or load the compiled distance and gridding kernels ahead of use.
+"""Check the comparison's compiled kernels on a tiny mesh (``designer warmup``).
 
-The kernels are numba functions cached on disk (``cache=True``): the first call after
-installation compiles them (about 25 s on 2 cores) and stores machine code in the
-``__pycache__`` folders beside the sources, or — where those are read-only — in the
-user's cache (``~/.cache/numba``), or in ``$NUMBA_CACHE_DIR`` when set. Every later
-process loads them from there (about 0.5 s for the set used by a comparison).
-
-:func:`warm_up` runs the comparison's kernels on a tiny mesh and cloud, with the
-argument types a comparison uses, so they are compiled (``designer warmup``, run by
-``make setup``) or loaded into this process. :func:`load_in_background` does that in a
-thread, while the caller reads its input files.
+The kernels are C (``designer/evaluate/csrc``), compiled by ``pip install`` into the
+extension module ``designer.evaluate._ckernels``: nothing is compiled or cached at run
+time, so the first comparison after installation is as fast as later ones.
+:func:`warm_up` runs each of them on a tiny mesh and cloud, with the argument types a
+comparison uses — a smoke test of the installation that ``make setup`` runs.
 """
 
 from __future__ import annotations
-
-import threading
 
 import numpy as np
 
 
 def warm_up() -> None:
-    """Compile (or load from the cache) every kernel :func:`~.compare.compare_cloud` uses."""
+    """Run every kernel :func:`~.compare.compare_cloud` uses once, on a tiny terrain."""
     from designer.evaluate.distance import build_mesh_index, signed_distances
     from designer.evaluate.maps import grid_errors
 
@@ -39,32 +32,3 @@ def warm_up() -> None:
     d = signed_distances(points, index)
     signed_distances(points, index, max_distance=0.25, return_faces=True)
     grid_errors(points[:, :2], d)
-
-
-class _Loader(threading.Thread):
-    def __init__(self) -> None:
-        super().__init__(name="designer-kernel-loader", daemon=True)
-        self.error: BaseException | None = None
-        #: set when loading has ended (also on failure)
-        self.done = threading.Event()
-
-    def run(self) -> None:
-        try:
-            warm_up()
-        except BaseException as exc:  # reported by join()
-            self.error = exc
-        finally:
-            self.done.set()
-
-    def join(self, timeout: float | None = None) -> None:
-        """Wait for the kernels; re-raise what loading them raised."""
-        super().join(timeout)
-        if self.error is not None:
-            raise self.error
-
-
-def load_in_background() -> _Loader:
-    """Start :func:`warm_up` in a thread; ``join()`` the returned thread before use."""
-    loader = _Loader()
-    loader.start()
-    return loader

@@ -1,0 +1,41 @@
+"""The compiled kernels of the comparison (sources in ``designer/evaluate/csrc``).
+
+``pip install`` builds them into the extension module ``designer.evaluate._ckernels``
+(a C compiler and the Python headers are needed; ``make setup`` has both). They load in
+about a millisecond — no compiler at run time, nothing to warm up — and run their long
+loops on POSIX threads without the GIL.
+"""
+
+from __future__ import annotations
+
+import os
+from functools import cache
+
+from designer.errors import DesignerError
+
+
+@cache
+def ckernels():
+    """The extension module; a one-line error saying how to build it when it is missing."""
+    try:
+        from designer.evaluate import _ckernels
+    except ImportError as error:
+        raise DesignerError(
+            f"designer's compiled kernels are missing ({error}): build them with "
+            "`pip install -e .` in the source folder (needs a C compiler)") from None
+    return _ckernels
+
+
+def threads() -> int:
+    """Threads for a parallel kernel: ``DESIGNER_THREADS`` when set (>= 1), else every
+    CPU this process may run on."""
+    value = os.environ.get("DESIGNER_THREADS", "").strip()
+    if value:
+        try:
+            n = int(value)
+        except ValueError:
+            n = 0
+        if n < 1:
+            raise DesignerError(f"DESIGNER_THREADS={value!r}: give a whole number >= 1")
+        return n
+    return max(1, len(os.sched_getaffinity(0)))
