@@ -10,7 +10,8 @@
 * projects for real renders: :func:`small_survey`, :func:`small_flight_survey` and
   :func:`write_project_file`;
 * bad values: :func:`assert_located_error` (a project file with one value changed is
-  refused with one-line problems naming the place).
+  refused with one-line problems naming the place);
+* :func:`count_calls` — how often a real function is called (it still does its work).
 
 Every function takes its seed (or ``numpy.random.Generator``) explicitly.
 """
@@ -216,6 +217,19 @@ def assert_located_error(project: m.Project, folder: Path, edit: Callable[[str],
     assert any(words in x for x in named), lines
     assert all("\n" not in x for x in lines), lines
     return lines
+
+
+def count_calls(monkeypatch, module, name: str) -> list[tuple]:
+    """Wrap ``module.name`` for the test so each call is recorded (its positional
+    arguments, in the list returned) and then done by the real function."""
+    real, calls = getattr(module, name), []
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, counted)
+    return calls
 
 
 
