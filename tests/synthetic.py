@@ -8,24 +8,31 @@
   :func:`grid_gcps`, :func:`survey` (poses + GCPs + their image observations);
 * terrain: :func:`flat_terrain`, :func:`hilly_terrain` (height fields);
 * projects for real renders: :func:`small_survey`, :func:`small_flight_survey` and
-  :func:`write_project_file`.
+  :func:`write_project_file`;
+* bad values: :func:`assert_located_error` (a project file with one value changed is
+  refused with one-line problems naming the place);
+* :func:`count_calls` — how often a real function is called (it still does its work).
 
 Every function takes its seed (or ``numpy.random.Generator``) explicitly.
 """
 
 from __future__ import annotations
 
+import re
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import rotation_from_heading_tilt_roll, rotation_from_opk
 from designer.core.truth import CameraPose, GroundControlPoint, observe_gcps
+from designer.project import load_project, write_project
 from designer.project import model as m
-from designer.project import write_project
+from designer.project.problems import ProjectError
 
 #: a UTM-sized world origin (E, N, H) in metres
 ORIGIN_WORLD = np.array([500000.0, 5000000.0, 250.0])
@@ -187,6 +194,42 @@ def write_project_file(project: m.Project, folder: Path) -> Path:
     path = folder / "project.xml"
     write_project(project, path)
     return path
+
+
+def assert_located_error(project: m.Project, folder: Path, edit: Callable[[str], str],
+                         needle: str, words: str, *, any_located: bool = False) -> list[str]:
+    """Write ``project`` to ``folder/project.xml``, change its text with ``edit`` (which
+    must change something) and check that loading it is refused with one-line problems,
+    the first of them located (``project.xml:LINE:COL: ``) on the first line that holds
+    ``needle`` and containing ``words`` — or, with ``any_located`` (an edit that makes
+    more than one problem there), any of those located there. Returns all the lines."""
+    path = write_project_file(project, folder)
+    original = path.read_text()
+    text = edit(original)
+    assert text != original, "the edit changed nothing"
+    path.write_text(text)
+    with pytest.raises(ProjectError) as info:
+        load_project(path)
+    lines = info.value.lines
+    line = next(i for i, x in enumerate(text.splitlines(), 1) if needle in x)
+    located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
+    named = located if any_located else located[:1]
+    assert any(words in x for x in named), lines
+    assert all("\n" not in x for x in lines), lines
+    return lines
+
+
+def count_calls(monkeypatch, module, name: str) -> list[tuple]:
+    """Wrap ``module.name`` for the test so each call is recorded (its positional
+    arguments, in the list returned) and then done by the real function."""
+    real, calls = getattr(module, name), []
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, counted)
+    return calls
 
 
 

@@ -11,7 +11,8 @@ data in, files out —
 
 :func:`reference_mesh` loads the mesh from a file (PLY/OBJ/STL) or builds it from a
 project XML (its terrain and scene objects, plus the GCP target plates when
-``with_targets``).
+``with_targets``); :func:`reference_meshes` gives several surfaces (DTM and DSM) of one
+project from one build of its terrain.
 """
 
 from __future__ import annotations
@@ -50,19 +51,32 @@ def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True,
     "dtm": terrain and GCP targets) or the surface with what stands on it ("dsm": plus
     scene objects, buildings, vegetation; moving objects only with ``at_time_s``, posed
     then, seconds after take-off). See :mod:`designer.scene.surfaces`."""
+    return reference_meshes(path, surfaces=(surface,), with_targets=with_targets,
+                            at_time_s=at_time_s)[surface]
+
+
+def reference_meshes(path: str | os.PathLike, *, surfaces=("dtm", "dsm"),
+                     with_targets: bool = True,
+                     at_time_s: float | None = None) -> dict[str, ReferenceMesh]:
+    """:func:`reference_mesh` for each of ``surfaces``, keyed by name, from one load of
+    the project and one build of its terrain. A mesh file is its own surface: the one
+    mesh stands under every name."""
     path = Path(path)
+    surfaces = (surfaces,) if isinstance(surfaces, str) else tuple(surfaces)
     if path.suffix.lower() == ".xml":
         from designer.project import load_project
-        from designer.scene.surfaces import true_surface
+        from designer.scene.surfaces import true_surfaces
 
         project = load_project(path)
-        vertices, faces = true_surface(project, path.parent, surface,
-                                       with_targets=with_targets, at_time_s=at_time_s)
-        return ReferenceMesh(vertices, faces, str(path), project.crs, surface)
+        built = true_surfaces(project, path.parent, surfaces, with_targets=with_targets,
+                              at_time_s=at_time_s)
+        return {surface: ReferenceMesh(vertices, faces, str(path), project.crs, surface)
+                for surface, (vertices, faces) in built.items()}
     from designer.scene.mesh import load_mesh
 
     mesh = load_mesh(path)
-    return ReferenceMesh(mesh.vertices_world, mesh.faces, str(path))
+    reference = ReferenceMesh(mesh.vertices_world, mesh.faces, str(path))
+    return dict.fromkeys(surfaces, reference)
 
 
 def check_overlap(cloud_xyz: np.ndarray, vertices: np.ndarray, cloud_name: str,

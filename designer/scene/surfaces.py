@@ -100,11 +100,16 @@ def merge_triangles(parts: list[Triangles]) -> Triangles:
     return np.vstack(vertices), np.vstack(faces)
 
 
-def true_surface(project: m.Project, base_dir: Path, surface: str = "dsm", *,
-                 with_targets: bool = True, at_time_s: float | None = None) -> Triangles:
-    """The ``surface`` ("dtm" or "dsm") of ``project`` as world triangles (float64)."""
-    if surface not in SURFACES:
-        raise ValueError(f"surface {surface!r}: give one of {', '.join(SURFACES)}")
+def true_surfaces(project: m.Project, base_dir: Path, surfaces=SURFACES, *,
+                  with_targets: bool = True,
+                  at_time_s: float | None = None) -> dict[str, Triangles]:
+    """Each of ``surfaces`` ("dtm", "dsm") of ``project`` as world triangles (float64),
+    keyed by name in the order given, from one build of the terrain (and targets): each
+    is equal, array for array, to :func:`true_surface` of that name."""
+    surfaces = (surfaces,) if isinstance(surfaces, str) else tuple(surfaces)
+    for surface in surfaces:
+        if surface not in SURFACES:
+            raise ValueError(f"surface {surface!r}: give one of {', '.join(SURFACES)}")
     from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
 
     base_dir = Path(base_dir)
@@ -113,14 +118,22 @@ def true_surface(project: m.Project, base_dir: Path, surface: str = "dsm", *,
     # Only the geometry is needed: build the terrain and targets, not the texture.
     hf = build_heightfield(terrain, base_dir, project.crs)
     mesh = build_terrain_mesh(terrain, hf, base_dir, origin)
-    parts: list[Triangles] = [(mesh.vertices_world, mesh.faces)]
+    bare: list[Triangles] = [(mesh.vertices_world, mesh.faces)]
     if with_targets:
         for t in build_targets(project, hf):
             quads = np.asarray(t.faces, np.int64)  # counter-clockwise quads
-            parts.append((t.vertices_world,
-                          np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])))
-    if surface == "dsm":
+            bare.append((t.vertices_world,
+                         np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])))
+    parts = {"dtm": bare}
+    if "dsm" in surfaces:
         ground = Ground(heightfield=hf, terrain=mesh)
-        for layer in DSM_LAYERS:
-            parts.extend(layer(project, base_dir, ground, at_time_s))
-    return merge_triangles(parts)
+        parts["dsm"] = bare + [triangles for layer in DSM_LAYERS
+                               for triangles in layer(project, base_dir, ground, at_time_s)]
+    return {surface: merge_triangles(parts[surface]) for surface in surfaces}
+
+
+def true_surface(project: m.Project, base_dir: Path, surface: str = "dsm", *,
+                 with_targets: bool = True, at_time_s: float | None = None) -> Triangles:
+    """The ``surface`` ("dtm" or "dsm") of ``project`` as world triangles (float64)."""
+    return true_surfaces(project, base_dir, (surface,), with_targets=with_targets,
+                         at_time_s=at_time_s)[surface]

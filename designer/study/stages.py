@@ -131,7 +131,8 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str,
 
 
 def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | None) -> dict:
-    from designer.evaluate import compare_cloud, read_point_cloud, reference_mesh
+    from designer.evaluate import compare_cloud, read_point_cloud
+    from designer.evaluate.compare import reference_meshes
     from designer.project import load_project
     from designer.sfm.reconstruct import reconstruct
 
@@ -157,14 +158,16 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
     row["dome_amplitude_m"] = (s.get("dense") or {}).get("dome_amplitude_m")
     if rec.n_points >= 10:
         cloud = read_point_cloud(rec.cloud_ply)
-        dsm = reference_mesh(project_path, surface="dsm")
+        # both surfaces from one build of the terrain
+        truth = reference_meshes(project_path, surfaces=("dsm", "dtm"))
+        dsm = truth["dsm"]
         summary = compare_cloud(cloud, dsm, out / "compare")
         d = summary["distances"]
         row.update({"cloud_median_m": d["median"], "cloud_nmad_m": d["nmad"],
                     "cloud_mean_m": d["mean"], "cloud_rmse_m": d["rmse"],
                     "error_map": str((out / "compare" / "error_map.png").relative_to(out))})
         # against the bare earth too, when something stands on it (else the same figures)
-        dtm = reference_mesh(project_path, surface="dtm")
+        dtm = truth["dtm"]
         if len(dtm.faces) != len(dsm.faces):
             d = compare_cloud(cloud, dtm, out / "compare_dtm")["distances"]
         row.update({"dtm_cloud_median_m": d["median"], "dtm_cloud_nmad_m": d["nmad"],

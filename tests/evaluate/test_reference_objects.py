@@ -1,13 +1,15 @@
-"""The true surface of a project includes its scene objects (the validation cube)."""
+"""The true surface of a project includes its scene objects (the validation cube); its DTM
+and DSM come from one load of the project and one build of its terrain."""
 
 import re
 
 import numpy as np
 import pytest
 
-from designer.evaluate.compare import reference_mesh
+from designer.evaluate.compare import reference_mesh, reference_meshes
 from designer.evaluate.distance import signed_distances
 from designer.project import template, write_project
+from tests.synthetic import count_calls
 
 
 def _cube_project(tmp_path):
@@ -41,6 +43,37 @@ def test_the_bare_earth_leaves_the_cube_out_and_the_surface_keeps_it(tmp_path):
     default = reference_mesh(path, with_targets=False)
     assert np.array_equal(default.vertices, dsm.vertices)
     assert np.array_equal(default.faces, dsm.faces)
+
+
+def test_both_surfaces_from_one_load_equal_the_surfaces_loaded_alone(tmp_path):
+    path = _cube_project(tmp_path)
+    both = reference_meshes(path, surfaces=("dtm", "dsm"))
+    assert list(both) == ["dtm", "dsm"]
+    for surface, mesh in both.items():
+        alone = reference_mesh(path, surface=surface)  # with the GCP targets, as by default
+        assert (mesh.surface, mesh.source, mesh.crs) == (surface, alone.source, alone.crs)
+        assert np.array_equal(mesh.vertices, alone.vertices)
+        assert np.array_equal(mesh.faces, alone.faces)
+    assert len(both["dtm"].faces) < len(both["dsm"].faces)  # the cube is in the DSM only
+    # a mesh file is its own surface, whatever the name
+    (tmp_path / "mesh.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    files = reference_meshes(tmp_path / "mesh.obj")
+    assert list(files) == ["dtm", "dsm"] and files["dtm"] is files["dsm"]
+    assert files["dtm"].surface is None and len(files["dtm"].faces) == 1
+
+
+def test_both_surfaces_load_the_project_and_build_the_terrain_once(tmp_path, monkeypatch):
+    import designer.project
+    import designer.scene.build
+
+    path = _cube_project(tmp_path)
+    loads = count_calls(monkeypatch, designer.project, "load_project")
+    terrains = count_calls(monkeypatch, designer.scene.build, "build_terrain_mesh")
+    reference_meshes(path, surfaces=("dsm", "dtm"))
+    assert (len(loads), len(terrains)) == (1, 1)
+    reference_mesh(path, surface="dsm")  # each alone loads and builds its own
+    reference_mesh(path, surface="dtm")
+    assert (len(loads), len(terrains)) == (3, 3)
 
 
 def test_compare_says_which_surface_it_used(tmp_path, capsys):

@@ -20,10 +20,17 @@ def wait_idle(qtbot, window, timeout_s: float = 60.0) -> None:
 
 
 def field(window, cls, name: str):
-    """The bound field whose object name is the model path ``name``."""
+    """The bound field in ``window`` (the window, or one of its panels) whose object name
+    is ``name`` (the model path, or the field's label)."""
     widget = window.findChild(cls, name)
     assert widget is not None, f"no field {name}"
     return widget
+
+
+def open_panel(window, title: str):
+    """The window's panel ``title``, its dock raised to the top of its tab group."""
+    window.docks[title].raise_()
+    return window.panels[title]
 
 
 def ground_pixels(window, n: int, margin: float = 0.3) -> list[tuple[int, int, np.ndarray]]:

@@ -10,19 +10,14 @@ from PySide6.QtWidgets import QDoubleSpinBox
 
 from designer.gui.panels.buildings import NEW_EAVE_M, NEW_RISE_M, NEW_SIZE_M
 from designer.project.geometry import point_in_polygon
-from tests.gui.helpers import set_field, wait_idle
+from tests.gui.helpers import field, open_panel, set_field, wait_idle
 
 pytestmark = pytest.mark.gui
 
 
-def _box(panel, name: str) -> QDoubleSpinBox:
-    return next(b for b in panel.findChildren(QDoubleSpinBox) if b.objectName() == name)
-
-
 def test_buildings_are_edited_through_the_undo_stack_and_drawn(qtbot, window):
     w = window
-    panel = w.panels["Buildings"]
-    w.docks["Buildings"].raise_()
+    panel = open_panel(w, "Buildings")
     assert w.document.project.scene.buildings == ()
     assert not panel.remove.isEnabled()
 
@@ -38,17 +33,18 @@ def test_buildings_are_edited_through_the_undo_stack_and_drawn(qtbot, window):
         xy = [(q.X, q.Y) for q in b.footprint]
         assert np.ptp(xy, axis=0) == pytest.approx(NEW_SIZE_M)
         assert not any(point_in_polygon(t.true.X, t.true.Y, xy) for t in p.targets)
-    assert not _box(panel, "Building ridge height").isEnabled()  # the block is flat
+    # the block is flat: it has no ridge
+    assert not field(panel, QDoubleSpinBox, "Building ridge height").isEnabled()
     # both are drawn in the view, standing on the terrain
     drawn = w.view._meshes["buildings"]
     assert drawn.n_cells == 16 + 12  # walls 8, floor 2, and roof 6 (gable) or 2 (flat)
 
-    set_field(qtbot, _box(panel, "Building eave height"), "12")
+    set_field(qtbot, field(panel, QDoubleSpinBox, "Building eave height"), "12")
     panel.roof.setCurrentIndex(panel.roof.findData("hip"))
     wait_idle(qtbot, w)
     block = w.document.project.scene.buildings[1]
     assert (block.roof, block.eave_height_m, block.ridge_height_m) == ("hip", 12.0, 15.0)
-    assert _box(panel, "Building ridge height").isEnabled()
+    assert field(panel, QDoubleSpinBox, "Building ridge height").isEnabled()
 
     panel.chooser.setCurrentIndex(0)
     qtbot.mouseClick(panel.remove, Qt.MouseButton.LeftButton)

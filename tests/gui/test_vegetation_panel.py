@@ -10,21 +10,17 @@ from PySide6.QtWidgets import QDoubleSpinBox
 
 from designer.gui.panels.vegetation import NEW_DENSITY_PER_M2
 from designer.project import model as m
-from tests.gui.helpers import set_field, wait_idle
+from tests.gui.helpers import field, open_panel, set_field, wait_idle
 
 pytestmark = pytest.mark.gui
 
 
-def _box(panel, name: str) -> QDoubleSpinBox:
-    return next(b for b in panel.findChildren(QDoubleSpinBox) if b.objectName() == name)
-
-
 def test_vegetation_is_edited_through_the_undo_stack(qtbot, window):
     w = window
-    panel = w.panels["Vegetation"]
-    w.docks["Vegetation"].raise_()
+    panel = open_panel(w, "Vegetation")
     assert w.document.project.scene.vegetation is None
-    assert not panel.remove.isEnabled() and not _box(panel, "Plant density").isEnabled()
+    density = field(panel, QDoubleSpinBox, "Plant density")
+    assert not panel.remove.isEnabled() and not density.isEnabled()
 
     panel.enabled.setChecked(True)
     wait_idle(qtbot, w)
@@ -39,8 +35,8 @@ def test_vegetation_is_edited_through_the_undo_stack(qtbot, window):
     assert panel.chooser.currentIndex() == 1
     assert "about" in panel.count_label.text()
 
-    set_field(qtbot, _box(panel, "Plant height"), "12")
-    set_field(qtbot, _box(panel, "Plant density"), "0.02")
+    set_field(qtbot, field(panel, QDoubleSpinBox, "Plant height"), "12")
+    set_field(qtbot, field(panel, QDoubleSpinBox, "Plant density"), "0.02")
     wait_idle(qtbot, w)
     tree = w.document.project.scene.vegetation.plants[1]
     assert (tree.height_m, tree.density_per_m2) == (12.0, 0.02)
@@ -50,12 +46,12 @@ def test_vegetation_is_edited_through_the_undo_stack(qtbot, window):
     wait_idle(qtbot, w)
     assert w.document.project.scene.vegetation.wind == m.Wind()
     assert "upright" in panel.wind_note.text()  # the window's project has no time line
-    set_field(qtbot, _box(panel, "scene.vegetation.wind.amplitude_deg"), "8")
+    set_field(qtbot, field(panel, QDoubleSpinBox, "scene.vegetation.wind.amplitude_deg"), "8")
     wait_idle(qtbot, w)
     assert w.document.project.scene.vegetation.wind.amplitude_deg == 8.0
 
     panel.chooser.setCurrentIndex(0)
-    assert _box(panel, "Plant height").value() == 1.0
+    assert field(panel, QDoubleSpinBox, "Plant height").value() == 1.0
     qtbot.mouseClick(panel.remove, Qt.MouseButton.LeftButton)
     wait_idle(qtbot, w)
     assert [g.kind for g in w.document.project.scene.vegetation.plants] == ["tree"]

@@ -6,14 +6,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from designer.project import load_project, read_project
 from designer.project import model as m
-from designer.project.problems import ProjectError
 from designer.scene.buildings import (
     FLOOR,
     ROOF,
@@ -26,7 +24,7 @@ from designer.scene.buildings import (
 )
 from designer.scene.surfaces import true_surface
 from designer.survey.mesh_occlusion import MeshOccluder
-from tests.synthetic import write_project_file
+from tests.synthetic import assert_located_error, write_project_file
 from tests.world.building_helpers import building_project, rectangle
 
 E0, N0 = 500000.0, 5200000.0
@@ -168,12 +166,6 @@ def test_buildings_survive_a_round_trip_through_the_file(tmp_path):
     assert read_project(write_project_file(p, tmp_path)) == p
 
 
-def _load_lines(path: Path) -> list[str]:
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    return info.value.lines
-
-
 def _sub(pattern, repl):
     return lambda t: re.sub(pattern, repl, t, count=1)
 
@@ -220,12 +212,4 @@ TOWER_FP = "500004.5 5199999.0 500005.5 5199999.0 500005.5 5200001.0 500004.5 52
           '<building id="tower" file="x.ply" Y="5200000"/>'), 'file="x.ply"', "needs X and Y"),
 ])
 def test_bad_building_values_are_located_one_line_errors(tmp_path, edit, needle, words):
-    path = write_project_file(building_project(), tmp_path)
-    text = edit(path.read_text())
-    assert text != path.read_text()
-    path.write_text(text)
-    lines = _load_lines(path)
-    line = next(i for i, x in enumerate(text.splitlines(), 1) if needle in x)
-    located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert located and words in located[0], lines
-    assert all("\n" not in x for x in lines)
+    assert_located_error(building_project(), tmp_path, edit, needle, words)

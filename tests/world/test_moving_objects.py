@@ -15,14 +15,13 @@ import pytest
 from designer.core.projection import project_points
 from designer.project import load_project
 from designer.project import model as m
-from designer.project.problems import ProjectError
 from designer.render.job import prepare_job
 from designer.render.moving_truth import read_positions_csv
 from designer.render.pipeline import render_project
 from designer.render.provenance import job_provenance
 from designer.scene.moving import path_xy_heading
 from designer.study.factors import FACTORS
-from tests.synthetic import write_project_file
+from tests.synthetic import assert_located_error, write_project_file
 from tests.world.helpers import ORIGIN
 from tests.world.moving_helpers import BOX_SIZE_M, RED, SPEED_M_S, moving_project, srgb_to_linear
 
@@ -141,12 +140,6 @@ def test_poses_wait_at_the_ends_or_loop():
     assert path_xy_heading(ring, 5.0 + 25 / 2.0)[2] == pytest.approx(225.0)
 
 
-def _load_lines(path: Path) -> list[str]:
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    return info.value.lines
-
-
 @pytest.mark.parametrize(("edit", "needle", "words"), [
     (lambda t: t.replace('speed-m-s="1.5"', 'speed-m-s="0"'), "<path", "speed-m-s"),
     (lambda t: t.replace('speed-m-s="1.5"', 'speed-m-s="-2"'), "<path", "speed-m-s"),
@@ -162,14 +155,7 @@ def _load_lines(path: Path) -> list[str]:
         ' time-s="0.0"', ""), 'shape="box"', "time-line"),
 ])
 def test_bad_moving_object_values_are_located_one_line_errors(tmp_path, edit, needle, words):
-    path = write_project_file(moving_project(TIMES_S), tmp_path)
-    text = edit(path.read_text())
-    assert text != path.read_text()
-    path.write_text(text)
-    lines = _load_lines(path)
-    line = next(i for i, x in enumerate(text.splitlines(), 1) if needle in x)
-    located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert located and words in located[0], lines
+    assert_located_error(moving_project(TIMES_S), tmp_path, edit, needle, words)
 
 
 def test_moving_objects_survive_a_round_trip_through_the_file(tmp_path):

@@ -13,7 +13,6 @@ import pytest
 
 from designer.project import load_project
 from designer.project import model as m
-from designer.project.problems import ProjectError
 from designer.scene.build import build_heightfield, build_terrain_mesh
 from designer.scene.surfaces import Ground, true_surface
 from designer.scene.vegetation import (
@@ -24,7 +23,7 @@ from designer.scene.vegetation import (
     sway_axis,
     vegetation_mesh_world,
 )
-from tests.synthetic import write_project_file
+from tests.synthetic import assert_located_error, write_project_file
 from tests.world.helpers import ORIGIN
 from tests.world.vegetation_helpers import WIND, vegetation_project
 
@@ -157,12 +156,6 @@ def test_vegetation_survives_a_round_trip_through_the_file(tmp_path):
     assert veg == m.Vegetation((m.PlantGroup(0.01, "tree"),))
 
 
-def _load_lines(path: Path) -> list[str]:
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    return info.value.lines
-
-
 @pytest.mark.parametrize(("edit", "needle", "words"), [
     (lambda t: t.replace('density-per-m2="0.25"', 'density-per-m2="0"'), "<plants",
      "density-per-m2"),
@@ -193,15 +186,8 @@ def _load_lines(path: Path) -> list[str]:
      "clearance-m"),
 ])
 def test_bad_vegetation_values_are_located_one_line_errors(tmp_path, edit, needle, words):
-    path = write_project_file(vegetation_project(), tmp_path)
-    text = edit(path.read_text())
-    assert text != path.read_text()
-    path.write_text(text)
-    lines = _load_lines(path)
-    line = next(i for i, x in enumerate(text.splitlines(), 1) if needle in x)
-    located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert any(words in x for x in located), lines
-    assert all("\n" not in x for x in lines)
+    assert_located_error(vegetation_project(), tmp_path, edit, needle, words,
+                         any_located=True)
 
 
 def test_on_a_mesh_terrain_plants_stand_on_the_nearest_vertex():
