@@ -50,5 +50,6 @@ def edge_neighbours(faces, normal, n_vertices: int) -> tuple[np.ndarray, np.ndar
     returned (E, 3) sums of their normals (the pseudo-normal of such an edge)."""
     faces = _i8(faces).reshape(-1, 3)
     neighbour = np.empty((len(faces), 3), dtype=np.int64)
-    sums = ckernels().edge_neighbours(faces, len(faces), n_vertices, _f8(normal), neighbour)
+    sums = ckernels().edge_neighbours(faces, len(faces), n_vertices, _f8(normal), neighbour,
+                                      threads())
     return neighbour, np.frombuffer(sums, dtype=np.float64).reshape(-1, 3).copy()

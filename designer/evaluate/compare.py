@@ -125,7 +125,11 @@ def compare_cloud(
     """
     from designer.evaluate.distance import build_mesh_index, signed_distances
     from designer.evaluate.figures import take_figure_writer
-    from designer.evaluate.maps import grid_errors, write_error_map_npy
+    from designer.evaluate.maps import (
+        grid_errors,
+        write_error_map_geotiff,
+        write_error_map_npy,
+    )
     from designer.evaluate.report import write_report
     from designer.evaluate.writers import write_distances_ply
 
@@ -157,8 +161,8 @@ def compare_cloud(
                 grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
                 figures.submit("write_error_map_png", out / files["error_map"], grid,
                                limit_m=stats["abs_q95"] or None)
-                figures.submit("write_error_map_geotiff", out / files["error_map_geotiff"],
-                               grid, mesh.crs)
+                # here, not in the figure thread: both threads finish together
+                write_error_map_geotiff(out / files["error_map_geotiff"], grid, mesh.crs)
                 write_error_map_npy(out / files["error_map_npy"], grid)
             except BaseException:
                 if ply.exception() is None:  # (waits for it) no results of a failed run

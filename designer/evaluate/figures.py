@@ -43,6 +43,8 @@ class FigureWriter:
         try:
             if self._after is not None:
                 self._after.wait()
+            # the GeoTIFF writer's import, which the caller would otherwise pay later
+            import rasterio  # noqa: F401
             from matplotlib.backends import backend_agg  # noqa: F401
             from matplotlib.figure import Figure  # noqa: F401
 

@@ -164,3 +164,63 @@ def test_bad_input_is_a_one_line_error():
         signed_distances(np.zeros((1, 3)), (np.eye(3), np.array([[0, 1, 3]])))
     with pytest.raises(DesignerError, match="max distance"):
         signed_distances(np.zeros((1, 3)), (np.eye(3), np.array([[0, 1, 2]])), max_distance=-1)
+
+
+def _reference_neighbours(faces, normal):
+    """The face across each edge, -1 on a boundary, -2 - e for edge e of 3+ faces
+    (numbered here by first appearance), and the normal sums of those edges."""
+    by_edge: dict[tuple[int, int], list[int]] = {}
+    for f, face in enumerate(faces):
+        for k in range(3):
+            a, b = int(face[k]), int(face[(k + 1) % 3])
+            by_edge.setdefault((min(a, b), max(a, b)), []).append(3 * f + k)
+    neighbour = np.full((len(faces), 3), -1)
+    crowded = {}
+    for key, slots in by_edge.items():
+        if len(slots) == 2:
+            neighbour.flat[slots[0]], neighbour.flat[slots[1]] = slots[1] // 3, slots[0] // 3
+        elif len(slots) >= 3:
+            crowded[key] = slots
+    return neighbour, crowded
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_edge_neighbours_match_a_dictionary_of_edges(seed):
+    from designer.evaluate import _topology
+
+    rng = np.random.default_rng(seed)
+    # a small vertex pool: many edges shared by two, three or more faces, some faces
+    # with a repeated corner
+    vertices = rng.normal(size=(12, 3))
+    faces = rng.integers(0, 12, size=(60, 3))
+    _tri, normal, _angle = _topology.face_geometry(vertices, faces)
+    neighbour, sums = _topology.edge_neighbours(faces, normal, len(vertices))
+    expected, crowded = _reference_neighbours(faces, normal)
+    assert crowded, "the random mesh should have edges of three or more faces"
+    plain = neighbour >= -1
+    assert np.array_equal(neighbour[plain], expected[plain])
+    # every edge of 3+ faces: the same number on all its faces, whose normals it sums
+    assert len(sums) == len(crowded)
+    seen = set()
+    for slots in crowded.values():
+        numbers = {int(neighbour.flat[s]) for s in slots}
+        assert len(numbers) == 1 and numbers.pop() <= -2
+        e = -2 - int(neighbour.flat[slots[0]])
+        seen.add(e)
+        assert np.allclose(sums[e], normal[[s // 3 for s in slots]].sum(axis=0), atol=1e-15)
+    assert seen == set(range(len(crowded)))
+    assert (neighbour < -1).sum() == sum(len(s) for s in crowded.values())
+
+
+def test_a_fin_on_a_sheet_takes_the_sign_of_the_summed_normals():
+    # two triangles of a flat sheet and a vertical fin share the edge (0, 1)
+    vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1]])
+    faces = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    points = np.array([[0.5, 0.0, 0.2], [0.5, -0.3, -0.1], [1.3, 0.0, 0.1], [0.5, 0.4, 0.3]])
+    d = signed_distances(points, (vertices, faces))
+    assert np.allclose(np.abs(d), brute_distances(points, vertices, faces), atol=1e-12)
+    index = build_mesh_index((vertices, faces))
+    assert len(index.crowded_edge_normals) == 1
+    # the pseudo-normal of the edge is the sum of the three face normals
+    n = np.array([[0, 0, 1.0], [0, 0, 1.0], [0, -1.0, 0]])
+    assert np.allclose(index.crowded_edge_normals[0], n.sum(axis=0))

@@ -45,7 +45,7 @@ void vertex_normals(const int64_t *faces, int64_t m, const double *normal, const
 /* neighbour (M, 3); *sums (E, 3) is malloc'ed (free() it), *n_crowded = E; returns 0, or
  * -1 when out of memory */
 int edge_neighbours(const int64_t *faces, int64_t m, int64_t n_vertices, const double *normal,
-                    int64_t *neighbour, double **sums, int64_t *n_crowded);
+                    int64_t *neighbour, double **sums, int64_t *n_crowded, int n_threads);
 
 /* grid.c: nearest point to each cell centre of a north-up grid (returns 0, -1 on memory) */
 int nearest_point_grid(const double *x, const double *y, int64_t n, int64_t rows,

@@ -218,7 +218,8 @@ static PyObject *py_edge_neighbours(PyObject *self, PyObject *args)
     /* returns the crowded-edge normal sums as bytes (E * 3 doubles) */
     Py_buffer v[3] = {{0}};
     Py_ssize_t m, nv;
-    if (!PyArg_ParseTuple(args, "y*nny*w*", &v[0], &m, &nv, &v[1], &v[2]))
+    int threads;
+    if (!PyArg_ParseTuple(args, "y*nny*w*i", &v[0], &m, &nv, &v[1], &v[2], &threads))
         return NULL;
     PyObject *result = NULL;
     if (sized(&v[0], 3 * m, I, "faces") && sized(&v[1], 3 * m, D, "normal")
@@ -227,7 +228,7 @@ static PyObject *py_edge_neighbours(PyObject *self, PyObject *args)
         int64_t crowded = 0;
         int status;
         Py_BEGIN_ALLOW_THREADS
-        status = edge_neighbours(v[0].buf, m, nv, v[1].buf, v[2].buf, &sums, &crowded);
+        status = edge_neighbours(v[0].buf, m, nv, v[1].buf, v[2].buf, &sums, &crowded, threads);
         Py_END_ALLOW_THREADS
         if (status != 0)
             PyErr_NoMemory();
@@ -302,7 +303,7 @@ static PyMethodDef methods[] = {
     {"vertex_normals", py_vertex_normals, METH_VARARGS,
      "vertex_normals(faces i8 (m,3), m, normal, angle, vert f8 (v,3) zeroed, v)"},
     {"edge_neighbours", py_edge_neighbours, METH_VARARGS,
-     "edge_neighbours(faces i8 (m,3), m, v, normal f8 (m,3), neighbour i8 (m,3)) -> bytes"},
+     "edge_neighbours(faces i8 (m,3), m, v, normal f8 (m,3), neighbour i8 (m,3), threads) -> bytes"},
     {"nearest_point_grid", py_nearest_point_grid, METH_VARARGS,
      "nearest_point_grid(x f8 (n,), y f8 (n,), n, rows, cols, cell, gap, out i8, threads)"},
     {"highest_surface", py_highest_surface, METH_VARARGS,

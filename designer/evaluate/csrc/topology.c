@@ -7,6 +7,7 @@
  * hashing of every edge is needed; only vertices on open edges are hashed, to weld
  * corners that were split with bit-identical coordinates. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -116,93 +117,104 @@ void vertex_normals(const int64_t *faces, int64_t m, const double *normal, const
         }
 }
 
+#define CROWDED INT64_MIN  /* an edge of three or more faces, not numbered yet */
+
+typedef struct {
+    const int64_t *faces, *first, *edges;
+    int64_t *neighbour;
+    _Atomic int64_t crowded;
+} bucket_ctx;
+
+static inline int64_t other_end(const int64_t *faces, int64_t e)
+{
+    /* the larger vertex of edge e = 3 face + k (corners k, k + 1) */
+    int64_t a = faces[e], b = faces[e - e % 3 + (e % 3 + 1) % 3];
+    return a > b ? a : b;
+}
+
+static void match_buckets(void *arg, int64_t v0, int64_t v1)
+{
+    /* edges sharing their smaller vertex v are matched by their larger one: two faces
+     * on an edge are each other's neighbour, one face has none, three or more are
+     * "crowded" (marked CROWDED here, numbered afterwards) */
+    bucket_ctx *c = arg;
+    int64_t crowded = 0;
+    for (int64_t v = v0; v < v1; v++) {
+        for (int64_t i = c->first[v]; i < c->first[v + 1]; i++) {
+            int64_t e = c->edges[i], b = other_end(c->faces, e);
+            int64_t same = 0, mate = -1;
+            for (int64_t j = c->first[v]; j < c->first[v + 1]; j++)
+                if (j != i && other_end(c->faces, c->edges[j]) == b)
+                    same++, mate = c->edges[j];
+            c->neighbour[e] = same == 0 ? -1 : (same == 1 ? mate / 3 : CROWDED);
+            crowded += same >= 2;
+        }
+    }
+    atomic_fetch_add(&c->crowded, crowded);
+}
+
 int edge_neighbours(const int64_t *faces, int64_t m, int64_t n_vertices, const double *normal,
-                    int64_t *neighbour, double **sums_out, int64_t *n_crowded)
+                    int64_t *neighbour, double **sums_out, int64_t *n_crowded, int n_threads)
 {
     /* the face across edge k (corners k, k + 1) of each face: -1 on a boundary edge;
      * -2 - e where three or more faces share the edge, e indexing the sums of their
-     * normals (the pseudo-normal of such an edge) */
+     * normals (the pseudo-normal of such an edge). Edges are grouped by their smaller
+     * vertex (a counting sort), then matched within each group. */
     int64_t *first = calloc(n_vertices + 1, sizeof(int64_t));
-    int64_t *fill = malloc(sizeof(int64_t) * (n_vertices + 1));
-    int64_t *slot_other = malloc(sizeof(int64_t) * 3 * m);
-    int64_t *slot_edge = malloc(sizeof(int64_t) * 3 * m);  /* 3 face + k of the first face */
-    int64_t *slot_count = calloc(3 * m, sizeof(int64_t));
-    int64_t *slot_of = malloc(sizeof(int64_t) * 3 * m);
-    int64_t *index = NULL;
+    int64_t *fill = malloc(sizeof(int64_t) * (n_vertices > 0 ? n_vertices : 1));
+    int64_t *edges = malloc(sizeof(int64_t) * (m > 0 ? 3 * m : 1));
     double *sums = NULL;
     int status = -1;
-    if (!first || !fill || !slot_other || !slot_edge || !slot_count || !slot_of)
+    if (!first || !fill || !edges)
         goto done;
-    /* edges grouped by their smaller vertex (a counting sort), then matched in-bucket */
-    for (int64_t f = 0; f < m; f++)
-        for (int k = 0; k < 3; k++) {
-            int64_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
-            first[(a < b ? a : b) + 1]++;
-        }
+    for (int64_t e = 0; e < 3 * m; e++) {
+        int64_t a = faces[e], b = faces[e - e % 3 + (e % 3 + 1) % 3];
+        first[(a < b ? a : b) + 1]++;
+    }
     for (int64_t v = 0; v < n_vertices; v++)
         first[v + 1] += first[v];
     memcpy(fill, first, sizeof(int64_t) * n_vertices);
-    for (int64_t i = 0; i < 3 * m; i++)
-        neighbour[i] = -1;
-    int64_t crowded = 0;
-    for (int64_t f = 0; f < m; f++)
-        for (int k = 0; k < 3; k++) {
-            int64_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
-            if (a > b) {
-                int64_t s = a;
-                a = b, b = s;
-            }
-            int64_t s = first[a];
-            while (s < fill[a] && slot_other[s] != b)
-                s++;
-            if (s == fill[a]) {
-                slot_other[s] = b;
-                slot_edge[s] = 3 * f + k;
-                fill[a]++;
-            } else if (slot_count[s] == 1) {
-                int64_t g = slot_edge[s];
-                neighbour[3 * f + k] = g / 3;
-                neighbour[g] = f;  /* row g / 3, column g % 3 */
-            }
-            slot_count[s]++;
-            if (slot_count[s] == 3)
-                crowded++;
-            slot_of[3 * f + k] = s;
-        }
-    sums = calloc(crowded > 0 ? 3 * crowded : 1, sizeof(double));
-    if (sums == NULL)
-        goto done;
-    if (crowded) {
-        index = malloc(sizeof(int64_t) * 3 * m);
-        if (index == NULL)
+    for (int64_t e = 0; e < 3 * m; e++) {
+        int64_t a = faces[e], b = faces[e - e % 3 + (e % 3 + 1) % 3];
+        edges[fill[a < b ? a : b]++] = e;
+    }
+    bucket_ctx c = {faces, first, edges, neighbour};
+    atomic_init(&c.crowded, 0);
+    parallel_for(n_vertices, 1 << 14, n_threads, match_buckets, &c);
+    int64_t crowded_edges = 0;
+    if (atomic_load(&c.crowded) > 0) {
+        /* number each crowded edge (in vertex order) and sum its faces' normals */
+        sums = calloc(atomic_load(&c.crowded) * 3, sizeof(double));  /* >= edges * 3 */
+        if (sums == NULL)
             goto done;
-        for (int64_t i = 0; i < 3 * m; i++)
-            index[i] = -1;
-        int64_t e = 0;
-        for (int64_t f = 0; f < m; f++)
-            for (int k = 0; k < 3; k++) {
-                int64_t s = slot_of[3 * f + k];
-                if (slot_count[s] < 3)
-                    continue;
-                if (index[s] < 0)
-                    index[s] = e++;
-                for (int c = 0; c < 3; c++)
-                    sums[3 * index[s] + c] += normal[3 * f + c];
-                neighbour[3 * f + k] = -2 - index[s];
+        for (int64_t v = 0; v < n_vertices; v++)
+            for (int64_t i = first[v]; i < first[v + 1]; i++) {
+                int64_t e = edges[i];
+                if (neighbour[e] != CROWDED)
+                    continue;  /* not crowded, or already numbered with its group */
+                int64_t b = other_end(faces, e), id = crowded_edges++;
+                for (int64_t j = i; j < first[v + 1]; j++) {
+                    int64_t g = edges[j];
+                    if (neighbour[g] == CROWDED && other_end(faces, g) == b) {
+                        for (int a = 0; a < 3; a++)
+                            sums[3 * id + a] += normal[3 * (g / 3) + a];
+                        neighbour[g] = -2 - id;
+                    }
+                }
             }
+    } else {
+        sums = calloc(1, sizeof(double));
+        if (sums == NULL)
+            goto done;
     }
     *sums_out = sums;
-    *n_crowded = crowded;
+    *n_crowded = crowded_edges;
     sums = NULL;
     status = 0;
 done:
     free(first);
     free(fill);
-    free(slot_other);
-    free(slot_edge);
-    free(slot_count);
-    free(slot_of);
-    free(index);
+    free(edges);
     free(sums);
     return status;
 }
