@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -134,6 +135,9 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
 
 def run(args) -> int:
     from designer.cli.main import exit_at_once_when_done
+    # before numpy loads OpenBLAS (nothing has imported numpy yet in a `designer compare`
+    # process; called in-process, this changes nothing): see _tune_process
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     from designer.evaluate import figures
 
     _tune_process()
@@ -155,6 +159,10 @@ def _tune_process() -> None:
     * The figure thread imports matplotlib (pure Python, holding the GIL) while this
       thread hands the inputs to the kernels in many short steps: a 0.5 ms switch
       interval instead of 5 ms lets each step start without waiting (-0.05 s).
+    * OpenBLAS (set before numpy loads, in :func:`run`): the comparison's BLAS calls
+      are small (matplotlib's transforms), yet after each one OpenBLAS's worker threads
+      spin on ``sched_yield`` for a while, taking CPU time the kernels need (7 % of the
+      process's CPU time, by ``perf``): one BLAS thread.
     * numpy asks the kernel for transparent huge pages for large arrays; where the
       system compacts memory to find them (THP defrag "madvise", the default of many
       distributions) the first touch of the mesh index's few hundred MB costs more in

@@ -95,7 +95,10 @@ def build_mesh_index(mesh) -> MeshIndex:
     origin = 0.5 * (lo + hi)
     local = np.ascontiguousarray(vertices - origin)
     codes = _bvh.centroid_codes(local, faces.astype(np.int64, copy=False), lo - origin,
-                             _morton_scale(lo, hi))
+                                _morton_scale(lo, hi))
+    # 16 bits per axis (cells of 1/65536 of the mesh's extent) order the triangles as
+    # well as 21 and sort in three passes instead of four
+    codes >>= np.uint64(15)
     order = _bvh.radix_argsort(codes)
     codes = codes[order]
     faces = np.ascontiguousarray(faces[order], dtype=np.int64)

@@ -18,6 +18,7 @@
 #define LEAF_SIZE 8
 #define STACK 256  /* deeper than any tree built here: <= 63 bit splits + log2(M) middle splits */
 #define BLOCK 512  /* points per parallel work item; consecutive points warm-start each other */
+#define PREFETCH 8  /* points ahead whose coordinates and distance are fetched early */
 
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
@@ -313,6 +314,11 @@ static void query_blocks(void *arg, int64_t b0, int64_t b1)
         int64_t end = (b + 1) * BLOCK < c->n ? (b + 1) * BLOCK : c->n;
         for (int64_t k = b * BLOCK; k < end; k++) {
             int64_t i = c->order[k];
+            if (k + PREFETCH < end) { /* the cloud is read and written in Morton order */
+                int64_t ahead = c->order[k + PREFETCH];
+                __builtin_prefetch(c->points + 3 * ahead);
+                __builtin_prefetch(c->dist + ahead, 1);
+            }
             const double *p = c->points + 3 * i;
             double px = p[0] - c->origin[0], py = p[1] - c->origin[1], pz = p[2] - c->origin[2];
             double best = c->limit_d2;

@@ -132,21 +132,30 @@ static inline int64_t other_end(const int64_t *faces, int64_t e)
     return a > b ? a : b;
 }
 
+#define SMALL_BUCKET 64
+
 static void match_buckets(void *arg, int64_t v0, int64_t v1)
 {
     /* edges sharing their smaller vertex v are matched by their larger one: two faces
      * on an edge are each other's neighbour, one face has none, three or more are
      * "crowded" (marked CROWDED here, numbered afterwards) */
     bucket_ctx *c = arg;
-    int64_t crowded = 0;
+    int64_t crowded = 0, others[SMALL_BUCKET];
     for (int64_t v = v0; v < v1; v++) {
-        for (int64_t i = c->first[v]; i < c->first[v + 1]; i++) {
-            int64_t e = c->edges[i], b = other_end(c->faces, e);
+        int64_t lo = c->first[v], n = c->first[v + 1] - lo;
+        const int64_t *edges = c->edges + lo;
+        if (n <= SMALL_BUCKET)
+            for (int64_t j = 0; j < n; j++)
+                others[j] = other_end(c->faces, edges[j]);
+        for (int64_t i = 0; i < n; i++) {
+            int64_t b = n <= SMALL_BUCKET ? others[i] : other_end(c->faces, edges[i]);
             int64_t same = 0, mate = -1;
-            for (int64_t j = c->first[v]; j < c->first[v + 1]; j++)
-                if (j != i && other_end(c->faces, c->edges[j]) == b)
-                    same++, mate = c->edges[j];
-            c->neighbour[e] = same == 0 ? -1 : (same == 1 ? mate / 3 : CROWDED);
+            for (int64_t j = 0; j < n; j++) {
+                int64_t o = n <= SMALL_BUCKET ? others[j] : other_end(c->faces, edges[j]);
+                if (j != i && o == b)
+                    same++, mate = edges[j];
+            }
+            c->neighbour[edges[i]] = same == 0 ? -1 : (same == 1 ? mate / 3 : CROWDED);
             crowded += same >= 2;
         }
     }
@@ -167,17 +176,19 @@ int edge_neighbours(const int64_t *faces, int64_t m, int64_t n_vertices, const d
     int status = -1;
     if (!first || !fill || !edges)
         goto done;
-    for (int64_t e = 0; e < 3 * m; e++) {
-        int64_t a = faces[e], b = faces[e - e % 3 + (e % 3 + 1) % 3];
-        first[(a < b ? a : b) + 1]++;
-    }
+    for (int64_t f = 0; f < m; f++)
+        for (int k = 0; k < 3; k++) {
+            int64_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
+            first[(a < b ? a : b) + 1]++;
+        }
     for (int64_t v = 0; v < n_vertices; v++)
         first[v + 1] += first[v];
     memcpy(fill, first, sizeof(int64_t) * n_vertices);
-    for (int64_t e = 0; e < 3 * m; e++) {
-        int64_t a = faces[e], b = faces[e - e % 3 + (e % 3 + 1) % 3];
-        edges[fill[a < b ? a : b]++] = e;
-    }
+    for (int64_t f = 0; f < m; f++)
+        for (int k = 0; k < 3; k++) {
+            int64_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
+            edges[fill[a < b ? a : b]++] = 3 * f + k;
+        }
     bucket_ctx c = {faces, first, edges, neighbour};
     atomic_init(&c.crowded, 0);
     parallel_for(n_vertices, 1 << 14, n_threads, match_buckets, &c);
