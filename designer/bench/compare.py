@@ -32,10 +32,11 @@ Figures per tool:
   the terrain surface at its X, Y?).
 
 First run after installation: every designer process of the benchmark uses an empty
-numba cache (``NUMBA_CACHE_DIR``) and matplotlib configuration folder
-(``MPLCONFIGDIR``) of its own. Installation is ``designer warmup`` (what ``make setup``
-runs after ``pip install``), timed; the first ``designer compare`` after it is the cold
-run, compared with the best warm run of the same case.
+matplotlib configuration folder (``MPLCONFIGDIR``) of its own (matplotlib builds its
+font cache there on first use; the comparison's kernels are C, compiled by ``pip
+install``, so nothing else is built at run time). Installation is ``designer warmup``
+(what ``make setup`` runs after ``pip install``), timed; the first ``designer compare``
+after it is the cold run, compared with the best warm run of the same case.
 """
 
 from __future__ import annotations
@@ -108,14 +109,13 @@ def _write_cloud(path: Path, xyz: np.ndarray) -> None:
 
 
 def _designer_env(tmp: Path) -> dict:
-    """Environment of the designer processes: this package, a numba cache and a
-    matplotlib configuration of their own (empty at first: a fresh installation)."""
+    """Environment of the designer processes: this package and a matplotlib
+    configuration of their own (empty at first: a fresh installation)."""
     import designer
 
     env = dict(os.environ)
     root = str(Path(designer.__file__).resolve().parents[1])
     env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
-    env["NUMBA_CACHE_DIR"] = str(tmp / "numba-cache")
     env["MPLCONFIGDIR"] = str(tmp / "mplconfig")
     return env
 
@@ -203,7 +203,7 @@ def _agreement(d: np.ndarray, ref: np.ndarray, truth_sign: np.ndarray) -> dict:
 def run(repeats: int = 3, scale: float = 1.0, first_run: bool = True) -> list[dict]:
     """Rows of the side-by-side table, then (with ``first_run``) one row (``tool``
     "install") with the warm-up and first-run figures; ``scale`` shrinks the data for
-    tests. Without ``first_run`` the kernels are compiled untimed before the first case."""
+    tests. Without ``first_run`` the warm-up runs untimed before the first case."""
     cc_skip = cloudcompare_skip_reason()
     try:
         import pyvista  # noqa: F401
@@ -312,7 +312,7 @@ def format_table(rows: list[dict]) -> str:
         lines.append(f"{tool} skipped: {reason}")
     if install is not None:
         lines.append(
-            f"installation (designer warmup, empty numba cache): {install['warmup_s']:.1f} s; "
+            f"installation (designer warmup, empty matplotlib cache): {install['warmup_s']:.1f} s; "
             f"first designer compare after it {install['first_run_s']:.2f} s, warm "
             f"{install['warm_run_s']:.2f} s: first / warm = "
             f"{install['first_run_s'] / install['warm_run_s']:.2f} ({install['case']})")

@@ -1,8 +1,8 @@
 """Accuracy assessment: point clouds against the true mesh, GCP and camera pose errors.
 
-Layer: evaluation (numpy, scipy, numba; matplotlib and rasterio lazily). Nothing here
-imports Blender or Qt. The public functions take data, not paths, except the readers
-and writers:
+Layer: evaluation (numpy, scipy, compiled C kernels; matplotlib and rasterio lazily).
+Nothing here imports Blender or Qt. The public functions take data, not paths, except
+the readers and writers:
 
 * :func:`signed_distances` / :func:`build_mesh_index` — exact signed point-to-mesh
   distances (:mod:`.distance`);

@@ -1,4 +1,4 @@
-"""Write the figure products (histogram and error-map PNGs, GeoTIFF) in a helper thread.
+"""Write the figure products (histogram and error-map PNGs) in a helper thread.
 
 Importing matplotlib costs about a third of a second and drawing a figure a few tenths
 more, single-threaded Python. :class:`FigureWriter` does both in a thread: it imports
@@ -26,8 +26,7 @@ JOBS = ("write_histogram_png", "write_error_map_png", "write_error_map_geotiff")
 class FigureWriter:
     """A thread running :mod:`.maps` writers in submission order.
 
-    ``after``: an event to wait for before importing matplotlib (``designer compare``
-    lets the compiled kernels load first, as both are GIL-bound Python work).
+    ``after``: an event to wait for before importing matplotlib.
     """
 
     def __init__(self, after: threading.Event | None = None) -> None:
@@ -43,7 +42,7 @@ class FigureWriter:
         try:
             if self._after is not None:
                 self._after.wait()
-            # the GeoTIFF writer's import, which the caller would otherwise pay later
+            # matplotlib, and rasterio for the caller's GeoTIFF writer
             import rasterio  # noqa: F401
             from matplotlib.backends import backend_agg  # noqa: F401
             from matplotlib.figure import Figure  # noqa: F401
