@@ -69,3 +69,25 @@ def test_written_maps(tmp_path):
     write_error_map_geotiff(tmp_path / "free.tif", grid, "my local grid")
     npy = write_error_map_npy(tmp_path / "map.npy", grid)
     assert np.array_equal(np.load(npy), grid.values, equal_nan=True)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_ring_search_equals_brute_force_with_ties_gaps_and_points_outside(seed):
+    from designer.evaluate._grid import nearest_point_grid
+
+    rng = np.random.default_rng(seed)
+    rows, cols, cell, gap = 23, 31, 1.0, 2.6
+    # clusters, empty stretches, quarter-cell lattice points (many equal distances,
+    # duplicates) and points beyond the grid, which are bucketed into its edge cells
+    x = np.concatenate([rng.uniform(0, 8, 150), rng.uniform(20, 31, 100),
+                        rng.integers(0, 4 * cols, 120) / 4.0, rng.uniform(-5, 36, 30)])
+    y = -np.concatenate([rng.uniform(0, 23, 150), rng.uniform(10, 15, 100),
+                         rng.integers(0, 4 * rows, 120) / 4.0, rng.uniform(-5, 28, 30)])
+    got = nearest_point_grid(x, y, rows, cols, cell, gap)
+    cy, cx = np.meshgrid(-(np.arange(rows) + 0.5) * cell, (np.arange(cols) + 0.5) * cell,
+                         indexing="ij")
+    d2 = (x[None, :] - cx.ravel()[:, None]) ** 2 + (y[None, :] - cy.ravel()[:, None]) ** 2
+    expected = np.argmin(d2, axis=1)  # the first (lowest index) of equal distances
+    expected[d2.min(axis=1) >= gap * gap] = -1
+    assert np.array_equal(got, expected)
+    assert (got == -1).any() and (got >= 0).any()

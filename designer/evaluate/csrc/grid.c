@@ -60,8 +60,9 @@ static void search_rows(void *arg, int64_t i0, int64_t i1)
             double best = gap2;
             int64_t best_p = -1;
             for (int64_t r = 0; r <= reach; r++) {
-                if (r >= 1 && (r - 0.5) * cell * ((r - 0.5) * cell) >= best)
-                    break; /* every point of this ring and beyond is farther */
+                if (r >= 1 && (r - 0.5) * cell * ((r - 0.5) * cell) > best)
+                    break; /* every point of this ring and beyond is farther (an equally
+                            * near one may still win the tie on its lower index) */
                 int64_t ii_end = i + r + 1 < rows ? i + r + 1 : rows;
                 for (int64_t ii = i - r > 0 ? i - r : 0; ii < ii_end; ii++) {
                     int ring_row = ii == i - r || ii == i + r;
