@@ -126,7 +126,9 @@ def write_error_map_png(path: str | os.PathLike, grid: ErrorGrid, *,
                       cmap="RdBu_r", vmin=-limit_m, vmax=limit_m, interpolation="nearest")
     cbar = fig.colorbar(image, ax=ax, extend="both", shrink=0.85)
     cbar.set_label(label)
-    ax.set_title(f"{title} ({grid.cell_m:g} m cells)")
+    # y given: the title sits where matplotlib would put it (no ticks on top), without
+    # measuring the axis' tight box on every draw (a fifth of the figure's time)
+    ax.set_title(f"{title} ({grid.cell_m:g} m cells)", y=1.0)
     ax.set_xlabel("easting (m)")
     ax.set_ylabel("northing (m)")
     ax.ticklabel_format(useOffset=False, style="plain")
@@ -156,7 +158,8 @@ def write_histogram_png(path: str | os.PathLike, stats: dict, *,
     ax.set_ylabel("count")
     outside = h["below"] + h["above"]
     note = f"; {outside} outside the plotted range" if outside else ""
-    ax.set_title(f"{title}: n = {stats['n']}, RMSE {stats['rmse']:.4f} m{note}", fontsize=10)
+    ax.set_title(f"{title}: n = {stats['n']}, RMSE {stats['rmse']:.4f} m{note}", fontsize=10,
+                 y=1.0)  # placed as matplotlib would, without measuring (see above)
     ax.legend(fontsize=8)
     fig.subplots_adjust(**HISTOGRAM_MARGINS)
     return _save(fig, path)
