@@ -134,16 +134,17 @@ def extra_errors(args) -> tuple[dict | None, dict | None]:
 
 
 def run(args) -> int:
-    from designer.cli.main import exit_at_once_when_done
+    from designer.cli.main import exit_at_once_when_done, running_as_program
     # before numpy loads OpenBLAS (nothing has imported numpy yet in a `designer compare`
     # process; called in-process, this changes nothing): see _tune_process
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     from designer.evaluate import figures
 
     _tune_process()
-    # Start what does not depend on the inputs first: the figure thread imports
-    # matplotlib while the inputs are read and the kernels compute.
-    figures.prestart()
+    # Start what does not depend on the inputs first: the figure writer imports
+    # matplotlib while the inputs are read and the kernels compute. The program draws
+    # its two figures in two processes at once (forked now, while it has one thread).
+    figures.prestart(processes=running_as_program())
     try:
         code = _compare(args)
     finally:

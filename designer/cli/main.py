@@ -83,6 +83,13 @@ def main(argv: list[str] | None = None) -> int:
 
 #: set by a command whose every product is written, closed and reported (see :func:`entry`)
 _exit_at_once = False
+_as_program = False
+
+
+def running_as_program() -> bool:
+    """True in the ``designer`` program (:func:`entry`), False when :func:`main` is
+    called in-process (tests, scripts)."""
+    return _as_program
 
 
 def exit_at_once_when_done() -> None:
@@ -103,6 +110,8 @@ def entry() -> None:
     after flushing its output. Called in-process (tests, scripts), :func:`main` returns
     normally and nothing is skipped.
     """
+    global _as_program
+    _as_program = True
     try:
         code = main()
         if _exit_at_once:

@@ -139,8 +139,9 @@ def compare_cloud(
     files = {"distances": "distances.ply", "histogram": "histogram.png",
              "error_map": "error_map.png", "error_map_geotiff": "error_map.tif",
              "error_map_npy": "error_map.npy"}
-    # the figures are drawn in a thread (started before the distances, so its imports
-    # overlap them) while this thread writes the other products
+    # the figures are drawn by the writer started before the distances, so its imports
+    # overlap them (a thread, or two processes for `designer compare`), while this
+    # thread writes the other products
     with take_figure_writer() as figures:
         t0 = time.perf_counter()
         index = build_mesh_index((mesh.vertices, mesh.faces))
@@ -149,16 +150,18 @@ def compare_cloud(
         t2 = time.perf_counter()
         if not np.isfinite(d).any():  # before any file is written
             distance_statistics(d, tolerances)  # raises its one-line error
-        # the largest file is written in its own thread (copying and file output release
-        # the GIL) while the statistics and the error map are computed
-        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="designer-ply") as pool:
+        # the largest file, and the error map's grid, in threads of their own (copying,
+        # file output and the grid's kernel release the GIL) while the statistics are
+        # computed
+        with ThreadPoolExecutor(max_workers=2, thread_name_prefix="designer-products") as pool:
             ply = pool.submit(write_distances_ply, out / files["distances"], cloud.xyz, d,
                               rgb=cloud.rgb, normals=cloud.normals,
                               comments=(f"reference mesh {Path(mesh.source).name}",))
+            gridding = pool.submit(grid_errors, cloud.xyz[:, :2], d, cell_m=cell_m)
             try:
                 stats = distance_statistics(d, tolerances)
                 figures.submit("write_histogram_png", out / files["histogram"], stats)
-                grid = grid_errors(cloud.xyz[:, :2], d, cell_m=cell_m)
+                grid = gridding.result()
                 figures.submit("write_error_map_png", out / files["error_map"], grid,
                                limit_m=stats["abs_q95"] or None)
                 # here, not in the figure thread: both threads finish together

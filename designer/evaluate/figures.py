@@ -16,6 +16,7 @@ Use::
 
 from __future__ import annotations
 
+import os
 import queue
 import threading
 
@@ -87,19 +88,27 @@ class FigureWriter:
             self.abort()
 
 
-_prestarted: FigureWriter | None = None
+_prestarted = None
 
 
-def prestart(after: threading.Event | None = None) -> None:
-    """Start the writer now (its imports begin once ``after`` is set), so it is ready
-    when :func:`take_figure_writer` is called."""
+def prestart(after: threading.Event | None = None, *, processes: bool = False) -> None:
+    """Start the figure writer now, so it is ready when :func:`take_figure_writer` is
+    called: with ``processes``, two forked processes (:mod:`.figure_processes`; only
+    where this process can fork and has no other thread yet — the ``designer compare``
+    program), else a thread (its imports begin once ``after`` is set)."""
     global _prestarted
     if _prestarted is None:
-        _prestarted = FigureWriter(after)
+        if processes and hasattr(os, "fork") and threading.active_count() == 1:
+            from designer.evaluate.figure_processes import FigureProcesses
+
+            _prestarted = FigureProcesses()
+        else:
+            _prestarted = FigureWriter(after)
 
 
-def take_figure_writer() -> FigureWriter:
-    """The pre-started writer, or a new one."""
+def take_figure_writer():
+    """The pre-started writer (:class:`FigureWriter` or
+    :class:`~.figure_processes.FigureProcesses`), or a new :class:`FigureWriter`."""
     global _prestarted
     writer, _prestarted = _prestarted, None
     return writer if writer is not None else FigureWriter()
