@@ -22,7 +22,7 @@ import signal
 import struct
 import traceback
 
-from designer.evaluate.figures import JOBS
+from designer.evaluate.figures import JOBS, Writers
 
 #: which process draws a job: the histogram in one, the error map (and any other) in
 #: the other
@@ -105,7 +105,7 @@ def _child(first: tuple[int, int], second: tuple[int, int], close_fds: list[int]
         os._exit(code)
 
 
-class FigureProcesses:
+class FigureProcesses(Writers):
     """Two processes drawing :mod:`.maps` figures; create while single-threaded."""
 
     def __init__(self) -> None:
@@ -170,12 +170,3 @@ class FigureProcesses:
             os.close(fd)
         _, status = os.waitpid(self._pid, 0)
         return os.waitstatus_to_exitcode(status) != 0
-
-    def __enter__(self) -> FigureProcesses:
-        return self
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is None:
-            self.close()
-        else:
-            self.abort()

@@ -24,7 +24,31 @@ import threading
 JOBS = ("write_histogram_png", "write_error_map_png", "write_error_map_geotiff")
 
 
-class FigureWriter:
+class Writers:
+    """What every figure writer offers: ``submit``, ``close`` (wait, re-raise the first
+    writer error), ``abort``; as a context manager it closes on success and aborts on
+    an error."""
+
+    def submit(self, job: str, *args, **kwargs) -> None:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        raise NotImplementedError
+
+    def abort(self) -> None:
+        raise NotImplementedError
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
+
+
+class FigureWriter(Writers):
     """A thread running :mod:`.maps` writers in submission order.
 
     ``after``: an event to wait for before importing matplotlib.
@@ -78,17 +102,8 @@ class FigureWriter:
         self._stop = True
         self._jobs.put(None)
 
-    def __enter__(self) -> FigureWriter:
-        return self
 
-    def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is None:
-            self.close()
-        else:
-            self.abort()
-
-
-_prestarted = None
+_prestarted: Writers | None = None
 
 
 def prestart(after: threading.Event | None = None, *, processes: bool = False) -> None:
@@ -106,7 +121,7 @@ def prestart(after: threading.Event | None = None, *, processes: bool = False) -
             _prestarted = FigureWriter(after)
 
 
-def take_figure_writer():
+def take_figure_writer() -> Writers:
     """The pre-started writer (:class:`FigureWriter` or
     :class:`~.figure_processes.FigureProcesses`), or a new :class:`FigureWriter`."""
     global _prestarted
