@@ -38,4 +38,6 @@ def threads() -> int:
         if n < 1:
             raise DesignerError(f"DESIGNER_THREADS={value!r}: give a whole number >= 1")
         return n
-    return max(1, len(os.sched_getaffinity(0)))
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return max(1, os.cpu_count() or 1)

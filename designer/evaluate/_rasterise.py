@@ -22,6 +22,8 @@ def highest_surface(xy_local, z, faces, cell_m: float, rows: int, cols: int) -> 
     xy_local, z, faces = _f8(xy_local).reshape(-1, 2), _f8(z), _i8(faces).reshape(-1, 3)
     if len(z) != len(xy_local):
         raise ValueError("xy_local and z must have one row per vertex")
+    if len(faces) and (faces.min() < 0 or faces.max() >= len(z)):
+        raise ValueError(f"faces must index vertices 0..{len(z) - 1}")
     out = np.full((rows, cols), np.nan)
     ckernels().highest_surface(xy_local, z, len(z), faces, len(faces), float(cell_m), rows,
                                cols, out)

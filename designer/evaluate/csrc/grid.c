@@ -40,8 +40,10 @@ static void key_range(void *arg, int64_t b, int64_t e)
         /* points beyond the grid go to its edge cells; the clamp runs in double so
          * that far-off points cannot overflow the integer */
         double fj = floor(g->x[p] / g->cell), fi = floor(-g->y[p] / g->cell);
-        fj = fj < 0.0 ? 0.0 : (fj > (double)(g->cols - 1) ? (double)(g->cols - 1) : fj);
-        fi = fi < 0.0 ? 0.0 : (fi > (double)(g->rows - 1) ? (double)(g->rows - 1) : fi);
+        fj = fj > 0.0 ? fj : 0.0;  /* (a NaN goes to 0 too) */
+        fi = fi > 0.0 ? fi : 0.0;
+        fj = fj < (double)(g->cols - 1) ? fj : (double)(g->cols - 1);
+        fi = fi < (double)(g->rows - 1) ? fi : (double)(g->rows - 1);
         g->key[p] = (int64_t)fi * g->cols + (int64_t)fj;
     }
 }
