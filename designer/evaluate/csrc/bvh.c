@@ -40,7 +40,8 @@ static inline uint64_t morton_of(const double p[3], const double lo[3], const do
     uint64_t code = 0;
     for (int a = 0; a < 3; a++) {
         double q = (p[a] - lo[a]) * scale[a];
-        q = dmin(top, dmax(0.0, q));
+        q = q > 0.0 ? q : 0.0;  /* (a NaN goes to 0 too: the cast below stays defined) */
+        q = q < top ? q : top;
         code |= spread21((uint64_t)q) << a;
     }
     return code;
