@@ -14,8 +14,8 @@ import cv2
 import numpy as np
 
 from designer.effects.distortion_render import pinhole_render_camera
+from tests.effects.distortion_scene import LENSES, H, W, expected_corners, scene
 from tests.effects.synthetic import area_sampled, project_opencv, refine_corners
-from tests.effects.test_distortion_render import LENSES, H, W, expected_corners, scene
 
 
 def _stats(err: np.ndarray) -> str:

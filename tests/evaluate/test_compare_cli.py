@@ -13,27 +13,8 @@ from designer.evaluate import reference_mesh
 from designer.export.colmap import write_colmap_text_model
 from designer.export.dispatch import write_all
 from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
+from tests.evaluate.helpers import EXAMPLE, points_on_mesh, write_cloud
 from tests.synthetic import ORIGIN_WORLD, grid_gcps, grid_poses, mapping_camera
-
-EXAMPLE = "resources/examples/survey/survey.xml"
-
-
-def points_on_mesh(vertices, faces, n, offset_m, rng):
-    """Points on random faces, moved ``offset_m`` along the face normal."""
-    f = rng.integers(0, len(faces), n)
-    a, b, c = (vertices[faces[f, k]] for k in range(3))
-    r1, r2 = rng.uniform(size=(2, n, 1))
-    s = np.sqrt(r1)
-    p = (1 - s) * a + s * (1 - r2) * b + s * r2 * c
-    nrm = np.cross(b - a, c - a)
-    return p + offset_m * nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
-
-
-def write_cloud(path, xyz):
-    v = np.empty(len(xyz), dtype=[("x", "f8"), ("y", "f8"), ("z", "f8")])
-    v["x"], v["y"], v["z"] = xyz.T
-    from plyfile import PlyElement
-    PlyData([PlyElement.describe(v, "vertex")]).write(str(path))
 
 
 def test_compare_with_a_project_writes_the_report(tmp_path, capsys):

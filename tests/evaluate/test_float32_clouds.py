@@ -15,7 +15,7 @@ from plyfile import PlyData, PlyElement
 from designer.cli.main import main
 from designer.errors import DesignerError
 from designer.evaluate import read_point_cloud, reference_mesh
-from tests.evaluate.test_compare_cli import EXAMPLE, points_on_mesh
+from tests.evaluate.helpers import EXAMPLE, points_on_mesh
 
 
 def write_ply(path, xyz, dtype):

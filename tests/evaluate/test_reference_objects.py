@@ -80,7 +80,7 @@ def test_compare_says_which_surface_it_used(tmp_path, capsys):
     import json
 
     from designer.cli.main import main
-    from tests.evaluate.test_compare_cli import write_cloud
+    from tests.evaluate.helpers import write_cloud
 
     path = _cube_project(tmp_path)
     rng = np.random.default_rng(3)

@@ -10,6 +10,7 @@ import pytest
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
 from designer.project import model as m
 from designer.render.pipeline import render_project
+from tests.render.helpers import detect_centres
 from tests.synthetic import small_survey, write_project_file
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
@@ -34,17 +35,6 @@ CASES = {
 #: cornerSubPix half-window (px): the fisheye's targets are ~15 px wide, and an 11 x 11
 #: window would reach past them into the grass.
 HALF_WINDOW = {"fisheye 148 deg": 3}
-
-
-def detect_centres(image_gray: np.ndarray, uv_expected: np.ndarray, rng,
-                   half_window: int = 5) -> np.ndarray:
-    """Sub-pixel saddle points near the expected centres (designer pixel convention)."""
-    start = uv_expected - 0.5 + rng.uniform(-1.0, 1.0, uv_expected.shape)
-    pts = start.astype(np.float32).reshape(-1, 1, 2)
-    criteria = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_COUNT, 200, 1e-5)
-    refined = cv2.cornerSubPix(image_gray.astype(np.float32), pts, (half_window, half_window),
-                               (-1, -1), criteria)
-    return refined.reshape(-1, 2) + 0.5
 
 
 @pytest.fixture(scope="module", params=list(CASES))

@@ -4,6 +4,10 @@ that hides a GCP target from one photo."""
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
+
+import cv2
+import numpy as np
 
 from designer.project import model as m
 from tests.synthetic import small_survey
@@ -39,3 +43,10 @@ def building_project(samples: int = 4, with_buildings: bool = True) -> m.Project
     scene = replace(p.scene, targets=m.Targets(targets),
                     buildings=buildings if with_buildings else ())
     return replace(p, scene=scene, trajectory=m.Trajectory(photos))
+
+
+def changed_pixels(out: Path, bare: Path, name: str) -> np.ndarray:
+    """Pixels the buildings change (by more than 30 of 765 levels summed over RGB)."""
+    a = cv2.imread(str(out / "images" / name)).astype(int)
+    b = cv2.imread(str(bare / "images" / name)).astype(int)
+    return np.abs(a - b).sum(axis=-1) > 30

@@ -1,9 +1,12 @@
-"""A small timed project with one flat red box driving east under a nadir camera."""
+"""A small timed project with one flat red box driving east under a nadir camera, and how
+much of each rendered pixel the box covers."""
 
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
+import cv2
 import numpy as np
 
 from designer.project import model as m
@@ -32,3 +35,17 @@ def moving_project(times_s=(0.0, 2.0), speed_m_s=SPEED_M_S, samples=16) -> m.Pro
 def srgb_to_linear(image_u8: np.ndarray) -> np.ndarray:
     c = image_u8.astype(float) / 255.0
     return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def linear_rgb(path: Path) -> np.ndarray:
+    """The 8-bit sRGB image at ``path`` as linear RGB (H, W, 3) in 0..1."""
+    return srgb_to_linear(cv2.imread(str(path))[:, :, ::-1])
+
+
+def box_coverage(image: Path, ground: Path) -> np.ndarray:
+    """Per pixel, the fraction covered by the red box: the render is the box's colour and
+    the bare ground's mixed in linear light (box pixel filter), so the fraction is the
+    least-squares mix of the two."""
+    img, bg = linear_rgb(image), linear_rgb(ground)
+    d = np.array(RED) - bg
+    return np.clip(((img - bg) * d).sum(-1) / (d * d).sum(-1), 0, 1)

@@ -21,7 +21,7 @@ from designer.render.provenance import job_provenance
 from designer.scene.buildings import roof_height_m
 from designer.study.factors import FACTORS
 from tests.synthetic import write_project_file
-from tests.world.building_helpers import HIDDEN, building_project, rectangle
+from tests.world.building_helpers import HIDDEN, building_project, changed_pixels, rectangle
 from tests.world.helpers import ORIGIN
 
 IMAGES = ("IMG_000.png", "IMG_001.png")
@@ -37,19 +37,12 @@ def renders(tmp_path_factory):
     return p, folder / "with" / "out", folder / "bare" / "out"
 
 
-def _changed(out: Path, bare: Path, name: str) -> np.ndarray:
-    """Pixels the buildings change (by more than 30 of 765 levels summed over RGB)."""
-    a = cv2.imread(str(out / "images" / name)).astype(int)
-    b = cv2.imread(str(bare / "images" / name)).astype(int)
-    return np.abs(a - b).sum(axis=-1) > 30
-
-
 def test_building_masks_are_the_rendered_buildings(renders):
     _, out, bare = renders
     for name in IMAGES:
         mask = cv2.imread(str(out / "ground-truth/building_masks" / name), cv2.IMREAD_UNCHANGED)
         assert mask.dtype == np.uint8 and set(np.unique(mask)) == {0, 255}
-        changed, inside = _changed(out, bare, name), mask > 0
+        changed, inside = changed_pixels(out, bare, name), mask > 0
         iou = (changed & inside).sum() / (changed | inside).sum()
         assert iou > 0.95, (name, iou)
         assert inside.sum() > 1000
@@ -83,7 +76,7 @@ def test_a_roof_corner_lands_where_the_exported_camera_projects_it(renders):
                if p.image_name == IMAGES[0]]
     x = (corners - pose.C_world) @ pose.R_cam_to_world * [1, -1, -1]  # CV frame
     uv = np.column_stack([fx * x[:, 0] / x[:, 2] + cx, fy * x[:, 1] / x[:, 2] + cy])
-    changed = _changed(out, bare, IMAGES[0]).astype(np.uint8)
+    changed = changed_pixels(out, bare, IMAGES[0]).astype(np.uint8)
     contours, _ = cv2.findContours(changed, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     outline = max(contours, key=lambda c: cv2.pointPolygonTest(c, tuple(map(float, uv[0])), True))
     # the silhouette's corner pixels; a binary silhouette puts each edge within half a
@@ -112,7 +105,7 @@ def test_a_target_behind_a_building_is_not_observed(renders):
 
 def test_compare_finds_the_roof_on_the_dsm_and_not_on_the_dtm(renders, tmp_path, capsys):
     from designer.cli.main import main
-    from tests.evaluate.test_compare_cli import write_cloud
+    from tests.evaluate.helpers import write_cloud
 
     p, out, _ = renders
     prepared = prepare_job(p, out.parent, tmp_path / "scratch")

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import replace
-from pathlib import Path
 
 import cv2
 import numpy as np
@@ -23,22 +22,9 @@ from designer.scene.moving import path_xy_heading
 from designer.study.factors import FACTORS
 from tests.synthetic import assert_located_error, write_project_file
 from tests.world.helpers import ORIGIN
-from tests.world.moving_helpers import BOX_SIZE_M, RED, SPEED_M_S, moving_project, srgb_to_linear
+from tests.world.moving_helpers import BOX_SIZE_M, SPEED_M_S, box_coverage, moving_project
 
 TIMES_S = (0.0, 2.0)
-
-
-def _linear(path: Path) -> np.ndarray:
-    return srgb_to_linear(cv2.imread(str(path))[:, :, ::-1])
-
-
-def _coverage(image: Path, ground: Path) -> np.ndarray:
-    """Per pixel, the fraction covered by the red box: the render is the box's colour and
-    the bare ground's mixed in linear light (box pixel filter), so the fraction is the
-    least-squares mix of the two."""
-    img, bg = _linear(image), _linear(ground)
-    d = np.array(RED) - bg
-    return np.clip(((img - bg) * d).sum(-1) / (d * d).sum(-1), 0, 1)
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +49,7 @@ def test_the_object_moves_by_speed_times_elapsed_time_in_the_images(renders):
     poses, interior = prepared.poses, prepared.interior
     centroids, projected = [], []
     for k, row in enumerate(rows):
-        c = _coverage(out / "images" / row["image"], bare / "images" / row["image"])
+        c = box_coverage(out / "images" / row["image"], bare / "images" / row["image"])
         v, u = np.mgrid[:c.shape[0], :c.shape[1]] + 0.5
         centroids.append(np.array([(c * u).sum(), (c * v).sum()]) / c.sum())
         # the silhouette is the level top face: its centroid is its centre's projection
@@ -83,7 +69,7 @@ def test_masks_are_the_rendered_silhouettes(renders):
         mask = cv2.imread(str(out / "ground-truth" / "masks" / name.replace(".png", "_mask.png")),
                           cv2.IMREAD_UNCHANGED)
         assert mask.dtype == np.uint8 and set(np.unique(mask)) == {0, 255}
-        covered = _coverage(out / "images" / name, bare / "images" / name) >= 0.5
+        covered = box_coverage(out / "images" / name, bare / "images" / name) >= 0.5
         inside = mask > 0
         iou = (covered & inside).sum() / (covered | inside).sum()
         assert iou >= 0.98, iou

@@ -36,7 +36,7 @@ from designer.project.problems import ProjectError
 from designer.render.job_spec import RenderJob
 from designer.render.pipeline import render_project
 from designer.survey.project_poses import project_images, project_stations
-from tests.render.test_render_accuracy import detect_centres
+from tests.render.helpers import detect_centres
 from tests.synthetic import PENTA_MOUNTS, rig_survey, small_survey, write_project_file
 
 CAMERAS = {c[0]: c for c in PENTA_MOUNTS}

@@ -126,8 +126,7 @@ def test_moving_object_masks_follow_the_rolling_shutter(tmp_path):
     from designer.core.truth import CameraPose
     from designer.project import model as m
     from designer.render.moving_truth import object_mask
-    from tests.world.moving_helpers import moving_project
-    from tests.world.test_moving_objects import _coverage
+    from tests.world.moving_helpers import box_coverage, moving_project
 
     p = moving_project()
     p = replace(p, cameras=(replace(p.cameras[0], rolling_shutter=m.RollingShutter(0.05)),))
@@ -139,7 +138,7 @@ def test_moving_object_masks_follow_the_rolling_shutter(tmp_path):
         mask = cv2.imread(str(out.out_dir / "ground-truth/masks" / name.replace(".png",
                                                                                 "_mask.png")),
                           cv2.IMREAD_UNCHANGED) > 0
-        covered = _coverage(out.images_dir / name, ground.images_dir / name) >= 0.5
+        covered = box_coverage(out.images_dir / name, ground.images_dir / name) >= 0.5
         iou = (covered & mask).sum() / (covered | mask).sum()
         pose: CameraPose = prepared.poses[k]
         first_row = object_mask(prepared.moving_poses[k], prepared.moving_meshes, pose,
@@ -157,8 +156,7 @@ def test_building_masks_follow_the_rolling_shutter(tmp_path):
 
     from designer.project import model as m
     from designer.render.building_truth import building_mask
-    from tests.world.building_helpers import building_project
-    from tests.world.test_buildings_render import _changed
+    from tests.world.building_helpers import building_project, changed_pixels
 
     def rolling(p):
         return replace(p, cameras=(replace(p.cameras[0],
@@ -174,7 +172,7 @@ def test_building_masks_follow_the_rolling_shutter(tmp_path):
     for k, name in enumerate(("IMG_000.png", "IMG_001.png")):
         mask = cv2.imread(str(out.out_dir / "ground-truth/building_masks" / name),
                           cv2.IMREAD_UNCHANGED) > 0
-        changed = _changed(out.out_dir, tmp_path / "bare/out", name)
+        changed = changed_pixels(out.out_dir, tmp_path / "bare/out", name)
         first_row = building_mask(prepared.buildings, prepared.poses[k],
                                   prepared.interior) > 0
         iou = (changed & mask).sum() / (changed | mask).sum()

@@ -102,7 +102,7 @@ def test_built_in_kinds_have_unit_height_and_crown(kind):
 
 def test_compare_measures_a_canopy_against_the_surface_or_the_bare_earth(tmp_path, capsys):
     from designer.cli.main import main
-    from tests.evaluate.test_compare_cli import write_cloud
+    from tests.evaluate.helpers import write_cloud
 
     p = vegetation_project(density_per_m2=0.05)
     path = write_project_file(p, tmp_path / "p")

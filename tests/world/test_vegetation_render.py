@@ -17,7 +17,7 @@ from designer.render.provenance import job_provenance
 from designer.render.vegetation_truth import read_plants_csv, vegetation_mask
 from designer.scene.vegetation import place_vegetation
 from tests.synthetic import write_project_file
-from tests.world.moving_helpers import srgb_to_linear
+from tests.world.moving_helpers import linear_rgb
 from tests.world.vegetation_helpers import vegetation_project
 
 TIMES_S = (0.0, 1.0)
@@ -26,7 +26,7 @@ NAMES = ("IMG_000.png", "IMG_001.png")
 
 def _red(path) -> np.ndarray:
     """Pixels mostly covered by a red plant (linear red well above green and blue)."""
-    c = srgb_to_linear(cv2.imread(str(path))[:, :, ::-1])
+    c = linear_rgb(path)
     return c[:, :, 0] - np.maximum(c[:, :, 1], c[:, :, 2]) > 0.3
 
 
