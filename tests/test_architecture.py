@@ -5,6 +5,10 @@ lazily) is read from its source; a designer package may import only the packages
 of :data:`MAY_IMPORT` names, and the heavy third-party libraries only where
 :data:`THIRD_PARTY_ONLY_IN` allows. Run-time part: importing a package face or a data
 type loads none of the heavy modules it must not (:data:`NOT_LOADED_BY`).
+
+The test suite has a rule of its own: no file under tests/ imports a test module
+(``test_*``) or a ``conftest``; shared test code lives in helper modules
+(tests/synthetic.py, tests/*/helpers.py, ...) and fixtures reach tests through pytest.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "designer"
+TESTS = Path(__file__).resolve().parent
 
 #: the small shared modules at the top of the package that everything may use
 BASE = {"errors", "atomic", "_lazy"}
@@ -203,3 +208,65 @@ def test_the_run_time_check_sees_a_loaded_module():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, cwd=PACKAGE.parent)
     assert out.stdout.strip() == "True"
+
+
+def _is_test_module(name: str) -> bool:
+    last = name.rsplit(".", 1)[-1]
+    return last.startswith("test_") or last == "conftest"
+
+
+def imports_of_test_modules(root: Path) -> list[str]:
+    """Every import of a test module or a conftest by a file under ``root`` (the tests
+    folder), as 'path:line imports X'; relative imports and ``from package import
+    test_x`` count too."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                module = "." * node.level + (node.module or "")
+                prefix = module if module.endswith(".") else module + "."
+                names = ([module] if _is_test_module(module)
+                         else [prefix + a.name for a in node.names])
+            else:
+                continue
+            found += [f"{path.relative_to(root.parent)}:{node.lineno} imports {name}"
+                      for name in names if _is_test_module(name)]
+    return found
+
+
+def test_no_test_file_imports_a_test_module_or_a_conftest():
+    found = imports_of_test_modules(TESTS)
+    assert not found, "move the shared code into a helper module:\n" + "\n".join(found)
+
+
+@pytest.mark.parametrize(("line", "found"), [
+    ("from tests.world.test_moving_objects import box", "tests.world.test_moving_objects"),
+    ("import tests.render.test_render_accuracy as acc", "tests.render.test_render_accuracy"),
+    ("from tests.evaluate import test_compare_cli", "tests.evaluate.test_compare_cli"),
+    ("from .test_chain import write_png", ".test_chain"),
+    ("from . import conftest", ".conftest"),
+    ("from ..conftest import survey", "..conftest"),
+    ("from .. import test_architecture", "..test_architecture"),
+    ("    from tests.conftest import survey", "tests.conftest"),
+    ("from tests.world.helpers import ORIGIN", None),
+    ("from . import helpers", None),
+    ("import pytest", None),
+])
+def test_the_test_import_rule_catches_a_wrong_import(tmp_path, line, found):
+    """A small tests tree with one import added to a module: only a test module or a
+    conftest is reported, with its file and line."""
+    root = tmp_path / "tests"
+    (root / "world").mkdir(parents=True)
+    for name in ("__init__.py", "world/__init__.py", "world/helpers.py"):
+        (root / name).write_text('"""A module."""\n')
+    text = "import numpy as np\n"
+    if line.startswith(" "):  # an import inside a function (loaded lazily) counts too
+        text += f"\n\ndef test_late():\n{line}\n"
+    else:
+        text += f"{line}\n"
+    (root / "world" / "test_case.py").write_text(text)
+    lineno = text.splitlines().index(line) + 1
+    expected = [] if found is None else [f"tests/world/test_case.py:{lineno} imports {found}"]
+    assert imports_of_test_modules(root) == expected

@@ -23,8 +23,7 @@ LENSES = {
 
 
 def board():
-    """(pattern, n): a tilted planar checkerboard of 0.35 m squares about 10 m ahead and
-    its 40 corners each way from the centre."""
+    """(pattern, n): a tilted planar checkerboard of 0.35 m squares about 10 m ahead."""
     e1 = np.array([math.cos(0.3), 0.0, math.sin(0.3)])
     e2 = np.array([0.1, 1.0, 0.2])
     e2 -= e1 * (e1 @ e2)
