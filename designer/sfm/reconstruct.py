@@ -419,7 +419,7 @@ def _known_pose_reconstruction(pycolmap, truth, db_path: Path):
     try:
         cameras = {c.camera_id: c for c in db.read_all_cameras()}
         for camera_id in cameras:
-            true_camera = _the_camera(truth, survey)
+            true_camera = next(iter(truth.cameras.values()))
             true_camera.camera_id = camera_id
             rec.add_camera_with_trivial_rig(true_camera)
         for db_image in sorted(db.read_all_images(), key=lambda i: i.image_id):
