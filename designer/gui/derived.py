@@ -210,6 +210,35 @@ def compute_buildings(project: m.Project, base_dir: Path, terrain: TerrainResult
     return BuildingsResult(v, f, e, roof)
 
 
+@dataclass(frozen=True, eq=False)
+class VegetationResult:
+    """The plants as the renderer places them, standing upright (the wind's sway is not
+    drawn): one merged mesh (``vertices_world``, ``faces``), each face's linear albedo
+    (M, 3) (foliage in its group's colour, wood in the wood colour) and the number of
+    plants."""
+
+    vertices_world: np.ndarray
+    faces: np.ndarray
+    face_albedo: np.ndarray
+    n_plants: int
+
+
+def compute_vegetation(project: m.Project, base_dir: Path, terrain: TerrainResult
+                       ) -> VegetationResult:
+    """Every plant of the project's groups on the computed terrain (the renderer's
+    placement: same seeds, same clearances)."""
+    from designer.scene.surfaces import Ground, merge_triangles
+    from designer.scene.vegetation import WOOD_ALBEDO, place_vegetation, posed_set
+
+    sets = [s for s in place_vegetation(project, Path(base_dir),
+                                        Ground(terrain.heightfield, terrain.mesh)) if len(s)]
+    v, f = merge_triangles([posed_set(s, None, None) for s in sets])
+    albedo = [np.where(np.tile(s.template.material_index, len(s))[:, None] == 1,
+                       np.asarray(WOOD_ALBEDO), np.asarray(s.albedo_rgb)) for s in sets]
+    return VegetationResult(v, f, np.vstack(albedo) if albedo else np.zeros((0, 3)),
+                            sum(len(s) for s in sets))
+
+
 #: the scene's objects as the renderer draws them (designer.scene.objects)
 ObjectsResult = PlacedObjects
 

@@ -39,7 +39,7 @@ from designer.gui.tasks import TaskRunner
 from designer.gui.undo import Editor
 
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("buildings", "Buildings"),
-          ("targets", "GCP targets"),
+          ("vegetation", "Plants"), ("targets", "GCP targets"),
           ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
           ("flight", "Flight lines"),
           ("area", "Survey area"), ("cloud", "Point cloud"), ("residuals", "GCP errors")]

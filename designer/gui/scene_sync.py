@@ -5,8 +5,8 @@ depends on them, in worker threads (:class:`~designer.gui.tasks.TaskRunner`):
 
 terrain → height field, ray caster, display mesh and its light → targets, stations,
 coverage; texture → texture image (1–2 s for a procedural one) and the display UVs;
-lighting → the light on the drawn terrain and objects; objects → the placed meshes and
-the buildings (also rebuilt on the new terrain);
+lighting → the light on the drawn terrain and objects; objects → the placed meshes, the
+buildings and the plants (also rebuilt on the new terrain);
 cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
 
 Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
@@ -62,6 +62,7 @@ class SceneSync(QObject):
         self.coverage: derived.CoverageResult | None = None
         self.objects: derived.ObjectsResult | None = None
         self.buildings: derived.BuildingsResult | None = None
+        self.vegetation: derived.VegetationResult | None = None
         #: the flight over the real terrain (designer.gui.plan_figures), or None
         self.plan = None
         self.errors: dict[str, str] = {}
@@ -102,6 +103,7 @@ class SceneSync(QObject):
             self.refresh_objects()
             if not parts & TERRAIN_PARTS:
                 self.refresh_buildings()
+                self.refresh_vegetation()
         if "trajectory" in parts or "terrain" in parts:
             self._show_area()
 
@@ -124,6 +126,7 @@ class SceneSync(QObject):
         self.refresh_targets()
         self.refresh_stations()
         self.refresh_buildings()
+        self.refresh_vegetation()
 
     def _terrain_done(self, result: derived.TerrainResult) -> None:
         self.errors.pop("terrain", None)
@@ -150,6 +153,7 @@ class SceneSync(QObject):
         self.refresh_targets()
         self.refresh_stations()
         self.refresh_buildings()
+        self.refresh_vegetation()
         self._show_area()
 
     def _retile(self) -> None:
@@ -212,6 +216,30 @@ class SceneSync(QObject):
         self.buildings = None
         self.view.show_buildings(None)
         self._fail("buildings", error)
+
+    # ------------------------------------------------------------------ vegetation
+    def refresh_vegetation(self) -> None:
+        """Place the scene's plants on the computed terrain (a worker thread)."""
+        if self.document.project.scene.vegetation is None or self.terrain is None:
+            self.tasks.cancel("vegetation")
+            self._vegetation_done(None)
+            return
+        self.tasks.submit("vegetation", derived.compute_vegetation, self.document.project,
+                          self.document.base_dir, self.terrain, on_done=self._vegetation_done,
+                          on_error=self._vegetation_failed)
+
+    def _vegetation_done(self, result: derived.VegetationResult | None) -> None:
+        self.errors.pop("vegetation", None)
+        self.vegetation = result
+        if result is None:
+            self.view.show_vegetation(None)
+        else:
+            self.view.show_vegetation(result.vertices_world, result.faces, result.face_albedo)
+
+    def _vegetation_failed(self, error: BaseException) -> None:
+        self.vegetation = None
+        self.view.show_vegetation(None)
+        self._fail("vegetation", error)
 
     # ------------------------------------------------------------------ lighting
     def refresh_lighting(self) -> None:

@@ -350,6 +350,27 @@ class SceneView(OverlayLayers, QWidget):
         self.plotter.actors["buildings"].SetVisibility(self._visible.get("buildings", True))
         self.request_render()
 
+    def show_vegetation(self, vertices_world: np.ndarray | None,
+                        faces: np.ndarray | None = None,
+                        face_albedo: np.ndarray | None = None) -> None:
+        """The plants (one merged mesh), each face in its albedo lit as flat open ground,
+        as the renderer draws them."""
+        from designer.gui.view_geometry import flat_lit_rgb
+
+        self.remove_layer("vegetation")
+        if vertices_world is None or not len(faces):
+            self.request_render()
+            return
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = self._pv.PolyData(self.local(vertices_world),
+                                 np.column_stack([np.full(len(f), 3), f]).ravel())
+        mesh.cell_data["rgb"] = flat_lit_rgb(face_albedo)
+        self.plotter.add_mesh(mesh, name="vegetation", scalars="rgb", rgb=True, lighting=False,
+                              reset_camera=False, render=False)
+        self._meshes["vegetation"] = mesh
+        self.plotter.actors["vegetation"].SetVisibility(self._visible.get("vegetation", True))
+        self.request_render()
+
     def target_positions(self) -> list[tuple[str, np.ndarray]]:
         return [(i, p) for i, p, _ in self._targets]
 

@@ -89,6 +89,15 @@ def shade_rgb(irradiance: np.ndarray, base_rgb=(1.0, 1.0, 1.0)) -> np.ndarray:
         np.uint8)
 
 
+def flat_lit_rgb(albedo_linear: np.ndarray) -> np.ndarray:
+    """Colours (N, 3) uint8 of faces the renderer lights as flat open ground (plants,
+    moving objects): each linear albedo in sRGB, at the brightness of flat ground in full
+    sun (:data:`DISPLAY_GAIN`)."""
+    a = np.clip(np.asarray(albedo_linear, dtype=float), 0.0, 1.0)
+    srgb = np.where(a <= 0.0031308, 12.92 * a, 1.055 * a ** (1 / 2.4) - 0.055)
+    return np.rint(255 * min(DISPLAY_GAIN, 1.0) * srgb).astype(np.uint8)
+
+
 def grid_faces(ny: int, nx: int) -> np.ndarray:
     """Two counter-clockwise triangles per cell of a row-major ny × nx node grid."""
     sw = (np.arange(ny - 1)[:, None] * nx + np.arange(nx - 1)[None, :]).ravel()

@@ -99,6 +99,23 @@ def check_survey_folder(survey: Path) -> tuple[Path, Path, list[str]]:
     return gt, folder, present
 
 
+def _the_camera(truth, survey: Path):
+    """The survey's camera. Several cameras with one interior orientation (a rig of
+    identical cameras) count as one; cameras that differ are refused: the adjustment
+    here models one camera, and treating an oblique 12 mm camera as the nadir 8.8 mm one
+    would report that mistake as the survey's accuracy."""
+    cameras = list(truth.cameras.values())
+    kinds = {(c.model.name, c.width, c.height, tuple(float(v) for v in c.params))
+             for c in cameras}
+    if len(kinds) > 1:
+        raise DesignerError(
+            f"{survey}: the images come from {len(cameras)} cameras with {len(kinds)} "
+            "different interior orientations (a rig); designer's reconstruction models one "
+            "camera: process the exports in ground-truth/ (COLMAP, Metashape, ODM name every "
+            "camera), or fly a rig of identical cameras")
+    return cameras[0]
+
+
 def _full_opencv(camera) -> np.ndarray:
     """The true camera's parameters in FULL_OPENCV order."""
     params = np.zeros(12)
@@ -152,7 +169,7 @@ def reconstruct(
                               axis=0) + written)
     if np.any(offset != written):
         truth.transform(translation(written - offset))
-    true_camera = next(iter(truth.cameras.values()))
+    true_camera = _the_camera(truth, survey)
     true_params = _full_opencv(true_camera)
     params0 = start_params(true_params, p.calibration.pre_calibration_error) \
         if mode == "free" else true_params

@@ -76,3 +76,26 @@ def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
         shutil.copy(image, apart / "images" / image.name)
     with pytest.raises(DesignerError, match="overlap"):
         reconstruct(apart, tmp_path / "r", mode="free")
+
+
+def test_a_rig_of_different_cameras_is_a_clear_error(survey, tmp_path):
+    """Two cameras with different focal lengths (a nadir and an oblique of a rig): the
+    one-camera adjustment is refused before any work, naming what to do instead."""
+    rig = tmp_path / "rig"
+    shutil.copytree(survey / "ground-truth", rig / "ground-truth")
+    (rig / "images").symlink_to(survey / "images")
+    colmap = rig / "ground-truth" / "colmap"
+    lines = (colmap / "cameras.txt").read_text().splitlines()
+    first = next(ln for ln in lines if ln and not ln.startswith("#"))
+    fields = first.split()
+    other = " ".join(["2", *fields[1:4], str(float(fields[4]) * 1.4), *fields[5:]])
+    (colmap / "cameras.txt").write_text("\n".join([*lines, other]) + "\n")
+    images = (colmap / "images.txt").read_text().splitlines()
+    k = next(i for i, ln in enumerate(images) if ln and not ln.startswith("#"))
+    head = images[k].split()
+    images[k] = " ".join([*head[:8], "2", *head[9:]])  # the first image: the other camera
+    (colmap / "images.txt").write_text("\n".join(images) + "\n")
+    with pytest.raises(DesignerError, match="2 cameras with 2 different interior") as error:
+        reconstruct(rig, tmp_path / "r", mode="known-poses", log=lambda _: None)
+    assert "\n" not in str(error.value) and "ground-truth" in str(error.value)
+    assert not (tmp_path / "r" / "database.db").exists()  # refused before any work
