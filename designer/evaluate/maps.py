@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -168,8 +169,10 @@ def write_histogram_png(path: str | os.PathLike, stats: dict, *,
 def _save(fig, path) -> Path:
     path = Path(path)
     with atomic_path(path) as tmp:
-        # fast zlib level: a third of the encoding time for a few percent more bytes
-        fig.savefig(tmp, format="png", pil_kwargs={"compress_level": 1})
+        # fast zlib level and run-length matching: a third of the encoding time of the
+        # default for a few percent more bytes (lossless either way)
+        fig.savefig(tmp, format="png", pil_kwargs={"compress_level": 1,
+                                                   "compress_type": zlib.Z_RLE})
     return path
 
 
