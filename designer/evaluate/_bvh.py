@@ -16,30 +16,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.evaluate._native import ckernels, threads
-
-
-def _f8(a) -> np.ndarray:
-    return np.ascontiguousarray(a, dtype=np.float64)
-
-
-def _i8(a) -> np.ndarray:
-    return np.ascontiguousarray(a, dtype=np.int64)
-
-
-def morton_codes(xyz, lo, scale) -> np.ndarray:
-    """63-bit Morton codes (M,) of points ``xyz`` (M, 3) on a 2²¹ grid from ``lo``."""
-    xyz = _f8(xyz).reshape(-1, 3)
-    out = np.empty(len(xyz), dtype=np.uint64)
-    ckernels().morton_codes(xyz, len(xyz), _f8(lo), _f8(scale), out, threads())
-    return out
+from designer.evaluate._native import ckernels, f8, i8, threads
 
 
 def centroid_codes(local, faces, lo, scale) -> np.ndarray:
     """Morton codes (M,) of the centroids of triangles ``faces`` over vertices ``local``."""
-    local, faces = _f8(local).reshape(-1, 3), _i8(faces).reshape(-1, 3)
+    local, faces = f8(local).reshape(-1, 3), i8(faces).reshape(-1, 3)
     out = np.empty(len(faces), dtype=np.uint64)
-    ckernels().centroid_codes(local, len(local), faces, len(faces), _f8(lo), _f8(scale), out,
+    ckernels().centroid_codes(local, len(local), faces, len(faces), f8(lo), f8(scale), out,
                               threads())
     return out
 
@@ -60,7 +44,7 @@ def build_bvh(codes, tri) -> tuple[np.ndarray, np.ndarray]:
     a leaf has link = (first triangle, number of triangles). Node 0 is the root.
     """
     codes = np.ascontiguousarray(codes, dtype=np.uint64)
-    tri = _f8(tri).reshape(-1, 9)
+    tri = f8(tri).reshape(-1, 9)
     cap = max(1, 2 * len(tri) - 1)
     box = np.empty((cap, 6))
     link = np.empty((cap, 2), dtype=np.int64)
@@ -79,11 +63,11 @@ def query(points_world, origin_world, lo, scale, tri, box, link, limit_d2, norma
     grid ``lo``, ``scale`` inside the kernel (no copy of the cloud). ``limit_d2`` bounds
     the search: points farther than sqrt(limit_d2) get NaN and triangle −1.
     """
-    points = _f8(points_world).reshape(-1, 3)
-    crowded = _f8(crowded).reshape(-1, 3)
-    normals_vert = _f8(normals_vert).reshape(-1, 3)
+    points = f8(points_world).reshape(-1, 3)
+    crowded = f8(crowded).reshape(-1, 3)
+    normals_vert = f8(normals_vert).reshape(-1, 3)
     n, m, k = len(points), len(tri), len(box)
-    ckernels().query(points, n, _f8(origin_world), _f8(lo), _f8(scale), _f8(tri), m, _f8(box),
-                     _i8(link), k, _f8(normals_face), _i8(neighbours), crowded, len(crowded),
-                     normals_vert, len(normals_vert), _i8(corner_vertex), float(limit_d2), dist,
+    ckernels().query(points, n, f8(origin_world), f8(lo), f8(scale), f8(tri), m, f8(box),
+                     i8(link), k, f8(normals_face), i8(neighbours), crowded, len(crowded),
+                     normals_vert, len(normals_vert), i8(corner_vertex), float(limit_d2), dist,
                      nearest, threads())

@@ -11,14 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.evaluate._bvh import _f8
-from designer.evaluate._native import ckernels, threads
+from designer.evaluate._native import ckernels, f8, threads
 
 
 def nearest_point_grid(x, y, rows: int, cols: int, cell: float, gap: float) -> np.ndarray:
     """Index (rows·cols,) of the point nearest to each cell centre, −1 where no point
     is closer than ``gap`` (m); row-major, row 0 at the north edge."""
-    x, y = _f8(x), _f8(y)
+    x, y = f8(x), f8(y)
     if x.shape != y.shape or x.ndim != 1:
         raise ValueError("x and y must be (N,) arrays of the same length")
     out = np.empty(rows * cols, dtype=np.int64)

@@ -11,6 +11,8 @@ from __future__ import annotations
 import os
 from functools import cache
 
+import numpy as np
+
 from designer.errors import DesignerError
 
 
@@ -41,3 +43,13 @@ def threads() -> int:
     if hasattr(os, "sched_getaffinity"):
         return max(1, len(os.sched_getaffinity(0)))
     return max(1, os.cpu_count() or 1)
+
+
+def f8(a) -> np.ndarray:
+    """``a`` as a C-contiguous float64 array (a view when it already is one)."""
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def i8(a) -> np.ndarray:
+    """``a`` as a C-contiguous int64 array (a view when it already is one)."""
+    return np.ascontiguousarray(a, dtype=np.int64)

@@ -13,13 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.evaluate._bvh import _f8, _i8
-from designer.evaluate._native import ckernels
+from designer.evaluate._native import ckernels, f8, i8
 
 
 def highest_surface(xy_local, z, faces, cell_m: float, rows: int, cols: int) -> np.ndarray:
     """Heights (rows, cols) of the highest triangle over each cell centre."""
-    xy_local, z, faces = _f8(xy_local).reshape(-1, 2), _f8(z), _i8(faces).reshape(-1, 3)
+    xy_local, z, faces = f8(xy_local).reshape(-1, 2), f8(z), i8(faces).reshape(-1, 3)
     if len(z) != len(xy_local):
         raise ValueError("xy_local and z must have one row per vertex")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(z)):

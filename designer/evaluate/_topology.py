@@ -13,14 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.evaluate._bvh import _f8, _i8
-from designer.evaluate._native import ckernels, threads
+from designer.evaluate._native import ckernels, f8, i8, threads
 
 
 def weld_vertices(vertices, candidates) -> np.ndarray:
     """Canonical index (N,) of each vertex: among ``candidates`` (indices), the first
     with bit-identical x, y, z; every other vertex maps to itself."""
-    vertices, candidates = _f8(vertices).reshape(-1, 3), _i8(candidates)
+    vertices, candidates = f8(vertices).reshape(-1, 3), i8(candidates)
     out = np.empty(len(vertices), dtype=np.int64)
     ckernels().weld_vertices(vertices, len(vertices), candidates, len(candidates), out)
     return out
@@ -29,7 +28,7 @@ def weld_vertices(vertices, candidates) -> np.ndarray:
 def face_geometry(local, faces) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Corners (M, 9), unit normals (M, 3) (zero for degenerate faces) and the angle at
     each corner (M, 3) in radians of the triangles ``faces`` over vertices ``local``."""
-    local, faces = _f8(local).reshape(-1, 3), _i8(faces).reshape(-1, 3)
+    local, faces = f8(local).reshape(-1, 3), i8(faces).reshape(-1, 3)
     m = len(faces)
     tri, normal, angle = np.empty((m, 9)), np.empty((m, 3)), np.empty((m, 3))
     ckernels().face_geometry(local, len(local), faces, m, tri, normal, angle, threads())
@@ -38,9 +37,9 @@ def face_geometry(local, faces) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def vertex_normals(faces, normal, angle, n_vertices: int) -> np.ndarray:
     """(N, 3) pseudo-normal of each vertex: the angle-weighted sum of its faces' normals."""
-    faces = _i8(faces).reshape(-1, 3)
+    faces = i8(faces).reshape(-1, 3)
     vert = np.zeros((n_vertices, 3))
-    ckernels().vertex_normals(faces, len(faces), _f8(normal), _f8(angle), vert, n_vertices)
+    ckernels().vertex_normals(faces, len(faces), f8(normal), f8(angle), vert, n_vertices)
     return vert
 
 
@@ -48,8 +47,8 @@ def edge_neighbours(faces, normal, n_vertices: int) -> tuple[np.ndarray, np.ndar
     """The face across edge k (corners k, k + 1) of each face, (M, 3) int64: −1 on a
     boundary edge; −2 − e where three or more faces share the edge, e indexing the
     returned (E, 3) sums of their normals (the pseudo-normal of such an edge)."""
-    faces = _i8(faces).reshape(-1, 3)
+    faces = i8(faces).reshape(-1, 3)
     neighbour = np.empty((len(faces), 3), dtype=np.int64)
-    sums = ckernels().edge_neighbours(faces, len(faces), n_vertices, _f8(normal), neighbour,
+    sums = ckernels().edge_neighbours(faces, len(faces), n_vertices, f8(normal), neighbour,
                                       threads())
     return neighbour, np.frombuffer(sums, dtype=np.float64).reshape(-1, 3).copy()

@@ -49,14 +49,10 @@ class Writers:
 
 
 class FigureWriter(Writers):
-    """A thread running :mod:`.maps` writers in submission order.
+    """A thread running :mod:`.maps` writers in submission order."""
 
-    ``after``: an event to wait for before importing matplotlib.
-    """
-
-    def __init__(self, after: threading.Event | None = None) -> None:
+    def __init__(self) -> None:
         self._jobs: queue.Queue = queue.Queue()
-        self._after = after
         self._error: BaseException | None = None
         self._stop = False
         self._thread = threading.Thread(target=self._run, daemon=True,
@@ -65,8 +61,6 @@ class FigureWriter(Writers):
 
     def _run(self) -> None:
         try:
-            if self._after is not None:
-                self._after.wait()
             # matplotlib, and rasterio for the caller's GeoTIFF writer
             import rasterio  # noqa: F401
             from matplotlib.backends import backend_agg  # noqa: F401
@@ -106,11 +100,11 @@ class FigureWriter(Writers):
 _prestarted: Writers | None = None
 
 
-def prestart(after: threading.Event | None = None, *, processes: bool = False) -> None:
+def prestart(*, processes: bool = False) -> None:
     """Start the figure writer now, so it is ready when :func:`take_figure_writer` is
     called: with ``processes``, two forked processes (:mod:`.figure_processes`; only
     where this process can fork and has no other thread yet — the ``designer compare``
-    program), else a thread (its imports begin once ``after`` is set)."""
+    program), else a thread."""
     global _prestarted
     if _prestarted is None:
         if processes and hasattr(os, "fork") and threading.active_count() == 1:
@@ -118,7 +112,7 @@ def prestart(after: threading.Event | None = None, *, processes: bool = False) -
 
             _prestarted = FigureProcesses()
         else:
-            _prestarted = FigureWriter(after)
+            _prestarted = FigureWriter()
 
 
 def take_figure_writer() -> Writers:

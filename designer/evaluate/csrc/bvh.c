@@ -53,13 +53,6 @@ typedef struct {
     uint64_t *out;
 } morton_ctx;
 
-static void morton_range(void *arg, int64_t b, int64_t e)
-{
-    morton_ctx *c = arg;
-    for (int64_t i = b; i < e; i++)
-        c->out[i] = morton_of(c->xyz + 3 * i, c->lo, c->scale);
-}
-
 static void centroid_range(void *arg, int64_t b, int64_t e)
 {
     morton_ctx *c = arg;
@@ -70,13 +63,6 @@ static void centroid_range(void *arg, int64_t b, int64_t e)
             centroid[a] = (c->xyz[3 * v[0] + a] + c->xyz[3 * v[1] + a] + c->xyz[3 * v[2] + a]) / 3.0;
         c->out[f] = morton_of(centroid, c->lo, c->scale);
     }
-}
-
-void morton_codes(const double *xyz, int64_t n, const double lo[3], const double scale[3],
-                  uint64_t *out, int n_threads)
-{
-    morton_ctx c = {xyz, lo, scale, NULL, out};
-    parallel_for(n, 1 << 14, n_threads, morton_range, &c);
 }
 
 void centroid_codes(const double *local, const int64_t *faces, int64_t m, const double lo[3],

@@ -7,8 +7,6 @@
 #include <stdint.h>
 
 /* bvh.c: bounding-volume hierarchy over triangles, exact nearest-triangle queries */
-void morton_codes(const double *xyz, int64_t n, const double lo[3], const double scale[3],
-                  uint64_t *out, int n_threads);
 void centroid_codes(const double *local, const int64_t *faces, int64_t m, const double lo[3],
                     const double scale[3], uint64_t *out, int n_threads);
 /* stable argsort; returns 0, or -1 when out of memory */

@@ -32,25 +32,6 @@ static void release(Py_buffer *views, int n)
 #define D sizeof(double)
 #define I sizeof(int64_t)
 
-static PyObject *py_morton_codes(PyObject *self, PyObject *args)
-{
-    Py_buffer v[4] = {{0}};
-    Py_ssize_t n;
-    int threads;
-    if (!PyArg_ParseTuple(args, "y*ny*y*w*i", &v[0], &n, &v[1], &v[2], &v[3], &threads))
-        return NULL;
-    PyObject *result = NULL;
-    if (sized(&v[0], 3 * n, D, "xyz") && sized(&v[1], 3, D, "lo") && sized(&v[2], 3, D, "scale")
-        && sized(&v[3], n, I, "out")) {
-        Py_BEGIN_ALLOW_THREADS
-        morton_codes(v[0].buf, n, v[1].buf, v[2].buf, v[3].buf, threads);
-        Py_END_ALLOW_THREADS
-        result = Py_NewRef(Py_None);
-    }
-    release(v, 4);
-    return result;
-}
-
 static PyObject *py_centroid_codes(PyObject *self, PyObject *args)
 {
     Py_buffer v[5] = {{0}};
@@ -283,8 +264,6 @@ static PyObject *py_highest_surface(PyObject *self, PyObject *args)
 }
 
 static PyMethodDef methods[] = {
-    {"morton_codes", py_morton_codes, METH_VARARGS,
-     "morton_codes(xyz f8 (n,3), n, lo f8 (3,), scale f8 (3,), out u8 (n,), threads)"},
     {"centroid_codes", py_centroid_codes, METH_VARARGS,
      "centroid_codes(local f8 (v,3), v, faces i8 (m,3), m, lo, scale, out u8 (m,), threads)"},
     {"radix_argsort", py_radix_argsort, METH_VARARGS,
