@@ -157,9 +157,11 @@ def run(args) -> int:
 def _tune_process() -> None:
     """Settings for one comparison process, each measured with ``designer bench compare``.
 
-    * The figure thread imports matplotlib (pure Python, holding the GIL) while this
-      thread hands the inputs to the kernels in many short steps: a 0.5 ms switch
-      interval instead of 5 ms lets each step start without waiting (-0.05 s).
+    * This thread hands the inputs to the kernels in many short steps while other
+      threads hold the GIL (the figure thread's matplotlib import when the figures are
+      drawn in-process; the PLY writer and the error map's grid at the end): a 0.5 ms
+      switch interval instead of 5 ms lets each step start without waiting (-0.05 s
+      with the figure thread, -0.02 s with the figure processes).
     * OpenBLAS (set before numpy loads, in :func:`run`): the comparison's BLAS calls
       are small (matplotlib's transforms), yet after each one OpenBLAS's worker threads
       spin on ``sched_yield`` for a while, taking CPU time the kernels need (7 % of the
