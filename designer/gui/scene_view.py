@@ -307,25 +307,32 @@ class SceneView(OverlayLayers, QWidget):
                 self.plotter.actors[name].SetVisibility(self._visible.get("targets", True))
         self.request_render()
 
-    def show_objects(self, vertices_world: np.ndarray | None, faces: np.ndarray | None = None,
-                     face_irradiance: np.ndarray | None = None) -> None:
-        """The scene's mesh objects (one merged mesh), each face shaded by its light."""
-        from designer.gui.view_geometry import shade_rgb
-
-        if vertices_world is None or not len(faces):
-            self.remove_layer("objects")
+    def _show_faces(self, name: str, vertices_world: np.ndarray | None,
+                    faces: np.ndarray | None, face_rgb) -> None:
+        """Draw layer ``name``: one triangle mesh, each face in its colour (``face_rgb``:
+        a function giving (M, 3) uint8, called only when there are faces), unlit (the
+        colours carry the renderer's light); nothing when there are no faces."""
+        self.remove_layer(name)
+        if vertices_world is None or faces is None or not len(faces):
             self.request_render()
             return
         f = np.asarray(faces, dtype=np.int64)
         mesh = self._pv.PolyData(self.local(vertices_world),
                                  np.column_stack([np.full(len(f), 3), f]).ravel())
-        mesh.cell_data["rgb"] = shade_rgb(face_irradiance, OBJECT_COLOUR)
-        self.remove_layer("objects")
-        self.plotter.add_mesh(mesh, name="objects", scalars="rgb", rgb=True, lighting=False,
+        mesh.cell_data["rgb"] = face_rgb()
+        self.plotter.add_mesh(mesh, name=name, scalars="rgb", rgb=True, lighting=False,
                               reset_camera=False, render=False)
-        self._meshes["objects"] = mesh
-        self.plotter.actors["objects"].SetVisibility(self._visible.get("objects", True))
+        self._meshes[name] = mesh
+        self.plotter.actors[name].SetVisibility(self._visible.get(name, True))
         self.request_render()
+
+    def show_objects(self, vertices_world: np.ndarray | None, faces: np.ndarray | None = None,
+                     face_irradiance: np.ndarray | None = None) -> None:
+        """The scene's mesh objects (one merged mesh), each face shaded by its light."""
+        from designer.gui.view_geometry import shade_rgb
+
+        self._show_faces("objects", vertices_world, faces,
+                         lambda: shade_rgb(face_irradiance, OBJECT_COLOUR))
 
     def show_buildings(self, vertices_world: np.ndarray | None, faces: np.ndarray | None = None,
                        face_irradiance: np.ndarray | None = None,
@@ -334,21 +341,9 @@ class SceneView(OverlayLayers, QWidget):
         shaded by its light."""
         from designer.gui.view_geometry import shade_rgb
 
-        self.remove_layer("buildings")
-        if vertices_world is None or not len(faces):
-            self.request_render()
-            return
-        f = np.asarray(faces, dtype=np.int64)
-        mesh = self._pv.PolyData(self.local(vertices_world),
-                                 np.column_stack([np.full(len(f), 3), f]).ravel())
-        mesh.cell_data["rgb"] = np.where(np.asarray(face_roof)[:, None],
-                                         shade_rgb(face_irradiance, ROOF_COLOUR),
-                                         shade_rgb(face_irradiance, FACADE_COLOUR))
-        self.plotter.add_mesh(mesh, name="buildings", scalars="rgb", rgb=True, lighting=False,
-                              reset_camera=False, render=False)
-        self._meshes["buildings"] = mesh
-        self.plotter.actors["buildings"].SetVisibility(self._visible.get("buildings", True))
-        self.request_render()
+        self._show_faces("buildings", vertices_world, faces, lambda: np.where(
+            np.asarray(face_roof)[:, None], shade_rgb(face_irradiance, ROOF_COLOUR),
+            shade_rgb(face_irradiance, FACADE_COLOUR)))
 
     def show_vegetation(self, vertices_world: np.ndarray | None,
                         faces: np.ndarray | None = None,
@@ -357,19 +352,7 @@ class SceneView(OverlayLayers, QWidget):
         as the renderer draws them."""
         from designer.gui.view_geometry import flat_lit_rgb
 
-        self.remove_layer("vegetation")
-        if vertices_world is None or not len(faces):
-            self.request_render()
-            return
-        f = np.asarray(faces, dtype=np.int64)
-        mesh = self._pv.PolyData(self.local(vertices_world),
-                                 np.column_stack([np.full(len(f), 3), f]).ravel())
-        mesh.cell_data["rgb"] = flat_lit_rgb(face_albedo)
-        self.plotter.add_mesh(mesh, name="vegetation", scalars="rgb", rgb=True, lighting=False,
-                              reset_camera=False, render=False)
-        self._meshes["vegetation"] = mesh
-        self.plotter.actors["vegetation"].SetVisibility(self._visible.get("vegetation", True))
-        self.request_render()
+        self._show_faces("vegetation", vertices_world, faces, lambda: flat_lit_rgb(face_albedo))
 
     def target_positions(self) -> list[tuple[str, np.ndarray]]:
         return [(i, p) for i, p, _ in self._targets]
