@@ -43,13 +43,17 @@ from __future__ import annotations
 
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
 
 from designer.project import load_project, template, write_project
 from designer.project import model as m
 from designer.render.job import prepare_job
 from designer.render.runner import render_frames
+from designer.render.stages import STAGE_COLUMNS, mean_stages
 
 
 def _example(folder: Path) -> Path:
@@ -139,7 +143,75 @@ def _with_plants(project: m.Project) -> m.Project:
                        "2026-06-21T06:30:00Z", 8.0, 10.0)))
 
 
-def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
+def run(repeats: int = 1, scale: float = 1.0, variants: bool = False,
+        on_row: Callable[[dict], None] | None = None) -> list[dict]:
+    """The example survey as ``designer demo`` renders it, stage by stage, beside the same
+    frames without the texture bake and in bare Cycles; with ``variants`` also the rows
+    of the world's elements (module docstring). ``on_row`` gets each row as it is
+    measured."""
+    rows = demo_rows(repeats, scale, on_row)
+    if variants:
+        for row in variant_rows(scale):
+            rows.append(row)
+            if on_row is not None:
+                on_row(row)
+    return rows
+
+
+#: frames of the demo rows at --scale 1, spread evenly over the flight
+DEMO_FRAMES = 12
+
+
+def demo_frames(n_images: int, scale: float) -> list[int]:
+    """``DEMO_FRAMES`` × scale frames spread evenly over a flight of ``n_images``: edge
+    and centre frames (an image partly off the terrain renders faster) in their share."""
+    n = max(2, min(n_images, round(DEMO_FRAMES * scale)))
+    return sorted({round(float(k)) for k in np.linspace(0, n_images - 1, n)})
+
+
+def demo_rows(repeats: int = 1, scale: float = 1.0,
+              on_row: Callable[[dict], None] | None = None) -> list[dict]:
+    """Three rows over the same frames of the example survey, each with the project's
+    workers: ``demo`` (as ``designer demo`` renders it: the texture bake, the camera
+    effects, the files), ``node graph`` (the same without the bake: Cycles evaluates the
+    texture variation's five lookups per sample) and ``bare Cycles`` (the demo's scene
+    rendered in Cycles only: no file, no effects). The best of ``repeats`` runs each."""
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        project_path = _example(tmp)
+        project = load_project(project_path)
+        for name, bake, bare in (("demo", True, False), ("node graph", False, False),
+                                 ("bare Cycles", True, True)):
+            out = tmp / name.replace(" ", "-")
+            t0 = time.perf_counter()
+            prepared = prepare_job(project, project_path.parent, out, bake_texture=bake)
+            prepare_s = time.perf_counter() - t0
+            frames = demo_frames(len(prepared.job.frames), scale)
+            best = None
+            for _ in range(max(1, repeats)):
+                report = render_frames(prepared.job_path, frames,
+                                       workers=project.render.workers, bare=bare)
+                if best is None or report.wall_seconds < best.wall_seconds:
+                    best = report
+            n = len(frames)
+            W, H = prepared.interior.image_size_px
+            row = {"row": name, "image": f"{W}x{H}", "frames": n,
+                   "samples": prepared.job.render.samples,
+                   "workers": len(best.peak_rss_mb),
+                   "prepare_s": prepare_s,
+                   "wall_per_image_s": best.wall_seconds / n,
+                   "scene_build_s": max(best.scene_seconds or [0.0]),
+                   "stages_per_image_s": mean_stages(best.stages.values()),
+                   "peak_rss_mb_per_worker": max(best.peak_rss_mb or [0.0])}
+            rows.append(row)
+            if on_row is not None:
+                on_row(row)
+    return rows
+
+
+def variant_rows(scale: float = 1.0) -> list[dict]:
+    """The rows of the world's elements (module docstring), as before the stage table."""
     n_frames = max(2, round(20 * scale))
     n_naive = max(1, round(5 * scale))
     rows = []
@@ -221,6 +293,48 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
+    """The stage table of the demo rows, then (with ``--variants``) the variants' table."""
+    demo = [r for r in rows if "stages_per_image_s" in r]
+    others = [r for r in rows if "stages_per_image_s" not in r]
+    parts = []
+    if demo:
+        parts.append(format_demo_table(demo))
+    if others:
+        parts.append(format_variant_table(others))
+    return "\n\n".join(parts)
+
+
+def demo_header() -> str:
+    head = (f"{'row':<12} {'image':>9} {'spp':>4} {'frames':>6} {'workers':>7} "
+            f"{'prepare s':>9} {'wall s/img':>10} "
+            + " ".join(f"{c:>8}" for c in STAGE_COLUMNS.values()))
+    return head + "\n" + "-" * len(head)
+
+
+def format_demo_row(r: dict) -> str:
+    stages = r["stages_per_image_s"]
+    cells = " ".join(_or_dash(stages.get(k, float("nan")), 8, ".2f") for k in STAGE_COLUMNS)
+    return (f"{r['row']:<12} {r['image']:>9} {r['samples']:>4} {r['frames']:>6} "
+            f"{r['workers']:>7} {r['prepare_s']:>9.1f} {r['wall_per_image_s']:>10.2f} {cells}")
+
+
+def format_demo_table(rows: list[dict]) -> str:
+    lines = [demo_header()] + [format_demo_row(r) for r in rows]
+    by = {r["row"]: r for r in rows}
+    wall = {name: r["wall_per_image_s"] for name, r in by.items()}
+    if "demo" in wall and "bare Cycles" in wall:
+        lines.append(f"demo wall / bare Cycles wall: {wall['demo'] / wall['bare Cycles']:.2f}")
+    if "demo" in wall and "node graph" in wall:
+        lines.append(f"node graph / demo (the texture bake's speed-up): "
+                     f"{wall['node graph'] / wall['demo']:.2f}")
+    lines.append("wall s/img: the whole run of the workers (process start, scene build, every "
+                 "frame) / images; the stage columns: mean seconds per image inside one worker "
+                 "(the workers run side by side); prepare s: building the job (scene, bake, "
+                 "warp) once")
+    return "\n".join(lines)
+
+
+def format_variant_table(rows: list[dict]) -> str:
     head = (f"{'quality':<8} {'sun':<9} {'texture':<7} {'prepare s/img':>13} {'image':>10} "
             f"{'frames':>6} "
             f"{'workers':>7} {'wall s/img':>10} "
@@ -256,3 +370,17 @@ def format_table(rows: list[dict]) -> str:
 def _or_dash(value: float, width: int, spec: str) -> str:
     """``value`` formatted, or a dash where it was not measured (NaN)."""
     return f"{'–':>{width}}" if value != value else f"{value:>{width}{spec}}"
+
+
+def live_header() -> str:
+    """The header of the rows ``designer bench`` prints as they are measured."""
+    return "measured rows (the full table follows at the end):"
+
+
+def format_row(row: dict) -> str:
+    """One measured row on one line (demo rows in the stage table's format)."""
+    if "stages_per_image_s" in row:
+        return format_demo_row(row)
+    return (f"{row['quality']} {row['sun']} {row.get('texture', '')}: "
+            f"wall {row['wall_per_image_s']:.2f} s/img, Cycles "
+            f"{row['bare_cycles_per_image_s']:.2f} s/img")

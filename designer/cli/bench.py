@@ -38,6 +38,9 @@ def register(subparsers) -> None:
     parser.add_argument("--image-size", choices=["small", "example"], default=None,
                         help="study: the base survey's small 640 x 480 camera, or the example "
                              "survey's camera at its 1368 x 912 px")
+    parser.add_argument("--variants", action="store_true",
+                        help="render: also the rows of the world's elements (sun over time, "
+                             "moving objects, buildings, plants, clouds, rig, rolling shutter)")
     parser.set_defaults(func=run)
 
 
@@ -63,6 +66,32 @@ def run(args) -> int:
             raise DesignerError(f"--image-size: only 'designer bench study' takes it, not "
                                 f"'designer bench {args.name}'")
         options["image_size"] = args.image_size
+    if args.variants:
+        if "variants" not in inspect.signature(module.run).parameters:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--variants: only 'designer bench render' takes it, not "
+                                f"'designer bench {args.name}'")
+        options["variants"] = True
+    if "on_row" in inspect.signature(module.run).parameters:
+        options["on_row"] = _live_rows(module)
     rows = module.run(repeats=args.repeats, scale=args.scale, **options)
     print(module.format_table(rows))
     return 0
+
+
+def _live_rows(module):
+    """Print each row on standard error as soon as it is measured (a run cut short keeps
+    its figures); the whole table follows on standard output at the end."""
+    import sys
+
+    printed = [False]
+
+    def on_row(row: dict) -> None:
+        if hasattr(module, "format_row"):
+            if not printed[0] and hasattr(module, "live_header"):
+                print(module.live_header(), file=sys.stderr, flush=True)
+            printed[0] = True
+            print(module.format_row(row), file=sys.stderr, flush=True)
+
+    return on_row

@@ -277,23 +277,21 @@ class StationsResult:
     C_world: np.ndarray
     R_cam_to_world: np.ndarray
     stations: tuple = ()
+    #: every image (all cameras of a rig) as the render-time model sees it
+    #: (designer.survey.render_cost): size, samples, share on the terrain
+    render_costs: tuple = ()
 
 
-def render_seconds_per_image(project: m.Project, interior: InteriorOrientation,
-                             preset: str | None = None) -> float:
-    """Estimated Cycles seconds per image on the reference machine (``designer bench
-    render`` figures, as in ``designer plan``)."""
-    from designer.survey.plan_report import (
-        SECONDS_PER_MEGAPIXEL,
-        SECONDS_PER_MEGAPIXEL_SAMPLE,
-    )
+def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
+    """Estimated wall seconds of rendering the images ``costs`` (ImageCost) on this
+    machine (:mod:`designer.survey.render_cost`), at the project's samples or a preset's."""
+    from dataclasses import replace as _replace
 
-    render = project.render
-    spp = render.effective_samples if preset is None else m.PRESET_SAMPLES[preset]
-    # the rendered size as designer.survey.project_poses.render_interior rounds it
-    W = round(interior.image_width_px * render.resolution_scale)
-    H = round(interior.image_height_px * render.resolution_scale)
-    return W * H / 1e6 * (spp * SECONDS_PER_MEGAPIXEL_SAMPLE + SECONDS_PER_MEGAPIXEL)
+    from designer.survey.render_cost import estimate_render_s, render_workers
+
+    if preset is not None:
+        costs = [_replace(c, samples=m.PRESET_SAMPLES[preset]) for c in costs]
+    return estimate_render_s(costs, render_workers(project, len(costs)))
 
 
 def rendered_size_px(interior: InteriorOrientation, resolution_scale: float) -> tuple[int, int]:
@@ -335,23 +333,27 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
                            front_overlap_fraction=plan.front_overlap_percent / 100,
                            side_overlap_fraction=plan.side_overlap_percent / 100,
                            orientation=plan.orientation)
-    seconds = len(stations) * render_seconds_per_image(project, interior)
     n_images = len(stations)
     if project.trajectory.rigs:
-        geometry, n_images, seconds = _rig_geometry(project, hf, geometry, terrain)
+        geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
+    from designer.survey.project_poses import project_images
+    from designer.survey.render_cost import project_image_costs
+
+    costs = tuple(project_image_costs(project, project_images(project, hf), hf))
+    seconds = render_estimate_s(project, costs)
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
-                          tuple(stations))
+                          tuple(stations), costs)
 
 
 def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
-                  terrain: TerrainResult | None) -> tuple[StationGeometry, int, float]:
-    """Frusta and footprints of every mount of the rigs flown, the image count and render
-    seconds of all cameras."""
+                  terrain: TerrainResult | None) -> tuple[StationGeometry, int]:
+    """Frusta and footprints of every mount of the rigs flown, and the image count of all
+    cameras."""
     from designer.survey.project_poses import interior_from_camera, project_images
 
     images = project_images(project, hf)
     rc = terrain.raycaster if terrain is not None else None
-    mounts, seconds = [], 0.0
+    mounts = []
     for camera_id in images.camera_order():
         k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
         interior = interior_from_camera(project.camera(camera_id))
@@ -360,8 +362,7 @@ def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
             np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
             np.array([s.line_index for s in st]), interior, rc.first_hit if rc else None,
             terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
-        seconds += len(k) * render_seconds_per_image(project, interior)
-    return with_mount_frusta(platform, mounts), len(images.stations), seconds
+    return with_mount_frusta(platform, mounts), len(images.stations)
 
 
 @dataclass(frozen=True, eq=False)

@@ -4,11 +4,9 @@ time) and the contents of a study output folder (``designer study run -o DIR``).
 
 Time estimate (seconds on one worker):
 
-* render: per distinct image set, :data:`RENDER_SETUP_S` plus its images × the reference
-  render seconds per image of the run's project
-  (:func:`designer.gui.derived.render_seconds_per_image`, the ``designer bench render``
-  figures), scaled by this machine's measured factor
-  (:mod:`designer.gui.render_speed`);
+* render: per distinct image set, the render-time model with this machine's measured
+  coefficients (:mod:`designer.survey.render_cost`: the set-up, every image's size,
+  samples and share on the terrain, the run's workers);
 * reconstruction + comparison: per distinct processing, its images ×
   :func:`reconstruct_seconds_per_image` (grows with the image size, measured); a
   processing of images whose features and matches an earlier run of the study computed
@@ -24,12 +22,6 @@ import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-#: seconds per distinct image set besides the images: Blender start, scene build, ground
-#: truth. Measured on the shared 2-core development machine (load average 7–10): 15 s for
-#: the tiny test study's render (18 images of 160 × 120 px, Cycles ≈ 0.3 s), 40 s for the
-#: gcp-count example's (47 s for 12 images of 640 × 480 px whose Cycles time the render
-#: model puts at 7 s; docs/studies.md).
-RENDER_SETUP_S = 30.0
 #: reconstruction + comparison seconds per image (sparse SfM): A + B × megapixels of the
 #: rendered image, fitted to two measured studies on the same machine — the tiny test
 #: study, 11 s for 18 images of 0.019 MP (0.6 s per image), and the gcp-count example,
@@ -135,11 +127,24 @@ def _render_key(project) -> str:
     return repr(replace(project, name="", description=None, processing=None, scene=scene))
 
 
-def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
+def plan_cost(plan, heightfield, speed=None) -> PlanCost:
     """Counts and estimated seconds (one worker) of a planned study
-    (:func:`designer.study.design.plan_study`); ``heightfield``: the base terrain's."""
-    from designer.gui.derived import render_seconds_per_image
-    from designer.survey.project_poses import interior_from_camera, project_stations
+    (:func:`designer.study.design.plan_study`); ``heightfield``: the base terrain's;
+    ``speed``: the render coefficients (default: this machine's,
+    :func:`designer.survey.render_cost.load_speed`)."""
+    from designer.survey.project_poses import (
+        interior_from_camera,
+        project_images,
+        project_stations,
+    )
+    from designer.survey.render_cost import (
+        estimate_render_s,
+        load_speed,
+        project_image_costs,
+        render_workers,
+    )
+
+    speed = speed or load_speed()
 
     renders: dict[str, tuple[int, float]] = {}
     render_s = 0.0
@@ -153,8 +158,10 @@ def plan_cost(plan, heightfield, speed_factor: float = 1.0) -> PlanCost:
             stations, camera_id = project_stations(project, heightfield)
             interior = interior_from_camera(project.camera(camera_id))
             renders[key] = (len(stations), reconstruct_seconds_per_image(project, interior))
-            render_s += RENDER_SETUP_S + len(stations) * speed_factor * \
-                render_seconds_per_image(project, interior)
+            costs = project_image_costs(project, project_images(project, heightfield),
+                                        heightfield)
+            render_s += estimate_render_s(costs, render_workers(project, len(costs)),
+                                          speed=speed)
         proc_key = repr(replace(project, name="", description=None))
         if proc_key not in processings:
             n_images, per_image_s = renders[key]

@@ -77,7 +77,7 @@ def _heightfield(plan):
     return _terrain_cache[key]
 
 
-def check_study(text: str | None, source: str, path: Path, speed_factor: float):
+def check_study(text: str | None, source: str, path: Path, speed=None):
     """(plan, cost) of the study ``text`` (None: the file ``path`` as it is on disk);
     ProjectError lines ``FILE:LINE:COL: <element>: message`` for anything wrong."""
     from designer.gui.study_data import plan_cost
@@ -86,4 +86,4 @@ def check_study(text: str | None, source: str, path: Path, speed_factor: float):
 
     study = read_study(path) if text is None else parse_study(text.encode(), source, path)
     plan = plan_study(study)
-    return plan, plan_cost(plan, _heightfield(plan), speed_factor)
+    return plan, plan_cost(plan, _heightfield(plan), speed)

@@ -42,11 +42,14 @@ from designer.render.job_spec import (
     RenderJob,
     RenderSpec,
 )
+from designer.render.texture_bake import bake_varied_texture, can_bake
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_images, render_interior
 from designer.survey.timeline import StationTime, iso_utc, project_station_times
 
+#: the job's file of the varied ground texture baked into one image
+BAKED_TEXTURE = "texture_varied.png"
 #: samples per pixel of each quality preset; measured costs in the README
 QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 PIXEL_FILTERS = {"box": "BOX", "gaussian": "GAUSSIAN", "blackman-harris": "BLACKMAN_HARRIS"}
@@ -98,11 +101,15 @@ def prepare_job(
     base_dir: Path,
     out_dir: Path,
     quality: str | None = None,
+    *,
+    bake_texture: bool = True,
 ) -> PreparedJob:
     """Build the scene, write its files under ``out_dir/.designer-job`` and the job.json.
 
     The job's workers write the images into ``out_dir/images``
-    (:mod:`designer.core.layout`).
+    (:mod:`designer.core.layout`). A varied ground texture is baked into one image
+    (:mod:`designer.render.texture_bake`) where the bake fits; ``bake_texture=False``
+    keeps Cycles' node graph (``designer bench render`` measures both).
     """
     out_dir = Path(out_dir)
     job_dir = out_dir / JOB_DIR
@@ -155,7 +162,18 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
-    if scene.variation is not None:
+    if (bake_texture and scene.variation is not None
+            and can_bake(scene.texture_rgb.shape, scene.texture_tiles)):
+        # the blend of the three lookups baked into one image: one lookup per sample
+        baked = bake_varied_texture(scene.texture_rgb, scene.texture_tiles, scene.variation,
+                                    scene.interpolation)
+        write_png(job_dir / BAKED_TEXTURE, cv2.cvtColor(baked, cv2.COLOR_RGB2BGR),
+                  fast=True)
+        terrain_material = MaterialSpec(texture=BAKED_TEXTURE, uv_tiles=(1.0, 1.0),
+                                        interpolation="Linear", extension="EXTEND",
+                                        texture_colorspace="Non-Color",
+                                        strength=terrain_material.strength * GAIN_ENCODING)
+    elif scene.variation is not None:
         var = scene.variation
         write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
         write_png(job_dir / "variation_warp.png", cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))

@@ -205,9 +205,12 @@ def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path,
                           for e in values))
 
 
-def write_png(path: Path, image: np.ndarray) -> None:
+def write_png(path: Path, image: np.ndarray, fast: bool = False) -> None:
+    """Write a PNG atomically; ``fast``: uncompressed (a large job image of noisy texels,
+    which zlib shrinks by 10 % in three times the time)."""
+    params = [cv2.IMWRITE_PNG_COMPRESSION, 0] if fast else []
     with atomic_path(path) as tmp:
-        if not cv2.imwrite(str(tmp), image):
+        if not cv2.imwrite(str(tmp), image, params):
             raise OSError(f"could not write {path}")
 
 

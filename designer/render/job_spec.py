@@ -22,6 +22,7 @@ IMAGE_FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
 PIXEL_FILTER_NAMES = ("BOX", "GAUSSIAN", "BLACKMAN_HARRIS")
 INTERPOLATIONS = ("Closest", "Linear", "Cubic")
 EXTENSIONS = ("REPEAT", "EXTEND", "CLIP")
+TEXTURE_COLORSPACES = ("sRGB", "Non-Color")
 #: name of the second uv layer (mesh .npz array ``uv_texture``) a material may look up
 TEXTURE_UV_MAP = "TextureUV"
 
@@ -112,6 +113,10 @@ class MaterialSpec:
     variation: str | None = None
     variation_warp: str | None = None
     variation_warp_uv: float = 0.0
+    #: how the texture's values are read: "sRGB" (8-bit codes, decoded after
+    #: interpolation) or "Non-Color" (linear light, e.g. the 16-bit bake of a varied
+    #: texture, designer.render.texture_bake, held as half floats)
+    texture_colorspace: str = "sRGB"
 
     def __post_init__(self) -> None:
         if (self.color is None) == (self.texture is None):
@@ -122,6 +127,9 @@ class MaterialSpec:
         if self.interpolation not in INTERPOLATIONS:
             raise JobError(f"texture interpolation {self.interpolation!r}; use one of "
                            f"{', '.join(INTERPOLATIONS)}")
+        if self.texture_colorspace not in TEXTURE_COLORSPACES:
+            raise JobError(f"texture colour space {self.texture_colorspace!r}; use one of "
+                           f"{', '.join(TEXTURE_COLORSPACES)}")
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ from designer.export.colmap_read import OFFSET_FILE, model_offset_world
 from designer.render.job import PreparedJob
 from designer.render.provenance import ImageProvenance, ground_truth_digest
 from designer.render.runner import RenderReport
+from designer.render.stages import round_stages
 
 __all__ = ["GROUND_TRUTH_DIR", "MANIFEST", "Manifest", "read_manifest"]
 
@@ -103,11 +104,21 @@ class Manifest:
         self.data["ground_truth"] = record
         self._write()
 
-    def image_done(self, index: int, seconds: float) -> None:
+    def image_done(self, index: int, seconds: float, stages: dict | None = None) -> None:
+        """Record a finished image: its seconds in the worker (``render_seconds``, the
+        whole frame) and, when the worker reported them, each stage's seconds
+        (:data:`designer.render.stages.FRAME_STAGES`)."""
         name = self.prepared.job.image_names[index]
-        self.finished[name] = {"frame": index, "render_seconds": round(seconds, 4),
-                               "inputs": self.provenance[index].to_json()}
+        entry = {"frame": index, "render_seconds": round(seconds, 4)}
+        if stages:
+            entry["stages"] = round_stages(stages)
+        entry["inputs"] = self.provenance[index].to_json()
+        self.finished[name] = entry
         self._write()
+
+    def ground_truth_seconds(self, seconds: float) -> None:
+        """How long writing the ground truth (tables, masks) took in this run."""
+        self.data["ground_truth_seconds"] = round(seconds, 3)
 
     def finish(self, report: RenderReport) -> Path:
         if report.blender_version:

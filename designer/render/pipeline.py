@@ -218,6 +218,19 @@ def image_times(prepared: PreparedJob) -> list[ImageTime] | None:
                                  strict=True)]
 
 
+def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: float) -> None:
+    """Refine this machine's render-time coefficients from the run (the next estimate
+    uses them); a cache folder that cannot be written costs only that refinement."""
+    import sys
+
+    from designer.render.speed_record import record_render_speed
+
+    try:
+        record_render_speed(prepared, report, prepare_seconds)
+    except OSError as error:
+        print(f"designer: warning: render speed not recorded ({error})", file=sys.stderr)
+
+
 def render_project(
     project_path: Path,
     out_dir: Path,
@@ -229,11 +242,17 @@ def render_project(
     progress: ProgressCallback | None = None,
     scheduler: str | None = None,
     colmap_offset: str = "local",
+    keep_raw: Path | None = None,
+    raw_from: Path | None = None,
 ) -> RenderSummary:
     """Render a project into ``out_dir``; on a Dask cluster when ``scheduler`` is given.
 
     ``colmap_offset``: the COLMAP ground truth's frame (``local``: world minus the mean
     camera centre rounded to metres; ``none``: world; ``E,N,H``: world minus that).
+    ``keep_raw``: also keep each raw render (Blender's image, before the camera effects)
+    in that folder; ``raw_from``: no Cycles at all — finish the images from the raw
+    renders kept there by a render of the same scene, poses and camera, through this
+    project's camera effects (:func:`designer.render.effects_job.apply_effects_pass`).
     """
     project_path = Path(project_path)
     project = load_project(project_path)
@@ -246,7 +265,9 @@ def render_project(
     wanted = parse_frames(frames, len(prepared.poses))
     manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
                         crs=project.crs)
+    t_truth = time.perf_counter()
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
+    manifest.ground_truth_seconds(time.perf_counter() - t_truth)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
     # the readout ODM is told: the first rolling-shutter image's
@@ -265,21 +286,42 @@ def render_project(
     def keep(index: int) -> bool:
         return index not in stale
 
+    # what this run measured, kept as it arrives: an interrupted run still refines this
+    # machine's render speed with the frames it finished
+    measured = RenderReport()
+    t_render = time.perf_counter()
+
     def record(event: dict) -> None:
         if event.get("event") == "frame_done":
-            manifest.image_done(int(event["index"]), float(event["seconds"]))
+            manifest.image_done(int(event["index"]), float(event["seconds"]),
+                                event.get("stages"))
+            measured.rendered[int(event["index"])] = float(event["seconds"])
+            measured.stages[int(event["index"])] = dict(event.get("stages") or {})
+        elif event.get("event") == "worker_started":
+            measured.scene_seconds.append(0.0)  # one entry per worker
         if progress is not None:
             progress(event)
 
-    if scheduler:
-        from designer.render.cluster import render_frames_on_cluster
+    try:
+        if raw_from is not None:
+            from designer.render.effects_job import apply_effects_pass
 
-        report = render_frames_on_cluster(prepared.job_path, wanted, scheduler,
-                                          resume=resume, progress=record, keep=keep)
-    else:
-        report = render_frames(prepared.job_path, wanted,
-                               workers=workers or project.render.workers,
-                               resume=resume, progress=record, keep=keep)
+            report = apply_effects_pass(prepared.job_path, wanted, Path(raw_from),
+                                        resume=resume, progress=record, keep=keep)
+        elif scheduler:
+            from designer.render.cluster import render_frames_on_cluster
+
+            report = render_frames_on_cluster(prepared.job_path, wanted, scheduler,
+                                              resume=resume, progress=record, keep=keep)
+        else:
+            report = render_frames(prepared.job_path, wanted,
+                                   workers=workers or project.render.workers,
+                                   resume=resume, progress=record, keep=keep,
+                                   keep_raw=keep_raw)
+    finally:
+        if not scheduler and raw_from is None:  # a cluster's machines are not this one
+            measured.wall_seconds = time.perf_counter() - t_render
+            _record_speed(prepared, measured, prepare_seconds)
     manifest_path = manifest.finish(report)
     if report.failed:
         raise DesignerError(

@@ -93,12 +93,14 @@ def _file_digest(path: Path) -> str:
 
 
 def _material_fields(mat) -> dict:
-    """A material's fields; those of an absent texture variation are left out, so a
-    material without one hashes as before the variation existed."""
+    """A material's fields; those of an absent texture variation and the default colour
+    space are left out, so a material without them hashes as before they existed."""
     fields = asdict(mat)
     if mat.variation is None:
         for name in ("variation", "variation_warp", "variation_warp_uv"):
             fields.pop(name)
+    if mat.texture_colorspace == "sRGB":  # as before the baked texture existed
+        fields.pop("texture_colorspace")
     return fields
 
 
@@ -254,3 +256,23 @@ def describe_parts(parts: list[str]) -> str:
              "missing": "the image is missing"}
     names = [words.get(p, p) for p in parts]
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+#: frame fields that only the camera effects or the file's metadata use: a raw render
+#: (Blender's image, before the effects) does not depend on them
+_EFFECT_ONLY_FRAME_FIELDS = ("gsd_m", "flight_direction_uv", "distance_m", "time_utc")
+
+
+def raw_render_digests(job: RenderJob, provenance: dict[int, ImageProvenance]
+                       ) -> dict[int, str]:
+    """Per frame, the hash of its raw render — Blender's image before the camera effects:
+    the image's provenance without its ``effects`` part and with only the pose fields
+    Blender uses. Two frames with equal digests give the same raw render, whatever
+    their effects (designer.render.effects_job)."""
+    out = {}
+    for frame in job.frames:
+        parts = provenance[frame.index].parts
+        pose = {k: v for k, v in asdict(frame).items() if k not in _EFFECT_ONLY_FRAME_FIELDS}
+        out[frame.index] = _digest(*(parts[p] for p in PARTS if p not in ("effects", "pose")),
+                                   _canonical(pose))
+    return out

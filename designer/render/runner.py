@@ -23,6 +23,7 @@ from pathlib import Path
 from designer.core.layout import PARTIAL_DIR
 from designer.errors import DesignerError
 from designer.render.job_spec import RenderJob
+from designer.survey.render_cost import default_workers
 
 ProgressCallback = Callable[[dict], None]
 
@@ -38,11 +39,8 @@ class RenderReport:
     blender_version: str | None = None
     wall_seconds: float = 0.0
     peak_rss_mb: list[float] = field(default_factory=list)  # one per worker process
-
-
-def default_workers(n_frames: int) -> int:
-    """Worker processes for this machine: one per two cores, at least one."""
-    return max(1, min(n_frames, (os.cpu_count() or 2) // 2))
+    #: index -> seconds of each stage of the frame (designer.render.stages.FRAME_STAGES)
+    stages: dict[int, dict[str, float]] = field(default_factory=dict)
 
 
 def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
@@ -77,11 +75,15 @@ def render_frames(
     progress: ProgressCallback | None = None,
     retries: int = 1,
     keep: Callable[[int], bool] | None = None,
+    bare: bool = False,
+    keep_raw: Path | None = None,
 ) -> RenderReport:
     """Render ``frames`` of the job at ``job_path`` with local worker processes.
 
     With ``resume``, a frame whose image is complete is skipped when ``keep(index)`` is
-    true (by default always; the pipeline passes its provenance check).
+    true (by default always; the pipeline passes its provenance check). ``bare`` renders
+    in Cycles only and writes nothing (``designer bench render``'s bare Cycles row);
+    ``keep_raw`` keeps each frame's raw render (before the camera effects) in that folder.
     """
     job_path = Path(job_path)
     job = RenderJob.read(job_path)
@@ -112,7 +114,9 @@ def render_frames(
             n_workers = max(1, min(n_workers, len(todo)))
             threads = max(1, (os.cpu_count() or 1) // n_workers)
             batches = [todo[k::n_workers] for k in range(n_workers)]
-            finished = _run_workers(job_path, batches, threads, report, progress)
+            extra = (["--bare"] if bare else []) + (
+                ["--keep-raw", str(keep_raw)] if keep_raw is not None else [])
+            finished = _run_workers(job_path, batches, threads, report, progress, extra)
             todo = [i for i in todo if i not in finished]
             attempt += 1
             if todo and attempt <= retries:
@@ -129,7 +133,7 @@ def _notify(progress: ProgressCallback | None, event: dict) -> None:
         progress(event)
 
 
-def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
+def _run_workers(job_path, batches, threads, report, progress, extra=()) -> set[int]:
     selector = selectors.DefaultSelector()
     procs = []
     finished: set[int] = set()
@@ -141,7 +145,7 @@ def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
             log = open(log_dir / f"worker-{k}.log", "ab")  # closed in finally
             cmd = [sys.executable, "-m", "designer.render.worker", str(job_path),
                    "--frames", ",".join(map(str, batch)), "--progress-fd", str(write_fd),
-                   "--threads", str(threads)]
+                   "--threads", str(threads), *extra]
             proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT,
                                     pass_fds=(write_fd,))
             os.close(write_fd)
@@ -163,6 +167,7 @@ def _run_workers(job_path, batches, threads, report, progress) -> set[int]:
                 if event["event"] == "frame_done":
                     finished.add(int(event["index"]))
                     report.rendered[int(event["index"])] = float(event["seconds"])
+                    report.stages[int(event["index"])] = dict(event.get("stages") or {})
                 elif event["event"] == "scene_ready":
                     report.scene_seconds.append(float(event["seconds"]))
                 elif event["event"] == "worker_done":

@@ -27,6 +27,7 @@ import numpy as np
 from mathutils import Matrix
 
 from designer.core.layout import PARTIAL_DIR
+from designer.render.effects_job import keep_raw, load_effects, process_frame
 from designer.render.job_spec import (
     IMAGE_FORMATS,
     TEXTURE_UV_MAP,
@@ -38,7 +39,6 @@ from designer.render.job_spec import (
     PlantSetSpec,
     RenderJob,
 )
-from designer.render.png_text import move_without_text
 from designer.scene.texture_variation import MIRROR_OFFSETS
 
 
@@ -140,9 +140,13 @@ def set_camera(scene: bpy.types.Scene, obj: bpy.types.Object, camera: CameraSpec
     scene.render.pixel_aspect_y = camera.pixel_aspect_y
 
 
-def load_image(path: str, interpolation_colour: str) -> bpy.types.Image:
+def load_image(path: str, interpolation_colour: str, half: bool = False) -> bpy.types.Image:
+    """Load (once) an image with its colour space; ``half`` holds a float image as half
+    floats in the render (the 16-bit bake of a varied texture: half the memory)."""
     image = bpy.data.images.load(path, check_existing=True)
     image.colorspace_settings.name = interpolation_colour
+    if half:
+        image.use_half_precision = True
     return image
 
 
@@ -174,7 +178,8 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
         lookup_uv = _warped_uv(nodes, links, spec, base, uv.outputs["UV"])
     links.new(lookup_uv, mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
-    tex.image = load_image(str(base / spec.texture), "sRGB")
+    tex.image = load_image(str(base / spec.texture), spec.texture_colorspace,
+                           half=spec.texture_colorspace == "Non-Color")
     tex.interpolation = spec.interpolation
     tex.extension = spec.extension
     links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
@@ -425,14 +430,20 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
 
 
 def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, partial: Path,
-                 chain=None, exif: bool = False) -> dict:
+                 chain=None, exif: bool = False, setup_s: float = 0.0, bare: bool = False,
+                 raw_dir: Path | None = None) -> dict:
     """Render one frame; apply the camera effects (if any); write its time into the EXIF
-    when ``exif``; rename the image into place.
+    when ``exif``; rename the image into place. Returns its path and the seconds of each
+    stage (``stages``: :data:`designer.render.stages.FRAME_STAGES`); ``setup_s`` is the
+    caller's part of the frame's set-up (light step, plants).
 
     Blender's file and the finished image are written in ``partial`` (a folder outside
     ``out_dir`` on the same file system); only the complete image is renamed into
-    ``out_dir``, which therefore never holds anything but finished images.
+    ``out_dir``, which therefore never holds anything but finished images. ``bare``
+    renders without writing anything (``designer bench render``'s bare Cycles row);
+    ``raw_dir`` keeps Blender's file there too (before the camera effects).
     """
+    t_setup = time.perf_counter()
     if frame.camera is not None:  # a rig: this frame's camera, then its pose
         set_camera(scene, camera, frame.camera)
     camera.matrix_world = Matrix(frame.matrix_world_local)
@@ -442,38 +453,43 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
         obj = bpy.data.objects[name]  # its mesh: base centre at 0, +Y forward
         obj.location = (x, y, z)
         obj.rotation_euler = (0.0, 0.0, -math.radians(heading_deg))
+    stages = {"setup_s": setup_s + time.perf_counter() - t_setup}
     final = out_dir / frame.image_name
     partial.mkdir(parents=True, exist_ok=True)
     tmp = partial / f"{final.stem}.rendering{ext}"
     staged = partial / final.name  # the finished image, before its rename into out_dir
-    scene.render.filepath = str(tmp)
     t0, cpu0 = time.perf_counter(), time.process_time()
-    bpy.ops.render.render(write_still=True)
+    bpy.ops.render.render(write_still=False)
     t1, cpu = time.perf_counter(), time.process_time() - cpu0
+    stages["cycles_s"] = t1 - t0
+    stages["cycles_cpu_s"] = cpu
+    if bare:
+        return {"path": None, "seconds": time.perf_counter() - t_setup + setup_s,
+                "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
+                "effects_seconds": 0.0, "stages": stages}
     try:
-        if chain is None and final.suffix.lower() == ".png":
-            move_without_text(tmp, staged)  # Blender's render-time and date text only
-        elif chain is None:
-            os.replace(tmp, staged)
-        else:
-            from designer.effects.base import FrameContext
-            from designer.effects.chain import process_file
-
-            context = FrameContext(gsd_m=frame.gsd_m,
-                                   flight_direction_uv=frame.flight_direction_uv,
-                                   distance_m=frame.distance_m)
-            process_file(tmp, staged, chain, frame.index, context)
+        # the same file write_still=True writes (the scene's image settings)
+        bpy.data.images["Render Result"].save_render(filepath=str(tmp), scene=scene)
+        t2 = time.perf_counter()
+        stages["blender_write_s"] = t2 - t1
+        if raw_dir is not None:  # kept for effect passes (effects_job.apply_effects_pass)
+            keep_raw(tmp, raw_dir / f"{final.stem}{ext}")
+        process_frame(tmp, staged, frame, chain, stages)
         if exif and frame.time_utc is not None:
             from designer.render.exif import write_time
 
+            t_exif = time.perf_counter()
             write_time(staged, frame.time_utc)
+            stages["exif_s"] = time.perf_counter() - t_exif
         os.replace(staged, final)
     finally:
         tmp.unlink(missing_ok=True)
         staged.unlink(missing_ok=True)
-    return {"path": str(final), "seconds": time.perf_counter() - t0,
+    t_end = time.perf_counter()
+    stages["effects_total_s"] = t_end - t2
+    return {"path": str(final), "seconds": t_end - t_setup + setup_s,
             "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
-            "effects_seconds": time.perf_counter() - t1}
+            "effects_seconds": t_end - t2, "stages": stages}
 
 
 def set_rolling_shutter(scene, camera, matrices) -> None:
@@ -504,35 +520,17 @@ def set_rolling_shutter(scene, camera, matrices) -> None:
     scene.frame_set(1)
 
 
-def load_effects(job: RenderJob, base: Path) -> dict:
-    """The camera-effects chain of each camera: {camera id: chain} for a multi-camera rig
-    (cameras whose images are final as rendered are absent), {None: chain} for one camera;
-    {} when every image is final as rendered."""
-    spec = job.effects
-    if spec is None:
-        return {}
-    from designer.effects.distortion_render import DistortionWarp
-    from designer.effects.from_model import effects_from_model
-    from designer.project import read_project
-    from designer.survey.project_poses import render_interior
-
-    project = read_project(base / spec.project)
-    warps = {None: spec.warp} if spec.camera_warps is None else spec.camera_warps
-    chains = {}
-    for key, warp_file in warps.items():
-        interior = render_interior(project.camera(spec.camera_id if key is None else key),
-                                   spec.resolution_scale)
-        warp = DistortionWarp.load(base / warp_file, interior) if warp_file else None
-        chains[key] = effects_from_model(project.effects, interior, warp=warp)
-    return chains
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="designer.render.worker")
     parser.add_argument("job", type=Path)
     parser.add_argument("--frames", required=True, help="comma-separated frame indices")
     parser.add_argument("--progress-fd", type=int, default=None)
     parser.add_argument("--threads", type=int, default=0, help="Cycles threads (0: all)")
+    parser.add_argument("--keep-raw", type=Path, default=None, metavar="DIR",
+                        help="also keep each frame's raw render (before the camera effects) "
+                             "in DIR")
+    parser.add_argument("--bare", action="store_true",
+                        help="render only (no file, no effects): the bare Cycles time")
     args = parser.parse_args(argv)
     job = RenderJob.read(args.job)
     if args.threads:
@@ -548,11 +546,12 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     scene, camera = build_scene(job, base)
     plants = [add_plants(scene, spec, base) for spec in job.vegetation]
-    chains = load_effects(job, base)
+    chains = {} if args.bare else load_effects(job, base)
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
     current = {spec.name: spec for spec in job.objects}
     exif = job.image_metadata == "exif"
     for index in wanted:
+        t_setup = time.perf_counter()
         step = frames[index].light_step
         if step is not None:
             apply_light_step(scene, current, job.light_steps[step], base)
@@ -560,7 +559,9 @@ def main(argv: list[str] | None = None) -> int:
         if plants:
             pose_plants(plants, job.wind, frame.time_s)
         done = render_frame(scene, camera, frame, out_dir, ext, base / PARTIAL_DIR,
-                            chains.get(frame.camera_id), exif)
+                            chains.get(frame.camera_id), exif,
+                            setup_s=time.perf_counter() - t_setup, bare=args.bare,
+                            raw_dir=args.keep_raw)
         emit(progress, event="frame_done", index=index, **done)
     import resource
 

@@ -155,6 +155,12 @@ def summarise(plan, rows: list[dict], counts: dict) -> dict:
             "cache_hits": counts.get("cache_hits"), "failed": counts.get("failed"),
             "renders_this_session": counts.get("renders_this_session"),
             "reconstructions_this_session": counts.get("reconstructions_this_session"),
+            # of the renders: Cycles renders, and effect passes over their kept raw
+            # images (image sets that differ only in their camera effects)
+            "raw_renders": counts.get("raw_renders"),
+            "effect_passes": counts.get("effect_passes"),
+            "raw_renders_this_session": counts.get("raw_renders_this_session"),
+            "effect_passes_this_session": counts.get("effect_passes_this_session"),
             "ok": len(ok), "factors": by_factor, "rows": rows}
 
 

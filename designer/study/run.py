@@ -176,8 +176,18 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
     for rid, info in infos.items():
         by_image.setdefault(info["image_hash"], []).append(rid)
         by_proc.setdefault(info["processing_hash"], []).append(rid)
+    # image sets that differ only in their camera effects share one Cycles render: the
+    # first of each raw group renders and keeps its raw images, the others are effect
+    # passes over them
+    by_raw: dict[str, list[str]] = {}
+    for h, rids in by_image.items():
+        by_raw.setdefault(infos[rids[0]].get("raw_hash") or h, []).append(h)
+    raw_of = {h: r for r, hs in by_raw.items() for h in hs}
+    raw_cache = out / "cache" / "raw"
     counts = {"renders": len(by_image), "reconstructions": len(by_proc),
-              "renders_this_session": 0, "reconstructions_this_session": 0}
+              "raw_renders": len(by_raw), "effect_passes": len(by_image) - len(by_raw),
+              "renders_this_session": 0, "reconstructions_this_session": 0,
+              "raw_renders_this_session": 0, "effect_passes_this_session": 0}
     counts["cache_hits"] = (len(infos) - len(by_image)) + (len(infos) - len(by_proc))
     todo = [rid for rid in infos if rid not in finished]
     if not todo:
@@ -191,6 +201,48 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
     def render_result(h: str) -> dict | None:
         path = renders / h / stages.DONE
         return json.loads(path.read_text()) if path.is_file() else None
+
+    def needed(h: str) -> bool:
+        return not all(r in finished for r in by_image[h])
+
+    def submit_render(h: str) -> None:
+        """A Cycles render of image set ``h`` (keeping its raw renders when other image
+        sets of its raw group need them), or an effect pass when its group's first
+        image set has rendered them."""
+        group = by_raw[raw_of[h]]
+        raw_dir = raw_cache / raw_of[h]
+        project = out / "runs" / by_image[h][0] / "project.xml"
+        owner = render_result(group[0]) if h != group[0] else None
+        if owner is not None and owner.get("status") == "ok" and raw_dir.is_dir():
+            future = executor.submit(stages.render_stage, str(project), str(renders / h),
+                                     render_workers, None, str(raw_dir), priority=10)
+            counts["effect_passes_this_session"] += 1
+        else:
+            keep = str(raw_dir) if h == group[0] and any(needed(o) for o in group[1:]) \
+                else None
+            future = executor.submit(stages.render_stage, str(project), str(renders / h),
+                                     render_workers, keep, None, priority=10)
+            counts["raw_renders_this_session"] += 1
+        pending[future] = ("render", h)
+        counts["renders_this_session"] += 1
+        progress({"event": "render_started", "image_set": h, "runs": len(by_image[h])})
+
+    def rendered(h: str, result: dict) -> None:
+        done_renders[h] = result
+        submit_processing(h)
+        group = by_raw[raw_of[h]]
+        if h == group[0]:  # the raw renders are there: the group's effect passes
+            for other in group[1:]:
+                if needed(other) and other not in done_renders and \
+                        other not in waiting_on_raw_done:
+                    waiting_on_raw_done.add(other)
+                    done = render_result(other)
+                    if done is not None:
+                        rendered(other, done)
+                    else:
+                        submit_render(other)
+
+    waiting_on_raw_done: set[str] = set()
 
     def submit_processing(h: str) -> None:
         for rid in by_image[h]:
@@ -228,20 +280,15 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
                       "done": n_done, "total": total})
 
     try:
-        for h, rids in by_image.items():
-            if all(r in finished for r in rids):
+        for group in by_raw.values():
+            owner = group[0]
+            if not any(needed(h) for h in group):
                 continue
-            result = render_result(h)
+            result = render_result(owner)
             if result is not None:
-                done_renders[h] = result
-                submit_processing(h)
-                continue
-            project = out / "runs" / rids[0] / "project.xml"
-            future = executor.submit(stages.render_stage, str(project), str(renders / h),
-                                     render_workers, priority=10)
-            pending[future] = ("render", h)
-            counts["renders_this_session"] += 1
-            progress({"event": "render_started", "image_set": h, "runs": len(rids)})
+                rendered(owner, result)
+            else:
+                submit_render(owner)
         while pending:
             for future in executor.wait_first(pending):
                 kind, key = pending.pop(future)
@@ -250,10 +297,10 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
                 except Exception as error:  # a crashed worker process: record, go on
                     result = {"status": f"failed: {kind} worker: {error}"[:300]}
                 if kind == "render":
-                    done_renders[key] = result
                     progress({"event": "render_done", "image_set": key,
-                              "seconds": result.get("render_s")})
-                    submit_processing(key)
+                              "seconds": result.get("render_s"),
+                              "kind": result.get("kind", "cycles")})
+                    rendered(key, result)
                 else:
                     finish_processing(key, result)
     except BaseException:

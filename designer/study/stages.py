@@ -2,7 +2,9 @@
 
 * :func:`plan_run` (main process): the run's project file, its prepared render job →
   image-set hash, GSD, image count; its ground truth → the processing hash;
-* :func:`render_stage`: ``designer render`` of one image set into the render cache;
+* :func:`render_stage`: ``designer render`` of one image set into the render cache, or
+  an effect pass over the raw renders of another image set that differs only in its
+  camera effects;
 * :func:`process_stage`: ``designer reconstruct`` (free mode, the project's
   ``<processing>``) and ``designer compare`` (cloud against the true surface).
 
@@ -54,8 +56,12 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
     from designer.project import write_project
     from designer.render.job import prepare_job
     from designer.render.pipeline import write_ground_truth
-    from designer.render.provenance import ground_truth_digest, job_provenance
-    from designer.study.cache import image_set_hash, processing_hash
+    from designer.render.provenance import (
+        ground_truth_digest,
+        job_provenance,
+        raw_render_digests,
+    )
+    from designer.study.cache import image_set_hash, processing_hash, raw_set_hash
 
     run_dir.mkdir(parents=True, exist_ok=True)
     project_path = run_dir / "project.xml"
@@ -71,24 +77,33 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
     gsd = [f.gsd_m for f in prepared.job.frames if f.gsd_m is not None]
     shutil.rmtree(prepared.job_path.parent, ignore_errors=True)
     image_hash = image_set_hash(provenance, prepared.job.image_names)
+    raw_hash = raw_set_hash(raw_render_digests(prepared.job, provenance),
+                            prepared.job.image_names)
     return {"project": "project.xml", "images": names, "image_hash": image_hash,
+            "raw_hash": raw_hash,
             "processing_hash": processing_hash(image_hash, ground_truth_digest(gt),
                                                project.processing, MODE),
             "gsd_m": float(np.mean(gsd)) if gsd else None}
 
 
-def render_stage(project_path: str, out_dir: str, workers: int = 1) -> dict:
-    """Render a project into ``out_dir`` (resuming what is there); seconds taken."""
+def render_stage(project_path: str, out_dir: str, workers: int = 1,
+                 keep_raw: str | None = None, raw_from: str | None = None) -> dict:
+    """Render a project into ``out_dir`` (resuming what is there); seconds taken.
+    ``keep_raw``: keep the raw renders there too; ``raw_from``: an effect pass over the
+    raw renders kept there (no Cycles)."""
     from designer.render.pipeline import render_project
 
     out = Path(out_dir)
     t0 = time.perf_counter()
     try:
-        render_project(Path(project_path), out, workers=workers, resume=True)
+        render_project(Path(project_path), out, workers=workers, resume=True,
+                       keep_raw=Path(keep_raw) if keep_raw else None,
+                       raw_from=Path(raw_from) if raw_from else None)
         status = "ok"
     except DesignerError as error:
         status = f"failed: render: {error}"
-    result = {"status": status, "render_s": time.perf_counter() - t0}
+    result = {"status": status, "render_s": time.perf_counter() - t0,
+              "kind": "effects pass" if raw_from else "cycles"}
     write_text_atomic(out / DONE, json.dumps(result))
     return result
 

@@ -387,18 +387,6 @@ def _triangle_share(p, q, r):
     return np.select([n_pos == 3, n_pos == 0, n_pos == 1], [1.0, 0.0, corner], 1.0 - corner)
 
 
-# --------------------------------------------------------------------- render time
-def estimate_render_time_s(
-    n_images: int,
-    interior: InteriorOrientation,
-    samples_per_pixel: int,
-    seconds_per_megapixel_sample: float,
-) -> float:
-    """Render time (s) = images × W·H/10⁶ × samples per pixel × s per megapixel-sample."""
-    W, H = interior.image_size_px
-    return float(n_images * W * H / 1e6 * samples_per_pixel * seconds_per_megapixel_sample)
-
-
 # --------------------------------------------------------------------------- summary
 @dataclass(frozen=True, eq=False)
 class PlanAnalysis:
@@ -449,8 +437,6 @@ def analyse_plan(
     cell_m: float | None = None,
     samples_per_axis: int = 9,
     tol_m: float = 0.01,
-    samples_per_pixel: int | None = None,
-    seconds_per_megapixel_sample: float | None = None,
     raycaster: TerrainRaycaster | None = None,
 ) -> PlanAnalysis:
     """Run every analysis of this module on a plan (or a list of stations)."""
@@ -462,10 +448,7 @@ def analyse_plan(
     R = np.array([s.R_cam_to_world for s in stations])
     cover = coverage_map(ground_grid(heightfield, area, cell_m), C, R, interior, rc, tol_m)
     gcps = None if gcp_xyz is None else gcp_visibility(gcp_xyz, C, R, interior, rc, tol_m)
-    render = None
-    if samples_per_pixel is not None and seconds_per_megapixel_sample is not None:
-        render = estimate_render_time_s(len(stations), interior, samples_per_pixel,
-                                        seconds_per_megapixel_sample)
+    render = None  # the caller's estimate (designer.survey.render_cost)
     st = analyse_stations(stations, interior, rc, samples_per_axis)
     centre = st.centre_ground_xyz
     # Over the area: the station itself and the ground its principal ray meets.

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
+import os
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -28,12 +29,13 @@ from designer.survey.project_poses import (
     project_stations,
     render_interior,
 )
-
-#: Render cost on the reference machine (2 cores) for the baked-emission scenes, from
-#: ``designer bench render`` (docs/benchmarks.md): seconds per megapixel per frame, plus
-#: seconds per megapixel per sample.
-SECONDS_PER_MEGAPIXEL = 0.58
-SECONDS_PER_MEGAPIXEL_SAMPLE = 0.081
+from designer.survey.render_cost import (
+    estimate_render_s,
+    format_duration,
+    load_speed,
+    project_image_costs,
+    render_workers,
+)
 
 
 @dataclass(frozen=True)
@@ -51,6 +53,8 @@ class PlanResult:
     #: per camera of a rig project: (camera id, images, median GSD at the principal point
     #: on the terrain m/px or NaN, median distance there m or NaN)
     cameras: tuple[tuple[str, int, float, float], ...] = ()
+    #: where the render estimate's coefficients come from (RenderSpeed.describe)
+    render_speed: str = ""
 
 
 def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None) -> PlanResult:
@@ -69,14 +73,15 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     plan = project.trajectory.flight_plan
     area = np.array(plan.area) if plan is not None else _extent_polygon(project)
     gcp_xyz = np.array([t.true_xyz for t in targets]) if targets else None
-    spp = project.render.effective_samples
-    analysis = analyse_plan(
-        stations, interior, hf, area, gcp_xyz=gcp_xyz, cell_m=cell_m, samples_per_pixel=spp,
-        seconds_per_megapixel_sample=SECONDS_PER_MEGAPIXEL_SAMPLE + SECONDS_PER_MEGAPIXEL / spp)
+    analysis = analyse_plan(stations, interior, hf, area, gcp_xyz=gcp_xyz, cell_m=cell_m)
+    speed = load_speed()
+    analysis = replace(analysis, render_time_s=estimate_render_s(
+        project_image_costs(project, images, hf), render_workers(project, n_all),
+        speed=speed))
     gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),
-                      carriers, n_all, per_camera)
+                      carriers, n_all, per_camera, speed.describe())
 
 
 def _camera_figures(project: m.Project, images, hf: Heightfield
@@ -119,6 +124,7 @@ def plan_summary(result: PlanResult) -> dict:
     out["gsd_terrain_m"] = ({"min": float(finite.min()), "mean": float(finite.mean()),
                              "max": float(finite.max())} if finite.size else None)
     out["warnings"] = plan_warnings(result, out)
+    out["render_time_source"] = result.render_speed
     out.update(rig_and_pattern_summary(result))
     if result.analysis.gcps is not None:
         out["gcps"] = [{"id": t.target.id, "role": t.target.role,
@@ -254,8 +260,11 @@ def format_plan(result: PlanResult, source: str) -> str:
     for warning in s["warnings"]:
         lines.append(f"  warning: {warning}")
     if s.get("render_time_s") is not None:
-        lines.append(f"  estimated render time: {s['render_time_s'] / 60:.1f} min at "
-                     f"{result.project.render.effective_samples} samples per pixel on 2 cores")
+        n_all = result.n_images_all_cameras or s["n_images"]
+        lines.append(f"  estimated render time: {format_duration(s['render_time_s'])} for "
+                     f"{n_all} images at {result.project.render.effective_samples} samples "
+                     f"per pixel with {render_workers(result.project, n_all)} worker(s) on "
+                     f"{os.cpu_count()} cores ({result.render_speed})")
     return "\n".join(lines)
 
 

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
-from designer.gui import edits, render_speed
+from designer.gui import edits
 from designer.project import model as m
+from designer.survey.render_cost import load_speed
 from tests.gui.helpers import problems, wait_idle
 
 pytestmark = [pytest.mark.gui, pytest.mark.blender, pytest.mark.slow]
@@ -33,8 +34,8 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     n = w.sync.stations.n_images
     assert 4 <= n <= 40
     panel = w.panels["Render"]
-    assert "reference machine" in panel.cost.text()
-    assert render_speed.speed_factor(w.settings) is None
+    assert "uncalibrated" in panel.cost.text()  # a fresh cache folder (tests/conftest.py)
+    assert not load_speed().calibrated
 
     # render, cancel after two images
     panel.resume.setChecked(True)
@@ -44,8 +45,8 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=120000)
     first = panel.n_rendered
     assert 2 <= first < n, panel.log.toPlainText()
-    # the cancelled run already calibrated the estimates
-    assert render_speed.speed_factor(w.settings) is not None
+    # the cancelled run already calibrated the estimates with the frames it finished
+    assert load_speed().calibrated and load_speed().images >= 2
     assert "this machine" in panel.cost.text()
 
     # resume: the kept images are counted as kept, not as rendered
@@ -62,12 +63,16 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     assert len(kept) == first
     assert all(not item.icon().isNull() for item in kept)  # pictures, read from disk
 
-    # the estimate is now this machine's speed: for the preset just rendered it is the
-    # measured seconds per image of the last run
-    _factor, images, _when = render_speed.speed_factor(w.settings)
-    assert images == n - first
+    # the estimate is now this machine's speed, refined by the resumed run's frames; the
+    # panels show the model's figure for this project
+    speed = load_speed()
+    assert speed.source == "render" and speed.images >= n - first
+    from designer.gui import derived
+
+    total = derived.render_estimate_s(w.document.project, w.sync.stations.render_costs,
+                                      "draft")
     line = next(x for x in panel.cost.text().splitlines() if x.startswith("draft:"))
-    assert f"{per_image:.1f} s/image" in line
+    assert f"{total / n:.1f} s/image" in line
     assert "this machine" in w.panels["Flight"].time_label.text()
 
     # a thumbnail opens the full image with the GCP it sees drawn on it

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from designer.project import model as m
-from designer.render.job import JOB_DIR, prepare_job
+from designer.render.job import BAKED_TEXTURE, JOB_DIR, prepare_job
 from designer.render.job_spec import MaterialSpec, RenderJob
 from designer.render.pipeline import render_project
 from designer.render.provenance import job_provenance
@@ -91,7 +91,9 @@ def test_absent_variation_prepares_the_job_of_before(tmp_path):
     assert RenderJob.from_json(json.dumps(saved)) == prepared.job
     varied, varied_dir = _job(tmp_path, m.TextureVariation(1, 20.0, 0.3), "varied")
     v_terrain = next(o for o in varied.job.objects if o.name == "terrain").materials[0]
-    assert v_terrain.variation == "variation.png" and (varied_dir / "variation.png").is_file()
+    # the blend baked into one linear image over the terrain (designer.render.texture_bake)
+    assert v_terrain.texture == BAKED_TEXTURE and (varied_dir / BAKED_TEXTURE).is_file()
+    assert v_terrain.texture_colorspace == "Non-Color" and v_terrain.variation is None
     assert v_terrain.strength == pytest.approx(2 * terrain.strength)  # gain / 2 stored
 
 
@@ -105,3 +107,29 @@ def test_variation_is_part_of_the_scene_hash(tmp_path):
     scenes = {k: v["scene"] for k, v in parts.items()}
     assert len(set(scenes.values())) == 4, scenes  # each change re-renders
     assert {v["pose"] for v in parts.values()} == {parts["plain"]["pose"]}
+
+
+@pytest.mark.blender
+@pytest.mark.slow
+def test_the_baked_texture_renders_what_the_node_graph_renders(tmp_path, monkeypatch):
+    """The bake (one lookup per sample) against the blend evaluated by Cycles' nodes
+    (five lookups per sample, what the renderer does where a bake is too large)."""
+    import designer.render.texture_bake as texture_bake
+
+    variation = m.TextureVariation(seed=5, scale_m=20.0, strength=0.5)
+    grey = {}
+    for name, limit in (("baked", texture_bake.MAX_BAKE_PX), ("nodes", 0)):
+        monkeypatch.setattr(texture_bake, "MAX_BAKE_PX", limit)
+        path = write_project_file(nadir_project(variation), tmp_path / name)
+        summary = render_project(path, tmp_path / name / "out", workers=1)
+        material = next(o for o in summary.prepared.job.objects
+                        if o.name == "terrain").materials[0]
+        assert (material.texture == BAKED_TEXTURE) == (name == "baked")
+        img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
+        grey[name] = img.astype(np.float64)
+    baked, nodes = grey["baked"], grey["nodes"]
+    assert np.corrcoef(baked.ravel(), nodes.ravel())[0, 1] > 0.99
+    assert abs(baked.mean() - nodes.mean()) < 0.01 * nodes.mean()
+    assert np.mean(np.abs(baked - nodes)) < 2.0  # codes of 255
+    # the same detail contrast (the bake softens only the finest texel detail)
+    assert baked.std() == pytest.approx(nodes.std(), rel=0.03)

@@ -91,20 +91,26 @@ def test_typed_levels_and_ranges_match_the_reader():
     ("gcp-count", (5, 15, 1, 15)), ("flight-geometry", (12, 24, 3, 24)),
     ("altitude", (4, 8, 4, 8)), ("tiny", (4, 4, 2, 4))])
 def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
+    from dataclasses import replace
+
     from designer.gui import derived
-    from designer.gui.study_data import RENDER_SETUP_S, plan_cost
+    from designer.gui.study_data import plan_cost
+    from designer.survey.render_cost import REFERENCE
 
     path = ROOT / "resources" / "studies" / f"{name}.xml"
     if name == "tiny":
         path = write_template("tiny", tmp_path / "tiny.xml")[0]
     plan = plan_study(read_study(path))
     hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield
-    cost = plan_cost(plan, hf)
+    cost = plan_cost(plan, hf, speed=REFERENCE)
     assert (cost.variants, cost.runs, cost.renders, cost.reconstructions) == counts
-    assert cost.render_s > cost.renders * RENDER_SETUP_S
-    twice = plan_cost(plan, hf, speed_factor=2.0)
-    assert twice.render_s - twice.renders * RENDER_SETUP_S == pytest.approx(
-        2 * (cost.render_s - cost.renders * RENDER_SETUP_S))
+    assert cost.render_s > cost.renders * REFERENCE.fixed_s
+    # a machine half as fast: every coefficient doubled, the render estimate doubles
+    slow = replace(REFERENCE, **{k: 2 * getattr(REFERENCE, k) for k in (
+        "terrain_cpu_s_per_mp_sample", "background_cpu_s_per_mp_sample", "post_s_per_mp",
+        "fixed_s")})
+    twice = plan_cost(plan, hf, speed=slow)
+    assert twice.render_s == pytest.approx(2 * cost.render_s)
     assert twice.reconstruct_s == cost.reconstruct_s
 
 

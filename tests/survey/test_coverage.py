@@ -110,12 +110,6 @@ def test_overlap_drops_where_the_ground_rises_under_a_constant_altitude():
     assert abs(np.nanmedian(b.front_overlap) - 0.8) < 0.03
 
 
-def test_render_time_estimate():
-    t = coverage.estimate_render_time_s(100, phantom4(), samples_per_pixel=64,
-                                        seconds_per_megapixel_sample=0.01)
-    assert t == pytest.approx(100 * 5472 * 3648 / 1e6 * 64 * 0.01)
-
-
 # ------------------------------------------------------------------ ray casting
 def test_first_hit_agrees_with_the_core_ray_marcher():
     rng = np.random.default_rng(21)

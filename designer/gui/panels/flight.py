@@ -29,14 +29,6 @@ MOUNT_COLUMNS = (("rig", "rig"), ("camera", "camera"), ("suffix", "suffix"),
                  ("ω °", "omega_deg"), ("φ °", "phi_deg"), ("κ °", "kappa_deg"))
 
 
-def _fmt_time(seconds: float) -> str:
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 2 * 3600:
-        return f"{seconds / 60:.1f} min"
-    return f"{seconds / 3600:.1f} h"
-
-
 class FlightPanel(Panel):
     title = "Flight"
     parts = frozenset({"trajectory", "cameras", "render"})
@@ -299,16 +291,16 @@ class FlightPanel(Panel):
                 f"camera's {ii.image_width_px} × {ii.image_height_px} px{rendered}; "
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
-        if stations.render_time_s is not None:
-            from designer.gui import render_speed
+        if stations.render_costs:
+            from designer.survey.render_cost import format_duration, load_speed
 
-            settings = getattr(self.window(), "settings", None)
-            total = render_speed.calibrated(settings, stations.render_time_s)
-            per = total / max(1, stations.n_images)
+            # this machine's speed as measured now (a render since may have refined it)
+            total = derived.render_estimate_s(self.project, stations.render_costs)
+            per = total / len(stations.render_costs)
             self.time_label.setText(
-                f"≈ {_fmt_time(total)} ({per:.1f} s per image at "
+                f"≈ {format_duration(total)} to render ({per:.1f} s per image at "
                 f"{self.project.render.effective_samples} samples; "
-                f"{render_speed.describe(settings)})")
+                f"{load_speed().describe()})")
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""

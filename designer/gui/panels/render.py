@@ -23,12 +23,13 @@ from PySide6.QtWidgets import (
 )
 
 from designer.core.layout import images_dir
-from designer.gui import derived, render_speed
+from designer.gui import derived
 from designer.gui.panels.base import Panel
 from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.render_process import RenderProcess
 from designer.gui.widgets import combo, dspin, form, ispin, readout
 from designer.project import model as m
+from designer.survey.render_cost import format_duration, load_speed
 
 THUMB_PX = 120
 
@@ -109,7 +110,6 @@ class RenderPanel(Panel):
         self.frames_done: dict[int, float] = {}
         self.skipped: set[int] = set()
         self.image_names: list[str] = []
-        self._reference_per_image: float | None = None
         self.n_frames = 0
         self.out_dir: Path | None = None
         self.thumbs.itemActivated.connect(self.open_image)
@@ -126,14 +126,12 @@ class RenderPanel(Panel):
             self.cost.setText("– (no stations yet)")
             return
         lines = []
-        settings = self.settings()
+        n = len(stations.render_costs)
         for preset, spp in m.PRESET_SAMPLES.items():
-            per = render_speed.calibrated(settings, derived.render_seconds_per_image(
-                self.project, stations.interior, preset))
-            total = per * stations.n_images
-            lines.append(f"{preset}: {spp} samples, {per:.1f} s/image, "
-                         f"{total / 60:.1f} min for {stations.n_images}")
-        self.cost.setText("\n".join(lines) + f"\n({render_speed.describe(settings)})")
+            total = derived.render_estimate_s(self.project, stations.render_costs, preset)
+            lines.append(f"{preset}: {spp} samples, {total / max(1, n):.1f} s/image, "
+                         f"{format_duration(total)} for {n}")
+        self.cost.setText("\n".join(lines) + f"\n({load_speed().describe()})")
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
@@ -170,8 +168,6 @@ class RenderPanel(Panel):
         self.n_frames = self.sync.stations.n_images if self.sync.stations else 0
         self.image_names = ([st.image_name for st in self.sync.stations.stations]
                             if self.sync.stations else [])
-        self._reference_per_image = (derived.render_seconds_per_image(
-            self.project, self.sync.stations.interior) if self.sync.stations else None)
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
@@ -260,9 +256,7 @@ class RenderPanel(Panel):
         n = self.n_rendered
         per = f" ({seconds / n:.1f} s per image)" if n else ""
         kept = f", {len(self.skipped)} complete before (kept)" if self.skipped else ""
-        if n and self._reference_per_image and self.settings() is not None:
-            # this machine's speed, for every estimate from now on
-            render_speed.record(self.settings(), seconds, n, self._reference_per_image)
+        if n:  # the render refined this machine's speed: every estimate uses it now
             self._cost()
             self.sync.stations_changed.emit()
         if code == 0:

@@ -26,7 +26,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from designer.gui import render_speed
 from designer.gui.panels.base import ERROR_STYLE, Panel
 from designer.gui.panels.study_files import StudyFiles, checked_state, relative
 from designer.gui.panels.study_run import StudyRunBox
@@ -36,6 +35,7 @@ from designer.gui.study_results import StudyResults
 from designer.gui.widgets import combo, form, ispin
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
+from designer.survey.render_cost import load_speed
 
 DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
            ("full factorial (every combination)", "full-factorial")]
@@ -249,7 +249,7 @@ class StudyPanel(StudyFiles, Panel):
         path = self._path_for_check()
         # an opened study not changed since: check the file itself (its own positions)
         from_file = self._opened_text == text and self.study_path is not None
-        speed = render_speed.calibrated(self.run_box.settings(), 1.0)
+        speed = load_speed()
         self.sync.tasks.submit("study-check", check_study, None if from_file else text,
                                str(path), path, speed, on_done=self._checked,
                                on_error=self._check_failed)

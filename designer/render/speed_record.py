@@ -1,0 +1,65 @@
+"""After a render: refine this machine's render coefficients from its frames
+(:mod:`designer.survey.render_cost`), so the next estimate is this machine's."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from designer.render.job import PreparedJob
+from designer.render.runner import RenderReport
+from designer.survey.render_cost import (
+    ImageCost,
+    fit_speed,
+    load_speed,
+    refine,
+    save_speed,
+    terrain_fractions,
+)
+
+
+def image_costs(prepared: PreparedJob, frames: list[int]) -> list[ImageCost]:
+    """The model's view of the job's frames ``frames``: size, samples, terrain share."""
+    fractions = np.ones(len(frames))
+    groups: dict[int, list[int]] = {}
+    for k, i in enumerate(frames):
+        groups.setdefault(id(prepared.interior_of(prepared.poses[i].image_name)), []).append(k)
+    hf = prepared.scene.heightfield
+    for members in groups.values():
+        poses = [prepared.poses[frames[k]] for k in members]
+        interior = prepared.interior_of(poses[0].image_name)
+        fractions[members] = terrain_fractions(
+            hf, np.array([p.C_world for p in poses]),
+            np.array([p.R_cam_to_world for p in poses]), interior)
+    spp = prepared.job.render.samples
+    out = []
+    for k, i in enumerate(frames):
+        W, H = prepared.job.frame_size_px(i)
+        out.append(ImageCost(W * H / 1e6, spp, float(fractions[k])))
+    return out
+
+
+def record_render_speed(prepared: PreparedJob, report: RenderReport,
+                        prepare_seconds: float, cores: int | None = None,
+                        source: str = "render"):
+    """Fit the coefficients to the frames ``report`` rendered (with their stages) and
+    store them (a render's refine what is stored, a probe's replace it); returns the
+    stored :class:`RenderSpeed`, or None when the run rendered no frame with stages."""
+    frames = sorted(i for i, st in report.stages.items()
+                    if "cycles_cpu_s" in st and i in report.rendered)
+    if not frames:
+        return None
+    cores = max(1, cores or os.cpu_count() or 1)
+    workers = max(1, len(report.peak_rss_mb) or len(report.scene_seconds) or 1)
+    images = image_costs(prepared, frames)
+    cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
+    post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0))
+            for i in frames]
+    frames_wall = sum(cpu) / cores + sum(post) / workers
+    fixed = prepare_seconds + max(0.0, report.wall_seconds - frames_wall)
+    stored = load_speed()
+    measured = fit_speed(images, cpu, post, fixed, source, prior=stored)
+    speed = measured if source == "probe" else refine(stored, measured)
+    save_speed(speed)
+    return speed

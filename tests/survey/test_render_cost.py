@@ -1,0 +1,97 @@
+"""The render-time model: its formula, the fit to measured frames, the stored
+coefficients and the terrain share of an image."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from designer.core.heightfield import Heightfield
+from designer.core.interior import InteriorOrientation
+from designer.survey import render_cost as rc
+
+TRUE = rc.RenderSpeed(terrain_cpu_s_per_mp_sample=0.4, background_cpu_s_per_mp_sample=0.1,
+                      post_s_per_mp=0.2, fixed_s=5.0, source="render")
+
+
+def test_the_estimate_is_the_model():
+    images = [rc.ImageCost(1.5, 16, 1.0), rc.ImageCost(1.5, 16, 0.0),
+              rc.ImageCost(1.5, 16, 0.5)]
+    cpu = 1.5 * 16 * (0.4 + 0.1 + 0.25)
+    post = 3 * 1.5 * 0.2
+    assert rc.estimate_render_s(images, workers=2, cores=2, speed=TRUE) == pytest.approx(
+        5.0 + cpu / 2 + post / 2)
+    # one worker on two cores: Cycles still uses both, the effects run one at a time
+    assert rc.estimate_render_s(images, workers=1, cores=2, speed=TRUE) == pytest.approx(
+        5.0 + cpu / 2 + post)
+
+
+def test_the_fit_recovers_terrain_and_background_costs():
+    rng = np.random.default_rng(0)
+    f = rng.uniform(0.1, 1.0, 12)
+    images = [rc.ImageCost(1.2, 16, float(x)) for x in f]
+    cpu = [rc.frame_cpu_s(TRUE, i) * (1 + rng.normal(0, 0.01)) for i in images]
+    post = [0.24] * len(images)
+    fit = rc.fit_speed(images, cpu, post, 5.0, "render", prior=rc.REFERENCE)
+    assert fit.terrain_cpu_s_per_mp_sample == pytest.approx(0.4, rel=0.03)
+    assert fit.background_cpu_s_per_mp_sample == pytest.approx(0.1, rel=0.15)
+    assert fit.post_s_per_mp == pytest.approx(0.2)
+    assert fit.images == 12 and fit.calibrated
+    # all frames alike (no spread of terrain share): the prior's ratio, one factor
+    same = [rc.ImageCost(1.2, 16, 1.0)] * 3
+    fit = rc.fit_speed(same, [rc.frame_cpu_s(TRUE, i) for i in same], [0.24] * 3, 5.0,
+                       "render", prior=rc.REFERENCE)
+    ratio = (rc.REFERENCE.background_cpu_s_per_mp_sample
+             / rc.REFERENCE.terrain_cpu_s_per_mp_sample)
+    assert fit.background_cpu_s_per_mp_sample / fit.terrain_cpu_s_per_mp_sample == \
+        pytest.approx(ratio)
+    assert rc.frame_cpu_s(fit, same[0]) == pytest.approx(rc.frame_cpu_s(TRUE, same[0]))
+
+
+def test_stored_coefficients_round_trip_and_a_bad_file_is_uncalibrated(tmp_path,
+                                                                        monkeypatch):
+    monkeypatch.setenv("DESIGNER_CACHE_DIR", str(tmp_path))
+    assert rc.load_speed() == rc.REFERENCE and not rc.load_speed().calibrated
+    assert "uncalibrated" in rc.load_speed().describe()
+    rc.save_speed(TRUE)
+    assert rc.load_speed() == TRUE
+    assert "this machine" in rc.load_speed().describe()
+    (tmp_path / rc.SPEED_FILE).write_text(json.dumps({"terrain_cpu_s_per_mp_sample": -1}))
+    assert rc.load_speed() == rc.REFERENCE
+    (tmp_path / rc.SPEED_FILE).write_text("{not json")
+    assert rc.load_speed() == rc.REFERENCE
+
+
+def test_a_small_render_refines_a_large_one_in_proportion():
+    stored = replace(TRUE, images=60)
+    small = replace(TRUE, terrain_cpu_s_per_mp_sample=0.8, images=2)
+    mixed = rc.refine(stored, small)
+    k = rc.FULL_WEIGHT_IMAGES
+    assert mixed.terrain_cpu_s_per_mp_sample == pytest.approx((k * 0.4 + 2 * 0.8) / (k + 2))
+    large = replace(small, images=rc.FULL_WEIGHT_IMAGES)
+    assert rc.refine(stored, large) == large
+    assert rc.refine(rc.REFERENCE, small) == small  # nothing measured before
+
+
+def test_terrain_fraction_of_an_image_half_over_the_edge():
+    hf = Heightfield(0.0, 0.0, 1.0, 1.0, np.zeros((101, 101)))  # 100 × 100 m, flat
+    interior = InteriorOrientation(focal_length_mm=10.0, sensor_width_mm=10.0,
+                                   sensor_height_mm=10.0, image_width_px=100,
+                                   image_height_px=100)
+    R = np.eye(3)  # nadir: the camera frame is x east, y north, z up (looking down -z)
+    C = np.array([[50.0, 50.0, 40.0], [100.0, 50.0, 40.0], [300.0, 50.0, 40.0]])
+    f = rc.terrain_fractions(hf, C, np.array([R] * 3), interior, grid=(20, 20))
+    assert f[0] == pytest.approx(1.0)
+    assert f[1] == pytest.approx(0.5, abs=0.06)
+    assert f[2] == 0.0
+    assert np.all(rc.terrain_fractions(None, C, np.array([R] * 3), interior) == 1.0)
+
+
+def test_durations_never_read_zero():
+    assert rc.format_duration(0.2) == "1 s"
+    assert rc.format_duration(45) == "45 s"
+    assert rc.format_duration(300) == "5.0 min"
+    assert rc.format_duration(3 * 3600) == "3.0 h"
