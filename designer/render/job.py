@@ -50,6 +50,8 @@ from designer.survey.timeline import StationTime, iso_utc, project_station_times
 
 #: the job's file of the varied ground texture baked into one image
 BAKED_TEXTURE = "texture_varied.png"
+#: … times the light map, for a static sun (one light map for every frame)
+BAKED_LIT_TEXTURE = "texture_lit.png"
 #: samples per pixel of each quality preset; measured costs in the README
 QUALITY_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 PIXEL_FILTERS = {"box": "BOX", "gaussian": "GAUSSIAN", "blackman-harris": "BLACKMAN_HARRIS"}
@@ -162,13 +164,12 @@ def prepare_job(
     terrain_material = MaterialSpec(texture="texture.png",
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
+    baked = None  # written below, with the light map folded in where the sun is static
     if (bake_texture and scene.variation is not None
             and can_bake(scene.texture_rgb.shape, scene.texture_tiles)):
         # the blend of the three lookups baked into one image: one lookup per sample
         baked = bake_varied_texture(scene.texture_rgb, scene.texture_tiles, scene.variation,
                                     scene.interpolation)
-        write_png(job_dir / BAKED_TEXTURE, cv2.cvtColor(baked, cv2.COLOR_RGB2BGR),
-                  fast=True)
         terrain_material = MaterialSpec(texture=BAKED_TEXTURE, uv_tiles=(1.0, 1.0),
                                         interpolation="Linear", extension="EXTEND",
                                         texture_colorspace="Non-Color",
@@ -213,6 +214,8 @@ def prepare_job(
         steps, frame_steps = light.steps(
             suns, [t.time_s for t in times] if drifting else None)
         objects = list(steps[0].objects)
+    if baked is not None:
+        objects = _write_bake(baked, objects, job_dir, lit=not steps)
     if times is not None:
         for i, t in enumerate(times):
             contexts[i].update(time_s=t.time_s, time_utc=iso_utc(t.time_utc),
@@ -286,6 +289,31 @@ def prepare_job(
                        frame_shutters=tuple(frame_shutters),
                        buildings=tuple(light.buildings), plants=tuple(plants),
                        cameras=cameras)
+
+
+def _write_bake(baked: np.ndarray, objects: list, job_dir: Path, lit: bool) -> list:
+    """Write the baked varied texture; with ``lit`` (one sun for every frame) the
+    terrain's light map is multiplied in, so Cycles makes one texture lookup per sample
+    instead of two. The light map is sampled at the bake's texel centres as the renderer
+    samples it (bilinear, edge texels extended over the same UV square)."""
+    terrain = next((o for o in objects if o.name == "terrain"), None)
+    material = terrain.materials[0] if terrain is not None else None
+    if not lit or material is None or material.lightmap is None:
+        write_png(job_dir / BAKED_TEXTURE, cv2.cvtColor(baked, cv2.COLOR_RGB2BGR), fast=True)
+        return objects
+    light = cv2.imread(str(job_dir / material.lightmap), cv2.IMREAD_UNCHANGED)
+    H, W = baked.shape[:2]
+    # cv2's linear resize samples the source at (x + 0.5) · scale − 0.5, edges replicated:
+    # Blender's texel-centre convention with EXTEND
+    light = cv2.resize(light.astype(np.float32) / np.float32(65535.0), (W, H),
+                       interpolation=cv2.INTER_LINEAR)
+    product = baked.astype(np.float32) * light[..., None]
+    lit_image = np.clip(np.rint(product), 0, 65535).astype(np.uint16)
+    write_png(job_dir / BAKED_LIT_TEXTURE, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR),
+              fast=True)
+    folded = replace(material, texture=BAKED_LIT_TEXTURE, lightmap=None)
+    return [replace(o, materials=(folded, *o.materials[1:])) if o is terrain else o
+            for o in objects]
 
 
 def _rolling_shutters(project: m.Project, images, times):

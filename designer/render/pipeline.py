@@ -297,6 +297,8 @@ def render_project(
                                 event.get("stages"))
             measured.rendered[int(event["index"])] = float(event["seconds"])
             measured.stages[int(event["index"])] = dict(event.get("stages") or {})
+            if event.get("order") == 0:
+                measured.first_frames.add(int(event["index"]))
         elif event.get("event") == "worker_started":
             measured.scene_seconds.append(0.0)  # one entry per worker
         if progress is not None:

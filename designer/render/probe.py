@@ -1,9 +1,9 @@
 """A short probe render that measures this machine's render speed (``designer warmup``).
 
-It renders four frames of the example survey (``designer new --template survey``) as
-``designer demo`` renders them — two at the edges of the flight, two over the middle,
-so both the terrain's and the background's cost are seen — and stores the fitted
-coefficients (:mod:`designer.survey.render_cost`, source "probe"). About 15 s on 2
+It renders six frames of the example survey (``designer new --template survey``) as
+``designer demo`` renders them — at the edges of the flight and over the middle, so
+both the terrain's and the background's cost are seen — and stores the fitted
+coefficients (:mod:`designer.survey.render_cost`, source "probe"). About 30 s on 2
 cores. Every later ``designer render`` refines them.
 """
 
@@ -13,8 +13,10 @@ import tempfile
 import time
 from pathlib import Path
 
-#: frames of the example's 60 rendered by the probe (edges and middle)
-PROBE_FRAMES = (0, 20, 29, 59)
+#: frames of the example's 60 rendered by the probe: each worker's first (0, 10) builds
+#: Cycles' scene and goes into the fixed part; the others span the share of the image on
+#: the terrain (0.2 to 1)
+PROBE_FRAMES = (0, 10, 20, 29, 39, 59)
 
 
 def probe_render_speed(progress=None):

@@ -41,6 +41,9 @@ class RenderReport:
     peak_rss_mb: list[float] = field(default_factory=list)  # one per worker process
     #: index -> seconds of each stage of the frame (designer.render.stages.FRAME_STAGES)
     stages: dict[int, dict[str, float]] = field(default_factory=dict)
+    #: frames that were the first of their worker process (Cycles builds its copy of the
+    #: scene during that render)
+    first_frames: set[int] = field(default_factory=set)
 
 
 def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
@@ -168,6 +171,8 @@ def _run_workers(job_path, batches, threads, report, progress, extra=()) -> set[
                     finished.add(int(event["index"]))
                     report.rendered[int(event["index"])] = float(event["seconds"])
                     report.stages[int(event["index"])] = dict(event.get("stages") or {})
+                    if event.get("order") == 0:
+                        report.first_frames.add(int(event["index"]))
                 elif event["event"] == "scene_ready":
                     report.scene_seconds.append(float(event["seconds"]))
                 elif event["event"] == "worker_done":

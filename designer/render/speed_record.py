@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 
 import numpy as np
 
@@ -12,6 +13,7 @@ from designer.render.runner import RenderReport
 from designer.survey.render_cost import (
     ImageCost,
     fit_speed,
+    frame_cpu_s,
     load_speed,
     refine,
     save_speed,
@@ -46,20 +48,28 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
     """Fit the coefficients to the frames ``report`` rendered (with their stages) and
     store them (a render's refine what is stored, a probe's replace it); returns the
     stored :class:`RenderSpeed`, or None when the run rendered no frame with stages."""
-    frames = sorted(i for i, st in report.stages.items()
-                    if "cycles_cpu_s" in st and i in report.rendered)
-    if not frames:
+    timed = sorted(i for i, st in report.stages.items()
+                   if "cycles_cpu_s" in st and i in report.rendered)
+    if not timed:
         return None
+    # a worker's first frame also builds Cycles' scene: fitted only when nothing else
+    # was rendered (its extra time lands in the fixed part through the wall time)
+    frames = [i for i in timed if i not in report.first_frames] or timed
     cores = max(1, cores or os.cpu_count() or 1)
     workers = max(1, len(report.peak_rss_mb) or len(report.scene_seconds) or 1)
-    images = image_costs(prepared, frames)
+    all_costs = dict(zip(timed, image_costs(prepared, timed), strict=True))
+    images = [all_costs[i] for i in frames]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
     post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0))
             for i in frames]
-    frames_wall = sum(cpu) / cores + sum(post) / workers
+    measured = fit_speed(images, cpu, post, 0.0, source, prior=load_speed())
+    # the fixed part: what the model of every timed frame leaves of the wall time
+    frames_wall = (sum(frame_cpu_s(measured, c) for c in all_costs.values()) / cores
+                   + sum(c.megapixels * measured.post_s_per_mp for c in all_costs.values())
+                   / workers)
     fixed = prepare_seconds + max(0.0, report.wall_seconds - frames_wall)
     stored = load_speed()
-    measured = fit_speed(images, cpu, post, fixed, source, prior=stored)
+    measured = replace(measured, fixed_s=fixed)
     speed = measured if source == "probe" else refine(stored, measured)
     save_speed(speed)
     return speed

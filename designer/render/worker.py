@@ -550,7 +550,7 @@ def main(argv: list[str] | None = None) -> int:
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
     current = {spec.name: spec for spec in job.objects}
     exif = job.image_metadata == "exif"
-    for index in wanted:
+    for order, index in enumerate(wanted):
         t_setup = time.perf_counter()
         step = frames[index].light_step
         if step is not None:
@@ -562,7 +562,9 @@ def main(argv: list[str] | None = None) -> int:
                             chains.get(frame.camera_id), exif,
                             setup_s=time.perf_counter() - t_setup, bare=args.bare,
                             raw_dir=args.keep_raw)
-        emit(progress, event="frame_done", index=index, **done)
+        # order: the frame's place in this process (its first frame also builds Cycles'
+        # copy of the scene)
+        emit(progress, event="frame_done", index=index, order=order, **done)
     import resource
 
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

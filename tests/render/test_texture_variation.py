@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from designer.project import model as m
-from designer.render.job import BAKED_TEXTURE, JOB_DIR, prepare_job
+from designer.render.job import BAKED_LIT_TEXTURE, BAKED_TEXTURE, JOB_DIR, prepare_job
 from designer.render.job_spec import MaterialSpec, RenderJob
 from designer.render.pipeline import render_project
 from designer.render.provenance import job_provenance
@@ -91,8 +91,10 @@ def test_absent_variation_prepares_the_job_of_before(tmp_path):
     assert RenderJob.from_json(json.dumps(saved)) == prepared.job
     varied, varied_dir = _job(tmp_path, m.TextureVariation(1, 20.0, 0.3), "varied")
     v_terrain = next(o for o in varied.job.objects if o.name == "terrain").materials[0]
-    # the blend baked into one linear image over the terrain (designer.render.texture_bake)
-    assert v_terrain.texture == BAKED_TEXTURE and (varied_dir / BAKED_TEXTURE).is_file()
+    # the blend baked into one linear image over the terrain (designer.render.texture_bake),
+    # the static sun's light map multiplied in
+    assert v_terrain.texture == BAKED_LIT_TEXTURE and (varied_dir / BAKED_LIT_TEXTURE).is_file()
+    assert v_terrain.lightmap is None
     assert v_terrain.texture_colorspace == "Non-Color" and v_terrain.variation is None
     assert v_terrain.strength == pytest.approx(2 * terrain.strength)  # gain / 2 stored
 
@@ -124,7 +126,7 @@ def test_the_baked_texture_renders_what_the_node_graph_renders(tmp_path, monkeyp
         summary = render_project(path, tmp_path / name / "out", workers=1)
         material = next(o for o in summary.prepared.job.objects
                         if o.name == "terrain").materials[0]
-        assert (material.texture == BAKED_TEXTURE) == (name == "baked")
+        assert (material.texture in (BAKED_TEXTURE, BAKED_LIT_TEXTURE)) == (name == "baked")
         img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
         grey[name] = img.astype(np.float64)
     baked, nodes = grey["baked"], grey["nodes"]
