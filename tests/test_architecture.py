@@ -25,7 +25,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "designer"
 TESTS = Path(__file__).resolve().parent
 
 #: the small shared modules at the top of the package that everything may use
-BASE = {"errors", "atomic", "_lazy"}
+BASE = {"errors", "atomic", "_lazy", "lifetime"}
 
 #: designer package → the designer packages its modules may import (arrows point down)
 MAY_IMPORT: dict[str, set[str]] = {

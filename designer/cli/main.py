@@ -13,6 +13,7 @@ import importlib
 import os
 import signal
 import sys
+import threading
 
 from designer import __version__
 from designer.errors import DesignerError
@@ -66,6 +67,13 @@ def listen_to_sigint() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     listen_to_sigint()
+    if threading.current_thread() is threading.main_thread():
+        from designer.lifetime import PARENT_PID_ENV, die_with_parent, stop_on_termination_signals
+
+        stop_on_termination_signals()
+        parent = os.environ.pop(PARENT_PID_ENV, None)  # not passed on to our children
+        if parent and parent.isdigit():  # started by the GUI: end with it
+            die_with_parent(int(parent))
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):

@@ -61,6 +61,13 @@ def run(args) -> int:
                                  frames=args.frames, quality=args.quality,
                                  resume=args.resume, progress=reporter,
                                  scheduler=args.scheduler, colmap_offset=args.colmap_offset)
+    except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: the workers are stopped
+        images = args.output / "images"
+        kept = sum(1 for p in images.iterdir() if p.is_file()) if images.is_dir() else 0
+        why = f" by {stop.args[0]}" if stop.args else ""
+        print(f"designer: interrupted{why}: {kept} finished images kept in {images}; run "
+              "the same command with --resume to render only the rest", file=sys.stderr)
+        return 130
     finally:
         reporter.close()
     report = summary.report

@@ -74,11 +74,15 @@ def _serve(jobs_fd: int, results_fd: int) -> None:
                 _send(results_fd, ("failed", RuntimeError(f"{name}: {text}")))
 
 
-def _child(first: tuple[int, int], second: tuple[int, int], close_fds: list[int]) -> None:
+def _child(first: tuple[int, int], second: tuple[int, int], close_fds: list[int],
+           parent_pid: int) -> None:
     """Body of the first forked process: import, fork the second, serve; never returns."""
     code = 0
     try:
         signal.signal(signal.SIGINT, signal.SIG_DFL)  # Ctrl-C ends it quietly
+        from designer.lifetime import die_with_parent
+
+        die_with_parent(parent_pid)
         for fd in close_fds:
             os.close(fd)
         import rasterio  # noqa: F401  (the GeoTIFF writer's)
@@ -87,8 +91,10 @@ def _child(first: tuple[int, int], second: tuple[int, int], close_fds: list[int]
 
         from designer.evaluate import maps  # noqa: F401
 
+        me = os.getpid()
         pid = os.fork()
         if pid == 0:  # the second process: the histogram
+            die_with_parent(me)
             os.close(first[0])
             os.close(first[1])
             try:
@@ -111,11 +117,12 @@ class FigureProcesses(Writers):
     def __init__(self) -> None:
         # per process: (jobs read end, jobs write end), (results read end, write end)
         pipes = [(os.pipe(), os.pipe()) for _ in range(2)]
+        parent = os.getpid()
         pid = os.fork()
         if pid == 0:
             ends = [(jobs[0], results[1]) for jobs, results in pipes]
             mine = [jobs[1] for jobs, _ in pipes] + [results[0] for _, results in pipes]
-            _child(ends[0], ends[1], mine)
+            _child(ends[0], ends[1], mine, parent)
         self._pid = pid
         for jobs, results in pipes:
             os.close(jobs[0])

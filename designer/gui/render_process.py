@@ -18,7 +18,9 @@ import signal
 import sys
 from pathlib import Path
 
-from PySide6.QtCore import QObject, QProcess, Signal
+from PySide6.QtCore import QObject, QProcess, QProcessEnvironment, Signal
+
+from designer.lifetime import child_environment
 
 
 class CommandProcess(QObject):
@@ -47,6 +49,10 @@ class CommandProcess(QObject):
         proc = QProcess(self)
         if cwd is not None:
             proc.setWorkingDirectory(str(cwd))
+        env = QProcessEnvironment.systemEnvironment()
+        for key, value in child_environment().items():  # it dies with this window
+            env.insert(key, value)
+        proc.setProcessEnvironment(env)
         proc.readyReadStandardOutput.connect(self._read_stdout)
         proc.readyReadStandardError.connect(self._read_stderr)
         proc.finished.connect(self._done)

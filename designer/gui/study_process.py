@@ -18,6 +18,7 @@ from PySide6.QtCore import QProcess, QProcessEnvironment, QTimer
 
 import designer
 from designer.gui.render_process import CommandProcess
+from designer.lifetime import child_environment
 
 #: how long (ms) the study's processes may take to stop on SIGINT before they are killed
 CANCEL_GRACE_MS = 5000
@@ -50,6 +51,8 @@ class StudyProcess(CommandProcess):
         root = str(Path(designer.__file__).resolve().parents[1])
         env.insert("PYTHONPATH", os.pathsep.join(
             p for p in (root, env.value("PYTHONPATH", "")) if p))
+        for key, value in child_environment().items():  # it dies with this window
+            env.insert(key, value)
         proc.setProcessEnvironment(env)
         proc.readyReadStandardOutput.connect(self._read_stdout)
         proc.readyReadStandardError.connect(self._read_stderr)

@@ -148,7 +148,7 @@ def _run_workers(job_path, batches, threads, report, progress, extra=()) -> set[
             log = open(log_dir / f"worker-{k}.log", "ab")  # closed in finally
             cmd = [sys.executable, "-m", "designer.render.worker", str(job_path),
                    "--frames", ",".join(map(str, batch)), "--progress-fd", str(write_fd),
-                   "--threads", str(threads), *extra]
+                   "--threads", str(threads), "--parent-pid", str(os.getpid()), *extra]
             proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT,
                                     pass_fds=(write_fd,))
             os.close(write_fd)

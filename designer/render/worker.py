@@ -526,12 +526,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--frames", required=True, help="comma-separated frame indices")
     parser.add_argument("--progress-fd", type=int, default=None)
     parser.add_argument("--threads", type=int, default=0, help="Cycles threads (0: all)")
+    parser.add_argument("--parent-pid", type=int, default=None,
+                        help="end with this process (Linux: killed when it exits)")
     parser.add_argument("--keep-raw", type=Path, default=None, metavar="DIR",
                         help="also keep each frame's raw render (before the camera effects) "
                              "in DIR")
     parser.add_argument("--bare", action="store_true",
                         help="render only (no file, no effects): the bare Cycles time")
     args = parser.parse_args(argv)
+    if args.parent_pid is not None:
+        from designer.lifetime import die_with_parent
+
+        die_with_parent(args.parent_pid)
     job = RenderJob.read(args.job)
     if args.threads:
         job = dataclasses.replace(job, render=dataclasses.replace(job.render,

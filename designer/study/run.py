@@ -48,10 +48,15 @@ class _Local:
 
     def __init__(self, workers: int) -> None:
         import multiprocessing
+        import os
         from concurrent.futures import ProcessPoolExecutor
 
+        from designer.lifetime import die_with_parent
+
+        # each worker dies with this process, even killed (no orphan keeps rendering)
         self.pool = ProcessPoolExecutor(max_workers=workers,
-                                        mp_context=multiprocessing.get_context("spawn"))
+                                        mp_context=multiprocessing.get_context("spawn"),
+                                        initializer=die_with_parent, initargs=(os.getpid(),))
 
     def submit(self, fn, *args, priority: int = 0):
         return self.pool.submit(fn, *args)
