@@ -46,7 +46,8 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     first = panel.n_rendered
     assert 2 <= first < n, panel.log.toPlainText()
     # the cancelled run already calibrated the estimates with the frames it finished
-    assert load_speed().calibrated and load_speed().images >= 2
+    # (a worker's first frame, which also builds the scene, is left out of the fit)
+    assert load_speed().calibrated and load_speed().images >= 1
     assert "this machine" in panel.cost.text()
 
     # resume: the kept images are counted as kept, not as rendered
@@ -66,7 +67,7 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     # the estimate is now this machine's speed, refined by the resumed run's frames; the
     # panels show the model's figure for this project
     speed = load_speed()
-    assert speed.source == "render" and speed.images >= n - first
+    assert speed.source == "render" and speed.images >= n - first - 1
     from designer.gui import derived
 
     total = derived.render_estimate_s(w.document.project, w.sync.stations.render_costs,
