@@ -41,7 +41,8 @@ def register(subparsers) -> None:
     parser.add_argument("--variants", action="store_true",
                         help="render: also the rows of the world's elements (sun over time, "
                              "moving objects, buildings, plants, clouds, rig, rolling shutter)")
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, interrupted_hint="the rows printed above were measured; "
+                        "nothing else is kept")
 
 
 def run(args) -> int:

@@ -60,7 +60,8 @@ def register(subparsers) -> None:
     parser.add_argument("--no-align", action="store_true",
                         help="camera errors without the 7-parameter similarity alignment")
     parser.add_argument("--json", action="store_true", help="print summary.json instead")
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, interrupted_hint="nothing was written; run the same "
+                        "command again")
 
 
 def _project_origin(reference: Path) -> tuple[float, float, float] | None:

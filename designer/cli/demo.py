@@ -20,7 +20,8 @@ def register(subparsers) -> None:
                         help="render quality (default: the example project's)")
     # A frame subset, for quick tests of the demo itself.
     parser.add_argument("--frames", default=None, help=argparse.SUPPRESS)
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, interrupted_hint="the finished images are kept; run the "
+                        "same command again to continue (the render resumes)")
 
 
 def run(args) -> int:

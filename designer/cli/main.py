@@ -84,8 +84,10 @@ def main(argv: list[str] | None = None) -> int:
     except DesignerError as error:
         print(f"designer: error: {error}", file=sys.stderr)
         return error.exit_code
-    except KeyboardInterrupt:
-        print("designer: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP
+        why = f" by {stop.args[0]}" if stop.args and isinstance(stop.args[0], str) else ""
+        hint = getattr(args, "interrupted_hint", None)
+        print(f"designer: interrupted{why}" + (f": {hint}" if hint else ""), file=sys.stderr)
         return 130
 
 

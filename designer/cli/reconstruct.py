@@ -51,7 +51,8 @@ def register(subparsers) -> None:
     parser.add_argument("--feature-cache", type=Path, default=None, metavar="DIR",
                         help="keep features and matches in DIR and reuse them when the same "
                              "images are reconstructed again (other settings may differ)")
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, interrupted_hint="this reconstruction is not kept; run "
+                        "the same command again")
 
 
 def run(args) -> int:

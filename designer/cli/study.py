@@ -39,7 +39,8 @@ def register(subparsers) -> None:
     run.add_argument("--resume", action="store_true",
                      help="continue a study in DIR: finished runs are kept, not redone")
     run.add_argument("--progress", choices=["bar", "json", "none"], default="bar")
-    run.set_defaults(func=run_run)
+    run.set_defaults(func=run_run, interrupted_hint="the finished runs are kept; run the "
+                     "same command with --resume to do the rest")
 
 
 def run_new(args) -> int:

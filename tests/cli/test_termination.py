@@ -133,6 +133,7 @@ def test_a_stopped_study_leaves_no_process(tmp_path, how):
         _, err = proc.communicate(timeout=120)
         assert proc.returncode == 130, err
         assert "Traceback" not in err
+        assert "interrupted by SIGTERM: the finished runs are kept" in err and "--resume" in err
     else:
         proc.kill()
         proc.communicate(timeout=30)
@@ -155,5 +156,6 @@ def test_a_bench_cut_short_keeps_its_measured_rows(tmp_path):
     proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
+    assert "interrupted by SIGTERM: the rows printed above were measured" in err
     assert _wait_until(lambda: _group(proc.pid) == [], 20), _group(proc.pid)
     assert list(tmp_path.iterdir()) == []  # its temporary folder removed
