@@ -25,7 +25,10 @@ uncalibrated.
 
 Not modelled: buildings, plants and moving objects (more geometry than the terrain),
 adaptive sampling (metrology preset: counted at its maximum samples), a machine busy
-with other work. A render of such a project refines the coefficients towards it.
+with other work, and workers competing for the caches (two workers of one core each
+render the example about 20 % slower than one worker with both cores, which the model
+does not see: docs/benchmarks.md). A render of such a project refines the
+coefficients towards it.
 """
 
 from __future__ import annotations
