@@ -45,7 +45,11 @@ def run(args) -> int:
         takeoff_height_m=args.takeoff_height_m, height_offset_m=args.height_offset_m,
         speed_m_s=args.speed_m_s)
     lines = len(spec.lines)
+    # KML has no heights relative to the take-off point: it always gets AMSL heights
+    # (altitudeMode absolute, designer.flight.kml)
+    heights = ("AMSL (KML altitudeMode absolute; --altitude applies to qgc and wpml)"
+               if args.format == "kml" else args.altitude)
     print(f"wrote {args.output}: {len(spec.exposures)} photos on {lines} line"
-          f"{'s' if lines != 1 else ''} ({args.format}, heights {args.altitude}"
+          f"{'s' if lines != 1 else ''} ({args.format}, heights {heights}"
           f"{', terrain following' if spec.terrain_following else ''})")
     return 0

@@ -13,8 +13,13 @@ common message set, MAV_CMD and MAV_FRAME, https://mavlink.io/en/messages/common
   ``items`` (at least one);
 * a SimpleItem: ``type`` "SimpleItem", ``autoContinue``, ``command``, ``doJumpId``,
   ``frame``, ``params`` (seven numbers or null), and for navigation items
-  ``AltitudeMode`` (0 relative to launch, 1 AMSL, 2 calculated above terrain),
-  ``Altitude`` and ``AMSLAltAboveTerrain``.
+  ``AltitudeMode`` and ``Altitude`` and ``AMSLAltAboveTerrain``. ``AltitudeMode`` and
+  ``globalPlanAltitudeMode`` are QGC's ``enum AltMode`` (``QGroundControlQmlGlobal.h`` in
+  QGC's repository, src/QmlControls): 0 Mixed (the plan's items differ), 1 Relative
+  (frame 3, MAV_FRAME_GLOBAL_RELATIVE_ALT), 2 Absolute (frame 0, MAV_FRAME_GLOBAL),
+  3 CalcAboveTerrain (frame 0, the AMSL altitude QGC computed from terrain data in
+  ``AMSLAltAboveTerrain``), 4 TerrainFrame (frame 10); QGC's own test plans
+  (test/plans/*.plan) pair them so.
 
 Commands written: MAV_CMD_NAV_WAYPOINT (16; params hold, acceptance radius, pass
 radius, yaw [deg, true north], latitude, longitude, altitude), MAV_CMD_DO_MOUNT_CONTROL
@@ -50,6 +55,12 @@ IMAGE_START_CAPTURE = 2000
 FRAME_GLOBAL = 0
 FRAME_MISSION = 2
 FRAME_GLOBAL_RELATIVE_ALT = 3
+#: QGC's enum AltMode (see the module docstring)
+ALT_MODE_MIXED, ALT_MODE_RELATIVE, ALT_MODE_ABSOLUTE, ALT_MODE_CALC_ABOVE_TERRAIN = 0, 1, 2, 3
+ALT_MODE_TERRAIN_FRAME = 4
+#: the MAV_FRAME each AltMode of a waypoint goes with, as QGC writes them
+ALT_MODE_FRAMES = {ALT_MODE_RELATIVE: FRAME_GLOBAL_RELATIVE_ALT, ALT_MODE_ABSOLUTE: FRAME_GLOBAL,
+                   ALT_MODE_CALC_ABOVE_TERRAIN: FRAME_GLOBAL, ALT_MODE_TERRAIN_FRAME: 10}
 FIRMWARE_PX4 = 12
 VEHICLE_QUADROTOR = 2
 
@@ -76,7 +87,8 @@ def plan_document(spec: FlightSpec) -> dict:
                 add(DO_SET_CAM_TRIGG_DIST, [spec.trigger_distance_m, 0, 1, 0, 0, 0, 0])
             elif k == len(line) - 1:
                 add(DO_SET_CAM_TRIGG_DIST, [0, 0, 0, 0, 0, 0, 0])
-    mode = 2 if spec.terrain_following else (0 if spec.altitude == "relative" else 1)
+    mode = (ALT_MODE_CALC_ABOVE_TERRAIN if spec.terrain_following else
+            ALT_MODE_RELATIVE if spec.altitude == "relative" else ALT_MODE_ABSOLUTE)
     return {
         "fileType": "Plan", "version": 1, "groundStation": "designer",
         "geoFence": {"circles": [], "polygons": [], "version": 2},
@@ -101,9 +113,11 @@ def _altitude(spec: FlightSpec, e) -> tuple[float, int]:
 def _altitude_fields(spec: FlightSpec, e) -> dict:
     value, frame = _altitude(spec, e)
     if spec.terrain_following:
-        return {"frame": frame, "AltitudeMode": 2, "Altitude": e.Z_m - e.ground_m,
-                "AMSLAltAboveTerrain": value}
-    return {"frame": frame, "AltitudeMode": 0 if frame == FRAME_GLOBAL_RELATIVE_ALT else 1,
+        return {"frame": frame, "AltitudeMode": ALT_MODE_CALC_ABOVE_TERRAIN,
+                "Altitude": e.Z_m - e.ground_m, "AMSLAltAboveTerrain": value}
+    return {"frame": frame,
+            "AltitudeMode": (ALT_MODE_RELATIVE if frame == FRAME_GLOBAL_RELATIVE_ALT
+                             else ALT_MODE_ABSOLUTE),
             "Altitude": value, "AMSLAltAboveTerrain": None}
 
 

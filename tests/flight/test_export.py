@@ -128,7 +128,9 @@ def test_terrain_following_plans(tmp_path, example):
     export_flight(project, EXAMPLE.parent, "qgc", plan_out)
     items = [i for i in json.loads(plan_out.read_text())["mission"]["items"]
              if i["command"] == 16]
-    assert {i["AltitudeMode"] for i in items} == {2}
+    # QGC's AltitudeModeCalcAboveTerrain (3), frame 0 (designer.flight.qgc docstring)
+    assert {(i["AltitudeMode"], i["frame"]) for i in items} == {(3, 0)}
+    assert json.loads(plan_out.read_text())["mission"]["globalPlanAltitudeMode"] == 3
     assert np.allclose([i["Altitude"] for i in items], 50.0)
     dC, dR = compare(read_plan(plan_out), stations, georef)
     assert dC <= 0.01 and dR <= 0.01
@@ -212,3 +214,33 @@ def test_files_from_the_cli_match_the_api(tmp_path):
     assert main(["export-flight", str(EXAMPLE), "--format", "kml", "-o", str(a)]) == 0
     export_flight(load_project(EXAMPLE), Path(EXAMPLE).parent, "kml", b)
     assert [(p.lon_deg, p.Z_m) for p in read_kml(a)] == [(p.lon_deg, p.Z_m) for p in read_kml(b)]
+
+
+#: QGroundControl's enum AltMode (src/QmlControls/QGroundControlQmlGlobal.h): name →
+#: (value, the MAV_FRAME of a waypoint in that mode as QGC's test plans in test/plans/
+#: write it). Built from QGC's source, independently of designer.flight.qgc.
+QGC_ALT_MODES = {"Mixed": (0, None), "Relative": (1, 3), "Absolute": (2, 0),
+                 "CalcAboveTerrain": (3, 0), "TerrainFrame": (4, 10)}
+
+
+@pytest.mark.parametrize("altitude, mode", [("relative", "Relative"), ("amsl", "Absolute")])
+def test_qgc_altitude_modes_are_qgcs_enum(tmp_path, example, altitude, mode):
+    out = tmp_path / f"{altitude}.plan"
+    export_flight(example, EXAMPLE.parent, "qgc", out, altitude=altitude)
+    mission = json.loads(out.read_text())["mission"]
+    value, frame = QGC_ALT_MODES[mode]
+    assert mission["globalPlanAltitudeMode"] == value
+    waypoints = [i for i in mission["items"] if i["command"] == 16]
+    assert waypoints and {(i["AltitudeMode"], i["frame"]) for i in waypoints} == {(value, frame)}
+
+
+def test_the_kml_message_says_the_heights_it_wrote(tmp_path, capsys):
+    out = tmp_path / "f.kml"
+    assert main(["export-flight", str(EXAMPLE), "--format", "kml", "-o", str(out)]) == 0
+    said = capsys.readouterr().out
+    modes = {el.text for el in etree.parse(str(out)).getroot().iter(
+        "{http://www.opengis.net/kml/2.2}altitudeMode")}
+    assert modes == {"absolute"} and "heights AMSL" in said and "relative" not in said
+    plan = tmp_path / "f.plan"
+    assert main(["export-flight", str(EXAMPLE), "--format", "qgc", "-o", str(plan)]) == 0
+    assert "heights relative" in capsys.readouterr().out
