@@ -121,7 +121,8 @@ def write_all(
         add("metashape_markers", folder / "markers_reference.csv",
             metashape.metashape_markers_csv(gcps, crs))
         add("metashape_markers_xml", folder / "markers.xml",
-            metashape.metashape_markers_xml(poses, gcps, observations, crs, cameras))
+            metashape.metashape_markers_xml(poses, gcps, observations, crs, cameras,
+                                            interior=interior if cameras is None else None))
     if "opk" in formats:
         add("opk", out / "camera_poses_opk.csv",
             tables.opk_csv(poses, crs, image_times, cameras))

@@ -36,9 +36,9 @@ Marker.reference.location / .accuracy / .enabled and Marker.projections[camera] 
 Marker.Projection(coord, pinned)):
 
 * ``<document version="1.2.0"><chunk label="…">``;
-* ``<cameras>``: one ``<camera id="k" sensor_id="0" label="IMAGE_NAME"/>`` per image,
-  ids 0, 1, … in pose order; labels are the image file names (Metashape matches
-  cameras by label);
+* ``<cameras>``: one ``<camera id="k" sensor_id="s" label="IMAGE_STEM"/>`` per image,
+  ids 0, 1, … in pose order; labels are the image file names without their extension,
+  as Metashape names the cameras it adds (it matches cameras by label);
 * ``<markers>``: one ``<marker id="m" label="GCP_ID">`` per GCP with
   ``<reference x y z sx sy sz enabled/>``: SURVEYED coordinates and their standard
   deviations (m); ``enabled="true"`` for control points and ``"false"`` for check
@@ -47,9 +47,11 @@ Marker.Projection(coord, pinned)):
 * a multi-camera rig (:class:`designer.core.truth.CameraSet`): ``<sensors>`` with one
   ``<sensor id="s" label="CAMERA_ID" type="frame">`` per physical camera (its
   ``<resolution>`` and fixed ``<calibration>``, the values of its calibration XML), and
-  each camera's ``sensor_id`` is its sensor's; one camera writes no ``<sensors>`` and
-  every camera has ``sensor_id="0"``. Each sensor's calibration is also written as
-  ``calibration_<CAMERA_ID>.xml`` for Tools → Camera Calibration → Load;
+  each camera's ``sensor_id`` is its sensor's; one camera writes one
+  ``<sensor id="0" label="camera">`` the same way (the ``sensor_id="0"`` of every
+  camera then refers to it). Each sensor's calibration is also written as
+  ``calibration_<CAMERA_ID>.xml`` (one camera: ``calibration.xml``) for Tools → Camera
+  Calibration → Load;
 * ``<frames><frame id="0"><markers>``: per marker ``<marker marker_id="m">`` with one
   ``<location camera_id="k" pinned="true" x y/>`` per image point (pinned = placed by
   hand, i.e. a measured projection). x, y are Metashape pixel coordinates, origin at
@@ -221,10 +223,13 @@ def metashape_markers_xml(
     observations: Sequence[GcpObservation],
     crs: str,
     cameras: CameraSet | None = None,
+    interior: InteriorOrientation | None = None,
 ) -> str:
-    """Markers XML: cameras, markers with reference and enabled flag (control = enabled,
-    check = disabled), and every marker projection (see module doc); with ``cameras``
-    (a rig) one sensor per physical camera."""
+    """Markers XML: sensors, cameras, markers with reference and enabled flag (control =
+    enabled, check = disabled), and every marker projection (see module doc); with
+    ``cameras`` (a rig) one sensor per physical camera, else one sensor of ``interior``
+    (without it, the cameras' sensor 0 is left to the project the file is imported
+    into)."""
     crs = check_crs(crs)
     check_unique((p.image_name for p in poses), "image name")
     check_unique((g.gcp_id for g in gcps), "GCP id")
@@ -237,12 +242,17 @@ def metashape_markers_xml(
     doc = etree.Element("document", version="1.2.0")
     chunk = etree.SubElement(doc, "chunk", label="designer ground truth", enabled="true")
     sensor_ids: dict[str, int] = {}
+    interiors: dict[str, InteriorOrientation] = {}
     if cameras is not None:
         cameras.covers(p.image_name for p in poses)
-        sensor_ids = {c: k for k, c in enumerate(cameras.interiors)}
+        interiors = dict(cameras.interiors)
+    elif interior is not None:
+        interiors = {SINGLE_SENSOR_LABEL: interior}
+    if interiors:
+        sensor_ids = {c: k for k, c in enumerate(interiors)}
         sensors = etree.SubElement(chunk, "sensors", next_id=str(len(sensor_ids)))
         for camera_id, k in sensor_ids.items():
-            interior = cameras.interiors[camera_id]
+            interior = interiors[camera_id]
             W, H = interior.image_size_px
             sensor = etree.SubElement(sensors, "sensor", id=str(k), label=camera_id,
                                       type="frame")
@@ -254,7 +264,7 @@ def metashape_markers_xml(
     for p in poses:
         sensor_id = 0 if cameras is None else sensor_ids[cameras.camera_of(p.image_name)]
         etree.SubElement(camera_list, "camera", id=str(camera_ids[p.image_name]),
-                         sensor_id=str(sensor_id), label=p.image_name)
+                         sensor_id=str(sensor_id), label=camera_label(p.image_name))
     markers = etree.SubElement(chunk, "markers", next_id=str(len(gcps)), next_group_id="0")
     for g in gcps:
         marker = etree.SubElement(markers, "marker", id=str(marker_ids[g.gcp_id]),
@@ -276,6 +286,17 @@ def metashape_markers_xml(
     etree.SubElement(chunk, "reference").text = _crs_wkt(crs)
     body = etree.tostring(doc, pretty_print=True, encoding="unicode")
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + body
+
+
+#: the label of the one sensor of a single-camera survey's markers XML
+SINGLE_SENSOR_LABEL = "camera"
+
+
+def camera_label(image_name: str) -> str:
+    """The label Metashape gives the camera of an image: its file name without the
+    extension (Metashape User Manual, "Adding photos": cameras are named after their
+    files; the Reference pane and Import Markers match cameras by this label)."""
+    return Path(image_name).stem
 
 
 def write_metashape_markers_xml(

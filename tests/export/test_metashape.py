@@ -1,3 +1,5 @@
+from pathlib import Path
+
 import numpy as np
 import pytest
 from lxml import etree
@@ -122,13 +124,23 @@ def test_markers_xml_has_projections_and_control_check_flags():
 
     from designer.export.metashape import metashape_markers_xml
 
-    _interior, poses, gcps, obs = survey(33)
+    interior, poses, gcps, obs = survey(33)
     roles = {g.role for g in gcps}
     assert roles == {"control", "check"}
-    root = etree.fromstring(metashape_markers_xml(poses, gcps, obs, "EPSG:32632").encode())
+    root = etree.fromstring(metashape_markers_xml(poses, gcps, obs, "EPSG:32632",
+                                                  interior=interior).encode())
     assert root.tag == "document"
     chunk = root.find("chunk")
-    cameras = {c.get("id"): c.get("label") for c in chunk.find("cameras")}
+    # every camera's sensor_id refers to a sensor of the file: the one camera's
+    sensors = {s.get("id"): s for s in chunk.find("sensors")}
+    assert list(sensors) == ["0"] and sensors["0"].get("type") == "frame"
+    W, H = interior.image_size_px
+    resolution = sensors["0"].find("resolution")
+    assert (int(resolution.get("width")), int(resolution.get("height"))) == (W, H)
+    assert {c.get("sensor_id") for c in chunk.find("cameras")} == {"0"}
+    # labels as Metashape names cameras: the file name without its extension
+    by_stem = {Path(p.image_name).stem: p.image_name for p in poses}
+    cameras = {c.get("id"): by_stem[c.get("label")] for c in chunk.find("cameras")}
     assert sorted(cameras.values()) == sorted(p.image_name for p in poses)
     markers = {m.get("id"): m for m in chunk.find("markers")}
     by_label = {m.get("label"): m for m in markers.values()}

@@ -209,7 +209,7 @@ def test_metashape_and_odm_carry_every_camera(rendered):
     truth = {g.gcp_id: g.true_xyz for g in read_gcp_truth_csv(gt["gcp_truth"])}
     for rows in by_camera.values():
         for o in rows:
-            sensor = image_sensor[o.image_name]
+            sensor = image_sensor[Path(o.image_name).stem]  # Metashape's camera label
             assert sensor.get("label") == cameras[o.image_name]
             pose = poses[o.image_name]
             uv = _metashape_project(sensor, pose.R_cam_to_world, pose.C_world,
