@@ -2,8 +2,10 @@
 
 Layout under ``out_dir`` (keys of the returned dict in brackets):
 
-* ``colmap/`` cameras.txt, images.txt, points3D.txt, offset.json  [colmap,
-  colmap_cameras, colmap_images, colmap_points3D, colmap_offset] — world coordinates
+* ``colmap/`` cameras.txt, images.txt, points3D.txt, offset.json, database.db  [colmap,
+  colmap_cameras, colmap_images, colmap_points3D, colmap_offset, colmap_database; the
+  database holds the cameras and images with the model's IDs,
+  :mod:`designer.export.colmap_db`] — world coordinates
   minus the offset ``colmap_offset`` chooses (default ``local``: the mean camera centre
   rounded to metres; see :func:`designer.export.colmap.colmap_offset_world`), which
   offset.json names;
@@ -133,4 +135,9 @@ def write_all(
     if image_times is not None:
         add("image_times", out / "image_times.csv", tables.image_times_csv(image_times))
     write_texts(texts)
+    if "colmap" in formats:  # the cameras and images with their IDs, for COLMAP's tools
+        from designer.export.colmap_db import write_colmap_database
+
+        paths["colmap_database"] = write_colmap_database(out / "colmap" / "database.db",
+                                                         interior, poses)
     return paths

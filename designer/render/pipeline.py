@@ -144,6 +144,12 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
                         ground_truth_observations(prepared), odm_crs(project.crs),
                         formats=formats, image_times=image_times(prepared),
                         colmap_offset=colmap_offset)
+    if "colmap" in written:  # the pairs to match (COLMAP's matches_importer)
+        path = out_dir / GROUND_TRUTH_DIR / "colmap" / COLMAP_PAIRS
+        from designer.atomic import write_text_atomic
+
+        write_text_atomic(path, "".join(f"{a} {b}\n" for a, b in overlapping_pairs(prepared)))
+        written["colmap_pairs"] = path
     # masks of a rolling-shutter image: each row sees from its own pose
     rolling = None
     if prepared.frame_shutters:
@@ -188,6 +194,32 @@ def write_ground_truth(project, prepared: PreparedJob, out_dir: Path,
 
 
 CLOUD_SHADOWS_CSV = "cloud_shadows.csv"
+#: the image pairs COLMAP should match, one "NAME1 NAME2" per line
+COLMAP_PAIRS = "pairs.txt"
+
+
+def overlapping_pairs(prepared: PreparedJob) -> list[tuple[str, str]]:
+    """The pairs of images whose true ground footprints overlap
+    (:func:`designer.survey.pairs.footprint_pairs`: on the plane at the terrain's median
+    height, each image with its most overlapping partners)."""
+    from designer.core.projection import R_cv_from_world
+    from designer.survey.pairs import footprint_pairs, footprint_xy
+
+    poses = prepared.poses
+    if len(poses) < 2:
+        return []
+    C = np.array([p.C_world for p in poses])
+    centre = C.mean(axis=0)  # local coordinates: OpenCV's float32 polygons stay exact
+    hf = prepared.scene.heightfield
+    ground = (float(np.median(hf.heights_m)) if hf is not None
+              else float(np.median(prepared.scene.terrain.vertices_world[:, 2])))
+    feet = []
+    for pose, c in zip(poses, C - centre, strict=True):
+        interior = prepared.interior_of(pose.image_name)
+        K = (interior.fx_px, interior.fy_px, interior.cx_px, interior.cy_px)
+        feet.append(footprint_xy(c, R_cv_from_world(pose.R_cam_to_world), K,
+                                 interior.image_size_px, ground - centre[2]))
+    return footprint_pairs([p.image_name for p in poses], feet)
 
 
 def cloud_shadows_csv(clouds, prepared: PreparedJob) -> str:

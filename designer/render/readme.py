@@ -77,13 +77,25 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
         lines.append("")
 
     colmap = rel("colmap")
-    section("COLMAP", [("true model", colmap)],
-            [f"e.g. colmap feature_extractor --database_path db.db --image_path {IMAGES_DIR}",
-             f"     colmap point_triangulator --input_path {colmap} ...",
-             "COLMAP's PLY export stores float32, too coarse at survey coordinates: give",
-             "designer compare the model folder (it holds doubles) or a PLY in a local frame",
-             "with --offset E N H."] if colmap else [],
+    database, pairs = rel("colmap_database"), rel("colmap_pairs")
+    steps = []
+    if colmap and database and pairs:
+        steps = [
+            "Headless, with COLMAP's default settings (run in this folder; the copy keeps",
+            "the ground truth as written; the database holds the cameras and images with",
+            "the model's IDs, the pairs are the images whose footprints overlap):",
+            *(f"    {line}" for line in colmap_commands(database, pairs, colmap)),
+            "  then, where COLMAP has CUDA (dense stereo needs it):",
+            "    colmap patch_match_stereo --workspace_path dense",
+            "    colmap stereo_fusion --workspace_path dense --output_path dense/fused.ply",
+            "Coordinates are local (world = model + the offset in offset.json), so COLMAP's",
+            "float32 PLY keeps them to 0.1 mm. designer compare reads the offset from a",
+            "model folder; give it a PLY with --offset E N H (the numbers in offset.json).",
+        ]
+    section("COLMAP", [("true model", colmap), ("database (IDs)", database),
+                       ("image pairs", pairs)], steps,
             images=f"--image_path {IMAGES_DIR}")
+    used |= {"colmap_database", "colmap_pairs"}
     used |= {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D"}
     gcp_list, geo = rel("odm_gcp_list"), rel("odm_geo")
     section("OpenDroneMap", [("GCP image points", gcp_list), ("image positions", geo),
@@ -129,6 +141,26 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
         "",
     ]
     return "\n".join(lines)
+
+
+def colmap_commands(database: str, pairs: str, model: str) -> list[str]:
+    """The command-line steps of README.txt from the images to a triangulated model with
+    the true poses and its undistorted images (COLMAP 3.8's command line, CPU only)."""
+    model = model.rstrip("/")
+    return [
+        f"cp {database} colmap.db",
+        f"colmap feature_extractor --database_path colmap.db --image_path {IMAGES_DIR}"
+        " --SiftExtraction.use_gpu 0",
+        f"colmap matches_importer --database_path colmap.db --match_list_path {pairs}"
+        " --match_type pairs --SiftMatching.use_gpu 0",
+        "mkdir -p triangulated",
+        f"colmap point_triangulator --database_path colmap.db --image_path {IMAGES_DIR}"
+        f" --input_path {model} --output_path triangulated"
+        " --Mapper.ba_refine_focal_length 0 --Mapper.ba_refine_principal_point 0"
+        " --Mapper.ba_refine_extra_params 0",
+        f"colmap image_undistorter --image_path {IMAGES_DIR} --input_path triangulated"
+        " --output_path dense --output_type COLMAP",
+    ]
 
 
 def write_readme(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping[str, Path],

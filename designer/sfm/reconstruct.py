@@ -38,7 +38,7 @@ from designer.errors import DesignerError
 from designer.export.colmap_read import model_offset_world
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
 from designer.project import model as m
-from designer.sfm import matching, report
+from designer.sfm import report
 from designer.sfm.feature_cache import FeatureCache, images_digest
 from designer.sfm.feature_cache import key as fc_key
 from designer.sfm.georeference import (
@@ -53,6 +53,7 @@ from designer.sfm.settings import (
     settings_dict,
     start_params,
 )
+from designer.survey import pairs as matching
 
 MODES = ("known-poses", "free")
 #: tie points whose mean reprojection error exceeds this after the adjustment are outliers

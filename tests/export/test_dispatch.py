@@ -13,7 +13,7 @@ from tests.synthetic import ORIGIN_WORLD
 
 ALL_KEYS = {
     "colmap", "colmap_cameras", "colmap_images", "colmap_points3D", "colmap_offset",
-    "odm_gcp_list", "odm_geo",
+    "colmap_database", "odm_gcp_list", "odm_geo",
     "metashape_calibration", "metashape_cameras", "metashape_markers",
     "metashape_markers_xml",
     "opk", "gcp_truth", "gcp_observations",
@@ -32,7 +32,8 @@ def test_write_all_writes_every_format_and_leaves_no_temporary_files(tmp_path, m
         assert path.exists(), key
     assert files_under(tmp_path / "out") == sorted([
         "camera_poses_opk.csv", "colmap/cameras.txt", "colmap/images.txt",
-        "colmap/points3D.txt", "colmap/offset.json", "gcp_observations.csv",
+        "colmap/points3D.txt", "colmap/offset.json", "colmap/database.db",
+        "gcp_observations.csv",
         "gcp_truth.csv", "metashape/calibration.xml", "metashape/cameras_reference.csv",
         "metashape/markers_reference.csv", "metashape/markers.xml", "odm/gcp_list.txt",
         "odm/geo.txt",
@@ -49,7 +50,7 @@ def test_write_all_with_a_subset_and_an_offset(tmp_path, make_survey):
     paths = write_all(tmp_path, interior, poses, gcps, obs, "EPSG:32632",
                       formats=("colmap", "gcp"), colmap_offset=ORIGIN_WORLD)
     assert set(paths) == {"colmap", "colmap_cameras", "colmap_images", "colmap_points3D",
-                          "colmap_offset", "gcp_truth", "gcp_observations"}
+                          "colmap_offset", "colmap_database", "gcp_truth", "gcp_observations"}
     assert json.loads(paths["colmap_offset"].read_text())["offset_world_m"] == \
         ORIGIN_WORLD.tolist()
     back = read_colmap_text_poses(paths["colmap"], offset_world=ORIGIN_WORLD)

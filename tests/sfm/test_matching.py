@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.sfm.matching import footprint_pairs
+from designer.survey.pairs import footprint_pairs
 
 
 def squares(centres, size=10.0):

@@ -1,4 +1,5 @@
-"""Features and image pairs: which images COLMAP matches.
+"""Image pairs: which images are matched (designer reconstruct, and the pairs.txt of a
+render's COLMAP ground truth).
 
 Pairs come from where the cameras are believed to be in flight (GNSS/RTK positions and
 the attitude the autopilot flew), as survey software uses image geotags:
