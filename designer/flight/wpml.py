@@ -9,12 +9,14 @@ Elements, https://developer.dji.com/doc/cloud-api-tutorial/en/api-reference/dji-
   the extension namespace ``http://www.dji.com/wpmz/1.0.x`` (written: 1.0.2);
 * ``wpml:missionConfig`` (both files, required): flyToWaylineMode, finishAction,
   exitOnRCLost, executeRCLostAction, takeOffSecurityHeight, globalTransitionalSpeed,
-  droneInfo (droneEnumValue, droneSubEnumValue) and payloadInfo; the template may add
+  globalRTHHeight (return-to-home height, m above the take-off point), droneInfo
+  (droneEnumValue, droneSubEnumValue) and payloadInfo; the template may add
   ``takeOffRefPoint`` "lat,lon,height" (height above the WGS 84 ellipsoid);
 * template ``Folder``: templateType ("waypoint"), templateId,
   waylineCoordinateSysParam (coordinateMode WGS84; heightMode EGM96,
   relativeToStartPoint, aboveGroundLevel or realTimeFollowSurface), autoFlightSpeed;
-  its ``Placemark``s: Point, index, ellipsoidHeight, height, useGlobal* switches;
+  its ``Placemark``s: Point, index, ellipsoidHeight, height, useGlobal* switches, and
+  gimbalPitchAngle where the folder's gimbalPitchMode is usePointSetting;
 * waylines ``Folder``: templateId, waylineId, executeHeightMode (WGS84 = ellipsoidal
   height, relativeToStartPoint, realTimeFollowSurface = above the surface measured in
   flight), autoFlightSpeed; its ``Placemark``s: Point ``lon,lat``, index,
@@ -37,6 +39,7 @@ a Mavic 3E (77 / payload 66) — change it in Pilot 2 for another aircraft.
 from __future__ import annotations
 
 import io
+import math
 import re
 import time
 import zipfile
@@ -56,6 +59,8 @@ _NS_RE = re.compile(r"^http://www\.dji\.com/wpmz/1\.0\.\d+$")
 _K = f"{{{KML_NS}}}"
 TEMPLATE = "wpmz/template.kml"
 WAYLINES = "wpmz/waylines.wpml"
+#: the lowest return-to-home height written (m above the take-off point)
+MIN_RTH_HEIGHT_M = 20
 EXECUTE_HEIGHT_MODES = ("WGS84", "relativeToStartPoint", "realTimeFollowSurface")
 TEMPLATE_HEIGHT_MODES = ("EGM96", "relativeToStartPoint", "aboveGroundLevel",
                          "realTimeFollowSurface")
@@ -117,6 +122,9 @@ def _mission_config(spec: FlightSpec, template: bool) -> dict:
         "wpml:exitOnRCLost": "executeLostAction", "wpml:executeRCLostAction": "goBack",
         "wpml:takeOffSecurityHeight": 20,
         "wpml:globalTransitionalSpeed": spec.speed_m_s,
+        # return-to-home height above the take-off point (required): the route's
+        # highest photo rounded up, at least the take-off security height
+        "wpml:globalRTHHeight": _rth_height_m(spec),
     }
     if template:
         config["wpml:takeOffRefPoint"] = (
@@ -126,6 +134,11 @@ def _mission_config(spec: FlightSpec, template: bool) -> dict:
     config["wpml:payloadInfo"] = {"wpml:payloadEnumValue": payload,
                                   "wpml:payloadPositionIndex": 0}
     return config
+
+
+def _rth_height_m(spec: FlightSpec) -> int:
+    highest = max(spec.relative_height(e.Z_m) for e in spec.exposures)
+    return max(MIN_RTH_HEIGHT_M, math.ceil(highest))
 
 
 def _heading(e) -> dict:
@@ -190,7 +203,9 @@ def template_kml(spec: FlightSpec) -> bytes:
                 "wpml:height": _template_height(spec, e), "wpml:useGlobalHeight": 0,
                 "wpml:useGlobalSpeed": 1, "wpml:useGlobalHeadingParam": 0,
                 "wpml:waypointHeadingParam": _heading(e), "wpml:useGlobalTurnParam": 1,
-                "wpml:useStraightLine": 1}, pm)
+                "wpml:useStraightLine": 1,
+                # required with the folder's gimbalPitchMode usePointSetting
+                "wpml:gimbalPitchAngle": e.pitch_deg}, pm)
         _add_actions(w, pm, k, e)
     w.tree({"wpml:payloadParam": {"wpml:payloadPositionIndex": 0,
                                   "wpml:imageFormat": "visable"}}, folder)
@@ -232,7 +247,8 @@ def write_wpml(spec: FlightSpec, path: Path) -> Path:
 
 # ------------------------------------------------------------------------ checks, reading
 _MISSION_REQUIRED = ("flyToWaylineMode", "finishAction", "exitOnRCLost",
-                     "takeOffSecurityHeight", "globalTransitionalSpeed", "droneInfo")
+                     "takeOffSecurityHeight", "globalTransitionalSpeed", "globalRTHHeight",
+                     "droneInfo")
 _TEMPLATE_FOLDER = ("templateType", "templateId", "waylineCoordinateSysParam",
                     "autoFlightSpeed")
 _WAYLINES_FOLDER = ("templateId", "executeHeightMode", "waylineId", "autoFlightSpeed")
@@ -284,6 +300,11 @@ def check_wpml(root, source: str, template: bool) -> None:
             for tag in ("index",) if template else _WAYLINES_PLACEMARK:
                 if pm.find(W + tag) is None:
                     raise fail(source, pplace, f"no wpml:{tag}", "add it (DJI WPML)")
+            if (template and folder.findtext(W + "gimbalPitchMode") == "usePointSetting"
+                    and pm.find(W + "gimbalPitchAngle") is None):
+                raise fail(source, pplace, "no wpml:gimbalPitchAngle",
+                           "give each waypoint's gimbal pitch (gimbalPitchMode "
+                           "usePointSetting needs it, DJI WPML)")
 
 
 def read_wpml(

@@ -244,3 +244,43 @@ def test_the_kml_message_says_the_heights_it_wrote(tmp_path, capsys):
     plan = tmp_path / "f.plan"
     assert main(["export-flight", str(EXAMPLE), "--format", "qgc", "-o", str(plan)]) == 0
     assert "heights relative" in capsys.readouterr().out
+
+
+#: fields DJI's WPML reference (Cloud API, "DJI WPML": template.kml, waylines.wpml,
+#: Common Elements) marks required, per file and for the mode designer writes: (element
+#: path from Document, condition) — the table the written files are checked against
+WPML_REQUIRED = {
+    "template": ["wpml:missionConfig/wpml:globalRTHHeight",
+                 "wpml:missionConfig/wpml:takeOffSecurityHeight",
+                 "Folder/wpml:templateType", "Folder/wpml:gimbalPitchMode",
+                 "Folder/wpml:waylineCoordinateSysParam/wpml:heightMode",
+                 "Folder/Placemark/wpml:gimbalPitchAngle"],  # gimbalPitchMode usePointSetting
+    "waylines": ["wpml:missionConfig/wpml:globalRTHHeight",
+                 "wpml:missionConfig/wpml:takeOffSecurityHeight",
+                 "Folder/wpml:executeHeightMode", "Folder/Placemark/wpml:executeHeight"],
+}
+
+
+def test_wpml_has_every_required_field(tmp_path, example):
+    out = tmp_path / "f.kmz"
+    spec = export_flight(example, EXAMPLE.parent, "wpml", out)
+    ns = {"kml": "http://www.opengis.net/kml/2.2", "wpml": "http://www.dji.com/wpmz/1.0.2"}
+    with zipfile.ZipFile(out) as z:
+        docs = {"template": etree.fromstring(z.read("wpmz/template.kml")),
+                "waylines": etree.fromstring(z.read("wpmz/waylines.wpml"))}
+    for name, paths in WPML_REQUIRED.items():
+        doc = docs[name].find("kml:Document", ns)
+        for path in paths:
+            xpath = "/".join(p if p.startswith("wpml:") else f"kml:{p}" for p in path.split("/"))
+            found = doc.findall(xpath, ns)
+            if "Placemark" in path:
+                assert len(found) == len(spec.exposures), (name, path)
+            else:
+                assert found, (name, path)
+    rth = float(docs["waylines"].find("kml:Document/wpml:missionConfig/wpml:globalRTHHeight",
+                                      ns).text)
+    highest = max(spec.relative_height(e.Z_m) for e in spec.exposures)
+    assert rth >= highest and rth >= 20
+    pitch = [float(x.text) for x in docs["template"].iterfind(
+        "kml:Document/kml:Folder/kml:Placemark/wpml:gimbalPitchAngle", ns)]
+    assert pitch == pytest.approx([e.pitch_deg for e in spec.exposures])
