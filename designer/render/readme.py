@@ -135,9 +135,9 @@ def readme_text(out_dir: Path, image_names: Sequence[str], ground_truth: Mapping
     lines += [
         "designer",
         "  designer reconstruct OUT             reads images/ and ground-truth/colmap/",
-        "  designer compare CLOUD PROJECT --truth OUT",
+        "  designer compare CLOUD PROJECT.xml -o DIR   a cloud against the true surface",
         "  designer check-output OUT            are the images still the project's?",
-        "  (OUT is this folder)",
+        "  (OUT is this folder, PROJECT.xml the project it was rendered from)",
         "",
     ]
     return "\n".join(lines)

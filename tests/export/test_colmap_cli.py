@@ -88,3 +88,16 @@ def test_readme_colmap_steps_give_the_true_model(rendered, tmp_path, threads):
     # the ground truth itself is untouched (the steps work on a copy of the database)
     assert (out / "ground-truth" / "colmap" / "database.db").read_bytes() == (
         rendered / "ground-truth" / "colmap" / "database.db").read_bytes()
+
+
+def test_every_designer_command_in_readme_is_one_designer_takes(rendered):
+    """README.txt's designer lines parse with designer's own command line."""
+    from designer.cli.main import build_parser
+
+    parser = build_parser()
+    lines = [x.split("   ")[0].strip() for x in (rendered / "README.txt").read_text()
+             .splitlines() if x.strip().startswith("designer ")]
+    assert {x.split()[1] for x in lines} >= {"reconstruct", "compare", "check-output"}
+    for line in lines:
+        args = parser.parse_args(line.split()[1:])
+        assert callable(args.func), line
