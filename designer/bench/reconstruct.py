@@ -85,9 +85,69 @@ def run(repeats: int = 1, scale: float = 1.0, survey: Path | None = None,
                  "check_rmse_z_m": (s.get("check") or {}).get("rmse_z_m"),
                  "load_before": load_before, "load_after": os.getloadavg()[0],
                  "survey": str(images)})
+    import shutil
+
+    if shutil.which("colmap") is not None:
+        cli = colmap_cli_seconds(images, out, processing.matching.max_features)
+        for name in ("features", "matching", "mapping"):
+            rows[STAGES.index(name)]["colmap_cli_s"] = cli[name]
+        rows[-1]["colmap_cli_registered"] = cli["registered"]
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "bench-reconstruct.json").write_text(json.dumps(rows, indent=1))
     return rows
+
+
+def colmap_cli_seconds(survey: Path, recon: Path, max_features: int) -> dict:
+    """Wall seconds of COLMAP's command line (whole processes) doing the steps designer
+    did in ``recon``: SIFT on the CPU with the same camera model, start values and
+    feature count; matching the same pairs (recon/pairs.txt); incremental mapping with
+    designer's mapper options (4° initial triangulation angle, 50 initial inliers,
+    distortion held in the mapper's adjustments)."""
+    import shutil
+    import sqlite3
+    import subprocess
+
+    import numpy as np
+
+    from designer.core.layout import images_dir
+
+    work = recon.parent / "colmap-cli"
+    shutil.rmtree(work, ignore_errors=True)
+    (work / "sparse").mkdir(parents=True)
+    with sqlite3.connect(recon / "database.db") as db:
+        model, blob = db.execute("SELECT model, params FROM cameras LIMIT 1").fetchone()
+    names = {0: "SIMPLE_PINHOLE", 1: "PINHOLE", 2: "SIMPLE_RADIAL", 4: "OPENCV",
+             5: "OPENCV_FISHEYE", 6: "FULL_OPENCV"}
+    params = ",".join(repr(float(v)) for v in np.frombuffer(blob, np.float64))
+    db = str(work / "db.db")
+    image_path = str(images_dir(survey))
+    steps = {
+        "features": ["feature_extractor", "--database_path", db, "--image_path", image_path,
+                     "--ImageReader.single_camera", "1", "--ImageReader.camera_model",
+                     names[model], "--ImageReader.camera_params", params,
+                     "--SiftExtraction.use_gpu", "0",
+                     "--SiftExtraction.max_num_features", str(max_features)],
+        "matching": ["matches_importer", "--database_path", db, "--match_list_path",
+                     str(recon / "pairs.txt"), "--match_type", "pairs",
+                     "--SiftMatching.use_gpu", "0"],
+        "mapping": ["mapper", "--database_path", db, "--image_path", image_path,
+                    "--output_path", str(work / "sparse"),
+                    "--Mapper.init_min_tri_angle", "4", "--Mapper.init_min_num_inliers", "50",
+                    "--Mapper.ba_refine_extra_params", "0"],
+    }
+    seconds: dict = {}
+    for name, args in steps.items():
+        t0 = time.perf_counter()
+        subprocess.run(["colmap", *args], check=True, capture_output=True)
+        seconds[name] = time.perf_counter() - t0
+    models = sorted((work / "sparse").iterdir())
+    registered = 0
+    if models:
+        import pycolmap
+
+        registered = max(pycolmap.Reconstruction(str(m)).num_reg_images() for m in models)
+    seconds["registered"] = registered
+    return seconds
 
 
 def format_table(rows: list[dict]) -> str:
@@ -97,12 +157,17 @@ def format_table(rows: list[dict]) -> str:
              f"{total['tie_points']} tie points, dense matching at "
              f"{total['dense_image_px']} px; load average {total['load_before']:.1f} before, "
              f"{total['load_after']:.1f} after, on {os.cpu_count()} cores",
-             f"{'stage':<11} {'wall s':>8} {'CPU s':>8}"]
+             f"{'stage':<11} {'wall s':>8} {'CPU s':>8} {'colmap CLI s':>12}"]
     for r in rows:
         cpu = f"{r['cpu_s']:>8.1f}" if r["cpu_s"] is not None else f"{'':>8}"
-        lines.append(f"{r['stage']:<11} {r['wall_s']:>8.1f} {cpu}")
+        cli = f"{r['colmap_cli_s']:>12.1f}" if r.get("colmap_cli_s") is not None else ""
+        lines.append(f"{r['stage']:<11} {r['wall_s']:>8.1f} {cpu} {cli}")
     lines.append(f"dense points {total['dense_points']}, "
                  f"{total['dense_points_per_s']:.0f} per wall second of dense + fusion")
     lines.append("stage rows: wall-clock seconds; CPU seconds of this process (all threads) "
-                 "where measured; total CPU covers every stage")
+                 "where measured; total CPU covers every stage; colmap CLI: COLMAP's command "
+                 "line (whole processes, same images, camera start values, features, pairs "
+                 "and mapper options), run after designer"
+                 + (f", {total['colmap_cli_registered']} images registered"
+                    if "colmap_cli_registered" in total else ""))
     return "\n".join(lines)

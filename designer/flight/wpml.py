@@ -30,7 +30,9 @@ Elements, https://developer.dji.com/doc/cloud-api-tutorial/en/api-reference/dji-
 Heights written: ``amsl`` → waylines WGS84 with project Z + height offset (the offset is
 the geoid undulation when the project's Z is orthometric) and template EGM96 with Z;
 ``relative`` → relativeToStartPoint with Z − take-off height; a terrain-following plan
-→ realTimeFollowSurface with the height above the ground below each waypoint. The drone
+→ per-waypoint heights (DJI documents realTimeFollowSurface for mapping templates only,
+not for a waypoint template): waylines WGS84 with each waypoint's project Z + height
+offset, template aboveGroundLevel with its height above the project's terrain. The drone
 and payload enumeration values (Cloud API "Product Support") follow the camera: the
 Zenmuse P1 preset flies on an M350 RTK (89 / payload 50), anything else is declared as
 a Mavic 3E (77 / payload 66) — change it in Pilot 2 for another aircraft.
@@ -95,8 +97,13 @@ def _num(v) -> str:
 
 
 def _modes(spec: FlightSpec) -> tuple[str, str]:
+    """(waylines executeHeightMode, template heightMode). Terrain following is flown as
+    per-waypoint heights: the planner already put each waypoint its height above the
+    project's terrain, so the aircraft gets their ellipsoidal heights (WGS84) and the
+    template their heights above ground (aboveGroundLevel); DJI documents
+    realTimeFollowSurface for mapping templates only."""
     if spec.terrain_following:
-        return "realTimeFollowSurface", "realTimeFollowSurface"
+        return "WGS84", "aboveGroundLevel"
     if spec.altitude == "relative":
         return "relativeToStartPoint", "relativeToStartPoint"
     return "WGS84", "EGM96"
@@ -104,13 +111,15 @@ def _modes(spec: FlightSpec) -> tuple[str, str]:
 
 def _execute_height(spec: FlightSpec, e) -> float:
     if spec.terrain_following:
-        return e.Z_m - e.ground_m
+        return spec.absolute_height(e.Z_m)
     if spec.altitude == "relative":
         return spec.relative_height(e.Z_m)
     return spec.absolute_height(e.Z_m)
 
 
 def _template_height(spec: FlightSpec, e) -> float:
+    if spec.terrain_following:
+        return e.Z_m - e.ground_m
     return e.Z_m if _modes(spec)[1] == "EGM96" else _execute_height(spec, e)
 
 

@@ -104,25 +104,27 @@ def test_terrain_following_plans(tmp_path, example):
     plan = dataclasses.replace(example.trajectory.flight_plan, terrain_following=True)
     project = dataclasses.replace(example, trajectory=dataclasses.replace(
         example.trajectory, flight_plan=plan))
-    stations, hf = planned(project, EXAMPLE.parent)
+    stations, _hf = planned(project, EXAMPLE.parent)
     georef = Georef(project.crs)
     out = tmp_path / "tf.kmz"
     export_flight(project, EXAMPLE.parent, "wpml", out)
     with zipfile.ZipFile(out) as z:
         assert sorted(z.namelist()) == ["wpmz/template.kml", "wpmz/waylines.wpml"]
         way = etree.fromstring(z.read("wpmz/waylines.wpml"))
+        template = etree.fromstring(z.read("wpmz/template.kml"))
     W = "{http://www.dji.com/wpmz/1.0.2}"
-    assert way.findtext(f".//{W}executeHeightMode") == "realTimeFollowSurface"
-    heights = [float(h.text) for h in way.iter(W + "executeHeight")]
-    assert np.allclose(heights, 50.0)  # the AGL height of the example's plan
-    with pytest.raises(FlightFileError, match="follow the surface"):
-        read_wpml(out)
+    # per-waypoint heights (DJI: realTimeFollowSurface is for mapping templates only):
+    # the aircraft's file has each waypoint's absolute height, the template its height
+    # above the terrain
+    assert way.findtext(f".//{W}executeHeightMode") == "WGS84"
+    assert template.findtext(f".//{W}heightMode") == "aboveGroundLevel"
+    assert "realTimeFollowSurface" not in etree.tostring(way).decode()
+    agl = [float(h.text) for h in template.iter(W + "height")]
+    assert np.allclose(agl, 50.0)  # the AGL height of the example's plan
+    heights = np.array([float(h.text) for h in way.iter(W + "executeHeight")])
+    assert np.ptp(heights) > 5.0  # they follow the hills
 
-    def ground(lon, lat):
-        X, Y = georef.from_lonlat(lon, lat)
-        return float(hf.height_at_clamped(X, Y))
-
-    dC, dR = compare(read_wpml(out, ground_at=ground), stations, georef)
+    dC, dR = compare(read_wpml(out), stations, georef)
     assert dC <= 0.01 and dR <= 0.01
     plan_out = tmp_path / "tf.plan"
     export_flight(project, EXAMPLE.parent, "qgc", plan_out)
