@@ -192,24 +192,25 @@ def demo_rows(repeats: int = 1, scale: float = 1.0,
             prepared = prepare_job(project, project_path.parent, out, bake_texture=bake)
             prepare_s = time.perf_counter() - t0
             frames = demo_frames(len(prepared.job.frames), scale)
-            best = None
-            for _ in range(max(1, repeats)):
-                report = render_frames(prepared.job_path, frames, workers=workers, bare=bare)
-                if best is None or report.wall_seconds < best.wall_seconds:
-                    best = report
             n = len(frames)
             W, H = prepared.interior.image_size_px
-            row = {"row": name, "image": f"{W}x{H}", "frames": n,
-                   "samples": prepared.job.render.samples,
-                   "workers": len(best.peak_rss_mb),
-                   "prepare_s": prepare_s,
-                   "wall_per_image_s": best.wall_seconds / n,
-                   "scene_build_s": max(best.scene_seconds or [0.0]),
-                   "stages_per_image_s": mean_stages(best.stages.values()),
-                   "peak_rss_mb_per_worker": max(best.peak_rss_mb or [0.0])}
-            rows.append(row)
-            if on_row is not None:
-                on_row(row)
+            best = None
+            runs = max(1, repeats)
+            for k in range(runs):
+                report = render_frames(prepared.job_path, frames, workers=workers, bare=bare)
+                row = {"row": name, "image": f"{W}x{H}", "frames": n,
+                       "samples": prepared.job.render.samples,
+                       "workers": len(report.peak_rss_mb),
+                       "prepare_s": prepare_s,
+                       "wall_per_image_s": report.wall_seconds / n,
+                       "scene_build_s": max(report.scene_seconds or [0.0]),
+                       "stages_per_image_s": mean_stages(report.stages.values()),
+                       "peak_rss_mb_per_worker": max(report.peak_rss_mb or [0.0])}
+                if on_row is not None:  # every run as it ends: a cut-short run keeps it
+                    on_row({**row, "run": f"{k + 1}/{runs}"})
+                if best is None or row["wall_per_image_s"] < best["wall_per_image_s"]:
+                    best = row
+            rows.append(best)
     return rows
 
 
@@ -296,7 +297,8 @@ def variant_rows(scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    """The stage table of the demo rows, then (with ``--variants``) the variants' table."""
+    """The stage table of the demo rows (the best of the repeats), then (with
+    ``--variants``) the variants' table."""
     demo = [r for r in rows if "stages_per_image_s" in r]
     others = [r for r in rows if "stages_per_image_s" not in r]
     parts = []
@@ -381,9 +383,10 @@ def live_header() -> str:
 
 
 def format_row(row: dict) -> str:
-    """One measured row on one line (demo rows in the stage table's format)."""
+    """One measured row on one line (demo rows in the stage table's format, each run of
+    a row with its number)."""
     if "stages_per_image_s" in row:
-        return format_demo_row(row)
+        return format_demo_row(row) + (f"   run {row['run']}" if "run" in row else "")
     return (f"{row['quality']} {row['sun']} {row.get('texture', '')}: "
             f"wall {row['wall_per_image_s']:.2f} s/img, Cycles "
             f"{row['bare_cycles_per_image_s']:.2f} s/img")
