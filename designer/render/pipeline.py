@@ -252,14 +252,17 @@ def image_times(prepared: PreparedJob) -> list[ImageTime] | None:
 
 def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: float) -> None:
     """Refine this machine's render-time coefficients from the run (the next estimate
-    uses them); a cache folder that cannot be written costs only that refinement."""
+    uses them); a cache folder that cannot be written, or frames the model cannot read
+    (a ray grid through a lens it cannot invert), cost only that refinement, with a
+    warning."""
     import sys
 
     from designer.render.speed_record import record_render_speed
 
     try:
         record_render_speed(prepared, report, prepare_seconds)
-    except OSError as error:
+    except (OSError, ValueError, ArithmeticError, DesignerError) as error:
+        # the images are done: bookkeeping of the speed must not fail the render
         print(f"designer: warning: render speed not recorded ({error})", file=sys.stderr)
 
 

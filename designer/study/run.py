@@ -67,6 +67,13 @@ class _Local:
         return wait(futures, return_when=FIRST_COMPLETED).done
 
     def close(self, cancel: bool = False) -> None:
+        if cancel:
+            # stop the workers now, one still starting included: the pool's own shutdown
+            # would wait for the running stages, or leave a starting worker to fail on
+            # its closed pipe with a traceback
+            for process in list(getattr(self.pool, "_processes", {}).values()):
+                if process.is_alive():
+                    process.terminate()
         self.pool.shutdown(wait=not cancel, cancel_futures=cancel)
 
 

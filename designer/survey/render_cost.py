@@ -82,11 +82,12 @@ class RenderSpeed:
 
 
 #: Fitted to the example survey on the reference machine (2 cores, Blender 5.0.1, the
-#: baked texture; ``designer render`` of ``designer new --template survey``: 60 images
-#: of 1368 × 912 px at 16 spp, 20 % to 100 % of each on the terrain, 218.5 s).
-REFERENCE = RenderSpeed(terrain_cpu_s_per_mp_sample=0.394,
-                        background_cpu_s_per_mp_sample=0.257, post_s_per_mp=0.33,
-                        fixed_s=8.0)
+#: baked texture with the light map folded in, one worker; ``designer render`` of
+#: ``designer new --template survey`` in ``make demo`` on a fresh clone: 60 images of
+#: 1368 × 912 px at 16 spp, 20 % to 100 % of each on the terrain, render stage 161 s).
+REFERENCE = RenderSpeed(terrain_cpu_s_per_mp_sample=0.301,
+                        background_cpu_s_per_mp_sample=0.109, post_s_per_mp=0.175,
+                        fixed_s=9.7)
 
 
 def cache_dir() -> Path:

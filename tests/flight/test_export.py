@@ -286,3 +286,38 @@ def test_wpml_has_every_required_field(tmp_path, example):
     pitch = [float(x.text) for x in docs["template"].iterfind(
         "kml:Document/kml:Folder/kml:Placemark/wpml:gimbalPitchAngle", ns)]
     assert pitch == pytest.approx([e.pitch_deg for e in spec.exposures])
+
+
+
+#: the height modes the reference gives each choice (DJI WPML, waylines.wpml
+#: executeHeightMode and Common Elements waylineCoordinateSysParam/heightMode), and the
+#: per-waypoint height elements each file must carry in that mode
+WPML_MODES = {
+    "relative": ("relativeToStartPoint", "relativeToStartPoint", ("height",)),
+    "amsl": ("WGS84", "EGM96", ("height", "ellipsoidHeight")),
+    "terrain": ("WGS84", "aboveGroundLevel", ("height",)),
+}
+
+
+@pytest.mark.parametrize("mode", sorted(WPML_MODES))
+def test_wpml_height_modes_and_their_fields(tmp_path, example, mode):
+    project = example
+    if mode == "terrain":
+        plan = dataclasses.replace(example.trajectory.flight_plan, terrain_following=True)
+        project = dataclasses.replace(example, trajectory=dataclasses.replace(
+            example.trajectory, flight_plan=plan))
+    out = tmp_path / f"{mode}.kmz"
+    spec = export_flight(project, EXAMPLE.parent, "wpml", out,
+                         altitude="amsl" if mode == "amsl" else "relative")
+    ns = {"kml": "http://www.opengis.net/kml/2.2", "wpml": "http://www.dji.com/wpmz/1.0.2"}
+    with zipfile.ZipFile(out) as z:
+        template = etree.fromstring(z.read("wpmz/template.kml"))
+        way = etree.fromstring(z.read("wpmz/waylines.wpml"))
+    execute, height_mode, fields = WPML_MODES[mode]
+    assert way.findtext(".//wpml:executeHeightMode", namespaces=ns) == execute
+    assert template.findtext(".//wpml:waylineCoordinateSysParam/wpml:heightMode",
+                             namespaces=ns) == height_mode
+    for field in fields:
+        assert len(template.findall(f".//kml:Placemark/wpml:{field}", ns)) == \
+            len(spec.exposures), field
+    assert len(way.findall(".//kml:Placemark/wpml:executeHeight", ns)) == len(spec.exposures)
