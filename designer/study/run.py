@@ -43,6 +43,26 @@ class StudyRunReport:
     seconds: float = 0.0
 
 
+def _stop_signals() -> set:
+    import signal
+
+    return {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
+
+
+_STOP_SIGNALS = _stop_signals()
+
+
+def _worker_start(parent_pid: int) -> None:
+    """A pool worker's start: the stop signals the parent held while starting it are
+    this process's again, and it dies with its parent."""
+    import signal
+
+    from designer.lifetime import die_with_parent
+
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)
+    die_with_parent(parent_pid)
+
+
 class _Local:
     """Worker processes on this machine (spawned: no state shared with the caller)."""
 
@@ -51,15 +71,26 @@ class _Local:
         import os
         from concurrent.futures import ProcessPoolExecutor
 
-        from designer.lifetime import die_with_parent
-
         # each worker dies with this process, even killed (no orphan keeps rendering)
         self.pool = ProcessPoolExecutor(max_workers=workers,
                                         mp_context=multiprocessing.get_context("spawn"),
-                                        initializer=die_with_parent, initargs=(os.getpid(),))
+                                        initializer=_worker_start, initargs=(os.getpid(),))
+        # start every worker now, before any stage runs: a worker started later, while a
+        # stop signal ends this process, would fail half-started with a traceback
+        for future in [self.submit(os.getpid) for _ in range(workers)]:
+            future.result()
 
     def submit(self, fn, *args, priority: int = 0):
-        return self.pool.submit(fn, *args)
+        # a submit may start a worker process: a stop signal arriving while it is being
+        # handed its start-up data would leave it half-started (a traceback on its closed
+        # pipe), so the signals wait until the worker has its data
+        import signal
+
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+        try:
+            return self.pool.submit(fn, *args)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
     def wait_first(self, futures):
         from concurrent.futures import FIRST_COMPLETED, wait
