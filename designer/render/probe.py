@@ -13,9 +13,9 @@ import tempfile
 import time
 from pathlib import Path
 
-#: frames of the example's 60 rendered by the probe: each worker's first (0, 10) builds
-#: Cycles' scene and goes into the fixed part; the others span the share of the image on
-#: the terrain (0.2 to 1)
+#: frames of the example's 60 rendered by the probe: the first frame of each worker
+#: builds Cycles' scene and goes into the fixed part (speed_record); the others span the
+#: share of the image on the terrain (0.2 to 1)
 PROBE_FRAMES = (0, 10, 20, 29, 39, 59)
 
 

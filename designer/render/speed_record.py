@@ -62,13 +62,13 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
     post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0))
             for i in frames]
-    measured = fit_speed(images, cpu, post, 0.0, source, prior=load_speed())
+    stored = load_speed()
+    measured = fit_speed(images, cpu, post, 0.0, source, prior=stored)
     # the fixed part: what the model of every timed frame leaves of the wall time
     frames_wall = (sum(frame_cpu_s(measured, c) for c in all_costs.values()) / cores
                    + sum(c.megapixels * measured.post_s_per_mp for c in all_costs.values())
                    / workers)
     fixed = prepare_seconds + max(0.0, report.wall_seconds - frames_wall)
-    stored = load_speed()
     measured = replace(measured, fixed_s=fixed)
     speed = measured if source == "probe" else refine(stored, measured)
     save_speed(speed)
