@@ -26,13 +26,10 @@ from designer.errors import DesignerError
 from designer.flight.geodesy import Georef
 from designer.flight.gimbal import gimbal_from_rotation, rotation_from_gimbal, wrap_deg
 from designer.project import model as m
+from designer.project.interiors import interior_from_camera
 from designer.scene.build import build_heightfield
 from designer.survey.flight import camera_calc
-from designer.survey.project_poses import (
-    IMAGE_EXTENSIONS,
-    flight_plan_for,
-    interior_from_camera,
-)
+from designer.survey.project_poses import IMAGE_EXTENSIONS, flight_plan_for
 
 ALTITUDE_MODES = ("relative", "amsl")
 

@@ -311,7 +311,8 @@ def rendered_gsd_m(gsd_m: float, interior: InteriorOrientation,
 
 def compute_stations(project: m.Project, terrain: TerrainResult | None) -> StationsResult:
     """Stations of the flight plan and explicit photos, drawn over the terrain."""
-    from designer.survey.project_poses import interior_from_camera, project_stations
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_stations
 
     hf = terrain.heightfield if terrain is not None else None
     stations, camera_id = project_stations(project, hf)
@@ -349,7 +350,8 @@ def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
                   terrain: TerrainResult | None) -> tuple[StationGeometry, int]:
     """Frusta and footprints of every mount of the rigs flown, and the image count of all
     cameras."""
-    from designer.survey.project_poses import interior_from_camera, project_images
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_images
 
     images = project_images(project, hf)
     rc = terrain.raycaster if terrain is not None else None

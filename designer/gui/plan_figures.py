@@ -90,7 +90,7 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     interior = stations_result.interior
     scale = project.render.resolution_scale
     if scale != 1.0:
-        from designer.survey.project_poses import render_interior
+        from designer.project.interiors import render_interior
 
         interior = render_interior(project.camera(stations_result.camera_id), scale)
     plan = project.trajectory.flight_plan

@@ -132,11 +132,8 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
     (:func:`designer.study.design.plan_study`); ``heightfield``: the base terrain's;
     ``speed``: the render coefficients (default: this machine's,
     :func:`designer.survey.render_cost.load_speed`)."""
-    from designer.survey.project_poses import (
-        interior_from_camera,
-        project_images,
-        project_stations,
-    )
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_images, project_stations
     from designer.survey.render_cost import (
         estimate_render_s,
         load_speed,

@@ -21,9 +21,9 @@ def warm_up() -> None:
     from designer.effects.distortion_render import pinhole_render_camera
     from designer.effects.from_model import effects_from_model
     from designer.project import template
+    from designer.project.interiors import render_interior
     from designer.render.texture_bake import bake_varied_texture
     from designer.scene.texture_variation import VariationImages
-    from designer.survey.project_poses import render_interior
 
     rng = np.random.default_rng(0)
     texture = rng.integers(0, 256, (8, 8, 3), dtype=np.uint8)

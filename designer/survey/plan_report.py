@@ -20,15 +20,11 @@ from designer.core.heightfield import Heightfield
 from designer.core.rotation import opk_from_rotation
 from designer.errors import DesignerError
 from designer.project import model as m
+from designer.project.interiors import render_interior
 from designer.scene.build import BuiltTarget, build_heightfield, build_targets
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
-from designer.survey.project_poses import (
-    platform_stations,
-    project_images,
-    project_stations,
-    render_interior,
-)
+from designer.survey.project_poses import platform_stations, project_images, project_stations
 from designer.survey.render_cost import (
     estimate_render_s,
     format_duration,

@@ -7,13 +7,11 @@ the XML as explicit exterior orientations for readers that want them spelled out
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.rig import mount_image_name, mount_rotation, mount_tilt_deg, mounted_rotation
@@ -21,38 +19,11 @@ from designer.core.rotation import rotation_from_opk
 from designer.core.truth import CameraPose
 from designer.errors import DesignerError
 from designer.project import model as m
+from designer.project.interiors import interior_from_camera
 from designer.survey.flight import FlightPlan, Station, apply_pose_noise, plan_flight
 from designer.survey.patterns import facade_stations, orbit_stations
 
 IMAGE_EXTENSIONS = {"png": ".png", "jpeg": ".jpg", "tiff": ".tif", "exr": ".exr"}
-
-
-def interior_from_camera(camera: m.Camera) -> InteriorOrientation:
-    """The core camera model of a project camera."""
-    d = camera.distortion
-    if isinstance(d, m.BrownConradyDistortion):
-        distortion = BrownConrady(d.k1, d.k2, d.k3, d.p1, d.p2)
-    elif isinstance(d, m.FisheyeEquidistantDistortion):
-        distortion = FisheyeEquidistant(d.k1, d.k2, d.k3, d.k4)
-    else:
-        distortion = None
-    return InteriorOrientation(
-        focal_length_mm=camera.focal_length_mm, sensor_width_mm=camera.sensor_width_mm,
-        sensor_height_mm=camera.sensor_height_mm, image_width_px=camera.image_width_px,
-        image_height_px=camera.image_height_px,
-        principal_point_x_mm=camera.principal_point_x_mm,
-        principal_point_y_mm=camera.principal_point_y_mm,
-        pixel_aspect=camera.pixel_aspect, distortion=distortion)
-
-
-def render_interior(camera: m.Camera, resolution_scale: float = 1.0) -> InteriorOrientation:
-    """The camera as rendered: same sensor and lens, image size × ``resolution_scale``."""
-    full = interior_from_camera(camera)
-    if resolution_scale == 1.0:
-        return full
-    return dataclasses.replace(
-        full, image_width_px=round(camera.image_width_px * resolution_scale),
-        image_height_px=round(camera.image_height_px * resolution_scale))
 
 
 def flight_plan_for(

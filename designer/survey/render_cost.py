@@ -242,7 +242,7 @@ def render_workers(project, n_images: int, cores: int | None = None) -> int:
 def project_image_costs(project, images, heightfield) -> list[ImageCost]:
     """The model's view of every image of a project (``images``:
     :func:`designer.survey.project_poses.project_images`), all cameras of a rig."""
-    from designer.survey.project_poses import render_interior
+    from designer.project.interiors import render_interior
 
     spp = project.render.effective_samples
     out: list[ImageCost | None] = [None] * len(images.stations)

@@ -19,8 +19,9 @@ from designer.flight.kml import read_kml
 from designer.flight.qgc import read_plan
 from designer.flight.wpml import read_wpml
 from designer.project import load_project
+from designer.project.interiors import interior_from_camera
 from designer.scene.build import build_heightfield
-from designer.survey.project_poses import flight_plan_for, interior_from_camera
+from designer.survey.project_poses import flight_plan_for
 from tests.flight.helpers import EXAMPLE, rotation_error_deg, shifted
 
 READERS = {"qgc": read_plan, "kml": read_kml, "wpml": read_wpml}

@@ -119,7 +119,8 @@ def test_the_estimate_counts_shared_features_once():
     the first extracts and matches, the other 14 reuse its features and matches."""
     from designer.gui import derived
     from designer.gui.study_data import FEATURE_SHARE, plan_cost, reconstruct_seconds_per_image
-    from designer.survey.project_poses import interior_from_camera, project_stations
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_stations
 
     plan = plan_study(read_study(ROOT / "resources" / "studies" / "gcp-count.xml"))
     hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield

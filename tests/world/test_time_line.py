@@ -14,11 +14,12 @@ from astral.sun import azimuth, elevation
 
 from designer.project import load_project
 from designer.project import model as m
+from designer.project.interiors import interior_from_camera
 from designer.project.problems import ProjectError
 from designer.scene.sun_over_time import Site, project_site, sun_at
 from designer.study.factors import FACTORS
 from designer.survey.flight import Station, camera_calc
-from designer.survey.project_poses import interior_from_camera, project_stations
+from designer.survey.project_poses import project_stations
 from designer.survey.timeline import project_station_times, station_times_s
 from tests.synthetic import small_survey, write_project_file
 from tests.world.helpers import TAKEOFF, timed_survey

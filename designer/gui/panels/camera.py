@@ -110,7 +110,7 @@ class CameraPanel(Panel):
         self._readouts()
 
     def _readouts(self) -> None:
-        from designer.survey.project_poses import interior_from_camera
+        from designer.project.interiors import interior_from_camera
 
         project = self.project
         if not project.cameras:
