@@ -1,9 +1,8 @@
 """The XML schema of project files: where it is, its namespace and versions, loading it.
 
-The canonical schema is ``schema/designer-project-<version>.xsd`` at the top of the
-repository; an identical copy lives in the package (``designer/schema/``) so that an
-installed designer finds it through ``importlib.resources`` (a test checks the two
-are identical).
+The schema is one file, ``designer/schema/designer-project-<version>.xsd``, inside the
+package so that an installed designer finds it through ``importlib.resources``;
+``schema/`` at the top of the repository is a link to that folder.
 """
 
 from __future__ import annotations
