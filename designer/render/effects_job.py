@@ -25,7 +25,7 @@ def load_effects(job: RenderJob, base: Path) -> dict:
     from designer.effects.distortion_render import DistortionWarp
     from designer.effects.from_model import effects_from_model
     from designer.project import read_project
-    from designer.survey.project_poses import render_interior
+    from designer.project.interiors import render_interior
 
     project = read_project(base / spec.project)
     warps = {None: spec.warp} if spec.camera_warps is None else spec.camera_warps
