@@ -207,6 +207,38 @@ def ispin(lo: int, hi: int, suffix: str = "", label: str = "value") -> CheckedSp
     return box
 
 
+#: the GUI's symbol of a declared unit, where it differs from the unit's text
+_UNIT_SUFFIX = {"deg": "°"}
+
+
+def declared_field(cls: type, name: str) -> QWidget:
+    """The field of a declared attribute (designer.project.declare): its range as the
+    limits (an open end one step of the last decimal inside), its unit as the suffix,
+    its doc as the tooltip; a choice is a combo box."""
+    from designer.project.declare import declared_field as lookup
+
+    d = lookup(cls, name)
+    a = d.attr
+    suffix = _UNIT_SUFFIX.get(a.unit, a.unit)
+    if d.choices is not None:
+        box: QWidget = combo([(c, c) for c in d.choices])
+    elif d.base is int:
+        lo = -(2**31) + 1 if a.low is None else int(a.low) + (1 if a.low_open else 0)
+        hi = 2**31 - 1 if a.high is None else int(a.high) - (1 if a.high_open else 0)
+        box = ispin(lo, hi, suffix)
+    elif d.base is float:
+        tick = 10.0 ** -a.decimals
+        lo = -1e12 if a.low is None else a.low + (tick if a.low_open else 0.0)
+        hi = 1e12 if a.high is None else a.high - (tick if a.high_open else 0.0)
+        box = dspin(lo, hi, a.decimals, a.step, suffix)
+    else:
+        raise TypeError(f"no GUI field for {cls.__name__}.{name}")
+    if a.special is not None and hasattr(box, "setSpecialValueText"):
+        box.setSpecialValueText(a.special)
+    box.setToolTip(f"{a.doc} ({d.range_text()})" if d.base is not str else a.doc)
+    return box
+
+
 def combo(items: list[tuple[str, Any]]) -> QComboBox:
     box = QComboBox()
     box.setFocusPolicy(Qt.FocusPolicy.StrongFocus)  # the wheel alone gives no focus

@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
+from designer.project.declare import attr, element
 from designer.project.processing import (  # noqa: F401  (part of the model's face)
     POSITION_PRIOR_SIGMAS_M,
     Calibration,
@@ -155,6 +156,7 @@ class ProceduralTexture:
     texel_size_m: float
 
 
+@element("variation", title="texture variation", path="scene.texture.variation")
 @dataclass(frozen=True)
 class TextureVariation:
     """Seeded, non-repeating large-scale variation laid over the tiled texture.
@@ -163,10 +165,11 @@ class TextureVariation:
     one half as long); ``strength`` (0..1) the brightness swing, 1 ± strength.
     """
 
-    seed: int
-    scale_m: float
-    strength: float
-    octaves: int = 4
+    seed: int = attr(doc="the variation's random seed", range=(0, None))
+    scale_m: float = attr(doc="wavelength of the coarsest variation, e.g. 2-3 tiles",
+                          unit="m", range=(0, 1e6), low_open=True, xml="scale-m")
+    strength: float = attr(doc="brightness swing, 1 ± strength", range=(0, 1))
+    octaves: int = attr(4, doc="noise octaves, each next one half as long", range=(1, 8))
 
 
 @dataclass(frozen=True)
@@ -336,6 +339,7 @@ class PlantGroup:
     albedo_rgb: tuple[float, float, float] | None = None
 
 
+@element("wind", title="wind", path="scene.vegetation.wind")
 @dataclass(frozen=True)
 class Wind:
     """Plants sway about their base: ``amplitude_deg`` · sin(2π t / ``gust_period_s`` +
@@ -343,9 +347,13 @@ class Wind:
     to, deg clockwise from grid north). Needs the flight time line; without one the
     plants stand upright."""
 
-    amplitude_deg: float = 5.0
-    gust_period_s: float = 4.0
-    direction_deg: float = 90.0
+    amplitude_deg: float = attr(5.0, doc="largest lean of a plant from upright", unit="deg",
+                                range=(0, 45), label="sway amplitude")
+    gust_period_s: float = attr(4.0, doc="period of one sway", unit="s", range=(0, 3600),
+                                low_open=True, label="gust period")
+    direction_deg: float = attr(90.0, doc="direction the wind blows to, clockwise from grid "
+                                "north", unit="deg", range=(0, 360), high_open=True,
+                                label="blowing towards")
 
 
 @dataclass(frozen=True)
@@ -377,16 +385,20 @@ class SunPosition:
     longitude_deg: float
 
 
+@element("sun-over-time", title="sun over time")
 @dataclass(frozen=True)
 class SunOverTime:
     """Sun computed for each image's moment on the trajectory's time line, at a place
     (deg; ``None``: the project origin converted to latitude/longitude with its CRS).
     Azimuths are turned from true to grid north by the meridian convergence there."""
 
-    latitude_deg: float | None = None
-    longitude_deg: float | None = None
+    latitude_deg: float | None = attr(None, doc="latitude of the site (none: the origin's)",
+                                      unit="deg", range=(-90, 90), label="latitude")
+    longitude_deg: float | None = attr(None, doc="longitude of the site (none: the origin's)",
+                                       unit="deg", range=(-180, 180), label="longitude")
 
 
+@element("cloud-shadows", title="cloud shadows", path="scene.lighting.clouds")
 @dataclass(frozen=True)
 class CloudShadows:
     """Drifting cloud shadows on the terrain (docs/world.md): ``cover`` the shadowed
@@ -396,13 +408,24 @@ class CloudShadows:
     (m/s) and the direction it blows towards (deg clockwise from grid north), ``seed``
     the field's random seed."""
 
-    cover: float = 0.3
-    size_m: float = 40.0
-    softness_m: float = 5.0
-    depth: float = 0.6
-    wind_speed_m_s: float = 5.0
-    wind_direction_deg: float = 90.0
-    seed: int = 0
+    cover: float = attr(0.3, doc="shadowed fraction of the ground", range=(0, 1),
+                        label="cover", decimals=3, step=0.05)
+    size_m: float = attr(40.0, doc="typical size of a cloud shadow", unit="m",
+                         range=(0, 1e5), low_open=True, factor="cloud-size-m",
+                         label="cloud size", decimals=1, step=5)
+    softness_m: float = attr(5.0, doc="width of a shadow's edge, 10 % to 90 % of the depth",
+                             unit="m", range=(0, 1e4), label="edge softness", decimals=2,
+                             step=1)
+    depth: float = attr(0.6, doc="share of the direct sun a cloud takes away", range=(0, 1),
+                        factor="cloud-depth", label="shadow depth", decimals=3, step=0.05)
+    wind_speed_m_s: float = attr(5.0, doc="speed the cloud shadows drift at", unit="m/s",
+                                 range=(0, 100), factor="wind-speed-m-s", label="wind speed",
+                                 decimals=2, step=0.5)
+    wind_direction_deg: float = attr(90.0, doc="direction the cloud shadows drift towards, "
+                                     "clockwise from grid north", unit="deg", range=(0, 360),
+                                     high_open=True, factor="wind-direction-deg",
+                                     label="wind towards", decimals=1, step=5)
+    seed: int = attr(0, doc="the cloud field's random seed", range=(0, None))
 
 
 @dataclass(frozen=True)
@@ -453,6 +476,7 @@ class FisheyeEquidistantDistortion:
 RollingShutterDirection = Literal["top-to-bottom", "bottom-to-top"]
 
 
+@element("rolling-shutter", title="rolling shutter")
 @dataclass(frozen=True)
 class RollingShutter:
     """A rolling-shutter sensor (docs/world.md, "Rolling shutter"): the rows are read one
@@ -460,8 +484,11 @@ class RollingShutter:
     photo's time; row r (counted from the first row read) at + r / H · readout_s.
     ``readout_s`` 0 is a global shutter."""
 
-    readout_s: float
-    direction: RollingShutterDirection = "top-to-bottom"
+    readout_s: float = attr(doc="time to read all rows of a frame (0: a global shutter)",
+                            unit="s", range=(0, 0.5), label="readout", decimals=4,
+                            step=0.005)
+    direction: RollingShutterDirection = attr("top-to-bottom", doc="the order the rows are "
+                                              "read in", label="rows read")
 
 
 @dataclass(frozen=True)
@@ -540,6 +567,7 @@ class FlightPlan:
     random_seed: int = 0
 
 
+@element("time-line", title="time line", path="trajectory.time_line")
 @dataclass(frozen=True)
 class TimeLine:
     """When each photo is taken (designer.survey.timeline): the first photo at
@@ -548,12 +576,21 @@ class TimeLine:
     by distance (the planned stations); ``trigger_interval_s`` is the camera's shortest
     interval between photos (s), checked against the planned spacing."""
 
-    takeoff_utc: str
-    speed_m_s: float
-    turn_s: float = 0.0
-    trigger_interval_s: float | None = None
+    takeoff_utc: str = attr(doc="moment of the first photo, ISO 8601 UTC",
+                            label="take-off (UTC)")
+    speed_m_s: float = attr(doc="ground speed along the flight lines", unit="m/s",
+                            range=(0, 100), low_open=True, factor="flight-speed-m-s",
+                            label="ground speed", decimals=2, step=0.5)
+    turn_s: float = attr(0.0, doc="seconds more at each change of flight line", unit="s",
+                         range=(0, 3600), factor="turn-s", write_default=False,
+                         label="per turn", decimals=1, step=1)
+    trigger_interval_s: float | None = attr(None, doc="the camera's shortest interval "
+                                            "between photos", unit="s", range=(0, 3600),
+                                            low_open=True, label="trigger interval",
+                                            decimals=2, step=0.1)
 
 
+@element("mount", title="rig mount")
 @dataclass(frozen=True)
 class Mount:
     """One camera of a rig: the project camera ``camera`` mounted on the platform, rotated
@@ -562,11 +599,14 @@ class Mount:
     images are named as the station's with ``suffix`` before the extension
     (IMG_00001.png → IMG_00001_F.png)."""
 
-    camera: str
-    suffix: str
-    omega_deg: float = 0.0
-    phi_deg: float = 0.0
-    kappa_deg: float = 0.0
+    camera: str = attr(doc="the id of the project camera mounted")
+    suffix: str = attr(doc="added to the station's image name before the extension")
+    omega_deg: float = attr(0.0, doc="rotation about the platform's x axis", unit="deg",
+                            range=(-360, 360), xml="omega", label="ω")
+    phi_deg: float = attr(0.0, doc="rotation about the platform's y axis", unit="deg",
+                          range=(-360, 360), xml="phi", label="φ")
+    kappa_deg: float = attr(0.0, doc="rotation about the platform's z axis", unit="deg",
+                            range=(-360, 360), xml="kappa", label="κ")
 
 
 @dataclass(frozen=True)
@@ -641,60 +681,94 @@ class Trajectory:
 
 
 # ---------------------------------------------------------------------- effects, render
+@element("vignetting", title="vignetting", path="effects.vignetting", on={"corner_falloff": 0.2})
 @dataclass(frozen=True)
 class Vignetting:
     """Gain [cos⁴ θ if natural_cos4] × (1 − corner_falloff ρ² + rho4 ρ⁴ + rho6 ρ⁶), ρ = 1
     at the farthest image corner (see the schema)."""
 
-    corner_falloff: float = 0.0
-    rho4: float = 0.0
-    rho6: float = 0.0
-    natural_cos4: bool = False
+    corner_falloff: float = attr(0.0, doc="gain lost at the farthest corner (ρ² term)",
+                                 range=(0, 1), label="corner fall-off (ρ²)", step=0.05)
+    rho4: float = attr(0.0, doc="ρ⁴ term of the gain", range=(-1, 1), write_default=False,
+                       label="ρ⁴ term", step=0.05)
+    rho6: float = attr(0.0, doc="ρ⁶ term of the gain", range=(-1, 1), write_default=False,
+                       label="ρ⁶ term", step=0.05)
+    natural_cos4: bool = attr(False, doc="natural cos⁴ fall-off of the lens",
+                              write_default=False, xml="natural-cos4",
+                              label="natural cos⁴ fall-off of the lens")
 
 
+@element("defocus", title="defocus (thin lens)", path="effects.defocus",
+         on={"f_number": 2.8, "focus_distance_m": 50.0})
 @dataclass(frozen=True)
 class Defocus:
     """Thin-lens defocus; ``object_distance_m`` None: each image's distance to the ground."""
 
-    f_number: float
-    focus_distance_m: float
-    object_distance_m: float | None = None
+    f_number: float = attr(doc="aperture f-number", range=(0.5, 64), label="f-number",
+                           decimals=2, step=0.5)
+    focus_distance_m: float = attr(doc="distance the lens is focused at", unit="m",
+                                   range=(0.1, 1e6), label="focused at", decimals=2, step=1)
+    object_distance_m: float | None = attr(None, doc="distance of the ground (none: each "
+                                           "image's own)", unit="m", range=(0.1, 1e6),
+                                           label="object distance", decimals=2, step=1)
 
 
+@element("sensor-noise", title="sensor noise (Gaussian, in DN)", path="effects.sensor_noise",
+         on={"sigma_dn": 1.5})
 @dataclass(frozen=True)
 class SensorNoise:
-    sigma_dn: float
-    seed: int = 0
+    sigma_dn: float = attr(doc="σ of additive Gaussian noise, 8-bit digital numbers",
+                           unit="DN", range=(0, 100), label="σ", decimals=2, step=0.5)
+    seed: int = attr(0, doc="the noise's random seed", range=(0, None))
 
 
+@element("sensor", title="sensor (photon shot noise, dark current, read noise, ADC)",
+         path="effects.sensor", on={"full_well_e": 20000.0, "read_noise_e": 3.0})
 @dataclass(frozen=True)
 class Sensor:
     """A physical sensor in linear light: photon shot noise, dark current, read noise and
     ADC quantisation. White in the render collects ``exposure_scale × full_well_e``."""
 
-    full_well_e: float
-    read_noise_e: float
-    dark_current_e_per_s: float = 0.0
-    exposure_time_s: float = 0.001
-    adc_bits: int = 12
-    exposure_scale: float = 0.8
-    seed: int = 0
+    full_well_e: float = attr(doc="electrons a pixel holds", unit="e⁻", range=(1, 1e7),
+                              label="full well", decimals=0, step=1000)
+    read_noise_e: float = attr(doc="σ of the read noise", unit="e⁻", range=(0, 1e4),
+                               label="read noise", decimals=2, step=0.5)
+    dark_current_e_per_s: float = attr(0.0, doc="dark current", unit="e⁻/s",
+                                       range=(0, 1e6), label="dark current", decimals=2,
+                                       step=0.5)
+    exposure_time_s: float = attr(0.001, doc="exposure time (shutter)", unit="s",
+                                  range=(0, 60), label="exposure time (shutter)", decimals=5,
+                                  step=0.0005)
+    adc_bits: int = attr(12, doc="bits of the analogue-to-digital converter", unit="bits",
+                         range=(1, 16), label="ADC")
+    exposure_scale: float = attr(0.8, doc="white in the render collects this × full well",
+                                 unit="× full well", range=(0, 100), label="white at",
+                                 decimals=3, step=0.05)
+    seed: int = attr(0, doc="the noise's random seed", range=(0, None))
 
 
+@element("blur", title="optical blur (Gaussian)", path="effects.blur", on={"sigma_px": 0.5})
 @dataclass(frozen=True)
 class Blur:
-    sigma_px: float
+    sigma_px: float = attr(doc="σ of the Gaussian", unit="px", range=(0, 50), label="σ",
+                           decimals=3, step=0.1)
 
 
+@element("motion-blur", title="motion blur", path="effects.motion_blur",
+         on={"exposure_time_s": 0.001, "speed_m_s": 8.0})
 @dataclass(frozen=True)
 class MotionBlur:
-    exposure_time_s: float
-    speed_m_s: float
+    exposure_time_s: float = attr(doc="exposure time (shutter)", unit="s", range=(0, 1),
+                                  label="exposure time (shutter)", decimals=5, step=0.0005)
+    speed_m_s: float = attr(doc="ground speed during the exposure", unit="m/s",
+                            range=(0, 100), label="ground speed", decimals=2, step=1)
 
 
+@element("jpeg", title="JPEG compression", path="effects.jpeg", on={"quality": 92})
 @dataclass(frozen=True)
 class Jpeg:
-    quality: int
+    quality: int = attr(doc="JPEG compression quality", range=(1, 100), label="quality",
+                        factor="jpeg-quality")
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ written explicitly, so a written file documents itself.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 
 from lxml import etree
@@ -40,6 +41,24 @@ def _sub(parent: etree._Element, tag: str, text: str | None = None, **attrs) -> 
         el.set(name.replace("_", "-"), value)
     if text is not None:
         el.text = text
+    return el
+
+
+def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = None
+                   ) -> etree._Element:
+    """The element of a declared model object (designer.project.declare) under
+    ``parent``: ``lead`` attributes first (fields that are not declared), then the
+    declared ones in declaration order (None left out, and a default that is not to be
+    written)."""
+    from designer.project.declare import declared, element_of
+
+    el = etree.SubElement(parent, q(element_of(type(obj)).tag), lead or {})
+    for d in declared(type(obj)):
+        value = getattr(obj, d.name)
+        if value is None or (not d.attr.write_default and value == d.default):
+            continue
+        el.set(d.xml, _bool(value) if d.base is bool else
+               _num(value) if d.base in (int, float) else str(value))
     return el
 
 
@@ -93,9 +112,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
         _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
                                   "repeat-Y": _num(tex.repeat_Y)})
         if tex.variation is not None:
-            v = tex.variation
-            _sub(tex_el, "variation", seed=_num(v.seed), scale_m=_num(v.scale_m),
-                 strength=_num(v.strength), octaves=_num(v.octaves))
+            write_declared(tex_el, tex.variation)
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")
@@ -165,12 +182,8 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
         _sub(light_el, "sun-position", date_time=light.sun.date_time,
              latitude_deg=_num(light.sun.latitude_deg),
              longitude_deg=_num(light.sun.longitude_deg))
-    c = light.clouds
-    if c is not None:
-        _sub(light_el, "cloud-shadows", cover=_num(c.cover), size_m=_num(c.size_m),
-             softness_m=_num(c.softness_m), depth=_num(c.depth),
-             wind_speed_m_s=_num(c.wind_speed_m_s),
-             wind_direction_deg=_num(c.wind_direction_deg), seed=str(c.seed))
+    if light.clouds is not None:
+        write_declared(light_el, light.clouds)
 
 
 def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
@@ -188,10 +201,8 @@ def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
                 g_el.set(name, _num(value))
         if g.albedo_rgb is not None:
             g_el.set("albedo-rgb", " ".join(_num(v) for v in g.albedo_rgb))
-    w = veg.wind
-    if w is not None:
-        _sub(el, "wind", amplitude_deg=_num(w.amplitude_deg),
-             gust_period_s=_num(w.gust_period_s), direction_deg=_num(w.direction_deg))
+    if veg.wind is not None:
+        write_declared(el, veg.wind)
 
 
 def _camera(parent: etree._Element, cam: m.Camera) -> None:
@@ -213,9 +224,8 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
     elif isinstance(d, m.FisheyeEquidistantDistortion):
         _sub(el, "fisheye-equidistant", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
              k4=_num(d.k4))
-    rs = cam.rolling_shutter
-    if rs is not None:
-        _sub(el, "rolling-shutter", readout_s=_num(rs.readout_s), direction=rs.direction)
+    if cam.rolling_shutter is not None:
+        write_declared(el, cam.rolling_shutter)
 
 
 def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
@@ -223,9 +233,7 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
     for rig in traj.rigs:
         rig_el = _sub(el, "rig", name=rig.name)
         for mount in rig.mounts:
-            _sub(rig_el, "mount", camera=mount.camera, suffix=mount.suffix,
-                 omega=_num(mount.omega_deg), phi=_num(mount.phi_deg),
-                 kappa=_num(mount.kappa_deg))
+            write_declared(rig_el, mount)
     if traj.exterior_orientations:
         eo_el = _sub(el, "exterior-orientations")
         photo_tag = q("photo")
@@ -240,14 +248,8 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
         _flight_plan(el, traj.flight_plan)
     for pattern in traj.patterns:
         _pattern(el, pattern)
-    tl = traj.time_line
-    if tl is not None:
-        attrs = {"takeoff_utc": tl.takeoff_utc, "speed_m_s": _num(tl.speed_m_s)}
-        if tl.turn_s:
-            attrs["turn_s"] = _num(tl.turn_s)
-        if tl.trigger_interval_s is not None:
-            attrs["trigger_interval_s"] = _num(tl.trigger_interval_s)
-        _sub(el, "time-line", **attrs)
+    if traj.time_line is not None:
+        write_declared(el, traj.time_line)
 
 
 def _pattern(el: etree._Element, p: m.FlightPattern) -> None:
@@ -298,39 +300,9 @@ def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
 
 def _effects(parent: etree._Element, fx: m.Effects) -> None:
     el = _sub(parent, "effects")
-    if fx.vignetting is not None:
-        v = fx.vignetting
-        extra = {}  # the optional terms only when used, so older files stay as they were
-        if v.rho4:
-            extra["rho4"] = _num(v.rho4)
-        if v.rho6:
-            extra["rho6"] = _num(v.rho6)
-        if v.natural_cos4:
-            extra["natural_cos4"] = "true"
-        _sub(el, "vignetting", corner_falloff=_num(v.corner_falloff), **extra)
-    if fx.sensor_noise is not None:
-        _sub(el, "sensor-noise", sigma_dn=_num(fx.sensor_noise.sigma_dn),
-             seed=_num(fx.sensor_noise.seed))
-    if fx.sensor is not None:
-        s = fx.sensor
-        _sub(el, "sensor", full_well_e=_num(s.full_well_e), read_noise_e=_num(s.read_noise_e),
-             dark_current_e_per_s=_num(s.dark_current_e_per_s),
-             exposure_time_s=_num(s.exposure_time_s), adc_bits=_num(s.adc_bits),
-             exposure_scale=_num(s.exposure_scale), seed=_num(s.seed))
-    if fx.blur is not None:
-        _sub(el, "blur", sigma_px=_num(fx.blur.sigma_px))
-    if fx.motion_blur is not None:
-        _sub(el, "motion-blur", exposure_time_s=_num(fx.motion_blur.exposure_time_s),
-             speed_m_s=_num(fx.motion_blur.speed_m_s))
-    if fx.jpeg is not None:
-        _sub(el, "jpeg", quality=_num(fx.jpeg.quality))
-    if fx.defocus is not None:
-        d = fx.defocus
-        extra = {} if d.object_distance_m is None else {
-            "object_distance_m": _num(d.object_distance_m)}
-        _sub(el, "defocus", f_number=_num(d.f_number),
-             focus_distance_m=_num(d.focus_distance_m), **extra)
-
+    for f in dataclasses.fields(fx):  # in the schema's order, the model's field order
+        if getattr(fx, f.name) is not None:
+            write_declared(el, getattr(fx, f.name))
 
 def _render(parent: etree._Element, r: m.Render) -> None:
     el = _sub(parent, "render")
@@ -349,32 +321,15 @@ def _render(parent: etree._Element, r: m.Render) -> None:
 
 def _processing(parent: etree._Element, p: m.Processing) -> None:
     el = _sub(parent, "processing")
-    cal = _sub(el, "calibration", mode=p.calibration.mode)
-    pre = p.calibration.pre_calibration_error
-    if pre is not None:
-        _sub(cal, "pre-calibration-error", focal_px=_num(pre.focal_px),
-             principal_point_px=_num(pre.principal_point_px), k1=_num(pre.k1),
-             k2=_num(pre.k2), k3=_num(pre.k3), p1=_num(pre.p1), p2=_num(pre.p2),
-             seed=_num(pre.seed))
-    g = p.gcps
-    gcps = _sub(el, "gcps", mode=g.mode, marking_sigma_px=_num(g.marking_sigma_px),
-                seed=_num(g.seed))
-    if g.control is not None:
-        c = g.control
-        attrs = {"ids": " ".join(c.ids)} if c.ids else {}
-        if c.count is not None:
-            attrs["count"] = _num(c.count)
-        _sub(gcps, "control", **attrs, spread=c.spread, seed=_num(c.seed))
-    prior = p.position_prior
-    attrs = {}
-    if prior.sigma_horizontal_m is not None:
-        attrs["sigma_horizontal_m"] = _num(prior.sigma_horizontal_m)
-    if prior.sigma_vertical_m is not None:
-        attrs["sigma_vertical_m"] = _num(prior.sigma_vertical_m)
-    _sub(el, "position-prior", mode=prior.mode, **attrs, seed=_num(prior.seed))
-    mt = p.matching
-    _sub(el, "matching", max_features=_num(mt.max_features), pairs=mt.pairs,
-         min_track_length=_num(mt.min_track_length))
+    cal = write_declared(el, p.calibration)
+    if p.calibration.pre_calibration_error is not None:
+        write_declared(cal, p.calibration.pre_calibration_error)
+    gcps = write_declared(el, p.gcps)
+    c = p.gcps.control
+    if c is not None:
+        write_declared(gcps, c, {"ids": " ".join(c.ids)} if c.ids else None)
+    write_declared(el, p.position_prior)
+    write_declared(el, p.matching)
     _sub(el, "dense", mode=p.dense)
 
 

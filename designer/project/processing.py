@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
+from designer.project.declare import attr, element
+
 CalibrationMode = Literal["fixed", "focal", "focal-principal-point", "radial", "full"]
 GcpMode = Literal["none", "similarity", "bundle"]
 PositionPriorMode = Literal["none", "gnss", "rtk"]
@@ -22,57 +24,91 @@ DenseMode = Literal["none", "cpu", "auto"]
 POSITION_PRIOR_SIGMAS_M = {"gnss": (2.5, 5.0), "rtk": (0.02, 0.03)}
 
 
+@element("pre-calibration-error", title="pre-calibration error",
+         path="processing.calibration.pre_calibration_error", stage="processing")
 @dataclass(frozen=True)
 class PreCalibrationError:
     """σ of the errors of the starting (or fixed) interior orientation: focal length and
     principal point (px, cx and cy each), k1..k3, p1, p2 (dimensionless); seeded."""
 
-    focal_px: float = 0.0
-    principal_point_px: float = 0.0
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    p1: float = 0.0
-    p2: float = 0.0
-    seed: int = 0
+    focal_px: float = attr(0.0, doc="σ of the starting focal-length error", unit="px",
+                           range=(0, 1e6), factor="pre-calibration-focal-px",
+                           label="focal length σ", decimals=2, step=1)
+    principal_point_px: float = attr(0.0, doc="σ of the starting principal-point error, "
+                                     "cx and cy each", unit="px", range=(0, 1e6),
+                                     label="principal point σ", decimals=2, step=1)
+    k1: float = attr(0.0, doc="σ of the starting k1 error", range=(0, 1e6),
+                     factor="pre-calibration-k1", label="k1 σ", decimals=4, step=0.001)
+    k2: float = attr(0.0, doc="σ of the starting k2 error", range=(0, 1e6), label="k2 σ",
+                     decimals=4, step=0.001)
+    k3: float = attr(0.0, doc="σ of the starting k3 error", range=(0, 1e6), label="k3 σ",
+                     decimals=4, step=0.001)
+    p1: float = attr(0.0, doc="σ of the starting p1 error", range=(0, 1e6), label="p1 σ",
+                     decimals=5, step=0.0001)
+    p2: float = attr(0.0, doc="σ of the starting p2 error", range=(0, 1e6), label="p2 σ",
+                     decimals=5, step=0.0001)
+    seed: int = attr(0, doc="the errors' random seed", range=(0, None))
 
 
+@element("calibration", title="calibration", path="processing.calibration",
+         stage="processing")
 @dataclass(frozen=True)
 class Calibration:
     """Which interior parameters the adjustment estimates (``fixed``: none)."""
 
-    mode: CalibrationMode = "fixed"
+    mode: CalibrationMode = attr("fixed", doc="interior parameters the adjustment "
+                                 "estimates", factor="calibration", label="estimate")
     pre_calibration_error: PreCalibrationError | None = None
 
 
+@element("control", title="control points", path="processing.gcps.control",
+         stage="processing")
 @dataclass(frozen=True)
 class ControlSelection:
     """Control targets by ``ids``, or ``count`` of them spread ``even``ly or at ``random``."""
 
     ids: tuple[str, ...] = ()
-    count: int | None = None
-    spread: Literal["even", "random"] = "even"
-    seed: int = 0
+    count: int | None = attr(None, doc="number of GCPs used as control (the others are check "
+                             "points)",
+                             label="count")
+    spread: Literal["even", "random"] = attr("even", doc="how control-count GCPs are chosen "
+                                             "(even: spread over the area)",
+                                             factor="control-spread", label="spread")
+    seed: int = attr(0, doc="the random choice's seed", range=(0, None))
 
 
+@element("gcps", title="GCPs", path="processing.gcps", stage="processing")
 @dataclass(frozen=True)
 class GcpProcessing:
     """How control points enter; marking error σ (px per axis, seeded) of every target."""
 
-    mode: GcpMode = "similarity"
-    marking_sigma_px: float = 0.0
-    seed: int = 0
+    mode: GcpMode = attr("similarity", doc="how control points enter the adjustment",
+                         factor="gcp-mode", label="GCPs enter as")
+    marking_sigma_px: float = attr(0.0, doc="σ of the GCP marking error in the images, each "
+                                   "axis", unit="px", range=(0, 50),
+                                   factor="marking-sigma-px", label="marking σ", decimals=2,
+                                   step=0.1)
+    seed: int = attr(0, doc="the marking error's random seed", range=(0, None))
     control: ControlSelection | None = None
 
 
+@element("position-prior", title="camera-position prior",
+         path="processing.position_prior", stage="processing")
 @dataclass(frozen=True)
 class PositionPrior:
     """Camera centres measured in flight (true + seeded errors), weighted priors (m)."""
 
-    mode: PositionPriorMode = "none"
-    sigma_horizontal_m: float | None = None
-    sigma_vertical_m: float | None = None
-    seed: int = 0
+    mode: PositionPriorMode = attr("none", doc="camera positions measured in flight",
+                                   factor="position-prior", label="camera positions")
+    sigma_horizontal_m: float | None = attr(None, doc="σ of the measured positions, "
+                                            "horizontal (none: the mode's)", unit="m",
+                                            range=(0, 1000), low_open=True,
+                                            label="σ horizontal", decimals=3, step=0.01)
+    sigma_vertical_m: float | None = attr(None, doc="σ of the measured positions, vertical "
+                                          "(none: the mode's)", unit="m", range=(0, 1000),
+                                          low_open=True, label="σ vertical", decimals=3,
+                                          step=0.01)
+    seed: int = attr(0, doc="the position errors' random seed", range=(0, None))
 
     @property
     def sigmas_m(self) -> tuple[float, float]:
@@ -82,11 +118,15 @@ class PositionPrior:
                 self.sigma_vertical_m if self.sigma_vertical_m is not None else v)
 
 
+@element("matching", title="matching", path="processing.matching", stage="processing")
 @dataclass(frozen=True)
 class Matching:
-    max_features: int = 8192
-    pairs: Pairing = "footprint"
-    min_track_length: int = 3
+    max_features: int = attr(8192, doc="SIFT features per image", range=(100, 1_000_000),
+                             factor="max-features", label="features per image")
+    pairs: Pairing = attr("footprint", doc="which image pairs are matched",
+                          label="pairs matched")
+    min_track_length: int = attr(3, doc="fewest images a point is seen in", unit="images",
+                                 range=(2, 100), label="shortest track")
 
 
 @dataclass(frozen=True)

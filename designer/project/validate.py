@@ -14,6 +14,7 @@ from designer.project import model as m
 from designer.project.checks import finite_issues
 from designer.project.problems import Issue, Problem, SourceMap, unlocated
 from designer.project.validate_camera import camera_issues
+from designer.project.validate_declared import declared_issues
 from designer.project.validate_processing import processing_issues
 from designer.project.validate_scene import scene_issues
 from designer.project.validate_trajectory import (
@@ -43,6 +44,7 @@ def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> l
     out += effects_issues(project.effects)
     out += render_output_issues(project)
     out += processing_issues(project)
+    out += declared_issues(project)
     return out
 
 

@@ -110,23 +110,6 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
     return out
 
 
-def _variation(v: m.TextureVariation | None) -> list[Issue]:
-    if v is None:
-        return []
-    out = []
-    if not (v.scale_m > 0):
-        out.append(Issue(v, "variation", f"scale-m {v.scale_m!r} must be > 0 m; give the "
-                         "wavelength of the coarsest variation, e.g. 2-3 tiles",
-                         attr="scale-m"))
-    if not 0 <= v.strength <= 1:
-        out.append(Issue(v, "variation", f"strength {v.strength!r} must be from 0 to 1",
-                         attr="strength"))
-    if not 1 <= v.octaves <= 8:
-        out.append(Issue(v, "variation", f"octaves {v.octaves!r} must be a whole number "
-                         "from 1 to 8", attr="octaves"))
-    return out
-
-
 def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]:
     out = []
     for name, value in (("repeat-X", tex.repeat_X), ("repeat-Y", tex.repeat_Y)):
@@ -136,7 +119,6 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     if tex.interpolation not in ("closest", "linear"):
         out.append(Issue(tex, "texture", "interpolation must be 'closest' or 'linear'",
                          attr="interpolation"))
-    out += _variation(tex.variation)
     src = tex.source
     if isinstance(src, m.OrthophotoTexture):
         if tex.variation is not None:

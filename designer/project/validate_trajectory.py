@@ -15,6 +15,7 @@ from designer.project.geometry import (
     polygon_self_intersection,
 )
 from designer.project.problems import Issue
+from designer.project.validate_declared import element_issues
 
 _IMAGE_SUFFIX = re.compile(r"\.(png|jpe?g|tiff?|exr|bmp)$", re.IGNORECASE)
 
@@ -239,46 +240,11 @@ def _area(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
 
 
 def effects_issues(fx: m.Effects | None) -> list[Issue]:
-    if fx is None:
+    """What the effects' declared ranges (validate_declared) cannot say: the vignetting
+    gain stays within 0 … 1 over the image."""
+    if fx is None or fx.vignetting is None or element_issues(fx.vignetting):
         return []
-    checks = []
-    if fx.vignetting is not None:
-        v = fx.vignetting
-        checks += [(v, "vignetting", "corner-falloff", v.corner_falloff, 0, 1),
-                   (v, "vignetting", "rho4", v.rho4, -1, 1),
-                   (v, "vignetting", "rho6", v.rho6, -1, 1)]
-    if fx.defocus is not None:
-        d = fx.defocus
-        checks += [(d, "defocus", "f-number", d.f_number, 0.5, 64),
-                   (d, "defocus", "focus-distance-m", d.focus_distance_m, 0.1, 1e6)]
-        if d.object_distance_m is not None:
-            checks.append((d, "defocus", "object-distance-m", d.object_distance_m, 0.1, 1e6))
-    if fx.sensor_noise is not None:
-        checks.append((fx.sensor_noise, "sensor-noise", "sigma-dn", fx.sensor_noise.sigma_dn,
-                       0, 100))
-    if fx.sensor is not None:
-        s = fx.sensor
-        checks += [(s, "sensor", "full-well-e", s.full_well_e, 1, 1e7),
-                   (s, "sensor", "read-noise-e", s.read_noise_e, 0, 1e4),
-                   (s, "sensor", "dark-current-e-per-s", s.dark_current_e_per_s, 0, 1e6),
-                   (s, "sensor", "exposure-time-s", s.exposure_time_s, 0, 60),
-                   (s, "sensor", "adc-bits", s.adc_bits, 1, 16),
-                   (s, "sensor", "exposure-scale", s.exposure_scale, 0, 100)]
-    if fx.blur is not None:
-        checks.append((fx.blur, "blur", "sigma-px", fx.blur.sigma_px, 0, 50))
-    if fx.motion_blur is not None:
-        checks.append((fx.motion_blur, "motion-blur", "exposure-time-s",
-                       fx.motion_blur.exposure_time_s, 0, 1))
-        checks.append((fx.motion_blur, "motion-blur", "speed-m-s", fx.motion_blur.speed_m_s,
-                       0, 100))
-    if fx.jpeg is not None:
-        checks.append((fx.jpeg, "jpeg", "quality", fx.jpeg.quality, 1, 100))
-    out = [Issue(obj, tag, f"{attr} = {value!r} must be from {lo} to {hi}", attr=attr)
-           for obj, tag, attr, value, lo, hi in checks
-           if not (math.isfinite(value) and lo <= value <= hi)]
-    if fx.vignetting is not None and not out:
-        out += _vignetting_gain_issues(fx.vignetting)
-    return out
+    return _vignetting_gain_issues(fx.vignetting)
 
 
 def _vignetting_gain_issues(v) -> list[Issue]:

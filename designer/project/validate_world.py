@@ -7,7 +7,9 @@ import datetime as _dt
 import math
 
 from designer.project import model as m
+from designer.project.declare import declared_field
 from designer.project.problems import Issue
+from designer.project.validate_declared import element_issues
 
 EXAMPLE_UTC = "2026-06-21T09:30:00Z"
 
@@ -71,8 +73,6 @@ def world_issues(project: m.Project) -> list[Issue]:
     sun = project.scene.lighting.sun
     if isinstance(sun, m.SunOverTime):
         out += _sun_over_time(project, sun)
-    if project.scene.lighting.clouds is not None:
-        out += _cloud_shadows(project.scene.lighting.clouds)
     render = project.render
     if render.image_metadata not in ("none", "exif"):
         out.append(Issue(render, "output", f"metadata {render.image_metadata!r} must be none or "
@@ -95,19 +95,8 @@ def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
         out.append(Issue(tl, "time-line", f"takeoff-utc {tl.takeoff_utc!r} is not an ISO 8601 "
                          f"moment in UTC; write it with Z, e.g. {EXAMPLE_UTC}",
                          attr="takeoff-utc"))
-    if not (math.isfinite(tl.speed_m_s) and 0 < tl.speed_m_s <= 100):
-        out.append(Issue(tl, "time-line", f"speed-m-s = {tl.speed_m_s!r} must be greater than "
-                         "0 and at most 100 m/s", attr="speed-m-s"))
-        return out
-    if not (math.isfinite(tl.turn_s) and 0 <= tl.turn_s <= 3600):
-        out.append(Issue(tl, "time-line", f"turn-s = {tl.turn_s!r} must be from 0 to 3600 s",
-                         attr="turn-s"))
     interval = tl.trigger_interval_s
-    if interval is None:
-        return out
-    if not (math.isfinite(interval) and 0 < interval <= 3600):
-        out.append(Issue(tl, "time-line", f"trigger-interval-s = {interval!r} must be greater "
-                         "than 0 and at most 3600 s", attr="trigger-interval-s"))
+    if interval is None or element_issues(tl):  # ranges: validate_declared
         return out
     plan = project.trajectory.flight_plan
     distance = None if plan is None else trigger_distance_m(project, plan)
@@ -121,7 +110,7 @@ def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
 
 
 #: the longest readout a camera may have (s); consumer sensors read in 0.01 to 0.05 s
-MAX_READOUT_S = 0.5
+MAX_READOUT_S = declared_field(m.RollingShutter, "readout_s").attr.high
 
 
 def _rolling_shutters(project: m.Project) -> list[Issue]:
@@ -135,16 +124,7 @@ def _rolling_shutters(project: m.Project) -> list[Issue]:
         if rs is None:
             continue
         readout = rs.readout_s
-        if rs.direction not in ("top-to-bottom", "bottom-to-top"):
-            out.append(Issue(rs, "rolling-shutter", f"direction {rs.direction!r} must be "
-                             "top-to-bottom or bottom-to-top", attr="direction"))
-        if not (isinstance(readout, int | float) and math.isfinite(readout)
-                and 0 <= readout <= MAX_READOUT_S):
-            out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}': readout-s = "
-                             f"{readout!r} must be from 0 (global shutter) to {MAX_READOUT_S:g} "
-                             "s", attr="readout-s"))
-            continue
-        if readout == 0:
+        if element_issues(rs) or readout == 0:  # ranges: validate_declared
             continue
         if tl is None:
             out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}' reads its rows out "
@@ -175,12 +155,7 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
                          "neither (then the project origin is used)",
                          attr="latitude-deg" if sun.latitude_deg is None else "longitude-deg"))
     elif sun.latitude_deg is not None:
-        if not (math.isfinite(sun.latitude_deg) and -90 <= sun.latitude_deg <= 90):
-            out.append(Issue(sun, "sun-over-time", "latitude-deg must be -90 to 90",
-                             attr="latitude-deg"))
-        if not (math.isfinite(sun.longitude_deg) and -180 <= sun.longitude_deg <= 180):
-            out.append(Issue(sun, "sun-over-time", "longitude-deg must be -180 to 180",
-                             attr="longitude-deg"))
+        pass  # ranges: validate_declared
     else:
         from designer.core.crs import crs_token
 
@@ -194,33 +169,6 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
             out.append(Issue(sun, "sun-over-time", f"the project CRS {project.crs!r} is not a "
                              "projected CRS PROJ knows, so the site's latitude and longitude "
                              "cannot be found; give latitude-deg and longitude-deg"))
-    return out
-
-
-#: (attribute, field, low, high, low inclusive, unit) of <cloud-shadows>
-_CLOUD_RANGES = (
-    ("cover", "cover", 0.0, 1.0, True, ""),
-    ("size-m", "size_m", 0.0, 1e5, False, " m"),
-    ("softness-m", "softness_m", 0.0, 1e4, True, " m"),
-    ("depth", "depth", 0.0, 1.0, True, ""),
-    ("wind-speed-m-s", "wind_speed_m_s", 0.0, 100.0, True, " m/s"),
-    ("wind-direction-deg", "wind_direction_deg", 0.0, 360.0, True, " deg"),
-)
-
-
-def _cloud_shadows(c: m.CloudShadows) -> list[Issue]:
-    out = []
-    for attr, name, lo, hi, closed, unit in _CLOUD_RANGES:
-        v = getattr(c, name)
-        ok = math.isfinite(v) and (lo <= v if closed else lo < v) and (
-            v < hi if name == "wind_direction_deg" else v <= hi)
-        if not ok:
-            low = f"from {lo:g}" if closed else f"greater than {lo:g}"
-            high = f"below {hi:g}" if name == "wind_direction_deg" else f"at most {hi:g}"
-            out.append(Issue(c, "cloud-shadows", f"{attr} = {v!r} must be {low} and {high}{unit}",
-                             attr=attr))
-    if c.seed < 0:
-        out.append(Issue(c, "cloud-shadows", f"seed = {c.seed} must be 0 or more", attr="seed"))
     return out
 
 
@@ -337,11 +285,4 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
         out.append(Issue(veg, "vegetation", f"the densities give about {total:.3g} plants on "
                          f"the {area_m2:.3g} m² terrain, more than {MAX_PLANTS:,}; lower "
                          "density-per-m2"))
-    w = veg.wind
-    if w is not None:
-        out += _range_issue(w, "wind", "amplitude-deg", w.amplitude_deg, 0, 45, " deg")
-        out += _range_issue(w, "wind", "gust-period-s", w.gust_period_s, 0, 3600, " s",
-                            low_open=True)
-        out += _range_issue(w, "wind", "direction-deg", w.direction_deg, 0, 360, " deg",
-                            high_open=True)
-    return out
+    return out  # the wind's ranges: validate_declared

@@ -6,9 +6,13 @@ and numbers parse; the semantic checks come afterwards (``validate.py``).
 
 from __future__ import annotations
 
+import dataclasses
+
 from lxml import etree
 
+from designer.project import declare
 from designer.project import model as m
+from designer.project.declare import element_of
 from designer.project.problems import SourceMap
 from designer.project.schema import q
 
@@ -39,6 +43,28 @@ def _text(el: etree._Element | None) -> str | None:
 
 def _bool(text: str) -> bool:
     return text.strip() in ("true", "1")
+
+
+def read_declared(cls, el: etree._Element, **given):
+    """An instance of the declared element class ``cls`` from the attributes of ``el``
+    (designer.project.declare): absent ones take their defaults; ``given`` supplies the
+    fields that are not attributes (children)."""
+    from designer.project.declare import declared
+
+    values = dict(given)
+    for d in declared(cls):
+        raw = el.get(d.xml)
+        if d.name in values or raw is None:
+            continue
+        if d.base is bool:
+            values[d.name] = _bool(raw)
+        elif d.base is int:
+            values[d.name] = int(raw)
+        elif d.base is float:
+            values[d.name] = float(raw)
+        else:
+            values[d.name] = raw.strip()
+    return cls(**values)
 
 
 class _Reader:
@@ -141,9 +167,7 @@ class _Reader:
         var_el = el.find(q("variation"))
         variation = None
         if var_el is not None:
-            variation = self.note(m.TextureVariation(
-                int(var_el.get("seed")), _f(var_el, "scale-m"), _f(var_el, "strength"),
-                int(var_el.get("octaves", "4"))), var_el)
+            variation = self.note(read_declared(m.TextureVariation, var_el), var_el)
         texture = m.Texture(source, int(tiling.get("repeat-X")), int(tiling.get("repeat-Y")),
                             el.get("interpolation"), variation)
         self.note(texture, el)
@@ -225,12 +249,7 @@ class _Reader:
         wind_el = el.find(q("wind"))
         wind = None
         if wind_el is not None:
-            d = m.Wind()
-            wind = self.note(m.Wind(
-                *(d_v if v is None else v for v, d_v in (
-                    (_opt_f(wind_el, "amplitude-deg"), d.amplitude_deg),
-                    (_opt_f(wind_el, "gust-period-s"), d.gust_period_s),
-                    (_opt_f(wind_el, "direction-deg"), d.direction_deg)))), wind_el)
+            wind = self.note(read_declared(m.Wind, wind_el), wind_el)
         clearance = _opt_f(el, "clearance-m")
         veg = m.Vegetation(tuple(groups), seed=int(el.get("seed", "0")),
                            clearance_m=m.Vegetation.clearance_m if clearance is None
@@ -254,14 +273,12 @@ class _Reader:
                                 _f(sun_el, "longitude-deg"))
         else:
             sun_el = el.find(q("sun-over-time"))
-            sun = m.SunOverTime(_opt_f(sun_el, "latitude-deg"), _opt_f(sun_el, "longitude-deg"))
+            sun = read_declared(m.SunOverTime, sun_el)
         self.note(sun, sun_el)
         clouds = None
         c = el.find(q("cloud-shadows"))
         if c is not None:
-            clouds = self.note(m.CloudShadows(
-                _f(c, "cover"), _f(c, "size-m"), _f(c, "softness-m"), _f(c, "depth"),
-                _f(c, "wind-speed-m-s"), _f(c, "wind-direction-deg"), int(c.get("seed"))), c)
+            clouds = self.note(read_declared(m.CloudShadows, c), c)
         lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"), clouds)
         return self.note(lighting, el)
 
@@ -301,8 +318,7 @@ class _Reader:
     def rolling_shutter(self, el: etree._Element | None) -> m.RollingShutter | None:
         if el is None:
             return None
-        return self.note(m.RollingShutter(_f(el, "readout-s"),
-                                          el.get("direction", "top-to-bottom")), el)
+        return self.note(read_declared(m.RollingShutter, el), el)
 
     # ----------------------------------------------------------------- trajectory
     def trajectory(self, el: etree._Element) -> m.Trajectory:
@@ -315,9 +331,7 @@ class _Reader:
         tl_el = el.find(q("time-line"))
         time_line = None
         if tl_el is not None:
-            time_line = self.note(m.TimeLine(
-                tl_el.get("takeoff-utc").strip(), _f(tl_el, "speed-m-s"),
-                _opt_f(tl_el, "turn-s") or 0.0, _opt_f(tl_el, "trigger-interval-s")), tl_el)
+            time_line = self.note(read_declared(m.TimeLine, tl_el), tl_el)
         rigs = tuple(self.rig(r) for r in el.iterchildren(q("rig")))
         patterns = tuple(self.pattern(p) for p in el.iterchildren(q("orbit"), q("facade")))
         trajectory = self.note(m.Trajectory(photos, plan, time_line, rigs, patterns), el)
@@ -328,8 +342,7 @@ class _Reader:
     def rig(self, el: etree._Element) -> m.Rig:
         mounts = []
         for mount_el in el.iterchildren(q("mount")):
-            mount = m.Mount(mount_el.get("camera"), mount_el.get("suffix"),
-                            *(_opt_f(mount_el, k) or 0.0 for k in ("omega", "phi", "kappa")))
+            mount = read_declared(m.Mount, mount_el)
             self.smap.add(mount, "mount", mount_el.sourceline)
             mounts.append(mount)
         return self.note(m.Rig(el.get("name"), tuple(mounts)), el)
@@ -404,24 +417,10 @@ class _Reader:
             child = el.find(q(tag))
             return None if child is None else self.note(build(child), child)
 
-        effects = m.Effects(
-            vignetting=one("vignetting", lambda c: m.Vignetting(
-                _opt_f(c, "corner-falloff") or 0.0, _opt_f(c, "rho4") or 0.0,
-                _opt_f(c, "rho6") or 0.0, _bool(c.get("natural-cos4", "false")))),
-            sensor_noise=one("sensor-noise",
-                             lambda c: m.SensorNoise(_f(c, "sigma-dn"), int(c.get("seed")))),
-            sensor=one("sensor", lambda c: m.Sensor(
-                _f(c, "full-well-e"), _f(c, "read-noise-e"), _f(c, "dark-current-e-per-s"),
-                _f(c, "exposure-time-s"), int(c.get("adc-bits")), _f(c, "exposure-scale"),
-                int(c.get("seed")))),
-            blur=one("blur", lambda c: m.Blur(_f(c, "sigma-px"))),
-            motion_blur=one("motion-blur", lambda c: m.MotionBlur(
-                _f(c, "exposure-time-s"), _f(c, "speed-m-s"))),
-            jpeg=one("jpeg", lambda c: m.Jpeg(int(c.get("quality")))),
-            defocus=one("defocus", lambda c: m.Defocus(
-                _f(c, "f-number"), _f(c, "focus-distance-m"),
-                _opt_f(c, "object-distance-m"))),
-        )
+        effects = m.Effects(**{
+            f.name: one(element_of(declare.field_class(m.Effects, f.name)).tag,
+                        lambda c, f=f: read_declared(declare.field_class(m.Effects, f.name), c))
+            for f in dataclasses.fields(m.Effects)})
         return self.note(effects, el)
 
     def render(self, el: etree._Element) -> m.Render:
@@ -453,46 +452,27 @@ class _Reader:
 
     def processing(self, el: etree._Element) -> m.Processing:
         """``<processing>``; absent children and attributes take the model's defaults."""
+        def part(tag: str, cls, **given):
+            child = el.find(q(tag))
+            return cls(**given) if child is None else self.note(
+                read_declared(cls, child, **given), child)
+
         cal_el = el.find(q("calibration"))
-        calibration = m.Calibration()
-        if cal_el is not None:
+        pre = None
+        if cal_el is not None and cal_el.find(q("pre-calibration-error")) is not None:
             pre_el = cal_el.find(q("pre-calibration-error"))
-            pre = None
-            if pre_el is not None:
-                pre = self.note(m.PreCalibrationError(
-                    *(float(pre_el.get(k, "0")) for k in (
-                        "focal-px", "principal-point-px", "k1", "k2", "k3", "p1", "p2")),
-                    seed=int(pre_el.get("seed", "0"))), pre_el)
-            calibration = self.note(m.Calibration(cal_el.get("mode", "fixed"), pre), cal_el)
+            pre = self.note(read_declared(m.PreCalibrationError, pre_el), pre_el)
+        calibration = part("calibration", m.Calibration, pre_calibration_error=pre)
         gcps_el = el.find(q("gcps"))
-        gcps = m.GcpProcessing()
-        if gcps_el is not None:
+        control = None
+        if gcps_el is not None and gcps_el.find(q("control")) is not None:
             control_el = gcps_el.find(q("control"))
-            control = None
-            if control_el is not None:
-                count = control_el.get("count")
-                control = self.note(m.ControlSelection(
-                    ids=tuple((control_el.get("ids") or "").split()),
-                    count=None if count is None else int(count),
-                    spread=control_el.get("spread", "even"),
-                    seed=int(control_el.get("seed", "0"))), control_el)
-            gcps = self.note(m.GcpProcessing(
-                gcps_el.get("mode", "similarity"),
-                float(gcps_el.get("marking-sigma-px", "0")),
-                int(gcps_el.get("seed", "0")), control), gcps_el)
-        prior_el = el.find(q("position-prior"))
-        prior = m.PositionPrior()
-        if prior_el is not None:
-            prior = self.note(m.PositionPrior(
-                prior_el.get("mode", "none"), _opt_f(prior_el, "sigma-horizontal-m"),
-                _opt_f(prior_el, "sigma-vertical-m"), int(prior_el.get("seed", "0"))),
-                prior_el)
-        match_el = el.find(q("matching"))
-        matching = m.Matching()
-        if match_el is not None:
-            matching = self.note(m.Matching(
-                int(match_el.get("max-features", "8192")), match_el.get("pairs", "footprint"),
-                int(match_el.get("min-track-length", "3"))), match_el)
+            control = self.note(read_declared(
+                m.ControlSelection, control_el,
+                ids=tuple((control_el.get("ids") or "").split())), control_el)
+        gcps = part("gcps", m.GcpProcessing, control=control)
+        prior = part("position-prior", m.PositionPrior)
+        matching = part("matching", m.Matching)
         dense_el = el.find(q("dense"))
         processing = m.Processing(
             calibration, gcps, prior, matching,

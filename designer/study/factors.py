@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 
+from designer.project import declare
 from designer.project import model as m
 
 Value = float | int | str | bool
@@ -333,7 +334,8 @@ def _F(name, doc, stage, parse, get, set_) -> Factor:
     return Factor(name, doc, stage, parse, get, set_)
 
 
-FACTORS: dict[str, Factor] = {f.name: f for f in [
+#: the factors with rules of their own (the declared ones are made by _declared_factors)
+_HAND_WRITTEN: list[Factor] = [
     _F("altitude-m", "flight height above the reference ground (m); replaces a GSD",
        "render", _float, lambda p: _plan(p).altitude_agl_m,
        lambda p, v: _with_plan(p, altitude_agl_m=v, gsd_m=None)),
@@ -364,38 +366,13 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
     _F("control-count", "number of GCPs used as control (the others are check points); "
        "chosen by control-spread", "processing", _int, lambda p: _control(p).count,
        lambda p, v: _with_control(p, count=v, ids=())),
-    _F("control-spread", "how control-count GCPs are chosen: even (spread over the area) or "
-       "random", "processing", _choice("even", "random"), lambda p: _control(p).spread,
-       lambda p, v: _with_control(p, spread=v)),
-    _F("gcp-mode", "how control points enter the adjustment: none, similarity or bundle",
-       "processing", _choice("none", "similarity", "bundle"), lambda p: _proc(p).gcps.mode,
-       lambda p, v: _with_gcps(p, mode=v)),
     _F("gcp-survey-sigma-m", "sigma of the simulated GCP survey, each axis (m)", "processing",
        _float, lambda p: _survey(p).sigma.X,
        lambda p, v: _with_survey(p, replace(_survey(p), sigma=m.Sigma3(v, v, v)))),
-    _F("marking-sigma-px", "sigma of the GCP marking error in the images, each axis (px)",
-       "processing", _float, lambda p: _proc(p).gcps.marking_sigma_px,
-       lambda p, v: _with_gcps(p, marking_sigma_px=v)),
-    _F("calibration", "interior parameters estimated: fixed, focal, focal-principal-point, "
-       "radial or full", "processing",
-       _choice("fixed", "focal", "focal-principal-point", "radial", "full"),
-       lambda p: _proc(p).calibration.mode,
-       lambda p, v: _with_proc(p, calibration=replace(_proc(p).calibration, mode=v))),
-    _F("pre-calibration-focal-px", "sigma of the starting focal-length error (px)",
-       "processing", _float, lambda p: _precal(p).focal_px,
-       lambda p, v: _with_precal(p, focal_px=v)),
-    _F("pre-calibration-k1", "sigma of the starting k1 error", "processing", _float,
-       lambda p: _precal(p).k1, lambda p, v: _with_precal(p, k1=v)),
-    _F("position-prior", "camera positions measured in flight: none, gnss or rtk",
-       "processing", _choice("none", "gnss", "rtk"), lambda p: _prior(p).mode,
-       lambda p, v: _with_prior(p, mode=v)),
     _F("position-prior-sigma-m", "sigma of the measured camera positions, horizontal (m); "
        "vertical is 1.5 times it", "processing", _float,
        lambda p: _prior(p).sigmas_m[0],
        lambda p, v: _with_prior(p, sigma_horizontal_m=v, sigma_vertical_m=1.5 * v)),
-    _F("max-features", "SIFT features per image", "processing", _int,
-       lambda p: _proc(p).matching.max_features,
-       lambda p, v: _with_proc(p, matching=replace(_proc(p).matching, max_features=v))),
     _F("k1", "radial distortion k1 of the camera (Brown-Conrady)", "render", _float,
        lambda p: _brown(p).k1, lambda p, v: _with_camera(p, distortion=replace(_brown(p), k1=v))),
     _F("k2", "radial distortion k2 of the camera (Brown-Conrady)", "render", _float,
@@ -404,32 +381,14 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
        lambda p: _effects(p).sensor_noise.sigma_dn if _effects(p).sensor_noise else 0.0,
        lambda p, v: _with_effects(p, sensor_noise=m.SensorNoise(
            v, _effects(p).sensor_noise.seed if _effects(p).sensor_noise else 0) if v else None)),
-    _F("jpeg-quality", "JPEG compression quality (1-100)", "render", _int,
-       lambda p: _effects(p).jpeg.quality if _effects(p).jpeg else None,
-       lambda p, v: _with_effects(p, jpeg=m.Jpeg(v))),
     _F("sun-elevation-deg", "sun elevation above the horizon (deg)", "render", _float,
        lambda p: getattr(p.scene.lighting.sun, "elevation_deg", None), _with_sun_elevation),
     _F("cloud-cover", "share of the ground in drifting cloud shadow, 0 to 1 (0: no clouds)",
        "render", _float, lambda p: p.scene.lighting.clouds.cover if _clouds_on(p) else 0.0,
        lambda p, v: _with_clouds(p, cover=v) if v else _without_clouds(p)),
-    _F("cloud-size-m", "typical size of a cloud shadow (m)", "render", _float,
-       lambda p: _cloud(p, "size_m"), lambda p, v: _with_clouds(p, size_m=v)),
-    _F("cloud-depth", "share of the direct sun a cloud takes away, 0 to 1", "render", _float,
-       lambda p: _cloud(p, "depth"), lambda p, v: _with_clouds(p, depth=v)),
-    _F("wind-speed-m-s", "speed the cloud shadows drift at (m/s)", "render", _float,
-       lambda p: _cloud(p, "wind_speed_m_s"), lambda p, v: _with_clouds(p, wind_speed_m_s=v)),
-    _F("wind-direction-deg", "direction the cloud shadows drift towards, clockwise from grid "
-       "north (deg)", "render", _float, lambda p: _cloud(p, "wind_direction_deg"),
-       lambda p, v: _with_clouds(p, wind_direction_deg=v)),
     _F("takeoff-time", "moment of the first photo, ISO 8601 UTC (moves a sun over time)",
        "render", _utc, lambda p: getattr(p.trajectory.time_line, "takeoff_utc", None),
        lambda p, v: _with_time_line(p, takeoff_utc=v)),
-    _F("flight-speed-m-s", "ground speed on the time line (m/s)", "render", _float,
-       lambda p: getattr(p.trajectory.time_line, "speed_m_s", None),
-       lambda p, v: _with_time_line(p, speed_m_s=v)),
-    _F("turn-s", "seconds per turn between flight lines on the time line", "render", _float,
-       lambda p: getattr(p.trajectory.time_line, "turn_s", None),
-       lambda p, v: _with_time_line(p, turn_s=v)),
     _F("moving-object-speed-m-s", "speed of every moving object along its path (m/s)",
        "render", _float,
        lambda p: p.scene.moving_objects[0].speed_m_s if p.scene.moving_objects else None,
@@ -466,7 +425,43 @@ FACTORS: dict[str, Factor] = {f.name: f for f in [
     _F("render-samples", "Cycles samples per pixel", "render", _int,
        lambda p: p.render.effective_samples,
        lambda p, v: replace(p, render=replace(p.render, samples=v))),
-]}
+]
+
+
+def _declared_factors() -> list[Factor]:
+    """A factor for every declared attribute with ``factor=`` of an element that has one
+    place in a project (designer.project.declare): its doc and unit, its type's parser,
+    get/set at its path (an absent element is switched on when a value is set)."""
+    out = []
+    for cls in declare.declared_elements(m.Project):
+        el = declare.element_of(cls)
+        if el.path is None:
+            continue
+        for d in declare.declared(cls):
+            if d.attr.factor is None:
+                continue
+            if d.choices is not None:
+                parse, doc = _choice(*d.choices), f"{d.attr.doc}: {', '.join(d.choices)}"
+            else:
+                parse = {float: _float, int: _int, bool: _bool}.get(d.base, str)
+                doc = f"{d.attr.doc} ({d.range_text()})"
+            out.append(Factor(
+                d.attr.factor, doc, el.stage, parse,
+                lambda p, at=el.path, n=d.name: declare.value_at(p, at, n),
+                lambda p, v, at=el.path, n=d.name: declare.with_value(p, at, n, v)))
+    return out
+
+
+def _all_factors() -> dict[str, Factor]:
+    factors: dict[str, Factor] = {}
+    for f in [*_HAND_WRITTEN, *_declared_factors()]:
+        if f.name in factors:
+            raise RuntimeError(f"study factor {f.name!r} is defined twice")
+        factors[f.name] = f
+    return factors
+
+
+FACTORS: dict[str, Factor] = _all_factors()
 
 
 # ------------------------------------------------------------------ cloud shadows

@@ -136,10 +136,10 @@ def test_polygon_geometry():
 
 
 @pytest.mark.parametrize("changes, expected", [
-    ({"strength": 1.5}, "<variation>: strength 1.5 must be from 0 to 1"),
-    ({"strength": -0.1}, "<variation>: strength -0.1 must be from 0 to 1"),
-    ({"scale_m": 0.0}, "<variation>: scale-m 0.0 must be > 0 m"),
-    ({"octaves": 0}, "<variation>: octaves 0 must be a whole number from 1 to 8"),
+    ({"strength": 1.5}, "<variation>: strength = 1.5 must be from 0 to 1"),
+    ({"strength": -0.1}, "<variation>: strength = -0.1 must be from 0 to 1"),
+    ({"scale_m": 0.0}, "<variation>: scale-m = 0.0 must be greater than 0 and at most 1e+06 m"),
+    ({"octaves": 0}, "<variation>: octaves = 0 must be from 1 to 8"),
 ])
 def test_texture_variation_ranges(changes, expected):
     p = survey()

@@ -25,5 +25,5 @@ def test_strength_sets_removes_and_adds_the_variation():
         40.0, 0.3)
     assert semantic_problems(on) == []
     # a level outside 0..1 is refused by the project's own validation
-    assert any("strength 1.5 must be from 0 to 1" in p.message
+    assert any("strength = 1.5 must be from 0 to 1" in p.message
                for p in semantic_problems(f.set(example, 1.5)))

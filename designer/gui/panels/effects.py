@@ -11,55 +11,45 @@ from PySide6.QtWidgets import QCheckBox, QDoubleSpinBox, QGroupBox
 
 from designer.gui import edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import dspin, form, ispin, model_getter, readout
+from designer.gui.widgets import declared_field, form, model_getter, readout
+from designer.project import declare
 from designer.project import model as m
 
 
-def _cos4() -> QCheckBox:
-    return QCheckBox("natural cos⁴ fall-off of the lens")
-
-
 def _object_distance() -> QDoubleSpinBox:
-    box = dspin(0, 1e6, 2, 1, "m")
+    box = declared_field(m.Defocus, "object_distance_m")
+    box.setMinimum(0.0)  # 0 shows the special text: each image's own distance
     box.setSpecialValueText("each image's distance to the ground")
     return box
 
 
-#: effect name → (title, default value, [(label, field, widget factory)]); a field given
-#: as (field, to_widget, to_model) converts between the model value and the widget's
+def _widget(cls: type, d: declare.Declared):
+    if d.base is bool:
+        return lambda: QCheckBox(d.label)
+    if cls is m.Defocus and d.name == "object_distance_m":
+        return _object_distance
+    return lambda: declared_field(cls, d.name)
+
+
+def _fields(cls: type) -> list:
+    """[(label, field, widget factory)] of an effect's declared attributes; a field given
+    as (field, to_widget, to_model) converts between the model value and the widget's."""
+    out = []
+    for d in declare.declared(cls):
+        field = d.name
+        if d.optional and d.base is float:  # none shows as 0, the field's special text
+            field = (d.name, lambda v: 0.0 if v is None else v,
+                     lambda v: None if v == 0 else v)
+        out.append(("" if d.base is bool else d.label, field, _widget(cls, d)))
+    return out
+
+
+#: effect name → (title, default value when switched on, [(label, field, widget)]), all
+#: from the effects' declarations (designer.project.declare), in the model's order
 EFFECTS = {
-    "vignetting": ("vignetting", m.Vignetting(0.2), [
-        ("corner fall-off (ρ²)", "corner_falloff", lambda: dspin(0, 1, 3, 0.05)),
-        ("ρ⁴ term", "rho4", lambda: dspin(-1, 1, 3, 0.05)),
-        ("ρ⁶ term", "rho6", lambda: dspin(-1, 1, 3, 0.05)),
-        ("", "natural_cos4", _cos4)]),
-    "defocus": ("defocus (thin lens)", m.Defocus(2.8, 50.0), [
-        ("f-number", "f_number", lambda: dspin(0.5, 64, 2, 0.5)),
-        ("focused at", "focus_distance_m", lambda: dspin(0.1, 1e6, 2, 1, "m")),
-        ("object distance", ("object_distance_m", lambda v: 0.0 if v is None else v,
-                             lambda v: None if v == 0 else v), _object_distance)]),
-    "sensor": ("sensor (photon shot noise, dark current, read noise, ADC)",
-               m.Sensor(full_well_e=20000.0, read_noise_e=3.0), [
-        ("full well", "full_well_e", lambda: dspin(1, 1e7, 0, 1000, "e⁻")),
-        ("read noise", "read_noise_e", lambda: dspin(0, 1e4, 2, 0.5, "e⁻")),
-        ("dark current", "dark_current_e_per_s", lambda: dspin(0, 1e6, 2, 0.5, "e⁻/s")),
-        ("exposure time (shutter)", "exposure_time_s", lambda: dspin(0, 60, 5, 0.0005, "s")),
-        ("ADC", "adc_bits", lambda: ispin(1, 16, "bits")),
-        ("white at", "exposure_scale", lambda: dspin(0, 100, 3, 0.05, "× full well")),
-        ("seed", "seed", lambda: ispin(0, 2**31 - 1))]),
-    "sensor_noise": ("sensor noise (Gaussian, in DN)", m.SensorNoise(1.5, 0), [
-        ("σ", "sigma_dn", lambda: dspin(0, 100, 2, 0.5, "DN")),
-        ("seed", "seed", lambda: ispin(0, 2**31 - 1))]),
-    "blur": ("optical blur (Gaussian)", m.Blur(0.5), [
-        ("σ", "sigma_px", lambda: dspin(0, 50, 3, 0.1, "px"))]),
-    "motion_blur": ("motion blur", m.MotionBlur(0.001, 8.0), [
-        ("exposure time (shutter)", "exposure_time_s", lambda: dspin(0, 1, 5, 0.0005, "s")),
-        ("ground speed", "speed_m_s", lambda: dspin(0, 100, 2, 1, "m/s"))]),
-    "jpeg": ("JPEG compression", m.Jpeg(92), [
-        ("quality", "quality", lambda: ispin(1, 100))]),
-}
-# every effect shown is a field of the model (one it does not show is left as it is)
-assert set(EFFECTS) <= {f.name for f in dataclasses.fields(m.Effects)}
+    f.name: (declare.element_of(cls).title, declare.switched_on(cls), _fields(cls))
+    for f in dataclasses.fields(m.Effects)
+    for cls in [declare.field_class(m.Effects, f.name)]}
 
 
 def _same(value):

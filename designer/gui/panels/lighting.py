@@ -12,14 +12,15 @@ from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 from designer.errors import DesignerError
 from designer.gui import derived, edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, declared_field, dspin, form, readout
 from designer.project import model as m
+from designer.project.declare import declared_field as declared
+from designer.project.declare import switched_on
 
 SUN = "scene.lighting.sun"
 CLOUDS = "scene.lighting.clouds"
 #: the cloud shadows a project gets when they are switched on in the panel
-DEFAULT_CLOUDS = m.CloudShadows(cover=0.3, size_m=40.0, softness_m=5.0, depth=0.6,
-                                wind_speed_m_s=5.0, wind_direction_deg=90.0, seed=0)
+DEFAULT_CLOUDS = switched_on(m.CloudShadows)
 #: a moment and place to start from when the sun is switched to "computed"
 DEFAULT_SUN_POSITION = m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54)
 _KIND = {m.Sun: "direction", m.SunPosition: "position", m.SunOverTime: "over-time"}
@@ -80,16 +81,12 @@ class LightingPanel(Panel):
         self.cloudy = QCheckBox("drifting cloud shadows")
         self.cloudy.toggled.connect(self._clouds_toggled)
         f.addRow(self.cloudy)
-        for label, name, widget, undo in (
-                ("cover", "cover", dspin(0, 1, 3, 0.05), "Cloud cover"),
-                ("cloud size", "size_m", dspin(0.1, 100000, 1, 5, "m"), "Cloud size"),
-                ("edge softness", "softness_m", dspin(0, 10000, 2, 1, "m"), "Cloud edge softness"),
-                ("shadow depth", "depth", dspin(0, 1, 3, 0.05), "Cloud shadow depth"),
-                ("wind speed", "wind_speed_m_s", dspin(0, 100, 2, 0.5, "m/s"), "Wind speed"),
-                ("wind towards", "wind_direction_deg", dspin(0, 359.9, 1, 5, "°"),
-                 "Wind direction"),
-                ("seed", "seed", ispin(0, 2**31 - 1), "Cloud seed")):
-            f.addRow(label, self.bindings.bind(widget, f"{CLOUDS}.{name}", undo))
+        for name, undo in (("cover", "Cloud cover"), ("size_m", "Cloud size"),
+                           ("softness_m", "Cloud edge softness"), ("depth", "Cloud shadow depth"),
+                           ("wind_speed_m_s", "Wind speed"),
+                           ("wind_direction_deg", "Wind direction"), ("seed", "Cloud seed")):
+            f.addRow(declared(m.CloudShadows, name).label, self.bindings.bind(
+                declared_field(m.CloudShadows, name), f"{CLOUDS}.{name}", undo))
         self.clouds_note = QLabel()
         self.clouds_note.setWordWrap(True)
         f.addRow(self.clouds_note)

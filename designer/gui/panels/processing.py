@@ -15,7 +15,7 @@ from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 
 from designer.gui import edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readout
+from designer.gui.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
 from designer.project import model as m
 from designer.project.processing import POSITION_PRIOR_SIGMAS_M
 
@@ -78,20 +78,19 @@ class ProcessingPanel(Panel):
             PRE, m.PreCalibrationError(focal_px=5.0, principal_point_px=2.0) if on else None,
             "pre-calibration error"))
         f.addRow(self.pre)
-        for label, name, box in (
-                ("focal length", "focal_px", dspin(0, 1e6, 2, 1, "px")),
-                ("principal point", "principal_point_px", dspin(0, 1e6, 2, 0.5, "px")),
-                ("k1", "k1", dspin(0, 10, 5, 0.001)), ("k2", "k2", dspin(0, 10, 5, 0.001)),
-                ("k3", "k3", dspin(0, 10, 5, 0.001)), ("p1", "p1", dspin(0, 10, 5, 0.0001)),
-                ("p2", "p2", dspin(0, 10, 5, 0.0001)), ("seed", "seed", _seed())):
+        for label, name in (("focal length", "focal_px"),
+                            ("principal point", "principal_point_px"), ("k1", "k1"),
+                            ("k2", "k2"), ("k3", "k3"), ("p1", "p1"), ("p2", "p2"),
+                            ("seed", "seed")):
             f.addRow(f"σ {label}" if name != "seed" else label,
-                     b.bind(box, f"{PRE}.{name}", f"Pre-calibration error {label}"))
+                     b.bind(declared_field(m.PreCalibrationError, name), f"{PRE}.{name}",
+                            f"Pre-calibration error {label}"))
         layout.addWidget(cal)
 
         gcp = QGroupBox("ground control")
         f = form(gcp)
         f.addRow("GCPs", b.bind(combo(GCP_MODES), f"{GCP}.mode", "GCP use"))
-        f.addRow("marking error σ", b.bind(dspin(0, 50, 2, 0.1, "px"),
+        f.addRow("marking error σ", b.bind(declared_field(m.GcpProcessing, "marking_sigma_px"),
                                            f"{GCP}.marking_sigma_px", "GCP marking error σ"))
         f.addRow("seed", b.bind(_seed(), f"{GCP}.seed", "GCP marking seed"))
         self.subset = QCheckBox("a subset of the targets as control, the rest check")
