@@ -6,6 +6,13 @@ runner, the cluster runner and the pipeline — always through :class:`RenderJob
 fields carry the only defaults. Everything in it is local (world − ``origin_world``):
 Blender stores float32. No bpy and no numpy here, so the worker and every reader load
 the same small module.
+
+The job is self-contained: with the scene files beside it, it is all a worker reads —
+the camera effects too (the project's effects model and each camera's interior
+orientation, :class:`EffectsSpec`). It is written and read by the generic codec
+(:mod:`designer.core.codec`) over these dataclasses' type hints, so a new part needs no
+code here, and reading refuses a field no part has, naming its place. Reading a job
+with camera effects imports their types (the interior orientation brings numpy).
 """
 
 from __future__ import annotations
