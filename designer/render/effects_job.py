@@ -18,23 +18,20 @@ from designer.render.job_spec import FrameSpec, RenderJob
 def load_effects(job: RenderJob, base: Path) -> dict:
     """The camera-effects chain of each camera: {camera id: chain} for a multi-camera rig
     (cameras whose images are final as rendered are absent), {None: chain} for one camera;
-    {} when every image is final as rendered."""
+    {} when every image is final as rendered. Built from the job alone (its effects model,
+    each camera's interior and the warp files beside it in ``base``)."""
     spec = job.effects
     if spec is None:
         return {}
     from designer.effects.distortion_render import DistortionWarp
     from designer.effects.from_model import effects_from_model
-    from designer.project import read_project
-    from designer.project.interiors import render_interior
 
-    project = read_project(base / spec.project)
-    warps = {None: spec.warp} if spec.camera_warps is None else spec.camera_warps
     chains = {}
-    for key, warp_file in warps.items():
-        interior = render_interior(project.camera(spec.camera_id if key is None else key),
-                                   spec.resolution_scale)
-        warp = DistortionWarp.load(base / warp_file, interior) if warp_file else None
-        chains[key] = effects_from_model(project.effects, interior, warp=warp)
+    for camera_id, camera in spec.cameras.items():
+        interior = camera.interior
+        warp = DistortionWarp.load(base / camera.warp, interior) if camera.warp else None
+        chains[camera_id if spec.rig else None] = effects_from_model(spec.model, interior,
+                                                                     warp=warp)
     return chains
 
 

@@ -23,7 +23,6 @@ from designer.effects.from_model import effects_from_model
 from designer.effects.motion import flight_direction_uv
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project import write_project
 from designer.project.interiors import render_interior
 from designer.render.blender_camera import blender_camera, blender_matrix_world
 from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the job's face)
@@ -37,6 +36,7 @@ from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the jo
 from designer.render.job_spec import (
     TEXTURE_UV_MAP,
     AdaptiveSampling,
+    CameraEffectsSpec,
     EffectsSpec,
     FrameSpec,
     MaterialSpec,
@@ -148,18 +148,16 @@ def prepare_job(
     with_effects = [c for c, i in interiors.items()
                     if not effects_from_model(project.effects, i, warp=rendered[c][1]).is_empty]
     if with_effects:
-        write_project(project, job_dir / "project.xml")
-        warps: dict[str, str | None] = {}
+        # everything the worker needs to build each chain: the project's effects model,
+        # each camera's interior as rendered and its distortion warp (cached beside the job)
+        parts: dict[str, CameraEffectsSpec] = {}
         for c in with_effects:
-            w = rendered[c][1]
-            warps[c] = None
+            w, warp_file = rendered[c][1], None
             if w is not None:
-                warps[c] = "distortion_warp.npz" if not multi else f"distortion_warp_{c}.npz"
-                w.save(job_dir / warps[c])
-        effects = EffectsSpec(project="project.xml", camera_id=camera_id,
-                              resolution_scale=project.render.resolution_scale,
-                              warp=warps.get(camera_id),
-                              camera_warps=warps if multi else None)
+                warp_file = "distortion_warp.npz" if not multi else f"distortion_warp_{c}.npz"
+                w.save(job_dir / warp_file)
+            parts[c] = CameraEffectsSpec(interior=interiors[c], warp=warp_file)
+        effects = EffectsSpec(model=project.effects, cameras=parts, rig=multi)
 
     write_png(job_dir / "texture.png", cv2.cvtColor(scene.texture_rgb, cv2.COLOR_RGB2BGR))
     terrain_material = MaterialSpec(texture="texture.png",

@@ -6,16 +6,30 @@ runner, the cluster runner and the pipeline — always through :class:`RenderJob
 fields carry the only defaults. Everything in it is local (world − ``origin_world``):
 Blender stores float32. No bpy and no numpy here, so the worker and every reader load
 the same small module.
+
+The job is self-contained: with the scene files beside it, it is all a worker reads —
+the camera effects too (the project's effects model and each camera's interior
+orientation, :class:`EffectsSpec`). It is written and read by the generic codec
+(:mod:`designer.core.codec`) over these dataclasses' type hints, so a new part needs no
+code here, and reading refuses a field no part has, naming its place. Reading a job
+with camera effects imports their types (the interior orientation brings numpy).
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass, field, fields
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from designer.atomic import write_text_atomic
+from designer.core.codec import CodecError, from_data, reachable_dataclasses, to_data
 from designer.errors import DesignerError
+
+if TYPE_CHECKING:  # loaded when a job with camera effects is read (_TYPES)
+    from designer.core.interior import InteriorOrientation
+    from designer.project.model import Effects
 
 #: Blender's image formats the worker writes: job name → (Blender format, file extension)
 IMAGE_FORMATS = {"png": ("PNG", ".png"), "tiff": ("TIFF", ".tif")}
@@ -166,18 +180,30 @@ class WindSpec:
 
 
 @dataclass(frozen=True)
-class EffectsSpec:
-    """Where the worker finds the camera-effects chain: the project copy beside job.json,
-    the camera, the render scale and the cached distortion warp (if any)."""
+class CameraEffectsSpec:
+    """One camera's part of the camera effects: its interior orientation as rendered
+    (:class:`~designer.core.interior.InteriorOrientation`, with its lens distortion) and
+    its cached distortion warp, a file beside job.json (None: no distortion)."""
 
-    project: str
-    camera_id: str
-    resolution_scale: float
+    interior: InteriorOrientation
     warp: str | None = None
-    #: a multi-camera rig: camera id → its warp file (None: no distortion) for every
-    #: camera whose images have effects; frames name their camera (FrameSpec.camera_id).
-    #: None: one camera, ``camera_id`` and ``warp``
-    camera_warps: dict[str, str | None] | None = None
+
+
+@dataclass(frozen=True)
+class EffectsSpec:
+    """The camera effects: all the worker needs to build each camera's effect chain
+    (:func:`designer.effects.from_model.effects_from_model`) — the project's effects model
+    (None: distortion only) and each camera's interior and warp.
+
+    ``cameras``: camera id → its part, for every camera whose images have effects. One
+    camera (``rig`` False): its single entry is every frame's. A multi-camera rig
+    (``rig`` True): frames name their camera (:attr:`FrameSpec.camera_id`), and a camera
+    absent here has images final as rendered.
+    """
+
+    model: Effects | None
+    cameras: dict[str, CameraEffectsSpec]
+    rig: bool = False
 
 
 @dataclass(frozen=True)
@@ -291,14 +317,11 @@ class RenderJob:
         object.__setattr__(self, "_frames_by_index", {f.index: f for f in self.frames})
 
     def to_json(self) -> str:
-        data = asdict(self)
-        del data["image_names"], data["_frames_by_index"]
+        data = to_data(self, RenderJob, _TYPES)
         for frame in data["frames"]:
             for key in OPTIONAL_FRAME_FIELDS:
                 if frame[key] is None:
                     del frame[key]
-        if data["effects"] is not None and data["effects"]["camera_warps"] is None:
-            del data["effects"]["camera_warps"]
         return json.dumps(data, indent=1)
 
     def frame_size_px(self, index: int) -> tuple[int, int]:
@@ -318,35 +341,20 @@ class RenderJob:
 
     @classmethod
     def from_json(cls, text: str, source: str = "job.json") -> RenderJob:
+        """The job ``text`` describes. Every part is read by its type hints
+        (:mod:`designer.core.codec`): a field no part has, a missing one or a value of the
+        wrong kind is a JobError naming the file and the place (``frames[3].foo``)."""
         try:
-            data = json.loads(text)
-            return cls(
-                output_dir=data["output_dir"],
-                render=_render(data["render"]),
-                camera=CameraSpec(**data["camera"]),
-                objects=tuple(_mesh(o) for o in data["objects"]),
-                light_steps=tuple(LightStep(float(s["sun_azimuth_deg"]),
-                                            float(s["sun_elevation_deg"]),
-                                            tuple(_mesh(o) for o in s["objects"]))
-                                  for s in data.get("light_steps", ())),
-                image_metadata=data.get("image_metadata", "none"),
-                moving_objects=tuple(_mesh(o) for o in data.get("moving_objects", ())),
-                vegetation=tuple(PlantSetSpec(v["name"], v["template"], v["instances"],
-                                              tuple(_material(m) for m in v["materials"]))
-                                 for v in data.get("vegetation", ())),
-                wind=WindSpec(**data["wind"]) if data.get("wind") else None,
-                frames=tuple(_frame(f) for f in data["frames"]),
-                width_px=int(data["width_px"]),
-                height_px=int(data["height_px"]),
-                **{k: _tuple(data[k]) for k in ("origin_world", "background_rgb") if k in data},
-                effects=_effects(data["effects"]) if data.get("effects") else None,
-                **{k: data[k] for k in ("designer_version", "project") if k in data},
-            )
-        except JobError as error:
+            return from_data(cls, json.loads(text), "", _TYPES)
+        except CodecError as error:
+            raise JobError(f"{source}: {error.place}: {error.problem}; not a render job of "
+                           "this designer version — prepare it again with 'designer render'"
+                           ) from error
+        except DesignerError as error:
             raise JobError(f"{source}: {error}") from error
-        except (ValueError, KeyError, TypeError) as error:
-            raise JobError(f"{source}: not a render job of this designer version ({error!r}); "
-                           "prepare it again with 'designer render'") from error
+        except ValueError as error:  # not JSON
+            raise JobError(f"{source}: not a render job ({error}); prepare it again with "
+                           "'designer render'") from error
 
     def write(self, path: Path) -> Path:
         write_text_atomic(Path(path), self.to_json())
@@ -362,39 +370,32 @@ class RenderJob:
         return cls.from_json(text, str(path))
 
 
-def _tuple(value):
-    return tuple(_tuple(v) for v in value) if isinstance(value, list) else value
+#: the names imported only for type checking → their modules
+_TYPE_MODULES = {"InteriorOrientation": "designer.core.interior",
+                 "Effects": "designer.project.model"}
 
 
-def _known(cls, data: dict) -> dict:
-    names = {f.name for f in fields(cls)}
-    unknown = set(data) - names
-    if unknown:
-        raise TypeError(f"unknown {cls.__name__} fields {sorted(unknown)}")
-    return {k: _tuple(v) for k, v in data.items()}
+class _LazyTypes(Mapping):
+    """The names this module imports only for type checking, imported when a type hint
+    needs them (reading a job's camera effects), so importing it stays light."""
+
+    def __getitem__(self, name: str):
+        if name not in _TYPE_MODULES:
+            raise KeyError(name)
+        import importlib
+
+        return getattr(importlib.import_module(_TYPE_MODULES[name]), name)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(_TYPE_MODULES)
+
+    def __len__(self) -> int:
+        return len(_TYPE_MODULES)
 
 
-def _render(data: dict) -> RenderSpec:
-    data = _known(RenderSpec, data)
-    adaptive = data.pop("adaptive_sampling", None)
-    return RenderSpec(**data, adaptive_sampling=AdaptiveSampling(**adaptive) if adaptive else None)
+_TYPES = _LazyTypes()
 
 
-def _material(data: dict) -> MaterialSpec:
-    return MaterialSpec(**_known(MaterialSpec, data))
-
-
-def _mesh(data: dict) -> MeshSpec:
-    return MeshSpec(data["name"], data["mesh"], tuple(_material(m) for m in data["materials"]))
-
-
-def _effects(data: dict) -> EffectsSpec:
-    data = dict(data)
-    warps = data.pop("camera_warps", None)
-    return EffectsSpec(**data, camera_warps=dict(warps) if warps is not None else None)
-
-
-def _frame(data: dict) -> FrameSpec:
-    data = _known(FrameSpec, data)
-    camera = data.pop("camera", None)
-    return FrameSpec(**data, camera=CameraSpec(**camera) if camera else None)
+def job_dataclasses() -> list[type]:
+    """Every dataclass a render job may hold, RenderJob first (what job.json is made of)."""
+    return reachable_dataclasses(RenderJob, _TYPES)

@@ -14,7 +14,8 @@ part          what goes in                                                      
               buildings (mesh, textures, light), sky; with a sun over time    per image
               the frame's own light step (its sun)
 ``targets``   GCP target materials; target geometry inside the frame's view    per image
-``effects``   the camera-effects model, camera id, scale, distortion warp      all
+``effects``   the camera-effects model, the camera's interior as rendered,     all /
+              its distortion warp                                              per camera
 ``pose``      the frame's index, name, camera matrix (+ effect context, time)  per image
 ============  ===============================================================  =========
 
@@ -135,20 +136,15 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
     common["scene"] = _digest(background, *scene_chunks)
     # a sun over time: each light step is the scene (and target lighting) of its frames
     steps = [_objects_chunks(step.objects, job_dir) for step in job.light_steps]
-    effects = "none"
-    if job.effects is not None:
-        from designer.project import read_project
-
+    effects, camera_effects = "none", {}
+    if job.effects is not None:  # each camera's effects: the model, its interior, its warp
         spec = job.effects
-        project = read_project(job_dir / spec.project)
-        effects = _digest(repr(project.effects), repr(project.camera(spec.camera_id)),
-                          repr(spec.resolution_scale),
-                          _file_digest(job_dir / spec.warp) if spec.warp else "no warp")
-        if spec.camera_warps is not None:  # a rig: each camera's own effects
-            rig_effects = {c: _digest(repr(project.effects), repr(project.camera(c)),
-                                      repr(spec.resolution_scale),
-                                      _file_digest(job_dir / w) if w else "no warp")
-                           for c, w in spec.camera_warps.items()}
+        camera_effects = {c: _digest(repr(spec.model), repr(part.interior),
+                                     _file_digest(job_dir / part.warp) if part.warp
+                                     else "no warp")
+                          for c, part in spec.cameras.items()}
+        if not spec.rig:
+            effects = next(iter(camera_effects.values()))
     common["effects"] = effects
     out = {}
     for frame in job.frames:
@@ -163,8 +159,8 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         if frame.camera is not None:  # a rig: each frame's own camera
             parts["camera"] = _digest(_canonical([asdict(frame.camera),
                                                   list(job.frame_size(frame))]))
-            if job.effects is not None and job.effects.camera_warps is not None:
-                parts["effects"] = rig_effects.get(frame.camera_id, "none")
+        if job.effects is not None and job.effects.rig:  # a rig: its camera's effects
+            parts["effects"] = camera_effects.get(frame.camera_id, "none")
         pose = asdict(frame)
         for key in OPTIONAL_FRAME_FIELDS:
             pose.pop(key)

@@ -12,6 +12,7 @@ from designer.project import load_project
 from designer.project import model as m
 from designer.render.job import prepare_job
 from designer.render.job_spec import RenderJob
+from designer.survey.project_poses import render_interior
 from tests.synthetic import small_survey, write_project_file
 
 
@@ -25,7 +26,15 @@ def test_distortion_oversample_renders_finer(tmp_path, oversample):
     prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
     job = RenderJob.read(prepared.job_path)
     assert job == prepared.job
-    warp = DistortionWarp.load(prepared.job_path.parent / job.effects.warp)
+    # the job carries the effects model and the camera as rendered: the worker builds the
+    # chain from it alone (no project file beside the job)
+    loaded = load_project(path)
+    assert job.effects.model == loaded.effects
+    assert job.effects.cameras["cam"].interior == render_interior(
+        loaded.camera("cam"), loaded.render.resolution_scale)
+    assert not job.effects.rig
+    assert not (prepared.job_path.parent / "project.xml").exists()
+    warp = DistortionWarp.load(prepared.job_path.parent / job.effects.cameras["cam"].warp)
     assert warp.oversample == oversample
     assert warp.output_size_px == (640, 480)
     # the pinhole render covers the distorted field at oversample × the output's pixels

@@ -298,7 +298,7 @@ def test_a_rig_with_lens_distortion_and_effects_warps_each_camera_by_its_own_len
     summary = render_project(write_project_file(project, tmp_path), tmp_path / "out",
                              workers=1)
     job = RenderJob.read(summary.prepared.job_path)
-    assert sorted(c for c, w in job.effects.camera_warps.items() if w) == sorted(distorted)
+    assert sorted(c for c, w in job.effects.cameras.items() if w.warp) == sorted(distorted)
     _, by_camera = _observations_by_camera(summary)
     rec = pycolmap.Reconstruction(str(summary.ground_truth["colmap"]))
     offset = model_offset_world(summary.ground_truth["colmap"])
