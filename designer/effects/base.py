@@ -75,6 +75,10 @@ class Effect:
 
     kind: ClassVar[str] = ""
     domain: ClassVar[Domain] = "linear"
+    #: an effect whose kind is not in EFFECT_ORDER runs right after this kind, in this
+    #: stage (so a new effect is declared in its own module alone)
+    runs_after: ClassVar[str] = ""
+    stage_name: ClassVar[str] = ""
 
     @property
     def is_identity(self) -> bool:
@@ -82,12 +86,14 @@ class Effect:
         return False
 
     @property
-    def rank(self) -> int:
-        return EFFECT_ORDER.index(self.kind)
+    def rank(self) -> float:
+        if self.kind in EFFECT_ORDER:
+            return EFFECT_ORDER.index(self.kind)
+        return EFFECT_ORDER.index(self.runs_after) + 0.5
 
     @property
     def stage(self) -> str:
-        return STAGE_OF[self.kind]
+        return STAGE_OF.get(self.kind) or self.stage_name
 
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext) -> np.ndarray:
         raise NotImplementedError
