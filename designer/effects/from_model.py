@@ -63,6 +63,12 @@ def effects_from_model(
                                  dark_current_e_per_s=s.dark_current_e_per_s,
                                  exposure_time_s=s.exposure_time_s, adc_bits=s.adc_bits,
                                  shot_noise=True, seed=s.seed))
+    if effects.exposure_variation is not None:
+        from designer.effects.exposure import ExposureWhiteBalance
+
+        x = effects.exposure_variation
+        chain.append(ExposureWhiteBalance(x.exposure_sigma_ev, x.white_balance_sigma_k,
+                                          x.reference_k, x.seed))
     if effects.jpeg is not None:
         chain.append(JpegCompression(effects.jpeg.quality))
     return EffectChain(chain)

@@ -771,6 +771,29 @@ class Jpeg:
                         factor="jpeg-quality")
 
 
+@element("exposure-variation", title="auto exposure and white balance (per image)",
+         path="effects.exposure_variation")
+@dataclass(frozen=True)
+class ExposureVariation:
+    """A drone camera's auto exposure and auto white balance, drawn anew for each image:
+    the image's brightness is scaled by 2^e, e ~ N(0, ``exposure_sigma_ev``²) stops, and
+    its colour balanced for a colour temperature T ~ N(``reference_k``,
+    ``white_balance_sigma_k``²) K while the light is ``reference_k``: each channel is
+    multiplied by the ratio of black-body radiance at its wavelength (R 600, G 540,
+    B 460 nm) for T and for the reference, green kept (designer.effects.exposure)."""
+
+    exposure_sigma_ev: float = attr(0.15, doc="σ of the per-image exposure error",
+                                    unit="EV", range=(0, 2), factor="exposure-sigma-ev",
+                                    label="exposure σ", decimals=3, step=0.05)
+    white_balance_sigma_k: float = attr(150.0, doc="σ of the per-image white-balance "
+                                        "colour temperature", unit="K", range=(0, 3000),
+                                        factor="white-balance-sigma-k",
+                                        label="white balance σ", decimals=0, step=50)
+    reference_k: float = attr(5500.0, doc="colour temperature of the light", unit="K",
+                              range=(2000, 12000), label="light at", decimals=0, step=100)
+    seed: int = attr(0, doc="the draws' random seed", range=(0, None))
+
+
 @dataclass(frozen=True)
 class Effects:
     """Image effects, each ``None`` when off. Distortion comes from the camera."""
@@ -782,6 +805,7 @@ class Effects:
     motion_blur: MotionBlur | None = None
     jpeg: Jpeg | None = None
     defocus: Defocus | None = None
+    exposure_variation: ExposureVariation | None = None
 
 
 @dataclass(frozen=True)
