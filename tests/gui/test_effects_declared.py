@@ -10,6 +10,7 @@ def test_the_effects_panel_has_its_group_and_fields(qtbot):
     from designer.gui.panels.effects import EFFECTS
 
     title, default, fields = EFFECTS["exposure_variation"]
+    assert title.startswith("auto exposure and white balance")
     assert default == m.ExposureVariation()
     assert [f[1] for f in fields] == ["exposure_sigma_ev", "white_balance_sigma_k",
                                       "reference_k", "seed"]
