@@ -69,7 +69,7 @@ class ControlSelection:
 
     ids: tuple[str, ...] = ()
     count: int | None = attr(None, doc="number of GCPs used as control (the others are check "
-                             "points)",
+                             "points)", range=(1, 10000),
                              label="count")
     spread: Literal["even", "random"] = attr("even", doc="how control-count GCPs are chosen "
                                              "(even: spread over the area)",

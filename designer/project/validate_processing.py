@@ -50,7 +50,7 @@ def _gcp_issues(project: m.Project, g: m.GcpProcessing) -> list[Issue]:
     if len(set(c.ids)) != len(c.ids):
         out.append(Issue(c, "control", "a target id is listed twice; list each once",
                          attr="ids"))
-    if c.count is not None and not 1 <= c.count <= len(ids):
+    if c.count is not None and len(ids) < c.count <= 10000:  # below 1: the declared range
         out.append(Issue(c, "control", f"count = {c.count} but the scene has {len(ids)} "
                                        f"targets; choose 1 to {len(ids)}", attr="count"))
     n = len(c.ids) if c.ids else (c.count or 0)

@@ -1,0 +1,129 @@
+"""The declarations (designer.project.declare) against what is derived from them or
+stated beside them: the XSD agrees with every declared element's attributes, ranges and
+requiredness; docs/attributes.md is current; every factor is defined once."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import pytest
+from lxml import etree
+
+from designer.project import model as m
+from designer.project.attributes import attribute_tables
+from designer.project.declare import declared, declared_elements, element_of
+from designer.project.schema import schema_path
+
+ROOT = Path(__file__).resolve().parents[2]
+XS = "{http://www.w3.org/2001/XMLSchema}"
+ELEMENTS = declared_elements(m.Project)
+
+
+def _attributes(decl: etree._Element, doc: etree._ElementTree) -> dict[str, etree._Element]:
+    """name → xs:attribute of an xs:element (inline type, named type, attribute groups)."""
+    ctype = decl.find(f"{XS}complexType")
+    if ctype is None and decl.get("type"):
+        name = decl.get("type").split(":")[-1]
+        ctype = doc.getroot().find(f"{XS}complexType[@name='{name}']")
+    if ctype is None:
+        return {}
+    out = {}
+    own = [a for a in ctype.iter(f"{XS}attribute", f"{XS}attributeGroup")
+           if not any(p.tag == f"{XS}element" for p in _between(a, ctype))]
+    for a in own:
+        if a.tag == f"{XS}attribute":
+            out[a.get("name")] = a
+    for g in (a for a in own if a.tag == f"{XS}attributeGroup"):
+        group = doc.getroot().find(f"{XS}attributeGroup[@name='{g.get('ref').split(':')[-1]}']")
+        out.update({a.get("name"): a for a in group.iter(f"{XS}attribute")})
+    return out
+
+
+def _between(node: etree._Element, top: etree._Element) -> list[etree._Element]:
+    """The ancestors of ``node`` below ``top``."""
+    out = []
+    parent = node.getparent()
+    while parent is not None and parent is not top:
+        out.append(parent)
+        parent = parent.getparent()
+    return out
+
+
+def _facet(a: etree._Element, name: str) -> float | None:
+    f = a.find(f".//{XS}{name}")
+    return None if f is None else float(f.get("value"))
+
+
+def schema_disagreements(cls: type, doc: etree._ElementTree) -> list[str]:
+    """What the XSD says differently of ``cls`` than its declaration (empty: agree)."""
+    el = element_of(cls)
+    undeclared = {f.name.replace("_", "-") for f in dataclasses.fields(cls)} - {
+        d.name.replace("_", "-") for d in declared(cls)}
+    best = None
+    for decl in doc.iter(f"{XS}element"):
+        if decl.get("name") != el.tag:
+            continue
+        attrs = {k: v for k, v in _attributes(decl, doc).items() if k not in undeclared}
+        problems = []
+        if set(attrs) != {d.xml for d in declared(cls)}:
+            problems.append(f"<{el.tag}> attributes: XSD {sorted(attrs)}, declared "
+                            f"{sorted(d.xml for d in declared(cls))}")
+        else:
+            for d in declared(cls):
+                a = attrs[d.xml]
+                if d.required and a.get("use") != "required":
+                    problems.append(f"<{el.tag}> {d.xml}: declared required, XSD optional")
+                for facet, bound, open_ in (("minInclusive", d.attr.low, False),
+                                            ("minExclusive", d.attr.low, True),
+                                            ("maxInclusive", d.attr.high, False),
+                                            ("maxExclusive", d.attr.high, True)):
+                    value = _facet(a, facet)
+                    is_low = facet.startswith("min")
+                    declared_open = d.attr.low_open if is_low else d.attr.high_open
+                    if value is not None and (value != bound or open_ != declared_open):
+                        problems.append(f"<{el.tag}> {d.xml}: XSD {facet} {value:g}, "
+                                        f"declared {d.range_text()}")
+        if not problems:
+            return []
+        best = problems if best is None or len(problems) < len(best) else best
+    return best if best is not None else [f"<{el.tag}> is not in the XSD"]
+
+
+@pytest.fixture(scope="module")
+def xsd():
+    return etree.parse(str(schema_path()))
+
+
+@pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.__name__)
+def test_the_xsd_agrees_with_the_declaration(cls, xsd):
+    assert schema_disagreements(cls, xsd) == []
+
+
+def test_a_disagreement_is_found(xsd):
+    """The comparison can fail: a changed range, and an attribute the XSD lacks."""
+    from designer.project.declare import attr, element
+
+    Wider = element("cloud-shadows", title="t")(dataclasses.make_dataclass(
+        "Wider", [("cover", float, attr(0.3, doc="d", range=(0, 2))),
+                  ("haze", float, attr(0.0, doc="d"))], frozen=True))
+    found = schema_disagreements(Wider, xsd)
+    assert found and "haze" in found[0]
+    Narrow = element("jpeg", title="t")(dataclasses.make_dataclass(
+        "Narrow", [("quality", int, attr(doc="d", range=(1, 90)))], frozen=True))
+    assert any("maxInclusive 100" in p for p in schema_disagreements(Narrow, xsd))
+
+
+def test_the_attribute_docs_are_current():
+    text = (ROOT / "docs" / "attributes.md").read_text(encoding="utf-8")
+    assert text == attribute_tables(), (
+        "docs/attributes.md is out of date: python -m designer.project.attributes "
+        "> docs/attributes.md")
+
+
+def test_declared_elements_cover_the_world_effects_and_processing():
+    names = {c.__name__ for c in ELEMENTS}
+    assert {"TimeLine", "SunOverTime", "CloudShadows", "Wind", "Mount", "RollingShutter",
+            "TextureVariation", "Vignetting", "Defocus", "SensorNoise", "Sensor", "Blur",
+            "MotionBlur", "Jpeg", "ExposureVariation", "Calibration", "GcpProcessing",
+            "PositionPrior", "Matching"} <= names
