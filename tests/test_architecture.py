@@ -3,7 +3,9 @@
 Static part: every ``import`` of every module (also those inside functions, which load
 lazily) is read from its source; a designer package may import only the packages its row
 of :data:`MAY_IMPORT` names, and the heavy third-party libraries only where
-:data:`THIRD_PARTY_ONLY_IN` allows. Run-time part: importing a package face or a data
+:data:`THIRD_PARTY_ONLY_IN` allows; and no module imports itself through others, inside
+a package or across packages (:func:`test_no_import_cycle_between_modules` states what
+counts as an edge). Run-time part: importing a package face or a data
 type loads none of the heavy modules it must not (:data:`NOT_LOADED_BY`).
 
 The test suite has a rule of its own: no file under tests/ imports a test module
@@ -14,6 +16,7 @@ The test suite has a rule of its own: no file under tests/ imports a test module
 from __future__ import annotations
 
 import ast
+import itertools
 import shutil
 import subprocess
 import sys
@@ -71,7 +74,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
 #: module imported in a fresh interpreter (P.* = every module of package P) → modules that
 #: must not be loaded after it
 NOT_LOADED_BY: dict[str, tuple[str, ...]] = {
-    "designer.core.*": ("bpy", "PySide6", "cv2", "pyvista", "vtk", "scipy", "lxml"),
+    "designer.core.*": ("bpy", "PySide6", "PyQt5", "cv2", "pyvista", "vtk", "scipy", "lxml"),
     "designer.scene.*": ("bpy", "PySide6", "pyvista", "vtk", "rasterio", "plyfile"),
     "designer.export.*": ("bpy", "PySide6", "cv2", "pyvista", "vtk", "scipy", "pycolmap"),
     "designer.effects.*": ("bpy", "PySide6", "pyvista", "vtk", "lxml"),
@@ -85,6 +88,23 @@ NOT_LOADED_BY: dict[str, tuple[str, ...]] = {
     "designer.cli.main": ("numba", "cv2", "lxml", "matplotlib", "bpy", "PySide6", "pycolmap"),
     "designer.render.job_spec": ("numpy", "bpy", "cv2", "lxml"),
     "designer.flight": ("lxml", "pyproj", "pyexiv2", "designer.flight.importer"),
+    # the validations (and the commands running them) plan and check renders; only the
+    # render worker, in Blender, loads bpy
+    "designer.validate.*": ("bpy",),
+    "designer.bench.accuracy": ("bpy",),
+    "designer.cli.validate": ("bpy",),
+}
+
+#: third-party modules made missing (``sys.modules[name] = None``) in a fresh interpreter
+#: with a bare environment → modules that must import all the same: the GUI's Qt-free
+#: half (document, edits, view geometry, files, presets) and the command line, whose
+#: parser must also take a ``gui`` command there
+IMPORT_WITHOUT: dict[tuple[str, ...], tuple[str, ...]] = {
+    ("PySide6", "vtk", "vtkmodules", "pyvista", "pyvistaqt"): (
+        "designer.gui", "designer.gui.document", "designer.gui.edits",
+        "designer.gui.view_geometry", "designer.gui.derived", "designer.gui.files",
+        "designer.gui.camera_presets", "designer.gui.results_data", "designer.gui.xvfb",
+        "designer.gui.reconstruct_job", "designer.cli.gui", "designer.cli.main"),
 }
 
 
@@ -185,6 +205,235 @@ def test_the_contract_catches_a_wrong_import(tmp_path, module, line, fragment):
     assert all(violations(root, m) == [] for m in _modules(root) if m != name)
 
 
+def _is_type_checking(node: ast.AST) -> bool:
+    test = node.test if isinstance(node, ast.If) else None
+    return ((isinstance(test, ast.Name) and test.id == "TYPE_CHECKING")
+            or (isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"))
+
+
+def _run_time_imports(tree: ast.AST):
+    """Every import statement of ``tree``, at any depth, except those under ``if
+    TYPE_CHECKING:`` (never run)."""
+    for node in ast.iter_child_nodes(tree):
+        if isinstance(node, ast.Import | ast.ImportFrom):
+            yield node
+        elif _is_type_checking(node):
+            for child in node.orelse:
+                yield from _run_time_imports(ast.Module(body=[child], type_ignores=[]))
+        else:
+            yield from _run_time_imports(node)
+
+
+def _lazy_table(tree: ast.AST) -> dict[str, str]:
+    """A lazy package face's ``attach(__name__, {name: module, ...})`` table; {} if none."""
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+                and node.func.id == "attach" and len(node.args) == 2
+                and isinstance(node.args[1], ast.Dict)):
+            return {k.value: v.value for k, v in zip(node.args[1].keys, node.args[1].values,
+                                                     strict=True)}
+    return {}
+
+
+def module_graph(root: Path) -> dict[str, dict[str, int]]:
+    """module → {designer module it imports: line of the first such import}, for every
+    module of the package at ``root``; see :func:`test_no_import_cycle_between_modules`
+    for what counts as an edge."""
+    modules = set(_modules(root))
+    trees, packages = {}, set()
+    for module in modules:
+        rel = Path(*module.split(".")[1:])
+        path = root / rel / "__init__.py"
+        if path.is_file():
+            packages.add(module)
+        else:
+            path = root / rel.with_suffix(".py")
+        trees[module] = ast.parse(path.read_text(), str(path))
+    tables = {m: _lazy_table(t) for m, t in trees.items() if m in packages}
+
+    def nearest(name: str) -> str | None:  # the module itself, else its nearest package
+        while name and name not in modules:
+            name = name.rpartition(".")[0]
+        return name or None
+
+    graph: dict[str, dict[str, int]] = {}
+    for module, tree in trees.items():
+        edges = graph[module] = {}
+        here = module if module in packages else module.rpartition(".")[0]
+        for node in _run_time_imports(tree):
+            if isinstance(node, ast.Import):
+                targets = [nearest(a.name) for a in node.names]
+            else:
+                base = node.module or ""
+                if node.level:  # relative: from its package, one level up per extra dot
+                    parent = here.split(".")[:len(here.split(".")) - node.level + 1]
+                    base = ".".join(parent + ([base] if base else []))
+                targets = []
+                for a in node.names:
+                    if f"{base}.{a.name}" in modules:
+                        targets.append(f"{base}.{a.name}")
+                    elif a.name in tables.get(base, {}):
+                        targets.append(nearest(tables[base][a.name]))
+                    else:
+                        targets.append(nearest(base))
+            for target in targets:
+                if target is not None and target != module:
+                    edges.setdefault(target, node.lineno)
+    return graph
+
+
+def import_cycles(graph: dict[str, dict[str, int]]) -> list[list[str]]:
+    """One cycle per strongly connected group of modules, as [a, b, ..., a] (shortest
+    from the group's first module), the groups sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    groups = []
+    for start in sorted(graph):  # Tarjan's algorithm, without recursion
+        if start in index:
+            continue
+        work = [(start, iter(sorted(graph[start])))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        while work:
+            node, children = work[-1]
+            child = next(children, None)
+            if child is None:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
+                if low[node] == index[node]:
+                    group = []
+                    while not group or group[-1] != node:
+                        group.append(stack.pop())
+                    if len(group) > 1:
+                        groups.append(sorted(group))
+            elif child not in graph:
+                continue
+            elif child not in index:
+                index[child] = low[child] = len(index)
+                stack.append(child)
+                work.append((child, iter(sorted(graph[child]))))
+            elif child in stack:
+                low[node] = min(low[node], index[child])
+    return [_shortest_cycle(graph, group) for group in sorted(groups)]
+
+
+def _shortest_cycle(graph: dict[str, dict[str, int]], group: list[str]) -> list[str]:
+    """The shortest cycle from ``group[0]`` back to it within ``group`` (breadth first)."""
+    first, members = group[0], set(group)
+    came_from: dict[str, str] = {}
+    level = [first]
+    while level:
+        following = []
+        for node in level:
+            for child in sorted(graph[node]):
+                if child == first:
+                    path = [first, node]
+                    while path[-1] != first:
+                        path.append(came_from[path[-1]])
+                    return path[::-1]
+                if child in members and child not in came_from:
+                    came_from[child] = node
+                    following.append(child)
+        level = following
+    raise AssertionError(f"no cycle in {group}")
+
+
+def _format_cycle(graph: dict[str, dict[str, int]], cycle: list[str]) -> str:
+    return " → ".join(f"{a} (line {graph[a][b]})" for a, b in itertools.pairwise(cycle)) + \
+        f" → {cycle[-1]}"
+
+
+def test_no_import_cycle_between_modules():
+    """No module imports itself through others, within a package or across packages.
+
+    Edges, one per import statement of a module (at module level or inside a function,
+    class or ``try``; not under ``if TYPE_CHECKING:``, which never runs):
+
+    * ``import designer.a.b`` → designer.a.b;
+    * ``from designer.a import b`` → designer.a.b when that is a module, else the module
+      that the lazy face of designer.a (its ``attach`` table) says defines ``b``, else
+      designer.a itself (a name defined in the face, or a compiled extension module);
+    * relative imports likewise, from the importing module's package.
+
+    Importing designer.a.b also runs designer/a/__init__.py first; that implicit import
+    of a parent package is not an edge (Python allows a package face to import its own
+    submodules while one of them is being imported; the lazy faces import none at all).
+    """
+    graph = module_graph(PACKAGE)
+    cycles = import_cycles(graph)
+    assert not cycles, "import cycles:\n" + "\n".join(_format_cycle(graph, c)
+                                                      for c in cycles)
+
+
+@pytest.mark.parametrize(("graph", "cycles"), [
+    ({"a": {"b": 1}, "b": {"c": 1}, "c": {}}, []),
+    ({"a": {"b": 1}, "b": {"a": 1}}, [["a", "b", "a"]]),
+    ({"a": {"b": 1}, "b": {"c": 1}, "c": {"a": 1, "d": 1}, "d": {}}, [["a", "b", "c", "a"]]),
+    ({"x": {"a": 1}, "a": {"b": 1, "c": 1}, "b": {"c": 1}, "c": {"a": 1}, "d": {"e": 1},
+      "e": {"d": 1}}, [["a", "c", "a"], ["d", "e", "d"]]),
+    ({"a": {"b": 1, "z": 1}, "b": {"a": 1}}, [["a", "b", "a"]]),  # z: outside the graph
+])
+def test_the_cycle_finder(graph, cycles):
+    assert import_cycles(graph) == cycles
+
+
+_FACE = ('from designer._lazy import attach\n'
+         '__getattr__, __dir__, __all__ = attach(__name__, {"f": "designer.pkg.one"})\n')
+
+
+@pytest.mark.parametrize(("one", "two", "cycle"), [
+    ("from designer.pkg.two import g", "from designer.pkg.one import f",
+     ["designer.pkg.one", "designer.pkg.two", "designer.pkg.one"]),
+    ("import designer.pkg.two", "def g():\n    from designer.pkg import one",
+     ["designer.pkg.one", "designer.pkg.two", "designer.pkg.one"]),
+    ("def f():\n    from designer.pkg.two import g", "from designer.pkg import f",
+     ["designer.pkg.one", "designer.pkg.two", "designer.pkg.one"]),  # through the face
+    ("from .two import g", "from . import one",
+     ["designer.pkg.one", "designer.pkg.two", "designer.pkg.one"]),
+    ("from designer.pkg.two import g", "from designer.other import h",
+     ["designer.other", "designer.pkg.one", "designer.pkg.two", "designer.other"]),
+    ("from designer.pkg.two import g", "from designer.other import k", None),  # other module
+    ("from designer.pkg.two import g",
+     "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from designer.pkg import f",
+     None),
+    ("from designer.pkg.two import g", "from designer.pkg import _native_ext", None),
+])
+def test_the_cycle_check_catches_a_planted_cycle(tmp_path, one, two, cycle):
+    """A small package: pkg with a lazy face (``f`` from pkg.one), modules pkg.one and
+    pkg.two, and other (importing pkg.one); planted imports in one and two make a cycle
+    or not. pkg/_native_ext stands for a compiled extension (no .py file)."""
+    root = tmp_path / "designer"
+    (root / "pkg").mkdir(parents=True)
+    files = {"__init__.py": "", "_lazy.py": "def attach(p, names): ...\n",
+             "pkg/__init__.py": _FACE, "pkg/one.py": one + "\n",
+             "pkg/two.py": two + "\n\ndef g(): ...\n",
+             "other.py": "from designer.pkg.one import f\n\ndef h(): ...\n"}
+    if "k" in two:
+        files["other.py"] = "def k(): ...\n"
+    for name, text in files.items():
+        (root / name).write_text(text)
+    found = import_cycles(module_graph(root))
+    assert found == ([] if cycle is None else [cycle])
+
+
+def test_the_cycle_check_sees_a_cycle_planted_in_the_package(tmp_path):
+    """A copy of the package with one function-level import closing a cycle inside one
+    package (job_light → job_buildings → job_files, planted: job_files → job_light) fails
+    the check."""
+    root = tmp_path / "designer"
+    shutil.copytree(PACKAGE, root, ignore=shutil.ignore_patterns("__pycache__"))
+    path = root / "render" / "job_files.py"
+    path.write_text(path.read_text()
+                    + "\n\ndef _late():\n    from designer.render.job_light import frame_suns\n")
+    graph = module_graph(root)
+    cycles = import_cycles(graph)
+    assert cycles == [["designer.render.job_buildings", "designer.render.job_files",
+                       "designer.render.job_light", "designer.render.job_buildings"]]
+    assert "designer.render.job_files (line " in _format_cycle(graph, cycles[0])
+
+
 @pytest.mark.parametrize("module", sorted(NOT_LOADED_BY))
 def test_importing_loads_nothing_heavy(module):
     forbidden = NOT_LOADED_BY[module]
@@ -200,6 +449,31 @@ def test_importing_loads_nothing_heavy(module):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, cwd=PACKAGE.parent)
     assert out.stdout.split() == []
+
+
+@pytest.mark.parametrize("missing", sorted(IMPORT_WITHOUT), ids=",".join)
+def test_importing_works_without_the_missing_libraries(missing):
+    modules = IMPORT_WITHOUT[missing]
+    code = ("import sys\n"
+            f"for name in {missing!r}:\n"
+            "    sys.modules[name] = None\n"
+            + "".join(f"import {name}\n" for name in modules))
+    if "designer.cli.main" in modules:
+        code += ("from designer.cli.main import build_parser\n"
+                 "build_parser().parse_args(['gui', 'x.xml', '--screenshot', 'x.png'])\n")
+    root = PACKAGE.parent
+    result = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True,
+                            text=True, env={"PYTHONPATH": str(root), "PATH": "/usr/bin"})
+    assert result.returncode == 0, result.stderr
+
+
+def test_the_missing_library_check_sees_an_import():
+    """The check can fail: the GUI's main window needs Qt."""
+    code = ("import sys\nsys.modules['PySide6'] = None\n"
+            "import designer.gui.main_window\n")
+    result = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent,
+                            capture_output=True, text=True)
+    assert result.returncode != 0 and "PySide6" in result.stderr
 
 
 def test_the_run_time_check_sees_a_loaded_module():

@@ -22,7 +22,7 @@ import signal
 import struct
 import traceback
 
-from designer.evaluate.figures import JOBS, Writers
+from designer.evaluate.figure_jobs import JOBS, Writers
 
 #: which process draws a job: the histogram in one, the error map (and any other) in
 #: the other

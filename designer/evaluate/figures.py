@@ -20,32 +20,7 @@ import os
 import queue
 import threading
 
-#: the writers of :mod:`.maps` a job may call
-JOBS = ("write_histogram_png", "write_error_map_png", "write_error_map_geotiff")
-
-
-class Writers:
-    """What every figure writer offers: ``submit``, ``close`` (wait, re-raise the first
-    writer error), ``abort``; as a context manager it closes on success and aborts on
-    an error."""
-
-    def submit(self, job: str, *args, **kwargs) -> None:
-        raise NotImplementedError
-
-    def close(self) -> None:
-        raise NotImplementedError
-
-    def abort(self) -> None:
-        raise NotImplementedError
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is None:
-            self.close()
-        else:
-            self.abort()
+from designer.evaluate.figure_jobs import JOBS, Writers
 
 
 class FigureWriter(Writers):

@@ -25,13 +25,12 @@ from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.interiors import render_interior
 from designer.render.blender_camera import blender_camera, blender_matrix_world
+from designer.render.job_files import save_npz, write_png
 from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the job's face)
     TARGET_BLACK,
     TARGET_WHITE,
     ObjectLighting,
     frame_suns,
-    save_npz,
-    write_png,
 )
 from designer.render.job_spec import (
     TEXTURE_UV_MAP,

@@ -23,6 +23,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from designer.render.job_files import save_npz, write_png
 from designer.render.job_spec import MaterialSpec, MeshSpec
 from designer.scene.building_texture import TILE_M, facade_texture, roof_texture
 from designer.scene.buildings import ROOF, BuildingMesh
@@ -37,8 +38,6 @@ LIGHT_LEVELS = 64
 
 def write_building_textures(job_dir: Path) -> None:
     """The facade and roof textures beside job.json."""
-    from designer.render.job_light import write_png
-
     for name, image in ((FACADE_PNG, facade_texture()), (ROOF_PNG, roof_texture())):
         write_png(Path(job_dir) / name, cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
 
@@ -100,8 +99,6 @@ def buildings_object(buildings: list[BuildingMesh], origin: np.ndarray, job_dir:
                      sun_azimuth_deg: float, sun_elevation_deg: float, sun_strength: float,
                      sky_strength: float, file_name: str = "buildings.npz") -> MeshSpec:
     """The buildings as one mesh lit for this sun, written beside job.json."""
-    from designer.render.job_light import save_npz
-
     arrays = render_arrays(buildings, origin)
     sun = sun_direction_world(sun_azimuth_deg, sun_elevation_deg)
     light = irradiance(arrays["normal"], np.ones(len(arrays["normal"])), sun, sun_strength,

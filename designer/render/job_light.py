@@ -12,11 +12,10 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-import cv2
 import numpy as np
 
-from designer.atomic import atomic_path
 from designer.project import model as m
+from designer.render.job_files import save_npz, write_png
 from designer.render.job_spec import LightStep, MaterialSpec, MeshSpec
 from designer.scene.build import BuiltScene
 from designer.scene.lighting import (
@@ -204,16 +203,3 @@ def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path,
                     tuple(MaterialSpec(color=tuple(float(c * e) for c in OBJECT_ALBEDO_RGB))
                           for e in values))
 
-
-def write_png(path: Path, image: np.ndarray, fast: bool = False) -> None:
-    """Write a PNG atomically; ``fast``: uncompressed (a large job image of noisy texels,
-    which zlib shrinks by 10 % in three times the time)."""
-    params = [cv2.IMWRITE_PNG_COMPRESSION, 0] if fast else []
-    with atomic_path(path) as tmp:
-        if not cv2.imwrite(str(tmp), image, params):
-            raise OSError(f"could not write {path}")
-
-
-def save_npz(path: Path, **arrays) -> None:
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
-        np.savez(f, **arrays)

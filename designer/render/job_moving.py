@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.project import model as m
-from designer.render.job_light import save_npz
+from designer.render.job_files import save_npz
 from designer.render.job_spec import MaterialSpec, MeshSpec
 from designer.scene.moving import MovingPose, pose_at, shape_mesh
 

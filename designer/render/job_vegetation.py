@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.project import model as m
-from designer.render.job_light import save_npz
+from designer.render.job_files import save_npz
 from designer.render.job_spec import MaterialSpec, PlantSetSpec, WindSpec
 from designer.scene.vegetation import WOOD_ALBEDO, PlantSet, place_vegetation
 

@@ -13,7 +13,7 @@ import html
 from pathlib import Path
 
 from designer.atomic import atomic_path, write_text_atomic
-from designer.study.results import factor_levels, interval95, level_rows
+from designer.study.levels import factor_levels, interval95, level_rows
 from designer.study.stats import factor_effects
 
 _LABELS = {

@@ -1,13 +1,12 @@
 """The Qt-free half of the GUI: document, edits, view geometry, files, presets.
 
-No display and no Qt needed; one test proves these modules import without PySide6,
-VTK or pyvista installed.
+No display and no Qt needed; that these modules import without PySide6, VTK or pyvista
+installed is checked with the layer contract (tests/test_architecture.py, IMPORT_WITHOUT).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import subprocess
 import sys
 from pathlib import Path
 
@@ -23,25 +22,6 @@ from designer.project import load_project, template
 from designer.project import model as m
 from designer.project.validate_camera import camera_issues
 from designer.survey.flight import camera_calc
-
-QT_FREE = ["designer.gui", "designer.gui.document", "designer.gui.edits",
-           "designer.gui.view_geometry", "designer.gui.derived", "designer.gui.files",
-           "designer.gui.camera_presets", "designer.gui.results_data", "designer.gui.xvfb",
-           "designer.gui.reconstruct_job",
-           "designer.cli.gui"]
-
-
-def test_model_layer_imports_without_qt_or_vtk():
-    code = ("import sys\n"
-            "for name in ('PySide6', 'vtk', 'vtkmodules', 'pyvista', 'pyvistaqt'):\n"
-            "    sys.modules[name] = None\n"
-            + "".join(f"import {name}\n" for name in QT_FREE)
-            + "from designer.cli.main import build_parser\n"
-              "build_parser().parse_args(['gui', 'x.xml', '--screenshot', 'x.png'])\n")
-    root = Path(__file__).resolve().parents[2]
-    result = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True,
-                            text=True, env={"PYTHONPATH": str(root), "PATH": "/usr/bin"})
-    assert result.returncode == 0, result.stderr
 
 
 # ------------------------------------------------------------------- camera presets
