@@ -10,9 +10,9 @@ import pytest
 from designer.effects.distortion_render import DistortionWarp
 from designer.project import load_project
 from designer.project import model as m
+from designer.project.interiors import render_interior
 from designer.render.job import prepare_job
 from designer.render.job_spec import RenderJob
-from designer.survey.project_poses import render_interior
 from tests.synthetic import small_survey, write_project_file
 
 
