@@ -2,8 +2,9 @@
 
 * :data:`ORIGIN_WORLD` — a UTM-sized world origin (float32 there would be off by
   decimetres); every synthetic scene sits around it unless a test says otherwise;
-* cameras: :func:`phantom4` (the 1-inch 20 MP survey camera) and :func:`interior_for`
-  (the same sensor with each lens model designer supports);
+* cameras: :func:`phantom4` (the 1-inch 20 MP survey camera), :func:`interior_for`
+  (the same sensor with each lens model designer supports), :func:`pixel_camera` (square
+  pixels, focal length in pixels) and, for projects, :func:`model_camera`;
 * ground truth: :func:`random_poses`, :func:`grid_poses`, :func:`random_gcps`,
   :func:`grid_gcps`, :func:`survey` (poses + GCPs + their image observations);
 * terrain: :func:`flat_terrain`, :func:`hilly_terrain` (height fields);
@@ -75,6 +76,15 @@ def mapping_camera(distortion: bool = True) -> InteriorOrientation:
                     if distortion else None)
 
 
+def pixel_camera(width, height, f_px, distortion, pp_px=(0.0, 0.0), f_mm=8.8
+                 ) -> InteriorOrientation:
+    """An interior orientation with square pixels, fx = f_px and the principal point
+    ``pp_px`` (right, down) off the image centre."""
+    pitch = f_mm / f_px
+    return InteriorOrientation(f_mm, width * pitch, height * pitch, width, height,
+                               pp_px[0] * pitch, -pp_px[1] * pitch, distortion=distortion)
+
+
 def random_poses(rng: np.random.Generator, n: int = 6, height_m: float = 100.0):
     """Cameras over a 120 m square at ORIGIN_WORLD size, tilted up to 12 degrees, any heading."""
     poses = []
@@ -143,6 +153,19 @@ def hilly_terrain(x0=0.0, y0=0.0, size_m=400.0, spacing_m=2.0, relief_m=40.0) ->
     return Heightfield(x0, y0, spacing_m, spacing_m, Z)
 
 
+def model_camera(size_px=(640, 480), focal_length_mm=5.0, pixel_pitch_mm=0.01,
+                 principal_point_mm=(0.0, 0.0), distortion=None, **changes) -> m.Camera:
+    """The project camera "cam": ``size_px`` square pixels of ``pixel_pitch_mm``; other
+    fields (a rolling shutter, ...) from ``changes``."""
+    W, H = size_px
+    return m.Camera(id="cam", focal_length_mm=focal_length_mm,
+                    sensor_width_mm=W * pixel_pitch_mm, sensor_height_mm=H * pixel_pitch_mm,
+                    image_width_px=W, image_height_px=H,
+                    principal_point_x_mm=principal_point_mm[0],
+                    principal_point_y_mm=principal_point_mm[1], distortion=distortion,
+                    **changes)
+
+
 def small_survey(
     origin=(0.0, 0.0, 0.0), principal_point_mm=(0.0, 0.0), n_photos=4, samples=16,
     effects=None, distortion=None, size_px=(640, 480), focal_length_mm=5.0,
@@ -150,12 +173,8 @@ def small_survey(
 ) -> m.Project:
     """A 40 x 40 m gentle terrain, 9 large checker targets, a few photos from 30 m."""
     E0, N0, H0 = origin
-    W, H = size_px
-    cam = m.Camera(id="cam", focal_length_mm=focal_length_mm,
-                   sensor_width_mm=W * pixel_pitch_mm, sensor_height_mm=H * pixel_pitch_mm,
-                   image_width_px=W, image_height_px=H,
-                   principal_point_x_mm=principal_point_mm[0],
-                   principal_point_y_mm=principal_point_mm[1], distortion=distortion)
+    cam = model_camera(size_px, focal_length_mm, pixel_pitch_mm, principal_point_mm,
+                       distortion)
     targets = tuple(
         m.Target(f"T{i}{j}", "check" if (i + j) % 2 else "control", "checker", 1.5,
                  m.TruePosition(E0 + 10.0 * i, N0 + 10.0 * j),
@@ -197,12 +216,14 @@ def write_project_file(project: m.Project, folder: Path) -> Path:
 
 
 def assert_located_error(project: m.Project, folder: Path, edit: Callable[[str], str],
-                         needle: str, words: str, *, any_located: bool = False) -> list[str]:
+                         needle: str, words: str | tuple[str, ...], *,
+                         any_located: bool = False) -> list[str]:
     """Write ``project`` to ``folder/project.xml``, change its text with ``edit`` (which
     must change something) and check that loading it is refused with one-line problems,
     the first of them located (``project.xml:LINE:COL: ``) on the first line that holds
-    ``needle`` and containing ``words`` — or, with ``any_located`` (an edit that makes
-    more than one problem there), any of those located there. Returns all the lines."""
+    ``needle`` and containing ``words`` (each of them, when a tuple) — or, with
+    ``any_located`` (an edit that makes more than one problem there), any of those
+    located there. Returns all the lines."""
     path = write_project_file(project, folder)
     original = path.read_text()
     text = edit(original)
@@ -214,7 +235,8 @@ def assert_located_error(project: m.Project, folder: Path, edit: Callable[[str],
     line = next(i for i, x in enumerate(text.splitlines(), 1) if needle in x)
     located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
     named = located if any_located else located[:1]
-    assert any(words in x for x in named), lines
+    wanted = (words,) if isinstance(words, str) else words
+    assert any(all(w in x for w in wanted) for x in named), lines
     assert all("\n" not in x for x in lines), lines
     return lines
 

@@ -8,17 +8,18 @@ import math
 import numpy as np
 
 from designer.core.distortion import BrownConrady, FisheyeEquidistant
-from tests.effects.synthetic import AngularChecker, PlanarChecker, camera, project_opencv
+from tests.effects.synthetic import AngularChecker, PlanarChecker, project_opencv
+from tests.synthetic import pixel_camera
 
 W, H = 800, 600
 PP = (7.3, -4.1)
 FISHEYE = FisheyeEquidistant(k1=0.03, k2=-0.01, k3=0.002, k4=-0.0005)
 LENSES = {
-    "barrel": camera(W, H, 800.0, BrownConrady(k1=-0.3), PP),
-    "pincushion": camera(W, H, 800.0, BrownConrady(k1=0.2), PP),
-    "tangential": camera(W, H, 800.0, BrownConrady(p1=0.002, p2=-0.0015), PP),
+    "barrel": pixel_camera(W, H, 800.0, BrownConrady(k1=-0.3), PP),
+    "pincushion": pixel_camera(W, H, 800.0, BrownConrady(k1=0.2), PP),
+    "tangential": pixel_camera(W, H, 800.0, BrownConrady(p1=0.002, p2=-0.0015), PP),
     # θ reaches 74.6° at the farthest corner: a 149° field
-    "fisheye150": camera(W, H, 376.0, FISHEYE, (3.2, -2.5)),
+    "fisheye150": pixel_camera(W, H, 376.0, FISHEYE, (3.2, -2.5)),
 }
 
 

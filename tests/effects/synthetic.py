@@ -19,14 +19,6 @@ from designer.core.interior import InteriorOrientation
 DARK, BRIGHT = 0.1, 0.9
 
 
-def camera(width, height, f_px, distortion, pp_px=(0.0, 0.0), f_mm=8.8):
-    """An interior orientation with square pixels, fx = f_px and the principal point
-    ``pp_px`` (right, down) off the image centre."""
-    pitch = f_mm / f_px
-    return InteriorOrientation(f_mm, width * pitch, height * pitch, width, height,
-                               pp_px[0] * pitch, -pp_px[1] * pitch, distortion=distortion)
-
-
 def rays(interior: InteriorOrientation, u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """CV-frame rays (N, 3) through continuous pixel positions u, v (any shape)."""
     if interior.distortion is not None:

@@ -27,10 +27,10 @@ from designer.effects.optics import Defocus
 from designer.effects.srgb import decode_image, encode_image
 from designer.errors import DesignerError
 from designer.project import model as m
-from tests.effects.synthetic import camera
+from tests.synthetic import pixel_camera
 
-PLAIN = camera(64, 48, 60.0, None)
-DISTORTED = camera(64, 48, 60.0, BrownConrady(k1=-0.15, p1=1e-3))
+PLAIN = pixel_camera(64, 48, 60.0, None)
+DISTORTED = pixel_camera(64, 48, 60.0, BrownConrady(k1=-0.15, p1=1e-3))
 CTX = FrameContext(gsd_m=0.05, flight_direction_uv=(1.0, 0.2))
 
 
@@ -206,7 +206,7 @@ def test_every_code_survives_the_chain_without_clipping_or_rounding(dtype):
     codes = np.stack([codes] * 3, axis=-1)
     same = EffectChain([GaussianBlur(1e-6)]).apply(codes, 0)
     np.testing.assert_array_equal(same, codes)
-    interior = camera(256, codes.shape[0], 300.0, None)  # gain 1 at the centre, ½ in corners
+    interior = pixel_camera(256, codes.shape[0], 300.0, None)  # gain 1 at the centre, ½ in corners
     vignetting = RadialVignetting(interior, (-0.5,))
     half = EffectChain([vignetting]).apply(codes, 0)
     expected = encode_image(decode_image(codes).astype(np.float64)

@@ -11,7 +11,8 @@ from designer.core.interior import InteriorOrientation
 from designer.effects.distortion_render import DistortionWarp, pinhole_render_camera
 from designer.errors import DesignerError, NotInvertibleError
 from tests.effects.distortion_scene import FISHEYE, LENSES, PP, H, W, expected_corners, scene
-from tests.effects.synthetic import area_sampled, camera, project_opencv, refine_corners
+from tests.effects.synthetic import area_sampled, project_opencv, refine_corners
+from tests.synthetic import pixel_camera
 
 
 @pytest.fixture(scope="module", params=sorted(LENSES))
@@ -26,9 +27,9 @@ def warped(request):
 
 # ---------------------------------------------------------------------------- geometry
 def test_without_distortion_nothing_is_paid():
-    interior = camera(W, H, 800.0, None, PP)
+    interior = pixel_camera(W, H, 800.0, None, PP)
     assert pinhole_render_camera(interior) == (interior, None)
-    render, warp = pinhole_render_camera(camera(W, H, 800.0, BrownConrady(), PP))
+    render, warp = pinhole_render_camera(pixel_camera(W, H, 800.0, BrownConrady(), PP))
     assert warp is None and render == interior
 
 
@@ -124,7 +125,7 @@ def test_integer_images_keep_their_type():
 
 # --------------------------------------------------------------------- oversampling, IO
 def test_oversampled_warp_area_averages():
-    interior = camera(160, 120, 160.0, BrownConrady(k1=-0.2), (1.3, 0.4))
+    interior = pixel_camera(160, 120, 160.0, BrownConrady(k1=-0.2), (1.3, 0.4))
     render1, warp1 = pinhole_render_camera(interior)
     render2, warp2 = pinhole_render_camera(interior, 2)
     assert render2.fx_px == pytest.approx(2 * interior.fx_px)
@@ -141,7 +142,7 @@ def test_oversampled_warp_area_averages():
 
 @pytest.mark.parametrize("lens", [BrownConrady(k1=0.1, p2=0.001), FisheyeEquidistant(k1=0.02)])
 def test_save_and_load_round_trip(tmp_path, lens):
-    interior = camera(160, 120, 120.0, lens, (1.5, -2.0))
+    interior = pixel_camera(160, 120, 120.0, lens, (1.5, -2.0))
     render, warp = pinhole_render_camera(interior, 2, order=1)
     path = tmp_path / "warp.npz"
     warp.save(path)
@@ -151,7 +152,7 @@ def test_save_and_load_round_trip(tmp_path, lens):
     np.testing.assert_array_equal(loaded.map_v_px, warp.map_v_px)
     assert (loaded.oversample, loaded.order) == (2, 1)
     assert loaded.max_mapping_error_px == warp.max_mapping_error_px
-    other = camera(160, 120, 121.0, lens, (1.5, -2.0))
+    other = pixel_camera(160, 120, 121.0, lens, (1.5, -2.0))
     with pytest.raises(DesignerError, match="another camera"):
         DistortionWarp.load(path, other)
     np.savez(tmp_path / "other.npz", a=np.zeros(3))
@@ -175,17 +176,17 @@ def test_non_square_pixels():
 
 # ------------------------------------------------------------------------------ limits
 def test_fisheye_field_beyond_150_degrees_is_refused():
-    wide = camera(W, H, 330.0, FISHEYE)  # θ = 84.4° at the corners
+    wide = pixel_camera(W, H, 330.0, FISHEYE)  # θ = 84.4° at the corners
     with pytest.raises(DesignerError, match=r"84\.4° off axis.*168\.8° field.*up to 150°"):
         pinhole_render_camera(wide)
     with pytest.raises(DesignerError, match=r"143\.0° off axis.*pinhole"):  # beyond 180°
-        pinhole_render_camera(camera(W, H, 200.0, FisheyeEquidistant()))
+        pinhole_render_camera(pixel_camera(W, H, 200.0, FisheyeEquidistant()))
     with pytest.raises(NotInvertibleError, match="161320 of 480000 output pixels"):
-        pinhole_render_camera(camera(W, H, 200.0, FISHEYE))  # this lens folds before
+        pinhole_render_camera(pixel_camera(W, H, 200.0, FISHEYE))  # this lens folds before
 
 
 def test_fold_over_is_reported_with_the_pixel_count():
     # k1 = -0.5: the radial map peaks at distorted radius 0.544; the corners lie beyond
-    folding = camera(W, H, 700.0, BrownConrady(k1=-0.5))
+    folding = pixel_camera(W, H, 700.0, BrownConrady(k1=-0.5))
     with pytest.raises(NotInvertibleError, match=r"^\d+ of 480000 output pixels"):
         pinhole_render_camera(folding)

@@ -19,14 +19,14 @@ from designer.effects.optics import (
     radial_vignetting_gain,
 )
 from designer.errors import DesignerError
-from tests.effects.synthetic import camera
+from tests.synthetic import pixel_camera
 
 CTX = FrameContext()
 
 
 @pytest.mark.parametrize("falloff", [0.0, 0.2, 0.6, 1.0])
 def test_corner_falloff_profile_at_centre_and_corner(falloff):
-    interior = camera(300, 200, 400.0, None)  # principal point at the centre
+    interior = pixel_camera(300, 200, 400.0, None)  # principal point at the centre
     effect = RadialVignetting.from_corner_falloff(interior, falloff)
     g = radial_vignetting_gain(interior, effect.coefficients, np.array([150.0, 0.0, 300.0, 0.0]),
                                np.array([100.0, 0.0, 200.0, 200.0]))
@@ -40,7 +40,7 @@ def test_corner_falloff_profile_at_centre_and_corner(falloff):
 
 
 def test_off_centre_principal_point_loses_exactly_c_at_the_farthest_corner():
-    interior = camera(300, 200, 400.0, None, pp_px=(20.0, -10.0))  # cx = 170, cy = 90
+    interior = pixel_camera(300, 200, 400.0, None, pp_px=(20.0, -10.0))  # cx = 170, cy = 90
     coeffs = RadialVignetting.from_corner_falloff(interior, 0.3).coefficients
     corners_u, corners_v = np.array([0.0, 300, 0, 300]), np.array([0.0, 0, 200, 200])
     g = radial_vignetting_gain(interior, coeffs, corners_u, corners_v)
@@ -50,22 +50,22 @@ def test_off_centre_principal_point_loses_exactly_c_at_the_farthest_corner():
 
 
 def test_natural_vignetting_is_cos4_of_the_ray_angle():
-    interior = camera(120, 80, 60.0, None)
+    interior = pixel_camera(120, 80, 60.0, None)
     out = NaturalVignetting(interior).apply(np.ones((80, 120), np.float32), 0, CTX)
     v, u = np.mgrid[0:80, 0:120] + 0.5
     tan2 = ((u - 60) ** 2 + (v - 40) ** 2) / 60.0**2
     np.testing.assert_allclose(out, 1 / (1 + tan2) ** 2, rtol=1e-6)
     # with distortion the angle comes from the lens inverse: barrel sees wider, darker
-    barrel = NaturalVignetting(camera(120, 80, 60.0, BrownConrady(k1=-0.1)))
+    barrel = NaturalVignetting(pixel_camera(120, 80, 60.0, BrownConrady(k1=-0.1)))
     assert barrel.gain[0, 0] < out[0, 0]
 
 
 def test_vignetting_refuses_another_image_size():
-    effect = RadialVignetting.from_corner_falloff(camera(30, 20, 40.0, None), 0.1)
+    effect = RadialVignetting.from_corner_falloff(pixel_camera(30, 20, 40.0, None), 0.1)
     with pytest.raises(ValueError, match="30 x 20"):
         effect.apply(np.ones((21, 30), np.float32), 0, CTX)
     with pytest.raises(ValueError):
-        RadialVignetting.from_corner_falloff(camera(30, 20, 40.0, None), 1.5)
+        RadialVignetting.from_corner_falloff(pixel_camera(30, 20, 40.0, None), 1.5)
 
 
 @pytest.mark.parametrize("sigma", [0.8, 1.5, 4.0])
@@ -89,7 +89,7 @@ def test_defocus_thin_lens_formula():
     c = defocus_diameter_mm(50.0, 2.0, 2.0, 4.0)
     assert c == pytest.approx(2500 * 2000 / (2 * 4000 * 1950))
     assert defocus_diameter_mm(50.0, 2.0, 2.0, 2.0) == 0.0
-    interior = camera(100, 100, 100.0, None, f_mm=8.0)  # pitch 0.08 mm
+    interior = pixel_camera(100, 100, 100.0, None, f_mm=8.0)  # pitch 0.08 mm
     effect = Defocus.from_thin_lens(interior, 2.8, 5.0, 50.0)
     expect = defocus_diameter_mm(8.0, 2.8, 5.0, 50.0) / 0.08
     assert effect.diameter_x_px == pytest.approx(expect)
@@ -111,7 +111,7 @@ def test_disc_kernel_area_and_second_moment(diameter):
 
 def test_polynomial_and_cos4_vignetting_profile():
     """gain = cos⁴θ · (1 − c ρ² + a4 ρ⁴ + a6 ρ⁶), measured on a flat field within 1e-6."""
-    interior = camera(300, 200, 250.0, None)
+    interior = pixel_camera(300, 200, 250.0, None)
     effect = RadialVignetting(interior, (-0.3, 0.1, -0.05), natural_cos4=True)
     out = effect.apply(np.full((200, 300, 3), 0.6, np.float32), 0, CTX)[..., 0]
     v, u = np.mgrid[0:200, 0:300] + 0.5
@@ -124,7 +124,7 @@ def test_polynomial_and_cos4_vignetting_profile():
 
 
 def test_thin_lens_defocus_follows_each_frames_distance():
-    interior = camera(200, 200, 2000.0, None, f_mm=8.0)  # pitch 0.004 mm
+    interior = pixel_camera(200, 200, 2000.0, None, f_mm=8.0)  # pitch 0.004 mm
     effect = ThinLensDefocus(interior, 2.0, 20.0)
     near, far = FrameContext(distance_m=2.0), FrameContext(distance_m=20.0)
     expect = defocus_diameter_mm(8.0, 2.0, 20.0, 2.0) / 0.004  # 3.6 px

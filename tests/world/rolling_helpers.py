@@ -7,8 +7,9 @@ import math
 from dataclasses import replace
 
 from designer.project import model as m
+from tests.synthetic import model_camera
+from tests.world.helpers import ORIGIN
 
-ORIGIN = (500000.0, 5200000.0, 400.0)
 TAKEOFF = "2026-06-21T09:30:00Z"
 SPEED_M_S = 10.0
 #: flight direction, degrees clockwise from north: the camera moves east and north, so
@@ -25,10 +26,8 @@ def rolling_project(readout_s: float = READOUT_S, direction: str = "top-to-botto
                     samples: int = 256, time_line: bool = True,
                     kappa_deg: float = 20.0) -> m.Project:
     E0, N0, H0 = ORIGIN
-    W, H = SIZE_PX
-    cam = m.Camera(id="cam", focal_length_mm=8.0, sensor_width_mm=W * 0.01,
-                   sensor_height_mm=H * 0.01, image_width_px=W, image_height_px=H,
-                   rolling_shutter=m.RollingShutter(readout_s, direction))
+    cam = model_camera(SIZE_PX, focal_length_mm=8.0, pixel_pitch_mm=0.01,
+                       rolling_shutter=m.RollingShutter(readout_s, direction))
     targets = tuple(
         m.Target(f"T{i + 1}{j + 1}", "control", "checker", 1.2,
                  m.TruePosition(E0 + 2.6 * i, N0 + 2.6 * j),

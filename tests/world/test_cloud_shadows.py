@@ -11,10 +11,9 @@ import pytest
 
 from designer.project import load_project
 from designer.project import model as m
-from designer.project.problems import ProjectError
 from designer.scene.clouds import attenuation, shadow_share
 from designer.study.factors import DRAWS, FACTORS
-from tests.synthetic import write_project_file
+from tests.synthetic import assert_located_error, write_project_file
 from tests.world.helpers import timed_survey
 
 CLOUDS = m.CloudShadows(cover=0.3, size_m=40.0, softness_m=5.0, depth=0.6,
@@ -71,15 +70,10 @@ def test_the_clouds_survive_a_round_trip_through_the_file(tmp_path):
     ("wind-direction-deg", "360"), ("seed", "-2"), ("cover", "nan"),
 ])
 def test_every_bad_value_is_a_located_one_line_error(tmp_path, attr, value):
-    path = write_project_file(_cloudy(), tmp_path)
-    text = path.read_text()
-    text = re.sub(rf'(<cloud-shadows[^>]* {attr}=)"[^"]*"', rf'\1"{value}"', text)
-    path.write_text(text)
-    line = next(i for i, t in enumerate(text.splitlines(), 1) if "<cloud-shadows" in t)
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    located = [x for x in info.value.lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert located and attr in located[0] and "cloud-shadows" in located[0], info.value.lines
+    assert_located_error(
+        _cloudy(), tmp_path,
+        lambda text: re.sub(rf'(<cloud-shadows[^>]* {attr}=)"[^"]*"', rf'\1"{value}"', text),
+        "<cloud-shadows", (attr, "cloud-shadows"))
 
 
 def test_the_study_engine_can_vary_the_clouds():

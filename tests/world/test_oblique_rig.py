@@ -32,12 +32,17 @@ from designer.export.tables import (
 )
 from designer.project import load_project
 from designer.project import model as m
-from designer.project.problems import ProjectError
 from designer.render.job_spec import RenderJob
 from designer.render.pipeline import render_project
 from designer.survey.project_poses import project_images, project_stations
 from tests.render.helpers import detect_centres
-from tests.synthetic import PENTA_MOUNTS, rig_survey, small_survey, write_project_file
+from tests.synthetic import (
+    PENTA_MOUNTS,
+    assert_located_error,
+    rig_survey,
+    small_survey,
+    write_project_file,
+)
 
 CAMERAS = {c[0]: c for c in PENTA_MOUNTS}
 N_STATIONS = 12
@@ -97,17 +102,6 @@ def test_a_project_without_a_rig_has_exactly_its_stations_and_no_frame_cameras(t
     assert prepared.cameras is None
 
 
-def _bad(tmp_path: Path, edit) -> list[str]:
-    path = write_project_file(rig_survey(), tmp_path)
-    text = path.read_text()
-    changed = edit(text)
-    assert changed != text
-    path.write_text(changed)
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    return info.value.lines
-
-
 @pytest.mark.parametrize(("edit", "needle", "words"), [
     (lambda t: t.replace('camera="fwd" suffix', 'camera="tele" suffix'), 'camera="tele"',
      "camera 'tele' of rig 'penta' is not defined"),
@@ -123,12 +117,7 @@ def _bad(tmp_path: Path, edit) -> list[str]:
      "use the id of a <camera> or <rig>"),
 ])
 def test_bad_rigs_are_located_one_line_errors(tmp_path, edit, needle, words):
-    lines = _bad(tmp_path, edit)
-    text = (tmp_path / "project.xml").read_text()
-    line = next(i for i, x in enumerate(text.splitlines(), 1) if needle in x)
-    located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert located and words in located[0], lines
-    assert all("\n" not in x for x in lines)
+    assert_located_error(rig_survey(), tmp_path, edit, needle, words)
 
 
 # ------------------------------------------------------------------ real render

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,20 +13,13 @@ import pytest
 from designer.core.rotation import rotation_from_opk
 from designer.project import load_project
 from designer.project import model as m
-from designer.project.problems import ProjectError
 from designer.render.job import prepare_job
 from designer.render.pipeline import render_project
 from designer.render.provenance import ground_truth_digest, job_provenance
 from designer.survey.flight import Station
 from designer.survey.timeline import station_velocities_m_s
-from tests.synthetic import write_project_file
+from tests.synthetic import assert_located_error, write_project_file
 from tests.world.rolling_helpers import global_shutter, rolling_project
-
-
-def _load_lines(path: Path) -> list[str]:
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    return info.value.lines
 
 
 def test_the_rolling_shutter_survives_a_round_trip_through_the_file(tmp_path):
@@ -55,15 +47,7 @@ def test_the_rolling_shutter_survives_a_round_trip_through_the_file(tmp_path):
                          "<rolling-shutter"), "distortion"),
 ])
 def test_bad_rolling_shutters_are_located_one_line_errors(tmp_path, edit, words):
-    path = write_project_file(rolling_project(), tmp_path)
-    text = edit(path.read_text())
-    assert text != path.read_text()
-    path.write_text(text)
-    lines = _load_lines(path)
-    line = next(i for i, x in enumerate(text.splitlines(), 1) if "<rolling-shutter" in x)
-    located = [x for x in lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert located and words in located[0], lines
-    assert "\n" not in located[0]
+    assert_located_error(rolling_project(), tmp_path, edit, "<rolling-shutter", words)
 
 
 def test_designer_check_names_the_rolling_shutter(tmp_path):

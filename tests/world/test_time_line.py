@@ -21,8 +21,8 @@ from designer.study.factors import FACTORS
 from designer.survey.flight import Station, camera_calc
 from designer.survey.project_poses import project_stations
 from designer.survey.timeline import project_station_times, station_times_s
-from tests.synthetic import small_survey, write_project_file
-from tests.world.helpers import TAKEOFF, timed_survey
+from tests.synthetic import assert_located_error, small_survey, write_project_file
+from tests.world.helpers import ORIGIN, TAKEOFF, timed_survey
 
 
 def _station(name, x, y, line):
@@ -44,8 +44,8 @@ def test_an_explicit_time_replaces_the_computed_one_and_the_flight_goes_on_from_
 
 
 def test_a_planned_flight_is_timed_by_its_trigger_distance_and_turns():
-    p = small_survey(origin=(500000.0, 5200000.0, 400.0))
-    E0, N0, _ = 500000.0, 5200000.0, 400.0
+    p = small_survey(origin=ORIGIN)
+    E0, N0, _ = ORIGIN
     plan = m.FlightPlan("cam", "F", ((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15),
                                      (E0 - 15, N0 + 15)), altitude_agl_m=30.0,
                         altitude_reference=400.0)
@@ -90,10 +90,6 @@ def _load_error(tmp_path, project, edit=None) -> list[str]:
     return info.value.lines
 
 
-def _line_of(path_text: str, needle: str) -> int:
-    return next(i for i, line in enumerate(path_text.splitlines(), 1) if needle in line)
-
-
 @pytest.mark.parametrize(("edit", "needle", "words"), [
     (lambda t: t.replace('speed-m-s="5.0"', 'speed-m-s="-5"'), "<time-line", "speed-m-s"),
     (lambda t: t.replace('takeoff-utc="2026-06-21T06:00:00Z"',
@@ -102,19 +98,12 @@ def _line_of(path_text: str, needle: str) -> int:
     (lambda t: t.replace('time-s="7200.0"', 'time-s="-3"'), 'time-s="-3"', "time-s"),
 ])
 def test_bad_time_line_values_are_located_one_line_errors(tmp_path, edit, needle, words):
-    path = write_project_file(timed_survey(), tmp_path)
-    text = edit(path.read_text())
-    path.write_text(text)
-    with pytest.raises(ProjectError) as info:
-        load_project(path)
-    line = _line_of(text, needle)
-    located = [x for x in info.value.lines if re.match(rf".*project\.xml:{line}:\d+: ", x)]
-    assert located and words in located[0], info.value.lines
+    assert_located_error(timed_survey(), tmp_path, edit, needle, words)
 
 
 def test_a_trigger_interval_too_long_for_the_overlap_is_refused(tmp_path):
-    p = small_survey(origin=(500000.0, 5200000.0, 400.0))
-    E0, N0 = 500000.0, 5200000.0
+    p = small_survey(origin=ORIGIN)
+    E0, N0, _ = ORIGIN
     plan = m.FlightPlan("cam", "F", ((E0 - 15, N0 - 15), (E0 + 15, N0 - 15), (E0 + 15, N0 + 15),
                                      (E0 - 15, N0 + 15)), altitude_agl_m=30.0,
                         altitude_reference=400.0)
