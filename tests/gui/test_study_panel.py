@@ -271,3 +271,29 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     assert panel.open_folder(out)
     assert panel.results.table.rowCount() == 2
     assert "2 of 2 runs finished" in panel.results.summary.text()
+
+
+def test_run_on_an_unsaved_study_saves_it_and_runs_on_the_first_click(qtbot, window,
+                                                                       tmp_path):
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    box = panel.run_box
+    out = tmp_path / "first-click"
+    box.folder.setFocus()
+    qtbot.keyClicks(box.folder, str(out))
+    assert panel.study_path is None and box.run_button.isEnabled()
+
+    # Run asks where to save the study, saves it and starts the run: one click
+    path = tmp_path / "first.xml"
+    answer_file_dialog(path)
+    qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)
+    assert path.is_file() and panel.study_path == path
+    assert box.process.running, box.state.text()
+    assert box.state.text().startswith(f"starting the study into {out}")
+    assert box.progress.maximum() == 2
+    assert box.folder.text() == str(out)  # the folder chosen is kept
+    assert not box.run_button.isEnabled() and box.cancel_button.isEnabled()
+    qtbot.mouseClick(box.cancel_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not box.process.running, timeout=30_000)

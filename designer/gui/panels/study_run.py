@@ -120,7 +120,10 @@ class StudyRunBox(QGroupBox):
     # ------------------------------------------------------------------ run
     def run(self) -> None:
         panel = self.panel
-        if panel.plan is None or self.process.running:
+        # the checked plan: saving the study (and the project it is based on) starts a
+        # new check of the same study, which clears panel.plan until it is done
+        plan = panel.plan
+        if plan is None or self.process.running:
             return
         text = panel.study_text(panel.study_path) if panel.study_path else None
         if panel.study_path is None or text != panel._opened_text:
@@ -131,7 +134,7 @@ class StudyRunBox(QGroupBox):
             return
         resume = folder.state == "partial"
         self.out_dir = folder.path
-        self.total = len(panel.plan.runs)
+        self.total = len(plan.runs)
         self.progress.setRange(0, self.total)
         self.progress.setValue(folder.runs_done if resume else 0)
         self.renders_started = self.renders_done = 0
