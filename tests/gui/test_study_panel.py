@@ -297,3 +297,82 @@ def test_run_on_an_unsaved_study_saves_it_and_runs_on_the_first_click(qtbot, win
     assert not box.run_button.isEnabled() and box.cancel_button.isEnabled()
     qtbot.mouseClick(box.cancel_button, Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: not box.process.running, timeout=30_000)
+
+
+def _base_without_gcps(qtbot, w, folder):
+    """The tiny base without GCP targets (its processing still georeferences on GCPs)."""
+    from dataclasses import replace
+
+    from designer.project import write_project
+    from designer.study.templates import template_base
+
+    p = template_base("tiny")
+    p = replace(p, scene=replace(p.scene, targets=None), processing=replace(
+        p.processing, gcps=replace(p.processing.gcps, control=None)))
+    base = folder / "no-gcps.xml"
+    write_project(p, base)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    w.docks["Study"].raise_()
+    return w.panels["Study"]
+
+
+def test_a_study_whose_runs_would_fail_is_warned_before_run(qtbot, window, tmp_path):
+    w = window
+    panel = _base_without_gcps(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    warning = panel.warnings.text()
+    assert panel.warnings.isVisible() and not panel.errors.isVisible()
+    assert "every run (2 of 2) would fail" in warning, warning
+    assert "GCP mode similarity needs at least 3 control GCPs" in warning, warning
+    assert "0 GCP targets" in warning
+    qtbot.keyClicks(panel.run_box.folder, str(tmp_path / "out"))
+    assert panel.run_box.run_button.isEnabled()  # a warning: the study may still run
+
+    # a study that varies the GCP mode: only the runs that need GCPs are named
+    _add(qtbot, panel, "gcp-mode", "none")
+    _checked(qtbot, w, panel)
+    warning = panel.warnings.text()
+    assert "2 of 3 runs" in warning and "would fail" in warning, warning
+    # none of them needs GCPs any more: the warning goes away
+    for row in list(panel.rows):
+        qtbot.mouseClick(row.remove_button, Qt.MouseButton.LeftButton)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    _checked(qtbot, w, panel)
+    assert panel.warnings.isVisible()
+    from designer.gui import edits
+
+    w.editor.edit(edits.replace_path(w.document.project, "processing.gcps.mode", "none"),
+                  "GCP mode none")
+    _checked(qtbot, w, panel)
+    assert not panel.warnings.isVisible(), panel.warnings.text()
+
+
+@pytest.mark.blender
+def test_a_study_whose_runs_failed_is_shown_as_failed(qtbot, window, tmp_path):
+    w = window
+    panel = _base_without_gcps(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    assert panel.save_study(tmp_path / "no-gcps-study.xml")
+    _checked(qtbot, w, panel)
+    box = panel.run_box
+    qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not box.process.running, timeout=300_000)
+    state = box.state.text()
+    assert not state.startswith("done"), state
+    assert re.match(r"finished in .*: 0 of 2 runs succeeded, 2 failed: only 0 control GCPs "
+                    r"are seen", state), state + box.log.toPlainText()
+    assert "/runs/" not in state  # the reason, not the run's folder
+    assert "#c0392b" in box.state.styleSheet()
+    assert box.progress.property("failed") is True
+    assert "#c0392b" in box.progress.styleSheet()
+    # the table: failed rows stand out, the reason in every cell's tooltip
+    results = panel.results
+    assert "2 failed" in results.summary.text() and "#c0392b" in results.summary.styleSheet()
+    table = results.table
+    for r in range(table.rowCount()):
+        item = table.item(r, 0)
+        assert item.background().color().name() == "#fdecea"
+        assert "only 0 control GCPs" in item.toolTip()

@@ -40,6 +40,7 @@ from designer.survey.render_cost import load_speed
 DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
            ("full factorial (every combination)", "full-factorial")]
 UNTITLED = "untitled-study.xml"
+WARNING_STYLE = "color: #b9770e; font-weight: bold"
 
 
 class StudyPanel(StudyFiles, Panel):
@@ -147,6 +148,12 @@ class StudyPanel(StudyFiles, Panel):
         self.errors.setStyleSheet(ERROR_STYLE)
         self.errors.hide()
         layout.addWidget(self.errors)
+        self.warnings = QLabel("")
+        self.warnings.setObjectName("study-warnings")
+        self.warnings.setWordWrap(True)
+        self.warnings.setStyleSheet(WARNING_STYLE)
+        self.warnings.hide()
+        layout.addWidget(self.warnings)
 
         self.run_box = StudyRunBox(self)
         layout.addWidget(self.run_box)
@@ -267,6 +274,8 @@ class StudyPanel(StudyFiles, Panel):
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else ""))
         self.errors.hide()
+        self.warnings.setText("\n".join(f"⚠ {line}" for line in c.warnings))
+        self.warnings.setVisible(bool(c.warnings))
         self.run_box.update_buttons()
 
     def _check_failed(self, error: BaseException) -> None:
@@ -278,6 +287,7 @@ class StudyPanel(StudyFiles, Panel):
         self.plan_label.setText("not runnable: fix the study")
         self.errors.setText("\n".join(lines))
         self.errors.show()
+        self.warnings.hide()
         self.run_box.update_buttons()
 
     def _show_base(self) -> None:
