@@ -102,6 +102,20 @@ class StudyResults(QWidget):
         self.report_button.setEnabled((folder.path / "report.html").is_file())
         self._show_figure()
 
+    def clear(self) -> None:
+        """Show no study folder."""
+        self.folder = None
+        self.summary.setText("no study folder open")
+        self.summary.setStyleSheet("")
+        self.table.clear()
+        self.table.setRowCount(0)
+        self.table.setColumnCount(0)
+        blocked = self.figure_choice.blockSignals(True)
+        self.figure_choice.clear()
+        self.figure_choice.blockSignals(blocked)
+        self.report_button.setEnabled(False)
+        self._show_figure()
+
     def select_figure(self, name: str) -> None:
         index = self.figure_choice.findText(name)
         if index >= 0:

@@ -376,3 +376,83 @@ def test_a_study_whose_runs_failed_is_shown_as_failed(qtbot, window, tmp_path):
         item = table.item(r, 0)
         assert item.background().color().name() == "#fdecea"
         assert "only 0 control GCPs" in item.toolTip()
+
+
+def test_a_texture_chosen_for_the_project_resolves_from_a_study_elsewhere(qtbot, window,
+                                                                          tmp_path):
+    """The project's missing texture chosen again (Texture: Choose…) with the project not
+    saved yet: a study in another folder finds the texture where the project does."""
+    from dataclasses import replace
+
+    import numpy as np
+    from PIL import Image
+    from PySide6.QtWidgets import QPushButton
+
+    from designer.project import model as m
+    from designer.project import write_project
+    from designer.study.templates import template_base
+
+    w = window
+    project_dir, study_dir = tmp_path / "survey", tmp_path / "studies"
+    (project_dir / "textures").mkdir(parents=True)
+    study_dir.mkdir()
+    p = template_base("tiny")
+    p = replace(p, scene=replace(p.scene, texture=replace(
+        p.scene.texture, source=m.ImageTexture("ground.png"))))  # not there
+    base = project_dir / "field.xml"
+    write_project(p, base)
+    texture = project_dir / "textures" / "ground.png"
+    Image.fromarray(np.full((64, 64, 3), 120, np.uint8)).save(texture)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    assert any("ground.png" in line for line in
+               [w.problems.item(i).text() for i in range(w.problems.count())])
+
+    # Texture: Choose… the image where it is now
+    w.docks["Texture"].raise_()
+    choose = w.panels["Texture"].image.findChild(QPushButton)
+    answer_file_dialog(texture)
+    qtbot.mouseClick(choose, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.texture.source.file == "textures/ground.png"
+    assert w.document.dirty
+
+    # a study beside the project's folder, on that project
+    study = study_dir / "marks.xml"
+    study.write_text(
+        '<?xml version="1.0"?>\n'
+        '<study xmlns="urn:designer:project:1" schema-version="1.0" name="marks">\n'
+        '  <base-project file="../survey/field.xml"/>\n'
+        '  <factor name="marking-sigma-px"><values>2</values></factor>\n'
+        "</study>\n")
+    panel = w.panels["Study"]
+    w.docks["Study"].raise_()
+    assert panel.open_study(study)
+    text = _checked(qtbot, w, panel)
+    assert not panel.errors.isVisible(), panel.errors.text()
+    assert _runs_line(text) == (2, 1, 2)
+    # the study's copy of the unsaved project names the texture from the study's folder
+    assert 'file="../survey/textures/ground.png"' in panel.study_text(study)
+
+
+def test_opening_another_project_clears_the_study_results(qtbot, window, tmp_path):
+    w = window
+    panel, base = _tiny_base(qtbot, w, tmp_path)
+    out = tmp_path / "old-study"  # a study folder of this project, one run finished
+    (out / "runs" / "v000-r00").mkdir(parents=True)
+    (out / "study.json").write_text(json.dumps({"name": "old", "runs": ["v000-r00",
+                                                                         "v001-r00"]}))
+    (out / "runs" / "v000-r00" / "result.json").write_text(json.dumps(
+        {"run": "v000-r00", "status": "ok", "check_rmse_z_m": 0.02}))
+    assert panel.open_folder(out)
+    assert panel.results.table.rowCount() == 1
+    assert "study 'old'" in panel.results.summary.text()
+
+    other = tmp_path / "other.xml"
+    other.write_bytes(base.read_bytes())
+    assert w.open_project(other)
+    wait_idle(qtbot, w)
+    assert panel.results.table.rowCount() == 0
+    assert panel.results.summary.text() == "no study folder open"
+    assert panel.results.folder is None and panel.results.figure_choice.count() == 0
+    assert panel.run_box.folder.text() == str(out)  # still the folder to resume

@@ -172,6 +172,7 @@ class StudyPanel(StudyFiles, Panel):
         self._timer.setInterval(250)
         self._timer.timeout.connect(self.check_now)
         self.editor.document.events.connect("file", lambda **_: self.changed())
+        self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
         self._show_base()
 
     # ------------------------------------------------------------------ the study
@@ -221,9 +222,13 @@ class StudyPanel(StudyFiles, Panel):
             return BaseProject(file=relative(file, study_path.parent))
         if self.inline_base is not None:
             return BaseProject(inline_xml=self.inline_base)
+        from designer.gui.files import rebase_files
         from designer.project.model_to_xml import project_to_bytes
 
-        return BaseProject(inline_xml=project_to_bytes(self.project))
+        # the window's project, not saved: its files are named from its own folder, and
+        # a study's inline project names them from the study file's folder
+        return BaseProject(inline_xml=project_to_bytes(
+            rebase_files(self.project, doc.base_dir, study_path.parent)))
 
     def study(self, study_path: Path | None = None) -> Study:
         """The study the panel shows; ValueError for levels that are not usable."""
@@ -313,6 +318,12 @@ class StudyPanel(StudyFiles, Panel):
         if self.base_file is None and self.inline_base is None:
             self._show_base()
             self.changed()
+
+    def _project_replaced(self) -> None:
+        """Another project was opened (or a new one made): the results shown were of the
+        project before; the study itself and its output folder stay."""
+        self.results.clear()
+        self.run_box.clear_progress()
 
     def refresh(self) -> None:
         pass

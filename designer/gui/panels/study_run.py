@@ -220,6 +220,15 @@ class StudyRunBox(QGroupBox):
             self.panel.results.show_folder(folder)
         self.update_buttons()
 
+    def clear_progress(self) -> None:
+        """Forget the last run's progress, state and log (not while a study runs)."""
+        if self.process.running:
+            return
+        self.progress.reset()
+        self._show_failed(False)
+        self.state.setText("")
+        self.log.clear()
+
     def shutdown(self) -> None:
         if self.process.running:
             self.process.cancel()
