@@ -75,7 +75,7 @@ class MainWindow(QMainWindow):
         self.editor = Editor(self.document, self.undo_stack)
         self.tasks = TaskRunner(self)
         self.view = SceneView(self)
-        self.setCentralWidget(self.view)
+        self._build_centre()
         self.sync = SceneSync(self.document, self.view, self.tasks)
         self.file_actions = FileActions(self, self.settings)
         self.site_flight_actions = SiteFlightActions(self)
@@ -116,6 +116,22 @@ class MainWindow(QMainWindow):
         QApplication.instance().installEventFilter(self.input_guard)
 
     # ------------------------------------------------------------------ layout
+    def _build_centre(self) -> None:
+        """The 3D view, and above it the bar that shows an exception no slot caught."""
+        from PySide6.QtWidgets import QVBoxLayout
+
+        from designer.gui.uncaught import ErrorBar
+
+        centre = QWidget(self)
+        column = QVBoxLayout(centre)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(0)
+        self.error_bar = ErrorBar(centre)
+        column.addWidget(self.error_bar)
+        column.addWidget(self.view, 1)
+        self.setCentralWidget(centre)
+        self.error_bar.install()
+
     def _add_panel(self, cls, side: str) -> None:
         panel = cls(self.editor, self.sync, self)
         dock = QDockWidget(panel.title, self)
@@ -336,4 +352,5 @@ class MainWindow(QMainWindow):
         from PySide6.QtWidgets import QApplication
 
         QApplication.instance().removeEventFilter(self.input_guard)
+        self.error_bar.uninstall()
         event.accept()

@@ -28,7 +28,7 @@ class StoppingProcess(CommandProcess):
             return
         super().cancel()
         process = self.process
-        QTimer.singleShot(CANCEL_GRACE_MS, lambda: self._kill_if(process))
+        QTimer.singleShot(CANCEL_GRACE_MS, self, lambda: self._kill_if(process))
 
     def _kill_if(self, process) -> None:
         if process is self.process and self.running:

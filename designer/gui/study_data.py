@@ -112,6 +112,8 @@ class PlanCost:
     images_rendered: int
     render_s: float
     reconstruct_s: float
+    #: runs that would fail, told before the study runs (:func:`plan_warnings`)
+    warnings: tuple[str, ...] = ()
 
     @property
     def total_s(self) -> float:
@@ -171,6 +173,56 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
                     sum(n for n, _ in renders.values()), render_s, reconstruct_s)
 
 
+#: control GCPs a georeferencing on GCPs needs (designer.sfm.process_free)
+MIN_CONTROL_GCPS = 3
+
+
+def _gcp_shortfall(project) -> str | None:
+    """Why every reconstruction of ``project`` would fail for want of control GCPs
+    (its GCP mode georeferences on them and it has fewer than 3), or None."""
+    from designer.project import model as m
+
+    p = project.processing or m.Processing()
+    mode = p.gcps.mode
+    if mode == "none" or (mode == "bundle" and p.position_prior.mode != "none"):
+        return None
+    targets = project.targets
+    selection = p.gcps.control
+    if selection is None:
+        n = sum(t.role == "control" for t in targets)
+    elif selection.ids:
+        n = len(set(selection.ids))
+    else:
+        n = min(selection.count or 0, len(targets))
+    if n >= MIN_CONTROL_GCPS:
+        return None
+    has = (f"the project has {len(targets)} GCP targets" if n == len(targets) else
+           f"the project has {n} control GCPs of {len(targets)} GCP targets")
+    other = " or give camera-position priors" if mode == "bundle" else ""
+    return (f"GCP mode {mode} needs at least {MIN_CONTROL_GCPS} control GCPs and {has}; "
+            f"add GCP targets, or set the GCP mode to none{other} (Processing panel)")
+
+
+def plan_warnings(plan) -> list[str]:
+    """What can be told before a study runs about runs that would fail: runs whose
+    processing georeferences on GCPs the project lacks. One line per reason."""
+    by_reason: dict[str, list[str]] = {}
+    for run in plan.runs:
+        reason = _gcp_shortfall(run.project)
+        if reason is not None:
+            by_reason.setdefault(reason, []).append(run.run_id)
+    total = len(plan.runs)
+    out = []
+    for reason, ids in by_reason.items():
+        if len(ids) == total:
+            who = f"every run ({total} of {total})"
+        else:
+            who = (f"{len(ids)} of {total} runs (" + ", ".join(ids[:4])
+                   + (", …" if len(ids) > 4 else "") + ")")
+        out.append(f"{who} would fail: {reason}")
+    return out
+
+
 def duration_text(seconds: float) -> str:
     if seconds < 90:
         return f"{seconds:.0f} s"
@@ -201,6 +253,25 @@ class StudyFolder:
         metrics = [m for m in self.metrics if m != "total_s"]
         return ["run", *factors, *metrics, "total_s", "status"]
 
+    @property
+    def failed_rows(self) -> list[dict]:
+        """The finished runs that failed (status other than ok)."""
+        return [r for r in self.rows if str(r.get("status", "")) != "ok"]
+
+    def failure_reason(self, row: dict) -> str:
+        """A failed run's reason without the "failed:" and its run folder."""
+        reason = str(row.get("status", "")).removeprefix("failed:").strip()
+        return re.sub(r"^\S*/runs/[^/\s:]+(/\S*)?: ", "", reason)
+
+    def outcome(self) -> str:
+        """``N of M runs succeeded, K failed: first reason`` (finished runs only)."""
+        failed = self.failed_rows
+        text = (f"{len(self.rows) - len(failed)} of {self.runs_total} runs succeeded"
+                if failed else f"{self.runs_done} of {self.runs_total} runs")
+        if failed:
+            text += f", {len(failed)} failed: {self.failure_reason(failed[0])}"
+        return text
+
     def describe(self) -> str:
         if self.state == "empty":
             return f"{self.path}: no study yet"
@@ -210,6 +281,11 @@ class StudyFolder:
             text += (f"; {s.get('renders')} renders, {s.get('reconstructions')} "
                      f"reconstructions, {s.get('cache_hits')} cache hits, "
                      f"{s.get('failed')} failed")
+        failed = self.failed_rows
+        if failed:
+            if self.summary is None:
+                text += f"; {len(failed)} failed"
+            text += f" (first: {self.failure_reason(failed[0])})"
         return text + ("" if self.state == "complete" else "; not finished (Resume continues)")
 
 

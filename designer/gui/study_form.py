@@ -78,12 +78,16 @@ def _heightfield(plan):
 
 
 def check_study(text: str | None, source: str, path: Path, speed=None):
-    """(plan, cost) of the study ``text`` (None: the file ``path`` as it is on disk);
-    ProjectError lines ``FILE:LINE:COL: <element>: message`` for anything wrong."""
-    from designer.gui.study_data import plan_cost
+    """(plan, cost) of the study ``text`` (None: the file ``path`` as it is on disk), the
+    cost with the warnings of runs that would fail; ProjectError lines
+    ``FILE:LINE:COL: <element>: message`` for anything wrong."""
+    from dataclasses import replace
+
+    from designer.gui.study_data import plan_cost, plan_warnings
     from designer.study.design import plan_study
     from designer.study.xml import parse_study, read_study
 
     study = read_study(path) if text is None else parse_study(text.encode(), source, path)
     plan = plan_study(study)
-    return plan, plan_cost(plan, _heightfield(plan), speed)
+    cost = plan_cost(plan, _heightfield(plan), speed)
+    return plan, replace(cost, warnings=tuple(plan_warnings(plan)))

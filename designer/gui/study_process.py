@@ -78,7 +78,7 @@ class StudyProcess(CommandProcess):
             return
         self._signal_group(signal.SIGINT)
         process = self.process
-        QTimer.singleShot(CANCEL_GRACE_MS, lambda: self._kill_if(process))
+        QTimer.singleShot(CANCEL_GRACE_MS, self, lambda: self._kill_if(process))
 
     def _kill_if(self, process) -> None:
         if process is self.process and self.running:

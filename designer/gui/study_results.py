@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtCore import Qt, QUrl, Signal
-from PySide6.QtGui import QDesktopServices, QPixmap
+from PySide6.QtGui import QColor, QDesktopServices, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
@@ -25,6 +25,7 @@ from PySide6.QtWidgets import (
 from designer.gui.study_data import StudyFolder, cell_text
 
 FAILED_COLOUR = "#c0392b"
+FAILED_BACKGROUND = "#fdecea"
 
 
 class _Figure(QLabel):
@@ -75,6 +76,7 @@ class StudyResults(QWidget):
     def show_folder(self, folder: StudyFolder) -> None:
         self.folder = folder
         self.summary.setText(folder.describe())
+        self.summary.setStyleSheet(f"color: {FAILED_COLOUR}" if folder.failed_rows else "")
         columns = folder.columns
         self.table.clear()
         self.table.setColumnCount(len(columns))
@@ -84,8 +86,12 @@ class StudyResults(QWidget):
             failed = str(row.get("status", "")) != "ok"
             for c, key in enumerate(columns):
                 item = QTableWidgetItem(cell_text(row.get(key)))
-                if failed and key == "status":
-                    item.setForeground(Qt.GlobalColor.red)
+                if failed:  # the whole row stands out; the reason on every cell
+                    item.setBackground(QColor(FAILED_BACKGROUND))
+                    item.setToolTip(f"{row.get('run', '')} failed: "
+                                    f"{folder.failure_reason(row)}")
+                    if key == "status":
+                        item.setForeground(Qt.GlobalColor.red)
                 self.table.setItem(r, c, item)
         self.table.resizeColumnsToContents()
         blocked = self.figure_choice.blockSignals(True)
@@ -94,6 +100,20 @@ class StudyResults(QWidget):
             self.figure_choice.addItem(path.stem, str(path))
         self.figure_choice.blockSignals(blocked)
         self.report_button.setEnabled((folder.path / "report.html").is_file())
+        self._show_figure()
+
+    def clear(self) -> None:
+        """Show no study folder."""
+        self.folder = None
+        self.summary.setText("no study folder open")
+        self.summary.setStyleSheet("")
+        self.table.clear()
+        self.table.setRowCount(0)
+        self.table.setColumnCount(0)
+        blocked = self.figure_choice.blockSignals(True)
+        self.figure_choice.clear()
+        self.figure_choice.blockSignals(blocked)
+        self.report_button.setEnabled(False)
         self._show_figure()
 
     def select_figure(self, name: str) -> None:

@@ -271,3 +271,188 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     assert panel.open_folder(out)
     assert panel.results.table.rowCount() == 2
     assert "2 of 2 runs finished" in panel.results.summary.text()
+
+
+def test_run_on_an_unsaved_study_saves_it_and_runs_on_the_first_click(qtbot, window,
+                                                                       tmp_path):
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    box = panel.run_box
+    out = tmp_path / "first-click"
+    box.folder.setFocus()
+    qtbot.keyClicks(box.folder, str(out))
+    assert panel.study_path is None and box.run_button.isEnabled()
+
+    # Run asks where to save the study, saves it and starts the run: one click
+    path = tmp_path / "first.xml"
+    answer_file_dialog(path)
+    qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)
+    assert path.is_file() and panel.study_path == path
+    assert box.process.running, box.state.text()
+    assert box.state.text().startswith(f"starting the study into {out}")
+    assert box.progress.maximum() == 2
+    assert box.folder.text() == str(out)  # the folder chosen is kept
+    assert not box.run_button.isEnabled() and box.cancel_button.isEnabled()
+    qtbot.mouseClick(box.cancel_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not box.process.running, timeout=30_000)
+
+
+def _base_without_gcps(qtbot, w, folder):
+    """The tiny base without GCP targets (its processing still georeferences on GCPs)."""
+    from dataclasses import replace
+
+    from designer.project import write_project
+    from designer.study.templates import template_base
+
+    p = template_base("tiny")
+    p = replace(p, scene=replace(p.scene, targets=None), processing=replace(
+        p.processing, gcps=replace(p.processing.gcps, control=None)))
+    base = folder / "no-gcps.xml"
+    write_project(p, base)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    w.docks["Study"].raise_()
+    return w.panels["Study"]
+
+
+def test_a_study_whose_runs_would_fail_is_warned_before_run(qtbot, window, tmp_path):
+    w = window
+    panel = _base_without_gcps(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    warning = panel.warnings.text()
+    assert panel.warnings.isVisible() and not panel.errors.isVisible()
+    assert "every run (2 of 2) would fail" in warning, warning
+    assert "GCP mode similarity needs at least 3 control GCPs" in warning, warning
+    assert "0 GCP targets" in warning
+    qtbot.keyClicks(panel.run_box.folder, str(tmp_path / "out"))
+    assert panel.run_box.run_button.isEnabled()  # a warning: the study may still run
+
+    # a study that varies the GCP mode: only the runs that need GCPs are named
+    _add(qtbot, panel, "gcp-mode", "none")
+    _checked(qtbot, w, panel)
+    warning = panel.warnings.text()
+    assert "2 of 3 runs" in warning and "would fail" in warning, warning
+    # none of them needs GCPs any more: the warning goes away
+    for row in list(panel.rows):
+        qtbot.mouseClick(row.remove_button, Qt.MouseButton.LeftButton)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    _checked(qtbot, w, panel)
+    assert panel.warnings.isVisible()
+    from designer.gui import edits
+
+    w.editor.edit(edits.replace_path(w.document.project, "processing.gcps.mode", "none"),
+                  "GCP mode none")
+    _checked(qtbot, w, panel)
+    assert not panel.warnings.isVisible(), panel.warnings.text()
+
+
+@pytest.mark.blender
+def test_a_study_whose_runs_failed_is_shown_as_failed(qtbot, window, tmp_path):
+    w = window
+    panel = _base_without_gcps(qtbot, w, tmp_path)
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    assert _runs_line(_checked(qtbot, w, panel)) == (2, 1, 2)
+    assert panel.save_study(tmp_path / "no-gcps-study.xml")
+    _checked(qtbot, w, panel)
+    box = panel.run_box
+    qtbot.mouseClick(box.run_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not box.process.running, timeout=300_000)
+    state = box.state.text()
+    assert not state.startswith("done"), state
+    assert re.match(r"finished in .*: 0 of 2 runs succeeded, 2 failed: only 0 control GCPs "
+                    r"are seen", state), state + box.log.toPlainText()
+    assert "/runs/" not in state  # the reason, not the run's folder
+    assert "#c0392b" in box.state.styleSheet()
+    assert box.progress.property("failed") is True
+    assert "#c0392b" in box.progress.styleSheet()
+    # the table: failed rows stand out, the reason in every cell's tooltip
+    results = panel.results
+    assert "2 failed" in results.summary.text() and "#c0392b" in results.summary.styleSheet()
+    table = results.table
+    for r in range(table.rowCount()):
+        item = table.item(r, 0)
+        assert item.background().color().name() == "#fdecea"
+        assert "only 0 control GCPs" in item.toolTip()
+
+
+def test_a_texture_chosen_for_the_project_resolves_from_a_study_elsewhere(qtbot, window,
+                                                                          tmp_path):
+    """The project's missing texture chosen again (Texture: Choose…) with the project not
+    saved yet: a study in another folder finds the texture where the project does."""
+    from dataclasses import replace
+
+    import numpy as np
+    from PIL import Image
+    from PySide6.QtWidgets import QPushButton
+
+    from designer.project import model as m
+    from designer.project import write_project
+    from designer.study.templates import template_base
+
+    w = window
+    project_dir, study_dir = tmp_path / "survey", tmp_path / "studies"
+    (project_dir / "textures").mkdir(parents=True)
+    study_dir.mkdir()
+    p = template_base("tiny")
+    p = replace(p, scene=replace(p.scene, texture=replace(
+        p.scene.texture, source=m.ImageTexture("ground.png"))))  # not there
+    base = project_dir / "field.xml"
+    write_project(p, base)
+    texture = project_dir / "textures" / "ground.png"
+    Image.fromarray(np.full((64, 64, 3), 120, np.uint8)).save(texture)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    assert any("ground.png" in line for line in
+               [w.problems.item(i).text() for i in range(w.problems.count())])
+
+    # Texture: Choose… the image where it is now
+    w.docks["Texture"].raise_()
+    choose = w.panels["Texture"].image.findChild(QPushButton)
+    answer_file_dialog(texture)
+    qtbot.mouseClick(choose, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.texture.source.file == "textures/ground.png"
+    assert w.document.dirty
+
+    # a study beside the project's folder, on that project
+    study = study_dir / "marks.xml"
+    study.write_text(
+        '<?xml version="1.0"?>\n'
+        '<study xmlns="urn:designer:project:1" schema-version="1.0" name="marks">\n'
+        '  <base-project file="../survey/field.xml"/>\n'
+        '  <factor name="marking-sigma-px"><values>2</values></factor>\n'
+        "</study>\n")
+    panel = w.panels["Study"]
+    w.docks["Study"].raise_()
+    assert panel.open_study(study)
+    text = _checked(qtbot, w, panel)
+    assert not panel.errors.isVisible(), panel.errors.text()
+    assert _runs_line(text) == (2, 1, 2)
+    # the study's copy of the unsaved project names the texture from the study's folder
+    assert 'file="../survey/textures/ground.png"' in panel.study_text(study)
+
+
+def test_opening_another_project_clears_the_study_results(qtbot, window, tmp_path):
+    w = window
+    panel, base = _tiny_base(qtbot, w, tmp_path)
+    out = tmp_path / "old-study"  # a study folder of this project, one run finished
+    (out / "runs" / "v000-r00").mkdir(parents=True)
+    (out / "study.json").write_text(json.dumps({"name": "old", "runs": ["v000-r00",
+                                                                         "v001-r00"]}))
+    (out / "runs" / "v000-r00" / "result.json").write_text(json.dumps(
+        {"run": "v000-r00", "status": "ok", "check_rmse_z_m": 0.02}))
+    assert panel.open_folder(out)
+    assert panel.results.table.rowCount() == 1
+    assert "study 'old'" in panel.results.summary.text()
+
+    other = tmp_path / "other.xml"
+    other.write_bytes(base.read_bytes())
+    assert w.open_project(other)
+    wait_idle(qtbot, w)
+    assert panel.results.table.rowCount() == 0
+    assert panel.results.summary.text() == "no study folder open"
+    assert panel.results.folder is None and panel.results.figure_choice.count() == 0
+    assert panel.run_box.folder.text() == str(out)  # still the folder to resume

@@ -40,6 +40,7 @@ from designer.survey.render_cost import load_speed
 DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
            ("full factorial (every combination)", "full-factorial")]
 UNTITLED = "untitled-study.xml"
+WARNING_STYLE = "color: #b9770e; font-weight: bold"
 
 
 class StudyPanel(StudyFiles, Panel):
@@ -147,6 +148,12 @@ class StudyPanel(StudyFiles, Panel):
         self.errors.setStyleSheet(ERROR_STYLE)
         self.errors.hide()
         layout.addWidget(self.errors)
+        self.warnings = QLabel("")
+        self.warnings.setObjectName("study-warnings")
+        self.warnings.setWordWrap(True)
+        self.warnings.setStyleSheet(WARNING_STYLE)
+        self.warnings.hide()
+        layout.addWidget(self.warnings)
 
         self.run_box = StudyRunBox(self)
         layout.addWidget(self.run_box)
@@ -165,6 +172,7 @@ class StudyPanel(StudyFiles, Panel):
         self._timer.setInterval(250)
         self._timer.timeout.connect(self.check_now)
         self.editor.document.events.connect("file", lambda **_: self.changed())
+        self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
         self._show_base()
 
     # ------------------------------------------------------------------ the study
@@ -214,9 +222,13 @@ class StudyPanel(StudyFiles, Panel):
             return BaseProject(file=relative(file, study_path.parent))
         if self.inline_base is not None:
             return BaseProject(inline_xml=self.inline_base)
+        from designer.gui.files import rebase_files
         from designer.project.model_to_xml import project_to_bytes
 
-        return BaseProject(inline_xml=project_to_bytes(self.project))
+        # the window's project, not saved: its files are named from its own folder, and
+        # a study's inline project names them from the study file's folder
+        return BaseProject(inline_xml=project_to_bytes(
+            rebase_files(self.project, doc.base_dir, study_path.parent)))
 
     def study(self, study_path: Path | None = None) -> Study:
         """The study the panel shows; ValueError for levels that are not usable."""
@@ -267,6 +279,8 @@ class StudyPanel(StudyFiles, Panel):
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else ""))
         self.errors.hide()
+        self.warnings.setText("\n".join(f"⚠ {line}" for line in c.warnings))
+        self.warnings.setVisible(bool(c.warnings))
         self.run_box.update_buttons()
 
     def _check_failed(self, error: BaseException) -> None:
@@ -278,6 +292,7 @@ class StudyPanel(StudyFiles, Panel):
         self.plan_label.setText("not runnable: fix the study")
         self.errors.setText("\n".join(lines))
         self.errors.show()
+        self.warnings.hide()
         self.run_box.update_buttons()
 
     def _show_base(self) -> None:
@@ -303,6 +318,12 @@ class StudyPanel(StudyFiles, Panel):
         if self.base_file is None and self.inline_base is None:
             self._show_base()
             self.changed()
+
+    def _project_replaced(self) -> None:
+        """Another project was opened (or a new one made): the results shown were of the
+        project before; the study itself and its output folder stay."""
+        self.results.clear()
+        self.run_box.clear_progress()
 
     def refresh(self) -> None:
         pass

@@ -108,8 +108,13 @@ class StudyFiles:
         self.run_box.default_folder(path)
         self._show_base()
         try:  # as the file is: checked as it is on disk (its own line numbers)
-            self._opened_text = None if picked else self.study_text()
+            self._opened_text = self.study_text()
         except ValueError:
+            self._opened_text = None
+        if picked or (study.base.file is not None
+                      and self._base(path).file != study.base.file):
+            # the base is another file now, or the window's project with changes not
+            # saved: the file on disk is not what the panel shows
             self._opened_text = None
         self.changed()
         return True

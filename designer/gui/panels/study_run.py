@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
 
 from designer.gui.study_data import StudyFolder, duration_text, read_folder
 from designer.gui.study_process import StudyProcess, study_command
+from designer.gui.study_results import FAILED_COLOUR
 from designer.gui.widgets import form, ispin
 
 
@@ -120,7 +121,10 @@ class StudyRunBox(QGroupBox):
     # ------------------------------------------------------------------ run
     def run(self) -> None:
         panel = self.panel
-        if panel.plan is None or self.process.running:
+        # the checked plan: saving the study (and the project it is based on) starts a
+        # new check of the same study, which clears panel.plan until it is done
+        plan = panel.plan
+        if plan is None or self.process.running:
             return
         text = panel.study_text(panel.study_path) if panel.study_path else None
         if panel.study_path is None or text != panel._opened_text:
@@ -131,10 +135,12 @@ class StudyRunBox(QGroupBox):
             return
         resume = folder.state == "partial"
         self.out_dir = folder.path
-        self.total = len(panel.plan.runs)
+        self.total = len(plan.runs)
         self.progress.setRange(0, self.total)
         self.progress.setValue(folder.runs_done if resume else 0)
         self.renders_started = self.renders_done = 0
+        self.failed_runs = 0
+        self._show_failed(False)
         self.log.clear()
         self._t0 = time.perf_counter()
         argv = study_command(panel.study_path, self.out_dir, resume, self.workers.value())
@@ -166,6 +172,9 @@ class StudyRunBox(QGroupBox):
             self.progress.setRange(0, int(event["total"]))
             self.progress.setValue(int(event["done"]))
             self.log.appendPlainText(f"{event['run']}: {event['status']}")
+            if event["status"] != "ok":
+                self.failed_runs += 1
+                self._show_failed(True)
             self.state.setText(self._stage_text()
                                + f"; last finished {event['run']} ({event['status'][:60]})")
 
@@ -175,16 +184,30 @@ class StudyRunBox(QGroupBox):
                  if rendering else "reconstructing and comparing")
         if rendering and self.renders_done:
             stage += ", reconstructing"
+        failed = getattr(self, "failed_runs", 0)
         return (f"stage: {stage}; {self.progress.value()} / {self.progress.maximum()} runs "
-                f"finished")
+                f"finished" + (f", {failed} failed" if failed else ""))
+
+    def _show_failed(self, failed: bool) -> None:
+        """The progress bar and the state line in red once a run failed (or the study)."""
+        self.progress.setProperty("failed", failed)
+        self.progress.setStyleSheet(
+            f"QProgressBar::chunk {{ background-color: {FAILED_COLOUR}; }}" if failed else "")
+        self.state.setStyleSheet(f"color: {FAILED_COLOUR}" if failed else "")
 
     def _finished(self, code: int, stderr_tail: str) -> None:
         seconds = time.perf_counter() - getattr(self, "_t0", time.perf_counter())
         folder = read_folder(self.out_dir) if self.out_dir is not None else None
         done = f"{folder.runs_done} of {folder.runs_total}" if folder else "?"
+        failed = folder.failed_rows if folder is not None else []
         if self.process.cancelled:
             self.state.setText(f"cancelled after {duration_text(seconds)}: {done} runs "
-                               f"finished and kept in {self.out_dir}; Resume continues")
+                               f"finished and kept in {self.out_dir}"
+                               + (f" ({len(failed)} failed)" if failed else "")
+                               + "; Resume continues")
+        elif code == 0 and failed:
+            self.state.setText(f"finished in {duration_text(seconds)}: {folder.outcome()}; "
+                               "results below")
         elif code == 0:
             self.state.setText(f"done in {duration_text(seconds)}: {done} runs; results "
                                "below")
@@ -192,9 +215,19 @@ class StudyRunBox(QGroupBox):
             last = [line for line in stderr_tail.splitlines() if line.strip()][-1:]
             self.state.setText(f"the study failed (exit {code})"
                                + (f": {last[0]}" if last else ""))
+        self._show_failed(bool(failed) or (code != 0 and not self.process.cancelled))
         if folder is not None and folder.state != "empty":
             self.panel.results.show_folder(folder)
         self.update_buttons()
+
+    def clear_progress(self) -> None:
+        """Forget the last run's progress, state and log (not while a study runs)."""
+        if self.process.running:
+            return
+        self.progress.reset()
+        self._show_failed(False)
+        self.state.setText("")
+        self.log.clear()
 
     def shutdown(self) -> None:
         if self.process.running:
