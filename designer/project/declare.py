@@ -82,13 +82,15 @@ class Element:
     stage: Stage = "render"
     #: the values it gets when switched on in the GUI or by a factor, beyond its defaults
     on: tuple[tuple[str, Any], ...] = ()
+    #: fields whose attributes are written first (the rest follow in field order)
+    first: tuple[str, ...] = ()
 
 
 def element(tag: str, *, title: str, path: str | None = None, stage: Stage = "render",
-            on: dict[str, Any] | None = None):
+            on: dict[str, Any] | None = None, first: tuple[str, ...] = ()):
     """Class decorator declaring a model class as the element ``<tag>``."""
     def deco(cls):
-        cls.__element__ = Element(tag, title, path, stage, tuple((on or {}).items()))
+        cls.__element__ = Element(tag, title, path, stage, tuple((on or {}).items()), first)
         return cls
     return deco
 

@@ -241,19 +241,14 @@ class _Reader:
         groups = []
         for g in el.iterchildren(q("plants")):
             albedo = g.get("albedo-rgb")
-            groups.append(self.note(m.PlantGroup(
-                density_per_m2=_f(g, "density-per-m2"), kind=g.get("kind"),
-                mesh=g.get("mesh"), height_m=_opt_f(g, "height-m"),
-                height_sd_m=_opt_f(g, "height-sd-m") or 0.0, crown_m=_opt_f(g, "crown-m"),
+            groups.append(self.note(read_declared(
+                m.PlantGroup, g, kind=g.get("kind"),  # absent: no kind (a mesh group)
                 albedo_rgb=None if albedo is None else _numbers(albedo)), g))
         wind_el = el.find(q("wind"))
         wind = None
         if wind_el is not None:
             wind = self.note(read_declared(m.Wind, wind_el), wind_el)
-        clearance = _opt_f(el, "clearance-m")
-        veg = m.Vegetation(tuple(groups), seed=int(el.get("seed", "0")),
-                           clearance_m=m.Vegetation.clearance_m if clearance is None
-                           else clearance, wind=wind)
+        veg = read_declared(m.Vegetation, el, plants=tuple(groups), wind=wind)
         return self.note(veg, el)
 
     def scene_object(self, el: etree._Element) -> m.SceneObject:
@@ -264,16 +259,9 @@ class _Reader:
         return self.note(m.SceneObject(el.get("name"), el.get("file"), placement), el)
 
     def lighting(self, el: etree._Element) -> m.Lighting:
-        sun_el = el.find(q("sun"))
-        if sun_el is not None:
-            sun = m.Sun(_f(sun_el, "azimuth-deg"), _f(sun_el, "elevation-deg"))
-        elif el.find(q("sun-position")) is not None:
-            sun_el = el.find(q("sun-position"))
-            sun = m.SunPosition(sun_el.get("date-time").strip(), _f(sun_el, "latitude-deg"),
-                                _f(sun_el, "longitude-deg"))
-        else:
-            sun_el = el.find(q("sun-over-time"))
-            sun = read_declared(m.SunOverTime, sun_el)
+        sun_el, kind = next((c, k) for k in (m.Sun, m.SunPosition, m.SunOverTime)
+                            if (c := el.find(q(element_of(k).tag))) is not None)
+        sun = read_declared(kind, sun_el)
         self.note(sun, sun_el)
         clouds = None
         c = el.find(q("cloud-shadows"))
