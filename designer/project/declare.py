@@ -53,20 +53,25 @@ class Attr:
     step: float = 0.1
     #: GUI: the value shown as this text instead of its number (e.g. "off", "auto")
     special: str | None = None
+    #: the child element that holds the attribute (e.g. a moving object's "path")
+    child: str | None = None
 
 
 def attr(default: Any = MISSING, *, doc: str, unit: str = "",
          range: tuple[float | None, float | None] = (None, None),
          low_open: bool = False, high_open: bool = False, xml: str | None = None,
          label: str | None = None, factor: str | None = None, write_default: bool = True,
-         decimals: int = 3, step: float = 0.1, special: str | None = None) -> Any:
+         decimals: int = 3, step: float = 0.1, special: str | None = None,
+         child: str | None = None) -> Any:
     """A dataclass field carrying its declaration: ``range`` (low, high) is inclusive
     unless ``low_open``/``high_open``; ``xml`` defaults to the field's name with ``-`` for
-    ``_``; ``factor`` names the study factor that varies it."""
+    ``_``; ``factor`` names the study factor that varies it; ``child`` the child element
+    the attribute sits on."""
     low, high = range
     meta = Attr(doc=doc, unit=unit, low=low, high=high, low_open=low_open,
                 high_open=high_open, xml=xml, label=label, factor=factor,
-                write_default=write_default, decimals=decimals, step=step, special=special)
+                write_default=write_default, decimals=decimals, step=step, special=special,
+                child=child)
     return dataclasses.field(default=default, metadata={"attr": meta})
 
 

@@ -270,6 +270,7 @@ class PathPoint:
 MOVING_SHAPES = {"car": (4.5, 1.8, 1.5), "person": (0.5, 0.5, 1.75), "box": None}
 
 
+@element("object", title="moving object")
 @dataclass(frozen=True)
 class MovingObject:
     """A vehicle or person moving along a polyline ``path`` at ``speed_m_s`` from
@@ -279,14 +280,18 @@ class MovingObject:
     height) is required for a box and overrides a car's or person's size.
     ``albedo_rgb`` is the linear diffuse colour."""
 
-    id: str
+    id: str = attr(doc="the object's id")
     path: tuple[PathPoint, ...]
-    speed_m_s: float
-    shape: str | None = "car"
-    file: str | None = None
+    speed_m_s: float = attr(doc="speed along the path", unit="m/s", range=(0, 100),
+                            low_open=True, child="path", label="speed", decimals=2, step=0.5)
+    shape: str | None = attr("car", doc="a built-in shape (car, person, box)")
+    file: str | None = attr(None, doc="a mesh file in the object's frame")
     size_m: tuple[float, float, float] | None = None
-    start_s: float = 0.0
-    loop: bool = False
+    start_s: float = attr(0.0, doc="when it starts along its path, after take-off", unit="s",
+                          range=(0, None), child="path", write_default=False,
+                          label="starts at", decimals=1, step=1)
+    loop: bool = attr(False, doc="go round the path again", child="path",
+                      write_default=False)
     albedo_rgb: tuple[float, float, float] = (0.85, 0.82, 0.78)
 
 
@@ -294,6 +299,7 @@ class MovingObject:
 ROOF_SHAPES = ("flat", "gable", "hip")
 
 
+@element("building", title="building")
 @dataclass(frozen=True)
 class Building:
     """A building standing on the terrain: its base is the lowest terrain height under
@@ -305,15 +311,23 @@ class Building:
     building's frame (origin at the base centre, +Y forward, +Z up, m) placed with its
     origin at ``position`` (X, Y) turned by ``heading_deg`` (clockwise from grid north)."""
 
-    id: str
+    id: str = attr(doc="the building's id")
     footprint: tuple[PathPoint, ...] = ()
-    roof: str = "flat"
-    eave_height_m: float = 6.0
-    ridge_height_m: float | None = None
-    ridge_direction_deg: float | None = None
-    file: str | None = None
+    roof: str = attr("flat", doc="roof shape of an extruded building (flat, gable, hip)")
+    eave_height_m: float = attr(6.0, doc="wall height above the base", unit="m",
+                                range=(0, 500), low_open=True, label="walls", decimals=2,
+                                step=0.5)
+    ridge_height_m: float | None = attr(None, doc="ridge height above the base (pitched "
+                                        "roofs, above the eaves)", unit="m", range=(0, 500),
+                                        low_open=True, label="ridge", decimals=2, step=0.5)
+    ridge_direction_deg: float | None = attr(None, doc="ridge direction, clockwise from grid "
+                                             "north (none: along the longer side)",
+                                             unit="deg", label="ridge direction",
+                                             decimals=1, step=5)
+    file: str | None = attr(None, doc="a mesh file in the building's frame")
     position: PathPoint | None = None
-    heading_deg: float = 0.0
+    heading_deg: float = attr(0.0, doc="turn of a mesh building, clockwise from grid north",
+                              unit="deg", label="heading", decimals=1, step=5)
 
 
 #: built-in plant kinds: name → (height, crown diameter) m defaults

@@ -49,7 +49,8 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     """The element of a declared model object (designer.project.declare) under
     ``parent``: ``lead`` attributes first (fields that are not declared), then the
     declared ones in declaration order (None left out, and a default that is not to be
-    written)."""
+    written); an attribute declared on a child element goes on that child (made here,
+    the first child)."""
     from designer.project.declare import declared, element_of
 
     decl = element_of(type(obj))
@@ -58,7 +59,12 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
         value = getattr(obj, d.name)
         if value is None or (not d.attr.write_default and value == d.default):
             continue
-        el.set(d.xml, _bool(value) if d.base is bool else
+        holder = el
+        if d.attr.child is not None:
+            holder = el.find(q(d.attr.child))
+            if holder is None:
+                holder = etree.SubElement(el, q(d.attr.child))
+        holder.set(d.xml, _bool(value) if d.base is bool else
                _num(value) if d.base in (int, float) else str(value))
     return el
 
@@ -143,11 +149,8 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.moving_objects:
         moving_el = _sub(el, "moving-objects")
         for obj in scene.moving_objects:
-            o_el = _sub(moving_el, "object", id=obj.id)
-            if obj.shape is not None:
-                o_el.set("shape", obj.shape)
-            if obj.file is not None:
-                o_el.set("file", obj.file)
+            o_el = write_declared(moving_el, obj)  # id, shape, file; speed … on <path>
+            path_el = o_el.find(q("path"))
             if obj.size_m is not None:
                 for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
                                        strict=True):
@@ -155,11 +158,6 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
                         o_el.set(name, _num(value))
             if obj.albedo_rgb != m.MovingObject.albedo_rgb:
                 o_el.set("albedo-rgb", " ".join(_num(v) for v in obj.albedo_rgb))
-            path_el = _sub(o_el, "path", speed_m_s=_num(obj.speed_m_s))
-            if obj.start_s:
-                path_el.set("start-s", _num(obj.start_s))
-            if obj.loop:
-                path_el.set("loop", "true")
             for point in obj.path:
                 _point_attrs(_sub(path_el, "point"), point.X, point.Y, None)
 

@@ -207,12 +207,7 @@ def _moving_objects(project: m.Project) -> list[Issue]:
             out.append(Issue(obj, "object", "albedo-rgb must be three numbers from 0 to 1 "
                              "(linear red green blue), e.g. \"0.8 0.1 0.1\"",
                              attr="albedo-rgb"))
-        if not (math.isfinite(obj.speed_m_s) and 0 < obj.speed_m_s <= 100):
-            out.append(Issue(obj, "path", f"speed-m-s = {obj.speed_m_s!r} must be greater "
-                             "than 0 and at most 100 m/s", attr="speed-m-s", key="path"))
-        if not (math.isfinite(obj.start_s) and obj.start_s >= 0):
-            out.append(Issue(obj, "path", f"start-s = {obj.start_s!r} must be 0 or more "
-                             "seconds after take-off", attr="start-s", key="path"))
+        # speed-m-s and start-s: their declared ranges (validate_declared)
         if len(obj.path) < 2:
             out.append(Issue(obj, "path", f"the path of '{obj.id}' has {len(obj.path)} "
                              "point(s); give at least two <point X Y/>", key="path"))

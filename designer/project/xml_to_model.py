@@ -53,7 +53,8 @@ def read_declared(cls, el: etree._Element, **given):
 
     values = dict(given)
     for d in declared(cls):
-        raw = el.get(d.xml)
+        holder = el if d.attr.child is None else el.find(q(d.attr.child))
+        raw = None if holder is None else holder.get(d.xml)
         if d.name in values or raw is None:
             continue
         if d.base is bool:
@@ -206,12 +207,9 @@ class _Reader:
                        for p in path_el.iterchildren(q("point")))
         size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
         albedo = el.get("albedo-rgb")
-        obj = m.MovingObject(
-            id=el.get("id"), path=points, speed_m_s=_f(path_el, "speed-m-s"),
-            shape=el.get("shape"), file=el.get("file"),
+        obj = read_declared(
+            m.MovingObject, el, path=points, shape=el.get("shape"),  # absent: no shape
             size_m=None if all(v is None for v in size) else size,
-            start_s=_opt_f(path_el, "start-s") or 0.0,
-            loop=_bool(path_el.get("loop", "false")),
             albedo_rgb=m.MovingObject.albedo_rgb if albedo is None else _numbers(albedo))
         self.note(obj, path_el, "path")
         return self.note(obj, el)
@@ -224,15 +222,10 @@ class _Reader:
             xy += (float("nan"),) * (len(xy) % 2)  # an odd count: a NaN Y validation names
             footprint = tuple(m.PathPoint(x, y) for x, y in zip(xy[::2], xy[1::2], strict=True))
         X, Y = _opt_f(el, "X"), _opt_f(el, "Y")
-        building = m.Building(
-            id=el.get("id"), footprint=footprint, roof=el.get("roof", "flat"),
-            eave_height_m=float(el.get("eave-height-m", m.Building.eave_height_m)),
-            ridge_height_m=_opt_f(el, "ridge-height-m"),
-            ridge_direction_deg=_opt_f(el, "ridge-direction-deg"),
-            file=el.get("file"),
+        building = read_declared(
+            m.Building, el, footprint=footprint,
             position=None if X is None and Y is None else m.PathPoint(
-                float("nan") if X is None else X, float("nan") if Y is None else Y),
-            heading_deg=float(el.get("heading-deg", 0.0)))
+                float("nan") if X is None else X, float("nan") if Y is None else Y))
         if fp_el is not None:
             self.note(building, fp_el, "footprint")
         return self.note(building, el)
