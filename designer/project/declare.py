@@ -53,20 +53,25 @@ class Attr:
     step: float = 0.1
     #: GUI: the value shown as this text instead of its number (e.g. "off", "auto")
     special: str | None = None
+    #: the child element that holds the attribute (e.g. a moving object's "path")
+    child: str | None = None
 
 
 def attr(default: Any = MISSING, *, doc: str, unit: str = "",
          range: tuple[float | None, float | None] = (None, None),
          low_open: bool = False, high_open: bool = False, xml: str | None = None,
          label: str | None = None, factor: str | None = None, write_default: bool = True,
-         decimals: int = 3, step: float = 0.1, special: str | None = None) -> Any:
+         decimals: int = 3, step: float = 0.1, special: str | None = None,
+         child: str | None = None) -> Any:
     """A dataclass field carrying its declaration: ``range`` (low, high) is inclusive
     unless ``low_open``/``high_open``; ``xml`` defaults to the field's name with ``-`` for
-    ``_``; ``factor`` names the study factor that varies it."""
+    ``_``; ``factor`` names the study factor that varies it; ``child`` the child element
+    the attribute sits on."""
     low, high = range
     meta = Attr(doc=doc, unit=unit, low=low, high=high, low_open=low_open,
                 high_open=high_open, xml=xml, label=label, factor=factor,
-                write_default=write_default, decimals=decimals, step=step, special=special)
+                write_default=write_default, decimals=decimals, step=step, special=special,
+                child=child)
     return dataclasses.field(default=default, metadata={"attr": meta})
 
 
@@ -82,13 +87,15 @@ class Element:
     stage: Stage = "render"
     #: the values it gets when switched on in the GUI or by a factor, beyond its defaults
     on: tuple[tuple[str, Any], ...] = ()
+    #: fields whose attributes are written first (the rest follow in field order)
+    first: tuple[str, ...] = ()
 
 
 def element(tag: str, *, title: str, path: str | None = None, stage: Stage = "render",
-            on: dict[str, Any] | None = None):
+            on: dict[str, Any] | None = None, first: tuple[str, ...] = ()):
     """Class decorator declaring a model class as the element ``<tag>``."""
     def deco(cls):
-        cls.__element__ = Element(tag, title, path, stage, tuple((on or {}).items()))
+        cls.__element__ = Element(tag, title, path, stage, tuple((on or {}).items()), first)
         return cls
     return deco
 

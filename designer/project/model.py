@@ -270,6 +270,7 @@ class PathPoint:
 MOVING_SHAPES = {"car": (4.5, 1.8, 1.5), "person": (0.5, 0.5, 1.75), "box": None}
 
 
+@element("object", title="moving object")
 @dataclass(frozen=True)
 class MovingObject:
     """A vehicle or person moving along a polyline ``path`` at ``speed_m_s`` from
@@ -279,14 +280,18 @@ class MovingObject:
     height) is required for a box and overrides a car's or person's size.
     ``albedo_rgb`` is the linear diffuse colour."""
 
-    id: str
+    id: str = attr(doc="the object's id")
     path: tuple[PathPoint, ...]
-    speed_m_s: float
-    shape: str | None = "car"
-    file: str | None = None
+    speed_m_s: float = attr(doc="speed along the path", unit="m/s", range=(0, 100),
+                            low_open=True, child="path", label="speed", decimals=2, step=0.5)
+    shape: str | None = attr("car", doc="a built-in shape (car, person, box)")
+    file: str | None = attr(None, doc="a mesh file in the object's frame")
     size_m: tuple[float, float, float] | None = None
-    start_s: float = 0.0
-    loop: bool = False
+    start_s: float = attr(0.0, doc="when it starts along its path, after take-off", unit="s",
+                          range=(0, None), child="path", write_default=False,
+                          label="starts at", decimals=1, step=1)
+    loop: bool = attr(False, doc="go round the path again", child="path",
+                      write_default=False)
     albedo_rgb: tuple[float, float, float] = (0.85, 0.82, 0.78)
 
 
@@ -294,6 +299,7 @@ class MovingObject:
 ROOF_SHAPES = ("flat", "gable", "hip")
 
 
+@element("building", title="building")
 @dataclass(frozen=True)
 class Building:
     """A building standing on the terrain: its base is the lowest terrain height under
@@ -305,21 +311,30 @@ class Building:
     building's frame (origin at the base centre, +Y forward, +Z up, m) placed with its
     origin at ``position`` (X, Y) turned by ``heading_deg`` (clockwise from grid north)."""
 
-    id: str
+    id: str = attr(doc="the building's id")
     footprint: tuple[PathPoint, ...] = ()
-    roof: str = "flat"
-    eave_height_m: float = 6.0
-    ridge_height_m: float | None = None
-    ridge_direction_deg: float | None = None
-    file: str | None = None
+    roof: str = attr("flat", doc="roof shape of an extruded building (flat, gable, hip)")
+    eave_height_m: float = attr(6.0, doc="wall height above the base", unit="m",
+                                range=(0, 500), low_open=True, label="walls", decimals=2,
+                                step=0.5)
+    ridge_height_m: float | None = attr(None, doc="ridge height above the base (pitched "
+                                        "roofs, above the eaves)", unit="m", range=(0, 500),
+                                        low_open=True, label="ridge", decimals=2, step=0.5)
+    ridge_direction_deg: float | None = attr(None, doc="ridge direction, clockwise from grid "
+                                             "north (none: along the longer side)",
+                                             unit="deg", label="ridge direction",
+                                             decimals=1, step=5)
+    file: str | None = attr(None, doc="a mesh file in the building's frame")
     position: PathPoint | None = None
-    heading_deg: float = 0.0
+    heading_deg: float = attr(0.0, doc="turn of a mesh building, clockwise from grid north",
+                              unit="deg", label="heading", decimals=1, step=5)
 
 
 #: built-in plant kinds: name → (height, crown diameter) m defaults
 PLANT_KINDS = {"grass-tuft": (0.3, 0.2), "shrub": (1.0, 1.2), "tree": (8.0, 5.0)}
 
 
+@element("plants", title="plant group", first=("kind", "mesh"))
 @dataclass(frozen=True)
 class PlantGroup:
     """Plants of one kind scattered over the terrain at ``density_per_m2`` (plants per
@@ -330,12 +345,19 @@ class PlantGroup:
     or the mesh's width) scales with its height. ``albedo_rgb`` (linear; None: the
     kind's green) is the foliage colour."""
 
-    density_per_m2: float
-    kind: str | None = "shrub"
-    mesh: str | None = None
-    height_m: float | None = None
-    height_sd_m: float = 0.0
-    crown_m: float | None = None
+    density_per_m2: float = attr(doc="plants per m²", unit="/m²", range=(0, 100),
+                                 low_open=True, label="density", decimals=4, step=0.01)
+    kind: str | None = attr("shrub", doc="a built-in plant kind (grass-tuft, shrub, tree)")
+    mesh: str | None = attr(None, doc="a mesh file in the plant's frame")
+    height_m: float | None = attr(None, doc="mean plant height (none: the kind's or the "
+                                  "mesh's)", unit="m", range=(0, 150), low_open=True,
+                                  label="height", decimals=2, step=0.1)
+    height_sd_m: float = attr(0.0, doc="σ of the plant heights (at most the mean height)",
+                              unit="m", range=(0, 150), label="height spread", decimals=2,
+                              step=0.05)
+    crown_m: float | None = attr(None, doc="crown diameter (none: the kind's or the mesh's "
+                                 "width)", unit="m", range=(0, 100), low_open=True,
+                                 label="crown", decimals=2, step=0.1)
     albedo_rgb: tuple[float, float, float] | None = None
 
 
@@ -348,14 +370,17 @@ class Wind:
     plants stand upright."""
 
     amplitude_deg: float = attr(5.0, doc="largest lean of a plant from upright", unit="deg",
-                                range=(0, 45), label="sway amplitude")
+                                range=(0, 45), label="sway amplitude", decimals=1,
+                                step=1)
     gust_period_s: float = attr(4.0, doc="period of one sway", unit="s", range=(0, 3600),
-                                low_open=True, label="gust period")
+                                low_open=True, label="gust period", decimals=2,
+                                step=0.5)
     direction_deg: float = attr(90.0, doc="direction the wind blows to, clockwise from grid "
                                 "north", unit="deg", range=(0, 360), high_open=True,
-                                label="blowing towards")
+                                label="blowing towards", decimals=1, step=5)
 
 
+@element("vegetation", title="vegetation", path="scene.vegetation")
 @dataclass(frozen=True)
 class Vegetation:
     """Plants placed by a seeded Poisson process (``seed``) inside the terrain extent,
@@ -363,26 +388,36 @@ class Vegetation:
     optional wind (docs/world.md, Vegetation and wind)."""
 
     plants: tuple[PlantGroup, ...]
-    seed: int = 0
-    clearance_m: float = 0.5
+    seed: int = attr(0, doc="the placement's random seed", range=(0, None))
+    clearance_m: float = attr(0.5, doc="distance kept clear around every GCP target plate",
+                              unit="m", range=(0, 100), label="clear of targets",
+                              decimals=2, step=0.1)
     wind: Wind | None = None
 
 
+@element("sun", title="sun direction")
 @dataclass(frozen=True)
 class Sun:
     """Sun direction: azimuth clockwise from grid north, elevation above horizon (deg)."""
 
-    azimuth_deg: float
-    elevation_deg: float
+    azimuth_deg: float = attr(doc="sun azimuth, clockwise from grid north", unit="deg",
+                              range=(0, 360), high_open=True, label="azimuth",
+                              decimals=1, step=5)
+    elevation_deg: float = attr(doc="sun elevation above the horizon", unit="deg",
+                                range=(0, 90), low_open=True, label="elevation", decimals=1,
+                                step=5)
 
 
+@element("sun-position", title="sun for a moment and place")
 @dataclass(frozen=True)
 class SunPosition:
     """Sun computed for an ISO 8601 moment (with time zone) and a place (deg)."""
 
-    date_time: str
-    latitude_deg: float
-    longitude_deg: float
+    date_time: str = attr(doc="the moment, ISO 8601 with a time zone", label="date, time")
+    latitude_deg: float = attr(doc="latitude of the site", unit="deg", range=(-90, 90),
+                               label="latitude", decimals=5, step=0.1)
+    longitude_deg: float = attr(doc="longitude of the site", unit="deg", range=(-180, 180),
+                                label="longitude", decimals=5, step=0.1)
 
 
 @element("sun-over-time", title="sun over time")
@@ -393,9 +428,11 @@ class SunOverTime:
     Azimuths are turned from true to grid north by the meridian convergence there."""
 
     latitude_deg: float | None = attr(None, doc="latitude of the site (none: the origin's)",
-                                      unit="deg", range=(-90, 90), label="latitude")
+                                      unit="deg", range=(-90, 90), label="latitude",
+                                      decimals=5, step=0.1)
     longitude_deg: float | None = attr(None, doc="longitude of the site (none: the origin's)",
-                                       unit="deg", range=(-180, 180), label="longitude")
+                                       unit="deg", range=(-180, 180), label="longitude",
+                                       decimals=5, step=0.1)
 
 
 @element("cloud-shadows", title="cloud shadows", path="scene.lighting.clouds")
@@ -497,13 +534,24 @@ class Camera:
     ``rolling_shutter`` None (or a readout of 0): a global shutter."""
 
     id: str
-    focal_length_mm: float
-    sensor_width_mm: float
-    sensor_height_mm: float
-    image_width_px: int
-    image_height_px: int
-    principal_point_x_mm: float = 0.0
-    principal_point_y_mm: float = 0.0
+    focal_length_mm: float = attr(doc="principal distance of the lens", unit="mm",
+                                  range=(0, None), low_open=True, label="focal length",
+                                  decimals=4, step=0.1)
+    sensor_width_mm: float = attr(doc="sensor width", unit="mm", range=(0, None),
+                                  low_open=True, label="sensor width", decimals=4, step=0.1)
+    sensor_height_mm: float = attr(doc="sensor height", unit="mm", range=(0, None),
+                                   low_open=True, label="sensor height", decimals=6,
+                                   step=0.1)
+    image_width_px: int = attr(doc="image width", unit="px", range=(1, 100000),
+                               label="image width")
+    image_height_px: int = attr(doc="image height", unit="px", range=(1, 100000),
+                                label="image height")
+    principal_point_x_mm: float = attr(0.0, doc="principal point offset from the sensor "
+                                       "centre, x right", unit="mm", range=(-100, 100),
+                                       label="principal point x", decimals=4, step=0.01)
+    principal_point_y_mm: float = attr(0.0, doc="principal point offset from the sensor "
+                                       "centre, y up", unit="mm", range=(-100, 100),
+                                       label="principal point y", decimals=4, step=0.01)
     pixel_aspect: float | None = None
     distortion: BrownConradyDistortion | FisheyeEquidistantDistortion | None = None
     name: str | None = None

@@ -49,15 +49,22 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     """The element of a declared model object (designer.project.declare) under
     ``parent``: ``lead`` attributes first (fields that are not declared), then the
     declared ones in declaration order (None left out, and a default that is not to be
-    written)."""
+    written); an attribute declared on a child element goes on that child (made here,
+    the first child)."""
     from designer.project.declare import declared, element_of
 
-    el = etree.SubElement(parent, q(element_of(type(obj)).tag), lead or {})
-    for d in declared(type(obj)):
+    decl = element_of(type(obj))
+    el = etree.SubElement(parent, q(decl.tag), lead or {})
+    for d in sorted(declared(type(obj)), key=lambda d: d.name not in decl.first):
         value = getattr(obj, d.name)
         if value is None or (not d.attr.write_default and value == d.default):
             continue
-        el.set(d.xml, _bool(value) if d.base is bool else
+        holder = el
+        if d.attr.child is not None:
+            holder = el.find(q(d.attr.child))
+            if holder is None:
+                holder = etree.SubElement(el, q(d.attr.child))
+        holder.set(d.xml, _bool(value) if d.base is bool else
                _num(value) if d.base in (int, float) else str(value))
     return el
 
@@ -142,11 +149,8 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.moving_objects:
         moving_el = _sub(el, "moving-objects")
         for obj in scene.moving_objects:
-            o_el = _sub(moving_el, "object", id=obj.id)
-            if obj.shape is not None:
-                o_el.set("shape", obj.shape)
-            if obj.file is not None:
-                o_el.set("file", obj.file)
+            o_el = write_declared(moving_el, obj)  # id, shape, file; speed … on <path>
+            path_el = o_el.find(q("path"))
             if obj.size_m is not None:
                 for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
                                        strict=True):
@@ -154,11 +158,6 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
                         o_el.set(name, _num(value))
             if obj.albedo_rgb != m.MovingObject.albedo_rgb:
                 o_el.set("albedo-rgb", " ".join(_num(v) for v in obj.albedo_rgb))
-            path_el = _sub(o_el, "path", speed_m_s=_num(obj.speed_m_s))
-            if obj.start_s:
-                path_el.set("start-s", _num(obj.start_s))
-            if obj.loop:
-                path_el.set("loop", "true")
             for point in obj.path:
                 _point_attrs(_sub(path_el, "point"), point.X, point.Y, None)
 
@@ -170,35 +169,15 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     light = scene.lighting
     light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),
                     sky_strength=_num(light.sky_strength))
-    if isinstance(light.sun, m.Sun):
-        _sub(light_el, "sun", azimuth_deg=_num(light.sun.azimuth_deg),
-             elevation_deg=_num(light.sun.elevation_deg))
-    elif isinstance(light.sun, m.SunOverTime):
-        place = {k: _num(v) for k, v in (("latitude_deg", light.sun.latitude_deg),
-                                         ("longitude_deg", light.sun.longitude_deg))
-                 if v is not None}
-        _sub(light_el, "sun-over-time", **place)
-    else:
-        _sub(light_el, "sun-position", date_time=light.sun.date_time,
-             latitude_deg=_num(light.sun.latitude_deg),
-             longitude_deg=_num(light.sun.longitude_deg))
+    write_declared(light_el, light.sun)  # a direction, a moment and place, or over time
     if light.clouds is not None:
         write_declared(light_el, light.clouds)
 
 
 def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
-    el = _sub(parent, "vegetation", seed=str(veg.seed), clearance_m=_num(veg.clearance_m))
+    el = write_declared(parent, veg)
     for g in veg.plants:
-        g_el = _sub(el, "plants")
-        if g.kind is not None:
-            g_el.set("kind", g.kind)
-        if g.mesh is not None:
-            g_el.set("mesh", g.mesh)
-        g_el.set("density-per-m2", _num(g.density_per_m2))
-        for name, value in (("height-m", g.height_m), ("height-sd-m", g.height_sd_m),
-                            ("crown-m", g.crown_m)):
-            if value is not None:
-                g_el.set(name, _num(value))
+        g_el = write_declared(el, g)
         if g.albedo_rgb is not None:
             g_el.set("albedo-rgb", " ".join(_num(v) for v in g.albedo_rgb))
     if veg.wind is not None:

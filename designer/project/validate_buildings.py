@@ -7,6 +7,7 @@ from pathlib import Path
 
 from designer.project import model as m
 from designer.project.checks import file_issue
+from designer.project.declare import declared_field
 from designer.project.files import mesh_problem, resolve
 from designer.project.geometry import (
     point_in_polygon,
@@ -18,7 +19,7 @@ from designer.project.geometry import (
 from designer.project.problems import Issue
 
 #: the highest wall or ridge a building may have above its base (m)
-MAX_BUILDING_HEIGHT_M = 500.0
+MAX_BUILDING_HEIGHT_M = declared_field(m.Building, "eave_height_m").attr.high
 #: a gable or hip footprint's corners may depart this much from a right angle (deg), and
 #: its ridge direction this much from a side's
 RECTANGLE_TOL_DEG = 1.0
@@ -72,9 +73,6 @@ def _mesh_building(b: m.Building, extent: m.Extent, base: Path | None) -> list[I
         out.append(Issue(b, "building", f"building '{b.id}' at X {p.X:.3f}, Y {p.Y:.3f} lies "
                          "outside the terrain extent; move it inside or enlarge <extent>",
                          attr="X"))
-    if not math.isfinite(b.heading_deg):
-        out.append(Issue(b, "building", "heading-deg must be a finite number of degrees",
-                         attr="heading-deg"))
     if base is not None:
         out += file_issue(b, "building", mesh_problem(resolve(base, b.file)))
     return out
@@ -85,10 +83,6 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
     if b.roof not in m.ROOF_SHAPES:
         out.append(Issue(b, "building", f"unknown roof {b.roof!r}; use one of "
                          f"{', '.join(m.ROOF_SHAPES)}", attr="roof"))
-    if not (math.isfinite(b.eave_height_m) and 0 < b.eave_height_m <= MAX_BUILDING_HEIGHT_M):
-        out.append(Issue(b, "building", f"eave-height-m = {b.eave_height_m!r} must be greater "
-                         f"than 0 and at most {MAX_BUILDING_HEIGHT_M:g} m",
-                         attr="eave-height-m"))
     pitched = b.roof in ("gable", "hip")
     if b.roof == "flat":
         for attr, value in (("ridge-height-m", b.ridge_height_m),
@@ -101,7 +95,7 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
         if r is None:
             out.append(Issue(b, "building", f"a {b.roof} roof needs ridge-height-m (m above the "
                              "base, above eave-height-m)", attr="ridge-height-m"))
-        elif not (math.isfinite(r) and b.eave_height_m < r <= MAX_BUILDING_HEIGHT_M):
+        elif declared_field(m.Building, "ridge_height_m").in_range(r) and r <= b.eave_height_m:
             out.append(Issue(b, "building", f"ridge-height-m = {r!r} must be above "
                              f"eave-height-m ({b.eave_height_m:g} m) and at most "
                              f"{MAX_BUILDING_HEIGHT_M:g} m", attr="ridge-height-m"))
@@ -161,8 +155,7 @@ def _rectangle(b: m.Building, xy: list[tuple[float, float]]) -> list[Issue]:
     if b.ridge_direction_deg is None:
         return []
     if not math.isfinite(b.ridge_direction_deg):
-        return [Issue(b, "building", "ridge-direction-deg must be a finite number",
-                      attr="ridge-direction-deg")]
+        return []  # its declared range (validate_declared) says so
     sides = side_directions_deg(xy)
     lengths = [math.dist(xy[i], xy[(i + 1) % 4]) for i in range(4)]
     gaps = [angle_gap_deg(b.ridge_direction_deg, s) for s in sides]

@@ -13,6 +13,7 @@ import math
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.checks import finite_issues
+from designer.project.declare import declared_field
 from designer.project.problems import Issue
 
 #: relative tolerance of "square pixels" (the same as designer.core.interior)
@@ -35,17 +36,23 @@ def camera_issues(cam: m.Camera, resolution_scale: float = 1.0) -> list[Issue]:
                                        "number; give a finite value in mm", attr=attr))
     if out:
         return out
-    if not cam.focal_length_mm > 0:
+    # the ranges are the camera's declarations (designer.project.model.Camera)
+    focal = declared_field(m.Camera, "focal_length_mm")
+    if not focal.in_range(cam.focal_length_mm):
         out.append(Issue(cam, "focal-length-mm", f"focal length {cam.focal_length_mm!r} mm "
-                         "must be greater than 0; give the lens's principal distance in mm"))
-    for attr, value in (("width-mm", cam.sensor_width_mm), ("height-mm", cam.sensor_height_mm)):
-        if not value > 0:
-            out.append(Issue(cam, "sensor", f"{attr} = {value!r} must be greater than 0 mm",
+                         f"must be {focal.range_text()}; give the lens's principal distance "
+                         "in mm"))
+    for attr, name in (("width-mm", "sensor_width_mm"), ("height-mm", "sensor_height_mm")):
+        d, value = declared_field(m.Camera, name), getattr(cam, name)
+        if not d.in_range(value):
+            out.append(Issue(cam, "sensor", f"{attr} = {value!r} must be {d.range_text()}",
                              attr=attr))
-    for attr, value in (("width-px", cam.image_width_px), ("height-px", cam.image_height_px)):
-        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 100000:
+    for attr, name in (("width-px", "image_width_px"), ("height-px", "image_height_px")):
+        d, value = declared_field(m.Camera, name), getattr(cam, name)
+        if isinstance(value, bool) or not isinstance(value, int) or not d.in_range(value):
             out.append(Issue(cam, "image", f"{attr} = {value!r} must be a whole number of "
-                                           "pixels from 1 to 100000", attr=attr))
+                                           f"pixels {d.range_text().removesuffix(' px')}",
+                             attr=attr))
     if out:
         return out
     out += _pixel_shape(cam)

@@ -33,5 +33,5 @@ def element_issues(obj) -> list[Issue]:
                     "use one of them")
         else:
             text = f"{d.xml} = {value!r} must be {d.range_text()}"
-        out.append(Issue(obj, el.tag, text, attr=d.xml))
+        out.append(Issue(obj, d.attr.child or el.tag, text, attr=d.xml, key=d.attr.child))
     return out

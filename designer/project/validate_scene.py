@@ -204,17 +204,8 @@ def _lighting(light: m.Lighting) -> list[Issue]:
                         ("sky-strength", light.sky_strength)):
         if not (value >= 0):
             out.append(Issue(light, "lighting", f"{name} must be >= 0", attr=name))
-    sun = light.sun
-    if isinstance(sun, m.Sun):
-        if not 0 <= sun.azimuth_deg < 360:
-            out.append(Issue(sun, "sun", "azimuth-deg must be from 0 to less than 360 degrees "
-                             "(clockwise from north)", attr="azimuth-deg"))
-        if not 0 < sun.elevation_deg <= 90:
-            out.append(Issue(sun, "sun", "elevation-deg must be above 0 and at most 90 "
-                             "degrees; the sun must be above the horizon",
-                             attr="elevation-deg"))
-        return out
-    if isinstance(sun, m.SunOverTime):  # checked with the time line (validate_world)
+    sun = light.sun  # the angles' ranges: validate_declared
+    if isinstance(sun, m.Sun | m.SunOverTime):  # over time: with the time line (validate_world)
         return out
     try:
         moment = datetime.fromisoformat(sun.date_time)
@@ -226,10 +217,4 @@ def _lighting(light: m.Lighting) -> list[Issue]:
     if moment is not None and moment.tzinfo is None:
         out.append(Issue(sun, "sun-position", f"date-time '{sun.date_time}' has no time zone; "
                          "add one, e.g. +02:00 or Z for UTC", attr="date-time"))
-    if not -90 <= sun.latitude_deg <= 90:
-        out.append(Issue(sun, "sun-position", "latitude-deg must be -90 to 90",
-                         attr="latitude-deg"))
-    if not -180 <= sun.longitude_deg <= 180:
-        out.append(Issue(sun, "sun-position", "longitude-deg must be -180 to 180",
-                         attr="longitude-deg"))
     return out

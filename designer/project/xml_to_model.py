@@ -53,7 +53,8 @@ def read_declared(cls, el: etree._Element, **given):
 
     values = dict(given)
     for d in declared(cls):
-        raw = el.get(d.xml)
+        holder = el if d.attr.child is None else el.find(q(d.attr.child))
+        raw = None if holder is None else holder.get(d.xml)
         if d.name in values or raw is None:
             continue
         if d.base is bool:
@@ -206,12 +207,9 @@ class _Reader:
                        for p in path_el.iterchildren(q("point")))
         size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
         albedo = el.get("albedo-rgb")
-        obj = m.MovingObject(
-            id=el.get("id"), path=points, speed_m_s=_f(path_el, "speed-m-s"),
-            shape=el.get("shape"), file=el.get("file"),
+        obj = read_declared(
+            m.MovingObject, el, path=points, shape=el.get("shape"),  # absent: no shape
             size_m=None if all(v is None for v in size) else size,
-            start_s=_opt_f(path_el, "start-s") or 0.0,
-            loop=_bool(path_el.get("loop", "false")),
             albedo_rgb=m.MovingObject.albedo_rgb if albedo is None else _numbers(albedo))
         self.note(obj, path_el, "path")
         return self.note(obj, el)
@@ -224,15 +222,10 @@ class _Reader:
             xy += (float("nan"),) * (len(xy) % 2)  # an odd count: a NaN Y validation names
             footprint = tuple(m.PathPoint(x, y) for x, y in zip(xy[::2], xy[1::2], strict=True))
         X, Y = _opt_f(el, "X"), _opt_f(el, "Y")
-        building = m.Building(
-            id=el.get("id"), footprint=footprint, roof=el.get("roof", "flat"),
-            eave_height_m=float(el.get("eave-height-m", m.Building.eave_height_m)),
-            ridge_height_m=_opt_f(el, "ridge-height-m"),
-            ridge_direction_deg=_opt_f(el, "ridge-direction-deg"),
-            file=el.get("file"),
+        building = read_declared(
+            m.Building, el, footprint=footprint,
             position=None if X is None and Y is None else m.PathPoint(
-                float("nan") if X is None else X, float("nan") if Y is None else Y),
-            heading_deg=float(el.get("heading-deg", 0.0)))
+                float("nan") if X is None else X, float("nan") if Y is None else Y))
         if fp_el is not None:
             self.note(building, fp_el, "footprint")
         return self.note(building, el)
@@ -241,19 +234,14 @@ class _Reader:
         groups = []
         for g in el.iterchildren(q("plants")):
             albedo = g.get("albedo-rgb")
-            groups.append(self.note(m.PlantGroup(
-                density_per_m2=_f(g, "density-per-m2"), kind=g.get("kind"),
-                mesh=g.get("mesh"), height_m=_opt_f(g, "height-m"),
-                height_sd_m=_opt_f(g, "height-sd-m") or 0.0, crown_m=_opt_f(g, "crown-m"),
+            groups.append(self.note(read_declared(
+                m.PlantGroup, g, kind=g.get("kind"),  # absent: no kind (a mesh group)
                 albedo_rgb=None if albedo is None else _numbers(albedo)), g))
         wind_el = el.find(q("wind"))
         wind = None
         if wind_el is not None:
             wind = self.note(read_declared(m.Wind, wind_el), wind_el)
-        clearance = _opt_f(el, "clearance-m")
-        veg = m.Vegetation(tuple(groups), seed=int(el.get("seed", "0")),
-                           clearance_m=m.Vegetation.clearance_m if clearance is None
-                           else clearance, wind=wind)
+        veg = read_declared(m.Vegetation, el, plants=tuple(groups), wind=wind)
         return self.note(veg, el)
 
     def scene_object(self, el: etree._Element) -> m.SceneObject:
@@ -264,16 +252,9 @@ class _Reader:
         return self.note(m.SceneObject(el.get("name"), el.get("file"), placement), el)
 
     def lighting(self, el: etree._Element) -> m.Lighting:
-        sun_el = el.find(q("sun"))
-        if sun_el is not None:
-            sun = m.Sun(_f(sun_el, "azimuth-deg"), _f(sun_el, "elevation-deg"))
-        elif el.find(q("sun-position")) is not None:
-            sun_el = el.find(q("sun-position"))
-            sun = m.SunPosition(sun_el.get("date-time").strip(), _f(sun_el, "latitude-deg"),
-                                _f(sun_el, "longitude-deg"))
-        else:
-            sun_el = el.find(q("sun-over-time"))
-            sun = read_declared(m.SunOverTime, sun_el)
+        sun_el, kind = next((c, k) for k in (m.Sun, m.SunPosition, m.SunOverTime)
+                            if (c := el.find(q(element_of(k).tag))) is not None)
+        sun = read_declared(kind, sun_el)
         self.note(sun, sun_el)
         clouds = None
         c = el.find(q("cloud-shadows"))

@@ -18,6 +18,7 @@ import numpy as np
 from designer.core.truth import GcpObservation, GroundControlPoint
 from designer.errors import DesignerError
 from designer.project import model as m
+from designer.project.declare import declared_field
 
 #: FULL_OPENCV parameter order: fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6
 PARAM_NAMES = ("fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6")
@@ -89,15 +90,18 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
 
 def check_processing(p: m.Processing) -> None:
     """One-line DesignerError for settings no reconstruction can use."""
-    if not (np.isfinite(p.gcps.marking_sigma_px) and 0 <= p.gcps.marking_sigma_px <= 50):
+    marking = declared_field(m.GcpProcessing, "marking_sigma_px")  # the one range
+    if not marking.in_range(p.gcps.marking_sigma_px):
         raise DesignerError(f"--marking-sigma-px {p.gcps.marking_sigma_px}: give a marking "
-                            "error of 0 (ideal) to 50 px")
+                            f"error of 0 (ideal) or more, {marking.range_text()}")
     h, v = p.position_prior.sigmas_m
     if p.position_prior.mode != "none" and not (h > 0 and v > 0):
         raise DesignerError(f"position prior sigma {h} m / {v} m: standard deviations must "
                             "be greater than 0")
-    if not 2 <= p.matching.min_track_length <= 100:
-        raise DesignerError(f"--min-track-length {p.matching.min_track_length}: use 2 to 100")
+    track = declared_field(m.Matching, "min_track_length")
+    if not track.in_range(p.matching.min_track_length):
+        raise DesignerError(f"--min-track-length {p.matching.min_track_length}: use "
+                            f"{track.range_text()}")
     if not 100 <= p.matching.max_features <= 1_000_000:
         raise DesignerError(f"--max-features {p.matching.max_features}: use 100 to 1000000")
     if p.calibration.mode not in VARIABLE_PARAMS:

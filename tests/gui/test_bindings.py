@@ -13,6 +13,7 @@ from PySide6.QtWidgets import QDoubleSpinBox
 from designer.gui import edits
 from designer.gui.edits import AbsentElement, UnknownField
 from designer.gui.widgets import Bindings, model_getter
+from designer.project import declare
 from designer.project import model as m
 from designer.project.templates import survey
 
@@ -26,6 +27,10 @@ def _filled_projects() -> list[m.Project]:
         vignetting=m.Vignetting(0.2, 0.01, 0.001, True), sensor_noise=m.SensorNoise(1.5, 2),
         sensor=m.Sensor(20000.0, 3.0), blur=m.Blur(0.5), motion_blur=m.MotionBlur(0.001, 8.0),
         jpeg=m.Jpeg(90), defocus=m.Defocus(2.8, 50.0, 48.0))
+    # every other (newer) effect as it is switched on
+    effects = dataclasses.replace(effects, **{
+        f.name: declare.switched_on(declare.field_class(m.Effects, f.name))
+        for f in dataclasses.fields(effects) if getattr(effects, f.name) is None})
     processing = m.Processing(
         calibration=m.Calibration("full", m.PreCalibrationError(2.0, 1.0, 0.01, seed=4)),
         gcps=m.GcpProcessing("bundle", 0.5, 3, m.ControlSelection((), 4, "random", 9)),

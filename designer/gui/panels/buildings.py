@@ -11,7 +11,7 @@ from PySide6.QtWidgets import QComboBox, QGroupBox, QHBoxLayout, QPushButton
 
 from designer.gui.edits import AbsentElement
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, readout
+from designer.gui.widgets import combo, declared_field, form, readout
 from designer.project import model as m
 from designer.project.geometry import point_in_polygon
 
@@ -45,10 +45,10 @@ class BuildingsPanel(Panel):
         f = form(self.selected)
         self.roof = combo([(r, r) for r in m.ROOF_SHAPES])
         f.addRow("roof", self.bindings.bind(self.roof, self._roof_access(), "Building roof"))
-        f.addRow("walls", self.bindings.bind(dspin(0.1, 500, 2, 0.5, " m"),
+        f.addRow("walls", self.bindings.bind(declared_field(m.Building, "eave_height_m"),
                                              self._access("eave_height_m"),
                                              "Building eave height"))
-        f.addRow("ridge", self.bindings.bind(dspin(0.1, 500, 2, 0.5, " m"),
+        f.addRow("ridge", self.bindings.bind(declared_field(m.Building, "ridge_height_m"),
                                              self._access("ridge_height_m"),
                                              "Building ridge height"))
         self.footprint_label = readout()

@@ -10,9 +10,9 @@ from designer.errors import DesignerError
 from designer.gui import camera_presets, edits
 from designer.gui.edits import AbsentElement, get_path
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readout
+from designer.gui.widgets import combo, declared_field, dspin, form, model_getter, readout
 from designer.project import model as m
-from designer.project.validate_world import MAX_READOUT_S
+from designer.project.declare import declared_field as declared
 
 CAM = "cameras[0]"
 BROWN = ("k1", "k2", "k3", "p1", "p2")
@@ -37,15 +37,12 @@ class CameraPanel(Panel):
 
         io = QGroupBox("interior orientation")
         f = form(io)
-        for label, field, box in (
-                ("focal length", "focal_length_mm", dspin(0.1, 2000, 4, 0.1, "mm")),
-                ("sensor width", "sensor_width_mm", dspin(0.1, 200, 4, 0.1, "mm")),
-                ("sensor height", "sensor_height_mm", dspin(0.1, 200, 6, 0.1, "mm")),
-                ("image width", "image_width_px", ispin(1, 200000, "px")),
-                ("image height", "image_height_px", ispin(1, 200000, "px")),
-                ("principal point x", "principal_point_x_mm", dspin(-100, 100, 4, 0.01, "mm")),
-                ("principal point y", "principal_point_y_mm", dspin(-100, 100, 4, 0.01, "mm"))):
-            f.addRow(label, self.bindings.bind(box, f"{CAM}.{field}", f"Camera {label}"))
+        for field in ("focal_length_mm", "sensor_width_mm", "sensor_height_mm",
+                      "image_width_px", "image_height_px", "principal_point_x_mm",
+                      "principal_point_y_mm"):
+            label = declared(m.Camera, field).label
+            f.addRow(label, self.bindings.bind(declared_field(m.Camera, field), f"{CAM}.{field}",
+                                               f"Camera {label}"))
         layout.addWidget(io)
 
         dist = QGroupBox("lens distortion (OpenCV's meaning and order)")
@@ -68,7 +65,7 @@ class CameraPanel(Panel):
 
         shutter = QGroupBox("rolling shutter (0 s: a global shutter)")
         f = form(shutter)
-        f.addRow("readout", self.bindings.bind(dspin(0.0, MAX_READOUT_S, 4, 0.001, "s"), (
+        f.addRow("readout", self.bindings.bind(declared_field(m.RollingShutter, "readout_s"), (
             model_getter(f"{CAM}.rolling_shutter", lambda rs: rs.readout_s if rs else 0.0),
             _set_readout), "Rolling-shutter readout"))
         f.addRow("first row", self.bindings.bind(combo([

@@ -20,7 +20,7 @@ from PySide6.QtWidgets import (
 
 from designer.gui import derived, edits
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, model_getter, readout
+from designer.gui.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
 from designer.project import model as m
 
 FP = "trajectory.flight_plan"
@@ -182,9 +182,10 @@ class FlightPanel(Panel):
         takeoff.setPlaceholderText(DEFAULT_TIME_LINE.takeoff_utc)
         f.addRow("take-off (UTC)", self.bindings.bind(takeoff, f"{tl}.takeoff_utc",
                                                       "Take-off time"))
-        f.addRow("speed", self.bindings.bind(dspin(0.1, 100, 2, 0.5, "m/s"), f"{tl}.speed_m_s",
+        f.addRow("speed", self.bindings.bind(declared_field(m.TimeLine, "speed_m_s"),
+                                             f"{tl}.speed_m_s",
                                              "Flight speed"))
-        f.addRow("turn", self.bindings.bind(dspin(0, 3600, 1, 1, "s"), f"{tl}.turn_s",
+        f.addRow("turn", self.bindings.bind(declared_field(m.TimeLine, "turn_s"), f"{tl}.turn_s",
                                             "Turn time"))
         layout.addWidget(timing)
 

@@ -42,9 +42,9 @@ class LightingPanel(Panel):
         self.direction = QGroupBox("sun direction")
         f = form(self.direction)
         f.addRow("azimuth", self.bindings.bind(
-            dspin(0, 359.9, 1, 5, "°"), f"{SUN}.azimuth_deg", "Sun azimuth"))
+            declared_field(m.Sun, "azimuth_deg"), f"{SUN}.azimuth_deg", "Sun azimuth"))
         f.addRow("elevation", self.bindings.bind(
-            dspin(0.1, 90, 1, 5, "°"), f"{SUN}.elevation_deg", "Sun elevation"))
+            declared_field(m.Sun, "elevation_deg"), f"{SUN}.elevation_deg", "Sun elevation"))
         note = QLabel("azimuth clockwise from grid north; elevation above the horizon")
         note.setWordWrap(True)
         f.addRow(note)
@@ -57,9 +57,11 @@ class LightingPanel(Panel):
         f.addRow("date, time", self.bindings.bind(self.date_time, f"{SUN}.date_time",
                                                   "Sun date and time"))
         f.addRow("latitude", self.bindings.bind(
-            dspin(-90, 90, 5, 0.1, "°"), f"{SUN}.latitude_deg", "Sun latitude"))
+            declared_field(m.SunPosition, "latitude_deg"), f"{SUN}.latitude_deg",
+            "Sun latitude"))
         f.addRow("longitude", self.bindings.bind(
-            dspin(-180, 180, 5, 0.1, "°"), f"{SUN}.longitude_deg", "Sun longitude"))
+            declared_field(m.SunPosition, "longitude_deg"), f"{SUN}.longitude_deg",
+            "Sun longitude"))
         note = QLabel("ISO 8601 with a time zone; the azimuth is from true north (add the "
                       "grid convergence of a projected CRS yourself)")
         note.setWordWrap(True)

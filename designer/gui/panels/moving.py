@@ -11,7 +11,7 @@ from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLab
 
 from designer.gui.edits import AbsentElement
 from designer.gui.panels.base import ERROR_STYLE, Panel
-from designer.gui.widgets import combo, dspin, form, readout
+from designer.gui.widgets import combo, declared_field, form, readout
 from designer.project import model as m
 
 #: the walking and driving speeds new objects get (m/s)
@@ -43,10 +43,10 @@ class MovingObjectsPanel(Panel):
                             ("person (0.5 × 1.75 m)", "person")])
         f.addRow("shape", self.bindings.bind(self.shape, self._access("shape"),
                                              "Moving object shape"))
-        f.addRow("speed", self.bindings.bind(dspin(0.01, 100, 2, 0.5, " m/s"),
+        f.addRow("speed", self.bindings.bind(declared_field(m.MovingObject, "speed_m_s"),
                                              self._access("speed_m_s"),
                                              "Moving object speed"))
-        f.addRow("starts at", self.bindings.bind(dspin(0, 1e6, 1, 1, " s"),
+        f.addRow("starts at", self.bindings.bind(declared_field(m.MovingObject, "start_s"),
                                                  self._access("start_s"),
                                                  "Moving object start"))
         self.loop = QCheckBox("go round the path again")

@@ -13,7 +13,7 @@ from PySide6.QtWidgets import QFileDialog, QGroupBox, QHBoxLayout, QLabel, QPush
 
 from designer.gui import derived
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, declared_field, dspin, form, ispin, readout
 from designer.project import model as m
 from designer.survey.plan_report import texture_repeat_warning
 
@@ -77,14 +77,10 @@ class TexturePanel(Panel):
         self.variation.toggled.connect(self._toggle_variation)
         f = form(self.variation)
         var = "scene.texture.variation"
-        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{var}.seed",
-                                            "Texture variation seed"))
-        f.addRow("scale", self.bindings.bind(dspin(0.01, 1e6, 2, 5, "m"), f"{var}.scale_m",
-                                             "Texture variation scale"))
-        f.addRow("strength", self.bindings.bind(dspin(0, 1, 2, 0.05), f"{var}.strength",
-                                                "Texture variation strength"))
-        f.addRow("octaves", self.bindings.bind(ispin(1, 8), f"{var}.octaves",
-                                               "Texture variation octaves"))
+        for label, name in (("seed", "seed"), ("scale", "scale_m"), ("strength", "strength"),
+                            ("octaves", "octaves")):
+            f.addRow(label, self.bindings.bind(declared_field(m.TextureVariation, name),
+                                               f"{var}.{name}", f"Texture variation {label}"))
         self.repeat_label = readout()
         f.addRow("repeat", self.repeat_label)
         layout.addWidget(self.variation)

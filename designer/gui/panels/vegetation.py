@@ -12,7 +12,7 @@ from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLab
 from designer.gui import edits
 from designer.gui.edits import AbsentElement
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, declared_field, form, readout
 from designer.project import model as m
 
 VEGETATION = "scene.vegetation"
@@ -40,10 +40,11 @@ class VegetationPanel(Panel):
         layout.addWidget(self.enabled)
         self.placement = QGroupBox("placement")
         f = form(self.placement)
-        f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{VEGETATION}.seed",
+        f.addRow("seed", self.bindings.bind(declared_field(m.Vegetation, "seed"),
+                                            f"{VEGETATION}.seed",
                                             "Vegetation seed"))
         f.addRow("clear of targets", self.bindings.bind(
-            dspin(0, 100, 2, 0.1, " m"), f"{VEGETATION}.clearance_m",
+            declared_field(m.Vegetation, "clearance_m"), f"{VEGETATION}.clearance_m",
             "Vegetation target clearance"))
         layout.addWidget(self.placement)
 
@@ -69,15 +70,15 @@ class VegetationPanel(Panel):
         self.kind = combo([("grass tufts", "grass-tuft"), ("shrubs", "shrub"),
                            ("trees", "tree")])
         f.addRow("kind", self.bindings.bind(self.kind, self._access("kind"), "Plant kind"))
-        f.addRow("density", self.bindings.bind(dspin(0.0001, 100, 4, 0.01, " /m²"),
+        f.addRow("density", self.bindings.bind(declared_field(m.PlantGroup, "density_per_m2"),
                                                self._access("density_per_m2"),
                                                "Plant density"))
-        f.addRow("height", self.bindings.bind(dspin(0.01, 150, 2, 0.1, " m"),
+        f.addRow("height", self.bindings.bind(declared_field(m.PlantGroup, "height_m"),
                                               self._access("height_m"), "Plant height"))
-        f.addRow("height spread", self.bindings.bind(dspin(0, 150, 2, 0.05, " m"),
+        f.addRow("height spread", self.bindings.bind(declared_field(m.PlantGroup, "height_sd_m"),
                                                      self._access("height_sd_m"),
                                                      "Plant height spread"))
-        f.addRow("crown", self.bindings.bind(dspin(0.01, 100, 2, 0.1, " m"),
+        f.addRow("crown", self.bindings.bind(declared_field(m.PlantGroup, "crown_m"),
                                              self._access("crown_m"), "Plant crown"))
         self.count_label = readout()
         f.addRow("plants", self.count_label)
@@ -88,12 +89,11 @@ class VegetationPanel(Panel):
         self.windy = QCheckBox("plants sway in the wind")
         self.windy.toggled.connect(self._wind_toggled)
         f.addRow(self.windy)
-        for label, name, widget, undo in (
-                ("amplitude", "amplitude_deg", dspin(0, 45, 1, 1, "°"), "Wind amplitude"),
-                ("gust period", "gust_period_s", dspin(0.01, 3600, 2, 0.5, " s"),
-                 "Wind gust period"),
-                ("towards", "direction_deg", dspin(0, 359.9, 1, 5, "°"), "Wind direction")):
-            f.addRow(label, self.bindings.bind(widget, f"{WIND}.{name}", undo))
+        for label, name, undo in (("amplitude", "amplitude_deg", "Wind amplitude"),
+                                  ("gust period", "gust_period_s", "Wind gust period"),
+                                  ("towards", "direction_deg", "Wind direction")):
+            f.addRow(label, self.bindings.bind(declared_field(m.Wind, name), f"{WIND}.{name}",
+                                               undo))
         self.wind_note = QLabel()
         self.wind_note.setWordWrap(True)
         f.addRow(self.wind_note)
