@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QLineEdit
+from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
 
 from designer.gui import edits
-from tests.gui.helpers import field, open_panel, wait_idle
+from tests.gui.helpers import field, open_panel, set_field, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -63,3 +63,55 @@ def test_clearing_the_camera_id_is_refused_and_a_new_id_renames_its_uses(qtbot, 
     p = w.document.project
     assert p.cameras[0].id == old and p.trajectory.flight_plan.camera == old
     assert line.text() == old
+
+
+def test_highest_below_lowest_is_refused_in_the_users_terms(qtbot, window):
+    w = window
+    terrain = open_panel(w, "Terrain")
+    terrain.kind.setCurrentIndex(terrain.kind.findData("procedural"))
+    w.editor.edit(edits.ensure_flight_plan(w.document.project), "flight")
+    wait_idle(qtbot, w)
+    lowest = field(terrain, QDoubleSpinBox, "scene.terrain.source.min_height_m")
+    highest = field(terrain, QDoubleSpinBox, "scene.terrain.source.max_height_m")
+    set_field(qtbot, lowest, "-10")
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.terrain.source.min_height_m == -10.0
+    before = w.document.project
+
+    set_field(qtbot, highest, "-20")
+    wait_idle(qtbot, w)
+    assert w.document.project == before  # nothing applied
+    assert w.sync.terrain is not None and w.sync.stations is not None
+    message = terrain.input_label.text()
+    assert terrain.input_label.isVisible()
+    assert "highest (-20 m) must be above lowest (-10 m)" in message, message
+    assert "relief" not in message and "-5" not in message
+    assert highest.property("invalid") and highest.text().strip().startswith("-20")
+    assert terrain.error_label.text() == ""
+    assert w.panels["Flight"].error_label.text() == ""
+    # moving the focus away keeps the refusal (and the typed text) to correct
+    lowest.setFocus()
+    qtbot.wait(50)
+    assert highest.property("invalid") and w.document.project == before
+    # the arrow keys cannot step past the rule either
+    set_field(qtbot, highest, "-10")
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.terrain.source.max_height_m == -10.0
+    assert not terrain.input_label.isVisible()
+    highest.setFocus()
+    qtbot.keyClick(highest, Qt.Key.Key_Down)
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.terrain.source.max_height_m == -10.0
+    assert "must be above lowest" in terrain.input_label.text()
+
+    # a lowest typed above the highest: the same, named from the lowest's side
+    set_field(qtbot, lowest, "0")
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.terrain.source.min_height_m == -10.0
+    assert "lowest (0 m) must be below highest (-10 m)" in terrain.input_label.text()
+    # a valid value is applied and the messages go
+    set_field(qtbot, lowest, "-12")
+    wait_idle(qtbot, w)
+    src = w.document.project.scene.terrain.source
+    assert (src.min_height_m, src.max_height_m) == (-12.0, -10.0)
+    assert not terrain.input_label.isVisible()
