@@ -8,7 +8,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
 
 from designer.gui import edits
-from tests.gui.helpers import field, open_panel, set_field, wait_idle
+from tests.gui.helpers import field, open_panel, problems, set_field, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -115,3 +115,54 @@ def test_highest_below_lowest_is_refused_in_the_users_terms(qtbot, window):
     src = w.document.project.scene.terrain.source
     assert (src.min_height_m, src.max_height_m) == (-12.0, -10.0)
     assert not terrain.input_label.isVisible()
+
+
+def test_a_scale_giving_part_pixels_is_refused_and_its_problem_opens_render(
+        qtbot, window, tmp_path):
+    w = window
+    w.editor.edit(edits.ensure_flight_plan(w.document.project), "flight")
+    wait_idle(qtbot, w)
+    assert w.file_actions.save_to(tmp_path / "scale.xml"), problems(w)
+    render = open_panel(w, "Render")
+    scale = field(render, QDoubleSpinBox, "render.resolution_scale")
+    cam = w.document.project.cameras[0]  # 5472 × 3648 px
+    before = w.document.project
+
+    # typed: refused in the Render panel, with the pixels and the nearest whole scale
+    set_field(qtbot, scale, "0.1")
+    wait_idle(qtbot, w)
+    assert w.document.project == before
+    message = render.input_label.text()
+    assert render.input_label.isVisible() and scale.property("invalid")
+    assert f"{cam.image_width_px} × 0.1 = 547.2 px" in message, message
+    assert "nearest scale giving whole pixels: 0.125" in message, message
+    set_field(qtbot, scale, "0.125")
+    wait_idle(qtbot, w)
+    assert w.document.project.render.resolution_scale == 0.125
+    assert not render.input_label.isVisible()
+
+    # a project that has such a scale (read from a file): the problem opens Render …
+    w.editor.edit(edits.replace_path(w.document.project, "render.resolution_scale", 0.1),
+                  "scale from a file")
+    wait_idle(qtbot, w)
+    qtbot.mouseClick(render.start_button, Qt.MouseButton.LeftButton)
+    assert not render.process.running
+    assert "save the project" in render.state.text()
+    listed = problems(w)
+    assert any("resolution-scale 0.1" in line for line in listed), listed
+    open_panel(w, "Lighting")  # the Texture panel is not in front before the click
+    open_panel(w, "Camera")
+    item = w.problems.item(0)
+    rect = w.problems.visualItemRect(item)
+    qtbot.mouseClick(w.problems.viewport(), Qt.MouseButton.LeftButton, pos=rect.center())
+    qtbot.wait(50)
+    assert not w.docks["Render"].visibleRegion().isEmpty()
+    assert w.docks["Camera"].visibleRegion().isEmpty()
+    assert w.docks["Texture"].visibleRegion().isEmpty()
+
+    # … and once fixed, the Render panel no longer asks to save without problems
+    set_field(qtbot, scale, "0.25")
+    qtbot.waitUntil(lambda: not problems(w), timeout=5000)
+    wait_idle(qtbot, w)
+    assert "save the project" not in render.state.text()
+    assert render.start_button.isEnabled()
