@@ -19,6 +19,8 @@ from designer.core.layout import images_dir
 from designer.errors import DesignerError
 
 RECONSTRUCTION_INPUTS = "inputs.json"
+#: how RenderState.text begins when the render folder could not be compared
+CANNOT_COMPARE = "cannot compare: "
 
 
 @dataclass(frozen=True)
@@ -63,11 +65,24 @@ def render_state(out_dir: Path, project_path: Path, project) -> RenderState | No
     try:
         status = check_output(Path(out_dir), Path(project_path), project=project)
     except DesignerError as error:
-        return RenderState(False, 0, {}, [], f"cannot compare: {error}")
+        return RenderState(False, 0, {}, [], f"{CANNOT_COMPARE}{error}")
     n = len(status.up_to_date) + len(status.stale) + len(status.missing)
     text = ("up to date" if status.ok else
             stale_text(status.stale, status.missing, status.ground_truth, status.old_layout))
     return RenderState(status.ok, n, dict(status.stale), list(status.missing), text)
+
+
+def images_stale_text(state: RenderState) -> str:
+    """Why a reconstruction is out of date because of the rendered images it was made
+    from (a line for the Results panel; "" when they are the project's)."""
+    if state.ok:
+        return ""
+    if state.text.startswith(CANNOT_COMPARE):
+        return (f"the rendered images cannot be compared with the project "
+                f"({state.text[len(CANNOT_COMPARE):]}); fix the project, render, then "
+                "reconstruct again")
+    return (f"the rendered images no longer match the project ({state.text}); render, "
+            "then reconstruct again")
 
 
 def manifest_digests(survey_dir: Path) -> dict[str, str]:

@@ -3,12 +3,16 @@ edit that would break the project is refused where it is typed, in the user's te
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
 
 from designer.gui import edits
+from designer.project import processing as pr
 from tests.gui.helpers import field, open_panel, problems, set_field, wait_idle
+from tests.gui.test_messages import _type_cell
 
 pytestmark = pytest.mark.gui
 
@@ -166,3 +170,33 @@ def test_a_scale_giving_part_pixels_is_refused_and_its_problem_opens_render(
     wait_idle(qtbot, w)
     assert "save the project" not in render.state.text()
     assert render.start_button.isEnabled()
+
+
+def test_a_duplicate_gcp_id_is_refused_where_it_is_typed(qtbot, window):
+    w = window
+    w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)
+    project = edits.add_target(edits.ensure_flight_plan(w.document.project), 10.0, 5.0)
+    project = edits.add_target(project, -10.0, 5.0)
+    project = dataclasses.replace(project, processing=pr.Processing(
+        gcps=pr.GcpProcessing(control=pr.ControlSelection(ids=("GCP02",)))))
+    w.editor.edit(project, "a flight and two GCPs, GCP02 the control point")
+    gcps = open_panel(w, "GCPs")
+    wait_idle(qtbot, w)
+    before = w.document.project
+    assert [t.id for t in before.targets] == ["GCP01", "GCP02"]
+
+    _type_cell(qtbot, w, gcps.table, 1, 0, "GCP01")
+    assert w.document.project == before
+    text = gcps.error_label.text()
+    assert "GCP02 id: “GCP01” is the id of another GCP (row 1)" in text, text
+    assert "not applied" in text
+    assert gcps.table.item(1, 0).background().color().red() > 200
+    _type_cell(qtbot, w, gcps.table, 1, 0, "GCP 2")  # a space splits COLMAP's lines
+    assert w.document.project == before
+    assert "“GCP 2”" in gcps.error_label.text()
+    # a free id is applied
+    _type_cell(qtbot, w, gcps.table, 1, 0, "GCP07")
+    assert [t.id for t in w.document.project.targets] == ["GCP01", "GCP07"]
+    assert w.document.project.processing.gcps.control.ids == ("GCP07",)  # followed
+    assert gcps.error_label.text() == ""

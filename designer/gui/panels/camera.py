@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import re
 
 from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
 
@@ -28,8 +27,6 @@ BROWN = ("k1", "k2", "k3", "p1", "p2")
 FISHEYE = ("k1", "k2", "k3", "k4")
 ID_TIP = ("the name the flight plan, the photos and the rigs use for this camera; a new id "
           "renames it there too")
-#: an id the project file accepts (the schema's Identifier)
-ID_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+\-]{0,127}")
 
 
 def camera_id_problem(project: m.Project, new_id: str, index: int = 0) -> str:
@@ -37,9 +34,9 @@ def camera_id_problem(project: m.Project, new_id: str, index: int = 0) -> str:
     if not new_id:
         return ("Camera id: an id is required (the flight, the photos and the rigs name "
                 "their camera by it); not applied")
-    if not ID_PATTERN.fullmatch(new_id):
-        return (f"Camera id: “{new_id}” is not an id: letters, digits, '_', '.', '-' and "
-                "'+', starting with a letter or digit, at most 128 characters; not applied")
+    problem = edits.identifier_problem(new_id)
+    if problem:
+        return f"Camera id: {problem}; not applied"
     others = {c.id for k, c in enumerate(project.cameras) if k != index}
     if new_id in others:
         return f"Camera id: another camera is called “{new_id}”; not applied"

@@ -264,7 +264,7 @@ class ResultsPanel(Panel):
             stale = output_state.reconstruction_state(self.survey_dir(),
                                                       self._compared.parent.parent)
         if not stale and state is not None and not state.ok and self._compared is not None:
-            stale = f"the rendered images are ({state.text}); render, then reconstruct again"
+            stale = output_state.images_stale_text(state)
         self.out_of_date.show_state(stale, "reconstructed from the images rendered now"
                                     if self._compared is not None and state is not None
                                     else "")
