@@ -93,3 +93,30 @@ def test_results_say_in_a_sentence_why_the_images_are_out_of_date(qtbot, window,
     assert text.startswith("out of date: the rendered images cannot be compared with the "
                            "project ("), text
     assert "are (" not in text and "cannot compare" not in text
+
+
+def test_a_processing_change_marks_the_reconstruction_out_of_date(qtbot, window, tmp_path):
+    from PySide6.QtWidgets import QComboBox
+
+    w = window
+    _tiny_survey(qtbot, w, tmp_path)
+    results = w.panels["Results"]
+    processing = w.panels["Processing"]
+    w.docks["Processing"].raise_()
+    # the project's own settings, the defaults the reconstruction used: still up to date
+    qtbot.mouseClick(processing.enabled, Qt.MouseButton.LeftButton)
+    assert w.document.project.processing is not None
+    _wait_state(qtbot, w, lambda: True)
+    assert not results.out_of_date.stale, results.out_of_date.text()
+
+    mode = field(processing, QComboBox, "processing.gcps.mode")
+    mode.setCurrentIndex(mode.findData("bundle"))
+    assert w.document.project.processing.gcps.mode == "bundle"
+    _wait_state(qtbot, w, lambda: results.out_of_date.stale)
+    assert results.out_of_date.text() == (
+        "out of date: the processing settings changed since this reconstruction (GCPs): "
+        "reconstruct again")
+    # back to the settings it was made with: up to date again
+    mode.setCurrentIndex(mode.findData("similarity"))
+    _wait_state(qtbot, w, lambda: not results.out_of_date.stale)
+    assert results.out_of_date.text().startswith("reconstructed from")

@@ -262,7 +262,8 @@ class ResultsPanel(Panel):
         stale = None
         if self._compared is not None and self.survey_dir() is not None:
             stale = output_state.reconstruction_state(self.survey_dir(),
-                                                      self._compared.parent.parent)
+                                                      self._compared.parent.parent,
+                                                      self.project.processing)
         if not stale and state is not None and not state.ok and self._compared is not None:
             stale = output_state.images_stale_text(state)
         self.out_of_date.show_state(stale, "reconstructed from the images rendered now"
