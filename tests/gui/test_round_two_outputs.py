@@ -120,3 +120,32 @@ def test_a_processing_change_marks_the_reconstruction_out_of_date(qtbot, window,
     mode.setCurrentIndex(mode.findData("similarity"))
     _wait_state(qtbot, w, lambda: not results.out_of_date.stale)
     assert results.out_of_date.text().startswith("reconstructed from")
+
+
+def test_a_finished_resume_is_not_shown_out_of_date(qtbot, window, tmp_path):
+    from designer.core.layout import images_dir
+
+    w = window
+    _path, n = _tiny_survey(qtbot, w, tmp_path, gcps=False)
+    render = w.panels["Render"]
+    w.docks["Render"].raise_()
+    _wait_state(qtbot, w, lambda: render.out_of_date.text().startswith(f"the {n} rendered"))
+    first = sorted(images_dir(render.out_dir).glob("IMG_*"))[0]
+    first.unlink()  # one image lost: the folder is out of date
+    w.stale_watch.check_now()
+    _wait_state(qtbot, w, lambda: render.out_of_date.stale)
+    assert render.out_of_date.text() == "out of date: 1 image not rendered"
+    assert render.start_button.text() == "Re-render 1 changed image"
+
+    seen = []  # what the panel says the moment the render is done (at 100 %)
+    render.process.finished.connect(lambda *_: seen.append(
+        (render.progress.value(), render.out_of_date.isVisible(), render.out_of_date.stale,
+         render.out_of_date.text())))
+    qtbot.mouseClick(render.start_button, Qt.MouseButton.LeftButton)
+    assert not render.out_of_date.stale  # the render is changing the folder right now
+    qtbot.waitUntil(lambda: render.start_button.isEnabled(), timeout=600000)
+    assert first.is_file()
+    (value, _visible, stale, text), = seen
+    assert value == n and not stale and "not rendered" not in text, text
+    _wait_state(qtbot, w, lambda: render.out_of_date.text().startswith(f"the {n} rendered"))
+    assert not render.out_of_date.stale and render.start_button.text() == "Render"

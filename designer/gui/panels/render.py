@@ -178,8 +178,9 @@ class RenderPanel(Panel):
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
-        the out-of-date line, and a button that re-renders only what changed."""
-        if state is None:
+        the out-of-date line, and a button that re-renders only what changed. A state
+        checked before a render that is still running is old news: not shown."""
+        if state is None or self.process.running:
             self.out_of_date.show_state(None)
             self.start_button.setText("Render")
             return
@@ -220,6 +221,9 @@ class RenderPanel(Panel):
         resume = self.resume.isChecked() or self.out_of_date.stale
         argv = RenderProcess.command(project_path, self.out_dir, resume=resume)
         self.process.start(argv, cwd=project_path.parent)
+        # the folder is being brought up to date: what it lacked before is no news now;
+        # the check after the render says how it is then
+        self.show_render_state(None)
         self.start_button.setEnabled(False)
         self.cancel_button.setEnabled(True)
         self.state.setText(f"rendering into {self.out_dir} …")
