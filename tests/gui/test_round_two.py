@@ -200,3 +200,53 @@ def test_a_duplicate_gcp_id_is_refused_where_it_is_typed(qtbot, window):
     assert [t.id for t in w.document.project.targets] == ["GCP01", "GCP07"]
     assert w.document.project.processing.gcps.control.ids == ("GCP07",)  # followed
     assert gcps.error_label.text() == ""
+
+
+def test_another_cloud_forgets_the_point_picked_in_the_last(qtbot, window, tmp_path):
+    import numpy as np
+    from PySide6.QtCore import QPoint
+    from PySide6.QtWidgets import QPushButton
+
+    from tests.gui.helpers import add_hills_and_flight, answer_file_dialog
+    from tests.gui.test_results_outliers import _cloud_with_outlier
+
+    w = window
+    add_hills_and_flight(w)
+    wait_idle(qtbot, w)
+    results = open_panel(w, "Results")
+    hint = results.picked.text()
+    first, _xyz = _cloud_with_outlier(w, tmp_path, n=400)
+    results.open_cloud(first)
+    wait_idle(qtbot, w)
+    for layer in ("terrain", "targets", "frusta", "footprints", "flight", "area"):
+        w.view.set_layer_visible(layer, False)
+    w.view.view_top()
+    w.view.render_now()
+    r = results.result
+    ren = w.view.plotter.renderer
+    ren.SetWorldPoint(*(r.points_world[17] - w.view.offset), 1.0)
+    ren.WorldToDisplay()
+    u, v, _ = ren.GetDisplayPoint()
+    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton,
+                     pos=QPoint(round(u), w.view.plotter.height() - 1 - round(v)))
+    assert results.picked.text().startswith("Δ = ")
+
+    # another cloud, opened with the button: the value picked in the first one goes
+    second = tmp_path / "second" / "cloud.ply"
+    second.parent.mkdir()
+    second.write_bytes(first.read_bytes())
+    button = next(b for b in results.findChildren(QPushButton)
+                  if b.text() == "Open point cloud…")
+    answer_file_dialog(second)
+    qtbot.mouseClick(button, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    assert results.result is not r and np.array_equal(results.result.points_world,
+                                                      r.points_world)
+    assert results.picked.text() == hint
+    # and Clear takes it away as well
+    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton,
+                     pos=QPoint(round(u), w.view.plotter.height() - 1 - round(v)))
+    assert results.picked.text().startswith("Δ = ")
+    clear = next(b for b in results.findChildren(QPushButton) if b.text() == "Clear")
+    qtbot.mouseClick(clear, Qt.MouseButton.LeftButton)
+    assert results.picked.text() == hint
