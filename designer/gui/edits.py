@@ -17,6 +17,18 @@ from designer.core.rig import PENTA_MOUNTS
 from designer.project import model as m
 
 _INDEX = re.compile(r"^(\w+)\[(\d+)\]$")
+#: an id the project file accepts (the schema's Identifier): cameras, GCPs, rigs
+IDENTIFIER = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+\-]{0,127}")
+
+
+def identifier_problem(value: str) -> str:
+    """Why ``value`` is no id the project file accepts ("" when it is one)."""
+    if not value:
+        return "an id is required"
+    if not IDENTIFIER.fullmatch(value):
+        return (f"“{value}” is not an id: letters, digits, '_', '.', '-' and '+', "
+                "starting with a letter or digit, at most 128 characters")
+    return ""
 
 
 class AbsentElement(LookupError):
@@ -165,6 +177,16 @@ def add_target(project: m.Project, X: float, Y: float, role: m.Role = "control",
         size_m=size_m if size_m is not None else default_target_size_m(project),
         true=m.TruePosition(_coordinate(X), _coordinate(Y)))
     return set_targets(project, (*project.targets, target))
+
+
+def rename_target_references(project: m.Project, old_id: str, new_id: str) -> m.Project:
+    """The project with the processing's control selection naming ``new_id`` where it
+    named ``old_id`` (the target itself is renamed by the caller)."""
+    control = project.processing.gcps.control if project.processing is not None else None
+    if control is None or old_id not in control.ids:
+        return project
+    ids = tuple(new_id if i == old_id else i for i in control.ids)
+    return replace_path(project, "processing.gcps.control.ids", ids)
 
 
 def move_target(project: m.Project, target_id: str, X: float, Y: float) -> m.Project:

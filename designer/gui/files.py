@@ -156,10 +156,24 @@ PANEL_KEYWORDS = (
 )
 
 
+#: words in a problem's message that name the panel whatever its element: the camera's
+#: image size times the render's resolution scale is fixed in the Render panel
+MESSAGE_KEYWORDS = (
+    ("Render", ("resolution-scale", "resolution scale")),
+)
+
+
 def panel_for_problem(line: str) -> str | None:
     """The title of the panel where the problem in ``line`` can be fixed."""
     start = line.find("<")
-    tag = line[start + 1:line.find(">", start)] if start >= 0 else line
+    end = line.find(">", start)
+    tag = line[start + 1:end] if start >= 0 else line
+    message = line[end + 1:] if start >= 0 else line
+    for title, words in MESSAGE_KEYWORDS:
+        if any(w in message for w in words):
+            return title
+    if tag == "image" and ("width-px" in message or "height-px" in message):
+        return "Camera"  # the camera's <image> size, not a texture image
     for title, words in PANEL_KEYWORDS:
         if any(w in tag for w in words):
             return title

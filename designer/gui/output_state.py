@@ -4,7 +4,8 @@ Qt-free. :func:`render_state` runs ``designer.render.check_output`` (it prepares
 render job in a temporary folder: seconds; call it off the UI thread) and words the
 answer for the Render panel (``12 images out of date: the pose``). A reconstruction
 records the image digests of the manifest it was made from (``inputs.json`` in its
-folder); :func:`reconstruction_state` compares them with the manifest now.
+folder); :func:`reconstruction_state` compares them with the manifest now, and the
+processing settings it recorded (its summary.json) with the project's.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from designer.core.layout import images_dir
 from designer.errors import DesignerError
 
 RECONSTRUCTION_INPUTS = "inputs.json"
+#: how RenderState.text begins when the render folder could not be compared
+CANNOT_COMPARE = "cannot compare: "
 
 
 @dataclass(frozen=True)
@@ -63,11 +66,24 @@ def render_state(out_dir: Path, project_path: Path, project) -> RenderState | No
     try:
         status = check_output(Path(out_dir), Path(project_path), project=project)
     except DesignerError as error:
-        return RenderState(False, 0, {}, [], f"cannot compare: {error}")
+        return RenderState(False, 0, {}, [], f"{CANNOT_COMPARE}{error}")
     n = len(status.up_to_date) + len(status.stale) + len(status.missing)
     text = ("up to date" if status.ok else
             stale_text(status.stale, status.missing, status.ground_truth, status.old_layout))
     return RenderState(status.ok, n, dict(status.stale), list(status.missing), text)
+
+
+def images_stale_text(state: RenderState) -> str:
+    """Why a reconstruction is out of date because of the rendered images it was made
+    from (a line for the Results panel; "" when they are the project's)."""
+    if state.ok:
+        return ""
+    if state.text.startswith(CANNOT_COMPARE):
+        return (f"the rendered images cannot be compared with the project "
+                f"({state.text[len(CANNOT_COMPARE):]}); fix the project, render, then "
+                "reconstruct again")
+    return (f"the rendered images no longer match the project ({state.text}); render, "
+            "then reconstruct again")
 
 
 def manifest_digests(survey_dir: Path) -> dict[str, str]:
@@ -88,9 +104,58 @@ def record_reconstruction_inputs(survey_dir: Path, recon_dir: Path,
     return path
 
 
-def reconstruction_state(survey_dir: Path, recon_dir: Path) -> str:
+#: the parts of the processing settings, as the Results panel names them
+PROCESSING_PARTS = {"calibration": "camera calibration", "gcps": "GCPs",
+                    "position_prior": "camera positions", "matching": "matching",
+                    "dense": "dense cloud"}
+
+
+def processing_changes(recon_dir: Path, processing) -> list[str]:
+    """The parts of ``processing`` (the project's ``Processing``, None: the defaults)
+    that differ from the settings the reconstruction in ``recon_dir`` was made with
+    (its summary.json); [] when they agree or were not recorded."""
+    from designer.project import model as m
+    from designer.sfm.settings import settings_dict
+
+    try:
+        used = json.loads((Path(recon_dir) / "summary.json").read_text())["settings"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
+    if not isinstance(used, dict):
+        return []
+    now = json.loads(json.dumps(settings_dict(processing or m.Processing()), default=str))
+    changed = []
+    for key, value in now.items():
+        if key not in used:
+            continue
+        before = used[key]
+        if isinstance(value, dict) and isinstance(before, dict):
+            # a setting added since the reconstruction is not a change of it
+            differs = any(value.get(k) != before[k] for k in before)
+        else:
+            differs = value != before
+        if differs:
+            changed.append(PROCESSING_PARTS.get(key, key.replace("_", " ")))
+    return changed
+
+
+def reconstruction_state(survey_dir: Path, recon_dir: Path, processing=None) -> str:
     """"" when the reconstruction in ``recon_dir`` was made from the images the survey
-    holds now; else why not (a line for the Results panel)."""
+    holds now and with the project's ``processing`` settings; else why not (a line for
+    the Results panel)."""
+    images = _images_state(survey_dir, recon_dir)
+    changes = processing_changes(recon_dir, processing)
+    settings = (f"the processing settings changed since this reconstruction "
+                f"({', '.join(changes)})" if changes else "")
+    if images and settings:
+        return f"{images}, and {settings}: reconstruct again"
+    if settings:
+        return f"{settings}: reconstruct again"
+    return f"{images}: reconstruct again" if images else ""
+
+
+def _images_state(survey_dir: Path, recon_dir: Path) -> str:
+    """Why the survey's images are not those the reconstruction was made from ("")."""
     now = manifest_digests(survey_dir)
     record = Path(recon_dir) / RECONSTRUCTION_INPUTS
     try:
@@ -108,4 +173,4 @@ def reconstruction_state(survey_dir: Path, recon_dir: Path) -> str:
     if not changed:
         return ""
     return (f"{len(changed)} image{'s' if len(changed) != 1 else ''} rendered anew since "
-            "this reconstruction: reconstruct again")
+            "this reconstruction")

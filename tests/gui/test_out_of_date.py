@@ -71,7 +71,7 @@ def test_terrain_edit_marks_render_and_results_out_of_date(qtbot, window, tmp_pa
                     "(the project changed since it was written)"), text
     assert render.start_button.text() == f"Re-render {n} changed images"
     assert results.out_of_date.stale
-    assert "the rendered images are" in results.out_of_date.text()
+    assert "the rendered images no longer match the project (" in results.out_of_date.text()
     # undone, the images are the project's again
     w.undo_stack.undo()
     _wait_state(qtbot, w, lambda: not render.out_of_date.stale)

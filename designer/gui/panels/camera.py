@@ -10,13 +10,39 @@ from designer.errors import DesignerError
 from designer.gui import camera_presets, edits
 from designer.gui.edits import AbsentElement, get_path
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, dspin, form, model_getter, readout
+from designer.gui.widgets import (
+    INVALID_STYLE,
+    combo,
+    declared_field,
+    dspin,
+    form,
+    model_getter,
+    readout,
+)
 from designer.project import model as m
 from designer.project.declare import declared_field as declared
 
 CAM = "cameras[0]"
 BROWN = ("k1", "k2", "k3", "p1", "p2")
 FISHEYE = ("k1", "k2", "k3", "k4")
+ID_TIP = ("the name the flight plan, the photos and the rigs use for this camera; a new id "
+          "renames it there too")
+
+
+def camera_id_problem(project: m.Project, new_id: str, index: int = 0) -> str:
+    """Why ``new_id`` cannot be camera ``index``'s id ("" when it can)."""
+    if not new_id:
+        return ("Camera id: an id is required (the flight, the photos and the rigs name "
+                "their camera by it); not applied")
+    problem = edits.identifier_problem(new_id)
+    if problem:
+        return f"Camera id: {problem}; not applied"
+    others = {c.id for k, c in enumerate(project.cameras) if k != index}
+    if new_id in others:
+        return f"Camera id: another camera is called “{new_id}”; not applied"
+    if new_id in {r.name for r in project.trajectory.rigs}:
+        return f"Camera id: a rig is called “{new_id}”; not applied"
+    return ""
 
 
 class CameraPanel(Panel):
@@ -29,7 +55,11 @@ class CameraPanel(Panel):
                             + [(p.name, p.key) for p in camera_presets.PRESETS])
         self.preset.currentIndexChanged.connect(self._preset_chosen)
         top.addRow("preset", self.preset)
-        top.addRow("id", self.bindings.bind(_line(), f"{CAM}.id", "Camera id"))
+        self.id_field = self.bindings.bind(_line(), (model_getter(f"{CAM}.id"), self._set_id),
+                                           "Camera id")
+        self.id_field.setObjectName(f"{CAM}.id")
+        self.id_field.setToolTip(ID_TIP)
+        top.addRow("id", self.id_field)
         top.addRow("name", self.bindings.bind(_line(), (
             model_getter(f"{CAM}.name", lambda v: v or ""),
             lambda p, v: edits.replace_path(p, f"{CAM}.name", v or None)), "Camera name"))
@@ -94,6 +124,7 @@ class CameraPanel(Panel):
     def refresh(self) -> None:
         project = self.project
         super().refresh()
+        self._id_verdict("")  # the field shows the project's id again
         cam = project.cameras[0] if project.cameras else None
         match = camera_presets.matching_preset(cam) if cam else None
         _select(self.preset, match.key if match else None)
@@ -153,6 +184,27 @@ class CameraPanel(Panel):
         return f"{100 * motion_m:.1f} cm flown"
 
     # ------------------------------------------------------------------ view → model
+    def _set_id(self, project: m.Project, new_id: str) -> m.Project:
+        """A new id renames the camera everywhere it is used; an id that is empty or not
+        an id is refused (the field keeps the text, red, and says why)."""
+        new_id = new_id.strip()
+        if not project.cameras:
+            return project
+        problem = camera_id_problem(project, new_id)
+        self._id_verdict(problem)
+        if problem:
+            return project
+        return edits.set_camera(project, dataclasses.replace(project.cameras[0], id=new_id))
+
+    def _id_verdict(self, message: str) -> None:
+        box = self.id_field
+        if message == self.input_errors.get(box, ""):
+            return
+        box.setProperty("invalid", bool(message))
+        box.setStyleSheet(INVALID_STYLE if message else "")
+        box.setToolTip(message or ID_TIP)
+        self._field_verdict(box, message)
+
     def _preset_chosen(self) -> None:
         key = self.preset.currentData()
         if key is None:

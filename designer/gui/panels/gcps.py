@@ -238,9 +238,16 @@ class GcpPanel(Panel):
         name = f"{t.id} {COLUMNS[c].split(' (')[0]}"
         try:
             if c == 0:
-                if not text.strip():
-                    raise ValueError("give an id")
-                new = dataclasses.replace(t, id=text.strip())
+                new_id = text.strip()
+                problem = edits.identifier_problem(new_id)
+                if problem:
+                    raise ValueError(problem)
+                others = [k for k, o in enumerate(self.project.targets)
+                          if k != r and o.id == new_id]
+                if others:
+                    raise ValueError(f"“{new_id}” is the id of another GCP (row "
+                                     f"{others[0] + 1})")
+                new = dataclasses.replace(t, id=new_id)
             elif c in (2, 3, 4):
                 field = "XYZ"[c - 2]
                 value = _number(text, blank_ok=field == "Z")
@@ -270,7 +277,10 @@ class GcpPanel(Panel):
             for k in (6, 7, 8):
                 self._cell_errors.pop((t.id, k), None)
         self._show_cell_errors()
-        self.editor.edit(edits.replace_target(self.project, r, new), f"Edit {t.id}")
+        project = edits.replace_target(self.project, r, new)
+        if new.id != t.id:  # the control selection follows a renamed GCP
+            project = edits.rename_target_references(project, t.id, new.id)
+        self.editor.edit(project, f"Edit {t.id}")
 
     def _show_cell_errors(self) -> None:
         ids = {t.id for t in self.project.targets}

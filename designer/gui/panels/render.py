@@ -6,7 +6,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from PySide6.QtCore import QSize, Qt
+import shiboken6
+from PySide6.QtCore import QSize, Qt, QTimer
 from PySide6.QtGui import QIcon, QImage, QPixmap
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -24,14 +25,49 @@ from PySide6.QtWidgets import (
 
 from designer.core.layout import images_dir
 from designer.gui import derived
+from designer.gui.field_rules import ruled_dspin
 from designer.gui.panels.base import Panel
 from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.render_process import RenderProcess
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, form, format_number, ispin, readout
 from designer.project import model as m
 from designer.survey.render_cost import format_duration, load_speed
 
 THUMB_PX = 120
+#: what the panel says when Render could not save the project
+SAVE_FIRST = "save the project (without problems) before rendering"
+#: decimals of the resolution scale field
+SCALE_DECIMALS = 3
+
+
+def _part_pixels(sizes: list[tuple[str, int]], scale: float) -> tuple[str, int, float] | None:
+    """The first (name, size, scaled size) that ``scale`` makes no whole number of
+    pixels (or less than one), None when every size scales to whole pixels."""
+    for name, size in sizes:
+        scaled = size * scale
+        if abs(scaled - round(scaled)) > 1e-6 or round(scaled) < 1:
+            return name, size, scaled
+    return None
+
+
+def scale_problem(cameras, scale: float) -> str:
+    """Why ``scale`` cannot be the render's resolution scale for ``cameras`` ("" when it
+    can): it must give whole pixels; names the nearest scale that does."""
+    sizes = [(f"{label} of {c.id}", n) for c in cameras
+             for label, n in (("width", c.image_width_px), ("height", c.image_height_px))]
+    bad = _part_pixels(sizes, scale)
+    if bad is None:
+        return ""
+    name, size, scaled = bad
+    step = 10 ** -SCALE_DECIMALS
+    valid = [k * step for k in range(1, 10 ** SCALE_DECIMALS + 1)
+             if _part_pixels(sizes, k * step) is None]
+    nearest = min(valid, key=lambda v: (abs(v - scale), -v)) if valid else None
+    hint = (f"; nearest scale giving whole pixels: {format_number(nearest, SCALE_DECIMALS)}"
+            if nearest is not None else "")
+    return (f"resolution scale {format_number(scale, SCALE_DECIMALS)}: the image {name} "
+            f"{size} × {format_number(scale, SCALE_DECIMALS)} = {format_number(scaled, 3)} px "
+            f"is not a whole number of pixels{hint}")
 
 
 def _thumbnail(path: str) -> QImage:
@@ -55,8 +91,11 @@ class RenderPanel(Panel):
         self.cost = readout()
         self.cost.setWordWrap(True)
         f.addRow("measured cost", self.cost)
+        # a scale giving part pixels is refused where it is typed (it would block the
+        # render), with the nearest scale that gives whole pixels
         f.addRow("resolution scale", self.bindings.bind(
-            dspin(0.01, 4, 3, 0.05), "render.resolution_scale", "Resolution scale"))
+            ruled_dspin(self._scale_problem, 0.01, 1, SCALE_DECIMALS, 0.05),
+            "render.resolution_scale", "Resolution scale"))
         f.addRow("workers", self.bindings.bind(ispin(1, 256), "render.workers",
                                                "Render workers"))
         f.addRow("image format", self.bindings.bind(
@@ -112,8 +151,12 @@ class RenderPanel(Panel):
         self.image_names: list[str] = []
         self.n_frames = 0
         self.out_dir: Path | None = None
+        self._watching_problems = False
         self.thumbs.itemActivated.connect(self.open_image)
         self.thumbs.itemDoubleClicked.connect(self.open_image)
+
+    def _scale_problem(self, scale: float) -> str:
+        return scale_problem(self.project.cameras, scale)
 
     # ------------------------------------------------------------------ readouts
     def refresh(self) -> None:
@@ -135,8 +178,9 @@ class RenderPanel(Panel):
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
-        the out-of-date line, and a button that re-renders only what changed."""
-        if state is None:
+        the out-of-date line, and a button that re-renders only what changed. A state
+        checked before a render that is still running is old news: not shown."""
+        if state is None or self.process.running:
             self.out_of_date.show_state(None)
             self.start_button.setText("Render")
             return
@@ -159,7 +203,7 @@ class RenderPanel(Panel):
         window = self.window()
         if doc.dirty or doc.path is None:
             if not hasattr(window, "file_actions") or not window.file_actions.save():
-                self.state.setText("save the project (without problems) before rendering")
+                self._refuse_start()
                 return
         project_path = doc.path
         self.out_dir = (project_path.parent / self.project.outputs.directory).resolve()
@@ -177,9 +221,38 @@ class RenderPanel(Panel):
         resume = self.resume.isChecked() or self.out_of_date.stale
         argv = RenderProcess.command(project_path, self.out_dir, resume=resume)
         self.process.start(argv, cwd=project_path.parent)
+        # the folder is being brought up to date: what it lacked before is no news now;
+        # the check after the render says how it is then
+        self.show_render_state(None)
         self.start_button.setEnabled(False)
         self.cancel_button.setEnabled(True)
         self.state.setText(f"rendering into {self.out_dir} …")
+
+    def _refuse_start(self) -> None:
+        """Say why nothing renders, until the project is saved or its problems fixed."""
+        self.state.setText(SAVE_FIRST)
+        problems = getattr(self.window(), "problems", None)
+        if problems is not None and not self._watching_problems:
+            self._watching_problems = True
+            problems.model().modelReset.connect(self._problems_relisted)
+            self.editor.document.events.connect("file", self._file_changed)
+
+    def _problems_relisted(self) -> None:
+        # the list is cleared and refilled in one go: look once it is refilled
+        QTimer.singleShot(0, self, self._check_refusal)
+
+    def _file_changed(self, **_) -> None:
+        self._check_refusal()
+
+    def _check_refusal(self) -> None:
+        if not shiboken6.isValid(self.state) or self.state.text() != SAVE_FIRST:
+            return
+        doc = self.editor.document
+        problems = getattr(self.window(), "problems", None)
+        if not doc.dirty and doc.path is not None:
+            self.state.setText("saved: ready to render")
+        elif problems is not None and problems.count() == 0:
+            self.state.setText("no problems left: Render saves the project and renders it")
 
     def cancel(self) -> None:
         self.process.cancel()

@@ -38,6 +38,9 @@ from designer.gui.widgets import combo, dspin, form, readout
 CMAP = "RdBu_r"
 
 
+#: the picked-point line while no point of the cloud shown is picked
+PICK_HINT = "click a point of the cloud in the view to read its distance"
+
 class ResultsPanel(Panel):
     title = "Results"
     parts = frozenset({"outputs", "processing"})
@@ -81,7 +84,7 @@ class ResultsPanel(Panel):
         self.range_spin.valueChanged.connect(lambda v: self.set_range(v / 1000))
         f.addRow("colour range ±", self.range_spin)
         self.picked = readout()
-        self.picked.setText("click a point of the cloud in the view to read its distance")
+        self.picked.setText(PICK_HINT)
         f.addRow("picked point", self.picked)
         v.addLayout(f)
         self.stats = QTableWidget(0, 2)
@@ -262,9 +265,10 @@ class ResultsPanel(Panel):
         stale = None
         if self._compared is not None and self.survey_dir() is not None:
             stale = output_state.reconstruction_state(self.survey_dir(),
-                                                      self._compared.parent.parent)
+                                                      self._compared.parent.parent,
+                                                      self.project.processing)
         if not stale and state is not None and not state.ok and self._compared is not None:
-            stale = f"the rendered images are ({state.text}); render, then reconstruct again"
+            stale = output_state.images_stale_text(state)
         self.out_of_date.show_state(stale, "reconstructed from the images rendered now"
                                     if self._compared is not None and state is not None
                                     else "")
@@ -333,6 +337,7 @@ class ResultsPanel(Panel):
     def clear(self) -> None:
         self.sync.view.remove_layer("residuals")
         self.result = None
+        self.picked.setText(PICK_HINT)
         self.range_spin.setEnabled(False)
         self.outlier_table.setRowCount(0)
         self.outlier_label.setText("")
@@ -347,6 +352,7 @@ class ResultsPanel(Panel):
     def show_result(self, result: results_data.CloudResult) -> None:
         """Show a cloud: coloured in the view, robust statistics, outliers, histogram."""
         self.result = result
+        self.picked.setText(PICK_HINT)  # a point picked in the cloud shown before is gone
         self.limit_m = result.limit_m
         self.sync.view.show_cloud(result.points_world, result.distances_m, result.limit_m)
         n_out = result.n_outliers

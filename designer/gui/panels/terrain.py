@@ -13,8 +13,9 @@ from PySide6.QtWidgets import (
     QPushButton,
 )
 
+from designer.gui.field_rules import ruled_dspin
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.widgets import combo, dspin, form, format_number, ispin, readout
 from designer.project import model as m
 
 KINDS = [("procedural hills", "procedural"), ("flat plane", "flat"),
@@ -61,10 +62,13 @@ class TerrainPanel(Panel):
             dspin(0.01, 1000, 3, 0.1, "m"), f"{src}.grid_spacing_m", "Terrain grid spacing"))
         f.addRow("roughness", self.bindings.bind(
             dspin(0, 1, 2, 0.05), f"{src}.roughness", "Terrain roughness"))
+        # lowest ≤ highest is checked where it is typed, in the numbers typed
         f.addRow("lowest", self.bindings.bind(
-            dspin(-1e4, 1e4, 2, 1, "m"), f"{src}.min_height_m", "Terrain lowest height"))
+            ruled_dspin(self._lowest_problem, -1e4, 1e4, 2, 1, "m"), f"{src}.min_height_m",
+            "Terrain lowest height"))
         f.addRow("highest", self.bindings.bind(
-            dspin(-1e4, 1e4, 2, 1, "m"), f"{src}.max_height_m", "Terrain highest height"))
+            ruled_dspin(self._highest_problem, -1e4, 1e4, 2, 1, "m"), f"{src}.max_height_m",
+            "Terrain highest height"))
         layout.addWidget(self.procedural)
 
         self.flat = QGroupBox("flat plane")
@@ -128,6 +132,26 @@ class TerrainPanel(Panel):
         self.relief_label.setText(f"{z.min():.2f} … {z.max():.2f} m")
 
     # ------------------------------------------------------------------ view → model
+    def _heights(self) -> tuple[float, float] | None:
+        src = self.project.scene.terrain.source
+        if not isinstance(src, m.ProceduralTerrain):
+            return None
+        return src.min_height_m, src.max_height_m
+
+    def _lowest_problem(self, value: float) -> str:
+        heights = self._heights()
+        if heights is None or value <= heights[1]:
+            return ""
+        return (f"lowest ({format_number(value, 2)} m) must be below highest "
+                f"({format_number(heights[1], 2)} m)")
+
+    def _highest_problem(self, value: float) -> str:
+        heights = self._heights()
+        if heights is None or value >= heights[0]:
+            return ""
+        return (f"highest ({format_number(value, 2)} m) must be above lowest "
+                f"({format_number(heights[0], 2)} m)")
+
     def _kind_changed(self) -> None:
         kind = self.kind.currentData()
         terrain = self.project.scene.terrain

@@ -1,0 +1,51 @@
+"""Number fields with a rule across fields (highest above lowest, a scale giving whole
+pixels): a value that breaks the rule is refused like one out of range — the field
+turns red, keeps the typed text and says why in the user's own numbers; nothing reaches
+the project. The rule is asked again when the value would be stepped (arrow keys)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from designer.gui.widgets import CheckedDoubleSpin
+
+#: the rule: the reason a value is refused ("" when it may be applied)
+Rule = Callable[[float], str]
+
+
+class RuledDoubleSpin(CheckedDoubleSpin):
+    """A :class:`~designer.gui.widgets.CheckedDoubleSpin` that also refuses the values
+    its ``rule`` names a reason against."""
+
+    def __init__(self, rule: Rule, label: str = "value") -> None:
+        super().__init__(label)
+        self.rule = rule
+
+    def problem(self, text: str) -> str:
+        message = super().problem(text)
+        if message:
+            return message
+        reason = self.rule(self._parse(text))
+        return f"{reason}; not applied" if reason else ""
+
+    def stepBy(self, steps: int) -> None:
+        value = min(max(self.value() + steps * self.singleStep(), self.minimum()),
+                    self.maximum())
+        reason = self.rule(round(value, self.decimals()))
+        if reason:
+            self._set_error(f"{reason}; not applied")
+            return
+        super().stepBy(steps)
+
+
+def ruled_dspin(rule: Rule, lo: float, hi: float, decimals: int = 3, step: float = 1.0,
+                suffix: str = "", label: str = "value") -> RuledDoubleSpin:
+    """:func:`~designer.gui.widgets.dspin` with a rule across fields."""
+    box = RuledDoubleSpin(rule, label)
+    box.setDecimals(decimals)
+    box.setRange(lo, hi)
+    box.setSingleStep(step)
+    box.setAccelerated(True)
+    if suffix:
+        box.setSuffix(f" {suffix}")
+    return box
