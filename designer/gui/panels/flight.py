@@ -292,15 +292,16 @@ class FlightPanel(Panel):
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
         if stations.render_costs:
-            from designer.survey.render_cost import format_duration, load_speed
+            from designer.gui.wording import duration, estimate_basis
+            from designer.survey.render_cost import load_speed
 
             # this machine's speed as measured now (a render since may have refined it)
             total = derived.render_estimate_s(self.project, stations.render_costs)
             per = total / len(stations.render_costs)
             self.time_label.setText(
-                f"≈ {format_duration(total)} to render ({per:.1f} s per image at "
+                f"≈ {duration(total)} to render ({duration(per)} per image at "
                 f"{self.project.render.effective_samples} samples; "
-                f"{load_speed().describe()})")
+                f"{estimate_basis(load_speed())})")
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""

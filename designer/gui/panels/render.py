@@ -28,8 +28,9 @@ from designer.gui.panels.base import Panel
 from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.render_process import RenderProcess
 from designer.gui.widgets import combo, dspin, form, ispin, readout
+from designer.gui.wording import duration, estimate_basis
 from designer.project import model as m
-from designer.survey.render_cost import format_duration, load_speed
+from designer.survey.render_cost import load_speed
 
 THUMB_PX = 120
 
@@ -129,9 +130,9 @@ class RenderPanel(Panel):
         n = len(stations.render_costs)
         for preset, spp in m.PRESET_SAMPLES.items():
             total = derived.render_estimate_s(self.project, stations.render_costs, preset)
-            lines.append(f"{preset}: {spp} samples, {total / max(1, n):.1f} s/image, "
-                         f"{format_duration(total)} for {n}")
-        self.cost.setText("\n".join(lines) + f"\n({load_speed().describe()})")
+            lines.append(f"{preset}: {spp} samples, {duration(total / max(1, n))}/image, "
+                         f"{duration(total)} for {n}")
+        self.cost.setText("\n".join(lines) + f"\n({estimate_basis(load_speed())})")
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
@@ -215,7 +216,7 @@ class RenderPanel(Panel):
         """Images done of the total, those kept from before, the measured speed."""
         rendered = [s for i, s in self.frames_done.items() if i not in self.skipped]
         kept = f" ({len(self.skipped)} complete before, kept)" if self.skipped else ""
-        speed = (f"{sum(rendered) / len(rendered):.1f} s per image measured" if rendered
+        speed = (f"{duration(sum(rendered) / len(rendered))} per image measured" if rendered
                  else "no image rendered yet")
         return f"{len(self.frames_done)} / {self.n_frames} images{kept}; {speed}"
 
@@ -254,7 +255,7 @@ class RenderPanel(Panel):
         self.cancel_button.setEnabled(False)
         seconds = time.perf_counter() - getattr(self, "_t0", time.perf_counter())
         n = self.n_rendered
-        per = f" ({seconds / n:.1f} s per image)" if n else ""
+        per = f" ({duration(seconds / n)} per image)" if n else ""
         kept = f", {len(self.skipped)} complete before (kept)" if self.skipped else ""
         if n:  # the render refined this machine's speed: every estimate uses it now
             self._cost()
