@@ -26,6 +26,7 @@ from pathlib import Path
 from PySide6.QtWidgets import QFileDialog, QMenu
 
 from designer.errors import DesignerError
+from designer.gui.wording import count
 
 #: Export flight plan: file type → (format, heights)
 EXPORT_FILTERS = {
@@ -129,10 +130,10 @@ class SiteFlightActions:
         except (DesignerError, OSError) as error:
             w.show_problems([str(error)], f"Cannot import the flight {source.name}")
             return False
-        n = len(project.trajectory.exterior_orientations)
-        w.editor.edit(project, f"Import flight ({n} photos)")
+        photos = count(len(project.trajectory.exterior_orientations), "photo")
+        w.editor.edit(project, f"Import flight ({photos})")
         w.show_problems([])
-        w.statusBar().showMessage(f"imported {n} photos from {source}", 8000)
+        w.statusBar().showMessage(f"imported {photos} from {source}", 8000)
         return True
 
     # ------------------------------------------------------------------ flight out
@@ -166,5 +167,6 @@ class SiteFlightActions:
             return False
         w.show_problems([])
         w.statusBar().showMessage(
-            f"wrote {path}: {len(spec.exposures)} photos ({fmt}, heights {altitude})", 8000)
+            f"wrote {path}: {count(len(spec.exposures), 'photo')} ({fmt}, heights {altitude})",
+            8000)
         return True

@@ -98,3 +98,9 @@ def estimate_basis(speed) -> str:
     """Where a render-time estimate comes from (a ``render_cost.RenderSpeed``): it says
     'uncalibrated' while the figures are the reference machine's, not this one's."""
     return speed.describe()
+
+
+def count(n: int, noun: str, plural: str | None = None) -> str:
+    """'1 image', '3 images', '0 GCPs': the number with its noun in the right number
+    (``plural`` for nouns not made plural with an 's')."""
+    return f"{n} {noun if n == 1 else (plural or noun + 's')}"

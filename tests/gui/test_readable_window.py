@@ -94,3 +94,33 @@ def test_a_new_project_reads_as_new_until_it_is_edited(qtbot, window, monkeypatc
     wait_idle(qtbot, w)
     assert len(asked) == 1 and "unsaved changes" in asked[0], asked
     _reads_as_new(w)
+
+
+def test_one_photo_is_one_photo(qtbot, window, tmp_path):
+    """Counts agree with their noun: a flight of one photo reads '1 photo', in the undo
+    entry and the status bar."""
+    import shutil
+
+    from tests.flight.helpers import EXAMPLE
+    from tests.gui.helpers import answer_file_dialogs, problems
+    from tests.gui.test_site_flight_menus import _flown_images
+
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    _flown_images(tmp_path / "flown", 1)
+    answer_file_dialogs([tmp_path / "flown"])
+    choose_menu(qtbot, w, "File", "Import flight", "From a folder of images…")
+    wait_idle(qtbot, w)
+    assert problems(w) == []
+    assert len(w.document.project.trajectory.exterior_orientations) == 1
+    status = w.statusBar().currentMessage()
+    assert status.startswith("imported 1 photo from"), status
+    assert w.undo_stack.text(w.undo_stack.index() - 1) == "Import flight (1 photo)"
+
+    from designer.gui.wording import count
+
+    assert count(1, "image") == "1 image" and count(3, "image") == "3 images"
+    assert count(0, "GCP") == "0 GCPs" and count(1, "run") == "1 run"

@@ -28,7 +28,7 @@ from designer.gui.panels.base import Panel
 from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.render_process import RenderProcess
 from designer.gui.widgets import combo, dspin, form, ispin, readout
-from designer.gui.wording import duration, estimate_basis
+from designer.gui.wording import count, duration, estimate_basis
 from designer.project import model as m
 from designer.survey.render_cost import load_speed
 
@@ -218,7 +218,7 @@ class RenderPanel(Panel):
         kept = f" ({len(self.skipped)} complete before, kept)" if self.skipped else ""
         speed = (f"{duration(sum(rendered) / len(rendered))} per image measured" if rendered
                  else "no image rendered yet")
-        return f"{len(self.frames_done)} / {self.n_frames} images{kept}; {speed}"
+        return f"{len(self.frames_done)} / {count(self.n_frames, 'image')}{kept}; {speed}"
 
     def _image_path(self, index: int) -> str | None:
         """The rendered image of station ``index`` in the output folder (or None)."""
@@ -261,12 +261,13 @@ class RenderPanel(Panel):
             self._cost()
             self.sync.stations_changed.emit()
         if code == 0:
-            self.state.setText(f"done: {n} images rendered in {seconds:.0f} s{per}{kept} into "
+            self.state.setText(f"done: {count(n, 'image')} rendered in {duration(seconds)}"
+                               f"{per}{kept} into "
                                f"{self.out_dir / 'images'}; ground truth in "
                                f"{self.out_dir / 'ground-truth'}; README.txt says which "
                                "file each program takes")
         elif code == 130 or self.process.cancelled:
-            self.state.setText(f"cancelled after {n} images{per}{kept}; tick 'resume' to "
+            self.state.setText(f"cancelled after {count(n, 'image')}{per}{kept}; tick 'resume' to "
                                "continue later")
         else:
             self.state.setText(f"render failed (exit {code}): {stderr_tail.splitlines()[-1:]}")

@@ -34,6 +34,7 @@ from designer.gui.reconstruct_job import (
 )
 from designer.gui.reconstruct_process import ReconstructRun
 from designer.gui.widgets import combo, dspin, form, readout
+from designer.gui.wording import count
 
 CMAP = "RdBu_r"
 
@@ -211,7 +212,7 @@ class ResultsPanel(Panel):
         self._digests = output_state.manifest_digests(folder)  # the images it is made from
         self.log.clear()
         self.progress.setValue(0)
-        self.stage_label.setText(f"reconstructing {n} images into {self.job.out_dir} …")
+        self.stage_label.setText(f"reconstructing {count(n, 'image')} into {self.job.out_dir} …")
         self.reconstruct_button.setEnabled(False)
         self.cancel_button.setEnabled(True)
         self.run.start(self.job)

@@ -33,7 +33,7 @@ from designer.gui.study_data import duration_text
 from designer.gui.study_form import LEVELS_HINT, FactorRow, check_study
 from designer.gui.study_results import StudyResults
 from designer.gui.widgets import combo, form, ispin
-from designer.gui.wording import estimate_basis
+from designer.gui.wording import count, estimate_basis
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
 from designer.survey.render_cost import load_speed
@@ -272,10 +272,11 @@ class StudyPanel(StudyFiles, Panel):
         c, reps = self.cost, self.plan.study.replicates.count
         workers = self.run_box.workers.value()
         self.plan_label.setText(
-            f"<b>{c.variants} variants × {reps} replicate{'s' if reps != 1 else ''} = "
-            f"{c.runs} runs</b><br>{c.renders} render{'s' if c.renders != 1 else ''} "
-            f"(distinct image sets, {c.images_rendered} images), {c.reconstructions} "
-            f"reconstructions<br>estimated time: {duration_text(c.total_s)} on one worker "
+            f"<b>{count(c.variants, 'variant')} × {count(reps, 'replicate')} = "
+            f"{count(c.runs, 'run')}</b><br>{count(c.renders, 'render')} "
+            f"(distinct image sets, {count(c.images_rendered, 'image')}), "
+            f"{count(c.reconstructions, 'reconstruction')}<br>estimated time: "
+            f"{duration_text(c.total_s)} on one worker "
             f"(render {duration_text(c.render_s)}, reconstruct {duration_text(c.reconstruct_s)})"
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else "")
