@@ -35,6 +35,21 @@ from designer.survey.render_cost import load_speed
 THUMB_PX = 120
 
 
+def thumb_size(width_px: int, height_px: int) -> QSize:
+    """The picture of an image of this size in the thumbnail list: its shape, the
+    longer side THUMB_PX."""
+    w, h = max(1, int(width_px)), max(1, int(height_px))
+    if w >= h:
+        return QSize(THUMB_PX, max(1, round(THUMB_PX * h / w)))
+    return QSize(max(1, round(THUMB_PX * w / h)), THUMB_PX)
+
+
+def thumb_item(picture: QSize) -> QSize:
+    """An item of the thumbnail list: the picture and, under it, two lines (the image's
+    name and its render time)."""
+    return QSize(THUMB_PX + 16, picture.height() + 40)
+
+
 def _thumbnail(path: str) -> QImage:
     """Read and shrink an image (runs in a worker thread: QImage is not a widget)."""
     image = QImage(path)
@@ -89,12 +104,13 @@ class RenderPanel(Panel):
         layout.addWidget(self.state)
         self.thumbs = QListWidget()
         self.thumbs.setViewMode(QListView.ViewMode.IconMode)
-        self.thumbs.setIconSize(QSize(THUMB_PX, THUMB_PX))
+        self.thumbs.setIconSize(thumb_size(4, 3))
         self.thumbs.setResizeMode(QListView.ResizeMode.Adjust)
         self.thumbs.setMinimumHeight(260)
         self.thumbs.setMovement(QListView.Movement.Static)
         self.thumbs.setUniformItemSizes(True)
-        self.thumbs.setGridSize(QSize(THUMB_PX + 16, THUMB_PX + 40))
+        self.thumbs.setGridSize(thumb_item(self.thumbs.iconSize()))
+        self.thumbs.setWordWrap(True)
         self.thumbs.setToolTip("double-click an image to open it with the GCPs it sees")
         layout.addWidget(self.thumbs)
         self.log = QPlainTextEdit()
@@ -172,6 +188,9 @@ class RenderPanel(Panel):
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
+        if self.sync.stations is not None:  # the rendered images' shape, until one is read
+            self._thumb_shape(thumb_size(*derived.rendered_size_px(
+                self.sync.stations.interior, self.project.render.resolution_scale)))
         self.log.clear()
         self._t0 = time.perf_counter()
         # re-rendering what changed is a resume: up-to-date images are kept
@@ -236,6 +255,10 @@ class RenderPanel(Panel):
                 else f"#{index}")
         label = name + (f"\n{seconds:.1f} s" if seconds else "\n(kept)")
         item = QListWidgetItem(label)
+        # the item's size is fixed, not measured: the thumbnail is read in a thread and
+        # arrives after the list laid the item out (measured then, the item would be
+        # the size of its text and the picture squeezed into it, the name cut off)
+        item.setSizeHint(self.thumbs.gridSize())
         item.setData(Qt.ItemDataRole.UserRole, index)
         item.setData(Qt.ItemDataRole.UserRole + 1, path)
         item.setToolTip(path or "")
@@ -245,10 +268,20 @@ class RenderPanel(Panel):
 
         def show(image: QImage) -> None:
             if not image.isNull():
+                self._thumb_shape(image.size())
                 item.setIcon(QIcon(QPixmap.fromImage(image)))
 
         self.sync.tasks.submit(f"thumb-{index}", _thumbnail, path, on_done=show,
                                on_error=lambda _e: None)
+
+    def _thumb_shape(self, picture: QSize) -> None:
+        """Lay the thumbnails out for pictures of this size (the images' shape)."""
+        if picture == self.thumbs.iconSize():
+            return
+        self.thumbs.setIconSize(picture)
+        self.thumbs.setGridSize(thumb_item(picture))
+        for i in range(self.thumbs.count()):
+            self.thumbs.item(i).setSizeHint(thumb_item(picture))
 
     def _finished(self, code: int, stderr_tail: str) -> None:
         self.start_button.setEnabled(True)
