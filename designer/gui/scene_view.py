@@ -17,7 +17,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from designer.gui.interaction import ViewInteraction
-from designer.gui.view_overlays import OverlayLayers
+from designer.gui.view_overlays import CLOUD_BAR, OverlayLayers
 from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
@@ -131,7 +131,7 @@ class SceneView(OverlayLayers, QWidget):
         if self._meshes.pop(name, None) is not None:
             self.plotter.remove_actor(name, render=False)
         if name == "cloud":
-            self._remove_scalar_bar("signed distance (m)")
+            self._remove_scalar_bar(CLOUD_BAR)
         if name == "coverage":
             self._remove_scalar_bar("images seeing the ground")
         if name == "residuals":
