@@ -75,9 +75,12 @@ class ResultsPanel(Panel):
         self.clipped_label.setWordWrap(True)
         v.addWidget(self.clipped_label)
         f = form()
-        self.range_spin = dspin(0.01, 1e7, 1, 1.0, "mm", label="Colour range ±")
-        self.range_spin.setToolTip("the colours (and the histogram) span ± this distance; "
-                                   "points beyond take the end colours")
+        # at least 0.1 mm (the field's last decimal): a range of 0 is refused with a
+        # message, not taken and then ignored
+        self.range_spin = dspin(1000 * results_data.COLOUR_RANGE_STEP_M, 1e7, 1, 1.0, "mm",
+                                label="Colour range ±")
+        self.range_spin.setToolTip("the colours (and the histogram) span ± this distance, "
+                                   "at least 0.1 mm; points beyond take the end colours")
         self.range_spin.setEnabled(False)
         self.range_spin.valueChanged.connect(lambda v: self.set_range(v / 1000))
         f.addRow("colour range ±", self.range_spin)
