@@ -96,11 +96,14 @@ class OverlayLayers:
         return int(near[np.lexsort((ndc[near, 2], np.round(r[near])))[0]])
 
     def show_residuals(self, start_world: np.ndarray, end_world: np.ndarray,
-                       labels: list[str], title: str) -> None:
+                       labels: list[str], title: str, ids: list[str] = ()) -> None:
         """GCP errors as lines from each true position to its (exaggerated) estimate,
-        with a label per line; kept across display offset changes like the cloud."""
+        with a label per line; kept across display offset changes like the cloud.
+        ``ids``: the GCPs the labels name (their own name labels are not drawn while
+        the error labels are shown, so the two do not cover each other)."""
         start = np.asarray(start_world, dtype=float).reshape(-1, 3)
         end = np.asarray(end_world, dtype=float).reshape(-1, 3)
+        ids = list(ids)
         self.remove_layer("residuals")
         if not len(start):
             self.request_render()
@@ -126,7 +129,9 @@ class OverlayLayers:
                      "residuals:labels-labels"):
             if name in self.plotter.actors:
                 self.plotter.actors[name].SetVisibility(self._visible.get("residuals", True))
-        self._kept["residuals"] = lambda: self.show_residuals(start, end, labels, title)
+        self._kept["residuals"] = lambda: self.show_residuals(start, end, labels, title, ids)
+        self._residual_ids = set(ids)
+        self._target_labels()
         self.request_render()
 
     def frame_all(self, extra_points_world: np.ndarray | None = None) -> None:

@@ -442,7 +442,8 @@ class ResultsPanel(Panel):
             return None
         true, end, labels, scale = results_data.residual_lines(
             rows, self.project.scene.terrain.extent)
-        self.sync.view.show_residuals(true, end, labels, f"× {scale:g}")
+        self.sync.view.show_residuals(true, end, labels, f"× {scale:g}",
+                                      [g["gcp_id"] for g in rows])
         return scale
 
 def _distance_text(d: float) -> str:
