@@ -244,7 +244,8 @@ def test_achieved_overlap_in_words_when_not_measured(qtbot, window):
     # one flight line over a narrow strip: no side overlap to measure
     project = edits.set_flight(edits.ensure_flight_plan(w.document.project),
                                area=((-40.0, -2.0), (40.0, -2.0), (40.0, 2.0),
-                                     (-40.0, 2.0)), altitude_agl_m=80.0)
+                                     (-40.0, 2.0)), altitude_agl_m=80.0,
+                               side_overlap_percent=0.0)
     w.editor.edit(project, "one line")
     wait_idle(qtbot, w)
     assert w.sync.plan is not None
