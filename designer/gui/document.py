@@ -10,7 +10,7 @@ Events (subscribe with :meth:`Events.connect`, callbacks get keyword arguments):
 
 * ``project(old, new, parts)``: the project value changed; ``parts`` is the set of
   :data:`PARTS` that differ (views rebuild only those);
-* ``file(path, dirty)``: the file name or the dirty flag changed;
+* ``file(path, dirty)``: the file name, the dirty flag or ``changed`` changed;
 * ``reset(project)``: a different project was loaded or created (views drop caches).
 """
 
@@ -91,6 +91,8 @@ class ProjectDocument:
         self.events = Events("project", "file", "reset")
         self._project = project
         self._saved: m.Project | None = project if path is not None else None
+        #: the project as opened, created (New) or last saved: "changed" compares with it
+        self._baseline = project
         self.path = Path(path) if path is not None else None
         self.base_dir = Path(base_dir) if base_dir is not None else (
             self.path.parent if self.path is not None else Path.cwd())
@@ -106,19 +108,26 @@ class ProjectDocument:
         return self._saved is None or self._saved != self._project
 
     @property
+    def changed(self) -> bool:
+        """True when the project was edited since it was opened, created or saved: a new
+        project as New made it is not saved yet (``dirty``) but has nothing to lose."""
+        return self._baseline != self._project
+
+    @property
     def title(self) -> str:
+        """The file name, with '*' when there are changes to save."""
         name = self.path.name if self.path is not None else "untitled.xml"
-        return f"{name}{' *' if self.dirty else ''}"
+        return f"{name}{' *' if self.changed else ''}"
 
     # ------------------------------------------------------------------ changes
     def set_project(self, project: m.Project) -> None:
         """Replace the project value (an edit, an undo or a redo) and notify."""
-        old, was_dirty = self._project, self.dirty
+        old, was = self._project, (self.dirty, self.changed)
         if project == old:
             return
         self._project = project
         self.events.emit("project", old=old, new=project, parts=changed_parts(old, project))
-        if self.dirty != was_dirty:
+        if (self.dirty, self.changed) != was:
             self.events.emit("file", path=self.path, dirty=self.dirty)
 
     def reset(self, project: m.Project, path: Path | None, base_dir: Path | None = None,
@@ -130,6 +139,7 @@ class ProjectDocument:
         self.base_dir = Path(base_dir) if base_dir is not None else (
             self.path.parent if self.path is not None else Path.cwd())
         self._saved = project if (saved and path is not None) else None
+        self._baseline = project
         self.events.emit("reset", project=project)
         self.events.emit("project", old=old, new=project, parts=set(PARTS))
         self.events.emit("file", path=self.path, dirty=self.dirty)
@@ -138,7 +148,7 @@ class ProjectDocument:
         """The current project is now what ``path`` holds."""
         self.path = Path(path)
         self.base_dir = self.path.parent
-        self._saved = self._project
+        self._saved = self._baseline = self._project
         self.events.emit("file", path=self.path, dirty=False)
 
     def replace_part(self, **fields) -> m.Project:

@@ -14,9 +14,22 @@ from designer.gui import files
 from designer.project import TEMPLATE_NAMES, ProjectError, read_project_file
 
 MAX_RECENT = 8
-TEMPLATE_TITLES = {"survey": "Example survey (hills, 10 GCPs, grid flight)",
-                   "validation-cube": "Validation cube (24 orbit photos)",
-                   "psf": "PSF (slanted edges)", "texture": "Texture (image texture tiled)"}
+TEMPLATE_TITLES = {
+    "survey": "Example survey (hills, 10 GCPs, grid flight)",
+    "survey-ideal": "Example survey, ideal camera (no distortion, no image effects)",
+    "survey-dynamic": "Example survey, changing world (moving sun, clouds, car, person)",
+    "survey-structures": "Example survey with structures (buildings, plants, oblique rig)",
+    "validation-cube": "Validation cube (24 orbit photos)",
+    "psf": "PSF (slanted edges)", "texture": "Texture (image texture tiled)"}
+
+
+def template_title(name: str) -> str:
+    """File → New's entry for the template ``name``: its title, never the bare name."""
+    if name in TEMPLATE_TITLES:
+        return TEMPLATE_TITLES[name]
+    from designer.project.templates import template
+
+    return template(name).project.name
 
 
 class FileActions:
@@ -36,7 +49,7 @@ class FileActions:
         blank = new.addAction("Blank project", lambda: self.new(None))
         blank.setShortcut(QKeySequence.StandardKey.New)
         for name in TEMPLATE_NAMES:
-            new.addAction(TEMPLATE_TITLES.get(name, name), lambda n=name: self.new(n))
+            new.addAction(template_title(name), lambda n=name: self.new(n))
         menu.addAction(_action(w, "&Open…", QKeySequence.StandardKey.Open, self.open_dialog))
         self.recent_menu = menu.addMenu("Open &Recent")
         self._fill_recent()
@@ -66,8 +79,7 @@ class FileActions:
     # ------------------------------------------------------------------ actions
     def maybe_save(self) -> bool:
         """True when it is fine to drop the current project (saved, discarded)."""
-        if not self.document.dirty or (self.document.path is None
-                                       and self.stack.count() == 0):
+        if not self.document.changed:
             return True
         answer = QMessageBox.question(
             self.window, "Unsaved changes",

@@ -100,6 +100,9 @@ class MainWindow(QMainWindow):
         self.docks["Flight"].raise_()
         self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
                          Qt.Orientation.Horizontal)
+        self._readable_tabs()
+        for dock in self.docks.values():
+            dock.dockLocationChanged.connect(self._readable_tabs_later)
         self._watch_outputs()
         self._build_problems()
         self._build_menus()
@@ -162,6 +165,23 @@ class MainWindow(QMainWindow):
         present = [t for t in titles if t in self.docks]
         for a, b in itertools.pairwise(present):
             self.tabifyDockWidget(self.docks[a], self.docks[b])
+
+    def _readable_tabs(self) -> None:
+        """Dock tabs show their whole titles ("Terrain", never "Te…"): no eliding, and
+        scroll arrows when a group's tabs are wider than its docks."""
+        from PySide6.QtWidgets import QTabBar
+
+        for bar in self.findChildren(QTabBar):
+            if bar.parent() is self:
+                bar.setElideMode(Qt.TextElideMode.ElideNone)
+                bar.setUsesScrollButtons(True)
+                bar.setExpanding(False)
+
+    def _readable_tabs_later(self, *_) -> None:
+        """Qt makes a tab bar for docks tabified (or dragged) later: set it up too."""
+        from PySide6.QtCore import QTimer
+
+        QTimer.singleShot(0, self._readable_tabs)
 
     def _build_problems(self) -> None:
         self.problems = QListWidget()
@@ -305,9 +325,12 @@ class MainWindow(QMainWindow):
         self.view.frame_all(np.vstack(points))
 
     def _file_state(self, path, dirty) -> None:
-        name = self.document.path.name if self.document.path else "untitled.xml"
-        self.setWindowTitle(f"{name}[*] — {self.document.project.name} — designer")
-        self.setWindowModified(dirty)
+        """The title: the file, '*' when there are changes to save, and for a project
+        never saved '(new, not saved)'."""
+        doc = self.document
+        name = doc.path.name if doc.path else "untitled.xml (new, not saved)"
+        self.setWindowTitle(f"{name}[*] — {doc.project.name} — designer")
+        self.setWindowModified(doc.changed)
 
     # ------------------------------------------------------------------ misc
     def _help(self) -> None:

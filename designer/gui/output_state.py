@@ -18,6 +18,7 @@ from pathlib import Path
 from designer.atomic import write_text_atomic
 from designer.core.layout import images_dir
 from designer.errors import DesignerError
+from designer.gui.wording import count
 
 RECONSTRUCTION_INPUTS = "inputs.json"
 #: how RenderState.text begins when the render folder could not be compared
@@ -167,7 +168,8 @@ def _images_state(survey_dir: Path, recon_dir: Path) -> str:
             return ""
         newer = [p for p in images if p.is_file()
                  and p.stat().st_mtime > summary.stat().st_mtime]
-        return (f"{len(newer)} images were rendered after this reconstruction"
+        return (f"{count(len(newer), 'image')} "
+                f"{'was' if len(newer) == 1 else 'were'} rendered after this reconstruction"
                 if newer else "")
     changed = sorted(n for n in set(now) | set(used) if now.get(n) != used.get(n))
     if not changed:

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.gui.wording import count
 from designer.project import model as m
 
 #: an image with more than this share of its picture beyond the terrain is warned about
@@ -145,11 +146,14 @@ def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
     off = np.flatnonzero(share < 1 - OFF_TERRAIN_WARN)
     if off.size:
         worst = off[np.argmin(share[off])]
-        out.append(f"{off.size} of {f['n_images']} images look beyond the terrain (more than "
+        look = "looks" if off.size == 1 else "look"
+        out.append(f"{off.size} of {count(f['n_images'], 'image')} {look} beyond the terrain "
+                   "(more than "
                    f"{100 * OFF_TERRAIN_WARN:.0f} % of the picture; worst "
                    f"{f['image_names'][worst]}: {100 * (1 - share[worst]):.0f} % off it); "
                    "shrink the area or enlarge the terrain")
     few = [g for g, n in zip(f["gcp_ids"], f["gcp_images"], strict=True) if n < MIN_GCP_IMAGES]
     if few:
-        out.append(f"GCPs seen by fewer than {MIN_GCP_IMAGES} images: {', '.join(few)}")
+        out.append(f"GCPs seen by fewer than {count(MIN_GCP_IMAGES, 'image')}: "
+                   f"{', '.join(few)}")
     return out

@@ -48,6 +48,9 @@ class CloudResult:
 OUTLIER_NMAD_MULTIPLE = 5.0
 #: … and this distance (m): a near-perfect cloud has no outliers at the 0.1 mm level
 OUTLIER_MIN_M = 0.005
+#: the colour range's step and least value (m): 0.1 mm, as its field in the Results panel
+#: shows it (a range the field cannot show would be applied without being seen)
+COLOUR_RANGE_STEP_M = 1e-4
 #: bins of the histogram over the colour range
 HISTOGRAM_BINS = 60
 #: outliers listed by the panel (the largest |Δ| first)
@@ -81,12 +84,16 @@ def outlier_mask(d: np.ndarray) -> np.ndarray:
 
 def colour_limit_m(d: np.ndarray) -> float:
     """Symmetric colour range ±L: the 98th percentile of |Δ| of the points that are not
-    outliers (a handful of gross errors cannot stretch it)."""
+    outliers (a handful of gross errors cannot stretch it), to COLOUR_RANGE_STEP_M and
+    at least that."""
     d = np.asarray(d, dtype=float)
     a = np.abs(d[~outlier_mask(d)])
     if not a.size:
         a = np.abs(d[np.isfinite(d)])
-    return float(max(np.quantile(a, 0.98), 1e-6)) if a.size else 1.0
+    if not a.size:
+        return 1.0
+    steps = round(float(np.quantile(a, 0.98)) / COLOUR_RANGE_STEP_M)
+    return max(steps, 1) * COLOUR_RANGE_STEP_M
 
 
 def robust_rows(d: np.ndarray) -> list[tuple[str, str]]:

@@ -17,7 +17,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from designer.gui.interaction import ViewInteraction
-from designer.gui.view_overlays import OverlayLayers
+from designer.gui.view_overlays import CLOUD_BAR, OverlayLayers
 from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
@@ -92,6 +92,8 @@ class SceneView(OverlayLayers, QWidget):
         self._irradiance: np.ndarray | None = None
         self._terrain_bounds: np.ndarray | None = None
         self._targets: list[tuple[str, np.ndarray, float]] = []
+        #: the GCPs the error labels (layer "residuals") name
+        self._residual_ids: set[str] = set()
         self.frames = 0
         self.plotter.ren_win.AddObserver("EndEvent", self._on_frame)
         self.interaction = ViewInteraction(self)
@@ -130,8 +132,11 @@ class SceneView(OverlayLayers, QWidget):
         self._kept.pop(name, None)
         if self._meshes.pop(name, None) is not None:
             self.plotter.remove_actor(name, render=False)
+        for part in (f"{name}-points", f"{name}-labels"):  # a label layer's two actors
+            if part in self.plotter.actors:
+                self.plotter.remove_actor(part, render=False)
         if name == "cloud":
-            self._remove_scalar_bar("signed distance (m)")
+            self._remove_scalar_bar(CLOUD_BAR)
         if name == "coverage":
             self._remove_scalar_bar("images seeing the ground")
         if name == "residuals":
@@ -141,6 +146,9 @@ class SceneView(OverlayLayers, QWidget):
                          "residuals:labels-labels"):
                 if part in self.plotter.actors:
                     self.plotter.remove_actor(part, render=False)
+            if self._residual_ids:
+                self._residual_ids = set()
+                self._target_labels()
 
     def _remove_scalar_bar(self, title: str) -> None:
         if title in self.plotter.scalar_bars:
@@ -158,6 +166,8 @@ class SceneView(OverlayLayers, QWidget):
         for key, actor in self.plotter.actors.items():
             if key == name or key.startswith(name + ":"):
                 actor.SetVisibility(visible)
+        if name == "residuals":  # the GCPs it names are named by their own labels again
+            self._target_labels()
         self.request_render()
 
     def _show(self, name: str, dataset, **style) -> None:
@@ -286,11 +296,7 @@ class SceneView(OverlayLayers, QWidget):
                               render_points_as_spheres=True, point_size=14,
                               reset_camera=False, render=False)
         self._meshes["targets"] = markers
-        self.plotter.add_point_labels(
-            self.local(xyz), ids, name="targets:labels", font_size=14, point_size=0,
-            shape_opacity=0.55, text_color="white", always_visible=True, render=False,
-            reset_camera=False)
-        self._meshes["targets:labels"] = markers
+        self._target_labels()
         if plates:
             v = np.vstack([p[0] for p in plates])
             starts = np.cumsum([0] + [len(p[0]) for p in plates[:-1]])
@@ -305,6 +311,30 @@ class SceneView(OverlayLayers, QWidget):
         for name in ("targets", "targets:labels", "targets:plates"):
             if name in self.plotter.actors:
                 self.plotter.actors[name].SetVisibility(self._visible.get("targets", True))
+        self.request_render()
+
+    def _target_labels(self) -> None:
+        """The GCPs' names over their markers, but for the GCPs the error labels name
+        while they are shown (a small error would put both labels at one place)."""
+        if "targets" not in self._meshes:
+            return
+        self._meshes.pop("targets:labels", None)
+        for part in ("targets:labels-points", "targets:labels-labels"):
+            if part in self.plotter.actors:
+                self.plotter.remove_actor(part, render=False)
+        named = (self._residual_ids if "residuals" in self._meshes
+                 and self._visible.get("residuals", True) else set())
+        shown = [(i, p) for i, p, _ in self._targets if i not in named]
+        if shown:
+            points = self.local(np.array([p for _, p in shown]))
+            self.plotter.add_point_labels(
+                points, [i for i, _ in shown], name="targets:labels", font_size=14,
+                point_size=0, shape_opacity=0.55, text_color="white", always_visible=True,
+                render=False, reset_camera=False)
+            self._meshes["targets:labels"] = self._pv.PolyData(points)
+            for part in ("targets:labels-points", "targets:labels-labels"):
+                if part in self.plotter.actors:
+                    self.plotter.actors[part].SetVisibility(self._visible.get("targets", True))
         self.request_render()
 
     def _show_faces(self, name: str, vertices_world: np.ndarray | None,

@@ -7,8 +7,9 @@ import-flight``, ``designer export-flight``; docs/real-data.md), so a file made 
 the file the command makes. Errors are the commands' one-line messages, shown in the
 Problems panel; nothing is written or changed when there is one.
 
-* Import site asks for the DEM, then the orthophoto (Cancel: none), then where to save
-  the new project; the project is written and opened.
+* Import site asks for the DEM (checked at once: a file that cannot make a site is
+  refused before anything else is asked), then the orthophoto (Cancel: none), then
+  where to save the new project; the project is written and opened.
 * Import flight replaces the open project's exposures by the flown photos (explicit
   exterior orientations, the camera the metadata names) as one undoable step; the 3D
   view draws their frusta and footprints like any other photos. Heights are the
@@ -25,6 +26,7 @@ from pathlib import Path
 from PySide6.QtWidgets import QFileDialog, QMenu
 
 from designer.errors import DesignerError
+from designer.gui.wording import count
 
 #: Export flight plan: file type → (format, heights)
 EXPORT_FILTERS = {
@@ -60,6 +62,8 @@ class SiteFlightActions:
         dem, _ = QFileDialog.getOpenFileName(w, "Import site: the DEM", start, GEOTIFF_FILTER)
         if not dem:
             return False
+        if not self.check_dem(Path(dem)):
+            return False
         ortho, _ = QFileDialog.getOpenFileName(
             w, "Import site: the orthophoto (Cancel: none)", str(Path(dem).parent),
             GEOTIFF_FILTER)
@@ -72,6 +76,18 @@ class SiteFlightActions:
             target += ".xml"
         return self.make_site_project(Path(dem), Path(ortho) if ortho else None,
                                       Path(target))
+
+    def check_dem(self, dem: Path) -> bool:
+        """The chosen DEM can make a site on its own; else its error is shown at once
+        (before the orthophoto is asked for) and False."""
+        from designer.survey.site_project import check_site_dem
+
+        try:
+            check_site_dem(dem)
+        except (DesignerError, OSError) as error:
+            self.window.show_problems([str(error)], f"Cannot import the site {dem.name}")
+            return False
+        return True
 
     def make_site_project(self, dem: Path, orthophoto: Path | None, path: Path) -> bool:
         """Write the project of a site (as ``designer new PATH --site DEM --orthophoto
@@ -114,10 +130,10 @@ class SiteFlightActions:
         except (DesignerError, OSError) as error:
             w.show_problems([str(error)], f"Cannot import the flight {source.name}")
             return False
-        n = len(project.trajectory.exterior_orientations)
-        w.editor.edit(project, f"Import flight ({n} photos)")
+        photos = count(len(project.trajectory.exterior_orientations), "photo")
+        w.editor.edit(project, f"Import flight ({photos})")
         w.show_problems([])
-        w.statusBar().showMessage(f"imported {n} photos from {source}", 8000)
+        w.statusBar().showMessage(f"imported {photos} from {source}", 8000)
         return True
 
     # ------------------------------------------------------------------ flight out
@@ -151,5 +167,6 @@ class SiteFlightActions:
             return False
         w.show_problems([])
         w.statusBar().showMessage(
-            f"wrote {path}: {len(spec.exposures)} photos ({fmt}, heights {altitude})", 8000)
+            f"wrote {path}: {count(len(spec.exposures), 'photo')} ({fmt}, heights {altitude})",
+            8000)
         return True

@@ -224,11 +224,10 @@ def plan_warnings(plan) -> list[str]:
 
 
 def duration_text(seconds: float) -> str:
-    if seconds < 90:
-        return f"{seconds:.0f} s"
-    if seconds < 2 * 3600:
-        return f"{seconds / 60:.0f} min"
-    return f"{seconds / 3600:.1f} h"
+    """The window's one way of writing a time (:func:`designer.gui.wording.duration`)."""
+    from designer.gui.wording import duration
+
+    return duration(seconds)
 
 
 # ------------------------------------------------------------------ output folders

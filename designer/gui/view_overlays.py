@@ -14,6 +14,9 @@ BAR_STYLE = {"color": "white", "shadow": True, "title_font_size": 16,
              "label_font_size": 14, "vertical": False, "position_x": 0.3,
              "position_y": 0.03, "height": 0.07, "width": 0.4}
 RESIDUAL_COLOUR = (1.0, 0.85, 0.1)
+#: the cloud's colour bar (and the name of its scalars): in mm, as the histogram and
+#: every distance of the Results panel
+CLOUD_BAR = "signed distance (mm)"
 
 
 class OverlayLayers:
@@ -39,16 +42,18 @@ class OverlayLayers:
 
     def show_cloud(self, points_world: np.ndarray, distances_m: np.ndarray,
                    limit_m: float) -> None:
-        """A point cloud coloured by signed distance, diverging map centred on 0."""
+        """A point cloud coloured by signed distance, diverging map centred on 0 (the
+        distances are given in m, drawn and written on the colour bar in mm)."""
         pv = self._pv
         cloud = pv.PolyData(self.local(points_world))
-        cloud["signed distance (m)"] = np.asarray(distances_m, dtype=float)
+        cloud[CLOUD_BAR] = 1000 * np.asarray(distances_m, dtype=float)
         self.remove_layer("cloud")
-        self.plotter.add_mesh(cloud, name="cloud", scalars="signed distance (m)",
-                              cmap="RdBu_r", clim=(-limit_m, limit_m), point_size=3,
+        lim = 1000 * limit_m
+        self.plotter.add_mesh(cloud, name="cloud", scalars=CLOUD_BAR,
+                              cmap="RdBu_r", clim=(-lim, lim), point_size=3,
                               render_points_as_spheres=False, reset_camera=False,
-                              render=False, scalar_bar_args={"title": "signed distance (m)",
-                                                             "fmt": "%.3f", **BAR_STYLE})
+                              render=False, scalar_bar_args={"title": CLOUD_BAR,
+                                                             "fmt": "%.1f", **BAR_STYLE})
         self._meshes["cloud"] = cloud
         self._kept["cloud"] = lambda: self.show_cloud(points_world, distances_m, limit_m)
         self.plotter.actors["cloud"].SetVisibility(self._visible.get("cloud", True))
@@ -59,10 +64,10 @@ class OverlayLayers:
         actor = self.plotter.actors.get("cloud")
         if actor is None:
             return
-        actor.mapper.scalar_range = (-limit_m, limit_m)
+        actor.mapper.scalar_range = (-1000 * limit_m, 1000 * limit_m)
         mesh = self._meshes["cloud"]
         points = np.asarray(mesh.points, dtype=float) + self.offset
-        d = np.asarray(mesh["signed distance (m)"], dtype=float)
+        d = np.asarray(mesh[CLOUD_BAR], dtype=float) / 1000
         self._kept["cloud"] = lambda: self.show_cloud(points, d, limit_m)
         self.request_render()
 
@@ -91,11 +96,14 @@ class OverlayLayers:
         return int(near[np.lexsort((ndc[near, 2], np.round(r[near])))[0]])
 
     def show_residuals(self, start_world: np.ndarray, end_world: np.ndarray,
-                       labels: list[str], title: str) -> None:
+                       labels: list[str], title: str, ids: list[str] = ()) -> None:
         """GCP errors as lines from each true position to its (exaggerated) estimate,
-        with a label per line; kept across display offset changes like the cloud."""
+        with a label per line; kept across display offset changes like the cloud.
+        ``ids``: the GCPs the labels name (their own name labels are not drawn while
+        the error labels are shown, so the two do not cover each other)."""
         start = np.asarray(start_world, dtype=float).reshape(-1, 3)
         end = np.asarray(end_world, dtype=float).reshape(-1, 3)
+        ids = list(ids)
         self.remove_layer("residuals")
         if not len(start):
             self.request_render()
@@ -121,7 +129,9 @@ class OverlayLayers:
                      "residuals:labels-labels"):
             if name in self.plotter.actors:
                 self.plotter.actors[name].SetVisibility(self._visible.get("residuals", True))
-        self._kept["residuals"] = lambda: self.show_residuals(start, end, labels, title)
+        self._kept["residuals"] = lambda: self.show_residuals(start, end, labels, title, ids)
+        self._residual_ids = set(ids)
+        self._target_labels()
         self.request_render()
 
     def frame_all(self, extra_points_world: np.ndarray | None = None) -> None:

@@ -74,3 +74,33 @@ def humanize(message: str) -> str:
     message = _IDENT.sub(lambda mt: _maybe_field(mt.group(0)), message)
     message = _SCI.sub(lambda mt: fixed(float(mt.group(0))), message)
     return _LONG.sub(lambda mt: fixed(float(mt.group(1))), message)
+
+
+def duration(seconds: float) -> str:
+    """A time as a person reads it: '0.4 s', '12 s', '3.6 min', '2.4 h'. Short times are
+    given in seconds (one decimal below 10 s), never as '0.0 min' or '0 s'."""
+    import math
+
+    if not math.isfinite(seconds):
+        return "–"
+    if seconds < 0.05:
+        return "< 0.1 s"
+    if seconds < 9.95:
+        return f"{seconds:.1f} s"
+    if seconds < 90:
+        return f"{round(seconds)} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def estimate_basis(speed) -> str:
+    """Where a render-time estimate comes from (a ``render_cost.RenderSpeed``): it says
+    'uncalibrated' while the figures are the reference machine's, not this one's."""
+    return speed.describe()
+
+
+def count(n: int, noun: str, plural: str | None = None) -> str:
+    """'1 image', '3 images', '0 GCPs': the number with its noun in the right number
+    (``plural`` for nouns not made plural with an 's')."""
+    return f"{n} {noun if n == 1 else (plural or noun + 's')}"

@@ -51,6 +51,22 @@ TARGET_SIZE_M = 0.8
 SURVEY_SIGMA_M = (0.01, 0.01, 0.02)
 
 
+def check_site_dem(dem_path: str | os.PathLike) -> None:
+    """Refuse a DEM that cannot make a site on its own (before an orthophoto is chosen):
+    unreadable, without a coordinate system, not in metres, or without a void-free part
+    of at least 1 m x 1 m. The one-line :class:`DesignerError` names the file."""
+    dem_path = Path(dem_path)
+    dem_header = read_header(dem_path, "DEM file")
+    crs = _site_crs(dem_path, dem_header, None, None)
+    x0, y0, dx, dy, heights = dem_grid(dem_path, crs_label(crs))
+    box = (x0, y0, x0 + dx * (heights.shape[1] - 1), y0 + dy * (heights.shape[0] - 1))
+    i0, i1, j0, j1 = _valid_block(heights, x0, y0, dx, dy, box, dem_path, None)
+    if not (dx * (j1 - j0) > 1 and dy * (i1 - i0) > 1):
+        raise DesignerError(f"DEM file {dem_path}: its void-free part is only "
+                            f"{dx * (j1 - j0):.2f} x {dy * (i1 - i0):.2f} m; use a DEM "
+                            "that covers the site")
+
+
 def site_project(dem_path: str | os.PathLike, orthophoto_path: str | os.PathLike | None,
                  project_path: str | os.PathLike) -> m.Project:
     """The project for ``dem_path`` (+ ``orthophoto_path``), with file paths written
@@ -69,13 +85,17 @@ def site_project(dem_path: str | os.PathLike, orthophoto_path: str | os.PathLike
         box = _intersect(box, _inner_box(ortho_header, crs), dem_path, ortho_path)
         texel_m = max(math.hypot(*ortho_header.transform[0:4:3]),
                       math.hypot(*ortho_header.transform[1:5:3]))
-    i0, i1, j0, j1 = _valid_block(heights, x0, y0, dx, dy, box, dem_path)
+    i0, i1, j0, j1 = _valid_block(heights, x0, y0, dx, dy, box, dem_path, ortho_path)
     extent = m.Extent(
         math.ceil(round(max(box[0], x0 + j0 * dx) * 10, 6)) / 10,
         math.ceil(round(max(box[1], y0 + i0 * dy) * 10, 6)) / 10,
         math.floor(round(min(box[2], x0 + j1 * dx) * 10, 6)) / 10,
         math.floor(round(min(box[3], y0 + i1 * dy) * 10, 6)) / 10)
     if not (extent.width_m > 1 and extent.length_m > 1):
+        if ortho_path is None:
+            raise DesignerError(f"DEM file {dem_path}: its void-free part is only "
+                                f"{extent.width_m:.2f} x {extent.length_m:.2f} m; use a DEM "
+                                "that covers the site")
         raise DesignerError(f"{dem_path}: the usable overlap of the DEM and the orthophoto is "
                             f"only {extent.width_m:.2f} x {extent.length_m:.2f} m; use files "
                             "that cover the same ground")
@@ -159,9 +179,11 @@ def _intersect(a, b, dem_path, ortho_path):
     return box
 
 
-def _valid_block(heights, x0, y0, dx, dy, box, dem_path) -> tuple[int, int, int, int]:
-    """Node index range (i0, i1, j0, j1) with no voids: the nodes enclosing ``box``,
-    trimmed border line by border line (the one with most voids first)."""
+def _valid_block(heights, x0, y0, dx, dy, box, dem_path,
+                 ortho_path) -> tuple[int, int, int, int]:
+    """Node index range (i0, i1, j0, j1) with no voids: the nodes enclosing ``box`` (the
+    part overlapping the orthophoto ``ortho_path``, or the whole DEM when None), trimmed
+    border line by border line (the one with most voids first)."""
     j0 = max(0, math.floor((box[0] - x0) / dx + 1e-9))
     j1 = min(heights.shape[1] - 1, math.ceil((box[2] - x0) / dx - 1e-9))
     i0 = max(0, math.floor((box[1] - y0) / dy + 1e-9))
@@ -181,8 +203,11 @@ def _valid_block(heights, x0, y0, dx, dy, box, dem_path) -> tuple[int, int, int,
             j0 += 1
         else:
             j1 -= 1
+    if ortho_path is None:
+        raise DesignerError(f"DEM file {dem_path} has no void-free part (no area without "
+                            "nodata cells); fill its voids (e.g. gdal_fillnodata)")
     raise DesignerError(f"DEM file {dem_path} has no void-free part where it overlaps the "
-                        "orthophoto; fill its voids (e.g. gdal_fillnodata)")
+                        f"orthophoto {ortho_path.name}; fill its voids (e.g. gdal_fillnodata)")
 
 
 def _targets(area: np.ndarray) -> tuple[m.Target, ...]:

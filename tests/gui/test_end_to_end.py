@@ -123,12 +123,12 @@ def test_design_render_reconstruct_and_inspect_the_error(qtbot, window, tmp_path
     # Drawn in the view coloured by those distances: red above, blue below, darker
     # further from zero, on a symmetric scale.
     drawn = w.view.layer_data("cloud")
-    np.testing.assert_allclose(np.asarray(drawn["signed distance (m)"]), d)
+    np.testing.assert_allclose(np.asarray(drawn["signed distance (mm)"]), 1000 * d)
     lut = w.view.cloud_lookup_table()
     lo, hi = lut.scalar_range
-    assert lo == pytest.approx(-hi) and hi == pytest.approx(r.limit_m)
-    colours = np.array([lut.map_value(v) for v in d])[:, :3]
-    above, below = d > 0.1 * hi, d < -0.1 * hi
+    assert lo == pytest.approx(-hi) and hi == pytest.approx(1000 * r.limit_m)  # mm
+    colours = np.array([lut.map_value(1000 * v) for v in d])[:, :3]
+    above, below = 1000 * d > 0.1 * hi, 1000 * d < -0.1 * hi
     assert above.sum() > 100 and below.sum() > 100
     assert np.all(colours[above, 0] > colours[above, 2])
     assert np.all(colours[below, 2] > colours[below, 0])
@@ -136,7 +136,7 @@ def test_design_render_reconstruct_and_inspect_the_error(qtbot, window, tmp_path
         lightness = colours[side].sum(axis=1)[np.argsort(np.abs(d[side]))]
         assert np.all(np.diff(lightness) <= 1e-9)
         assert lightness[0] > lightness[-1] + 0.5
-    assert "signed distance (m)" in w.view.plotter.scalar_bars
+    assert "signed distance (mm)" in w.view.plotter.scalar_bars
 
     # On screen: seen from above with the cloud alone, the reddest and the bluest pixels
     # lie where the points furthest above and below the truth are.

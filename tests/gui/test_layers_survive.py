@@ -12,7 +12,7 @@ from tests.gui.helpers import add_hills_and_flight, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui
 
-BAR = "signed distance (m)"
+BAR = "signed distance (mm)"
 
 
 def _cloud_drawn_at(w, xyz) -> None:

@@ -73,7 +73,9 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     total = derived.render_estimate_s(w.document.project, w.sync.stations.render_costs,
                                       "draft")
     line = next(x for x in panel.cost.text().splitlines() if x.startswith("draft:"))
-    assert f"{total / n:.1f} s/image" in line
+    from designer.gui.wording import duration
+
+    assert f"{duration(total / n)}/image" in line
     assert "this machine" in w.panels["Flight"].time_label.text()
 
     # a thumbnail opens the full image with the GCP it sees drawn on it

@@ -44,11 +44,11 @@ def test_cloud_colours_follow_signed_distances(qtbot, window, tmp_path):
 
     # What the view draws: these distances as scalars, a diverging map centred on 0.
     drawn = w.view.layer_data("cloud")
-    np.testing.assert_allclose(np.asarray(drawn["signed distance (m)"]), d)
+    np.testing.assert_allclose(np.asarray(drawn["signed distance (mm)"]), 1000 * d)
     lut = w.view.cloud_lookup_table()
     lo, hi = lut.scalar_range
-    assert lo == pytest.approx(-hi) and hi == pytest.approx(r.limit_m)
-    colours = np.array([lut.map_value(v) for v in d])[:, :3]
+    assert lo == pytest.approx(-hi) and hi == pytest.approx(1000 * r.limit_m)  # mm
+    colours = np.array([lut.map_value(1000 * v) for v in d])[:, :3]
     above, below = d > 0, d < 0
     assert np.all(colours[above, 0] > colours[above, 2])   # red above the ground
     assert np.all(colours[below, 2] > colours[below, 0])   # blue below
@@ -57,7 +57,7 @@ def test_cloud_colours_follow_signed_distances(qtbot, window, tmp_path):
         lightness = colours[side].sum(axis=1)[np.argsort(np.abs(d[side]))]
         assert np.all(np.diff(lightness) <= 1e-9)
         assert lightness[0] > lightness[-1] + 0.5
-    assert "signed distance (m)" in w.view.plotter.scalar_bars
+    assert "signed distance (mm)" in w.view.plotter.scalar_bars
 
     # And on screen: seen from above, points east of the centre are red, west blue.
     w.view.set_layer_visible("terrain", False)

@@ -74,7 +74,7 @@ def test_one_outlier_does_not_sway_the_summary(qtbot, window, tmp_path):
     qtbot.keyClicks(box.lineEdit(), "5")
     qtbot.keyClick(box.lineEdit(), Qt.Key.Key_Return)
     lut = w.view.cloud_lookup_table()
-    assert lut.scalar_range == pytest.approx((-0.005, 0.005))
+    assert lut.scalar_range == pytest.approx((-5.0, 5.0))  # mm, as the histogram
     assert results.figure.axes[0].get_xlim() == pytest.approx((-5.0, 5.0))
     below = int(np.sum(r.distances_m < -0.005))
     assert f"{below:,} below" in results.clipped_label.text()

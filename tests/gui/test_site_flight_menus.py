@@ -37,7 +37,7 @@ def test_import_site_builds_opens_and_refuses_a_bad_dem(qtbot, window, sample_si
     # a file that is no GeoTIFF: the command's one-line error, nothing written
     bad = tmp_path / "notes.tif"
     bad.write_text("not a raster\n")
-    answer_file_dialogs([bad, None, tmp_path / "bad.xml"])
+    answer_file_dialogs([bad])  # refused at once: no orthophoto or save dialog follows
     choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
     lines = problems(w)
     assert len(lines) == 1 and "notes.tif" in lines[0], lines
@@ -173,3 +173,78 @@ def test_flight_figures_that_do_not_exist_are_said_in_words():
         "4.92 to 6.35 cm over the area, median 5.32 cm at the centres of the images over it")
     assert _gsd_text(0.0492, 0.0635, nan).endswith("no image is centred over it")
     assert "nan" not in _gsd_text(nan, nan, nan)
+
+
+def _dem_with_voids(path, void_everywhere: bool):
+    """A small metric GeoTIFF DEM: all nodata, or with a void in every row and column
+    (so no void-free rectangle remains)."""
+    import rasterio
+    from affine import Affine
+
+    heights = np.full((12, 12), 100.0, np.float32)
+    if void_everywhere:
+        heights[:] = np.nan
+    else:
+        heights[np.arange(12), np.arange(12)] = np.nan
+        heights[np.arange(12), np.arange(11, -1, -1)] = np.nan
+    with rasterio.open(path, "w", driver="GTiff", width=12, height=12, count=1,
+                       dtype="float32", crs="EPSG:32633", nodata=np.nan,
+                       transform=Affine(2.0, 0, 500000.0, 0, -2.0, 5000000.0)) as dst:
+        dst.write(heights, 1)
+    return path
+
+
+def _reject_further_file_dialogs(qtbot):
+    """Cancel every file dialog that opens from now on; the titles of those seen."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog
+
+    seen: list[str] = []
+
+    def watch() -> None:
+        dialog = QApplication.activeModalWidget()
+        if isinstance(dialog, QFileDialog) and dialog.isVisible():
+            seen.append(dialog.windowTitle())
+            dialog.reject()
+        timer.start()
+
+    timer = QTimer()
+    timer.setSingleShot(True)
+    timer.setInterval(50)
+    timer.timeout.connect(watch)
+    timer.start()
+    return seen, timer
+
+
+@pytest.mark.parametrize("void_everywhere", [True, False])
+def test_import_site_checks_the_dem_as_soon_as_it_is_chosen(qtbot, window, tmp_path,
+                                                            void_everywhere):
+    """A DEM without a usable void-free part is refused right after it is chosen (no
+    orthophoto or save dialog follows), and the message speaks of the DEM alone — no
+    orthophoto was given."""
+    w = window
+    dem = _dem_with_voids(tmp_path / "holes.tif", void_everywhere)
+    answer_file_dialogs([dem])
+    qtbot.wait(10)
+    seen, timer = _reject_further_file_dialogs(qtbot)
+    try:
+        choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
+        qtbot.wait(100)
+    finally:
+        timer.stop()
+    assert seen == [], f"dialogs opened after the bad DEM: {seen}"
+    lines = problems(w)
+    assert len(lines) == 1 and "holes.tif" in lines[0], lines
+    assert "orthophoto" not in lines[0].lower(), lines
+    assert "void" in lines[0].lower() or "no data" in lines[0].lower(), lines
+    assert not list(tmp_path.glob("*.xml"))
+
+
+def test_site_project_without_orthophoto_speaks_of_the_dem_alone(tmp_path):
+    from designer.errors import DesignerError
+    from designer.survey.site_project import site_project
+
+    dem = _dem_with_voids(tmp_path / "holes.tif", False)
+    with pytest.raises(DesignerError) as error:
+        site_project(dem, None, tmp_path / "site.xml")
+    assert "orthophoto" not in str(error.value)

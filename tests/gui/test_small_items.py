@@ -66,7 +66,7 @@ def test_colour_bar_readable_and_gcp_errors_in_3d(qtbot, window, tmp_path):
     results = w.panels["Results"]
     results.open_cloud(tmp_path / "cloud.ply")
     wait_idle(qtbot, w)
-    bar = w.view.plotter.scalar_bars["signed distance (m)"]
+    bar = w.view.plotter.scalar_bars["signed distance (mm)"]
     assert min(bar.GetTitleTextProperty().GetColor()) > 0.9   # light on the dark sky
     assert min(bar.GetLabelTextProperty().GetColor()) > 0.9
 

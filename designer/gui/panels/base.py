@@ -38,8 +38,11 @@ class Panel(QWidget):
         self.input_label.setWordWrap(True)
         self.input_label.setStyleSheet(ERROR_STYLE)
         self.input_label.hide()
-        outer.addWidget(self.input_label)
+        # below the fields: appearing, the message shortens the panel's scrolled part
+        # from its bottom and moves no field (above them, it pushed them down under the
+        # mouse)
         outer.addWidget(scroll)
+        outer.addWidget(self.input_label)
         self.input_errors: dict[QWidget, str] = {}
         self.build(self.body)
         self.body.addStretch(1)

@@ -293,37 +293,47 @@ class FlightPanel(Panel):
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
         if stations.render_costs:
-            from designer.survey.render_cost import format_duration, load_speed
+            from designer.gui.wording import duration, estimate_basis
+            from designer.survey.render_cost import load_speed
 
             # this machine's speed as measured now (a render since may have refined it)
             total = derived.render_estimate_s(self.project, stations.render_costs)
             per = total / len(stations.render_costs)
             self.time_label.setText(
-                f"≈ {format_duration(total)} to render ({per:.1f} s per image at "
+                f"≈ {duration(total)} to render ({duration(per)} per image at "
                 f"{self.project.render.effective_samples} samples; "
-                f"{load_speed().describe()})")
+                f"{estimate_basis(load_speed())})")
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""
         f = self.sync.plan
         if f is None:
             error = self.sync.errors.get("plan", "")
-            for label in (self.real_gsd, self.real_overlap, self.real_images):
+            for label in (self.real_gsd, self.real_images):
                 label.setText("–")
+            self.real_overlap.setText(f"not computed: {self._no_plan_reason(error)}")
             self.warnings_label.setText(error)
             return
         scale = self.project.render.resolution_scale
         of = "" if scale == 1.0 else f" (rendered images, scale {scale:g})"
         self.real_gsd.setText(_gsd_text(f.gsd_min_m, f.gsd_max_m, f.gsd_median_m) + of)
-        self.real_overlap.setText(
-            f"front {_pct(f.front_overlap_median)} (5 % of images below "
-            f"{_pct(f.front_overlap_p05)}), side {_pct(f.side_overlap_median)} (5 % below "
-            f"{_pct(f.side_overlap_p05)})")
+        self.real_overlap.setText(_overlap_text(f))
         seen = ", ".join(f"{100 * v:.0f} % by ≥ {k}" for k, v in f.area_seen.items())
         self.real_images.setText(
             f"{f.images_over_area} of {f.n_images} look at the area, {f.images_over_terrain} "
             f"at the terrain; area seen {seen}")
         self.warnings_label.setText("\n".join(f"⚠ {w}" for w in f.warnings))
+
+    def _no_plan_reason(self, error: str) -> str:
+        """Why the flight has no figures over the terrain, in words."""
+        if error:
+            return error
+        if self.sync.stations is None:
+            return self.sync.errors.get("stations") or "no flight to analyse"
+        terrain = self.sync.terrain
+        if terrain is not None and terrain.heightfield is None:
+            return "the analysis needs a height-field terrain (a DEM or procedural)"
+        return "the terrain is not ready yet"
 
     # ------------------------------------------------------------------ view → model
     def _mesh_reference_m(self) -> float | None:
@@ -405,6 +415,27 @@ def _gsd_text(gsd_min_m: float, gsd_max_m: float, gsd_median_m: float) -> str:
     if not np.isfinite(gsd_median_m):
         return text + "no image is centred over it"
     return text + f"median {100 * gsd_median_m:.2f} cm at the centres of the images over it"
+
+
+def _overlap_text(f) -> str:
+    """The achieved overlaps in words; one that cannot be measured is said so, with why
+    (a template with dashes in place of the figures reads as a fault)."""
+    def finite(v) -> bool:
+        return v is not None and v == v
+
+    if not f.images_over_area:
+        return "not measured: no image looks at the area"
+    if finite(f.front_overlap_median):
+        front = (f"front {_pct(f.front_overlap_median)} (5 % of images below "
+                 f"{_pct(f.front_overlap_p05)})")
+    else:
+        front = "front overlap not measured: no image over the area has a next one on its line"
+    if finite(f.side_overlap_median):
+        side = f"side {_pct(f.side_overlap_median)} (5 % below {_pct(f.side_overlap_p05)})"
+    else:
+        side = "side overlap not measured: a single flight line, no neighbouring line"
+    return f"{front}; {side}" if not finite(f.front_overlap_median) or not finite(
+        f.side_overlap_median) else f"{front}, {side}"
 
 
 def _pct(v: float) -> str:

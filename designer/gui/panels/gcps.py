@@ -18,6 +18,8 @@ from PySide6.QtWidgets import (
     QPushButton,
     QTableWidget,
     QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
 )
 
 from designer.errors import DesignerError
@@ -30,6 +32,8 @@ COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
            "surveyed X", "surveyed Y", "surveyed Z", "images"]
 #: the read-only column: images of the flight that see the GCP (over the real terrain)
 IMAGES_COLUMN = 9
+#: the height of the table with its messages under it (px)
+TABLE_BOX_PX = 280
 
 
 #: background of a cell whose typed text was refused
@@ -72,14 +76,21 @@ class GcpPanel(Panel):
         self.table = QTableWidget(0, len(COLUMNS))
         self.table.setHorizontalHeaderLabels(COLUMNS)
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
-        self.table.setMinimumHeight(220)
+        self.table.setMinimumHeight(120)
         self.table.itemChanged.connect(self._cell_edited)
         QShortcut(QKeySequence.StandardKey.Delete, self.table, self.delete_selected)
-        layout.addWidget(self.table)
+        # the table's messages under it, in a box of fixed height: a message (or a
+        # longer one) shortens the table and does not push the fields below down
         self.error_label = QLabel()
         self.error_label.setWordWrap(True)
         self.error_label.setStyleSheet("color: #c0392b")
-        layout.addWidget(self.error_label)
+        table_box = QWidget()
+        v = QVBoxLayout(table_box)
+        v.setContentsMargins(0, 0, 0, 0)
+        v.addWidget(self.table, 1)
+        v.addWidget(self.error_label)
+        table_box.setFixedHeight(TABLE_BOX_PX)
+        layout.addWidget(table_box)
 
         auto = QGroupBox("automatic layout (replaces the targets)")
         f = form(auto)

@@ -30,8 +30,9 @@ from designer.gui.panels.base import Panel
 from designer.gui.panels.out_of_date import OutOfDate
 from designer.gui.render_process import RenderProcess
 from designer.gui.widgets import combo, form, format_number, ispin, readout
+from designer.gui.wording import count, duration, estimate_basis
 from designer.project import model as m
-from designer.survey.render_cost import format_duration, load_speed
+from designer.survey.render_cost import load_speed
 
 THUMB_PX = 120
 #: what the panel says when Render could not save the project
@@ -68,6 +69,21 @@ def scale_problem(cameras, scale: float) -> str:
     return (f"resolution scale {format_number(scale, SCALE_DECIMALS)}: the image {name} "
             f"{size} × {format_number(scale, SCALE_DECIMALS)} = {format_number(scaled, 3)} px "
             f"is not a whole number of pixels{hint}")
+
+
+def thumb_size(width_px: int, height_px: int) -> QSize:
+    """The picture of an image of this size in the thumbnail list: its shape, the
+    longer side THUMB_PX."""
+    w, h = max(1, int(width_px)), max(1, int(height_px))
+    if w >= h:
+        return QSize(THUMB_PX, max(1, round(THUMB_PX * h / w)))
+    return QSize(max(1, round(THUMB_PX * w / h)), THUMB_PX)
+
+
+def thumb_item(picture: QSize) -> QSize:
+    """An item of the thumbnail list: the picture and, under it, two lines (the image's
+    name and its render time)."""
+    return QSize(THUMB_PX + 16, picture.height() + 40)
 
 
 def _thumbnail(path: str) -> QImage:
@@ -127,12 +143,13 @@ class RenderPanel(Panel):
         layout.addWidget(self.state)
         self.thumbs = QListWidget()
         self.thumbs.setViewMode(QListView.ViewMode.IconMode)
-        self.thumbs.setIconSize(QSize(THUMB_PX, THUMB_PX))
+        self.thumbs.setIconSize(thumb_size(4, 3))
         self.thumbs.setResizeMode(QListView.ResizeMode.Adjust)
         self.thumbs.setMinimumHeight(260)
         self.thumbs.setMovement(QListView.Movement.Static)
         self.thumbs.setUniformItemSizes(True)
-        self.thumbs.setGridSize(QSize(THUMB_PX + 16, THUMB_PX + 40))
+        self.thumbs.setGridSize(thumb_item(self.thumbs.iconSize()))
+        self.thumbs.setWordWrap(True)
         self.thumbs.setToolTip("double-click an image to open it with the GCPs it sees")
         layout.addWidget(self.thumbs)
         self.log = QPlainTextEdit()
@@ -172,9 +189,9 @@ class RenderPanel(Panel):
         n = len(stations.render_costs)
         for preset, spp in m.PRESET_SAMPLES.items():
             total = derived.render_estimate_s(self.project, stations.render_costs, preset)
-            lines.append(f"{preset}: {spp} samples, {total / max(1, n):.1f} s/image, "
-                         f"{format_duration(total)} for {n}")
-        self.cost.setText("\n".join(lines) + f"\n({load_speed().describe()})")
+            lines.append(f"{preset}: {spp} samples, {duration(total / max(1, n))}/image, "
+                         f"{duration(total)} for {n}")
+        self.cost.setText("\n".join(lines) + f"\n({estimate_basis(load_speed())})")
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
@@ -215,6 +232,9 @@ class RenderPanel(Panel):
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
+        if self.sync.stations is not None:  # the rendered images' shape, until one is read
+            self._thumb_shape(thumb_size(*derived.rendered_size_px(
+                self.sync.stations.interior, self.project.render.resolution_scale)))
         self.log.clear()
         self._t0 = time.perf_counter()
         # re-rendering what changed is a resume: up-to-date images are kept
@@ -288,9 +308,9 @@ class RenderPanel(Panel):
         """Images done of the total, those kept from before, the measured speed."""
         rendered = [s for i, s in self.frames_done.items() if i not in self.skipped]
         kept = f" ({len(self.skipped)} complete before, kept)" if self.skipped else ""
-        speed = (f"{sum(rendered) / len(rendered):.1f} s per image measured" if rendered
+        speed = (f"{duration(sum(rendered) / len(rendered))} per image measured" if rendered
                  else "no image rendered yet")
-        return f"{len(self.frames_done)} / {self.n_frames} images{kept}; {speed}"
+        return f"{len(self.frames_done)} / {count(self.n_frames, 'image')}{kept}; {speed}"
 
     def _image_path(self, index: int) -> str | None:
         """The rendered image of station ``index`` in the output folder (or None)."""
@@ -308,6 +328,10 @@ class RenderPanel(Panel):
                 else f"#{index}")
         label = name + (f"\n{seconds:.1f} s" if seconds else "\n(kept)")
         item = QListWidgetItem(label)
+        # the item's size is fixed, not measured: the thumbnail is read in a thread and
+        # arrives after the list laid the item out (measured then, the item would be
+        # the size of its text and the picture squeezed into it, the name cut off)
+        item.setSizeHint(self.thumbs.gridSize())
         item.setData(Qt.ItemDataRole.UserRole, index)
         item.setData(Qt.ItemDataRole.UserRole + 1, path)
         item.setToolTip(path or "")
@@ -317,28 +341,39 @@ class RenderPanel(Panel):
 
         def show(image: QImage) -> None:
             if not image.isNull():
+                self._thumb_shape(image.size())
                 item.setIcon(QIcon(QPixmap.fromImage(image)))
 
         self.sync.tasks.submit(f"thumb-{index}", _thumbnail, path, on_done=show,
                                on_error=lambda _e: None)
+
+    def _thumb_shape(self, picture: QSize) -> None:
+        """Lay the thumbnails out for pictures of this size (the images' shape)."""
+        if picture == self.thumbs.iconSize():
+            return
+        self.thumbs.setIconSize(picture)
+        self.thumbs.setGridSize(thumb_item(picture))
+        for i in range(self.thumbs.count()):
+            self.thumbs.item(i).setSizeHint(thumb_item(picture))
 
     def _finished(self, code: int, stderr_tail: str) -> None:
         self.start_button.setEnabled(True)
         self.cancel_button.setEnabled(False)
         seconds = time.perf_counter() - getattr(self, "_t0", time.perf_counter())
         n = self.n_rendered
-        per = f" ({seconds / n:.1f} s per image)" if n else ""
+        per = f" ({duration(seconds / n)} per image)" if n else ""
         kept = f", {len(self.skipped)} complete before (kept)" if self.skipped else ""
         if n:  # the render refined this machine's speed: every estimate uses it now
             self._cost()
             self.sync.stations_changed.emit()
         if code == 0:
-            self.state.setText(f"done: {n} images rendered in {seconds:.0f} s{per}{kept} into "
+            self.state.setText(f"done: {count(n, 'image')} rendered in {duration(seconds)}"
+                               f"{per}{kept} into "
                                f"{self.out_dir / 'images'}; ground truth in "
                                f"{self.out_dir / 'ground-truth'}; README.txt says which "
                                "file each program takes")
         elif code == 130 or self.process.cancelled:
-            self.state.setText(f"cancelled after {n} images{per}{kept}; tick 'resume' to "
+            self.state.setText(f"cancelled after {count(n, 'image')}{per}{kept}; tick 'resume' to "
                                "continue later")
         else:
             self.state.setText(f"render failed (exit {code}): {stderr_tail.splitlines()[-1:]}")

@@ -34,6 +34,7 @@ from designer.gui.reconstruct_job import (
 )
 from designer.gui.reconstruct_process import ReconstructRun
 from designer.gui.widgets import combo, dspin, form, readout
+from designer.gui.wording import count
 
 CMAP = "RdBu_r"
 
@@ -77,9 +78,12 @@ class ResultsPanel(Panel):
         self.clipped_label.setWordWrap(True)
         v.addWidget(self.clipped_label)
         f = form()
-        self.range_spin = dspin(0.01, 1e7, 1, 1.0, "mm", label="Colour range ±")
-        self.range_spin.setToolTip("the colours (and the histogram) span ± this distance; "
-                                   "points beyond take the end colours")
+        # at least 0.1 mm (the field's last decimal): a range of 0 is refused with a
+        # message, not taken and then ignored
+        self.range_spin = dspin(1000 * results_data.COLOUR_RANGE_STEP_M, 1e7, 1, 1.0, "mm",
+                                label="Colour range ±")
+        self.range_spin.setToolTip("the colours (and the histogram) span ± this distance, "
+                                   "at least 0.1 mm; points beyond take the end colours")
         self.range_spin.setEnabled(False)
         self.range_spin.valueChanged.connect(lambda v: self.set_range(v / 1000))
         f.addRow("colour range ±", self.range_spin)
@@ -214,7 +218,7 @@ class ResultsPanel(Panel):
         self._digests = output_state.manifest_digests(folder)  # the images it is made from
         self.log.clear()
         self.progress.setValue(0)
-        self.stage_label.setText(f"reconstructing {n} images into {self.job.out_dir} …")
+        self.stage_label.setText(f"reconstructing {count(n, 'image')} into {self.job.out_dir} …")
         self.reconstruct_button.setEnabled(False)
         self.cancel_button.setEnabled(True)
         self.run.start(self.job)
@@ -444,7 +448,8 @@ class ResultsPanel(Panel):
             return None
         true, end, labels, scale = results_data.residual_lines(
             rows, self.project.scene.terrain.extent)
-        self.sync.view.show_residuals(true, end, labels, f"× {scale:g}")
+        self.sync.view.show_residuals(true, end, labels, f"× {scale:g}",
+                                      [g["gcp_id"] for g in rows])
         return scale
 
 def _distance_text(d: float) -> str:

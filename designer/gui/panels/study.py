@@ -33,6 +33,7 @@ from designer.gui.study_data import duration_text
 from designer.gui.study_form import LEVELS_HINT, FactorRow, check_study
 from designer.gui.study_results import StudyResults
 from designer.gui.widgets import combo, form, ispin
+from designer.gui.wording import count, estimate_basis
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
 from designer.survey.render_cost import load_speed
@@ -261,7 +262,7 @@ class StudyPanel(StudyFiles, Panel):
         path = self._path_for_check()
         # an opened study not changed since: check the file itself (its own positions)
         from_file = self._opened_text == text and self.study_path is not None
-        speed = load_speed()
+        speed = self._check_speed = load_speed()
         self.sync.tasks.submit("study-check", check_study, None if from_file else text,
                                str(path), path, speed, on_done=self._checked,
                                on_error=self._check_failed)
@@ -271,13 +272,15 @@ class StudyPanel(StudyFiles, Panel):
         c, reps = self.cost, self.plan.study.replicates.count
         workers = self.run_box.workers.value()
         self.plan_label.setText(
-            f"<b>{c.variants} variants × {reps} replicate{'s' if reps != 1 else ''} = "
-            f"{c.runs} runs</b><br>{c.renders} render{'s' if c.renders != 1 else ''} "
-            f"(distinct image sets, {c.images_rendered} images), {c.reconstructions} "
-            f"reconstructions<br>estimated time: {duration_text(c.total_s)} on one worker "
+            f"<b>{count(c.variants, 'variant')} × {count(reps, 'replicate')} = "
+            f"{count(c.runs, 'run')}</b><br>{count(c.renders, 'render')} "
+            f"(distinct image sets, {count(c.images_rendered, 'image')}), "
+            f"{count(c.reconstructions, 'reconstruction')}<br>estimated time: "
+            f"{duration_text(c.total_s)} on one worker "
             f"(render {duration_text(c.render_s)}, reconstruct {duration_text(c.reconstruct_s)})"
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
-               else ""))
+               else "")
+            + f"<br>render time: {estimate_basis(self._check_speed)}")
         self.errors.hide()
         self.warnings.setText("\n".join(f"⚠ {line}" for line in c.warnings))
         self.warnings.setVisible(bool(c.warnings))
