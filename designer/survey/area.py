@@ -53,9 +53,11 @@ def as_polygon(area) -> np.ndarray:
     crossing = _first_crossing(local)
     if crossing is not None:
         i, j = crossing
+        n = len(poly)  # vertices numbered from 1, as a table's rows and the XML's order
         raise DesignerError(
-            f"an area's edges cross (edge {i}-{(i + 1) % len(poly)} and edge "
-            f"{j}-{(j + 1) % len(poly)}); give the vertices in order around the boundary")
+            f"an area's edges cross (vertex {i + 1} to vertex {(i + 1) % n + 1} meets vertex "
+            f"{j + 1} to vertex {(j + 1) % n + 1}); give the vertices in order around the "
+            "boundary")
     if abs(_signed_area(local)) <= 1e-12 * float(np.ptp(local, axis=0).max()) ** 2:
         raise DesignerError("an area has zero size (its vertices are collinear)")
     poly.flags.writeable = False

@@ -1,0 +1,54 @@
+"""The Flight panel holds still while the user edits it: warnings that come and go do
+not move the area table under the mouse, and the area's errors number the vertices as
+the table's rows do (from 1)."""
+
+from __future__ import annotations
+
+import pytest
+from PySide6.QtCore import QPoint
+
+from designer.gui import edits
+from tests.gui.helpers import wait_idle
+
+pytestmark = pytest.mark.gui
+
+
+def _table_top(flight) -> QPoint:
+    return flight.area_table.mapTo(flight.window(), QPoint(0, 0))
+
+
+def test_warnings_that_come_and_go_leave_the_area_table_in_place(qtbot, window):
+    w = window
+    project = edits.ensure_flight_plan(w.document.project)
+    inner = edits.set_flight(project, area=((-20.0, -20.0), (20.0, -20.0), (20.0, 20.0),
+                                            (-20.0, 20.0)), altitude_agl_m=20.0)
+    w.editor.edit(inner, "a flight over the terrain")
+    w.docks["Flight"].raise_()
+    wait_idle(qtbot, w)
+    flight = w.panels["Flight"]
+    assert "beyond the terrain" not in flight.warnings_label.text()
+    before = _table_top(flight)
+
+    far = edits.set_flight(w.document.project, area=edits.terrain_rectangle(project),
+                           altitude_agl_m=80.0)
+    w.editor.edit(far, "a flight beyond the terrain")
+    wait_idle(qtbot, w)
+    assert "images look beyond the terrain" in flight.warnings_label.text()  # they came
+    assert _table_top(flight) == before
+
+    w.undo_action.trigger()  # Edit → Undo: … and went
+    wait_idle(qtbot, w)
+    assert "beyond the terrain" not in flight.warnings_label.text()
+    assert _table_top(flight) == before
+
+
+def test_a_crossing_area_names_its_vertices_as_the_table_rows():
+    from designer.errors import DesignerError
+    from designer.survey.area import as_polygon
+
+    bow_tie = [(0.0, 0.0), (10.0, 10.0), (10.0, 0.0), (0.0, 10.0)]
+    with pytest.raises(DesignerError) as error:
+        as_polygon(bow_tie)
+    text = str(error.value)
+    assert "vertex 1 to vertex 2" in text and "vertex 3 to vertex 4" in text
+    assert "edge 3-0" not in text
