@@ -90,18 +90,21 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
     problem = adjuster.problem
 
     keep_alive: list[np.ndarray] = []
-    camera = next(iter(rec.cameras.values()))
-    cam_params = camera.params  # a view of the camera's memory: COLMAP's parameter block
-    if variable and problem.has_parameter_block(cam_params):
-        constant = [i for i in range(len(cam_params)) if i not in variable]
-        problem.set_manifold(cam_params, pyceres.SubsetManifold(len(cam_params), constant))
+    # each camera (of a rig: each its own interior orientation) is its own parameter
+    # block; ``params`` is a view of the camera's memory, COLMAP's block
+    cam_params = {cid: camera.params for cid, camera in rec.cameras.items()}
+    for params in cam_params.values():
+        if variable and problem.has_parameter_block(params):
+            constant = [i for i in range(len(params)) if i not in variable]
+            problem.set_manifold(params, pyceres.SubsetManifold(len(params), constant))
 
-    poses = {}
+    poses, camera_of = {}, {}
     for image in rec.images.values():
         if image.has_pose:
             pose = rec.frames[image.frame_id].rig_from_world.params
             if problem.has_parameter_block(pose):
                 poses[image.name] = pose
+                camera_of[image.name] = image.camera_id
 
     identity = np.array([0, 0, 0, 1, 0, 0, 0, 0], float)  # Sim3d: quat xyzw, t, log scale
     xyz_by_id = {}
@@ -119,9 +122,10 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
             cf.Point3DAlignmentCost(np.diag(sigma ** 2), np.asarray(cp.surveyed_local, float)),
             None, [xyz, identity])
         for name, uv in marks:
+            cid = camera_of[name]
             problem.add_residual_block(
-                cf.ReprojErrorCost(camera.model, cov_uv, np.asarray(uv, float)), None,
-                [xyz, poses[name], cam_params])
+                cf.ReprojErrorCost(rec.cameras[cid].model, cov_uv, np.asarray(uv, float)),
+                None, [xyz, poses[name], cam_params[cid]])
     if xyz_by_id:
         problem.set_parameter_block_constant(identity)
     if priors is not None:
