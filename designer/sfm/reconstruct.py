@@ -13,6 +13,11 @@ command-line overrides. Modes:
   estimated as the calibration mode says. With ``gcps = similarity`` a 7-parameter
   similarity on the control points follows the adjustment instead.
 
+Several cameras (a rig, or flights with different cameras): each ground-truth CAMERA_ID
+is its own database camera with its own interior orientation (true in ``known-poses``,
+its own pre-calibration and self-calibration in ``free``); the rig's relative orientation
+is not imposed (each image its own pose; docs/processing.md says why).
+
 Check points are marked (with the same marking error) but only triangulated with the
 final cameras, never used. Everything is computed in a local frame (world − offset,
 offset = the rounded mean camera centre) in float64; outputs are in world coordinates:
