@@ -184,6 +184,16 @@ def reconstruct(
     survey, out = Path(survey_dir), Path(out_dir)
     gt_dir, image_dir, names = check_survey_folder(survey)
     p = processing or m.Processing()
+    rolling = None
+    if p.calibration.rolling_shutter == "compensate":
+        from designer.sfm.rolling_adjustment import check_compensation, read_rolling_shutter_truth
+
+        if mode != "free":
+            raise DesignerError(f"--rolling-shutter compensate with --mode {mode}: the "
+                                "compensation is part of the bundle adjustment; use --mode "
+                                "free (or --rolling-shutter none)")
+        rolling = read_rolling_shutter_truth(survey)
+        check_compensation(rolling, names, survey)
     if max_features is not None:
         p = m.Processing(p.calibration, p.gcps, p.position_prior,
                          m.Matching(max_features, p.matching.pairs, p.matching.min_track_length),
@@ -283,7 +293,8 @@ def reconstruct(
         from designer.sfm import process_free
 
         adjustment, sim_info = process_free.georeference_and_adjust(
-            rec, p, gcps, marks, control, flight_C, offset, log, str(survey))
+            rec, p, gcps, marks, control, flight_C, offset, log, str(survey),
+            rolling_shutter=rolling)
     tie["removed_outliers"] = _drop_outliers(rec, OUTLIER_PX)
     tie["points"] = rec.num_points3D()
     tie["mean_track_length"] = float(rec.compute_mean_track_length()) if rec.num_points3D() \

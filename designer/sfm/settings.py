@@ -51,7 +51,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
                        min_track_length: int | None = None,
                        control_ids: tuple[str, ...] | None = None,
                        control_count: int | None = None,
-                       control_spread: str | None = None) -> m.Processing:
+                       control_spread: str | None = None,
+                       rolling_shutter: str | None = None) -> m.Processing:
     """The project's ``<processing>`` (defaults when absent) with the given overrides."""
     base = m.Processing()
     path = project or project_of_survey(survey)
@@ -63,6 +64,9 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
     if calibration is not None:
         p = dataclasses.replace(p, calibration=dataclasses.replace(p.calibration,
                                                                    mode=calibration))
+    if rolling_shutter is not None:
+        p = dataclasses.replace(p, calibration=dataclasses.replace(
+            p.calibration, rolling_shutter=rolling_shutter))
     g = p.gcps
     if gcps is not None:
         g = dataclasses.replace(g, mode=gcps)
@@ -100,6 +104,9 @@ def check_processing(p: m.Processing) -> None:
         raise DesignerError(f"--min-track-length {p.matching.min_track_length}: use 2 to 100")
     if not 100 <= p.matching.max_features <= 1_000_000:
         raise DesignerError(f"--max-features {p.matching.max_features}: use 100 to 1000000")
+    if p.calibration.rolling_shutter not in ("none", "compensate"):
+        raise DesignerError(f"--rolling-shutter {p.calibration.rolling_shutter}: use none or "
+                            "compensate")
     if p.calibration.mode not in VARIABLE_PARAMS:
         raise DesignerError(f"--calibration {p.calibration.mode}: use one of "
                             f"{', '.join(VARIABLE_PARAMS)}")
