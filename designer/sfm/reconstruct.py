@@ -301,7 +301,10 @@ def reconstruct(
         else 0.0
     timings["adjustment_s"] = time.perf_counter() - t
 
-    rows, skipped = _gcp_rows(rec, gcps, marks, control, offset)
+    moved = None
+    if adjustment is not None and adjustment.velocities is not None:
+        moved = {n: (v, rolling[n]) for n, v in adjustment.velocities.items() if n in rolling}
+    rows, skipped = _gcp_rows(rec, gcps, marks, control, offset, moved)
     est_by_label = _estimated_cameras(rec, cams)
     est_params = est_by_label.get(cams[0].label, true_params) if len(cams) > 1 else \
         _full_opencv(next(iter(rec.cameras.values())))
@@ -494,10 +497,11 @@ def _drop_outliers(rec, max_px: float) -> int:
     return len(bad)
 
 
-def _gcp_rows(rec, gcps, marks, control: set[str], offset):
+def _gcp_rows(rec, gcps, marks, control: set[str], offset, rolling=None):
     """One row per GCP seen in ≥ 2 registered images (triangulated from its marks with
-    the final cameras), and the ids seen by fewer."""
-    points, seen = triangulate_gcps(rec, marks)
+    the final cameras; compensated rolling-shutter images: each mark from its row's
+    centre), and the ids seen by fewer."""
+    points, seen = triangulate_gcps(rec, marks, rolling)
     rows, skipped = [], []
     for g in gcps:
         if g.gcp_id not in points:
