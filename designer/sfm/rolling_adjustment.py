@@ -17,9 +17,9 @@ Velocities start from the model's camera centres differenced along the flight's 
 line (the next photo in time, else the previous, when they are at most
 :data:`MAX_NEIGHBOUR_GAP` trigger intervals apart) and are held by a prior around that
 start, σ :data:`VELOCITY_PRIOR_SIGMA` (model units per second, m/s once georeferenced):
-the centres are known to centimetres a second apart, and a freer velocity trades its
-vertical and along-track parts against the heights (measured: check Z 0.100 m with
-σ 20 m/s against 0.025 m without compensation, docs/processing.md). An image without a
+the centres are known to centimetres a second apart, while a free velocity is seen
+weakly (with σ 20 m/s the vertical velocities of a 20 ms readout scattered by 3 m/s).
+An image without a
 neighbour on its leg starts from zero with σ :data:`VELOCITY_PRIOR_SIGMA_NO_START`.
 
 The readout and direction are known (the camera's, from the ground truth): the
