@@ -324,3 +324,24 @@ def rig_survey(origin=(500000.0, 5000000.0, 250.0), n_stations=6, samples=16,
     return replace(base, name="rig test", cameras=tuple(cameras), scene=scene,
                    trajectory=m.Trajectory(exterior_orientations=photos,
                                            rigs=(m.Rig("penta", tuple(mounts)),)))
+
+
+def two_camera_survey(samples=8, origin=(500000.0, 5000000.0, 250.0),
+                      oblique_tilt_deg=20.0) -> m.Project:
+    """:func:`small_flight_survey` flown by a two-camera rig: the 5 mm 640 × 480 nadir
+    camera (``_N``) and a 6 mm 560 × 420 camera tilted ``oblique_tilt_deg`` forward with
+    its principal point off centre (``_F``), 10 µm pixels both — two interior orientations,
+    images of two sizes, overlapping footprints."""
+    from dataclasses import replace
+
+    base = small_flight_survey(samples=samples, origin=origin)
+    nadir = replace(base.cameras[0], id="nadir")
+    oblique = m.Camera(id="oblique", focal_length_mm=6.0, sensor_width_mm=5.6,
+                       sensor_height_mm=4.2, image_width_px=560, image_height_px=420,
+                       principal_point_x_mm=0.06, principal_point_y_mm=-0.04)
+    rig = m.Rig("duo", (m.Mount("nadir", "_N"),
+                        m.Mount("oblique", "_F", oblique_tilt_deg, 0.0, 0.0)))
+    plan = replace(base.trajectory.flight_plan, camera=rig.name)
+    return replace(base, name="two-camera SfM test survey", cameras=(nadir, oblique),
+                   trajectory=m.Trajectory(flight_plan=plan, rigs=(rig,)),
+                   render=replace(base.render, preset="draft", samples=samples))

@@ -27,6 +27,10 @@ def register(subparsers) -> None:
     parser.add_argument("--calibration",
                         choices=["fixed", "focal", "focal-principal-point", "radial", "full"],
                         help="interior parameters estimated in the adjustment")
+    parser.add_argument("--rolling-shutter", choices=["none", "compensate"],
+                        help="rolling-shutter images: none (processed as global shutter) or "
+                             "compensate (the final adjustment estimates each image's "
+                             "velocity during the readout; needs --mode free)")
     parser.add_argument("--gcps", choices=["none", "similarity", "bundle"],
                         help="how control points enter")
     parser.add_argument("--marking-sigma-px", type=float, metavar="S",
@@ -70,7 +74,7 @@ def run(args) -> int:
         marking_sigma_px=args.marking_sigma_px, position_prior=args.position_prior,
         dense=args.dense, max_features=args.max_features, pairs=args.pairs,
         min_track_length=args.min_track_length, control_ids=ids, control_count=count,
-        control_spread=args.control_spread)
+        control_spread=args.control_spread, rolling_shutter=args.rolling_shutter)
     out = args.output or args.survey / f"reconstruction-{args.mode}"
     if args.dense_max_image_px is not None and args.dense_max_image_px < 64:
         from designer.errors import DesignerError

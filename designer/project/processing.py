@@ -17,6 +17,7 @@ GcpMode = Literal["none", "similarity", "bundle"]
 PositionPriorMode = Literal["none", "gnss", "rtk"]
 Pairing = Literal["footprint", "position", "exhaustive"]
 DenseMode = Literal["none", "cpu", "auto"]
+RollingShutterProcessing = Literal["none", "compensate"]
 
 
 #: default camera-position prior sigmas (horizontal, vertical) in m, by prior mode:
@@ -54,11 +55,17 @@ class PreCalibrationError:
          stage="processing")
 @dataclass(frozen=True)
 class Calibration:
-    """Which interior parameters the adjustment estimates (``fixed``: none)."""
+    """Which interior parameters the adjustment estimates (``fixed``: none), and whether
+    it models the motion of rolling-shutter images during their readout (``compensate``:
+    each image's velocity, docs/processing.md § Rolling shutter)."""
 
     mode: CalibrationMode = attr("fixed", doc="interior parameters the adjustment "
                                  "estimates", factor="calibration", label="estimate")
     pre_calibration_error: PreCalibrationError | None = None
+    rolling_shutter: RollingShutterProcessing = attr(
+        "none", doc="rolling-shutter images: none (treated as global shutter) or "
+        "compensate (each image's velocity during the readout is estimated)",
+        factor="rolling-shutter-processing", label="rolling shutter", write_default=False)
 
 
 @element("control", title="control points", path="processing.gcps.control",

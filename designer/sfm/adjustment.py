@@ -11,6 +11,10 @@ same Ceres problem, with COLMAP's own cost functions:
 * camera-position priors (GNSS/RTK centres with σ horizontal/vertical);
 * which interior parameters are estimated (a subset manifold on the camera block).
 
+With rolling-shutter compensation (``rolling_shutter`` given) the problem is built by
+designer.sfm.rolling_adjustment instead, with the same observations and weights plus
+each rolling-shutter image's velocity during its readout.
+
 Everything is in the local frame (world − offset, float64). Tie points are weighted
 with σ = 1 px, so σ₀ is the a-posteriori standard deviation of unit weight in px.
 """
@@ -56,24 +60,45 @@ class AdjustmentResult:
     residuals: int
     parameters: int
     control_xyz_local: dict[str, np.ndarray] = field(default_factory=dict)
+    #: rolling-shutter compensation: estimated velocity by image name (model frame, /s)
+    velocities: dict[str, np.ndarray] | None = None
 
     def as_dict(self) -> dict:
-        return {"sigma0": self.sigma0, "iterations": self.iterations,
-                "termination": self.termination, "residuals": self.residuals,
-                "parameters": self.parameters}
+        out = {"sigma0": self.sigma0, "iterations": self.iterations,
+               "termination": self.termination, "residuals": self.residuals,
+               "parameters": self.parameters}
+        if self.velocities is not None:
+            speeds = [float(np.linalg.norm(v)) for v in self.velocities.values()]
+            out["rolling_shutter"] = {
+                "images_compensated": len(speeds),
+                "median_speed": float(np.median(speeds)) if speeds else None,
+                "velocities": {n: [float(x) for x in v]
+                               for n, v in sorted(self.velocities.items())}}
+        return out
 
 
 def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
            marking_sigma_px: float = 0.0, priors: PositionPriors | None = None,
-           max_iterations: int = 100) -> AdjustmentResult:
+           max_iterations: int = 100, rolling_shutter: dict | None = None
+           ) -> AdjustmentResult:
     """Adjust ``rec`` in place (local frame); the datum comes from the control points or
-    priors when given, otherwise the gauge is fixed on two cameras."""
+    priors when given, otherwise the gauge is fixed on two cameras. ``rolling_shutter``:
+    image name → designer.sfm.rolling_adjustment.RollingShutterImage, the images whose
+    velocity during the readout is estimated (compensation)."""
     import pyceres
     import pycolmap
     from pycolmap import cost_functions as cf
 
     control = control or []
     variable = VARIABLE_PARAMS[calibration]
+    if rolling_shutter is not None:
+        from designer.sfm.rolling_adjustment import adjust_rolling
+
+        solution, xyz = adjust_rolling(
+            rec, variable, rolling_shutter, control,
+            max(marking_sigma_px, MIN_MARKING_SIGMA_PX), priors, MIN_GCP_SIGMA_M,
+            max_iterations, fix_gauge=not control and priors is None)
+        return _result(solution.summary, xyz, solution.velocities)
     options = pycolmap.BundleAdjustmentOptions()
     options.refine_focal_length = options.refine_principal_point = bool(variable)
     options.refine_extra_params = bool(variable)
@@ -90,18 +115,21 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
     problem = adjuster.problem
 
     keep_alive: list[np.ndarray] = []
-    camera = next(iter(rec.cameras.values()))
-    cam_params = camera.params  # a view of the camera's memory: COLMAP's parameter block
-    if variable and problem.has_parameter_block(cam_params):
-        constant = [i for i in range(len(cam_params)) if i not in variable]
-        problem.set_manifold(cam_params, pyceres.SubsetManifold(len(cam_params), constant))
+    # each camera (of a rig: each its own interior orientation) is its own parameter
+    # block; ``params`` is a view of the camera's memory, COLMAP's block
+    cam_params = {cid: camera.params for cid, camera in rec.cameras.items()}
+    for params in cam_params.values():
+        if variable and problem.has_parameter_block(params):
+            constant = [i for i in range(len(params)) if i not in variable]
+            problem.set_manifold(params, pyceres.SubsetManifold(len(params), constant))
 
-    poses = {}
+    poses, camera_of = {}, {}
     for image in rec.images.values():
         if image.has_pose:
             pose = rec.frames[image.frame_id].rig_from_world.params
             if problem.has_parameter_block(pose):
                 poses[image.name] = pose
+                camera_of[image.name] = image.camera_id
 
     identity = np.array([0, 0, 0, 1, 0, 0, 0, 0], float)  # Sim3d: quat xyzw, t, log scale
     xyz_by_id = {}
@@ -119,9 +147,10 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
             cf.Point3DAlignmentCost(np.diag(sigma ** 2), np.asarray(cp.surveyed_local, float)),
             None, [xyz, identity])
         for name, uv in marks:
+            cid = camera_of[name]
             problem.add_residual_block(
-                cf.ReprojErrorCost(camera.model, cov_uv, np.asarray(uv, float)), None,
-                [xyz, poses[name], cam_params])
+                cf.ReprojErrorCost(rec.cameras[cid].model, cov_uv, np.asarray(uv, float)),
+                None, [xyz, poses[name], cam_params[cid]])
     if xyz_by_id:
         problem.set_parameter_block_constant(identity)
     if priors is not None:
@@ -132,7 +161,11 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
                     cf.AbsolutePosePositionPriorCost(cov, np.asarray(C, float)), None,
                     [poses[name]])
     summary = adjuster.solve()
-    s = summary.ceres_summary
+    return _result(summary.ceres_summary, xyz_by_id)
+
+
+def _result(s, xyz_by_id: dict, velocities: dict | None = None) -> AdjustmentResult:
+    """The result of a solved Ceres problem (its summary ``s``)."""
     redundancy = max(s.num_residuals_reduced - s.num_effective_parameters_reduced, 1)
     return AdjustmentResult(
         sigma0=float(np.sqrt(2.0 * s.final_cost / redundancy)),
@@ -140,4 +173,5 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
         termination=str(s.termination_type).split(".")[-1],
         residuals=int(s.num_residuals_reduced),
         parameters=int(s.num_effective_parameters_reduced),
-        control_xyz_local={k: v.copy() for k, v in xyz_by_id.items()})
+        control_xyz_local={k: v.copy() for k, v in xyz_by_id.items()},
+        velocities=velocities)

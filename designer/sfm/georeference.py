@@ -16,10 +16,26 @@ def translation(t: np.ndarray):
     return pycolmap.Sim3d(1.0, pycolmap.Rotation3d(), np.asarray(t, dtype=float))
 
 
-def triangulate_gcps(rec, observations) -> tuple[dict[str, np.ndarray], dict[str, int]]:
+def triangulate_gcps(rec, observations, rolling=None
+                     ) -> tuple[dict[str, np.ndarray], dict[str, int]]:
     """Local coordinates of each GCP seen in ≥ 2 registered images, and how many
-    registered images see each GCP (also those that could not be triangulated)."""
+    registered images see each GCP (also those that could not be triangulated).
+    ``rolling``: image name → (velocity, RollingShutterImage) of compensated images: a
+    mark at row v is seen from the centre moved by its row's delay times the velocity."""
     import pycolmap
+
+    def pose(img, uv):
+        cfw = img.cam_from_world()
+        if not rolling or img.name not in rolling:
+            return cfw
+        from designer.core.rolling_shutter import row_delay_s
+
+        vel, s = rolling[img.name]
+        delay = float(row_delay_s(uv[1], rec.cameras[img.camera_id].height, s.readout_s,
+                                  s.direction))
+        R = cfw.rotation.matrix()
+        C = img.projection_center() + delay * np.asarray(vel, float)
+        return pycolmap.Rigid3d(cfw.rotation, -R @ C)
 
     by_name = {img.name: img for img in rec.images.values() if img.has_pose}
     grouped: dict[str, list] = {}
@@ -34,7 +50,7 @@ def triangulate_gcps(rec, observations) -> tuple[dict[str, np.ndarray], dict[str
         cams = [rec.cameras[img.camera_id] for img in images]
         uv = np.array([o.uv_px for o in obs], dtype=float)
         result = pycolmap.estimate_triangulation(
-            uv, [img.cam_from_world() for img in images], cams)
+            uv, [pose(img, p) for img, p in zip(images, uv, strict=True)], cams)
         if result is not None:
             out[gcp_id] = np.asarray(result["xyz"], dtype=float).reshape(3)
     return out, {k: len(v) for k, v in grouped.items()}

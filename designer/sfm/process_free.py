@@ -23,8 +23,10 @@ GCP_SIMILARITY_MAX_ERROR_M = 0.5
 
 
 def georeference_and_adjust(rec, p: m.Processing, gcps, marks, control: set[str],
-                            flight_C_local: dict, offset: np.ndarray, log, source: str):
-    """Adjust ``rec`` (local) in place; (AdjustmentResult, similarity info or None)."""
+                            flight_C_local: dict, offset: np.ndarray, log, source: str,
+                            rolling_shutter: dict | None = None):
+    """Adjust ``rec`` (local) in place; (AdjustmentResult, similarity info or None).
+    ``rolling_shutter``: the rolling-shutter images to compensate (name → shutter)."""
     by_id = {g.gcp_id: g for g in gcps}
     use_gcps = p.gcps.mode != "none"
     priors = None
@@ -59,8 +61,11 @@ def georeference_and_adjust(rec, p: m.Processing, gcps, marks, control: set[str]
                                 "images; GCPs in the adjustment need at least 3 (or "
                                 "camera-position priors)")
     log(f"bundle adjustment: calibration {p.calibration.mode}, "
-        f"{len(control_points)} control points, priors {p.position_prior.mode}")
-    result = adjust(rec, p.calibration.mode, control_points, p.gcps.marking_sigma_px, priors)
+        f"{len(control_points)} control points, priors {p.position_prior.mode}"
+        + (f", rolling shutter compensated on {len(rolling_shutter)} images"
+           if rolling_shutter is not None else ""))
+    result = adjust(rec, p.calibration.mode, control_points, p.gcps.marking_sigma_px, priors,
+                    rolling_shutter=rolling_shutter)
     log(f"adjusted: sigma0 {result.sigma0:.3f}, {result.iterations} iterations "
         f"({result.termination})")
     if p.gcps.mode == "similarity":

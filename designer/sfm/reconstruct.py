@@ -13,6 +13,11 @@ command-line overrides. Modes:
   estimated as the calibration mode says. With ``gcps = similarity`` a 7-parameter
   similarity on the control points follows the adjustment instead.
 
+Several cameras (a rig, or flights with different cameras): each ground-truth CAMERA_ID
+is its own database camera with its own interior orientation (true in ``known-poses``,
+its own pre-calibration and self-calibration in ``free``); the rig's relative orientation
+is not imposed (each image its own pose; docs/processing.md says why).
+
 Check points are marked (with the same marking error) but only triangulated with the
 final cameras, never used. Everything is computed in a local frame (world − offset,
 offset = the rounded mean camera centre) in float64; outputs are in world coordinates:
@@ -23,6 +28,7 @@ offset = the rounded mean camera centre) in float64; outputs are in world coordi
 from __future__ import annotations
 
 import contextlib
+import copy
 import json
 import shutil
 import time
@@ -100,21 +106,42 @@ def check_survey_folder(survey: Path) -> tuple[Path, Path, list[str]]:
     return gt, folder, present
 
 
-def _the_camera(truth, survey: Path):
-    """The survey's camera. Several cameras with one interior orientation (a rig of
-    identical cameras) count as one; cameras that differ are refused: the adjustment
-    here models one camera, and treating an oblique 12 mm camera as the nadir 8.8 mm one
-    would report that mistake as the survey's accuracy."""
-    cameras = list(truth.cameras.values())
-    kinds = {(c.model.name, c.width, c.height, tuple(float(v) for v in c.params))
-             for c in cameras}
-    if len(kinds) > 1:
-        raise DesignerError(
-            f"{survey}: the images come from {len(cameras)} cameras with {len(kinds)} "
-            "different interior orientations (a rig); designer's reconstruction models one "
-            "camera: process the exports in ground-truth/ (COLMAP, Metashape, ODM name every "
-            "camera), or fly a rig of identical cameras")
-    return cameras[0]
+@dataclass(frozen=True)
+class SurveyCamera:
+    """One physical camera of a survey: its ground-truth CAMERA_ID, designer camera id
+    (``label``), the true pycolmap camera, its FULL_OPENCV parameters, and the names of
+    the present images it took."""
+
+    truth_id: int
+    label: str
+    camera: object
+    true_params: np.ndarray
+    names: tuple[str, ...]
+
+    @property
+    def size_px(self) -> tuple[int, int]:
+        return (int(self.camera.width), int(self.camera.height))
+
+
+def survey_cameras(truth, names: list[str], gt_dir: Path) -> list[SurveyCamera]:
+    """The cameras that took the present images, by ground-truth CAMERA_ID (each camera
+    of a rig its own interior orientation), named as the ground truth's comment names
+    them (``# designer cameras: 1 = nadir, 2 = oblique``)."""
+    labels = _camera_labels(gt_dir / "cameras.txt")
+    by_id: dict[int, list[str]] = {}
+    for n in names:
+        by_id.setdefault(int(truth.find_image_with_name(n).camera_id), []).append(n)
+    return [SurveyCamera(cid, labels.get(cid, f"camera {cid}"), truth.cameras[cid],
+                         _full_opencv(truth.cameras[cid]), tuple(own))
+            for cid, own in sorted(by_id.items())]
+
+
+def _camera_labels(cameras_txt: Path) -> dict[int, str]:
+    for line in cameras_txt.read_text().splitlines():
+        if line.startswith("# designer cameras:"):
+            pairs = (item.split("=", 1) for item in line.split(":", 1)[1].split(","))
+            return {int(k): v.strip() for k, v in pairs if k.strip().isdigit()}
+    return {}
 
 
 def _full_opencv(camera) -> np.ndarray:
@@ -157,6 +184,16 @@ def reconstruct(
     survey, out = Path(survey_dir), Path(out_dir)
     gt_dir, image_dir, names = check_survey_folder(survey)
     p = processing or m.Processing()
+    rolling = None
+    if p.calibration.rolling_shutter == "compensate":
+        from designer.sfm.rolling_adjustment import check_compensation, read_rolling_shutter_truth
+
+        if mode != "free":
+            raise DesignerError(f"--rolling-shutter compensate with --mode {mode}: the "
+                                "compensation is part of the bundle adjustment; use --mode "
+                                "free (or --rolling-shutter none)")
+        rolling = read_rolling_shutter_truth(survey)
+        check_compensation(rolling, names, survey)
     if max_features is not None:
         p = m.Processing(p.calibration, p.gcps, p.position_prior,
                          m.Matching(max_features, p.matching.pairs, p.matching.min_track_length),
@@ -170,11 +207,15 @@ def reconstruct(
                               axis=0) + written)
     if np.any(offset != written):
         truth.transform(translation(written - offset))
-    true_camera = _the_camera(truth, survey)
-    true_params = _full_opencv(true_camera)
-    params0 = start_params(true_params, p.calibration.pre_calibration_error) \
-        if mode == "free" else true_params
-    size_px = (true_camera.width, true_camera.height)
+    cams = survey_cameras(truth, names, gt_dir)
+    true_camera, true_params, size_px = cams[0].camera, cams[0].true_params, cams[0].size_px
+    # each camera its own pre-calibration error (the seed + its index: camera 1 as before)
+    starts = [start_params(c.true_params, _pre_error(p.calibration.pre_calibration_error, k))
+              if mode == "free" else c.true_params for k, c in enumerate(cams)]
+    params0 = starts[0]
+    if len(cams) > 1:
+        log(f"{len(cams)} cameras: " + ", ".join(f"{c.label} ({len(c.names)} images)"
+                                                 for c in cams))
     gcps, marks = _gcp_inputs(survey, p)
     control = control_ids(gcps, p.gcps.control)
     true_C = {n: truth.find_image_with_name(n).projection_center() for n in names}
@@ -188,27 +229,30 @@ def reconstruct(
     t = time.perf_counter()
     db_path = out / "database.db"
     db_path.unlink(missing_ok=True)
-    reader = pycolmap.ImageReaderOptions()
-    if mode == "free":
-        reader.camera_model = "FULL_OPENCV"
-        reader.camera_params = ",".join(repr(float(v)) for v in params0)
-    else:  # the true camera, exactly as the ground truth states it
-        reader.camera_model = true_camera.model.name
-        reader.camera_params = ",".join(repr(float(v)) for v in true_camera.params)
+    readers = [_reader(pycolmap, c, start, mode) for c, start in zip(cams, starts, strict=True)]
+    reader = readers[0]
     cache = FeatureCache(feature_cache) if feature_cache is not None else None
-    feature_key = fc_key("features", images_digest(image_dir, names), reader.camera_model,
-                         reader.camera_params, p.matching.max_features) if cache else ""
+    camera_key = (reader.camera_model, reader.camera_params) if len(cams) == 1 else \
+        ("rig", repr([(c.names, r.camera_model, r.camera_params)
+                      for c, r in zip(cams, readers, strict=True)]))
+    feature_key = fc_key("features", images_digest(image_dir, names), *camera_key,
+                         p.matching.max_features) if cache else ""
     with cache.hold("features", feature_key) if cache else contextlib.nullcontext():
         reused = {"features": bool(cache) and cache.fetch("features", feature_key, db_path)}
         if not reused["features"]:
             log(f"features: {len(names)} images")
-            _extract(pycolmap, db_path, image_dir, names, reader, p.matching.max_features)
+            for c, r in zip(cams, readers, strict=True):  # one database camera per camera
+                _extract(pycolmap, db_path, image_dir,
+                         names if len(cams) == 1 else list(c.names), r,
+                         p.matching.max_features)
             if cache:
                 cache.store("features", feature_key, db_path)
     timings["features_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    pairs = _pairs(p.matching.pairs, names, truth, flight_C, params0, size_px, gcps, offset)
+    K_size = {n: (start, c.size_px) for c, start in zip(cams, starts, strict=True)
+              for n in c.names}
+    pairs = _pairs(p.matching.pairs, names, truth, flight_C, K_size, gcps, offset)
     if not pairs:
         raise DesignerError(f"{survey}: no two images overlap (by their predicted footprints); "
                             "the images do not overlap enough for a reconstruction")
@@ -237,6 +281,7 @@ def reconstruct(
     else:
         log("incremental SfM")
         rec = _incremental(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+        _check_every_camera_registered(rec, cams, survey)
     timings["reconstruction_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -248,15 +293,21 @@ def reconstruct(
         from designer.sfm import process_free
 
         adjustment, sim_info = process_free.georeference_and_adjust(
-            rec, p, gcps, marks, control, flight_C, offset, log, str(survey))
+            rec, p, gcps, marks, control, flight_C, offset, log, str(survey),
+            rolling_shutter=rolling)
     tie["removed_outliers"] = _drop_outliers(rec, OUTLIER_PX)
     tie["points"] = rec.num_points3D()
     tie["mean_track_length"] = float(rec.compute_mean_track_length()) if rec.num_points3D() \
         else 0.0
     timings["adjustment_s"] = time.perf_counter() - t
 
-    rows, skipped = _gcp_rows(rec, gcps, marks, control, offset)
-    est_params = _full_opencv(next(iter(rec.cameras.values())))
+    moved = None
+    if adjustment is not None and adjustment.velocities is not None:
+        moved = {n: (v, rolling[n]) for n, v in adjustment.velocities.items() if n in rolling}
+    rows, skipped = _gcp_rows(rec, gcps, marks, control, offset, moved)
+    est_by_label = _estimated_cameras(rec, cams)
+    est_params = est_by_label.get(cams[0].label, true_params) if len(cams) > 1 else \
+        _full_opencv(next(iter(rec.cameras.values())))
     est_cams = {img.name: (img.projection_center() + offset,
                            img.cam_from_world().rotation.matrix())
                 for img in rec.images.values() if img.has_pose}
@@ -281,6 +332,12 @@ def reconstruct(
         "check": report.rmse_stats([r for r in rows if r["role"] == "check"]),
         "gcps_not_triangulated": skipped,
         "intrinsics": report.intrinsics_report(est_params, true_params, params0, size_px),
+        "intrinsics_by_camera": {
+            c.label: {"camera_id": c.truth_id, "images": len(c.names),
+                      "registered": sum(1 for n in c.names if n in est_cams),
+                      **report.intrinsics_report(est_by_label.get(c.label, start),
+                                                 c.true_params, start, c.size_px)}
+            for c, start in zip(cams, starts, strict=True)},
         "cameras": report.camera_errors(est_cams, true_cams),
         "adjustment": None if adjustment is None else adjustment.as_dict(),
         "tie_points": tie, "pairs": len(pairs), "reused_from_cache": reused,
@@ -301,6 +358,52 @@ def reconstruct(
     log(f"{rec.num_reg_images()}/{len(names)} images registered, {rec.num_points3D()} points")
     return ReconstructionResult(out, mode, len(names), rec.num_reg_images(),
                                 rec.num_points3D(), cloud, residuals, summary)
+
+
+def _pre_error(pre, index: int):
+    """The pre-calibration error of the ``index``-th camera: its own draw (seed + index)."""
+    if pre is None or index == 0:
+        return pre
+    import dataclasses
+
+    return dataclasses.replace(pre, seed=pre.seed + index)
+
+
+def _reader(pycolmap, camera: SurveyCamera, start: np.ndarray, mode: str):
+    reader = pycolmap.ImageReaderOptions()
+    if mode == "free":
+        reader.camera_model = "FULL_OPENCV"
+        reader.camera_params = ",".join(repr(float(v)) for v in start)
+    else:  # the true camera, exactly as the ground truth states it
+        reader.camera_model = camera.camera.model.name
+        reader.camera_params = ",".join(repr(float(v)) for v in camera.camera.params)
+    return reader
+
+
+def _estimated_cameras(rec, cams: list[SurveyCamera]) -> dict[str, np.ndarray]:
+    """Estimated FULL_OPENCV parameters by camera label (cameras with a registered image)."""
+    label = {n: c.label for c in cams for n in c.names}
+    out = {}
+    for img in rec.images.values():
+        if img.has_pose and img.name in label and label[img.name] not in out:
+            out[label[img.name]] = _full_opencv(rec.cameras[img.camera_id])
+    return out
+
+
+def _check_every_camera_registered(rec, cams: list[SurveyCamera], survey: Path) -> None:
+    """A camera none of whose images joined the reconstruction (a rig whose cameras see
+    nothing in common) is a clear error, not a survey of the other cameras."""
+    if len(cams) == 1:
+        return
+    registered = {img.name for img in rec.images.values() if img.has_pose}
+    lost = [c for c in cams if not registered.intersection(c.names)]
+    if lost:
+        what = ", ".join(f"{c.label!r} ({len(c.names)} images)" for c in lost)
+        raise DesignerError(
+            f"{survey}: no image of camera {what} registered with the other cameras' "
+            "images: the rig's cameras see nothing in common; fly the rig so that each "
+            "camera's footprints overlap another camera's (tilt the obliques less, raise the "
+            "overlaps) or process each camera's images as a survey of their own")
 
 
 def _extract(pycolmap, db_path: Path, image_dir: Path, names: list[str], reader,
@@ -342,7 +445,9 @@ def _gcp_inputs(survey: Path, p: m.Processing):
     return gcps, marked_observations(observations, p.gcps.marking_sigma_px, p.gcps.seed)
 
 
-def _pairs(kind, names, truth, flight_C, params, size_px, gcps, offset):
+def _pairs(kind, names, truth, flight_C, K_size, gcps, offset):
+    """Image pairs to match; ``K_size``: image name → (its camera's FULL_OPENCV start
+    parameters, (W, H) px)."""
     C_local = np.array([flight_C[n] for n in names])
     if kind == "exhaustive":
         return matching.exhaustive_pairs(names)
@@ -350,9 +455,9 @@ def _pairs(kind, names, truth, flight_C, params, size_px, gcps, offset):
         return matching.neighbour_pairs(names, C_local)
     ground = (float(np.median([g.true_xyz[2] for g in gcps])) - offset[2] if gcps
               else float(np.min(C_local[:, 2])) - 50.0)
-    K = (params[0], params[1], params[2], params[3])
     feet = [matching.footprint_xy(C, truth.find_image_with_name(n).cam_from_world()
-                                  .rotation.matrix(), K, size_px, ground)
+                                  .rotation.matrix(), tuple(K_size[n][0][:4]), K_size[n][1],
+                                  ground)
             for n, C in zip(names, C_local, strict=True)]
     return matching.footprint_pairs(names, feet)
 
@@ -392,10 +497,11 @@ def _drop_outliers(rec, max_px: float) -> int:
     return len(bad)
 
 
-def _gcp_rows(rec, gcps, marks, control: set[str], offset):
+def _gcp_rows(rec, gcps, marks, control: set[str], offset, rolling=None):
     """One row per GCP seen in ≥ 2 registered images (triangulated from its marks with
-    the final cameras), and the ids seen by fewer."""
-    points, seen = triangulate_gcps(rec, marks)
+    the final cameras; compensated rolling-shutter images: each mark from its row's
+    centre), and the ids seen by fewer."""
+    points, seen = triangulate_gcps(rec, marks, rolling)
     rows, skipped = [], []
     for g in gcps:
         if g.gcp_id not in points:
@@ -418,12 +524,16 @@ def _known_pose_reconstruction(pycolmap, truth, db_path: Path):
     rec = pycolmap.Reconstruction()
     db = pycolmap.Database.open(str(db_path))
     try:
-        cameras = {c.camera_id: c for c in db.read_all_cameras()}
-        for camera_id in cameras:
-            true_camera = next(iter(truth.cameras.values()))
+        images = sorted(db.read_all_images(), key=lambda i: i.image_id)
+        for camera_id in sorted(c.camera_id for c in db.read_all_cameras()):
+            # the true camera of the database camera's first image (a rig: each its own)
+            first = next((i for i in images if i.camera_id == camera_id), None)
+            src = truth.cameras[truth.find_image_with_name(first.name).camera_id] \
+                if first is not None else next(iter(truth.cameras.values()))
+            true_camera = copy.copy(src)  # the truth keeps its ids
             true_camera.camera_id = camera_id
             rec.add_camera_with_trivial_rig(true_camera)
-        for db_image in sorted(db.read_all_images(), key=lambda i: i.image_id):
+        for db_image in images:
             src = truth.find_image_with_name(db_image.name)
             image = pycolmap.Image(name=db_image.name, camera_id=db_image.camera_id,
                                    image_id=db_image.image_id)

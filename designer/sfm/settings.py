@@ -52,7 +52,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
                        min_track_length: int | None = None,
                        control_ids: tuple[str, ...] | None = None,
                        control_count: int | None = None,
-                       control_spread: str | None = None) -> m.Processing:
+                       control_spread: str | None = None,
+                       rolling_shutter: str | None = None) -> m.Processing:
     """The project's ``<processing>`` (defaults when absent) with the given overrides."""
     base = m.Processing()
     path = project or project_of_survey(survey)
@@ -64,6 +65,9 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
     if calibration is not None:
         p = dataclasses.replace(p, calibration=dataclasses.replace(p.calibration,
                                                                    mode=calibration))
+    if rolling_shutter is not None:
+        p = dataclasses.replace(p, calibration=dataclasses.replace(
+            p.calibration, rolling_shutter=rolling_shutter))
     g = p.gcps
     if gcps is not None:
         g = dataclasses.replace(g, mode=gcps)
@@ -104,6 +108,9 @@ def check_processing(p: m.Processing) -> None:
                             f"{track.range_text()}")
     if not 100 <= p.matching.max_features <= 1_000_000:
         raise DesignerError(f"--max-features {p.matching.max_features}: use 100 to 1000000")
+    if p.calibration.rolling_shutter not in ("none", "compensate"):
+        raise DesignerError(f"--rolling-shutter {p.calibration.rolling_shutter}: use none or "
+                            "compensate")
     if p.calibration.mode not in VARIABLE_PARAMS:
         raise DesignerError(f"--calibration {p.calibration.mode}: use one of "
                             f"{', '.join(VARIABLE_PARAMS)}")

@@ -55,6 +55,10 @@ class RectifiedPair:
     size_px: tuple[int, int]
 
 
+#: a disparity search leaving fewer matchable columns of the rectified pair is skipped
+MIN_MATCHED_COLUMNS = 16
+
+
 def choose_pairs(views: list[View], shared_points: np.ndarray, depth_m: np.ndarray, *,
                  n_neighbours: int = 2, min_angle_deg: float = 3.0,
                  max_angle_deg: float = 40.0, min_shared: int = 20) -> list[list[int]]:
@@ -158,7 +162,8 @@ def disparity_range(pair: RectifiedPair, points_local: np.ndarray, ref: View,
     """(minDisparity, numDisparities) covering the depths of ``points_local`` (N, 3),
     the sparse points the reference view sees (1-99 % quantiles of those within a
     factor of two of the median depth), widened by ``margin`` of their depth range on
-    each side; None when there are too few points."""
+    each side; None when there are too few points, or when the search leaves fewer than
+    :data:`MIN_MATCHED_COLUMNS` columns of the rectified image to match."""
     if len(points_local) < 5:
         return None
     Z = (pair.R_rect @ (points_local - ref.C_local).T)[2]
@@ -176,8 +181,13 @@ def disparity_range(pair: RectifiedPair, points_local: np.ndarray, ref: View,
     dcx = pair.K_ref[0, 2] - pair.K_src[0, 2]
     d_min = int(np.floor(fB / z_hi + dcx)) - 2
     d_max = int(np.ceil(fB / z_lo + dcx)) + 2
-    num = int(np.ceil((d_max - d_min) / 16.0)) * 16
-    return d_min, max(num, 16)
+    num = max(int(np.ceil((d_max - d_min) / 16.0)) * 16, 16)
+    # SGBM matches only the columns x with x - d inside the image for every d searched:
+    # a search wider than the rectified image (strongly converging oblique pairs) leaves
+    # none, and OpenCV then fails allocating a negative size
+    if pair.size_px[0] + min(d_min, 0) - max(d_min + num, 0) < MIN_MATCHED_COLUMNS:
+        return None
+    return d_min, num
 
 
 def sgbm_depth(ref_gray: np.ndarray, src_gray: np.ndarray, ref: View, src: View,

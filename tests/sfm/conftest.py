@@ -32,3 +32,14 @@ def convergent_survey(tmp_path_factory):
     project = dataclasses.replace(project, render=m.Render(preset="draft", workers=2))
     render_project(write_project_file(project, folder), folder / "out", workers=2)
     return folder / "out"
+
+
+@pytest.fixture(scope="session")
+def two_camera_survey(tmp_path_factory):
+    """The small flight flown by a two-camera rig: a 5 mm 640 × 480 nadir camera and a
+    6 mm 560 × 420 camera tilted 20° forward, principal point off centre (24 images)."""
+    from tests.synthetic import two_camera_survey as build
+
+    folder = tmp_path_factory.mktemp("sfm-rig")
+    render_project(write_project_file(build(), folder), folder / "out", workers=2)
+    return folder / "out"

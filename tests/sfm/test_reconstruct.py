@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
 import subprocess
 import sys
 
 import numpy as np
+import pycolmap
 import pytest
+from PIL import Image
 from plyfile import PlyData
 
 from designer.errors import DesignerError
+from designer.project import model as m
 from designer.sfm.reconstruct import reconstruct
+from designer.sfm.settings import resolve_processing
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
@@ -78,24 +83,59 @@ def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
         reconstruct(apart, tmp_path / "r", mode="free")
 
 
-def test_a_rig_of_different_cameras_is_a_clear_error(survey, tmp_path):
-    """Two cameras with different focal lengths (a nadir and an oblique of a rig): the
-    one-camera adjustment is refused before any work, naming what to do instead."""
+@pytest.mark.parametrize("mode", ["known-poses", "free"])
+def test_a_rig_of_two_different_cameras_reconstructs_each_with_its_own_calibration(
+        two_camera_survey, tmp_path, mode):
+    """Nadir 5 mm and 20°-oblique 6 mm cameras: every image registers, each image keeps
+    its own camera, and in free mode each camera's focal length and principal point are
+    recovered from its own pre-calibration error (seed + camera index)."""
+    pre = m.PreCalibrationError(focal_px=15.0, principal_point_px=4.0, seed=3)
+    p = resolve_processing(two_camera_survey, calibration="focal-principal-point")
+    p = dataclasses.replace(p, calibration=dataclasses.replace(p.calibration,
+                                                               pre_calibration_error=pre))
+    result = reconstruct(two_camera_survey, tmp_path / mode, mode=mode, processing=p,
+                         log=lambda _: None)
+    assert result.n_registered == result.n_images == 24
+    assert result.n_points > 1000
+    per_camera = result.summary["intrinsics_by_camera"]
+    assert list(per_camera) == ["nadir", "oblique"]
+    assert [c["camera_id"] for c in per_camera.values()] == [1, 2]
+    assert all(c["images"] == c["registered"] == 12 for c in per_camera.values())
+    assert per_camera["oblique"]["true"]["fx"] == 600.0 and per_camera["nadir"]["true"][
+        "fx"] == 500.0
+    model = pycolmap.Reconstruction(str(tmp_path / mode / "model"))
+    assert len(model.cameras) == 2
+    for image in model.images.values():  # each image its own camera's size
+        assert model.cameras[image.camera_id].width == (560 if "_F" in image.name else 640)
+    for name, c in per_camera.items():
+        start_error = abs(c["start"]["fx"] - c["true"]["fx"])
+        if mode == "known-poses":
+            assert c["delta_f_px"] == 0.0 and c["delta_cx_px"] == 0.0, name
+        else:
+            assert start_error > 5.0, name  # each camera started wrong ...
+            assert abs(c["delta_f_px"]) < 2.0, (name, c["delta_f_px"])  # ... and recovered
+            assert np.hypot(c["delta_cx_px"], c["delta_cy_px"]) < 2.0, name
+    assert result.summary["intrinsics"]["delta_f_px"] == per_camera["nadir"]["delta_f_px"]
+    check = result.summary["check"]
+    assert check["n"] == 2 and check["rmse_xyz_m"] < GSD_M, check
+
+
+def test_a_rig_camera_whose_images_register_to_nothing_is_a_clear_error(
+        two_camera_survey, tmp_path):
+    """The oblique camera's images replaced by unrelated texture (a rig whose cameras see
+    nothing in common): refused in one line naming the fix, not reported as a survey."""
     rig = tmp_path / "rig"
-    shutil.copytree(survey / "ground-truth", rig / "ground-truth")
-    (rig / "images").symlink_to(survey / "images")
-    colmap = rig / "ground-truth" / "colmap"
-    lines = (colmap / "cameras.txt").read_text().splitlines()
-    first = next(ln for ln in lines if ln and not ln.startswith("#"))
-    fields = first.split()
-    other = " ".join(["2", *fields[1:4], str(float(fields[4]) * 1.4), *fields[5:]])
-    (colmap / "cameras.txt").write_text("\n".join([*lines, other]) + "\n")
-    images = (colmap / "images.txt").read_text().splitlines()
-    k = next(i for i, ln in enumerate(images) if ln and not ln.startswith("#"))
-    head = images[k].split()
-    images[k] = " ".join([*head[:8], "2", *head[9:]])  # the first image: the other camera
-    (colmap / "images.txt").write_text("\n".join(images) + "\n")
-    with pytest.raises(DesignerError, match="2 cameras with 2 different interior") as error:
-        reconstruct(rig, tmp_path / "r", mode="known-poses", log=lambda _: None)
-    assert "\n" not in str(error.value) and "ground-truth" in str(error.value)
-    assert not (tmp_path / "r" / "database.db").exists()  # refused before any work
+    shutil.copytree(two_camera_survey / "ground-truth", rig / "ground-truth")
+    (rig / "images").mkdir()
+    rng = np.random.default_rng(0)
+    for image in sorted((two_camera_survey / "images").iterdir()):
+        if "_F" in image.name:
+            noise = rng.integers(0, 256, size=(420, 560, 3), dtype=np.uint8)
+            Image.fromarray(noise).save(rig / "images" / image.name)
+        else:
+            (rig / "images" / image.name).symlink_to(image)
+    with pytest.raises(DesignerError, match="see nothing in common") as error:
+        reconstruct(rig, tmp_path / "r", mode="free", log=lambda _: None)
+    message = str(error.value)
+    assert "\n" not in message and "'oblique' (12 images)" in message
+    assert "overlap" in message

@@ -6,6 +6,8 @@ plane's homography (OpenCV), so the true depth of every pixel is known.
 
 from __future__ import annotations
 
+import dataclasses
+
 import cv2
 import numpy as np
 import pytest
@@ -107,6 +109,24 @@ def test_views_looking_along_their_baseline_are_not_rectified():
     ref = nadir_view("a", (0.0, 0.0, 60.0))
     src = nadir_view("b", (0.0, 0.0, 40.0))
     assert rectify(ref, src) is None
+
+
+def test_a_disparity_search_wider_than_the_rectified_image_is_skipped():
+    """Sparse points spread from near to far (an oblique view towards the horizon) ask
+    for more disparities than the rectified image has columns: the pair is skipped (SGBM
+    would fail allocating a negative size), a nadir pair of the same views is not."""
+    ref = nadir_view("a", (0.0, 0.0, 60.0))
+    src = nadir_view("b", (20.0, 0.0, 60.0))
+    pair = rectify(ref, src)
+    ground = np.column_stack([np.linspace(-10, 10, 50), np.zeros(50), np.zeros(50)])
+    assert disparity_range(pair, ground, ref) is not None
+    d_min, num = disparity_range(pair, ground, ref)
+    assert pair.size_px[0] + min(d_min, 0) - max(d_min + num, 0) >= 16
+    # the same pair over points from 31 m to 59 m below (within a factor of two of the
+    # median depth, so none is dropped): fB/Z spans 170 to 330 px, then the 15 % margins
+    near = np.column_stack([np.zeros(50), np.zeros(50), np.linspace(1.0, 29.0, 50)])
+    wide = dataclasses.replace(pair, size_px=(200, pair.size_px[1]))
+    assert disparity_range(wide, near, ref) is None
 
 
 def test_pairs_prefer_different_epipolar_directions():

@@ -1,0 +1,331 @@
+"""Rolling-shutter compensation in the final bundle adjustment.
+
+A rolling-shutter image's rows are exposed one after the other (docs/world.md, "Rolling
+shutter"; :mod:`designer.core.rolling_shutter`): the image's pose is that of the **first
+row read**, at its time t0, and continuous row coordinate v is exposed
+``delay(v) = (v − ½) / H · readout`` later (``(H − ½ − v) / H · readout`` bottom-to-top),
+while the camera moves on at a constant velocity and keeps its attitude. With
+compensation, every image gets three more parameters, its velocity ``vel`` (model frame,
+m/s), and a point X seen at (u, v) is projected from the perspective centre
+C + delay(v) · vel — equivalently, the point X − delay(v) · vel is projected with the
+image's own pose, which is how the cost below evaluates it (COLMAP's own reprojection
+cost at the moved point, its Jacobians chained: ∂/∂vel = −delay · ∂/∂X). The delay comes
+from the observed row (the usual first-order form of rolling-shutter adjustment; the
+observed row differs from the model row by the residual).
+
+Velocities start from the model's camera centres differenced along the flight's time
+line (the next photo in time, else the previous, when they are at most
+:data:`MAX_NEIGHBOUR_GAP` trigger intervals apart) and are held by a prior around that
+start, σ :data:`VELOCITY_PRIOR_SIGMA` (model units per second, m/s once georeferenced):
+the centres are known to centimetres a second apart, while a free velocity is seen
+weakly (with σ 20 m/s the vertical velocities of a 20 ms readout scattered by 3 m/s).
+An image without a
+neighbour on its leg starts from zero with σ :data:`VELOCITY_PRIOR_SIGMA_NO_START`.
+
+The readout and direction are known (the camera's, from the ground truth): the
+adjustment does not estimate them. The attitude is held during the readout (no angular
+velocity).
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.rolling_shutter import row_delay_s
+from designer.errors import DesignerError
+
+#: σ of the velocity prior around its time-line start (model units / s: m/s once
+#: georeferenced)
+VELOCITY_PRIOR_SIGMA = 1.0
+#: σ of the velocity prior of an image without a neighbour on its leg (start: zero)
+VELOCITY_PRIOR_SIGMA_NO_START = 20.0
+#: a neighbour in time further than this many median trigger intervals is another leg
+MAX_NEIGHBOUR_GAP = 1.5
+
+
+@dataclass(frozen=True)
+class RollingShutterImage:
+    """The shutter of one image: readout (s), direction, and its first row's time (s)."""
+
+    readout_s: float
+    direction: str
+    time_s: float
+
+
+def read_rolling_shutter_truth(survey: Path) -> dict[str, RollingShutterImage]:
+    """Image name → its rolling shutter, from ``ground-truth/rolling_shutter.csv`` (only
+    the rolling-shutter images with a readout above 0; empty when the file is absent)."""
+    from designer.core.layout import GROUND_TRUTH_DIR
+    from designer.render.rolling_truth import ROLLING_SHUTTER_CSV
+
+    path = Path(survey) / GROUND_TRUTH_DIR / ROLLING_SHUTTER_CSV
+    if not path.is_file():
+        return {}
+    out = {}
+    with path.open(newline="") as f:
+        for row in csv.DictReader(f):
+            readout = float(row["readout_s"])
+            if readout > 0:
+                out[row["image"]] = RollingShutterImage(readout, row["direction"],
+                                                        float(row["first_row_time_s"]))
+    return out
+
+
+def check_compensation(shutters: dict[str, RollingShutterImage], names, survey) -> None:
+    """One-line error when compensation is asked for images without a rolling shutter."""
+    if not any(n in shutters for n in names):
+        raise DesignerError(
+            f"{survey}: --rolling-shutter compensate, but its images have a global shutter "
+            "(no camera reads its rows out: ground-truth/rolling_shutter.csv lists no image "
+            "with a readout above 0); use --rolling-shutter none (or "
+            "<calibration rolling-shutter=\"none\">)")
+
+
+def start_velocities(C: dict[str, np.ndarray], shutters: dict[str, RollingShutterImage]
+                     ) -> dict[str, np.ndarray]:
+    """Start velocity of each rolling-shutter image: its centre's motion to the next photo
+    in time (else from the previous), zero without a neighbour on the same leg."""
+    names = sorted((n for n in shutters if n in C), key=lambda n: shutters[n].time_s)
+    t = np.array([shutters[n].time_s for n in names])
+    dts = np.diff(t)
+    gap = MAX_NEIGHBOUR_GAP * float(np.median(dts[dts > 0])) if np.any(dts > 0) else 0.0
+    out = {}
+    for k, n in enumerate(names):
+        vel = np.zeros(3)
+        for j in (k + 1, k - 1):
+            if 0 <= j < len(names):
+                dt = t[j] - t[k]
+                if 0 < abs(dt) <= gap:
+                    vel = (C[names[j]] - C[n]) / dt
+                    break
+        out[n] = vel
+    return out
+
+
+def _rolling_cost_class():
+    import pyceres
+
+    class RollingShutterReprojCost(pyceres.CostFunction):
+        """Reprojection error of an observation exposed ``delay_s`` after the first row:
+        parameter blocks point (3), rotation quaternion xyzw (4), translation (3), camera
+        (n), velocity (3); COLMAP's cost at the point moved by −delay · velocity."""
+
+        def __init__(self, inner, delay_s: float, n_camera: int):
+            super().__init__()
+            self.inner = inner
+            self.delay = float(delay_s)
+            self.set_num_residuals(2)
+            self.set_parameter_block_sizes([3, 4, 3, n_camera, 3])
+
+        def Evaluate(self, parameters, residuals, jacobians):
+            X, q, t, cam, vel = parameters
+            Y = X - self.delay * vel
+            pose = np.concatenate([q, t])
+            if jacobians is None:
+                r, _ = self.inner.evaluate(Y, pose, cam)
+                residuals[:] = r[:, 0]
+                return True
+            r, (JY, Jpose, Jcam) = self.inner.evaluate(Y, pose, cam)
+            residuals[:] = r[:, 0]
+            if jacobians[0] is not None:
+                jacobians[0][:] = JY.ravel()
+            if jacobians[1] is not None:
+                jacobians[1][:] = Jpose[:, :4].ravel()
+            if jacobians[2] is not None:
+                jacobians[2][:] = Jpose[:, 4:].ravel()
+            if jacobians[3] is not None:
+                jacobians[3][:] = Jcam.ravel()
+            if jacobians[4] is not None:
+                jacobians[4][:] = (-self.delay * JY).ravel()
+            return True
+
+    class PositionPriorCost(pyceres.CostFunction):
+        """COLMAP's camera-position prior on a pose split into quaternion and translation."""
+
+        def __init__(self, inner):
+            super().__init__()
+            self.inner = inner
+            self.set_num_residuals(3)
+            self.set_parameter_block_sizes([4, 3])
+
+        def Evaluate(self, parameters, residuals, jacobians):
+            q, t = parameters
+            r, (J,) = self.inner.evaluate(np.concatenate([q, t]))
+            residuals[:] = r[:, 0]
+            if jacobians is not None:
+                if jacobians[0] is not None:
+                    jacobians[0][:] = J[:, :4].ravel()
+                if jacobians[1] is not None:
+                    jacobians[1][:] = J[:, 4:].ravel()
+            return True
+
+    class VelocityPriorCost(pyceres.CostFunction):
+        """(vel − start) / σ."""
+
+        def __init__(self, start: np.ndarray, sigma: float):
+            super().__init__()
+            self.start = np.asarray(start, float).copy()
+            self.w = 1.0 / float(sigma)
+            self.set_num_residuals(3)
+            self.set_parameter_block_sizes([3])
+
+        def Evaluate(self, parameters, residuals, jacobians):
+            residuals[:] = (parameters[0] - self.start) * self.w
+            if jacobians is not None and jacobians[0] is not None:
+                jacobians[0][:] = (np.eye(3) * self.w).ravel()
+            return True
+
+    return RollingShutterReprojCost, PositionPriorCost, VelocityPriorCost
+
+
+@dataclass
+class RollingShutterSolution:
+    """The estimated velocities by image name (model frame, per second) and the summary."""
+
+    velocities: dict[str, np.ndarray]
+    summary: object
+
+
+def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingShutterImage],
+                   control, sigma_mark_px: float, priors, min_gcp_sigma_m: float,
+                   max_iterations: int = 100, fix_gauge: bool = False
+                   ) -> tuple[RollingShutterSolution, dict[str, np.ndarray]]:
+    """The final adjustment with each rolling-shutter image's velocity (module
+    docstring): tie points (σ 1 px), control marks and surveyed control coordinates, camera
+    position priors, the interior parameters ``variable``; ``rec`` is updated in place.
+    Images without a rolling shutter (not in ``shutters``) are global-shutter images.
+    Returns the solution and the control points' adjusted coordinates by id."""
+    import pyceres
+    from pycolmap import cost_functions as cf
+
+    RSCost, PriorCost, VelPrior = _rolling_cost_class()
+    problem = pyceres.Problem()
+    keep: list = []
+    cam_params = {cid: camera.params for cid, camera in rec.cameras.items()}
+    q, t, img_of, vel = {}, {}, {}, {}
+    C_now = {}
+    for image in rec.images.values():
+        if not image.has_pose:
+            continue
+        frame = rec.frames[image.frame_id]
+        if frame.rig_id in rec.rigs and rec.rigs[frame.rig_id].num_sensors() > 1:
+            raise DesignerError("rolling-shutter compensation processes each image on its "
+                                "own pose; a rig model with several sensors is not supported")
+        pose = frame.rig_from_world.params
+        q[image.name] = np.array(pose[:4], float)
+        t[image.name] = np.array(pose[4:], float)
+        img_of[image.name] = image
+        C_now[image.name] = image.projection_center()
+    starts = start_velocities(C_now, shutters)
+    for name, v0 in starts.items():
+        vel[name] = v0.copy()
+    eye2 = np.eye(2)
+    points = {pid: np.array(pt.xyz, float) for pid, pt in rec.points3D.items()}
+    zero_vel = np.zeros(3)  # a global-shutter image's (constant) velocity
+
+    def add_observation(X, name, uv, cov):
+        image = img_of[name]
+        cid = image.camera_id
+        camera = rec.cameras[cid]
+        s = shutters.get(name)
+        delay = 0.0
+        if s is not None:
+            delay = float(row_delay_s(uv[1], camera.height, s.readout_s, s.direction))
+        inner = cf.ReprojErrorCost(camera.model, cov, np.asarray(uv, float))
+        v = vel.get(name, zero_vel)
+        problem.add_residual_block(RSCost(inner, delay, len(cam_params[cid])), None,
+                                   [X, q[name], t[name], cam_params[cid], v])
+
+    n_obs = 0
+    for pid, X in points.items():
+        for el in rec.points3D[pid].track.elements:
+            image = rec.images[el.image_id]
+            if image.name not in img_of:
+                continue
+            add_observation(X, image.name, np.asarray(image.points2D[el.point2D_idx].xy,
+                                                      float), eye2)
+            n_obs += 1
+    if problem.has_parameter_block(zero_vel):
+        problem.set_parameter_block_constant(zero_vel)
+
+    identity = np.array([0, 0, 0, 1, 0, 0, 0, 0], float)
+    xyz_by_id = {}
+    cov_uv = np.eye(2) * sigma_mark_px ** 2
+    for cp in control:
+        marks = [(n, uv) for n, uv in cp.marks if n in img_of]
+        if not marks:
+            continue
+        xyz = np.array(cp.surveyed_local, float)
+        keep.append(xyz)
+        xyz_by_id[cp.gcp_id] = xyz
+        sigma = np.maximum(np.asarray(cp.sigma_m, float), min_gcp_sigma_m)
+        problem.add_residual_block(
+            cf.Point3DAlignmentCost(np.diag(sigma ** 2), np.asarray(cp.surveyed_local, float)),
+            None, [xyz, identity])
+        for name, uv in marks:
+            add_observation(xyz, name, np.asarray(uv, float), cov_uv)
+    if xyz_by_id:
+        problem.set_parameter_block_constant(identity)
+    if priors is not None:
+        cov = np.diag([priors.sigma_h_m ** 2, priors.sigma_h_m ** 2, priors.sigma_v_m ** 2])
+        for name, C in priors.C_local.items():
+            if name in img_of and problem.has_parameter_block(q[name]):
+                problem.add_residual_block(
+                    PriorCost(cf.AbsolutePosePositionPriorCost(cov, np.asarray(C, float))),
+                    None, [q[name], t[name]])
+    for name, v in vel.items():
+        if problem.has_parameter_block(v):
+            sigma = VELOCITY_PRIOR_SIGMA if np.any(starts[name]) else \
+                VELOCITY_PRIOR_SIGMA_NO_START
+            problem.add_residual_block(VelPrior(starts[name], sigma), None, [v])
+
+    for name in img_of:
+        if problem.has_parameter_block(q[name]):
+            problem.set_manifold(q[name], pyceres.EigenQuaternionManifold())
+    for params in cam_params.values():
+        if not problem.has_parameter_block(params):
+            continue
+        if variable:
+            constant = [i for i in range(len(params)) if i not in variable]
+            problem.set_manifold(params, pyceres.SubsetManifold(len(params), constant))
+        else:
+            problem.set_parameter_block_constant(params)
+    if fix_gauge:
+        _fix_gauge(problem, [n for n in img_of if problem.has_parameter_block(q[n])], q, t)
+
+    options = pyceres.SolverOptions()
+    options.linear_solver_type = pyceres.LinearSolverType.SPARSE_SCHUR
+    options.max_num_iterations = max_iterations
+    options.function_tolerance = 1e-9
+    options.num_threads = 1  # the costs are Python: one thread (the GIL) anyway
+    summary = pyceres.SolverSummary()
+    pyceres.solve(options, problem, summary)
+
+    for name, image in img_of.items():
+        pose = rec.frames[image.frame_id].rig_from_world
+        pose.params[:4] = q[name] / np.linalg.norm(q[name])
+        pose.params[4:] = t[name]
+    for pid, X in points.items():
+        rec.points3D[pid].xyz = X
+    return (RollingShutterSolution({n: v.copy() for n, v in vel.items()}, summary),
+            {k: v.copy() for k, v in xyz_by_id.items()})
+
+
+def _fix_gauge(problem, names, q, t) -> None:
+    """No datum (no control, no priors): the first image's pose is held, and the second
+    image's largest translation component (the scale), as COLMAP's two-camera gauge."""
+    import pyceres
+
+    if not names:
+        return
+    first = names[0]
+    problem.set_parameter_block_constant(q[first])
+    problem.set_parameter_block_constant(t[first])
+    if len(names) > 1:
+        second = names[1]
+        k = int(np.argmax(np.abs(t[second] - t[first])))
+        problem.set_manifold(t[second], pyceres.SubsetManifold(3, [k]))
