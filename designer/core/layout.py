@@ -25,6 +25,8 @@ from pathlib import Path
 
 IMAGES_DIR = "images"
 GROUND_TRUTH_DIR = "ground-truth"
+#: the rolling-shutter table of ground truth (one row per image: readout, direction, …)
+ROLLING_SHUTTER_CSV = "rolling_shutter.csv"
 MANIFEST = "manifest.json"
 README = "README.txt"
 JOB_DIR = ".designer-job"

@@ -59,8 +59,7 @@ class RollingShutterImage:
 def read_rolling_shutter_truth(survey: Path) -> dict[str, RollingShutterImage]:
     """Image name → its rolling shutter, from ``ground-truth/rolling_shutter.csv`` (only
     the rolling-shutter images with a readout above 0; empty when the file is absent)."""
-    from designer.core.layout import GROUND_TRUTH_DIR
-    from designer.render.rolling_truth import ROLLING_SHUTTER_CSV
+    from designer.core.layout import GROUND_TRUTH_DIR, ROLLING_SHUTTER_CSV
 
     path = Path(survey) / GROUND_TRUTH_DIR / ROLLING_SHUTTER_CSV
     if not path.is_file():

@@ -250,3 +250,35 @@ def choose_menu(qtbot, window, *titles: str) -> None:
         if action.menu() is not None:
             menu = action.menu()
             qtbot.waitUntil(menu.isVisible, timeout=5000)
+
+
+def type_cell(qtbot, w, table, row, col, text) -> None:
+    """Double-click the cell, type over it, Enter (as a person edits a table)."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+
+    rect = table.visualItemRect(table.item(row, col))
+    pos = table.viewport().mapTo(w, rect.center())
+    QTest.mouseDClick(w.windowHandle(), Qt.MouseButton.LeftButton,
+                      Qt.KeyboardModifier.NoModifier, pos)
+    qtbot.wait(100)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
+    for ch in text:
+        QTest.keyClick(w.windowHandle(), ch)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Return)
+    qtbot.wait(50)
+
+
+def cloud_with_outlier(w, tmp_path, sigma_m=0.01, n=3000):
+    """Points on a grid over the hills, normal errors of sigma_m and one point 1.4 km
+    below the ground."""
+    hf = w.sync.terrain.heightfield
+    rng = np.random.default_rng(7)
+    x = rng.uniform(-40, 40, n).round()
+    y = rng.uniform(-40, 40, n).round()
+    dz = rng.normal(0.0, sigma_m, n)
+    dz[123] = -1400.0
+    xyz = np.column_stack([x, y, hf.height_at(x, y) + dz])
+    path = tmp_path / "cloud.ply"
+    write_xyz_ply(path, xyz)
+    return path, xyz

@@ -9,7 +9,7 @@ import re
 import pytest
 
 from tests.gui.helpers import open_panel, wait_idle
-from tests.gui.test_study_panel import _add, _checked, _tiny_base
+from tests.gui.study_helpers import _add, _checked, _tiny_base
 
 pytestmark = pytest.mark.gui
 

@@ -8,13 +8,12 @@ import re
 
 import pytest
 from PySide6.QtCore import QPoint, Qt
-from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QDoubleSpinBox
 
 from designer.gui import edits
 from designer.gui.wording import humanize
 from designer.project import model as m
-from tests.gui.helpers import field, ground_pixels, problems, wait_idle
+from tests.gui.helpers import field, ground_pixels, problems, type_cell, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -26,20 +25,6 @@ def test_humanize_names_fields_and_prints_fixed_point():
     assert "terrain width (X)=100" in text and "grid spacing=3.0" in text
     assert "5405950" in text and "e+06" not in text and "123.457" in text
     assert "dem_1.tif" in text  # file names stay as they are
-
-
-def _type_cell(qtbot, w, table, row, col, text) -> None:
-    """Double-click the cell, type over it, Enter (as a person edits a table)."""
-    rect = table.visualItemRect(table.item(row, col))
-    pos = table.viewport().mapTo(w, rect.center())
-    QTest.mouseDClick(w.windowHandle(), Qt.MouseButton.LeftButton,
-                      Qt.KeyboardModifier.NoModifier, pos)
-    qtbot.wait(100)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
-    for ch in text:
-        QTest.keyClick(w.windowHandle(), ch)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Return)
-    qtbot.wait(50)
 
 
 def test_terrain_error_names_the_field_as_labelled(qtbot, window):
@@ -65,17 +50,17 @@ def test_refused_gcp_cell_and_problems_that_an_undo_fixed(qtbot, window, tmp_pat
     gcps = w.panels["GCPs"]
     table = gcps.table
 
-    _type_cell(qtbot, w, table, 0, 2, "1O.5")  # a letter O for a zero
+    type_cell(qtbot, w, table, 0, 2, "1O.5")  # a letter O for a zero
     assert w.document.project.targets[0].true.X == 10.0
     assert "GCP01 X: “1O.5” is not a number" in gcps.error_label.text()
     assert table.item(0, 2).text() == "1O.5"
     assert table.item(0, 2).background().color().red() > 200
-    _type_cell(qtbot, w, table, 0, 2, "10.5")
+    type_cell(qtbot, w, table, 0, 2, "10.5")
     assert w.document.project.targets[0].true.X == 10.5
     assert gcps.error_label.text() == ""
 
     # a GCP typed far off the terrain: the save is refused and the problem listed …
-    _type_cell(qtbot, w, table, 0, 2, "5405950.12346")
+    type_cell(qtbot, w, table, 0, 2, "5405950.12346")
     assert w.document.project.targets[0].true.X == 5405950.1235  # 0.1 mm
     assert not w.file_actions.save_to(tmp_path / "off.xml")
     listed = problems(w)

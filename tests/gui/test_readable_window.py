@@ -102,8 +102,8 @@ def test_one_photo_is_one_photo(qtbot, window, tmp_path):
     import shutil
 
     from tests.flight.helpers import EXAMPLE
+    from tests.gui.flight_helpers import _flown_images
     from tests.gui.helpers import answer_file_dialogs, problems
-    from tests.gui.test_site_flight_menus import _flown_images
 
     w = window
     base = tmp_path / "base" / "survey.xml"

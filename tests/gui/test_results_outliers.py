@@ -11,31 +11,21 @@ from PySide6.QtCore import QPoint, Qt
 
 from designer.evaluate.writers import write_distances_ply
 from designer.gui.reconstruct_job import ReconstructJob
-from tests.gui.helpers import add_hills_and_flight, problems, wait_idle, write_xyz_ply
+from tests.gui.helpers import (
+    add_hills_and_flight,
+    cloud_with_outlier,
+    problems,
+    wait_idle,
+)
 
 pytestmark = pytest.mark.gui
-
-
-def _cloud_with_outlier(w, tmp_path, sigma_m=0.01, n=3000):
-    """Points on a grid over the hills, normal errors of sigma_m and one point 1.4 km
-    below the ground."""
-    hf = w.sync.terrain.heightfield
-    rng = np.random.default_rng(7)
-    x = rng.uniform(-40, 40, n).round()
-    y = rng.uniform(-40, 40, n).round()
-    dz = rng.normal(0.0, sigma_m, n)
-    dz[123] = -1400.0
-    xyz = np.column_stack([x, y, hf.height_at(x, y) + dz])
-    path = tmp_path / "cloud.ply"
-    write_xyz_ply(path, xyz)
-    return path, xyz
 
 
 def test_one_outlier_does_not_sway_the_summary(qtbot, window, tmp_path):
     w = window
     add_hills_and_flight(w)
     wait_idle(qtbot, w)
-    path, xyz = _cloud_with_outlier(w, tmp_path)
+    path, xyz = cloud_with_outlier(w, tmp_path)
     results = w.panels["Results"]
     w.docks["Results"].raise_()
     results.open_cloud(path)
@@ -84,7 +74,7 @@ def test_click_on_a_point_reads_its_distance(qtbot, window, tmp_path):
     w = window
     add_hills_and_flight(w)
     wait_idle(qtbot, w)
-    path, _xyz = _cloud_with_outlier(w, tmp_path, n=400)
+    path, _xyz = cloud_with_outlier(w, tmp_path, n=400)
     results = w.panels["Results"]
     results.open_cloud(path)
     wait_idle(qtbot, w)

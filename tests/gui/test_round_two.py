@@ -11,8 +11,15 @@ from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
 
 from designer.gui import edits
 from designer.project import processing as pr
-from tests.gui.helpers import field, open_panel, problems, set_field, wait_idle
-from tests.gui.test_messages import _type_cell
+from tests.gui.helpers import (
+    cloud_with_outlier,
+    field,
+    open_panel,
+    problems,
+    set_field,
+    type_cell,
+    wait_idle,
+)
 
 pytestmark = pytest.mark.gui
 
@@ -186,17 +193,17 @@ def test_a_duplicate_gcp_id_is_refused_where_it_is_typed(qtbot, window):
     before = w.document.project
     assert [t.id for t in before.targets] == ["GCP01", "GCP02"]
 
-    _type_cell(qtbot, w, gcps.table, 1, 0, "GCP01")
+    type_cell(qtbot, w, gcps.table, 1, 0, "GCP01")
     assert w.document.project == before
     text = gcps.error_label.text()
     assert "GCP02 id: “GCP01” is the id of another GCP (row 1)" in text, text
     assert "not applied" in text
     assert gcps.table.item(1, 0).background().color().red() > 200
-    _type_cell(qtbot, w, gcps.table, 1, 0, "GCP 2")  # a space splits COLMAP's lines
+    type_cell(qtbot, w, gcps.table, 1, 0, "GCP 2")  # a space splits COLMAP's lines
     assert w.document.project == before
     assert "“GCP 2”" in gcps.error_label.text()
     # a free id is applied
-    _type_cell(qtbot, w, gcps.table, 1, 0, "GCP07")
+    type_cell(qtbot, w, gcps.table, 1, 0, "GCP07")
     assert [t.id for t in w.document.project.targets] == ["GCP01", "GCP07"]
     assert w.document.project.processing.gcps.control.ids == ("GCP07",)  # followed
     assert gcps.error_label.text() == ""
@@ -208,14 +215,13 @@ def test_another_cloud_forgets_the_point_picked_in_the_last(qtbot, window, tmp_p
     from PySide6.QtWidgets import QPushButton
 
     from tests.gui.helpers import add_hills_and_flight, answer_file_dialog
-    from tests.gui.test_results_outliers import _cloud_with_outlier
 
     w = window
     add_hills_and_flight(w)
     wait_idle(qtbot, w)
     results = open_panel(w, "Results")
     hint = results.picked.text()
-    first, _xyz = _cloud_with_outlier(w, tmp_path, n=400)
+    first, _xyz = cloud_with_outlier(w, tmp_path, n=400)
     results.open_cloud(first)
     wait_idle(qtbot, w)
     for layer in ("terrain", "targets", "frusta", "footprints", "flight", "area"):

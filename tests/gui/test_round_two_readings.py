@@ -23,7 +23,7 @@ from tests.gui.helpers import (
     wait_idle,
     write_xyz_ply,
 )
-from tests.gui.test_render_panel import FAKE_RENDER
+from tests.gui.render_helpers import FAKE_RENDER
 
 pytestmark = pytest.mark.gui
 

@@ -13,7 +13,8 @@ from PySide6.QtTest import QTest
 from designer.flight.qgc import read_plan
 from designer.flight.wpml import read_wpml
 from designer.project import load_project
-from tests.flight.helpers import EXAMPLE, true_poses, write_dji_image
+from tests.flight.helpers import EXAMPLE
+from tests.gui.flight_helpers import _flown_images
 from tests.gui.helpers import answer_file_dialogs, choose_menu, problems, wait_idle
 
 pytestmark = pytest.mark.gui
@@ -70,14 +71,6 @@ def test_an_imported_orthophoto_lies_where_its_geotransform_puts_it(qtbot, windo
     assert np.abs(tiled - expected).max() > 1e-3
 
 
-def _flown_images(folder, n: int):
-    """DJI-style geotagged images of the example survey's first ``n`` true poses."""
-    project = load_project(EXAMPLE)
-    poses = true_poses(project, EXAMPLE.parent)[:n]
-    folder.mkdir()
-    for k, pose in enumerate(poses):
-        write_dji_image(folder / f"DJI_{k + 1:04d}.JPG", pose, project.crs)
-    return poses
 
 
 def test_import_flight_from_images_replays_the_poses_and_undoes(qtbot, window, tmp_path):

@@ -92,7 +92,10 @@ def full_job() -> RenderJob:
         sensor=m.Sensor(full_well_e=20000.0, read_noise_e=3.0, dark_current_e_per_s=5.0,
                         exposure_time_s=0.002, adc_bits=10, exposure_scale=0.7, seed=4),
         blur=m.Blur(0.7), motion_blur=m.MotionBlur(0.001, 12.0), jpeg=m.Jpeg(90),
-        defocus=m.Defocus(2.8, 25.0, object_distance_m=30.0))
+        defocus=m.Defocus(2.8, 25.0, object_distance_m=30.0),
+        exposure_variation=m.ExposureVariation(exposure_sigma_ev=0.2,
+                                               white_balance_sigma_k=300.0,
+                                               reference_k=6000.0, seed=5))
     step = LightStep(sun_azimuth_deg=135.5, sun_elevation_deg=42.25,
                      objects=(MeshSpec("terrain", "terrain.npz", (lit,)),))
     timed = {"time_s": 12.5, "time_utc": "2026-06-21T09:30:12.500000Z",
