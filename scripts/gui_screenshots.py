@@ -112,7 +112,7 @@ def take(out: Path) -> list[Path]:
         if title == "GCPs":  # show the last columns: surveyed positions, images per GCP
             bar = window.panels["GCPs"].table.horizontalScrollBar()
             bar.setValue(bar.maximum())
-        shot(f"gui-panel-{title.lower()}.png", dock)
+        shot(f"gui-panel-{title.lower().replace(' ', '-')}.png", dock)
     window.docks["Terrain"].raise_()
     window.docks["Flight"].raise_()
 
