@@ -41,11 +41,6 @@ class RuledDoubleSpin(CheckedDoubleSpin):
 def ruled_dspin(rule: Rule, lo: float, hi: float, decimals: int = 3, step: float = 1.0,
                 suffix: str = "", label: str = "value") -> RuledDoubleSpin:
     """:func:`~designer.gui.widgets.dspin` with a rule across fields."""
-    box = RuledDoubleSpin(rule, label)
-    box.setDecimals(decimals)
-    box.setRange(lo, hi)
-    box.setSingleStep(step)
-    box.setAccelerated(True)
-    if suffix:
-        box.setSuffix(f" {suffix}")
-    return box
+    from designer.gui.widgets import set_up_dspin
+
+    return set_up_dspin(RuledDoubleSpin(rule, label), lo, hi, decimals, step, suffix)

@@ -189,7 +189,11 @@ def dspin(lo: float, hi: float, decimals: int = 3, step: float = 1.0,
           suffix: str = "", label: str = "value") -> CheckedDoubleSpin:
     """A number field that reports a value only when typing is done (Enter, focus out)
     and refuses text outside [lo, hi] with a message."""
-    box = CheckedDoubleSpin(label)
+    return set_up_dspin(CheckedDoubleSpin(label), lo, hi, decimals, step, suffix)
+
+
+def set_up_dspin(box, lo: float, hi: float, decimals: int, step: float, suffix: str):
+    """``box`` (a QDoubleSpinBox) with these limits, decimals, step and unit suffix."""
     box.setDecimals(decimals)
     box.setRange(lo, hi)
     box.setSingleStep(step)
