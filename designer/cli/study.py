@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "tiny")
+TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "rolling-shutter", "tiny")
 
 
 def register(subparsers) -> None:

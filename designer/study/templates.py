@@ -89,6 +89,17 @@ STUDIES = {
                  '  <design>one-at-a-time</design>\n'
                  '  <replicates count="2" vary="marking-error"/>\n'
                  '  <metrics>check_rmse_xy_m check_rmse_z_m check_rmse_z_gsd</metrics>\n'),
+    "rolling-shutter": ("How much does a rolling shutter cost at 8 m/s, and does "
+                        "compensation in the bundle adjustment (a velocity per image during "
+                        "the readout) recover it? Readouts of 10 and 30 ms, each processed "
+                        "without and with compensation; one render per readout.",
+                        '  <factor name="rolling-shutter-readout-s">\n'
+                        '    <values>0.01 0.03</values>\n  </factor>\n'
+                        '  <factor name="rolling-shutter-processing">\n'
+                        '    <values>none compensate</values>\n  </factor>\n'
+                        '  <design>full-factorial</design>\n'
+                        '  <replicates count="1"/>\n'
+                        '  <metrics>check_rmse_xy_m check_rmse_z_m check_rmse_z_gsd</metrics>\n'),
     "tiny": ("A tiny study for tests: a processing-only factor and a render factor.",
              '  <factor name="marking-sigma-px">\n    <values>0.2 2</values>\n  </factor>\n'
              '  <factor name="sun-elevation-deg">\n    <values>40</values>\n  </factor>\n'
@@ -120,6 +131,12 @@ def template_base(name: str) -> m.Project:
                         p.processing.gcps, mode="similarity",
                         control=m.ControlSelection(count=4)), matching=m.Matching(1024)))
         return p
+    if name == "rolling-shutter":
+        p = base_project()
+        cam = replace(p.cameras[0], rolling_shutter=m.RollingShutter(0.03))
+        time_line = m.TimeLine("2026-06-21T09:30:00Z", speed_m_s=8.0, turn_s=5.0)
+        return replace(p, cameras=(cam,),
+                       trajectory=replace(p.trajectory, time_line=time_line))
     if name == "flight-geometry":
         p = base_project()
         cam = replace(p.cameras[0], distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
