@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "rolling-shutter", "tiny")
+TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "rig-obliques", "rolling-shutter",
+             "tiny")
 
 
 def register(subparsers) -> None:

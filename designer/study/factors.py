@@ -352,6 +352,9 @@ _HAND_WRITTEN: list[Factor] = [
        lambda p: _plan(p).crosshatch, lambda p, v: _with_plan(p, crosshatch=v)),
     _F("tilt-deg", "forward camera tilt from nadir (deg)", "render", _float,
        lambda p: _plan(p).tilt_deg, lambda p, v: _with_plan(p, tilt_deg=v)),
+    _F("flight-camera", "the camera id or rig name the grid flight flies (e.g. a nadir camera "
+       "or an oblique rig)", "render", str, lambda p: _plan(p).camera,
+       lambda p, v: _with_plan(p, camera=v)),
     _F("flight-geometry", "nadir (single grid), crosshatch (two grids at 90 deg, nadir) or "
        "tilted (crosshatch with the camera tilted 20 deg forward)", "render",
        _choice(*GEOMETRIES), _geometry, _set_geometry),

@@ -100,6 +100,18 @@ STUDIES = {
                         '  <design>full-factorial</design>\n'
                         '  <replicates count="1"/>\n'
                         '  <metrics>check_rmse_xy_m check_rmse_z_m check_rmse_z_gsd</metrics>\n'),
+    "rig-obliques": ("Do obliques from a rig (nadir + four 45° cameras, one camera type) "
+                     "help a self-calibrating adjustment? The grid flown by the nadir "
+                     "camera alone or by the rig, with a fixed (wrong) and a self-calibrated "
+                     "(radial) camera; one render per flight.",
+                     '  <factor name="flight-camera">\n'
+                     '    <values>cam penta</values>\n  </factor>\n'
+                     '  <factor name="calibration">\n'
+                     '    <values>fixed radial</values>\n  </factor>\n'
+                     '  <design>full-factorial</design>\n'
+                     '  <replicates count="1"/>\n'
+                     '  <metrics>check_rmse_xy_m check_rmse_z_m focal_error_px k1_error '
+                     'cloud_median_m</metrics>\n'),
     "tiny": ("A tiny study for tests: a processing-only factor and a render factor.",
              '  <factor name="marking-sigma-px">\n    <values>0.2 2</values>\n  </factor>\n'
              '  <factor name="sun-elevation-deg">\n    <values>40</values>\n  </factor>\n'
@@ -131,6 +143,13 @@ def template_base(name: str) -> m.Project:
                         p.processing.gcps, mode="similarity",
                         control=m.ControlSelection(count=4)), matching=m.Matching(1024)))
         return p
+    if name == "rig-obliques":
+        from designer.core.rig import PENTA_MOUNTS
+
+        p = template_base("flight-geometry")
+        rig = m.Rig("penta", tuple(m.Mount("cam", s, o, ph, k) for s, o, ph, k in PENTA_MOUNTS))
+        return replace(p, trajectory=replace(p.trajectory, rigs=(rig,)),
+                       processing=replace(p.processing, dense="none"))
     if name == "rolling-shutter":
         p = base_project()
         cam = replace(p.cameras[0], rolling_shutter=m.RollingShutter(0.03))

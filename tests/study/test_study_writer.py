@@ -89,7 +89,8 @@ def test_typed_levels_and_ranges_match_the_reader():
     # measured runs (docs/studies.md; tests/study/test_study.py for tiny):
     # (variants, runs, renders, reconstructions)
     ("gcp-count", (5, 15, 1, 15)), ("flight-geometry", (12, 24, 3, 24)),
-    ("altitude", (4, 8, 4, 8)), ("rolling-shutter", (4, 4, 2, 4)), ("tiny", (4, 4, 2, 4))])
+    ("altitude", (4, 8, 4, 8)), ("rolling-shutter", (4, 4, 2, 4)),
+    ("rig-obliques", (4, 4, 2, 4)), ("tiny", (4, 4, 2, 4))])
 def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
     from dataclasses import replace
 
