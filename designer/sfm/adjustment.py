@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.sfm.control_costs import add_control_points
 from designer.sfm.settings import VARIABLE_PARAMS
 
 #: a marking error of 0 px (ideal) is still given this σ in the adjustment, px
@@ -102,6 +103,7 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
     options = pycolmap.BundleAdjustmentOptions()
     options.refine_focal_length = options.refine_principal_point = bool(variable)
     options.refine_extra_params = bool(variable)
+    options.refine_sensor_from_rig = False  # a rig's calibration is known
     options.ceres.solver_options.max_num_iterations = max_iterations
     options.ceres.solver_options.function_tolerance = 1e-9
     options.ceres.solver_options.num_threads = -1
@@ -123,40 +125,38 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
             constant = [i for i in range(len(params)) if i not in variable]
             problem.set_manifold(params, pyceres.SubsetManifold(len(params), constant))
 
-    poses, camera_of = {}, {}
+    # a rig's images share their station's pose (rig_from_world) and project through
+    # their mount's fixed cam_from_rig (designer.sfm.rigs); any other image is its own rig
+    poses, camera_of, in_rig, frame_of = {}, {}, {}, {}
     for image in rec.images.values():
         if image.has_pose:
-            pose = rec.frames[image.frame_id].rig_from_world.params
+            frame = rec.frames[image.frame_id]
+            pose = frame.rig_from_world.params
             if problem.has_parameter_block(pose):
                 poses[image.name] = pose
                 camera_of[image.name] = image.camera_id
+                frame_of[image.name] = image.frame_id
+                rig = rec.rigs[frame.rig_id]
+                sensor = pycolmap.sensor_t(pycolmap.SensorType.CAMERA, image.camera_id)
+                if not rig.is_ref_sensor(sensor):
+                    in_rig[image.name] = rig.sensor_from_rig(sensor)
 
-    identity = np.array([0, 0, 0, 1, 0, 0, 0, 0], float)  # Sim3d: quat xyzw, t, log scale
-    xyz_by_id = {}
-    sigma_mark = max(marking_sigma_px, MIN_MARKING_SIGMA_PX)
-    cov_uv = np.eye(2) * sigma_mark ** 2
-    for cp in control:
-        marks = [(name, uv) for name, uv in cp.marks if name in poses]
-        if not marks:
-            continue
-        xyz = np.array(cp.surveyed_local, float)
-        keep_alive.append(xyz)
-        xyz_by_id[cp.gcp_id] = xyz
-        sigma = np.maximum(np.asarray(cp.sigma_m, float), MIN_GCP_SIGMA_M)
-        problem.add_residual_block(
-            cf.Point3DAlignmentCost(np.diag(sigma ** 2), np.asarray(cp.surveyed_local, float)),
-            None, [xyz, identity])
-        for name, uv in marks:
-            cid = camera_of[name]
-            problem.add_residual_block(
-                cf.ReprojErrorCost(rec.cameras[cid].model, cov_uv, np.asarray(uv, float)),
-                None, [xyz, poses[name], cam_params[cid]])
-    if xyz_by_id:
-        problem.set_parameter_block_constant(identity)
+    def add_mark(xyz, name, uv, cov_uv):
+        cid = camera_of[name]
+        model = rec.cameras[cid].model
+        cost = cf.RigReprojErrorCost(model, cov_uv, uv, in_rig[name]) if name in in_rig \
+            else cf.ReprojErrorCost(model, cov_uv, uv)
+        problem.add_residual_block(cost, None, [xyz, poses[name], cam_params[cid]])
+
+    xyz_by_id = add_control_points(problem, control, poses.__contains__, add_mark,
+                                   max(marking_sigma_px, MIN_MARKING_SIGMA_PX),
+                                   MIN_GCP_SIGMA_M, keep_alive)
     if priors is not None:
         cov = np.diag([priors.sigma_h_m ** 2, priors.sigma_h_m ** 2, priors.sigma_v_m ** 2])
-        for name, C in priors.C_local.items():
-            if name in poses:
+        posed = set()  # a station of a rig has one pose: one GNSS position (its first image's)
+        for name, C in sorted(priors.C_local.items()):
+            if name in poses and frame_of[name] not in posed:
+                posed.add(frame_of[name])
                 problem.add_residual_block(
                     cf.AbsolutePosePositionPriorCost(cov, np.asarray(C, float)), None,
                     [poses[name]])

@@ -15,8 +15,10 @@ command-line overrides. Modes:
 
 Several cameras (a rig, or flights with different cameras): each ground-truth CAMERA_ID
 is its own database camera with its own interior orientation (true in ``known-poses``,
-its own pre-calibration and self-calibration in ``free``); the rig's relative orientation
-is not imposed (each image its own pose; docs/processing.md says why).
+its own pre-calibration and self-calibration in ``free``). In ``free`` mode a rig of the
+project is a COLMAP rig (designer.sfm.rigs): one database camera per mount (its own
+self-calibration), one frame per station, the mounts' relative orientation fixed at the
+project's values, so a station has one pose.
 
 Check points are marked (with the same marking error) but only triangulated with the
 final cameras, never used. Everything is computed in a local frame (world − offset,
@@ -171,12 +173,15 @@ def reconstruct(
     project_path: Path | None = None,
     dense_max_image_px: int | None = None,
     feature_cache: Path | None = None,
+    rigs: list | None = None,
 ) -> ReconstructionResult:
     """Features, matching, SfM or triangulation, adjustment; write model, cloud, report;
     with ``dense`` on, the dense cloud, DSM and DEM of difference (designer.sfm.dense_stage;
     ``project_path`` gives the true surface, default: the project the survey names).
     ``feature_cache``: a folder where features and matches are kept and reused by
-    reconstructions of the same images (designer.sfm.feature_cache)."""
+    reconstructions of the same images (designer.sfm.feature_cache). ``rigs``: the
+    designer.sfm.rigs.ProcessingRig list whose relative orientation ``free`` mode fixes
+    (default: the rigs of the project, when it is found)."""
     import pycolmap
 
     if mode not in MODES:
@@ -269,6 +274,12 @@ def reconstruct(
                 cache.store("matches", match_key, db_path)
     timings["matching_s"] = time.perf_counter() - t
 
+    layout = None
+    if mode == "free" and len(cams) > 1 and rolling is None:
+        layout = _apply_rigs(pycolmap, db_path, cams, rigs, project_path, survey, log)
+    elif mode == "free" and len(cams) > 1:
+        log("rolling-shutter compensation poses each image alone: a rig's relative "
+            "orientation is not used")
     t = time.perf_counter()
     sparse = out / "sparse"
     if sparse.exists():
@@ -305,12 +316,14 @@ def reconstruct(
     if adjustment is not None and adjustment.velocities is not None:
         moved = {n: (v, rolling[n]) for n, v in adjustment.velocities.items() if n in rolling}
     rows, skipped = _gcp_rows(rec, gcps, marks, control, offset, moved)
-    est_by_label = _estimated_cameras(rec, cams)
-    est_params = est_by_label.get(cams[0].label, true_params) if len(cams) > 1 else \
-        _full_opencv(next(iter(rec.cameras.values())))
+    sensors = _sensors(cams, starts, layout)
+    est_by_label = _estimated_cameras(rec, sensors)
+    est_params = est_by_label.get(sensors[0][0].label, true_params) if len(sensors) > 1 \
+        else _full_opencv(next(iter(rec.cameras.values())))
+    tied = tied_images(rec)
     est_cams = {img.name: (img.projection_center() + offset,
                            img.cam_from_world().rotation.matrix())
-                for img in rec.images.values() if img.has_pose}
+                for img in rec.images.values() if img.name in tied}
     true_cams = {n: (true_C[n] + offset,
                      truth.find_image_with_name(n).cam_from_world().rotation.matrix())
                  for n in names}
@@ -324,7 +337,7 @@ def reconstruct(
     residuals = out / "gcp_residuals.csv"
     report.write_gcp_residuals(rows, residuals)
     summary = {
-        "mode": mode, "images": len(names), "registered": rec.num_reg_images(),
+        "mode": mode, "images": len(names), "registered": len(tied),
         "points": rec.num_points3D(),
         "mean_reprojection_error_px": float(rec.compute_mean_reprojection_error()),
         "settings": settings_dict(p), "local_offset_m": offset.tolist(),
@@ -337,7 +350,12 @@ def reconstruct(
                       "registered": sum(1 for n in c.names if n in est_cams),
                       **report.intrinsics_report(est_by_label.get(c.label, start),
                                                  c.true_params, start, c.size_px)}
-            for c, start in zip(cams, starts, strict=True)},
+            for c, start in sensors},
+        "rigs": None if layout is None else {
+            name: {"stations": len(frames), "relative_orientation": "fixed",
+                   "stations_registered": sum(
+                       1 for f in frames.values() if any(n in est_cams for n in f.values()))}
+            for name, frames in layout.frames.items()},
         "cameras": report.camera_errors(est_cams, true_cams),
         "adjustment": None if adjustment is None else adjustment.as_dict(),
         "tie_points": tie, "pairs": len(pairs), "reused_from_cache": reused,
@@ -355,8 +373,8 @@ def reconstruct(
         timings["dense_s"] = dense["dense_s"]
         timings["rasters_s"] = dense["rasters_s"]
     write_text_atomic(out / "summary.json", json.dumps(summary, indent=1))
-    log(f"{rec.num_reg_images()}/{len(names)} images registered, {rec.num_points3D()} points")
-    return ReconstructionResult(out, mode, len(names), rec.num_reg_images(),
+    log(f"{len(tied)}/{len(names)} images registered, {rec.num_points3D()} points")
+    return ReconstructionResult(out, mode, len(names), len(tied),
                                 rec.num_points3D(), cloud, residuals, summary)
 
 
@@ -380,12 +398,64 @@ def _reader(pycolmap, camera: SurveyCamera, start: np.ndarray, mode: str):
     return reader
 
 
-def _estimated_cameras(rec, cams: list[SurveyCamera]) -> dict[str, np.ndarray]:
+def tied_images(rec) -> set[str]:
+    """The names of the registered images that observe a tie point. An image of a rig
+    has a pose as soon as its station is registered; it counts only when its own features
+    joined the reconstruction."""
+    return {img.name for img in rec.images.values()
+            if img.has_pose and img.num_points3D > 0}
+
+
+def _sensors(cams: list[SurveyCamera], starts: list, layout) -> list[tuple[SurveyCamera, object]]:
+    """The cameras as processing calibrates them, each with its start parameters: a
+    survey camera, or for a camera carried by several mounts of a rig one per mount
+    (labelled ``camera suffix``; designer.sfm.rigs)."""
+    import dataclasses
+
+    out = []
+    for c, start in zip(cams, starts, strict=True):
+        by_sensor: dict[str, list[str]] = {}
+        for n in c.names:
+            by_sensor.setdefault(layout.sensor_of.get(n, c.label) if layout else c.label,
+                                 []).append(n)
+        if len(by_sensor) == 1:
+            out.append((c, start))
+            continue
+        out.extend((dataclasses.replace(c, label=label, names=tuple(own)), start)
+                   for label, own in by_sensor.items())
+    return out
+
+
+def _apply_rigs(pycolmap, db_path: Path, cams: list[SurveyCamera], rigs, project_path,
+                survey: Path, log):
+    """The project's rigs written into the database (designer.sfm.rigs), or None."""
+    from designer.sfm import rigs as rig_model
+
+    if rigs is None:
+        from designer.project.load import load_project
+        from designer.sfm.settings import project_of_survey
+
+        path = project_path or project_of_survey(survey)
+        if path is None:
+            log("the project is not found: a rig's images are each posed alone")
+            return None
+        rigs = rig_model.processing_rigs(load_project(path, check_files=False))
+    if not rigs:
+        return None
+    layout = rig_model.apply_rigs(pycolmap, db_path, rigs,
+                                  {n: c.label for c in cams for n in c.names})
+    for name, frames in layout.frames.items():
+        log(f"rig {name}: {len(frames)} stations, the mounts' relative orientation fixed")
+    return layout
+
+
+def _estimated_cameras(rec, sensors) -> dict[str, np.ndarray]:
     """Estimated FULL_OPENCV parameters by camera label (cameras with a registered image)."""
-    label = {n: c.label for c in cams for n in c.names}
+    label = {n: c.label for c, _ in sensors for n in c.names}
+    tied = tied_images(rec)
     out = {}
     for img in rec.images.values():
-        if img.has_pose and img.name in label and label[img.name] not in out:
+        if img.name in tied and img.name in label and label[img.name] not in out:
             out[label[img.name]] = _full_opencv(rec.cameras[img.camera_id])
     return out
 
@@ -395,7 +465,7 @@ def _check_every_camera_registered(rec, cams: list[SurveyCamera], survey: Path) 
     nothing in common) is a clear error, not a survey of the other cameras."""
     if len(cams) == 1:
         return
-    registered = {img.name for img in rec.images.values() if img.has_pose}
+    registered = tied_images(rec)
     lost = [c for c in cams if not registered.intersection(c.names)]
     if lost:
         what = ", ".join(f"{c.label!r} ({len(c.names)} images)" for c in lost)
@@ -465,6 +535,7 @@ def _pairs(kind, names, truth, flight_C, K_size, gcps, offset):
 def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     options = pycolmap.IncrementalPipelineOptions()
     options.num_threads = -1
+    options.ba_refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
     # Nadir survey images have small baselines: the default 16° initial triangulation
     # angle rejects every pair of a typical 80 % overlap flight.
     options.mapper.init_min_tri_angle = 4.0

@@ -37,6 +37,7 @@ import numpy as np
 
 from designer.core.rolling_shutter import row_delay_s
 from designer.errors import DesignerError
+from designer.sfm.control_costs import add_control_points
 
 #: σ of the velocity prior around its time-line start (model units / s: m/s once
 #: georeferenced)
@@ -251,24 +252,8 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
     if problem.has_parameter_block(zero_vel):
         problem.set_parameter_block_constant(zero_vel)
 
-    identity = np.array([0, 0, 0, 1, 0, 0, 0, 0], float)
-    xyz_by_id = {}
-    cov_uv = np.eye(2) * sigma_mark_px ** 2
-    for cp in control:
-        marks = [(n, uv) for n, uv in cp.marks if n in img_of]
-        if not marks:
-            continue
-        xyz = np.array(cp.surveyed_local, float)
-        keep.append(xyz)
-        xyz_by_id[cp.gcp_id] = xyz
-        sigma = np.maximum(np.asarray(cp.sigma_m, float), min_gcp_sigma_m)
-        problem.add_residual_block(
-            cf.Point3DAlignmentCost(np.diag(sigma ** 2), np.asarray(cp.surveyed_local, float)),
-            None, [xyz, identity])
-        for name, uv in marks:
-            add_observation(xyz, name, np.asarray(uv, float), cov_uv)
-    if xyz_by_id:
-        problem.set_parameter_block_constant(identity)
+    xyz_by_id = add_control_points(problem, control, img_of.__contains__, add_observation,
+                                   sigma_mark_px, min_gcp_sigma_m, keep)
     if priors is not None:
         cov = np.diag([priors.sigma_h_m ** 2, priors.sigma_h_m ** 2, priors.sigma_v_m ** 2])
         for name, C in priors.C_local.items():

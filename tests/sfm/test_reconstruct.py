@@ -16,7 +16,9 @@ from plyfile import PlyData
 
 from designer.errors import DesignerError
 from designer.project import model as m
+from designer.project.load import load_project
 from designer.sfm.reconstruct import reconstruct
+from designer.sfm.rigs import processing_rigs
 from designer.sfm.settings import resolve_processing
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
@@ -118,12 +120,34 @@ def test_a_rig_of_two_different_cameras_reconstructs_each_with_its_own_calibrati
     assert result.summary["intrinsics"]["delta_f_px"] == per_camera["nadir"]["delta_f_px"]
     check = result.summary["check"]
     assert check["n"] == 2 and check["rmse_xyz_m"] < GSD_M, check
+    if mode == "known-poses":
+        assert result.summary["rigs"] is None
+        return
+    # free: the rig of the project (found through the survey's manifest) is a COLMAP rig
+    # whose relative orientation stays the project's after every adjustment
+    assert result.summary["rigs"] == {"duo": {"stations": 12, "relative_orientation": "fixed",
+                                              "stations_registered": 12}}
+    (rig,) = processing_rigs(load_project(two_camera_survey.parent / "project.xml",
+                                          check_files=False))
+    assert len(model.frames) == 12 and len(model.rigs) == 1
+    (colmap_rig,) = model.rigs.values()
+    (sensor,) = colmap_rig.non_ref_sensors
+    np.testing.assert_allclose(colmap_rig.sensor_from_rig(sensor).rotation.matrix(),
+                               rig.sensors[1].R_cam_from_rig, atol=1e-12)
+    for frame in model.frames.values():  # one pose per station: both images' centres
+        centres = [model.images[i.id].projection_center() for i in frame.image_ids]
+        np.testing.assert_allclose(centres[0], centres[1], atol=1e-9)
+
+
+@pytest.mark.parametrize("with_rig", [False, True])
 
 
 def test_a_rig_camera_whose_images_register_to_nothing_is_a_clear_error(
-        two_camera_survey, tmp_path):
+        two_camera_survey, tmp_path, with_rig):
     """The oblique camera's images replaced by unrelated texture (a rig whose cameras see
-    nothing in common): refused in one line naming the fix, not reported as a survey."""
+    nothing in common): refused in one line naming the fix, not reported as a survey —
+    also with the rig's relative orientation, where the station's pose would give the
+    texture images a pose without a single tie point of their own."""
     rig = tmp_path / "rig"
     shutil.copytree(two_camera_survey / "ground-truth", rig / "ground-truth")
     (rig / "images").mkdir()
@@ -135,7 +159,10 @@ def test_a_rig_camera_whose_images_register_to_nothing_is_a_clear_error(
         else:
             (rig / "images" / image.name).symlink_to(image)
     with pytest.raises(DesignerError, match="see nothing in common") as error:
-        reconstruct(rig, tmp_path / "r", mode="free", log=lambda _: None)
+        reconstruct(rig, tmp_path / "r", mode="free", log=lambda _: None,
+                    rigs=processing_rigs(load_project(
+                        two_camera_survey.parent / "project.xml", check_files=False))
+                    if with_rig else [])
     message = str(error.value)
     assert "\n" not in message and "'oblique' (12 images)" in message
     assert "overlap" in message
