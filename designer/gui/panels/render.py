@@ -227,8 +227,7 @@ class RenderPanel(Panel):
         self.frames_done = {}
         self.skipped: set[int] = set()
         self.n_frames = self.sync.stations.n_images if self.sync.stations else 0
-        self.image_names = ([st.image_name for st in self.sync.stations.stations]
-                            if self.sync.stations else [])
+        self.image_names = list(self.sync.stations.image_names) if self.sync.stations else []
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
