@@ -375,7 +375,9 @@ class RenderPanel(Panel):
             self.state.setText(f"cancelled after {count(n, 'image')}{per}{kept}; tick 'resume' to "
                                "continue later")
         else:
-            self.state.setText(f"render failed (exit {code}): {stderr_tail.splitlines()[-1:]}")
+            lines = [line for line in stderr_tail.splitlines() if line.strip()]
+            why = lines[-1].strip() if lines else "it gave no reason; the log below has its output"
+            self.state.setText(f"render failed (exit {code}): {why}")
 
     def open_image(self, item) -> None:
         """The full image with the GCP observations drawn on it, in a window."""
