@@ -280,6 +280,9 @@ class StationsResult:
     #: every image (all cameras of a rig) as the render-time model sees it
     #: (designer.survey.render_cost): size, samples, share on the terrain
     render_costs: tuple = ()
+    #: every rendered image's name, in render (frame) order: a rig station gives one per
+    #: camera, so these are not the stations' names
+    image_names: tuple[str, ...] = ()
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -340,10 +343,12 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     from designer.survey.project_poses import project_images
     from designer.survey.render_cost import project_image_costs
 
-    costs = tuple(project_image_costs(project, project_images(project, hf), hf))
+    images = project_images(project, hf)
+    costs = tuple(project_image_costs(project, images, hf))
     seconds = render_estimate_s(project, costs)
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
-                          tuple(stations), costs)
+                          tuple(stations), costs,
+                          tuple(s.image_name for s in images.stations))
 
 
 def _rig_geometry(project: m.Project, hf, platform: StationGeometry,

@@ -205,9 +205,9 @@ class MainWindow(QMainWindow):
     def show_problems(self, lines: list[str], headline: str = "") -> None:
         """List problems inline (an empty list hides the Problems panel); while listed they
         are checked again after every change, so fixed ones (also by an undo) go away."""
-        from designer.gui.wording import humanize
+        from designer.gui.wording import humanize, panel_directions
 
-        lines = [humanize(line) for line in lines]
+        lines = [panel_directions(humanize(line)) for line in lines]
         self._problems_project = self.document.project if lines else None
         self.problems.clear()
         self.problems.addItems(lines)

@@ -30,7 +30,7 @@ SAMPLES_PER_AXIS = 9
 class PlanFigures:
     """Figures over the real terrain (m, fractions 0–1) and the warnings they raise."""
 
-    n_images: int
+    n_images: int                      # stations (with a rig: its planning camera's images)
     gsd_min_m: float
     gsd_max_m: float
     gsd_median_m: float
@@ -40,12 +40,14 @@ class PlanFigures:
     side_overlap_p05: float
     images_over_area: int
     images_over_terrain: int
-    terrain_share: np.ndarray          # (M,) share of each image that shows the terrain
-    image_names: tuple[str, ...]
+    #: (M,) share of each rendered image (every camera of a rig) that shows the terrain
+    terrain_share: np.ndarray
+    image_names: tuple[str, ...]       # (M,) the rendered images' names
     gcp_ids: tuple[str, ...]
     gcp_images: np.ndarray             # (G,) images seeing each GCP
     area_seen: dict[int, float]
     warnings: tuple[str, ...]
+    n_rendered: int = 0                # every image rendered (all cameras of a rig)
     gcp_image_index: tuple[np.ndarray, ...] = ()   # per GCP: the images that see it
     gcp_uv_px: tuple[np.ndarray, ...] = ()         # per GCP: where (rendered image, px)
 
@@ -62,6 +64,8 @@ class PlanFigures:
 
 def terrain_share(stations, interior, raycaster, k: int = SAMPLES_PER_AXIS) -> np.ndarray:
     """(M,) share of a k × k grid of rays through each image that meets the terrain."""
+    if not len(stations):
+        return np.zeros(0)
     from designer.core.rotation import R_CV_FROM_PHOTO
 
     C = np.array([s.C_world for s in stations]).reshape(-1, 3)
@@ -107,13 +111,12 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     st = analysis.stations
     gsd = analysis.coverage.gsd_mean_m
     gsd = gsd[np.isfinite(gsd)]
-    share = terrain_share(stations, interior, terrain.raycaster)
-    names = tuple(x.image_name for x in stations)
+    share, names = _images_on_terrain(project, hf, terrain.raycaster, scale)
     ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
     gcp_images = (np.asarray(analysis.gcps.counts) if analysis.gcps is not None
                   else np.zeros(0, dtype=int))
     figures = dict(
-        n_images=len(stations),
+        n_images=len(stations), n_rendered=len(names),
         gsd_min_m=float(gsd.min()) if gsd.size else float("nan"),
         gsd_max_m=float(gsd.max()) if gsd.size else float("nan"),
         # over the stations looking at the area, as designer plan (a principal ray past
@@ -129,6 +132,23 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     return PlanFigures(**figures, warnings=tuple(_warnings(figures, plan)),
                        gcp_image_index=tuple(vis.images) if vis is not None else (),
                        gcp_uv_px=tuple(vis.uv_px) if vis is not None else ())
+
+
+def _images_on_terrain(project: m.Project, hf, raycaster, scale: float
+                       ) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Share of each rendered image that shows the terrain, and the images' names: every
+    camera of a rig with its own lens (a rig's obliques look much further than the
+    station's planning camera)."""
+    from designer.project.interiors import render_interior
+    from designer.survey.project_poses import project_images
+
+    images = project_images(project, hf)
+    share = np.zeros(len(images.stations))
+    for camera_id in images.camera_order():
+        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
+        share[k] = terrain_share([images.stations[i] for i in k],
+                                 render_interior(project.camera(camera_id), scale), raycaster)
+    return share, tuple(s.image_name for s in images.stations)
 
 
 def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
@@ -147,7 +167,7 @@ def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
     if off.size:
         worst = off[np.argmin(share[off])]
         look = "looks" if off.size == 1 else "look"
-        out.append(f"{off.size} of {count(f['n_images'], 'image')} {look} beyond the terrain "
+        out.append(f"{off.size} of {count(f['n_rendered'], 'image')} {look} beyond the terrain "
                    "(more than "
                    f"{100 * OFF_TERRAIN_WARN:.0f} % of the picture; worst "
                    f"{f['image_names'][worst]}: {100 * (1 - share[worst]):.0f} % off it); "

@@ -33,6 +33,32 @@ FIELD_NAMES = {
     "texel_size_m": "texel size",
     "size_m": "target size",
 }
+#: directions in the project file's terms (as designer validate words them for someone
+#: editing the XML) → the panel and control that do it in the window
+_TIME_LINE_ON = ("switch on the time line in the Flight panel "
+                 "(“the photos have times”)")
+PANEL_DIRECTIONS = (
+    (re.compile(r"the trajectory has no <time-line>(?: to move the camera along)?; add a "
+                r"<time-line> to <trajectory> or set readout-s 0"),
+     f"the flight has no time line to move the camera along; {_TIME_LINE_ON}, or set the "
+     "readout to 0 s in the Camera panel"),
+    (re.compile(r"the trajectory has no <time-line>; add one or give the sun as <sun> or "
+                r"<sun-position>"),
+     f"the flight has no time line; {_TIME_LINE_ON}, or give the sun by its direction or "
+     "a moment and place in the Lighting panel"),
+    (re.compile(r"the trajectory has no <time-line>; add one or remove <moving-objects>"),
+     f"the flight has no time line; {_TIME_LINE_ON}, or remove the moving objects in the "
+     "Moving objects panel"),
+    (re.compile(r"the trajectory has no <time-line>; add one or write metadata none"),
+     f"the flight has no time line; {_TIME_LINE_ON}"),
+    (re.compile(r"the trajectory has no <time-line>; add one or remove time-s"),
+     f"the flight has no time line; {_TIME_LINE_ON}"),
+    (re.compile(r"sun-over-time needs a <time-line> with a UTC takeoff-utc, e\.g\. \S+"),
+     f"the sun follows the flight's time line, which is off; {_TIME_LINE_ON}"),
+    (re.compile(r"no photos: add <exterior-orientations> with <photo> elements or a "
+                r"<flight-plan>"),
+     "no photos: add a grid flight in the Flight panel, or import a flight (File menu)"),
+)
 _UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
 _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
 _SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
@@ -74,6 +100,14 @@ def humanize(message: str) -> str:
     message = _IDENT.sub(lambda mt: _maybe_field(mt.group(0)), message)
     message = _SCI.sub(lambda mt: fixed(float(mt.group(0))), message)
     return _LONG.sub(lambda mt: fixed(float(mt.group(1))), message)
+
+
+def panel_directions(message: str) -> str:
+    """A library message with its directions for editing the project file replaced by
+    the panel and control that do it in the window (:data:`PANEL_DIRECTIONS`)."""
+    for pattern, direction in PANEL_DIRECTIONS:
+        message = pattern.sub(direction, message)
+    return message
 
 
 def duration(seconds: float) -> str:

@@ -100,3 +100,24 @@ def test_real_render(qtbot, saved_project, tmp_path):
     assert panel.state.text().startswith(f"done: {n} images"), panel.log.toPlainText()
     assert panel.thumbs.count() == n
     assert (tmp_path / "output" / "ground-truth" / "colmap" / "images.txt").is_file()
+
+
+@pytest.mark.parametrize("stderr", ["designer: error: the scene cannot be built\n", ""])
+def test_a_failed_render_says_why_in_words(qtbot, saved_project, monkeypatch, tmp_path,
+                                           stderr):
+    w = saved_project
+    script = tmp_path / "failing_render.py"
+    script.write_text(f"import sys\nsys.stderr.write({stderr!r})\nsys.exit(1)\n")
+    monkeypatch.setattr(RenderProcess, "command", staticmethod(
+        lambda project, out_dir, resume=False, quality=None, workers=None:
+        [sys.executable, str(script)]))
+    panel = w.panels["Render"]
+    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=20000)
+    text = panel.state.text()
+    assert text.startswith("render failed (exit 1)"), text
+    assert "[" not in text and "'" not in text, text  # no Python list of lines
+    if stderr:
+        assert text.endswith(": designer: error: the scene cannot be built"), text
+    else:
+        assert "log" in text, text

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from designer.gui import edits
+from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
 from tests.gui.helpers import add_hills_and_flight, problems, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui
@@ -60,19 +61,12 @@ def test_cloud_colours_follow_signed_distances(qtbot, window, tmp_path):
     assert "signed distance (mm)" in w.view.plotter.scalar_bars
 
     # And on screen: seen from above, points east of the centre are red, west blue.
-    w.view.set_layer_visible("terrain", False)
-    w.view.set_layer_visible("targets", False)
-    w.view.view_top()
-    w.view.render_now()
+    cloud_seen_from_above(w)
     image = w.view.plotter.screenshot(return_img=True)
-    ren = w.view.plotter.renderer
-    h = image.shape[0]
     reds = blues = 0
     for k in np.flatnonzero(np.abs(offset) > 0.08)[:200]:
-        ren.SetWorldPoint(*(xyz[k] - w.view.offset), 1.0)
-        ren.WorldToDisplay()
-        u, v, _ = ren.GetDisplayPoint()
-        pixel = image[h - 1 - round(v), round(u)].astype(int)
+        at = point_on_screen(w, xyz[k])
+        pixel = image[at.y(), at.x()].astype(int)
         if offset[k] > 0:
             reds += pixel[0] > pixel[2] + 40
         else:

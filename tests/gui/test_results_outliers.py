@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from PySide6.QtCore import QPoint, Qt
+from PySide6.QtCore import Qt
 
 from designer.evaluate.writers import write_distances_ply
 from designer.gui.reconstruct_job import ReconstructJob
+from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
 from tests.gui.helpers import (
     add_hills_and_flight,
     cloud_with_outlier,
@@ -78,17 +79,10 @@ def test_click_on_a_point_reads_its_distance(qtbot, window, tmp_path):
     results = w.panels["Results"]
     results.open_cloud(path)
     wait_idle(qtbot, w)
-    for layer in ("terrain", "targets", "frusta", "footprints", "flight", "area"):
-        w.view.set_layer_visible(layer, False)
-    w.view.view_top()
-    w.view.render_now()
+    cloud_seen_from_above(w)
     r = results.result
-    ren = w.view.plotter.renderer
     k = 17
-    ren.SetWorldPoint(*(r.points_world[k] - w.view.offset), 1.0)
-    ren.WorldToDisplay()
-    u, v, _ = ren.GetDisplayPoint()
-    pos = QPoint(round(u), w.view.plotter.height() - 1 - round(v))
+    pos = point_on_screen(w, r.points_world[k])
     qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=pos)
     expected = f"{1000 * r.distances_m[k]:+.1f} mm"
     assert expected in results.picked.text()

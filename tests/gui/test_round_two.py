@@ -211,9 +211,9 @@ def test_a_duplicate_gcp_id_is_refused_where_it_is_typed(qtbot, window):
 
 def test_another_cloud_forgets_the_point_picked_in_the_last(qtbot, window, tmp_path):
     import numpy as np
-    from PySide6.QtCore import QPoint
     from PySide6.QtWidgets import QPushButton
 
+    from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
     from tests.gui.helpers import add_hills_and_flight, answer_file_dialog
 
     w = window
@@ -224,17 +224,10 @@ def test_another_cloud_forgets_the_point_picked_in_the_last(qtbot, window, tmp_p
     first, _xyz = cloud_with_outlier(w, tmp_path, n=400)
     results.open_cloud(first)
     wait_idle(qtbot, w)
-    for layer in ("terrain", "targets", "frusta", "footprints", "flight", "area"):
-        w.view.set_layer_visible(layer, False)
-    w.view.view_top()
-    w.view.render_now()
+    cloud_seen_from_above(w)
     r = results.result
-    ren = w.view.plotter.renderer
-    ren.SetWorldPoint(*(r.points_world[17] - w.view.offset), 1.0)
-    ren.WorldToDisplay()
-    u, v, _ = ren.GetDisplayPoint()
-    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton,
-                     pos=QPoint(round(u), w.view.plotter.height() - 1 - round(v)))
+    pos = point_on_screen(w, r.points_world[17])
+    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=pos)
     assert results.picked.text().startswith("Δ = ")
 
     # another cloud, opened with the button: the value picked in the first one goes
@@ -250,8 +243,7 @@ def test_another_cloud_forgets_the_point_picked_in_the_last(qtbot, window, tmp_p
                                                       r.points_world)
     assert results.picked.text() == hint
     # and Clear takes it away as well
-    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton,
-                     pos=QPoint(round(u), w.view.plotter.height() - 1 - round(v)))
+    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=pos)
     assert results.picked.text().startswith("Δ = ")
     clear = next(b for b in results.findChildren(QPushButton) if b.text() == "Clear")
     qtbot.mouseClick(clear, Qt.MouseButton.LeftButton)

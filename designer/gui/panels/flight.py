@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (
 from designer.gui import derived, edits
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
+from designer.gui.wording import count
 from designer.project import model as m
 
 FP = "trajectory.flight_plan"
@@ -322,8 +323,12 @@ class FlightPanel(Panel):
         self.real_gsd.setText(_gsd_text(f.gsd_min_m, f.gsd_max_m, f.gsd_median_m) + of)
         self.real_overlap.setText(_overlap_text(f))
         seen = ", ".join(f"{100 * v:.0f} % by ≥ {k}" for k, v in f.area_seen.items())
+        # with a rig the figures are the stations' (their planning camera's), as designer
+        # plan says: "of 37" next to 121 images would read as a fault
+        of = (f"{f.n_images}" if f.n_rendered == f.n_images else
+              f"{count(f.n_images, 'station')} (each station's planning camera)")
         self.real_images.setText(
-            f"{f.images_over_area} of {f.n_images} look at the area, {f.images_over_terrain} "
+            f"{f.images_over_area} of {of} look at the area, {f.images_over_terrain} "
             f"at the terrain; area seen {seen}")
         self.warnings_label.setText("\n".join(f"⚠ {w}" for w in f.warnings))
 

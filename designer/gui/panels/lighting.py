@@ -23,12 +23,17 @@ CLOUDS = "scene.lighting.clouds"
 DEFAULT_CLOUDS = switched_on(m.CloudShadows)
 #: a moment and place to start from when the sun is switched to "computed"
 DEFAULT_SUN_POSITION = m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54)
+#: a sun that follows the time line while the flight has none: where to switch it on
+NO_TIME_LINE = ("the sun follows the flight's time line, which is off: switch it on in the "
+                "Flight panel (time line: “the photos have times”), or give the sun "
+                "by its direction or a moment and place above")
 _KIND = {m.Sun: "direction", m.SunPosition: "position", m.SunOverTime: "over-time"}
 
 
 class LightingPanel(Panel):
     title = "Lighting"
-    parts = frozenset({"lighting"})
+    # the sun over time and the clouds follow the time line (Flight panel)
+    parts = frozenset({"lighting", "trajectory"})
 
     def build(self, layout) -> None:
         top = form()
@@ -126,6 +131,11 @@ class LightingPanel(Panel):
 
     def _readouts(self) -> None:
         lighting = self.project.scene.lighting
+        if isinstance(lighting.sun, m.SunOverTime) and self.project.trajectory.time_line is None:
+            self.sun_label.setText("–")
+            self.contrast_label.setText("–")
+            self.error_label.setText(NO_TIME_LINE)
+            return
         try:
             azimuth, elevation = derived.sun_angles_deg(lighting, self.project)
         except (DesignerError, ValueError) as error:

@@ -227,8 +227,7 @@ class RenderPanel(Panel):
         self.frames_done = {}
         self.skipped: set[int] = set()
         self.n_frames = self.sync.stations.n_images if self.sync.stations else 0
-        self.image_names = ([st.image_name for st in self.sync.stations.stations]
-                            if self.sync.stations else [])
+        self.image_names = list(self.sync.stations.image_names) if self.sync.stations else []
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
@@ -376,7 +375,9 @@ class RenderPanel(Panel):
             self.state.setText(f"cancelled after {count(n, 'image')}{per}{kept}; tick 'resume' to "
                                "continue later")
         else:
-            self.state.setText(f"render failed (exit {code}): {stderr_tail.splitlines()[-1:]}")
+            lines = [line for line in stderr_tail.splitlines() if line.strip()]
+            why = lines[-1].strip() if lines else "it gave no reason; the log below has its output"
+            self.state.setText(f"render failed (exit {code}): {why}")
 
     def open_image(self, item) -> None:
         """The full image with the GCP observations drawn on it, in a window."""

@@ -139,6 +139,11 @@ class StudyPanel(StudyFiles, Panel):
         v.addWidget(self.metrics)
         layout.addWidget(metrics)
 
+        # the plan line, errors and warnings below the Run box: they come, go and change
+        # length with every check, and above it they moved Run and Cancel under the mouse
+        self.run_box = StudyRunBox(self)
+        layout.addWidget(self.run_box)
+
         self.plan_label = QLabel("")
         self.plan_label.setObjectName("study-plan")
         self.plan_label.setWordWrap(True)
@@ -155,9 +160,6 @@ class StudyPanel(StudyFiles, Panel):
         self.warnings.setStyleSheet(WARNING_STYLE)
         self.warnings.hide()
         layout.addWidget(self.warnings)
-
-        self.run_box = StudyRunBox(self)
-        layout.addWidget(self.run_box)
 
         results = QGroupBox("results")
         v = QVBoxLayout(results)
