@@ -63,6 +63,9 @@ class AdjustmentResult:
     control_xyz_local: dict[str, np.ndarray] = field(default_factory=dict)
     #: rolling-shutter compensation: estimated velocity by image name (model frame, /s)
     velocities: dict[str, np.ndarray] | None = None
+    #: rolling-shutter compensation: each tie point's reprojection errors (px) with the
+    #: compensation (COLMAP's own errors ignore it)
+    point_errors_px: dict[int, list[float]] | None = None
 
     def as_dict(self) -> dict:
         out = {"sigma0": self.sigma0, "iterations": self.iterations,
@@ -99,7 +102,7 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
             rec, variable, rolling_shutter, control,
             max(marking_sigma_px, MIN_MARKING_SIGMA_PX), priors, MIN_GCP_SIGMA_M,
             max_iterations, fix_gauge=not control and priors is None)
-        return _result(solution.summary, xyz, solution.velocities)
+        return _result(solution.summary, xyz, solution.velocities, solution.point_errors_px)
     options = pycolmap.BundleAdjustmentOptions()
     options.refine_focal_length = options.refine_principal_point = bool(variable)
     options.refine_extra_params = bool(variable)
@@ -164,7 +167,8 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
     return _result(summary.ceres_summary, xyz_by_id)
 
 
-def _result(s, xyz_by_id: dict, velocities: dict | None = None) -> AdjustmentResult:
+def _result(s, xyz_by_id: dict, velocities: dict | None = None,
+            point_errors_px: dict | None = None) -> AdjustmentResult:
     """The result of a solved Ceres problem (its summary ``s``)."""
     redundancy = max(s.num_residuals_reduced - s.num_effective_parameters_reduced, 1)
     return AdjustmentResult(
@@ -174,4 +178,4 @@ def _result(s, xyz_by_id: dict, velocities: dict | None = None) -> AdjustmentRes
         residuals=int(s.num_residuals_reduced),
         parameters=int(s.num_effective_parameters_reduced),
         control_xyz_local={k: v.copy() for k, v in xyz_by_id.items()},
-        velocities=velocities)
+        velocities=velocities, point_errors_px=point_errors_px)

@@ -275,9 +275,9 @@ def reconstruct(
     timings["matching_s"] = time.perf_counter() - t
 
     layout = None
-    if mode == "free" and len(cams) > 1 and rolling is None:
+    if mode == "free" and rolling is None:
         layout = _apply_rigs(pycolmap, db_path, cams, rigs, project_path, survey, log)
-    elif mode == "free" and len(cams) > 1:
+    elif mode == "free" and (rigs or len(cams) > 1):
         log("rolling-shutter compensation poses each image alone: a rig's relative "
             "orientation is not used")
     t = time.perf_counter()
@@ -306,7 +306,8 @@ def reconstruct(
         adjustment, sim_info = process_free.georeference_and_adjust(
             rec, p, gcps, marks, control, flight_C, offset, log, str(survey),
             rolling_shutter=rolling)
-    tie["removed_outliers"] = _drop_outliers(rec, OUTLIER_PX)
+    errors = adjustment.point_errors_px if adjustment is not None else None
+    tie["removed_outliers"] = _drop_outliers(rec, OUTLIER_PX, errors)
     tie["points"] = rec.num_points3D()
     tie["mean_track_length"] = float(rec.compute_mean_track_length()) if rec.num_points3D() \
         else 0.0
@@ -339,7 +340,7 @@ def reconstruct(
     summary = {
         "mode": mode, "images": len(names), "registered": len(tied),
         "points": rec.num_points3D(),
-        "mean_reprojection_error_px": float(rec.compute_mean_reprojection_error()),
+        "mean_reprojection_error_px": _mean_reprojection_error_px(rec, errors),
         "settings": settings_dict(p), "local_offset_m": offset.tolist(),
         "control": report.rmse_stats([r for r in rows if r["role"] == "control"]),
         "check": report.rmse_stats([r for r in rows if r["role"] == "check"]),
@@ -351,7 +352,7 @@ def reconstruct(
                       **report.intrinsics_report(est_by_label.get(c.label, start),
                                                  c.true_params, start, c.size_px)}
             for c, start in sensors},
-        "rigs": None if layout is None else {
+        "rigs": None if layout is None or not layout.frames else {
             name: {"stations": len(frames), "relative_orientation": "fixed",
                    "stations_registered": sum(
                        1 for f in frames.values() if any(n in est_cams for n in f.values()))}
@@ -437,13 +438,17 @@ def _apply_rigs(pycolmap, db_path: Path, cams: list[SurveyCamera], rigs, project
 
         path = project_path or project_of_survey(survey)
         if path is None:
-            log("the project is not found: a rig's images are each posed alone")
+            if len(cams) > 1:
+                log("the project is not found: a rig's images are each posed alone")
             return None
         rigs = rig_model.processing_rigs(load_project(path, check_files=False))
     if not rigs:
         return None
+    # a one-camera survey's ground truth does not name its camera: its images match a
+    # mount by suffix alone
+    named = {c.label for c in cams} & {s.camera_label for r in rigs for s in r.sensors}
     layout = rig_model.apply_rigs(pycolmap, db_path, rigs,
-                                  {n: c.label for c in cams for n in c.names})
+                                  {n: c.label if named else None for c in cams for n in c.names})
     for name, frames in layout.frames.items():
         log(f"rig {name}: {len(frames)} stations, the mounts' relative orientation fixed")
     return layout
@@ -560,12 +565,28 @@ def _drop_short_tracks(rec, min_length: int) -> int:
     return len(short)
 
 
-def _drop_outliers(rec, max_px: float) -> int:
-    rec.update_point_3d_errors()
-    bad = [pid for pid, pt in rec.points3D.items() if pt.error > max_px]
+def _drop_outliers(rec, max_px: float, errors: dict | None = None) -> int:
+    """Delete the tie points whose mean reprojection error exceeds ``max_px``: COLMAP's
+    errors, or with rolling-shutter compensation ``errors`` (point id → the errors of its
+    observations with the compensation, designer.sfm.rolling_adjustment)."""
+    if errors is None:
+        rec.update_point_3d_errors()
+        bad = [pid for pid, pt in rec.points3D.items() if pt.error > max_px]
+    else:
+        bad = [pid for pid in rec.points3D if pid in errors and np.mean(errors[pid]) > max_px]
     for pid in bad:
         rec.delete_point3D(pid)
     return len(bad)
+
+
+def _mean_reprojection_error_px(rec, errors: dict | None) -> float:
+    """The mean reprojection error of the tie observations kept (px): COLMAP's, or with
+    rolling-shutter compensation the compensated one."""
+    if errors is None:
+        rec.update_point_3d_errors()
+        return float(rec.compute_mean_reprojection_error())
+    kept = [e for pid in rec.points3D if pid in errors for e in errors[pid]]
+    return float(np.mean(kept)) if kept else 0.0
 
 
 def _gcp_rows(rec, gcps, marks, control: set[str], offset, rolling=None):

@@ -95,22 +95,23 @@ def station_of(image_name: str, suffix: str) -> str | None:
     return stem[: -len(suffix)] + ext
 
 
-def rig_frames(rig: ProcessingRig, names: list[str], camera_of: dict[str, str]
+def rig_frames(rig: ProcessingRig, names: list[str], camera_of: dict[str, str | None]
                ) -> dict[str, dict[str, str]]:
     """The stations of ``rig`` among ``names`` (image name → project camera id in
-    ``camera_of``): station → {suffix: image name}; only stations with two or more images."""
+    ``camera_of``; None: not known, the suffix decides): station → {suffix: image name};
+    only stations with two or more images."""
     frames: dict[str, dict[str, str]] = {}
     for name in names:
         for sensor in rig.sensors:
             station = station_of(name, sensor.suffix)
-            if station is not None and camera_of.get(name) == sensor.camera_label:
+            if station is not None and camera_of.get(name) in (sensor.camera_label, None):
                 frames.setdefault(station, {})[sensor.suffix] = name
                 break
     return {s: f for s, f in sorted(frames.items()) if len(f) >= 2}
 
 
-def apply_rigs(pycolmap, db_path, rigs: list[ProcessingRig], camera_of: dict[str, str]
-               ) -> RigLayout:
+def apply_rigs(pycolmap, db_path, rigs: list[ProcessingRig],
+               camera_of: dict[str, str | None]) -> RigLayout:
     """Write the rigs into the COLMAP database at ``db_path`` (after feature extraction):
     a database camera per mount, one rig per project rig, one frame per station; every
     other image keeps a rig and frame of its own. ``camera_of``: image name → project

@@ -30,7 +30,7 @@ velocity).
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -188,6 +188,8 @@ class RollingShutterSolution:
 
     velocities: dict[str, np.ndarray]
     summary: object
+    #: reprojection errors (px) of each tie point's observations, with the compensation
+    point_errors_px: dict[int, list[float]] = field(default_factory=dict)
 
 
 def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingShutterImage],
@@ -237,18 +239,17 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
             delay = float(row_delay_s(uv[1], camera.height, s.readout_s, s.direction))
         inner = cf.ReprojErrorCost(camera.model, cov, np.asarray(uv, float))
         v = vel.get(name, zero_vel)
-        problem.add_residual_block(RSCost(inner, delay, len(cam_params[cid])), None,
-                                   [X, q[name], t[name], cam_params[cid], v])
+        return problem.add_residual_block(RSCost(inner, delay, len(cam_params[cid])), None,
+                                          [X, q[name], t[name], cam_params[cid], v])
 
-    n_obs = 0
+    tie_blocks: list = []  # (point id, residual block) of every tie observation (σ 1 px)
     for pid, X in points.items():
         for el in rec.points3D[pid].track.elements:
             image = rec.images[el.image_id]
             if image.name not in img_of:
                 continue
-            add_observation(X, image.name, np.asarray(image.points2D[el.point2D_idx].xy,
-                                                      float), eye2)
-            n_obs += 1
+            tie_blocks.append((pid, add_observation(
+                X, image.name, np.asarray(image.points2D[el.point2D_idx].xy, float), eye2)))
     if problem.has_parameter_block(zero_vel):
         problem.set_parameter_block_constant(zero_vel)
 
@@ -295,7 +296,16 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
         pose.params[4:] = t[name]
     for pid, X in points.items():
         rec.points3D[pid].xyz = X
-    return (RollingShutterSolution({n: v.copy() for n, v in vel.items()}, summary),
+    # each tie observation's reprojection error with the compensation (σ 1 px: the
+    # residual is in px), by point: COLMAP's own figures would project every row from the
+    # first row's pose
+    errors: dict[int, list[float]] = {}
+    if tie_blocks:
+        r = np.asarray(problem.evaluate_residuals([b for _, b in tie_blocks]), float)
+        norms = np.hypot(r[0::2], r[1::2])
+        for (pid, _), e in zip(tie_blocks, norms, strict=True):
+            errors.setdefault(pid, []).append(float(e))
+    return (RollingShutterSolution({n: v.copy() for n, v in vel.items()}, summary, errors),
             {k: v.copy() for k, v in xyz_by_id.items()})
 
 

@@ -151,3 +151,14 @@ def test_a_rig_with_one_station_or_one_image_per_station_is_not_a_rig(tmp_path):
         assert db.num_cameras() == 3 and db.num_frames() == 7 and db.num_rigs() == 3
     finally:
         db.close()
+
+
+def test_images_of_an_unnamed_camera_match_the_mounts_by_suffix():
+    """A one-camera survey's ground truth does not name its camera (None): the suffix
+    alone puts its images in the rig's stations; a named camera must also match."""
+    (rig,) = processing_rigs(_penta_shared())
+    names = [f"ST_000{s}.png" for s in ("_N", "_F", "_B")] + ["ORBIT_00001.png"]
+    frames = rig_frames(rig, names, dict.fromkeys(names))
+    assert frames == {"ST_000.png": {"_N": "ST_000_N.png", "_F": "ST_000_F.png",
+                                     "_B": "ST_000_B.png"}}
+    assert rig_frames(rig, names, dict.fromkeys(names, "drone")) == {}
