@@ -275,11 +275,8 @@ def reconstruct(
     timings["matching_s"] = time.perf_counter() - t
 
     layout = None
-    if mode == "free" and rolling is None:
+    if mode == "free":
         layout = _apply_rigs(pycolmap, db_path, cams, rigs, project_path, survey, log)
-    elif mode == "free" and (rigs or len(cams) > 1):
-        log("rolling-shutter compensation poses each image alone: a rig's relative "
-            "orientation is not used")
     t = time.perf_counter()
     sparse = out / "sparse"
     if sparse.exists():
@@ -580,12 +577,13 @@ def _drop_outliers(rec, max_px: float, errors: dict | None = None) -> int:
 
 
 def _mean_reprojection_error_px(rec, errors: dict | None) -> float:
-    """The mean reprojection error of the tie observations kept (px): COLMAP's, or with
-    rolling-shutter compensation the compensated one."""
+    """The mean reprojection error of the tie points kept (px; as COLMAP defines it, the
+    mean over points of each point's mean error): COLMAP's, or with rolling-shutter
+    compensation the compensated one."""
     if errors is None:
         rec.update_point_3d_errors()
         return float(rec.compute_mean_reprojection_error())
-    kept = [e for pid in rec.points3D if pid in errors for e in errors[pid]]
+    kept = [np.mean(errors[pid]) for pid in rec.points3D if pid in errors]
     return float(np.mean(kept)) if kept else 0.0
 
 

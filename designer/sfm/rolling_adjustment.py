@@ -202,24 +202,31 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
     Images without a rolling shutter (not in ``shutters``) are global-shutter images.
     Returns the solution and the control points' adjusted coordinates by id."""
     import pyceres
+    import pycolmap
     from pycolmap import cost_functions as cf
 
     RSCost, PriorCost, VelPrior = _rolling_cost_class()
     problem = pyceres.Problem()
     keep: list = []
     cam_params = {cid: camera.params for cid, camera in rec.cameras.items()}
-    q, t, img_of, vel = {}, {}, {}, {}
+    # poses by frame: a rig's images share their station's rig_from_world and project
+    # through their mount's fixed cam_from_rig (designer.sfm.rigs)
+    q, t, img_of, vel, frame_of, in_rig = {}, {}, {}, {}, {}, {}
     C_now = {}
     for image in rec.images.values():
         if not image.has_pose:
             continue
-        frame = rec.frames[image.frame_id]
-        if frame.rig_id in rec.rigs and rec.rigs[frame.rig_id].num_sensors() > 1:
-            raise DesignerError("rolling-shutter compensation processes each image on its "
-                                "own pose; a rig model with several sensors is not supported")
-        pose = frame.rig_from_world.params
-        q[image.name] = np.array(pose[:4], float)
-        t[image.name] = np.array(pose[4:], float)
+        fid = image.frame_id
+        frame = rec.frames[fid]
+        if fid not in q:
+            pose = frame.rig_from_world.params
+            q[fid] = np.array(pose[:4], float)
+            t[fid] = np.array(pose[4:], float)
+        rig = rec.rigs[frame.rig_id]
+        sensor = pycolmap.sensor_t(pycolmap.SensorType.CAMERA, image.camera_id)
+        if not rig.is_ref_sensor(sensor):
+            in_rig[image.name] = rig.sensor_from_rig(sensor)
+        frame_of[image.name] = fid
         img_of[image.name] = image
         C_now[image.name] = image.projection_center()
     starts = start_velocities(C_now, shutters)
@@ -237,10 +244,13 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
         delay = 0.0
         if s is not None:
             delay = float(row_delay_s(uv[1], camera.height, s.readout_s, s.direction))
-        inner = cf.ReprojErrorCost(camera.model, cov, np.asarray(uv, float))
+        uv = np.asarray(uv, float)
+        inner = cf.RigReprojErrorCost(camera.model, cov, uv, in_rig[name]) \
+            if name in in_rig else cf.ReprojErrorCost(camera.model, cov, uv)
         v = vel.get(name, zero_vel)
+        f = frame_of[name]
         return problem.add_residual_block(RSCost(inner, delay, len(cam_params[cid])), None,
-                                          [X, q[name], t[name], cam_params[cid], v])
+                                          [X, q[f], t[f], cam_params[cid], v])
 
     tie_blocks: list = []  # (point id, residual block) of every tie observation (σ 1 px)
     for pid, X in points.items():
@@ -257,20 +267,23 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
                                    sigma_mark_px, min_gcp_sigma_m, keep)
     if priors is not None:
         cov = np.diag([priors.sigma_h_m ** 2, priors.sigma_h_m ** 2, priors.sigma_v_m ** 2])
-        for name, C in priors.C_local.items():
-            if name in img_of and problem.has_parameter_block(q[name]):
+        posed = set()  # a station of a rig has one pose: one GNSS position (its first image's)
+        for name, C in sorted(priors.C_local.items()):
+            f = frame_of.get(name)
+            if f is not None and f not in posed and problem.has_parameter_block(q[f]):
+                posed.add(f)
                 problem.add_residual_block(
                     PriorCost(cf.AbsolutePosePositionPriorCost(cov, np.asarray(C, float))),
-                    None, [q[name], t[name]])
+                    None, [q[f], t[f]])
     for name, v in vel.items():
         if problem.has_parameter_block(v):
             sigma = VELOCITY_PRIOR_SIGMA if np.any(starts[name]) else \
                 VELOCITY_PRIOR_SIGMA_NO_START
             problem.add_residual_block(VelPrior(starts[name], sigma), None, [v])
 
-    for name in img_of:
-        if problem.has_parameter_block(q[name]):
-            problem.set_manifold(q[name], pyceres.EigenQuaternionManifold())
+    for f in q:
+        if problem.has_parameter_block(q[f]):
+            problem.set_manifold(q[f], pyceres.EigenQuaternionManifold())
     for params in cam_params.values():
         if not problem.has_parameter_block(params):
             continue
@@ -280,7 +293,7 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
         else:
             problem.set_parameter_block_constant(params)
     if fix_gauge:
-        _fix_gauge(problem, [n for n in img_of if problem.has_parameter_block(q[n])], q, t)
+        _fix_gauge(problem, [f for f in q if problem.has_parameter_block(q[f])], q, t)
 
     options = pyceres.SolverOptions()
     options.linear_solver_type = pyceres.LinearSolverType.SPARSE_SCHUR
@@ -290,10 +303,10 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
     summary = pyceres.SolverSummary()
     pyceres.solve(options, problem, summary)
 
-    for name, image in img_of.items():
-        pose = rec.frames[image.frame_id].rig_from_world
-        pose.params[:4] = q[name] / np.linalg.norm(q[name])
-        pose.params[4:] = t[name]
+    for f in q:
+        pose = rec.frames[f].rig_from_world
+        pose.params[:4] = q[f] / np.linalg.norm(q[f])
+        pose.params[4:] = t[f]
     for pid, X in points.items():
         rec.points3D[pid].xyz = X
     # each tie observation's reprojection error with the compensation (σ 1 px: the
@@ -309,17 +322,17 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
             {k: v.copy() for k, v in xyz_by_id.items()})
 
 
-def _fix_gauge(problem, names, q, t) -> None:
-    """No datum (no control, no priors): the first image's pose is held, and the second
-    image's largest translation component (the scale), as COLMAP's two-camera gauge."""
+def _fix_gauge(problem, frames, q, t) -> None:
+    """No datum (no control, no priors): the first frame's pose is held, and the second
+    frame's largest translation component (the scale), as COLMAP's two-camera gauge."""
     import pyceres
 
-    if not names:
+    if not frames:
         return
-    first = names[0]
+    first = frames[0]
     problem.set_parameter_block_constant(q[first])
     problem.set_parameter_block_constant(t[first])
-    if len(names) > 1:
-        second = names[1]
+    if len(frames) > 1:
+        second = frames[1]
         k = int(np.argmax(np.abs(t[second] - t[first])))
         problem.set_manifold(t[second], pyceres.SubsetManifold(3, [k]))
