@@ -28,6 +28,11 @@ def _click(qtbot, widget) -> None:
                      pos=QPoint(8, widget.height() // 2))
 
 
+def _plan_a_flight(qtbot, w) -> None:
+    qtbot.mouseClick(open_panel(w, "Flight").create, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+
+
 def _switch_on_the_time_line(qtbot, w) -> None:
     flight = open_panel(w, "Flight")
     flight.findChild(QScrollArea).ensureWidgetVisible(flight.timed)
@@ -36,12 +41,21 @@ def _switch_on_the_time_line(qtbot, w) -> None:
     assert w.document.project.trajectory.time_line is not None
 
 
+def _save_is_refused_pointing_to_the_flight_panel_until_the_time_line_is_on(qtbot, w,
+                                                                            tmp_path):
+    assert not w.file_actions.save_to(tmp_path / "p.xml")  # refused, with why
+    lines = problems(w)
+    assert any("Flight panel" in line for line in lines), lines
+    for line in lines:
+        _no_xml(line)
+    _switch_on_the_time_line(qtbot, w)
+    qtbot.waitUntil(lambda: problems(w) == [], timeout=5000)
+
+
 def test_a_sun_over_time_without_a_time_line_points_to_the_flight_panel(qtbot, window,
                                                                          tmp_path):
     w = window
-    flight = open_panel(w, "Flight")
-    qtbot.mouseClick(flight.create, Qt.MouseButton.LeftButton)
-    wait_idle(qtbot, w)
+    _plan_a_flight(qtbot, w)
     lighting = open_panel(w, "Lighting")
     lighting.kind.setFocus()
     while lighting.kind.currentData() != "over-time":
@@ -51,14 +65,8 @@ def test_a_sun_over_time_without_a_time_line_points_to_the_flight_panel(qtbot, w
     assert lighting.error_label.isVisible() and "Flight panel" in said, said
     _no_xml(said)
 
-    assert not w.file_actions.save_to(tmp_path / "p.xml")  # refused, with why
-    lines = problems(w)
-    assert any("Flight panel" in line for line in lines), lines
-    for line in lines:
-        _no_xml(line)
-
-    _switch_on_the_time_line(qtbot, w)
-    qtbot.waitUntil(lambda: problems(w) == [], timeout=5000)
+    _save_is_refused_pointing_to_the_flight_panel_until_the_time_line_is_on(qtbot, w,
+                                                                             tmp_path)
     assert lighting.error_label.text() == ""
     assert w.file_actions.save_to(tmp_path / "p.xml")
 
@@ -66,9 +74,7 @@ def test_a_sun_over_time_without_a_time_line_points_to_the_flight_panel(qtbot, w
 def test_a_rolling_shutter_without_a_time_line_points_to_the_flight_panel(qtbot, window,
                                                                           tmp_path):
     w = window
-    flight = open_panel(w, "Flight")
-    qtbot.mouseClick(flight.create, Qt.MouseButton.LeftButton)
-    wait_idle(qtbot, w)
+    _plan_a_flight(qtbot, w)
     camera = open_panel(w, "Camera")
     box = field(camera, QDoubleSpinBox, "Rolling-shutter readout")
     camera.findChild(QScrollArea).ensureWidgetVisible(box)
@@ -76,20 +82,13 @@ def test_a_rolling_shutter_without_a_time_line_points_to_the_flight_panel(qtbot,
     wait_idle(qtbot, w)
     assert w.document.project.cameras[0].rolling_shutter is not None
 
-    assert not w.file_actions.save_to(tmp_path / "p.xml")
-    lines = problems(w)
-    assert any("Flight panel" in line for line in lines), lines
-    for line in lines:
-        _no_xml(line)
-    _switch_on_the_time_line(qtbot, w)
-    qtbot.waitUntil(lambda: problems(w) == [], timeout=5000)
+    _save_is_refused_pointing_to_the_flight_panel_until_the_time_line_is_on(qtbot, w,
+                                                                             tmp_path)
 
 
 def test_the_cloud_note_follows_the_time_line_switched_in_the_flight_panel(qtbot, window):
     w = window
-    flight = open_panel(w, "Flight")
-    qtbot.mouseClick(flight.create, Qt.MouseButton.LeftButton)
-    wait_idle(qtbot, w)
+    _plan_a_flight(qtbot, w)
     lighting = open_panel(w, "Lighting")
     lighting.findChild(QScrollArea).ensureWidgetVisible(lighting.cloudy)
     _click(qtbot, lighting.cloudy)
