@@ -7,19 +7,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from designer.gui.widgets import CheckedDoubleSpin
+from designer.gui.widgets import CheckedDoubleSpin, CheckedSpin
 
 #: the rule: the reason a value is refused ("" when it may be applied)
 Rule = Callable[[float], str]
 
 
-class RuledDoubleSpin(CheckedDoubleSpin):
-    """A :class:`~designer.gui.widgets.CheckedDoubleSpin` that also refuses the values
-    its ``rule`` names a reason against."""
+class _Ruled:
+    """The rule of a checked spin box (mixed in before the box's class)."""
 
-    def __init__(self, rule: Rule, label: str = "value") -> None:
-        super().__init__(label)
-        self.rule = rule
+    rule: Rule
 
     def problem(self, text: str) -> str:
         message = super().problem(text)
@@ -31,11 +28,28 @@ class RuledDoubleSpin(CheckedDoubleSpin):
     def stepBy(self, steps: int) -> None:
         value = min(max(self.value() + steps * self.singleStep(), self.minimum()),
                     self.maximum())
-        reason = self.rule(round(value, self.decimals()))
+        reason = self.rule(value if self._integer else round(value, self.decimals()))
         if reason:
             self._set_error(f"{reason}; not applied")
             return
         super().stepBy(steps)
+
+
+class RuledDoubleSpin(_Ruled, CheckedDoubleSpin):
+    """A :class:`~designer.gui.widgets.CheckedDoubleSpin` that also refuses the values
+    its ``rule`` names a reason against."""
+
+    def __init__(self, rule: Rule, label: str = "value") -> None:
+        super().__init__(label)
+        self.rule = rule
+
+
+class RuledSpin(_Ruled, CheckedSpin):
+    """A :class:`~designer.gui.widgets.CheckedSpin` (whole numbers) with a rule."""
+
+    def __init__(self, rule: Rule, label: str = "value") -> None:
+        super().__init__(label)
+        self.rule = rule
 
 
 def ruled_dspin(rule: Rule, lo: float, hi: float, decimals: int = 3, step: float = 1.0,
@@ -44,3 +58,13 @@ def ruled_dspin(rule: Rule, lo: float, hi: float, decimals: int = 3, step: float
     from designer.gui.widgets import set_up_dspin
 
     return set_up_dspin(RuledDoubleSpin(rule, label), lo, hi, decimals, step, suffix)
+
+
+def ruled_ispin(rule: Rule, lo: int, hi: int, suffix: str = "",
+                label: str = "value") -> RuledSpin:
+    """:func:`~designer.gui.widgets.ispin` with a rule across fields."""
+    box = RuledSpin(rule, label)
+    box.setRange(lo, hi)
+    if suffix:
+        box.setSuffix(f" {suffix}")
+    return box

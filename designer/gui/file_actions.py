@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QSettings
+from PySide6.QtCore import QSettings, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QMenu, QMessageBox
 
@@ -74,7 +74,19 @@ class FileActions:
                                            if p != str(path.resolve())]
         self.settings.setValue("recent", entries[:MAX_RECENT])
         self.settings.sync()
-        self._fill_recent()
+        self._refill_recent()
+
+    def _forget(self, path: Path) -> None:
+        """Take ``path`` out of Open Recent."""
+        gone = str(path.resolve())
+        self.settings.setValue("recent", [p for p in self.recent() if p != gone])
+        self.settings.sync()
+        self._refill_recent()
+
+    def _refill_recent(self) -> None:
+        # later, not now: the entry chosen in Open Recent is still delivering its click,
+        # and filling the menu again deletes it
+        QTimer.singleShot(0, self._fill_recent)
 
     # ------------------------------------------------------------------ actions
     def maybe_save(self) -> bool:
@@ -113,9 +125,16 @@ class FileActions:
     def open(self, path: Path) -> bool:
         """Open a project file: a schema-valid file opens even with semantic problems
         (they are listed, so they can be fixed here); an unreadable one does not."""
+        path = Path(path)
+        if not path.exists():  # said before asking to save: nothing would be opened
+            self._forget(path)
+            self.window.show_problems(
+                [f"{path} no longer exists (moved, renamed or deleted); it is removed "
+                 "from Open Recent — open it where it is now with File → Open…"],
+                f"Cannot open {path.name}")
+            return False
         if not self.maybe_save():
             return False
-        path = Path(path)
         try:
             project, smap = read_project_file(path)
         except (ProjectError, OSError) as error:

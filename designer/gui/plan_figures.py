@@ -44,16 +44,19 @@ class PlanFigures:
     terrain_share: np.ndarray
     image_names: tuple[str, ...]       # (M,) the rendered images' names
     gcp_ids: tuple[str, ...]
-    gcp_images: np.ndarray             # (G,) images seeing each GCP
+    gcp_images: np.ndarray             # (G,) rendered images seeing each GCP
     area_seen: dict[int, float]
     warnings: tuple[str, ...]
     n_rendered: int = 0                # every image rendered (all cameras of a rig)
-    gcp_image_index: tuple[np.ndarray, ...] = ()   # per GCP: the images that see it
-    gcp_uv_px: tuple[np.ndarray, ...] = ()         # per GCP: where (rendered image, px)
+    #: per GCP: the rendered images that see it (indices into image_names, every camera
+    #: of a rig) and where (px of that image, projected with its own pose and camera)
+    gcp_image_index: tuple[np.ndarray, ...] = ()
+    gcp_uv_px: tuple[np.ndarray, ...] = ()
 
     def observations(self, image: int) -> list[tuple[str, float, float]]:
-        """(GCP id, u, v) of the GCPs image ``image`` sees (rendered pixels; u right,
-        v down, from the top-left corner of the top-left pixel)."""
+        """(GCP id, u, v) of the GCPs rendered image ``image`` (an index into
+        ``image_names``) sees (its pixels; u right, v down, from the top-left corner of
+        the top-left pixel)."""
         out = []
         for gid, images, uv in zip(self.gcp_ids, self.gcp_image_index, self.gcp_uv_px,
                                    strict=True):
@@ -105,16 +108,15 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
                       [e.min_X, e.max_Y]]))
     gcp_xyz = (targets_result.true_xyz if targets_result is not None
                and len(targets_result.ids) else None)
-    analysis = analyse_plan(stations, interior, hf, area, gcp_xyz=gcp_xyz,
-                            raycaster=terrain.raycaster)
+    analysis = analyse_plan(stations, interior, hf, area, raycaster=terrain.raycaster)
     s = analysis.summary()
     st = analysis.stations
     gsd = analysis.coverage.gsd_mean_m
     gsd = gsd[np.isfinite(gsd)]
-    share, names = _images_on_terrain(project, hf, terrain.raycaster, scale)
+    seen = _rendered_images(project, hf, terrain.raycaster, scale, gcp_xyz)
+    share, names = seen.terrain_share, seen.names
     ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
-    gcp_images = (np.asarray(analysis.gcps.counts) if analysis.gcps is not None
-                  else np.zeros(0, dtype=int))
+    gcp_images = np.array([len(k) for k in seen.gcp_image_index], dtype=int)
     figures = dict(
         n_images=len(stations), n_rendered=len(names),
         gsd_min_m=float(gsd.min()) if gsd.size else float("nan"),
@@ -128,27 +130,52 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         images_over_terrain=int(np.count_nonzero(np.isfinite(st.centre_ground_xyz[:, 0]))),
         terrain_share=share, image_names=names, gcp_ids=ids, gcp_images=gcp_images,
         area_seen=dict(analysis.coverage.shares))
-    vis = analysis.gcps
     return PlanFigures(**figures, warnings=tuple(_warnings(figures, plan)),
-                       gcp_image_index=tuple(vis.images) if vis is not None else (),
-                       gcp_uv_px=tuple(vis.uv_px) if vis is not None else ())
+                       gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px)
 
 
-def _images_on_terrain(project: m.Project, hf, raycaster, scale: float
-                       ) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Share of each rendered image that shows the terrain, and the images' names: every
-    camera of a rig with its own lens (a rig's obliques look much further than the
-    station's planning camera)."""
+@dataclass(frozen=True, eq=False)
+class RenderedImages:
+    """What each rendered image (every camera of a rig, in render order) sees."""
+
+    names: tuple[str, ...]                     # (M,)
+    terrain_share: np.ndarray                  # (M,) share of the picture on the terrain
+    gcp_image_index: tuple[np.ndarray, ...]    # per GCP: images seeing it, ascending
+    gcp_uv_px: tuple[np.ndarray, ...]          # per GCP: (n, 2) where, px of that image
+
+
+def _rendered_images(project: m.Project, hf, raycaster, scale: float,
+                     gcp_xyz: np.ndarray | None) -> RenderedImages:
+    """Every rendered image with its own pose and lens (a rig's obliques look much
+    further than the station's planning camera, and see other GCPs): how much of it
+    shows the terrain and which GCPs it sees unhidden by the terrain, where."""
     from designer.project.interiors import render_interior
+    from designer.survey.coverage import gcp_visibility
     from designer.survey.project_poses import project_images
 
     images = project_images(project, hf)
     share = np.zeros(len(images.stations))
+    n_gcps = 0 if gcp_xyz is None else len(gcp_xyz)
+    found: list[list[tuple[np.ndarray, np.ndarray]]] = [[] for _ in range(n_gcps)]
     for camera_id in images.camera_order():
-        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
-        share[k] = terrain_share([images.stations[i] for i in k],
-                                 render_interior(project.camera(camera_id), scale), raycaster)
-    return share, tuple(s.image_name for s in images.stations)
+        k = np.array([i for i, c in enumerate(images.camera_ids) if c == camera_id])
+        members = [images.stations[i] for i in k]
+        interior = render_interior(project.camera(camera_id), scale)
+        share[k] = terrain_share(members, interior, raycaster)
+        if n_gcps:
+            vis = gcp_visibility(gcp_xyz, np.array([s.C_world for s in members]),
+                                 np.array([s.R_cam_to_world for s in members]), interior,
+                                 raycaster)
+            for g in range(n_gcps):
+                found[g].append((k[vis.images[g]], vis.uv_px[g]))
+    index, uv = [], []
+    for parts in found:
+        image = np.concatenate([p[0] for p in parts]).astype(int)
+        order = np.argsort(image, kind="stable")
+        index.append(image[order])
+        uv.append(np.concatenate([p[1].reshape(-1, 2) for p in parts])[order])
+    return RenderedImages(tuple(s.image_name for s in images.stations), share,
+                          tuple(index), tuple(uv))
 
 
 def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:

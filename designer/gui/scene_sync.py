@@ -323,7 +323,15 @@ class SceneSync(QObject):
             self._stations_failed(DesignerError("no camera stations yet: set up a flight"))
             return
         self.tasks.submit("stations", derived.compute_stations, project, self.terrain,
-                          on_done=self._stations_done, on_error=self._stations_failed)
+                          on_done=self._stations_done, on_error=self._planning_failed)
+
+    def _planning_failed(self, error: BaseException) -> None:
+        if self.terrain is None and self.errors.get("terrain"):
+            # planned without the terrain, the stations fail for its want (a height-field
+            # terrain would be taken for a mesh): the terrain is what to fix
+            error = DesignerError("no camera stations while the terrain cannot be made; "
+                                  "the Terrain panel says why")
+        self._stations_failed(error)
 
     def _stations_done(self, result: derived.StationsResult) -> None:
         self.errors.pop("stations", None)

@@ -24,9 +24,12 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
     QFormLayout,
+    QFrame,
     QLabel,
     QLineEdit,
+    QScrollArea,
     QSpinBox,
+    QVBoxLayout,
     QWidget,
 )
 
@@ -359,3 +362,21 @@ def form(parent: QWidget | None = None) -> QFormLayout:
     layout = QFormLayout(parent)
     layout.setFieldGrowthPolicy(QFormLayout.FieldGrowthPolicy.AllNonFixedFieldsGrow)
     return layout
+
+
+def message_box(labels: list[QLabel], lines: int) -> QScrollArea:
+    """The labels stacked in an area of a fixed height (``lines`` lines of text), scrolled
+    when longer: messages that come, go and change length there move nothing below."""
+    inner = QWidget()
+    v = QVBoxLayout(inner)
+    v.setContentsMargins(0, 0, 0, 0)
+    for label in labels:
+        v.addWidget(label)
+    v.addStretch(1)
+    area = QScrollArea()
+    area.setWidget(inner)
+    area.setWidgetResizable(True)
+    area.setFrameShape(QFrame.Shape.NoFrame)
+    area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+    area.setFixedHeight(lines * area.fontMetrics().lineSpacing() + 4)
+    return area

@@ -245,10 +245,11 @@ def choose_menu(qtbot, window, *titles: str) -> None:
     qtbot.waitUntil(menu.isVisible, timeout=5000)
     for title in titles[1:]:
         action = find(menu.actions(), title)
+        submenu = action.menu()  # asked before the click, which may delete the entry
         qtbot.mouseClick(menu, Qt.MouseButton.LeftButton,
                          pos=menu.actionGeometry(action).center())
-        if action.menu() is not None:
-            menu = action.menu()
+        if submenu is not None:
+            menu = submenu
             qtbot.waitUntil(menu.isVisible, timeout=5000)
 
 

@@ -1,6 +1,6 @@
 """The Study panel holds still while the study is checked: the plan line, errors and
-warnings that come and go (or change length) do not move the Run and Cancel buttons
-under the mouse."""
+warnings that come and go (or change length) do not move the Run and Cancel buttons,
+nor "Open study folder…" and the results' controls below them, under the mouse."""
 
 from __future__ import annotations
 
@@ -12,10 +12,11 @@ from tests.gui.study_helpers import _add, _checked, _tiny_base
 pytestmark = pytest.mark.gui
 
 
-def _buttons_at(panel) -> tuple[QPoint, QPoint]:
-    box = panel.run_box
-    return (box.run_button.mapToGlobal(QPoint(0, 0)),
-            box.cancel_button.mapToGlobal(QPoint(0, 0)))
+def _buttons_at(panel) -> tuple[QPoint, ...]:
+    box, results = panel.run_box, panel.results
+    return tuple(b.mapToGlobal(QPoint(0, 0)) for b in (
+        box.run_button, box.cancel_button, panel.open_folder_button,
+        results.figure_choice, results.report_button, results.figure))
 
 
 def _type_levels(qtbot, row, text: str) -> None:
@@ -23,8 +24,8 @@ def _type_levels(qtbot, row, text: str) -> None:
     qtbot.keyClicks(row.levels, text)
 
 
-def test_study_messages_that_come_and_go_leave_run_and_cancel_in_place(qtbot, window,
-                                                                       tmp_path):
+def test_study_messages_that_come_and_go_leave_the_buttons_in_place(qtbot, window,
+                                                                     tmp_path):
     w = window
     panel, _ = _tiny_base(qtbot, w, tmp_path)
     row = _add(qtbot, panel, "marking-sigma-px", "0.2 2")

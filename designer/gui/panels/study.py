@@ -32,7 +32,7 @@ from designer.gui.panels.study_run import StudyRunBox
 from designer.gui.study_data import duration_text
 from designer.gui.study_form import LEVELS_HINT, FactorRow, check_study
 from designer.gui.study_results import StudyResults
-from designer.gui.widgets import combo, form, ispin
+from designer.gui.widgets import combo, form, ispin, message_box
 from designer.gui.wording import count, estimate_basis
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
@@ -42,6 +42,8 @@ DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
            ("full factorial (every combination)", "full-factorial")]
 UNTITLED = "untitled-study.xml"
 WARNING_STYLE = "color: #b9770e; font-weight: bold"
+#: the height of the plan line, errors and warnings (lines of text; longer ones scroll)
+MESSAGE_LINES = 7
 
 
 class StudyPanel(StudyFiles, Panel):
@@ -139,27 +141,29 @@ class StudyPanel(StudyFiles, Panel):
         v.addWidget(self.metrics)
         layout.addWidget(metrics)
 
-        # the plan line, errors and warnings below the Run box: they come, go and change
-        # length with every check, and above it they moved Run and Cancel under the mouse
+        # the plan line, errors and warnings below the Run box, in an area of a fixed
+        # height: they come, go and change length with every check, and moved Run and
+        # Cancel (above them) and Open study folder and the results (below) under the mouse
         self.run_box = StudyRunBox(self)
         layout.addWidget(self.run_box)
 
         self.plan_label = QLabel("")
         self.plan_label.setObjectName("study-plan")
         self.plan_label.setWordWrap(True)
-        layout.addWidget(self.plan_label)
         self.errors = QLabel("")
         self.errors.setObjectName("study-errors")
         self.errors.setWordWrap(True)
         self.errors.setStyleSheet(ERROR_STYLE)
         self.errors.hide()
-        layout.addWidget(self.errors)
         self.warnings = QLabel("")
         self.warnings.setObjectName("study-warnings")
         self.warnings.setWordWrap(True)
         self.warnings.setStyleSheet(WARNING_STYLE)
         self.warnings.hide()
-        layout.addWidget(self.warnings)
+        self.messages = message_box([self.plan_label, self.errors, self.warnings],
+                                    MESSAGE_LINES)
+        self.messages.setObjectName("study-messages")
+        layout.addWidget(self.messages)
 
         results = QGroupBox("results")
         v = QVBoxLayout(results)

@@ -17,9 +17,19 @@ from designer.gui.field_rules import ruled_dspin
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, dspin, form, format_number, ispin, readout
 from designer.project import model as m
+from designer.project.checks import GRID_TOL, MAX_TERRAIN_NODES
 
 KINDS = [("procedural hills", "procedural"), ("flat plane", "flat"),
          ("DEM file (GeoTIFF, ESRI ASCII)", "dem"), ("mesh file (PLY, OBJ, STL)", "mesh")]
+
+
+def grid_problem(size_m: float, spacing_m: float) -> bool:
+    """True when ``size_m`` is no whole number (≥ 1) of ``spacing_m`` grid cells (the
+    tolerance of the project's own check)."""
+    if spacing_m <= 0:
+        return True
+    n = round(size_m / spacing_m)
+    return n < 1 or abs(n * spacing_m - size_m) > GRID_TOL * size_m
 
 
 def default_source(kind: str, terrain: m.Terrain) -> m.TerrainSource:
@@ -47,11 +57,12 @@ class TerrainPanel(Panel):
 
         extent = QGroupBox("extent (world X east, Y north; m)")
         f = form(extent)
+        # min below max, and a whole number of grid cells, checked where they are typed
         for name, label in (("min_X", "min X"), ("min_Y", "min Y"), ("max_X", "max X"),
                             ("max_Y", "max Y")):
-            f.addRow(label, self.bindings.bind(dspin(-1e8, 1e8, 3, 10, "m"),
-                                               f"scene.terrain.extent.{name}",
-                                               f"Terrain extent {label}"))
+            f.addRow(label, self.bindings.bind(
+                ruled_dspin(lambda v, n=name: self._edge_problem(n, v), -1e8, 1e8, 3, 10, "m"),
+                f"scene.terrain.extent.{name}", f"Terrain extent {label}"))
         layout.addWidget(extent)
 
         self.procedural = QGroupBox("procedural hills")
@@ -59,7 +70,8 @@ class TerrainPanel(Panel):
         src = "scene.terrain.source"
         f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{src}.seed", "Terrain seed"))
         f.addRow("grid spacing", self.bindings.bind(
-            dspin(0.01, 1000, 3, 0.1, "m"), f"{src}.grid_spacing_m", "Terrain grid spacing"))
+            ruled_dspin(self._spacing_problem, 0.01, 1000, 3, 0.1, "m"),
+            f"{src}.grid_spacing_m", "Terrain grid spacing"))
         f.addRow("roughness", self.bindings.bind(
             dspin(0, 1, 2, 0.05), f"{src}.roughness", "Terrain roughness"))
         # lowest ≤ highest is checked where it is typed, in the numbers typed
@@ -151,6 +163,49 @@ class TerrainPanel(Panel):
             return ""
         return (f"highest ({format_number(value, 2)} m) must be above lowest "
                 f"({format_number(heights[0], 2)} m)")
+
+    def _spacing(self) -> float | None:
+        src = self.project.scene.terrain.source
+        return src.grid_spacing_m if isinstance(src, m.ProceduralTerrain) else None
+
+    def _edge_problem(self, name: str, value: float) -> str:
+        """Why extent edge ``name`` (min_X …) cannot be ``value``, in the numbers typed."""
+        e = self.project.scene.terrain.extent
+        axis, is_min = name[-1], name.startswith("min")
+        other = getattr(e, f"{'max' if is_min else 'min'}_{axis}")
+        label, other_label = (f"min {axis}", f"max {axis}") if is_min else (f"max {axis}",
+                                                                             f"min {axis}")
+        if (value >= other) if is_min else (value <= other):
+            return (f"{label} ({format_number(value, 3)} m) must be "
+                    f"{'below' if is_min else 'above'} {other_label} "
+                    f"({format_number(other, 3)} m)")
+        spacing = self._spacing()
+        size = abs(other - value)
+        if spacing is None or not grid_problem(size, spacing):
+            return ""
+        side = "width" if axis == "X" else "length"
+        return (f"{label} ({format_number(value, 3)} m) leaves a {side} of "
+                f"{format_number(size, 3)} m, not a whole number of "
+                f"{format_number(spacing, 3)} m grid cells; change the grid spacing first "
+                "or keep whole cells")
+
+    def _spacing_problem(self, value: float) -> str:
+        """Why the procedural grid spacing cannot be ``value`` over the extent."""
+        e = self.project.scene.terrain.extent
+        if value <= 0:
+            return ""  # the field's range says so
+        for side, size, edges in (("width", e.width_m, "min X to max X"),
+                                  ("length", e.length_m, "min Y to max Y")):
+            if grid_problem(size, value):
+                return (f"grid spacing {format_number(value, 3)} m does not divide the "
+                        f"extent's {side} ({format_number(size, 3)} m, {edges}) into whole "
+                        "cells")
+        nodes = (e.width_m / value + 1) * (e.length_m / value + 1)
+        if nodes > MAX_TERRAIN_NODES:
+            return (f"grid spacing {format_number(value, 3)} m gives {nodes:,.0f} grid nodes "
+                    f"over the extent, more than {MAX_TERRAIN_NODES:,.0f}; use a coarser "
+                    "spacing")
+        return ""
 
     def _kind_changed(self) -> None:
         kind = self.kind.currentData()

@@ -12,12 +12,36 @@ from PySide6.QtGui import QImage, QPixmap
 from PySide6.QtWidgets import QFileDialog, QGroupBox, QHBoxLayout, QLabel, QPushButton
 
 from designer.gui import derived
+from designer.gui.field_rules import ruled_dspin, ruled_ispin
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, dspin, form, ispin, readout
+from designer.gui.widgets import combo, declared_field, form, format_number, ispin, readout
 from designer.project import model as m
 from designer.survey.plan_report import texture_repeat_warning
 
 PATTERNS = ["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
+#: the patterns drawn as noise, which needs this many texels a side at least
+NOISE_PATTERNS = ("grass", "soil", "gravel", "noise")
+MIN_NOISE_TEXELS = 16
+
+
+def tile_problem(width_m: float, length_m: float, repeat_x: int, repeat_y: int,
+                 texel_m: float, pattern: str) -> str:
+    """Why a procedural tile of the extent (m) over the repeats at ``texel_m`` cannot be
+    made ("" when it can): the texels of a side must be at most the texture limit and,
+    for a noise pattern, at least MIN_NOISE_TEXELS (as the scene builder rounds them)."""
+    from designer.scene.build import MAX_TEXTURE_PX
+
+    tile_w, tile_h = width_m / repeat_x, length_m / repeat_y
+    w_px, h_px = round(tile_w / texel_m), round(tile_h / texel_m)
+    made = (f"a tile ({format_number(tile_w, 3)} × {format_number(tile_h, 3)} m: the extent "
+            f"{format_number(width_m, 3)} × {format_number(length_m, 3)} m over repeat X "
+            f"{repeat_x}, repeat Y {repeat_y}) {w_px} × {h_px} texels")
+    if max(w_px, h_px) > MAX_TEXTURE_PX:
+        return (f"{made}, more than {MAX_TEXTURE_PX}; raise the texel size or the repeats")
+    if pattern in NOISE_PATTERNS and min(w_px, h_px) < MIN_NOISE_TEXELS:
+        return (f"{made} of {format_number(texel_m, 4)} m, fewer than {MIN_NOISE_TEXELS}; "
+                "lower the texel size or the repeats")
+    return ""
 
 
 def rgb_pixmap(rgb: np.ndarray, side_px: int) -> QPixmap:
@@ -47,8 +71,10 @@ class TexturePanel(Panel):
         f.addRow("pattern", self.bindings.bind(combo([(p, p) for p in PATTERNS]),
                                                f"{src}.pattern", "Texture pattern"))
         f.addRow("seed", self.bindings.bind(ispin(0, 2**31 - 1), f"{src}.seed", "Texture seed"))
-        f.addRow("texel size", self.bindings.bind(dspin(0.0001, 10, 4, 0.001, "m"),
-                                                  f"{src}.texel_size_m", "Texel size"))
+        # the tile's texels (extent / repeat / texel size) are checked where typed
+        f.addRow("texel size", self.bindings.bind(
+            ruled_dspin(lambda v: self._tile_problem(texel_m=v), 0.0001, 10, 4, 0.001, "m"),
+            f"{src}.texel_size_m", "Texel size"))
         layout.addWidget(self.procedural)
 
         self.image = QGroupBox("image")
@@ -63,10 +89,12 @@ class TexturePanel(Panel):
 
         tiling = QGroupBox("tiling and sampling")
         f = form(tiling)
-        f.addRow("repeat X", self.bindings.bind(ispin(1, 10000), "scene.texture.repeat_X",
-                                                "Texture repeat X"))
-        f.addRow("repeat Y", self.bindings.bind(ispin(1, 10000), "scene.texture.repeat_Y",
-                                                "Texture repeat Y"))
+        f.addRow("repeat X", self.bindings.bind(
+            ruled_ispin(lambda v: self._tile_problem(repeat_x=v), 1, 10000),
+            "scene.texture.repeat_X", "Texture repeat X"))
+        f.addRow("repeat Y", self.bindings.bind(
+            ruled_ispin(lambda v: self._tile_problem(repeat_y=v), 1, 10000),
+            "scene.texture.repeat_Y", "Texture repeat Y"))
         f.addRow("interpolation", self.bindings.bind(
             combo([("linear", "linear"), ("closest", "closest")]),
             "scene.texture.interpolation", "Texture interpolation"))
@@ -101,6 +129,25 @@ class TexturePanel(Panel):
         layout.addWidget(self.error_label)
         self.sync.texture_changed.connect(self._show_texture)
         self.sync.stations_changed.connect(self._readouts)
+
+    def _tile_problem(self, texel_m: float | None = None, repeat_x: int | None = None,
+                      repeat_y: int | None = None) -> str:
+        """Why the typed value (one of the three) cannot be, named from its field."""
+        tex, e = self.project.scene.texture, self.project.scene.terrain.extent
+        if not isinstance(tex.source, m.ProceduralTexture):
+            return ""
+        if (texel_m is not None and texel_m <= 0) or (repeat_x or 1) < 1 or (repeat_y or 1) < 1:
+            return ""  # the field's range says so
+        reason = tile_problem(e.width_m, e.length_m, repeat_x or tex.repeat_X,
+                              repeat_y or tex.repeat_Y, texel_m or tex.source.texel_size_m,
+                              tex.source.pattern)
+        if not reason:
+            return ""
+        typed = (f"texel size {format_number(texel_m, 4)} m" if texel_m is not None else
+                 f"repeat X {repeat_x}" if repeat_x is not None else f"repeat Y {repeat_y}")
+        if texel_m is not None:
+            reason = reason.replace(f" of {format_number(texel_m, 4)} m,", ",")
+        return f"{typed} makes {reason}"
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
