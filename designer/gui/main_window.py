@@ -110,6 +110,7 @@ class MainWindow(QMainWindow):
 
         self.document.events.connect("file", self._file_state)
         self.sync.message.connect(lambda text: self.statusBar().showMessage(text, 8000))
+        self.sync.message_withdrawn.connect(self._withdraw_message)
         self.document.reset(self.document.project, None)
         from PySide6.QtWidgets import QApplication
 
@@ -201,6 +202,12 @@ class MainWindow(QMainWindow):
         self._problems_timer.setInterval(300)
         self._problems_timer.timeout.connect(self._recheck_now)
         self.document.events.connect("project", self._recheck_problems)
+
+    def _withdraw_message(self, text: str) -> None:
+        """An error's message leaves the status bar when the error goes (a later message
+        about something else stays)."""
+        if self.statusBar().currentMessage() == text:
+            self.statusBar().clearMessage()
 
     def show_problems(self, lines: list[str], headline: str = "") -> None:
         """List problems inline (an empty list hides the Problems panel); while listed they

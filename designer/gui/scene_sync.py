@@ -50,6 +50,8 @@ class SceneSync(QObject):
     lighting_changed = Signal()
     plan_changed = Signal()
     message = Signal(str)
+    #: a message posted by ``message`` that no longer holds (its error went)
+    message_withdrawn = Signal(str)
 
     def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
         super().__init__(view)
@@ -108,8 +110,15 @@ class SceneSync(QObject):
             self._show_area()
 
     def _fail(self, key: str, error: BaseException) -> None:
+        self._clear(key)
         self.errors[key] = _message(error)
         self.message.emit(f"{key}: {self.errors[key]}")
+
+    def _clear(self, key: str) -> None:
+        """``key`` works again: its error goes, and so does the message that posted it."""
+        text = self.errors.pop(key, None)
+        if text:
+            self.message_withdrawn.emit(f"{key}: {text}")
 
     # ------------------------------------------------------------------ terrain
     def refresh_terrain(self) -> None:
@@ -129,7 +138,7 @@ class SceneSync(QObject):
         self.refresh_vegetation()
 
     def _terrain_done(self, result: derived.TerrainResult) -> None:
-        self.errors.pop("terrain", None)
+        self._clear("terrain")
         first = self.terrain is None or not np.allclose(
             self.view.offset[:2], result.centre_world[:2], atol=0.5 * max(
                 result.terrain.extent.width_m, result.terrain.extent.length_m))
@@ -179,7 +188,7 @@ class SceneSync(QObject):
                           on_error=self._objects_failed)
 
     def _objects_done(self, result: derived.ObjectsResult | None) -> None:
-        self.errors.pop("objects", None)
+        self._clear("objects")
         self.objects = result
         if result is None:
             self.view.show_objects(None)
@@ -204,7 +213,7 @@ class SceneSync(QObject):
                           on_error=self._buildings_failed)
 
     def _buildings_done(self, result: derived.BuildingsResult | None) -> None:
-        self.errors.pop("buildings", None)
+        self._clear("buildings")
         self.buildings = result
         if result is None:
             self.view.show_buildings(None)
@@ -229,7 +238,7 @@ class SceneSync(QObject):
                           on_error=self._vegetation_failed)
 
     def _vegetation_done(self, result: derived.VegetationResult | None) -> None:
-        self.errors.pop("vegetation", None)
+        self._clear("vegetation")
         self.vegetation = result
         if result is None:
             self.view.show_vegetation(None)
@@ -254,7 +263,7 @@ class SceneSync(QObject):
     def _lighting_done(self, terrain: derived.TerrainResult, light: np.ndarray) -> None:
         if terrain is not self.terrain:
             return  # the terrain changed meanwhile; its own result carries its light
-        self.errors.pop("lighting", None)
+        self._clear("lighting")
         self.terrain = dataclasses.replace(terrain, irradiance=light)
         self.view.set_terrain_irradiance(light)
         self.lighting_changed.emit()
@@ -277,7 +286,7 @@ class SceneSync(QObject):
                 else derived.retile(self.terrain, self._tiles))
 
     def _texture_done(self, result: derived.TextureResult) -> None:
-        self.errors.pop("texture", None)
+        self._clear("texture")
         placed_before = self.texture is not None and self.texture.orthophoto is not None
         self.texture, self.texture_rgb = result, result.rgb
         tex = self.document.project.scene.texture
@@ -301,7 +310,7 @@ class SceneSync(QObject):
             return  # drawn once the terrain is there
         try:
             self.targets = derived.compute_targets(project, hf)
-            self.errors.pop("targets", None)
+            self._clear("targets")
         except (DesignerError, ValueError) as error:
             self.targets = None
             self._fail("targets", error)
@@ -334,7 +343,7 @@ class SceneSync(QObject):
         self._stations_failed(error)
 
     def _stations_done(self, result: derived.StationsResult) -> None:
-        self.errors.pop("stations", None)
+        self._clear("stations")
         self.stations = result
         self.view.show_stations(result.geometry)
         if len(result.C_world) and not self.view.in_view(result.C_world).any():
@@ -368,7 +377,7 @@ class SceneSync(QObject):
                           on_error=self._plan_failed)
 
     def _plan_done(self, figures) -> None:
-        self.errors.pop("plan", None)
+        self._clear("plan")
         self.plan = figures
         self.plan_changed.emit()
 
@@ -395,6 +404,7 @@ class SceneSync(QObject):
                           on_error=lambda e: self._fail("coverage", e))
 
     def _coverage_done(self, result: derived.CoverageResult) -> None:
+        self._clear("coverage")
         self.coverage = result
         if self.coverage_enabled:
             self.view.show_coverage(result.points_world, result.shape, result.count)
