@@ -11,6 +11,7 @@ from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QMenu, QMessageBox
 
 from designer.gui import files
+from designer.gui.wording import count
 from designer.project import TEMPLATE_NAMES, ProjectError, read_project_file
 
 MAX_RECENT = 8
@@ -171,8 +172,8 @@ class FileActions:
         doc = self.document
         plan = files.plan_save(doc.project, path, doc.base_dir, self.scratch_files)
         if not plan.ok:
-            self.window.show_problems(plan.problems, f"Not saved: {len(plan.problems)} "
-                                      "problem(s) to fix")
+            self.window.show_problems(
+                plan.problems, f"Not saved: {count(len(plan.problems), 'problem')} to fix")
             return False
         try:
             files.commit_save(plan)
