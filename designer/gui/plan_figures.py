@@ -150,32 +150,20 @@ def _rendered_images(project: m.Project, hf, raycaster, scale: float,
     further than the station's planning camera, and see other GCPs): how much of it
     shows the terrain and which GCPs it sees unhidden by the terrain, where."""
     from designer.project.interiors import render_interior
-    from designer.survey.coverage import gcp_visibility
+    from designer.survey.gcp_sightings import project_gcp_visibility
     from designer.survey.project_poses import project_images
 
     images = project_images(project, hf)
     share = np.zeros(len(images.stations))
-    n_gcps = 0 if gcp_xyz is None else len(gcp_xyz)
-    found: list[list[tuple[np.ndarray, np.ndarray]]] = [[] for _ in range(n_gcps)]
     for camera_id in images.camera_order():
         k = np.array([i for i, c in enumerate(images.camera_ids) if c == camera_id])
-        members = [images.stations[i] for i in k]
-        interior = render_interior(project.camera(camera_id), scale)
-        share[k] = terrain_share(members, interior, raycaster)
-        if n_gcps:
-            vis = gcp_visibility(gcp_xyz, np.array([s.C_world for s in members]),
-                                 np.array([s.R_cam_to_world for s in members]), interior,
-                                 raycaster)
-            for g in range(n_gcps):
-                found[g].append((k[vis.images[g]], vis.uv_px[g]))
-    index, uv = [], []
-    for parts in found:
-        image = np.concatenate([p[0] for p in parts]).astype(int)
-        order = np.argsort(image, kind="stable")
-        index.append(image[order])
-        uv.append(np.concatenate([p[1].reshape(-1, 2) for p in parts])[order])
-    return RenderedImages(tuple(s.image_name for s in images.stations), share,
-                          tuple(index), tuple(uv))
+        share[k] = terrain_share([images.stations[i] for i in k],
+                                 render_interior(project.camera(camera_id), scale), raycaster)
+    names = tuple(s.image_name for s in images.stations)
+    if gcp_xyz is None or not len(gcp_xyz):
+        return RenderedImages(names, share, (), ())
+    vis = project_gcp_visibility(project, images, gcp_xyz, raycaster)
+    return RenderedImages(names, share, vis.images, vis.uv_px)
 
 
 def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:

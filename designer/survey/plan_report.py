@@ -24,7 +24,9 @@ from designer.project.interiors import render_interior
 from designer.scene.build import BuiltTarget, build_heightfield, build_targets
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
+from designer.survey.gcp_sightings import project_gcp_visibility
 from designer.survey.project_poses import platform_stations, project_images, project_stations
+from designer.survey.raycast import TerrainRaycaster
 from designer.survey.render_cost import (
     estimate_render_s,
     format_duration,
@@ -40,6 +42,8 @@ class PlanResult:
     stations: tuple[Station, ...]
     heightfield: Heightfield
     targets: tuple[BuiltTarget, ...]
+    #: its ``gcps`` count every image of the project (each camera of a rig; indices into
+    #: project_images), not only the stations' planning camera
     analysis: PlanAnalysis
     footprint_m: tuple[float, float]
     #: the camera or rig of each station
@@ -68,8 +72,12 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
     plan = project.trajectory.flight_plan
     area = np.array(plan.area) if plan is not None else _extent_polygon(project)
-    gcp_xyz = np.array([t.true_xyz for t in targets]) if targets else None
-    analysis = analyse_plan(stations, interior, hf, area, gcp_xyz=gcp_xyz, cell_m=cell_m)
+    rc = TerrainRaycaster(hf)
+    analysis = analyse_plan(stations, interior, hf, area, cell_m=cell_m, raycaster=rc)
+    if targets:
+        # every image that sees a GCP counts (each camera of a rig), as in the GUI
+        analysis = replace(analysis, gcps=project_gcp_visibility(
+            project, images, np.array([t.true_xyz for t in targets]), rc))
     speed = load_speed()
     analysis = replace(analysis, render_time_s=estimate_render_s(
         project_image_costs(project, images, hf), render_workers(project, n_all),

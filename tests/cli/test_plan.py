@@ -100,3 +100,45 @@ def test_a_reader_that_stops_early_gets_no_traceback():
     proc.wait(timeout=300)
     assert first.startswith(b"resources/examples/survey/survey.xml:")
     assert "Traceback" not in err and "BrokenPipe" not in err, err
+
+
+def _images_seeing_each_gcp(project, base_dir) -> dict[str, int]:
+    """Counted image by image, each with its own pose and camera: the GCP inside the
+    picture and not behind the terrain."""
+    from designer.core.projection import project_points
+    from designer.project.interiors import render_interior
+    from designer.scene.build import build_heightfield, build_targets
+    from designer.survey.project_poses import project_images
+    from designer.survey.raycast import TerrainRaycaster
+
+    hf = build_heightfield(project.scene.terrain, base_dir, project.crs)
+    rc = TerrainRaycaster(hf)
+    targets = build_targets(project, hf)
+    xyz = np.array([t.true_xyz for t in targets])
+    images = project_images(project, hf)
+    counts = np.zeros(len(targets), dtype=int)
+    for k, station in enumerate(images.stations):
+        interior = render_interior(project.camera(images.camera_ids[k]),
+                                   project.render.resolution_scale)
+        g = np.flatnonzero(project_points(xyz, station.C_world, station.R_cam_to_world,
+                                          interior).in_image[0])
+        hidden = rc.occluded(xyz[g], np.repeat(np.reshape(station.C_world, (1, 3)), len(g),
+                                               axis=0), tol_m=0.01)
+        counts[g[~hidden]] += 1
+    return {t.target.id: int(c) for t, c in zip(targets, counts, strict=True)}
+
+
+def test_plan_counts_every_image_of_a_rig_that_sees_a_gcp(tmp_path, capsys):
+    from designer.project import write_project
+    from tests.synthetic import rig_survey, two_camera_survey
+
+    for name, project in (("rig", rig_survey()), ("duo", two_camera_survey())):
+        path = tmp_path / f"{name}.xml"
+        write_project(project, path)
+        assert main(["plan", str(path), "--json"]) == 0
+        figures = json.loads(capsys.readouterr().out)
+        said = {g["id"]: g["images"] for g in figures["gcps"]}
+        expected = _images_seeing_each_gcp(project, tmp_path)
+        assert sum(expected.values()) > 0, name
+        assert said == expected, name
+        assert figures["gcp_views_min"] == min(expected.values()), name
