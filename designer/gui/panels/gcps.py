@@ -326,6 +326,13 @@ class GcpPanel(Panel):
         area = np.array(plan.area if plan is not None and len(plan.area) >= 3
                         else edits.terrain_rectangle(project))
         n, kind = self.count.value(), self.layout_kind.currentData()
+        if self.n_check.value() > n:
+            # checked here, in the numbers typed: the layout would quietly make every
+            # GCP a check point and leave none for control
+            self.error_label.setText(
+                f"of which check points: {wording.count(self.n_check.value(), 'check point')}"
+                f" of {wording.count(n, 'GCP')}; give at most {n}; not applied")
+            return
         try:
             if kind == "grid":
                 nx = int(np.ceil(np.sqrt(n)))
@@ -336,7 +343,7 @@ class GcpPanel(Panel):
                                                   self.layout_seed.value())
             else:
                 xy = gcp_layout.perimeter_and_centre(n, area, self.margin.value())
-            roles = gcp_layout.assign_roles(len(xy), min(self.n_check.value(), len(xy)),
+            roles = gcp_layout.assign_roles(len(xy), self.n_check.value(),
                                             pattern="interleaved")
         except DesignerError as error:
             self.error_label.setText(str(error))

@@ -1,0 +1,40 @@
+"""The GCPs panel's automatic layout checks its fields against each other before it
+replaces the targets: more check points than GCPs is refused in the numbers typed (not
+quietly turned into a layout of check points only); nothing reaches the project."""
+
+from __future__ import annotations
+
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QPushButton
+
+from tests.gui.helpers import open_panel, set_field, wait_idle
+
+pytestmark = pytest.mark.gui
+
+
+def _apply(qtbot, panel) -> None:
+    button = next(b for b in panel.findChildren(QPushButton) if b.text() == "Apply layout")
+    qtbot.mouseClick(button, Qt.MouseButton.LeftButton)
+
+
+def test_more_check_points_than_gcps_is_refused(qtbot, window):
+    w = window
+    assert w.file_actions.new("survey")
+    wait_idle(qtbot, w)
+    gcps = open_panel(w, "GCPs")
+    before = w.document.project
+    set_field(qtbot, gcps.count, "4")
+    set_field(qtbot, gcps.n_check, "6")
+    _apply(qtbot, gcps)
+    wait_idle(qtbot, w)
+    assert w.document.project == before, [t.role for t in w.document.project.targets]
+    said = gcps.error_label.text()
+    assert "6 check points" in said and "4 GCPs" in said and "not applied" in said, said
+    # as many as the GCPs or fewer: applied, exactly that many check points
+    set_field(qtbot, gcps.n_check, "1")
+    _apply(qtbot, gcps)
+    wait_idle(qtbot, w)
+    roles = [t.role for t in w.document.project.targets]
+    assert len(roles) == 4 and roles.count("check") == 1, roles
+    assert gcps.error_label.text() == ""
