@@ -149,6 +149,11 @@ def build_texture(texture: m.Texture, terrain: m.Terrain, base_dir: Path,
         "gravel, noise or checkerboard")
 
 
+def _m(value: float) -> str:
+    """A coordinate (m) as written: to the mm, without trailing zeros or an exponent."""
+    return f"{float(value):.3f}".rstrip("0").rstrip(".")
+
+
 def build_targets(project: m.Project, hf: Heightfield | None) -> tuple[BuiltTarget, ...]:
     targets = project.targets
     if not targets:
@@ -165,6 +170,12 @@ def build_targets(project: m.Project, hf: Heightfield | None) -> tuple[BuiltTarg
             R = np.eye(3)
             lift = DEFAULT_LIFT_M
         else:
+            if not hf.contains(float(t.true.X), float(t.true.Y)):
+                x0, x1, y0, y1 = hf.extent_m
+                raise DesignerError(
+                    f"GCP {t.id} at X {_m(t.true.X)}, Y {_m(t.true.Y)} lies outside the "
+                    f"terrain (X {_m(x0)} to {_m(x1)}, Y {_m(y0)} to {_m(y1)}); move it onto "
+                    "the terrain")
             centre, R = target_pose_on_terrain(hf, t.true.X, t.true.Y, t.size_m)
             if t.true.Z is not None:
                 centre = np.array([t.true.X, t.true.Y, t.true.Z])

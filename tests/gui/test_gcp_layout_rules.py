@@ -38,3 +38,23 @@ def test_more_check_points_than_gcps_is_refused(qtbot, window):
     roles = [t.role for t in w.document.project.targets]
     assert len(roles) == 4 and roles.count("check") == 1, roles
     assert gcps.error_label.text() == ""
+
+
+def test_a_gcp_off_the_terrain_is_named_by_its_id_in_the_numbers_typed(qtbot, window):
+    from tests.gui.helpers import type_cell
+
+    w = window
+    assert w.file_actions.new("survey")
+    wait_idle(qtbot, w)
+    gcps = open_panel(w, "GCPs")
+    from designer.gui.widgets import format_number as num
+
+    e = w.document.project.scene.terrain.extent
+    gid = w.document.project.targets[0].id
+    type_cell(qtbot, w, gcps.table, 0, 2, "512500")  # past max X
+    wait_idle(qtbot, w)
+    said = gcps.error_label.text()
+    assert f"{gid} at X 512500, Y " in said, said
+    assert (f"terrain (X {num(e.min_X)} to {num(e.max_X)}, Y {num(e.min_Y)} to "
+            f"{num(e.max_Y)})") in said, said
+    assert "[" not in said and ".000" not in said, said
