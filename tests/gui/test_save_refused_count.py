@@ -16,6 +16,7 @@ pytestmark = pytest.mark.gui
 def _save_with_ctrl_s(qtbot, w, path) -> None:
     answer_file_dialog(path)
     w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_S, Qt.KeyboardModifier.ControlModifier)
     wait_idle(qtbot, w)
 

@@ -18,6 +18,7 @@ pytestmark = pytest.mark.gui
 def _undo(qtbot, w) -> None:
     """Ctrl+Z, as typed (the Edit menu would show its entries' tips over the status bar)."""
     w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
 
 
