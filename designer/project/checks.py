@@ -51,6 +51,13 @@ def finite_issues(*objs: object) -> list[Issue]:
     return out
 
 
+def plain_m(value: float) -> str:
+    """A length or coordinate (m) as a user writes it: to the mm, without trailing zeros
+    and never in exponent form (a UTM northing reads 5405950, not 5.40595e+06)."""
+    text = f"{float(value):.3f}".rstrip("0").rstrip(".")
+    return "0" if text == "-0" else text
+
+
 def is_ok(value: float | None) -> bool:
     return value is not None and math.isfinite(value) and abs(value) <= MAX_ABS_COORDINATE_M
 
