@@ -51,6 +51,20 @@ def finite_issues(*objs: object) -> list[Issue]:
     return out
 
 
+def plain_number(value: float, decimals: int = 3) -> str:
+    """A number as a user writes it: at most ``decimals`` places, without trailing zeros
+    and never in exponent form (a UTM northing reads 5405950, not 5.40595e+06)."""
+    text = f"{float(value):.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def plain_m(value: float) -> str:
+    """A length or coordinate (m) to the mm, as :func:`plain_number` writes it."""
+    return plain_number(value, 3)
+
+
 def is_ok(value: float | None) -> bool:
     return value is not None and math.isfinite(value) and abs(value) <= MAX_ABS_COORDINATE_M
 

@@ -16,6 +16,7 @@ from designer.project.checks import (
     file_issue,
     finite_issues,
     is_ok,
+    plain_m,
     sigma_issues,
 )
 from designer.project.files import (
@@ -73,7 +74,8 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
                 header = ascii_grid_header(f.read(4096))
             x0, y0, x1, y1 = ascii_grid_extent(header)
             if not (x0 <= e.min_X and y0 <= e.min_Y and x1 >= e.max_X and y1 >= e.max_Y):
-                out.append(Issue(src, "dem", f"the DEM covers X {x0:g}..{x1:g}, Y {y0:g}..{y1:g}"
+                out.append(Issue(src, "dem", f"the DEM covers X {plain_m(x0)}..{plain_m(x1)}, Y "
+                                 f"{plain_m(y0)}..{plain_m(y1)}"
                                  f", not the whole terrain extent; shrink <extent> or use a "
                                  "larger DEM", attr="file"))
     elif isinstance(src, m.MeshTerrain) and base is not None:
@@ -92,19 +94,19 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
     out = []
     cells = (e.width_m / spacing) * (e.length_m / spacing)
     if not math.isfinite(cells) or cells > MAX_TERRAIN_NODES:
-        return [Issue(src, "procedural", f"a {spacing:g} m grid over {e.width_m:g} x "
-                      f"{e.length_m:g} m has more than {MAX_TERRAIN_NODES:.3g} nodes; use a "
+        return [Issue(src, "procedural", f"a {spacing:g} m grid over {plain_m(e.width_m)} x "
+                      f"{plain_m(e.length_m)} m has more than {MAX_TERRAIN_NODES:.3g} nodes; use a "
                       "coarser grid-spacing-m or a smaller extent", attr="grid-spacing-m")]
     for name, size in (("width", e.width_m), ("length", e.length_m)):
         n = round(size / spacing)
         if n < 1 or abs(n * spacing - size) > GRID_TOL * size:
-            out.append(Issue(src, "procedural", f"the extent's {name} {size:g} m is not a whole "
-                             f"number of {spacing:g} m grid cells; choose a grid-spacing-m "
-                             "that divides the extent", attr="grid-spacing-m"))
+            out.append(Issue(src, "procedural", f"the extent's {name} {plain_m(size)} m is "
+                             f"not a whole number of {spacing:g} m grid cells; choose a "
+                             "grid-spacing-m that divides the extent", attr="grid-spacing-m"))
     nodes = (e.width_m / spacing + 1) * (e.length_m / spacing + 1)
     if not out and nodes > MAX_TERRAIN_NODES:
-        out.append(Issue(src, "procedural", f"a {spacing:g} m grid over {e.width_m:g} x "
-                         f"{e.length_m:g} m has {nodes:.3g} nodes, more than "
+        out.append(Issue(src, "procedural", f"a {spacing:g} m grid over {plain_m(e.width_m)} x "
+                         f"{plain_m(e.length_m)} m has {nodes:.3g} nodes, more than "
                          f"{MAX_TERRAIN_NODES:.3g}; use a coarser grid-spacing-m",
                          attr="grid-spacing-m"))
     return out
@@ -135,14 +137,14 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
         tile = max(extent.width_m / tex.repeat_X, extent.length_m / tex.repeat_Y)
         texels = tile / src.texel_size_m
         if texels > MAX_TEXTURE_TEXELS:
-            out.append(Issue(src, "procedural", f"a {tile:g} m tile of {src.texel_size_m:g} m "
-                             f"texels needs {texels:.0f} texels per side, more than "
-                             f"{MAX_TEXTURE_TEXELS}; increase texel-size-m or repeat-X/Y",
+            out.append(Issue(src, "procedural", f"a {plain_m(tile)} m tile of "
+                             f"{src.texel_size_m:g} m texels needs {texels:.0f} texels per side, "
+                             f"more than {MAX_TEXTURE_TEXELS}; increase texel-size-m or repeat-X/Y",
                              attr="texel-size-m"))
         elif texels < MIN_TEXTURE_TEXELS:
-            out.append(Issue(src, "procedural", f"a {tile:g} m tile of {src.texel_size_m:g} m "
-                             f"texels has only {texels:.3g} texels per side, fewer than "
-                             f"{MIN_TEXTURE_TEXELS}; make texel-size-m smaller",
+            out.append(Issue(src, "procedural", f"a {plain_m(tile)} m tile of "
+                             f"{src.texel_size_m:g} m texels has only {texels:.3g} texels per "
+                             f"side, fewer than {MIN_TEXTURE_TEXELS}; make texel-size-m smaller",
                              attr="texel-size-m"))
     return out
 
@@ -167,10 +169,11 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
         if not (t.size_m > 0):
             out.append(Issue(t, "target", "size-m must be > 0 m", attr="size-m"))
         if is_ok(t.true.X) and is_ok(t.true.Y) and not extent.contains(t.true.X, t.true.Y):
-            out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {t.true.X:.3f}, Y "
-                             f"{t.true.Y:.3f} lies outside the terrain extent (X "
-                             f"{extent.min_X:g}..{extent.max_X:g}, Y {extent.min_Y:g}.."
-                             f"{extent.max_Y:g}); move it inside or enlarge <extent>",
+            out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {plain_m(t.true.X)}, Y "
+                             f"{plain_m(t.true.Y)} lies outside the terrain extent (X "
+                             f"{plain_m(extent.min_X)}..{plain_m(extent.max_X)}, Y "
+                             f"{plain_m(extent.min_Y)}..{plain_m(extent.max_Y)}); move it "
+                             "inside or enlarge <extent>",
                              attr="X"))
         if t.surveyed is None:
             if targets.survey_accuracy is None:

@@ -15,6 +15,7 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
 from designer.project import model as m
+from designer.project.checks import plain_number
 from designer.scene.gcp_target import (
     DEFAULT_LIFT_M,
     target_clearance_m,
@@ -121,6 +122,30 @@ def build_orthophoto(texture: m.Texture, terrain: m.Terrain, base_dir: Path,
                            (e.min_X, e.min_Y, e.max_X, e.max_Y))
 
 
+#: the patterns drawn as noise, which needs this many texels a side at least
+NOISE_PATTERNS = ("grass", "soil", "gravel", "noise")
+MIN_NOISE_TEXELS = 16
+
+
+def tile_problem(width_m: float, length_m: float, repeat_x: int, repeat_y: int,
+                 texel_m: float, pattern: str) -> str:
+    """Why a procedural tile of the extent (m) over the repeats at ``texel_m`` cannot be
+    made ("" when it can): the texels of a side must be at most MAX_TEXTURE_PX and, for a
+    noise pattern, at least MIN_NOISE_TEXELS (rounded as :func:`build_texture` does). Worded
+    with the Texture panel's field names, for the GUI and the command line alike."""
+    tile_w, tile_h = width_m / repeat_x, length_m / repeat_y
+    w_px, h_px = round(tile_w / texel_m), round(tile_h / texel_m)
+    made = (f"a tile ({plain_number(tile_w)} × {plain_number(tile_h)} m: the extent "
+            f"{plain_number(width_m)} × {plain_number(length_m)} m over repeat X "
+            f"{repeat_x}, repeat Y {repeat_y}) {w_px} × {h_px} texels")
+    if max(w_px, h_px) > MAX_TEXTURE_PX:
+        return f"{made}, more than {MAX_TEXTURE_PX}; raise the texel size or repeat X/Y"
+    if pattern in NOISE_PATTERNS and min(w_px, h_px) < MIN_NOISE_TEXELS:
+        return (f"{made} of {plain_number(texel_m, 4)} m, fewer than {MIN_NOISE_TEXELS}; "
+                "lower the texel size or the repeats")
+    return ""
+
+
 def build_texture(texture: m.Texture, terrain: m.Terrain, base_dir: Path,
                   crs: str | None = None) -> np.ndarray:
     """The texture image (H, W, 3) uint8 RGB; an orthophoto's crop over the extent."""
@@ -129,15 +154,16 @@ def build_texture(texture: m.Texture, terrain: m.Terrain, base_dir: Path,
         return build_orthophoto(texture, terrain, base_dir, crs).rgb
     if isinstance(src, m.ImageTexture):
         return load_texture(base_dir / src.file)
-    tile_w = terrain.extent.width_m / texture.repeat_X
-    tile_h = terrain.extent.length_m / texture.repeat_Y
+    e = terrain.extent
+    tile_w = e.width_m / texture.repeat_X
+    tile_h = e.length_m / texture.repeat_Y
     w_px = round(tile_w / src.texel_size_m)
     h_px = round(tile_h / src.texel_size_m)
     if max(w_px, h_px) > MAX_TEXTURE_PX:
-        raise DesignerError(
-            f"procedural texture would be {w_px} x {h_px} px (tile {tile_w:g} x {tile_h:g} m at "
-            f"{src.texel_size_m} m per texel); the limit is {MAX_TEXTURE_PX} px: raise "
-            "texel-size-m or the tiling repeat")
+        # in the Texture panel's words, as it refuses such a tile where it is typed
+        raise DesignerError(f"texel size {plain_number(src.texel_size_m, 4)} m makes "
+                            + tile_problem(e.width_m, e.length_m, texture.repeat_X,
+                                           texture.repeat_Y, src.texel_size_m, src.pattern))
     if src.pattern == "checkerboard":
         return checkerboard_texture((max(2, w_px // 2 * 2), max(2, h_px // 2 * 2)), 1)
     if src.pattern in ("grass", "soil"):

@@ -14,6 +14,7 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
+from designer.project.checks import plain_number
 
 
 def rectangle(x_min_m: float, y_min_m: float, x_max_m: float, y_max_m: float) -> np.ndarray:
@@ -145,7 +146,8 @@ def inset(area, margin_m: float) -> np.ndarray:
     )
     if not ok:
         raise DesignerError(
-            f"a margin of {margin_m} m leaves nothing of this area; use a smaller margin")
+            f"a margin of {plain_number(margin_m)} m leaves nothing of this area; use a "
+            "smaller margin")
     return as_polygon(out + origin)
 
 

@@ -120,7 +120,7 @@ def random_stratified(
     if n > capacity:
         raise DesignerError(
             f"{n} GCPs cannot be {min_spacing_m:g} m apart inside an area of "
-            f"{size_m2:.0f} m^2: even a perfect packing fits at most {capacity}; "
+            f"{size_m2:.0f} m²: even a perfect packing fits at most {capacity}; "
             f"lower the number of GCPs or the minimum spacing")
     rng = np.random.default_rng(seed)
     for _ in range(max_attempts):
@@ -132,7 +132,7 @@ def random_stratified(
         return pts + origin
     raise DesignerError(
         f"could not place {n} GCPs at least {min_spacing_m:g} m apart inside an area of "
-        f"{size_m2:.0f} m^2 (a perfect packing fits at most {capacity}, random placement "
+        f"{size_m2:.0f} m² (a perfect packing fits at most {capacity}, random placement "
         f"about half of that); lower the number of GCPs or the minimum spacing")
 
 

@@ -58,3 +58,27 @@ def test_a_gcp_off_the_terrain_is_named_by_its_id_in_the_numbers_typed(qtbot, wi
     assert (f"terrain (X {num(e.min_X)} to {num(e.max_X)}, Y {num(e.min_Y)} to "
             f"{num(e.max_Y)})") in said, said
     assert "[" not in said and ".000" not in said, said
+
+
+def test_a_layout_that_cannot_be_placed_names_the_field_in_the_numbers_typed(qtbot, window):
+    w = window
+    assert w.file_actions.new("survey")  # 100 × 100 m
+    wait_idle(qtbot, w)
+    gcps = open_panel(w, "GCPs")
+    before = w.document.project
+    gcps.layout_kind.setCurrentIndex(gcps.layout_kind.findData("random"))
+    set_field(qtbot, gcps.margin, "200")
+    _apply(qtbot, gcps)
+    wait_idle(qtbot, w)
+    assert w.document.project == before
+    said = gcps.error_label.text()
+    assert said.startswith("margin 200 m: a margin of 200 m leaves nothing"), said
+    assert "200.0" not in said and said.endswith("not applied"), said
+    set_field(qtbot, gcps.margin, "10")
+    set_field(qtbot, gcps.spacing, "60")
+    _apply(qtbot, gcps)
+    wait_idle(qtbot, w)
+    assert w.document.project == before
+    said = gcps.error_label.text()
+    assert said.startswith("min spacing (random) 60 m: 9 GCPs cannot be 60 m apart"), said
+    assert "m²" in said and "m^2" not in said and said.endswith("not applied"), said

@@ -22,16 +22,27 @@ def _undo(qtbot, w) -> None:
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
 
 
+def _break_texture(qtbot, w) -> None:
+    """An 1100 m wide terrain makes 220 m tiles of 8800 texels: the texture cannot be
+    made. The Terrain panel refuses to type such an extent, so it comes as a project
+    opened that way would (through the editor, undoable)."""
+    from dataclasses import replace
+
+    p = w.document.project
+    e = p.scene.terrain.extent
+    terrain = replace(p.scene.terrain, extent=replace(e, max_X=e.min_X + 1100))
+    w.editor.edit(replace(p, scene=replace(p.scene, terrain=terrain)), "Terrain extent max X")
+    wait_idle(qtbot, w)
+
+
 def test_a_texture_error_leaves_the_status_bar_when_fixed(qtbot, window):
     w = window
     assert w.file_actions.new("survey")  # 100 × 100 m, repeat 5 × 5, 0.025 m texels
     wait_idle(qtbot, w)
     terrain = open_panel(w, "Terrain")
     e = w.document.project.scene.terrain.extent
-    # an 1100 m wide terrain makes 220 m tiles of 8800 texels: the texture cannot be made
     max_x = field(terrain, QDoubleSpinBox, "scene.terrain.extent.max_X")
-    set_field(qtbot, max_x, num(e.min_X + 1100))
-    wait_idle(qtbot, w)
+    _break_texture(qtbot, w)
     assert w.sync.errors.get("texture"), w.sync.errors
     assert w.statusBar().currentMessage().startswith("texture:"), \
         w.statusBar().currentMessage()
@@ -46,11 +57,9 @@ def test_an_undone_error_leaves_the_status_bar_but_not_a_later_message(qtbot, wi
     w = window
     assert w.file_actions.new("survey")
     wait_idle(qtbot, w)
-    terrain = open_panel(w, "Terrain")
+    open_panel(w, "Terrain")
     e = w.document.project.scene.terrain.extent
-    max_x = field(terrain, QDoubleSpinBox, "scene.terrain.extent.max_X")
-    set_field(qtbot, max_x, num(e.min_X + 1100))
-    wait_idle(qtbot, w)
+    _break_texture(qtbot, w)
     assert w.sync.errors.get("texture"), w.sync.errors
     status = w.statusBar().currentMessage()
     assert status.startswith("texture:"), status
@@ -60,8 +69,7 @@ def test_an_undone_error_leaves_the_status_bar_but_not_a_later_message(qtbot, wi
     assert not w.sync.errors.get("texture")
     assert w.statusBar().currentMessage() != status, status
     # once more, with a later message about something else: that one stays
-    set_field(qtbot, max_x, num(e.min_X + 1100))
-    wait_idle(qtbot, w)
+    _break_texture(qtbot, w)
     w.statusBar().showMessage("saved elsewhere", 8000)
     _undo(qtbot, w)
     wait_idle(qtbot, w)

@@ -84,3 +84,40 @@ def test_a_terrain_that_cannot_be_made_is_named_in_the_flight_panel(qtbot, windo
     text = flight.error_label.text()
     assert "mesh" not in text, text
     assert "Terrain panel" in text, text
+
+
+def test_an_extent_that_makes_no_texture_is_refused_where_it_is_typed(qtbot, window):
+    w = window
+    terrain = _survey(qtbot, w)  # 100 × 100 m, repeat 5 × 5, 0.025 m texels
+    e = w.document.project.scene.terrain.extent
+    before = w.document.project
+    max_x = field(terrain, QDoubleSpinBox, "scene.terrain.extent.max_X")
+    typed = num(e.min_X + 1100)
+    message = _refused(qtbot, w, max_x, typed, before)
+    assert (f"max X ({typed} m) would break the texture: texel size 0.025 m makes a tile "
+            "(220 × 20 m: the extent 1100 × 100 m over repeat X 5, repeat Y 5) 8800 × 800 "
+            "texels, more than 8192; raise the texel size or repeat X/Y in the Texture panel "
+            "first") in message, message
+    assert message.endswith("not applied"), message
+    assert "texel-size-m" not in message and " px" not in message, message
+
+
+def test_an_extent_that_leaves_gcps_off_the_terrain_is_refused(qtbot, window):
+    w = window
+    terrain = _survey(qtbot, w)
+    e = w.document.project.scene.terrain.extent
+    before = w.document.project
+    off = [t for t in before.targets if t.true.X > e.min_X + 60]
+    assert off
+    max_x = field(terrain, QDoubleSpinBox, "scene.terrain.extent.max_X")
+    typed = num(e.min_X + 60)
+    message = _refused(qtbot, w, max_x, typed, before)
+    first = off[0]
+    assert (f"max X ({typed} m) would leave {len(off)} GCPs off the terrain ({first.id} at "
+            f"X {num(first.true.X)}, Y {num(first.true.Y)}") in message, message
+    assert "move them in the GCPs panel first" in message, message
+    # an extent that keeps every GCP and the texture is applied
+    set_field(qtbot, max_x, num(e.max_X + 100))
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.terrain.extent.max_X == e.max_X + 100
+    assert not max_x.property("invalid")

@@ -87,3 +87,18 @@ def test_new_and_check_as_separate_processes(tmp_path):
     checked = run("check", "x.xml")
     assert checked.returncode == 0, checked.stderr
     assert checked.stdout.startswith("x.xml: valid designer project 1.0 — terrain procedural")
+
+
+def test_a_gcp_outside_a_utm_extent_is_reported_in_plain_metres(tmp_path, capsys):
+    path = tmp_path / "s.xml"
+    main(["new", str(path), "--template", "survey"])
+    text = path.read_text()
+    first = '<true X="511962.0" Y="5405962.0"/>'
+    assert first in text
+    path.write_text(text.replace(first, '<true X="512100.5" Y="5405962.0"/>', 1))
+    capsys.readouterr()
+    assert main(["check", str(path)]) == 2
+    said = "".join(capsys.readouterr())
+    assert "GCP 'GCP01' at X 512100.5, Y 5405962 lies outside" in said, said
+    assert "(X 511950..512050, Y 5405950..5406050)" in said, said
+    assert "e+0" not in said, said

@@ -78,7 +78,7 @@ def test_gcp_outside_terrain_and_duplicates():
                                                            p.scene.targets.survey_accuracy))
     found = messages(dataclasses.replace(p, scene=scene))
     assert any("GCP id 'GCP01' is used by 2 targets" in f for f in found)
-    assert any("GCP 'GCP03' at X 0.000, Y 0.000 lies outside the terrain extent" in f
+    assert any("GCP 'GCP03' at X 0, Y 0 lies outside the terrain extent" in f
                for f in found)
 
 

@@ -169,3 +169,25 @@ def test_bad_texture_files(tmp_path, name, content, message):
 def test_write_refuses_non_images(tmp_path):
     with pytest.raises(DesignerError, match="must be"):
         write_texture_png(np.zeros((4, 4, 3)), tmp_path / "f.png")
+
+
+def test_a_tile_too_large_is_named_in_the_texture_panels_words_and_metres(tmp_path):
+    import dataclasses
+
+    from designer.project import template
+    from designer.scene.build import build_texture
+
+    p = template("survey").project  # 100 x 100 m, repeat 5 x 5, 0.025 m texels
+    e = p.scene.terrain.extent
+    terrain = dataclasses.replace(p.scene.terrain,
+                                  extent=dataclasses.replace(e, max_X=e.min_X + 1100))
+    texture = dataclasses.replace(p.scene.texture, repeat_X=1, repeat_Y=1,
+                                  source=dataclasses.replace(p.scene.texture.source,
+                                                             texel_size_m=0.125))
+    with pytest.raises(DesignerError) as error:
+        build_texture(texture, terrain, tmp_path)
+    said = str(error.value)
+    assert ("texel size 0.125 m makes a tile (1100 × 100 m: the extent 1100 × 100 m over "
+            "repeat X 1, repeat Y 1) 8800 × 800 texels, more than 8192; raise the texel size "
+            "or repeat X/Y") in said, said
+    assert "texel-size-m" not in said and " px" not in said, said

@@ -25,7 +25,7 @@ from PySide6.QtWidgets import (
 from designer.errors import DesignerError
 from designer.gui import edits, wording
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, ispin
+from designer.gui.widgets import combo, dspin, form, format_number, ispin
 from designer.project import model as m
 
 COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
@@ -333,20 +333,24 @@ class GcpPanel(Panel):
                 f"of which check points: {wording.count(self.n_check.value(), 'check point')}"
                 f" of {wording.count(n, 'GCP')}; give at most {n}; not applied")
             return
+        # each step's failure is named from the field it came from, in the number typed
+        step = f"margin {format_number(self.margin.value(), 2)} m"
         try:
             if kind == "grid":
                 nx = int(np.ceil(np.sqrt(n)))
                 xy = gcp_layout.grid(nx, int(np.ceil(n / nx)), area, self.margin.value())[:n]
             elif kind == "random":
                 inner = survey_area.inset(area, self.margin.value())
+                step = f"min spacing (random) {format_number(self.spacing.value(), 2)} m"
                 xy = gcp_layout.random_stratified(n, inner, self.spacing.value(),
                                                   self.layout_seed.value())
             else:
                 xy = gcp_layout.perimeter_and_centre(n, area, self.margin.value())
+            step = f"GCPs {n}"
             roles = gcp_layout.assign_roles(len(xy), self.n_check.value(),
                                             pattern="interleaved")
         except DesignerError as error:
-            self.error_label.setText(str(error))
+            self.error_label.setText(f"{step}: {error}; not applied")
             return
         self.error_label.setText("")
         self.editor.edit(edits.layout_targets(project, xy, roles, self.size.value()),

@@ -181,13 +181,43 @@ class TerrainPanel(Panel):
                     f"({format_number(other, 3)} m)")
         spacing = self._spacing()
         size = abs(other - value)
-        if spacing is None or not grid_problem(size, spacing):
+        if spacing is not None and grid_problem(size, spacing):
+            side = "width" if axis == "X" else "length"
+            return (f"{label} ({format_number(value, 3)} m) leaves a {side} of "
+                    f"{format_number(size, 3)} m, not a whole number of "
+                    f"{format_number(spacing, 3)} m grid cells; change the grid spacing "
+                    "first or keep whole cells")
+        # what the new extent would break in other panels, refused here rather than
+        # reported there afterwards
+        extent = dataclasses.replace(e, **{name: value})
+        typed = f"{label} ({format_number(value, 3)} m)"
+        return self._texture_broken(extent, typed) or self._gcps_off(extent, typed)
+
+    def _texture_broken(self, extent: m.Extent, typed: str) -> str:
+        from designer.scene.build import tile_problem  # the scene builder loads lazily
+
+        tex = self.project.scene.texture
+        if not isinstance(tex.source, m.ProceduralTexture):
             return ""
-        side = "width" if axis == "X" else "length"
-        return (f"{label} ({format_number(value, 3)} m) leaves a {side} of "
-                f"{format_number(size, 3)} m, not a whole number of "
-                f"{format_number(spacing, 3)} m grid cells; change the grid spacing first "
-                "or keep whole cells")
+        texel = tex.source.texel_size_m
+        reason = tile_problem(extent.width_m, extent.length_m, tex.repeat_X, tex.repeat_Y,
+                              texel, tex.source.pattern)
+        if not reason:
+            return ""
+        return (f"{typed} would break the texture: texel size {format_number(texel, 4)} m "
+                f"makes {reason} in the Texture panel first")
+
+    def _gcps_off(self, extent: m.Extent, typed: str) -> str:
+        off = [t for t in self.project.targets if not extent.contains(t.true.X, t.true.Y)]
+        if not off:
+            return ""
+        named = ", ".join(f"{t.id} at X {format_number(t.true.X, 3)}, Y "
+                          f"{format_number(t.true.Y, 3)}" for t in off[:3])
+        more = f" and {len(off) - 3} more" if len(off) > 3 else ""
+        count = "1 GCP" if len(off) == 1 else f"{len(off)} GCPs"
+        return (f"{typed} would leave {count} off the terrain ({named}{more}); move "
+                f"{'it' if len(off) == 1 else 'them'} in the GCPs panel first or keep the "
+                f"extent around {'it' if len(off) == 1 else 'them'}")
 
     def _spacing_problem(self, value: float) -> str:
         """Why the procedural grid spacing cannot be ``value`` over the extent."""

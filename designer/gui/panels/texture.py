@@ -19,31 +19,6 @@ from designer.project import model as m
 from designer.survey.plan_report import texture_repeat_warning
 
 PATTERNS = ["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
-#: the patterns drawn as noise, which needs this many texels a side at least
-NOISE_PATTERNS = ("grass", "soil", "gravel", "noise")
-MIN_NOISE_TEXELS = 16
-
-
-def tile_problem(width_m: float, length_m: float, repeat_x: int, repeat_y: int,
-                 texel_m: float, pattern: str) -> str:
-    """Why a procedural tile of the extent (m) over the repeats at ``texel_m`` cannot be
-    made ("" when it can): the texels of a side must be at most the texture limit and,
-    for a noise pattern, at least MIN_NOISE_TEXELS (as the scene builder rounds them)."""
-    from designer.scene.build import MAX_TEXTURE_PX
-
-    tile_w, tile_h = width_m / repeat_x, length_m / repeat_y
-    w_px, h_px = round(tile_w / texel_m), round(tile_h / texel_m)
-    made = (f"a tile ({format_number(tile_w, 3)} × {format_number(tile_h, 3)} m: the extent "
-            f"{format_number(width_m, 3)} × {format_number(length_m, 3)} m over repeat X "
-            f"{repeat_x}, repeat Y {repeat_y}) {w_px} × {h_px} texels")
-    if max(w_px, h_px) > MAX_TEXTURE_PX:
-        return (f"{made}, more than {MAX_TEXTURE_PX}; raise the texel size or the repeats")
-    if pattern in NOISE_PATTERNS and min(w_px, h_px) < MIN_NOISE_TEXELS:
-        return (f"{made} of {format_number(texel_m, 4)} m, fewer than {MIN_NOISE_TEXELS}; "
-                "lower the texel size or the repeats")
-    return ""
-
-
 def rgb_pixmap(rgb: np.ndarray, side_px: int) -> QPixmap:
     """A QPixmap of an (H, W, 3) uint8 image scaled to fit ``side_px``."""
     step = max(1, math.ceil(max(rgb.shape[:2]) / (2 * side_px)))
@@ -133,6 +108,8 @@ class TexturePanel(Panel):
     def _tile_problem(self, texel_m: float | None = None, repeat_x: int | None = None,
                       repeat_y: int | None = None) -> str:
         """Why the typed value (one of the three) cannot be, named from its field."""
+        from designer.scene.build import tile_problem  # the scene builder loads lazily
+
         tex, e = self.project.scene.texture, self.project.scene.terrain.extent
         if not isinstance(tex.source, m.ProceduralTexture):
             return ""
