@@ -11,7 +11,7 @@ from designer.project.problems import Issue
 MAX_ABS_COORDINATE_M = 1e8
 #: generated texture tiles have this many texels per side, at least and at most
 MIN_TEXTURE_TEXELS = 16
-MAX_TEXTURE_TEXELS = 16384
+MAX_TEXTURE_TEXELS = 8192
 #: largest side of a texture variation image (px, designer.scene.texture_variation)
 VARIATION_MAX_PX = 2048
 #: largest procedural terrain grid (nodes), and the "whole number of cells" tolerance

@@ -15,7 +15,7 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.checks import plain_number
+from designer.project.checks import MAX_TEXTURE_TEXELS, plain_number
 from designer.scene.gcp_target import (
     DEFAULT_LIFT_M,
     target_clearance_m,
@@ -31,7 +31,7 @@ from designer.scene.texture import checkerboard_texture, load_texture, procedura
 from designer.scene.texture_variation import VariationImages, variation_images
 
 #: the largest procedural texture side generated (px)
-MAX_TEXTURE_PX = 8192
+MAX_TEXTURE_PX = MAX_TEXTURE_TEXELS  # one limit: designer check refuses what is not made
 
 
 @dataclass(frozen=True)

@@ -224,7 +224,7 @@ def projects(draw) -> m.Project:
         st.builds(m.ProceduralTexture,
                   st.sampled_from(["grass", "soil", "gravel", "noise", "checkerboard",
                                    "slanted-edge"]),
-                  seeds, reals(17, 16000).map(lambda n: tile / n)),
+                  seeds, reals(17, 8000).map(lambda n: tile / n)),
         st.builds(m.OrthophotoTexture, paths)))
     if isinstance(source, m.OrthophotoTexture):
         repeat_X = repeat_Y = 1  # an orthophoto is placed by its geotransform, never tiled

@@ -102,3 +102,20 @@ def test_a_gcp_outside_a_utm_extent_is_reported_in_plain_metres(tmp_path, capsys
     assert "GCP 'GCP01' at X 512100.5, Y 5405962 lies outside" in said, said
     assert "(X 511950..512050, Y 5405950..5406050)" in said, said
     assert "e+0" not in said, said
+
+
+def test_a_texture_tile_the_scene_builder_refuses_is_refused_by_check(tmp_path, capsys):
+    """The example's 20 m tiles at 2.4 mm texels: 8333 texels a side, more than a texture
+    the scene builder makes. 'designer check' says so (the limit is the builder's), not
+    the render afterwards."""
+    from designer.scene.build import MAX_TEXTURE_PX
+
+    path = tmp_path / "s.xml"
+    main(["new", str(path), "--template", "survey"])
+    text = path.read_text()
+    assert 'texel-size-m="0.025"' in text
+    path.write_text(text.replace('texel-size-m="0.025"', 'texel-size-m="0.0024"', 1))
+    capsys.readouterr()
+    assert main(["check", str(path)]) == 2
+    said = "".join(capsys.readouterr())
+    assert f"more than {MAX_TEXTURE_PX}" in said and "8333" in said, said
