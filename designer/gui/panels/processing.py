@@ -14,10 +14,21 @@ import dataclasses
 from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 
 from designer.gui import edits
+from designer.gui.field_rules import ruled_ispin
 from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
+from designer.gui.widgets import (
+    INVALID_STYLE,
+    combo,
+    declared_field,
+    dspin,
+    form,
+    ispin,
+    model_getter,
+    readout,
+)
 from designer.project import model as m
 from designer.project.processing import POSITION_PRIOR_SIGMAS_M
+from designer.project.validate_processing import MIN_SIMILARITY_CONTROL
 
 P = "processing"
 CAL, PRE, GCP, CTL, PRIOR, MATCH = (f"{P}.calibration", f"{P}.calibration.pre_calibration_error",
@@ -46,8 +57,12 @@ def _sigma_or_default(default_text: str):
     return box
 
 
+def _parse_ids(text: str) -> tuple[str, ...]:
+    return tuple(i.strip() for i in text.replace(";", ",").split(",") if i.strip())
+
+
 def _set_ids(project: m.Project, text: str) -> m.Project:
-    ids = tuple(i.strip() for i in text.replace(";", ",").split(",") if i.strip())
+    ids = _parse_ids(text)
     control = project.processing.gcps.control
     return edits.replace_path(project, CTL, dataclasses.replace(
         control, ids=ids, count=None if ids else (control.count or len(project.targets))))
@@ -98,11 +113,11 @@ class ProcessingPanel(Panel):
             CTL, m.ControlSelection(count=max(3, len(self.project.targets) // 2)) if on
             else None, "control selection"))
         f.addRow(self.subset)
-        ids = QLineEdit()
+        self.ids = ids = QLineEdit()
         ids.setPlaceholderText("GCP01, GCP04, …")
-        f.addRow("by id", b.bind(ids, (model_getter(f"{CTL}.ids", ", ".join), _set_ids),
-                                 "Control ids"))
-        count = ispin(0, 10000)
+        f.addRow("by id", b.bind(ids, (model_getter(f"{CTL}.ids", ", ".join),
+                                       self._checked_ids), "Control ids"))
+        count = ruled_ispin(self._count_problem, 0, 10000)
         count.setSpecialValueText("by id")
         f.addRow("or a count", b.bind(count, (model_getter(
             f"{CTL}.count", lambda v: 0 if v is None else v), _set_count), "Control count"))
@@ -114,15 +129,18 @@ class ProcessingPanel(Panel):
         prior = QGroupBox("camera positions measured in flight")
         f = form(prior)
         f.addRow("prior", b.bind(combo(PRIORS), f"{PRIOR}.mode", "Position prior"))
+        self.prior_fields = []
         for label, name in (("σ horizontal", "sigma_horizontal_m"),
                             ("σ vertical", "sigma_vertical_m")):
-            f.addRow(label, b.bind(_sigma_or_default("the mode's default"), (
+            self.prior_fields.append(b.bind(_sigma_or_default("the mode's default"), (
                 model_getter(f"{PRIOR}.{name}", lambda v: 0.0 if v is None else v),
                 lambda p, v, n=name: edits.replace_path(p, f"{PRIOR}.{n}", v or None)),
                 f"Position prior {label}"))
+            f.addRow(label, self.prior_fields[-1])
         self.prior_sigmas = readout()
         f.addRow("in use", self.prior_sigmas)
-        f.addRow("seed", b.bind(_seed(), f"{PRIOR}.seed", "Position prior seed"))
+        self.prior_fields.append(b.bind(_seed(), f"{PRIOR}.seed", "Position prior seed"))
+        f.addRow("seed", self.prior_fields[-1])
         layout.addWidget(prior)
 
         match = QGroupBox("matching")
@@ -146,6 +164,7 @@ class ProcessingPanel(Panel):
 
     def refresh(self) -> None:
         super().refresh()
+        self._show_ids_verdict("")  # the field shows the project's ids again
         p = self.project.processing
         for box, on in ((self.enabled, p is not None),
                         (self.pre, p is not None and p.calibration.pre_calibration_error
@@ -156,6 +175,9 @@ class ProcessingPanel(Panel):
             box.blockSignals(blocked)
         for group in self.groups:
             group.setEnabled(p is not None)
+        # the prior's σ and seed mean nothing while no positions are measured
+        for box in self.prior_fields:
+            box.setEnabled(p is not None and p.position_prior.mode != "none")
         if p is None or p.position_prior.mode == "none":
             self.prior_sigmas.setText("–")
         else:
@@ -163,6 +185,50 @@ class ProcessingPanel(Panel):
             dh, dv = POSITION_PRIOR_SIGMAS_M[p.position_prior.mode]
             self.prior_sigmas.setText(f"{h:g} m horizontal, {v:g} m vertical (the mode's "
                                       f"default: {dh:g} m, {dv:g} m)")
+
+    def _control_problem(self, n: int, verb: str) -> str:
+        """Why ``n`` control GCPs are too few for the GCP mode ("" when they are not)."""
+        p = self.project.processing
+        if p is not None and p.gcps.mode == "similarity" and 0 < n < MIN_SIMILARITY_CONTROL:
+            return (f"a similarity after SfM needs at least {MIN_SIMILARITY_CONTROL}; {verb} "
+                    "more or let the GCPs enter in the bundle adjustment")
+        return ""
+
+    def _count_problem(self, count: float) -> str:
+        n, total = int(count), len(self.project.targets)
+        if n > total:
+            return (f"control count {n} is more than the project's {total} GCPs; choose "
+                    f"1 to {total}" if total else
+                    f"control count {n}: the project has no GCPs; add them in the GCPs panel "
+                    "first")
+        reason = self._control_problem(n, "choose")
+        return f"control count {n}, but {reason}" if reason else ""
+
+    def _ids_problem(self, ids: tuple[str, ...]) -> str:
+        known = [t.id for t in self.project.targets]
+        unknown = [i for i in ids if i not in known]
+        if unknown:
+            have = ", ".join(known[:2] + ["…"] + known[-1:] if len(known) > 4 else known)
+            return (f"control GCPs: {unknown[0]} is not a GCP of the project "
+                    f"({have or 'it has none'})")
+        twice = [i for i in dict.fromkeys(ids) if ids.count(i) > 1]
+        if twice:
+            return f"control GCPs: {twice[0]} is listed twice; list each once"
+        reason = self._control_problem(len(ids), "name")
+        return f"control GCPs: {len(ids)} GCPs, but {reason}" if reason else ""
+
+    def _checked_ids(self, project: m.Project, text: str) -> m.Project:
+        """The project with control ids ``text``, or unchanged (the field red, saying
+        why) when they name no GCP or too few for the GCP mode."""
+        reason = self._ids_problem(_parse_ids(text))
+        self._show_ids_verdict(f"{reason}; not applied" if reason else "")
+        return project if reason else _set_ids(project, text)
+
+    def _show_ids_verdict(self, message: str) -> None:
+        self.ids.setProperty("invalid", bool(message))
+        self.ids.setStyleSheet(INVALID_STYLE if message else "")
+        self.ids.setToolTip(message)
+        self._field_verdict(self.ids, message)
 
     def _toggle_processing(self, on: bool) -> None:
         self.editor.edit(dataclasses.replace(
