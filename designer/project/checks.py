@@ -65,6 +65,12 @@ def plain_m(value: float) -> str:
     return plain_number(value, 3)
 
 
+def plain_extent(extent: m.Extent) -> str:
+    """The terrain extent as a user reads it: ``X 511950..512050, Y 5405950..5406050``."""
+    return (f"X {plain_m(extent.min_X)}..{plain_m(extent.max_X)}, "
+            f"Y {plain_m(extent.min_Y)}..{plain_m(extent.max_Y)}")
+
+
 def is_ok(value: float | None) -> bool:
     return value is not None and math.isfinite(value) and abs(value) <= MAX_ABS_COORDINATE_M
 

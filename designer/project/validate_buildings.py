@@ -6,7 +6,7 @@ import math
 from pathlib import Path
 
 from designer.project import model as m
-from designer.project.checks import file_issue
+from designer.project.checks import file_issue, plain_extent, plain_m
 from designer.project.declare import declared_field
 from designer.project.files import mesh_problem, resolve
 from designer.project.geometry import (
@@ -70,8 +70,9 @@ def _mesh_building(b: m.Building, extent: m.Extent, base: Path | None) -> list[I
         out.append(Issue(b, "building", f"mesh building '{b.id}' needs X and Y (world m) of "
                          "its origin", attr="X"))
     elif not extent.contains(p.X, p.Y):
-        out.append(Issue(b, "building", f"building '{b.id}' at X {p.X:.3f}, Y {p.Y:.3f} lies "
-                         "outside the terrain extent; move it inside or enlarge <extent>",
+        out.append(Issue(b, "building", f"building '{b.id}' at X {plain_m(p.X)}, Y {plain_m(p.Y)} "
+                         f"lies outside the terrain extent ({plain_extent(extent)}); move it "
+                         "inside or enlarge <extent>",
                          attr="X"))
     if base is not None:
         out += file_issue(b, "building", mesh_problem(resolve(base, b.file)))
@@ -138,8 +139,9 @@ def _footprint_issue(b: m.Building, xy: list[tuple[float, float]],
         return zero
     for i, (x, y) in enumerate(xy):
         if not extent.contains(x, y):
-            return issue(f"vertex {i + 1} (X {x:.3f}, Y {y:.3f}) lies outside the terrain "
-                         "extent; move it inside or enlarge <extent>")
+            return issue(f"vertex {i + 1} (X {plain_m(x)}, Y {plain_m(y)}) lies outside the "
+                         f"terrain extent ({plain_extent(extent)}); move it inside or "
+                         "enlarge <extent>")
     return None
 
 

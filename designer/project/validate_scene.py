@@ -16,6 +16,7 @@ from designer.project.checks import (
     file_issue,
     finite_issues,
     is_ok,
+    plain_extent,
     plain_m,
     sigma_issues,
 )
@@ -170,9 +171,8 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
             out.append(Issue(t, "target", "size-m must be > 0 m", attr="size-m"))
         if is_ok(t.true.X) and is_ok(t.true.Y) and not extent.contains(t.true.X, t.true.Y):
             out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {plain_m(t.true.X)}, Y "
-                             f"{plain_m(t.true.Y)} lies outside the terrain extent (X "
-                             f"{plain_m(extent.min_X)}..{plain_m(extent.max_X)}, Y "
-                             f"{plain_m(extent.min_Y)}..{plain_m(extent.max_Y)}); move it "
+                             f"{plain_m(t.true.Y)} lies outside the terrain extent "
+                             f"({plain_extent(extent)}); move it "
                              "inside or enlarge <extent>",
                              attr="X"))
         if t.surveyed is None:

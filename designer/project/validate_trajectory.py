@@ -8,7 +8,14 @@ from collections import Counter
 
 from designer.core.rig import mount_tilt_deg
 from designer.project import model as m
-from designer.project.checks import BIT_DEPTHS, EXTENSIONS, finite_issues, is_ok
+from designer.project.checks import (
+    BIT_DEPTHS,
+    EXTENSIONS,
+    finite_issues,
+    is_ok,
+    plain_extent,
+    plain_m,
+)
 from designer.project.geometry import (
     polygon_area,
     polygon_is_degenerate,
@@ -233,8 +240,9 @@ def _area(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     extent = project.scene.terrain.extent
     for i, (x, y) in enumerate(vertices):
         if not extent.contains(x, y):
-            out.append(Issue(fp, "vertex", f"vertex {i + 1} (X {x:.3f}, Y {y:.3f}) lies outside "
-                             "the terrain extent; move it inside or enlarge <extent>",
+            out.append(Issue(fp, "vertex", f"vertex {i + 1} (X {plain_m(x)}, Y {plain_m(y)}) lies "
+                             f"outside the terrain extent ({plain_extent(extent)}); move it "
+                             "inside or enlarge <extent>",
                              key=f"vertex:{i}", attr="X"))
     return out
 

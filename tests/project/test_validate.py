@@ -148,3 +148,26 @@ def test_texture_variation_ranges(changes, expected):
     bad = dataclasses.replace(tex, variation=dataclasses.replace(tex.variation, **changes))
     p = dataclasses.replace(p, scene=dataclasses.replace(p.scene, texture=bad))
     assert any(msg.startswith(expected) for msg in messages(p)), messages(p)
+
+
+def test_building_and_area_vertices_outside_the_terrain_read_in_plain_numbers():
+    p = survey()  # extent X 511950..512050, Y 5405950..5406050
+    square = tuple(m.PathPoint(X, Y) for X, Y in ((512000.0, 5406000.0), (512060.5, 5406000.0),
+                                                  (512060.5, 5406010.0),
+                                                  (512000.0, 5406010.0)))
+    mesh = m.Building("shed", file="shed.obj", position=m.PathPoint(511940.25, 5406000.0))
+    scene = dataclasses.replace(p.scene, buildings=(m.Building("hall", footprint=square),
+                                                    mesh))
+    area = ((511965.0, 5405965.0), (512070.0, 5405965.0), (512035.0, 5406035.0),
+            (511965.0, 5406035.0))
+    trajectory = dataclasses.replace(p.trajectory, flight_plan=dataclasses.replace(
+        p.trajectory.flight_plan, area=area))
+    found = messages(dataclasses.replace(p, scene=scene, trajectory=trajectory))
+    extent = "(X 511950..512050, Y 5405950..5406050)"
+    assert any(f"vertex 2 (X 512060.5, Y 5406000) lies outside the terrain extent {extent}"
+               in f for f in found), found
+    assert any(f"building 'shed' at X 511940.25, Y 5406000 lies outside the terrain extent "
+               f"{extent}" in f for f in found), found
+    assert any(f"vertex 2 (X 512070, Y 5405965) lies outside the terrain extent {extent}"
+               in f for f in found), found
+    assert not any(".000" in f or "e+06" in f for f in found), found
