@@ -121,3 +121,36 @@ def test_an_extent_that_leaves_gcps_off_the_terrain_is_refused(qtbot, window):
     wait_idle(qtbot, w)
     assert w.document.project.scene.terrain.extent.max_X == e.max_X + 100
     assert not max_x.property("invalid")
+
+
+def test_an_extent_that_leaves_a_building_or_the_flight_area_off_is_refused(qtbot, window):
+    from dataclasses import replace
+
+    import designer.project.model as m
+
+    w = window
+    terrain = _survey(qtbot, w)  # flight area X 511965..512035, Y 5405965..5406035
+    project = w.document.project
+    hall = m.Building("hall", footprint=tuple(m.PathPoint(X, Y) for X, Y in (
+        (512040.0, 5406000.0), (512045.5, 5406000.0), (512045.5, 5406010.0),
+        (512040.0, 5406010.0))))
+    scene = replace(project.scene, buildings=(hall,),
+                    targets=replace(project.scene.targets, targets=()))
+    w.editor.edit(replace(project, scene=scene), "hall, no GCPs")
+    wait_idle(qtbot, w)
+    before = w.document.project
+    max_x = field(terrain, QDoubleSpinBox, "scene.terrain.extent.max_X")
+    message = _refused(qtbot, w, max_x, "512042", before)
+    assert ("max X (512042 m) would leave building hall off the terrain (its corner at "
+            "X 512045.5, Y 5406000); move it in the Buildings panel first or keep the extent "
+            "around it; not applied") in message, message
+    min_y = field(terrain, QDoubleSpinBox, "scene.terrain.extent.min_Y")
+    message = _refused(qtbot, w, min_y, "5405970", before)
+    assert ("min Y (5405970 m) would leave 2 corners of the flight area off the terrain "
+            "(corner 1 at X 511965, Y 5405965; corner 2 at X 512035, Y 5405965); move them "
+            "in the Flight panel first or keep the extent around them; not applied"
+            ) in message, message
+    # an extent around both is applied
+    set_field(qtbot, min_y, "5405960")
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.terrain.extent.min_Y == 5405960

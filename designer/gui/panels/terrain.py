@@ -191,7 +191,8 @@ class TerrainPanel(Panel):
         # reported there afterwards
         extent = dataclasses.replace(e, **{name: value})
         typed = f"{label} ({format_number(value, 3)} m)"
-        return self._texture_broken(extent, typed) or self._gcps_off(extent, typed)
+        return (self._texture_broken(extent, typed) or self._gcps_off(extent, typed)
+                or self._buildings_off(extent, typed) or self._area_off(extent, typed))
 
     def _texture_broken(self, extent: m.Extent, typed: str) -> str:
         from designer.scene.build import tile_problem  # the scene builder loads lazily
@@ -218,6 +219,37 @@ class TerrainPanel(Panel):
         return (f"{typed} would leave {count} off the terrain ({named}{more}); move "
                 f"{'it' if len(off) == 1 else 'them'} in the GCPs panel first or keep the "
                 f"extent around {'it' if len(off) == 1 else 'them'}")
+
+    def _buildings_off(self, extent: m.Extent, typed: str) -> str:
+        """The first building a footprint corner (or a mesh's origin) of which ``extent``
+        would leave off the terrain, as the checks would report it afterwards."""
+        for b in self.project.scene.buildings:
+            points = b.footprint or ((b.position,) if b.position is not None else ())
+            for p in points:
+                if not extent.contains(p.X, p.Y):
+                    where = "its corner" if b.footprint else "its origin"
+                    return (f"{typed} would leave building {b.id} off the terrain ({where} "
+                            f"at X {format_number(p.X, 3)}, Y {format_number(p.Y, 3)}); "
+                            "move it in the Buildings panel first or keep the extent around "
+                            "it")
+        return ""
+
+    def _area_off(self, extent: m.Extent, typed: str) -> str:
+        plan = self.project.trajectory.flight_plan
+        if plan is None:
+            return ""
+        off = [(i + 1, x, y) for i, (x, y) in enumerate(plan.area)
+               if not extent.contains(x, y)]
+        if not off:
+            return ""
+        named = "; ".join(f"corner {i} at X {format_number(x, 3)}, Y {format_number(y, 3)}"
+                          for i, x, y in off[:3])
+        more = f" and {len(off) - 3} more" if len(off) > 3 else ""
+        one = len(off) == 1
+        count = "1 corner" if one else f"{len(off)} corners"
+        return (f"{typed} would leave {count} of the flight area off the terrain ({named}"
+                f"{more}); move {'it' if one else 'them'} in the Flight panel first or keep "
+                f"the extent around {'it' if one else 'them'}")
 
     def _spacing_problem(self, value: float) -> str:
         """Why the procedural grid spacing cannot be ``value`` over the extent."""
