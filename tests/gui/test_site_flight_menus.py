@@ -109,6 +109,7 @@ def test_import_flight_from_images_replays_the_poses_and_undoes(qtbot, window, t
 
     # one undo step brings the planned flight back
     w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)  # under load a key sent before is lost
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     wait_idle(qtbot, w)
     assert w.document.project == planned
