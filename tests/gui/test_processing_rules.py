@@ -96,3 +96,43 @@ def test_the_prior_sigmas_are_off_while_the_prior_is_not_used(qtbot, window):
     prior.setCurrentIndex(prior.findData("none"))
     wait_idle(qtbot, w)
     assert not any(b.isEnabled() for b in (*sigmas, seed))
+
+
+def _choose(qtbot, box: QComboBox, data: str) -> None:
+    box.setFocus()
+    for _ in range(box.currentIndex()):  # up to the first entry, then down to ``data``
+        qtbot.keyClick(box, Qt.Key.Key_Up)
+    for _ in range(box.count()):
+        if box.currentData() == data:
+            return
+        qtbot.keyClick(box, Qt.Key.Key_Down)
+    assert box.currentData() == data, [box.itemData(i) for i in range(box.count())]
+
+
+def test_rolling_shutter_compensation_is_set_in_the_panel_and_needs_a_rolling_camera(
+        qtbot, window):
+    """The rolling-shutter processing (`<calibration rolling-shutter>`, the study factor
+    rolling-shutter-processing) has its control in the Processing panel; asking for
+    compensation while no camera of the project reads its rows out says so, and points
+    to the Camera panel's readout, which clears it."""
+    w = window
+    assert w.file_actions.new("survey")
+    wait_idle(qtbot, w)
+    panel = open_panel(w, "Processing")
+    qtbot.mouseClick(panel.enabled, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    box = field(w, QComboBox, "processing.calibration.rolling_shutter")
+    _choose(qtbot, box, "compensate")
+    wait_idle(qtbot, w)
+    assert w.document.project.processing.calibration.rolling_shutter == "compensate"
+    said = panel.rolling_note.text()
+    assert "no camera" in said and "Camera panel" in said, said
+    assert "<" not in said and "readout-s" not in said, said
+    camera = open_panel(w, "Camera")
+    readout = field(camera, QDoubleSpinBox, "Rolling-shutter readout")
+    set_field(qtbot, readout, "0.02")
+    wait_idle(qtbot, w)
+    assert panel.rolling_note.text() == ""
+    _choose(qtbot, box, "none")
+    wait_idle(qtbot, w)
+    assert w.document.project.processing.calibration.rolling_shutter == "none"

@@ -43,6 +43,8 @@ GCP_MODES = [("not used", "none"), ("similarity after SfM (7 parameters)", "simi
 PRIORS = [("not used", "none"), ("GNSS (consumer drone)", "gnss"), ("RTK / PPK", "rtk")]
 PAIRS = [("by ground footprint", "footprint"), ("by camera position", "position"),
          ("every pair (exhaustive)", "exhaustive")]
+ROLLING = [("as global-shutter images", "none"),
+           ("compensated: each image's velocity in the adjustment", "compensate")]
 DENSE = [("off (sparse cloud only)", "none"),
          ("CPU (semi-global matching + fusion)", "cpu"), ("automatic", "auto")]
 
@@ -76,7 +78,7 @@ def _set_count(project: m.Project, count: int) -> m.Project:
 
 class ProcessingPanel(Panel):
     title = "Processing"
-    parts = frozenset({"processing", "targets"})
+    parts = frozenset({"processing", "targets", "cameras"})
 
     def build(self, layout) -> None:
         b = self.bindings
@@ -100,6 +102,12 @@ class ProcessingPanel(Panel):
             f.addRow(f"σ {label}" if name != "seed" else label,
                      b.bind(declared_field(m.PreCalibrationError, name), f"{PRE}.{name}",
                             f"Pre-calibration error {label}"))
+        f.addRow("rolling shutter", b.bind(combo(ROLLING), f"{CAL}.rolling_shutter",
+                                           "Rolling-shutter processing"))
+        self.rolling_note = QLabel()
+        self.rolling_note.setWordWrap(True)
+        self.rolling_note.setStyleSheet("color: #b36b00;")
+        f.addRow(self.rolling_note)
         layout.addWidget(cal)
 
         gcp = QGroupBox("ground control")
@@ -175,6 +183,12 @@ class ProcessingPanel(Panel):
             box.blockSignals(blocked)
         for group in self.groups:
             group.setEnabled(p is not None)
+        rolling = any(c.readout_s > 0 for c in self.project.cameras)
+        self.rolling_note.setText(
+            "" if p is None or p.calibration.rolling_shutter != "compensate" or rolling else
+            "no camera of the project has a rolling shutter, so there is nothing to "
+            "compensate (the reconstruction refuses it): give the camera a rolling-shutter "
+            "readout in the Camera panel, or process the images as global-shutter ones")
         # the prior's σ and seed mean nothing while no positions are measured
         for box in self.prior_fields:
             box.setEnabled(p is not None and p.position_prior.mode != "none")
