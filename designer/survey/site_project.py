@@ -83,8 +83,7 @@ def site_project(dem_path: str | os.PathLike, orthophoto_path: str | os.PathLike
     texel_m = None
     if ortho_header is not None:
         box = _intersect(box, _inner_box(ortho_header, crs), dem_path, ortho_path)
-        texel_m = max(math.hypot(*ortho_header.transform[0:4:3]),
-                      math.hypot(*ortho_header.transform[1:5:3]))
+        texel_m = _texel_m(ortho_header, crs)
     i0, i1, j0, j1 = _valid_block(heights, x0, y0, dx, dy, box, dem_path, ortho_path)
     extent = m.Extent(
         math.ceil(round(max(box[0], x0 + j0 * dx) * 10, 6)) / 10,
@@ -148,6 +147,16 @@ def _site_crs(dem_path, dem_header, ortho_path, ortho_header):
     t = dem_header.transform
     lon, lat = pixel_to_world(t, dem_header.width_px / 2, dem_header.height_px / 2)
     return utm_crs_for(float(lon), float(lat))
+
+
+def _texel_m(header, crs) -> float:
+    """The raster's pixel size in metres of the site's ``crs`` (its longer side, at the
+    raster's centre): an orthophoto in longitude/latitude has its cells in degrees."""
+    col, row = header.width_px / 2, header.height_px / 2
+    X, Y = pixel_to_world(header.transform, [col, col + 1, col], [row, row, row + 1])
+    if not same_crs(header.crs, crs):
+        X, Y = transform_xy(header.crs, crs, X, Y)
+    return max(math.hypot(X[1] - X[0], Y[1] - Y[0]), math.hypot(X[2] - X[0], Y[2] - Y[0]))
 
 
 def _inner_box(header, crs) -> tuple[float, float, float, float]:
