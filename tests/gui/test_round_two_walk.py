@@ -50,3 +50,33 @@ def test_a_site_with_a_geographic_orthophoto_is_imported(qtbot, window, sample_s
     gsd = w.document.project.trajectory.flight_plan.gsd_m
     assert gsd == pytest.approx(2 * 0.05 * w.document.project.render.resolution_scale,
                                 rel=0.05)
+
+
+def test_a_moving_object_starting_after_the_last_photo_is_pointed_out(qtbot, window):
+    """A start time after the flight leaves the object standing at the start of its path
+    in every photo: the panel says so, with the time of the last photo."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtWidgets import QDoubleSpinBox
+
+    from designer.gui import edits
+    from tests.gui.helpers import open_panel, set_field
+
+    w = window
+    w.editor.edit(edits.ensure_flight_plan(w.document.project), "flight")
+    wait_idle(qtbot, w)
+    panel = open_panel(w, "Moving objects")
+    qtbot.mouseClick(panel.add_car, Qt.MouseButton.LeftButton)
+    w.panels["Flight"].timed.setChecked(True)
+    wait_idle(qtbot, w)
+    assert panel.warning.text() == ""
+    start = next(b for b in panel.findChildren(QDoubleSpinBox)
+                 if b.objectName() == "Moving object start")
+    set_field(qtbot, start, "99999")
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.moving_objects[0].start_s == 99999
+    text = panel.warning.text()
+    assert "car1 starts at 99999 s, after the last photo" in text, text
+    assert "stands at the start of its path in every photo" in text
+    set_field(qtbot, start, "0")
+    wait_idle(qtbot, w)
+    assert panel.warning.text() == ""

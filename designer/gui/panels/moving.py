@@ -58,6 +58,7 @@ class MovingObjectsPanel(Panel):
         self.warning.setWordWrap(True)
         self.warning.setStyleSheet(ERROR_STYLE)
         layout.addWidget(self.warning)
+        self.sync.stations_changed.connect(self._warn)
 
     # ------------------------------------------------------------------ access
     def _index(self) -> int:
@@ -93,9 +94,33 @@ class MovingObjectsPanel(Panel):
         self.chooser.setCurrentIndex(min(max(keep, 0), len(objects) - 1))
         self.chooser.blockSignals(blocked)
         self._show_selected()
-        self.warning.setText(
-            "the moving objects need a time line: switch it on in the Flight panel"
-            if objects and self.project.trajectory.time_line is None else "")
+        self._warn()
+
+    def _warn(self) -> None:
+        objects = self.project.scene.moving_objects
+        if objects and self.project.trajectory.time_line is None:
+            self.warning.setText(
+                "the moving objects need a time line: switch it on in the Flight panel")
+            return
+        last = self._last_photo_s()
+        late = [o for o in objects if last is not None and o.start_s > last]
+        self.warning.setText("\n".join(
+            f"{o.id} starts at {o.start_s:g} s, after the last photo (at {last:.0f} s): it "
+            "stands at the start of its path in every photo" for o in late))
+
+    def _last_photo_s(self) -> float | None:
+        """Seconds after take-off of the flight's last photo; None when unknown."""
+        from designer.errors import DesignerError
+        from designer.survey.timeline import project_station_times
+
+        stations = self.sync.stations
+        if stations is None or not stations.stations:
+            return None
+        try:
+            times = project_station_times(self.project, stations.stations)
+        except DesignerError:
+            return None
+        return max(t.time_s for t in times) if times else None
 
     def _show_selected(self) -> None:
         super().refresh()
