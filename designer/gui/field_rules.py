@@ -68,3 +68,13 @@ def ruled_ispin(rule: Rule, lo: int, hi: int, suffix: str = "",
     if suffix:
         box.setSuffix(f" {suffix}")
     return box
+
+
+def ruled_like(box, rule: Rule) -> RuledDoubleSpin:
+    """A ruled copy of the number field ``box`` (a declared field's limits, decimals,
+    step, unit and tooltip) that also refuses what ``rule`` names a reason against."""
+    ruled = ruled_dspin(rule, box.minimum(), box.maximum(), box.decimals(),
+                        box.singleStep(), box.suffix().strip())
+    ruled.setSpecialValueText(box.specialValueText())
+    ruled.setToolTip(box.toolTip())
+    return ruled

@@ -63,3 +63,24 @@ def test_buildings_are_edited_through_the_undo_stack_and_drawn(qtbot, window):
     wait_idle(qtbot, w)
     assert w.document.project.scene.buildings == ()
     assert "buildings" not in w.view._meshes
+
+
+def test_a_ridge_at_or_below_the_walls_is_refused_where_it_is_typed(qtbot, window):
+    """A gable house's ridge typed below its walls (6 m): refused in the typed numbers
+    (the project check would refuse it only at Save or render); a ridge above is applied."""
+    w = window
+    panel = open_panel(w, "Buildings")
+    qtbot.mouseClick(panel.add_house, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    before = w.document.project
+    ridge = field(panel, QDoubleSpinBox, "Building ridge height")
+    set_field(qtbot, ridge, "3")
+    wait_idle(qtbot, w)
+    assert w.document.project == before, "applied"
+    said = panel.input_label.text()
+    assert "ridge (3 m) must be above the walls (6 m); not applied" in said, said
+    assert ridge.property("invalid")
+    set_field(qtbot, ridge, "8.5")
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.buildings[0].ridge_height_m == 8.5
+    assert not ridge.property("invalid")

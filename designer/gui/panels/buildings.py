@@ -10,9 +10,11 @@ import dataclasses
 from PySide6.QtWidgets import QComboBox, QGroupBox, QHBoxLayout, QPushButton
 
 from designer.gui.edits import AbsentElement
+from designer.gui.field_rules import ruled_like
 from designer.gui.panels.base import Panel
 from designer.gui.widgets import combo, declared_field, form, readout
 from designer.project import model as m
+from designer.project.checks import plain_number
 from designer.project.geometry import point_in_polygon
 
 #: a new building's footprint (m east × m north) and heights (m above its base)
@@ -48,8 +50,8 @@ class BuildingsPanel(Panel):
         f.addRow("walls", self.bindings.bind(declared_field(m.Building, "eave_height_m"),
                                              self._access("eave_height_m"),
                                              "Building eave height"))
-        f.addRow("ridge", self.bindings.bind(declared_field(m.Building, "ridge_height_m"),
-                                             self._access("ridge_height_m"),
+        ridge = ruled_like(declared_field(m.Building, "ridge_height_m"), self._ridge_problem)
+        f.addRow("ridge", self.bindings.bind(ridge, self._access("ridge_height_m"),
                                              "Building ridge height"))
         self.footprint_label = readout()
         f.addRow("footprint", self.footprint_label)
@@ -88,6 +90,15 @@ class BuildingsPanel(Panel):
             return self._put(p, **changes)
 
         return get, put
+
+    def _ridge_problem(self, ridge_m: float) -> str:
+        """Why a ridge of ``ridge_m`` cannot top the chosen building ("" when it can)."""
+        buildings = self.project.scene.buildings
+        k = self._index()
+        if not 0 <= k < len(buildings) or ridge_m > buildings[k].eave_height_m:
+            return ""
+        return (f"ridge ({plain_number(ridge_m)} m) must be above the walls "
+                f"({plain_number(buildings[k].eave_height_m)} m)")
 
     def _roof_access(self):
         """The roof shape; a pitched roof gets a ridge NEW_RISE_M above the eaves, a flat
