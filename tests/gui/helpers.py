@@ -19,6 +19,14 @@ def wait_idle(qtbot, window, timeout_s: float = 60.0) -> None:
     window.view.render_now()
 
 
+def refused_message(qtbot, window, before, panel) -> str:
+    """After an edit the window must refuse: nothing reached the project (it still equals
+    ``before``); what ``panel`` says about it."""
+    wait_idle(qtbot, window)
+    assert window.document.project == before, "applied"
+    return panel.input_label.text()
+
+
 def field(window, cls, name: str):
     """The bound field in ``window`` (the window, or one of its panels) whose object name
     is ``name`` (the model path, or the field's label)."""
