@@ -315,10 +315,10 @@ def reconstruct(
         moved = {n: (v, rolling[n]) for n, v in adjustment.velocities.items() if n in rolling}
     rows, skipped = _gcp_rows(rec, gcps, marks, control, offset, moved)
     sensors = _sensors(cams, starts, layout)
-    est_by_label = _estimated_cameras(rec, sensors)
+    tied = tied_images(rec)
+    est_by_label = _estimated_cameras(rec, sensors, tied)
     est_params = est_by_label.get(sensors[0][0].label, true_params) if len(sensors) > 1 \
         else _full_opencv(next(iter(rec.cameras.values())))
-    tied = tied_images(rec)
     est_cams = {img.name: (img.projection_center() + offset,
                            img.cam_from_world().rotation.matrix())
                 for img in rec.images.values() if img.name in tied}
@@ -451,10 +451,10 @@ def _apply_rigs(pycolmap, db_path: Path, cams: list[SurveyCamera], rigs, project
     return layout
 
 
-def _estimated_cameras(rec, sensors) -> dict[str, np.ndarray]:
-    """Estimated FULL_OPENCV parameters by camera label (cameras with a registered image)."""
+def _estimated_cameras(rec, sensors, tied: set[str]) -> dict[str, np.ndarray]:
+    """Estimated FULL_OPENCV parameters by camera label (cameras with an image in ``tied``,
+    the registered images with tie points of their own)."""
     label = {n: c.label for c, _ in sensors for n in c.names}
-    tied = tied_images(rec)
     out = {}
     for img in rec.images.values():
         if img.name in tied and img.name in label and label[img.name] not in out:
