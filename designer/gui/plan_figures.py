@@ -15,15 +15,11 @@ import numpy as np
 from designer.gui.wording import count
 from designer.project import model as m
 
-#: an image with more than this share of its picture beyond the terrain is warned about
-OFF_TERRAIN_WARN = 0.2
 #: achieved overlaps (5 % quantile over the stations) below these are warned about
 LOW_FRONT_OVERLAP = 0.6
 LOW_SIDE_OVERLAP = 0.3
 #: a GCP needs at least this many images to be measured reliably
 MIN_GCP_IMAGES = 3
-#: rays per image side to measure how much of it shows the terrain
-SAMPLES_PER_AXIS = 9
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,22 +59,6 @@ class PlanFigures:
             for k in np.flatnonzero(np.asarray(images) == image):
                 out.append((gid, float(uv[k][0]), float(uv[k][1])))
         return out
-
-
-def terrain_share(stations, interior, raycaster, k: int = SAMPLES_PER_AXIS) -> np.ndarray:
-    """(M,) share of a k × k grid of rays through each image that meets the terrain."""
-    if not len(stations):
-        return np.zeros(0)
-    from designer.core.rotation import R_CV_FROM_PHOTO
-
-    C = np.array([s.C_world for s in stations]).reshape(-1, 3)
-    R = np.array([s.R_cam_to_world for s in stations]).reshape(-1, 3, 3)
-    W, H = interior.image_size_px
-    U, V = np.meshgrid(np.linspace(0.5, W - 0.5, k), np.linspace(0.5, H - 0.5, k))
-    rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO,
-                     interior.rays_cv(np.column_stack([U.ravel(), V.ravel()])))
-    hit = raycaster.first_hit(np.repeat(C, k * k, axis=0), rays.reshape(-1, 3))
-    return np.all(np.isfinite(hit), axis=1).reshape(len(C), k * k).mean(axis=1)
 
 
 def _pct(v: float) -> str:
@@ -130,7 +110,11 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         images_over_terrain=int(np.count_nonzero(np.isfinite(st.centre_ground_xyz[:, 0]))),
         terrain_share=share, image_names=names, gcp_ids=ids, gcp_images=gcp_images,
         area_seen=dict(analysis.coverage.shares))
-    return PlanFigures(**figures, warnings=tuple(_warnings(figures, plan)),
+    from designer.scene.surroundings import surroundings_mode
+
+    warn = _warnings({**figures, "surroundings": surroundings_mode(project.scene.terrain)},
+                     plan)
+    return PlanFigures(**figures, warnings=tuple(warn),
                        gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px)
 
 
@@ -149,17 +133,15 @@ def _rendered_images(project: m.Project, hf, raycaster, scale: float,
     """Every rendered image with its own pose and lens (a rig's obliques look much
     further than the station's planning camera, and see other GCPs): how much of it
     shows the terrain and which GCPs it sees unhidden by the terrain, where."""
-    from designer.project.interiors import render_interior
     from designer.survey.gcp_sightings import project_gcp_visibility
     from designer.survey.project_poses import project_images
+    from designer.survey.surroundings import image_ground
 
     images = project_images(project, hf)
-    share = np.zeros(len(images.stations))
-    for camera_id in images.camera_order():
-        k = np.array([i for i, c in enumerate(images.camera_ids) if c == camera_id])
-        share[k] = terrain_share([images.stations[i] for i in k],
-                                 render_interior(project.camera(camera_id), scale), raycaster)
-    names = tuple(s.image_name for s in images.stations)
+    # over the rendered terrain (the declared one and its surroundings), as designer plan
+    ground = image_ground(project, hf, images)
+    share = 1.0 - ground.void_share
+    names = ground.names
     if gcp_xyz is None or not len(gcp_xyz):
         return RenderedImages(names, share, (), ())
     vis = project_gcp_visibility(project, images, gcp_xyz, raycaster)
@@ -167,6 +149,8 @@ def _rendered_images(project: m.Project, hf, raycaster, scale: float,
 
 
 def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
+    from designer.survey.surroundings import void_warning
+
     out = []
     if np.isfinite(f["front_overlap_p05"]) and f["front_overlap_p05"] < LOW_FRONT_OVERLAP:
         planned = f" (planned {plan.front_overlap_percent:.0f} %)" if plan else ""
@@ -177,16 +161,9 @@ def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
         planned = f" (planned {plan.side_overlap_percent:.0f} %)" if plan else ""
         out.append(f"low side overlap: 5 % of the images overlap the next line by less "
                    f"than {_pct(f['side_overlap_p05'])}{planned}; raise the side overlap")
-    share = f["terrain_share"]
-    off = np.flatnonzero(share < 1 - OFF_TERRAIN_WARN)
-    if off.size:
-        worst = off[np.argmin(share[off])]
-        look = "looks" if off.size == 1 else "look"
-        out.append(f"{off.size} of {count(f['n_rendered'], 'image')} {look} beyond the terrain "
-                   "(more than "
-                   f"{100 * OFF_TERRAIN_WARN:.0f} % of the picture; worst "
-                   f"{f['image_names'][worst]}: {100 * (1 - share[worst]):.0f} % off it); "
-                   "shrink the area or enlarge the terrain")
+    void = void_warning(f["image_names"], 1.0 - f["terrain_share"], f["surroundings"])
+    if void:
+        out.append(void)
     few = [g for g, n in zip(f["gcp_ids"], f["gcp_images"], strict=True) if n < MIN_GCP_IMAGES]
     if few:
         out.append(f"GCPs seen by fewer than {count(MIN_GCP_IMAGES, 'image')}: "

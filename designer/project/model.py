@@ -99,13 +99,15 @@ class FlatTerrain:
 
 @dataclass(frozen=True)
 class ProceduralTerrain:
-    """Smooth hills on a grid (spacing in m) spanning exactly min..max (world Z, m)."""
+    """Smooth hills fixed to the world on a grid (spacing in m), inside min..max (world Z,
+    m); the largest hills are ``hill_size_m`` across (:mod:`designer.scene.terrain`)."""
 
     seed: int
     grid_spacing_m: float
     roughness: float
     min_height_m: float
     max_height_m: float
+    hill_size_m: float = 100.0
 
 
 @dataclass(frozen=True)
@@ -125,10 +127,20 @@ class MeshTerrain:
 TerrainSource = FlatTerrain | ProceduralTerrain | DemTerrain | MeshTerrain
 
 
+#: what is rendered beyond the declared terrain (:mod:`designer.scene.surroundings`):
+#: "auto" continues the terrain as far as the images see (procedural and flat terrain
+#: continue their own heights; a DEM its edge heights, an orthophoto its edge colours);
+#: "none" renders the declared terrain only
+SURROUNDINGS_MODES = ("auto", "none")
+
+
 @dataclass(frozen=True)
 class Terrain:
     extent: Extent
     source: TerrainSource
+    #: "auto" or "none"; None: the terrain kind's default (auto for flat and procedural
+    #: terrain, none for DEM and mesh files)
+    surroundings: str | None = None
 
     @property
     def kind(self) -> str:

@@ -100,11 +100,13 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     elif isinstance(src, m.ProceduralTerrain):
         _sub(terrain, "procedural", seed=_num(src.seed), grid_spacing_m=_num(src.grid_spacing_m),
              roughness=_num(src.roughness), min_height_m=_num(src.min_height_m),
-             max_height_m=_num(src.max_height_m))
+             max_height_m=_num(src.max_height_m), hill_size_m=_num(src.hill_size_m))
     elif isinstance(src, m.DemTerrain):
         _sub(terrain, "dem", file=src.file)
     else:
         _sub(terrain, "mesh", file=src.file)
+    if scene.terrain.surroundings is not None:
+        _sub(terrain, "surroundings", mode=scene.terrain.surroundings)
 
     tex = scene.texture
     tex_el = _sub(el, "texture", interpolation=tex.interpolation)

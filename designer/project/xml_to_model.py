@@ -143,13 +143,20 @@ class _Reader:
             source = m.ProceduralTerrain(
                 seed=int(src_el.get("seed")), grid_spacing_m=_f(src_el, "grid-spacing-m"),
                 roughness=_f(src_el, "roughness"),
-                min_height_m=_f(src_el, "min-height-m"), max_height_m=_f(src_el, "max-height-m"))
+                min_height_m=_f(src_el, "min-height-m"), max_height_m=_f(src_el, "max-height-m"),
+                **({} if src_el.get("hill-size-m") is None
+                   else {"hill_size_m": _f(src_el, "hill-size-m")}))
         elif kind == "dem":
             source = m.DemTerrain(src_el.get("file"))
         else:
             source = m.MeshTerrain(src_el.get("file"))
         self.note(source, src_el)
-        return self.note(m.Terrain(extent, source), el)
+        around_el = el.find(q("surroundings"))
+        around = None if around_el is None else around_el.get("mode")
+        terrain = self.note(m.Terrain(extent, source, around), el)
+        if around_el is not None:
+            self.note(terrain, around_el)
+        return terrain
 
     def texture(self, el: etree._Element) -> m.Texture:
         image_el = el.find(q("image"))

@@ -33,7 +33,7 @@ from designer.scene.texture_variation import GAIN_ENCODING, MIRROR_OFFSETS, Vari
 
 #: the largest side of a bake (px); beyond it the renderer keeps the node graph (a
 #: 4096² half-float image is 128 MB per render worker)
-MAX_BAKE_PX = 4096
+MAX_BAKE_PX = 12288
 #: entries of the sRGB decode table the bake interpolates
 DECODE_TABLE_SIZE = 1 << 16
 

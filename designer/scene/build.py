@@ -7,7 +7,7 @@ coordinates. The render job (designer.render.job) turns it into local coordinate
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +26,7 @@ from designer.scene.gcp_target import (
 from designer.scene.lighting import sun_position_deg
 from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh
 from designer.scene.orthophoto import Orthophoto, load_orthophoto, orthophoto_uv
+from designer.scene.surroundings import Growth, grow_terrain
 from designer.scene.terrain import load_dem, procedural_terrain
 from designer.scene.texture import checkerboard_texture, load_texture, procedural_texture
 from designer.scene.texture_variation import VariationImages, variation_images
@@ -49,6 +50,8 @@ class BuiltTarget:
 
 @dataclass(frozen=True)
 class BuiltScene:
+    #: the rendered terrain: the declared one plus its surroundings
+    #: (:mod:`designer.scene.surroundings`); None for a mesh terrain
     heightfield: Heightfield | None
     terrain: TerrainMesh
     texture_rgb: np.ndarray
@@ -65,6 +68,11 @@ class BuiltScene:
     #: the texture variation over the terrain's UV extent
     #: (:mod:`designer.scene.texture_variation`), None without one
     variation: VariationImages | None = None
+    #: the declared terrain (the area of interest) the stations are planned over; the
+    #: rendered ``heightfield`` when there are no surroundings
+    declared_heightfield: Heightfield | None = None
+    #: how the rendered terrain was grown beyond the declared one
+    growth: Growth = field(default_factory=Growth)
 
 
 def uv_extent_m(hf: Heightfield | None, mesh: TerrainMesh) -> tuple[float, float, float, float]:
@@ -95,7 +103,7 @@ def build_heightfield(terrain: m.Terrain, base_dir: Path,
             e.width_m, e.length_m, src.grid_spacing_m, relief, src.seed,
             x0_m=e.min_X, y0_m=e.min_Y,
             base_height_m=0.5 * (src.max_height_m + src.min_height_m),
-            roughness=src.roughness)
+            roughness=src.roughness, hill_size_m=src.hill_size_m)
     if isinstance(src, m.DemTerrain):
         return load_dem(base_dir / src.file, crs, (e.min_X, e.min_Y, e.max_X, e.max_Y))
     return None
@@ -224,12 +232,21 @@ def build_targets(project: m.Project, hf: Heightfield | None) -> tuple[BuiltTarg
     return tuple(out)
 
 
-def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
-    """Everything the renderer and the ground truth need, in world coordinates."""
+def build_scene(project: m.Project, base_dir: Path, growth: Growth | None = None
+                ) -> BuiltScene:
+    """Everything the renderer and the ground truth need, in world coordinates: the
+    declared terrain grown by ``growth`` (:func:`designer.survey.surroundings.
+    project_surroundings` plans it; None: the declared terrain alone)."""
     base_dir = Path(base_dir)
     origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
     scene = project.scene
-    hf = build_heightfield(scene.terrain, base_dir, project.crs)
+    declared = build_heightfield(scene.terrain, base_dir, project.crs)
+    growth = growth or Growth()
+    tiles = (scene.texture.repeat_X, scene.texture.repeat_Y)
+    hf = declared
+    if declared is not None and any(growth.steps):
+        grown = grow_terrain(project, declared, growth)
+        hf, tiles = grown.heightfield, grown.texture_tiles(tiles)
     mesh = build_terrain_mesh(scene.terrain, hf, base_dir, origin)
     ortho = build_orthophoto(scene.texture, scene.terrain, base_dir, project.crs)
     if ortho is not None:
@@ -249,11 +266,12 @@ def build_scene(project: m.Project, base_dir: Path) -> BuiltScene:
         azimuth, elevation = sun_position_deg(sun.date_time, sun.latitude_deg, sun.longitude_deg)
     return BuiltScene(
         heightfield=hf, terrain=mesh, texture_rgb=texture,
-        texture_tiles=(scene.texture.repeat_X, scene.texture.repeat_Y),
+        texture_tiles=tiles,
         interpolation=scene.texture.interpolation,
         targets=build_targets(project, hf),
         sun_azimuth_deg=float(azimuth), sun_elevation_deg=float(elevation),
         sun_strength=scene.lighting.sun_strength, sky_strength=scene.lighting.sky_strength,
         texture_uv=texture_uv,
         variation=(None if scene.texture.variation is None or texture_uv is not None else
-                   variation_images(scene.texture.variation, uv_extent_m(hf, mesh))))
+                   variation_images(scene.texture.variation, uv_extent_m(hf, mesh))),
+        declared_heightfield=declared, growth=growth)

@@ -12,12 +12,12 @@ re-exported here so ``designer.scene.terrain`` is the one door for terrain.
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft
 
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
 from designer.scene.dem import load_dem
 from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh, write_mesh_ply
+from designer.scene.world_noise import octave_sum
 
 __all__ = [
     "TerrainMesh",
@@ -25,11 +25,20 @@ __all__ = [
     "load_dem",
     "load_mesh",
     "procedural_terrain",
+    "terrain_heights",
     "write_mesh_ply",
 ]
 
 #: relative tolerance for "size is a whole number of grid spacings"
 _GRID_TOL = 1e-9
+
+
+#: largest hills (m) of a procedural terrain that does not say (the example's extent)
+DEFAULT_HILL_SIZE_M = 100.0
+#: the band limit: no octave finer than this many grid spacings
+FINEST_WAVELENGTH_SPACINGS = 4.0
+#: the random stream of the terrain's noise (world_noise streams are per use)
+TERRAIN_STREAM = 7
 
 
 def procedural_terrain(
@@ -43,25 +52,29 @@ def procedural_terrain(
     y0_m: float = 0.0,
     base_height_m: float = 0.0,
     roughness: float = 0.3,
+    hill_size_m: float = DEFAULT_HILL_SIZE_M,
 ) -> Heightfield:
-    """Seeded smooth hills on a regular grid, heights spanning exactly base ± relief.
+    """Seeded smooth hills on a regular grid, fixed to the world, inside base ± relief.
 
     The grid covers ``[x0, x0 + size_x] × [y0, y0 + size_y]`` (metres, world frame) with
-    nodes every ``spacing_m``; both sizes must be whole multiples of the spacing. Heights
-    are band-limited Gaussian noise with power spectrum ``(f² + f0²)^(−β/2)``, where
-    ``f0 = 1 / max(size)`` sets the largest hills and ``β = 5 − 3·roughness``
-    (``roughness`` 0 → rolling hills, 1 → rugged ground); wavelengths below four grid
-    spacings are filtered out so the grid resolves every bump. The noise is synthesised
-    on a doubled, non-periodic domain, so opposite edges do not match. Finally heights
-    are scaled so that min = ``base_height_m − relief_m`` and
-    max = ``base_height_m + relief_m`` exactly.
+    nodes every ``spacing_m``; both sizes must be whole multiples of the spacing. The
+    height at a node is a function of the world point, the seed and the settings only
+    (:mod:`designer.scene.world_noise`): growing, cropping or shifting the grid by whole
+    spacings keeps every node's height, so surroundings rendered around a terrain
+    continue its hills without a seam.
 
-    The spectrum is defined in cycles per metre, so the spacing changes the resolution of
-    the hills, not their size. The same ``seed`` and arguments give the same terrain on
-    every platform (numpy's PCG64 stream; FFT rounding aside, ~1e-12 m).
+    Heights are octaves of value noise from ``hill_size_m`` (the largest hills' wavelength)
+    down to four grid spacings (finer bumps the grid could not resolve are left out), each
+    octave's amplitude ``2^(−(β − 2)/2)`` times the last with ``β = 5 − 3·roughness``
+    (the power spectrum ``f^−β``: roughness 0 → rolling hills, 1 → rugged ground). The
+    sum ``s`` over its expected standard deviation ``σ`` is mapped to
+    ``base + relief · tanh(s / σ)``: heights never leave ``base ± relief``, and over a
+    terrain a few hill sizes across they reach about 90 % of it (±0.76 relief at one σ).
+    The same seed and arguments give the same heights on every platform (integer hashes
+    and float64 arithmetic).
     """
     for name, value in (("size_x_m", size_x_m), ("size_y_m", size_y_m),
-                        ("spacing_m", spacing_m)):
+                        ("spacing_m", spacing_m), ("hill_size_m", hill_size_m)):
         if not (np.isfinite(value) and value > 0):
             raise DesignerError(f"procedural terrain: {name} must be > 0, got {value}")
     if not (np.isfinite(relief_m) and relief_m >= 0):
@@ -70,17 +83,34 @@ def procedural_terrain(
         raise DesignerError(f"procedural terrain: roughness must be in [0, 1], got {roughness}")
     nx = _cells(size_x_m, spacing_m, "size_x_m") + 1
     ny = _cells(size_y_m, spacing_m, "size_y_m") + 1
+    x = float(x0_m) + np.arange(nx) * float(spacing_m)
+    y = float(y0_m) + np.arange(ny) * float(spacing_m)
+    heights = terrain_heights(x[None, :], y[:, None], spacing_m, relief_m, seed,
+                              base_height_m=base_height_m, roughness=roughness,
+                              hill_size_m=hill_size_m)
+    return Heightfield(float(x0_m), float(y0_m), float(spacing_m), float(spacing_m),
+                       np.ascontiguousarray(heights))
 
-    noise = _band_limited_noise(ny, nx, spacing_m, max(size_x_m, size_y_m),
-                                beta=5.0 - 3.0 * roughness, seed=seed)
-    lo, hi = float(noise.min()), float(noise.max())
-    if hi > lo:
-        # (n − lo)/(hi − lo) is exactly 0 and 1 at the extremes, so the range is exact.
-        unit = 2.0 * ((noise - lo) / (hi - lo)) - 1.0
-    else:
-        unit = np.zeros_like(noise)
-    heights = base_height_m + relief_m * unit
-    return Heightfield(float(x0_m), float(y0_m), float(spacing_m), float(spacing_m), heights)
+
+def terrain_heights(x_m: np.ndarray, y_m: np.ndarray, spacing_m: float, relief_m: float,
+                    seed: int, *, base_height_m: float = 0.0, roughness: float = 0.3,
+                    hill_size_m: float = DEFAULT_HILL_SIZE_M) -> np.ndarray:
+    """The procedural terrain's height (world Z, m) at world points (x, y) (broadcast),
+    as :func:`procedural_terrain` places at its nodes."""
+    octaves = terrain_octaves(hill_size_m, spacing_m)
+    if relief_m == 0:
+        return np.full(np.broadcast(np.asarray(x_m), np.asarray(y_m)).shape,
+                       float(base_height_m))
+    beta = 5.0 - 3.0 * roughness
+    total, std = octave_sum(seed, TERRAIN_STREAM, hill_size_m, octaves, x_m, y_m,
+                            persistence=2.0 ** (-(beta - 2.0) / 2.0), rotate=True)
+    return float(base_height_m) + float(relief_m) * np.tanh(total / std)
+
+
+def terrain_octaves(hill_size_m: float, spacing_m: float) -> int:
+    """Octaves from the hill size down to the band limit (four grid spacings), at least 1."""
+    ratio = hill_size_m / (FINEST_WAVELENGTH_SPACINGS * spacing_m)
+    return max(1, int(np.floor(np.log2(ratio) + 1e-9)) + 1) if ratio >= 1 else 1
 
 
 def _cells(size_m: float, spacing_m: float, name: str) -> int:
@@ -90,24 +120,3 @@ def _cells(size_m: float, spacing_m: float, name: str) -> int:
             f"procedural terrain: {name}={size_m} is not a whole number of "
             f"spacing_m={spacing_m} cells; choose a spacing that divides the size")
     return n
-
-
-def _band_limited_noise(ny: int, nx: int, spacing_m: float, largest_m: float,
-                        beta: float, seed: int) -> np.ndarray:
-    """(ny, nx) float64 zero-mean noise with the power spectrum in the docstring above."""
-    rng = np.random.default_rng(seed)
-    # Twice the size (rounded to a fast FFT length): the periodic wrap of the synthesis
-    # domain then falls outside the returned grid.
-    py = scipy.fft.next_fast_len(2 * ny, real=True)
-    px = scipy.fft.next_fast_len(2 * nx, real=True)
-    fy = np.fft.fftfreq(py, d=spacing_m)[:, None]
-    fx = np.fft.rfftfreq(px, d=spacing_m)[None, :]
-    f2 = fx * fx + fy * fy
-    f0 = 1.0 / largest_m
-    f_cut = 1.0 / (4.0 * spacing_m)
-    amplitude = (f2 + f0 * f0) ** (-beta / 4.0) * np.exp(-f2 / (f_cut * f_cut))
-    amplitude[0, 0] = 0.0
-    spectrum = rng.standard_normal((py, px // 2 + 1)) + 1j * rng.standard_normal(
-        (py, px // 2 + 1))
-    field = scipy.fft.irfft2(spectrum * amplitude, s=(py, px))
-    return np.ascontiguousarray(field[:ny, :nx])

@@ -3,7 +3,7 @@
 A tiled detail texture repeats exactly every tile: two images whose footprints do not
 overlap can show the same pixels, and feature matching pairs them. The variation breaks
 the repeat with three smooth, seeded, non-periodic fields over the terrain (multi-octave
-value noise in metres from the terrain's south-west corner, float64):
+value noise at world X, Y in metres, float64, :mod:`designer.scene.world_noise`):
 
 * ``gain``: brightness factor ``1 + strength · n`` (n in [-1, 1]), so 1 ± strength;
 * ``mix_a``, ``mix_b``: weights (0..1) that blend the detail texture with two mirrored,
@@ -28,14 +28,12 @@ import numpy as np
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.checks import VARIATION_MAX_PX
+from designer.scene.world_noise import octave_sum
 
 #: texels per wavelength of the finest octave
 TEXELS_PER_FINEST_WAVELENGTH = 8
 #: amplitude ratio of successive octaves
 PERSISTENCE = 0.5
-#: standard deviation of one octave of value noise (uniform lattice values in [-1, 1],
-#: quintic interpolation), measured over 10^6 points
-OCTAVE_RMS = 0.453
 #: half width of the mix weights' transition, in units of the (tanh-mapped) noise value
 MIX_SOFTNESS = 1.0
 #: the random stream of each field
@@ -64,8 +62,7 @@ def variation_size_px(variation: m.TextureVariation, width_m: float,
 
 def noise(seed: int, stream: int, scale_m: float, octaves: int,
           x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
-    """Multi-octave value noise in (-1, 1) at (x, y) metres from the extent's south-west
-    corner (float64).
+    """Multi-octave value noise in (-1, 1) at world (x, y) metres (float64).
 
     Octave k has lattice spacing ``scale_m / 2^k``, its own random lattice offset and
     amplitude ``PERSISTENCE^k``; lattice values are uniform in [-1, 1] from a hash of
@@ -74,48 +71,9 @@ def noise(seed: int, stream: int, scale_m: float, octaves: int,
     expected standard deviation and passed through tanh: about ±0.76 at one standard
     deviation, never beyond ±1.
     """
-    x = np.asarray(x_m, dtype=np.float64)
-    y = np.asarray(y_m, dtype=np.float64)
-    total = np.zeros(np.broadcast(x, y).shape)
-    power = 0.0
-    for k in range(octaves):
-        spacing = scale_m / 2**k
-        offset = np.random.default_rng([seed, stream, k]).uniform(0.0, spacing, 2)
-        gx, gy = (x + offset[0]) / spacing, (y + offset[1]) / spacing
-        ix, iy = np.floor(gx), np.floor(gy)
-        fx, fy = _quintic(gx - ix), _quintic(gy - iy)
-        key = _splitmix64(np.uint64(seed) * np.uint64(1 << 8) + np.uint64(16 * stream + k))
-        ix, iy = ix.astype(np.int64).view(np.uint64), iy.astype(np.int64).view(np.uint64)
-        one = np.uint64(1)
-
-        def lattice(i, j, key=key):
-            return _unit(_splitmix64(_splitmix64(key + i) + j))
-
-        top = lattice(ix, iy) + (lattice(ix + one, iy) - lattice(ix, iy)) * fx
-        bottom = lattice(ix, iy + one) + (lattice(ix + one, iy + one)
-                                          - lattice(ix, iy + one)) * fx
-        amplitude = PERSISTENCE**k
-        total += amplitude * (top + (bottom - top) * fy)
-        power += amplitude * amplitude
-    return np.tanh(total / (OCTAVE_RMS * math.sqrt(power)))
-
-
-def _splitmix64(z):
-    """SplitMix64 finaliser on uint64 (wrapping arithmetic)."""
-    with np.errstate(over="ignore"):
-        z = np.asarray(z, dtype=np.uint64) + np.uint64(0x9E3779B97F4A7C15)
-        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-        return z ^ (z >> np.uint64(31))
-
-
-def _unit(h: np.ndarray) -> np.ndarray:
-    """uint64 hash → float64 uniform in [-1, 1)."""
-    return (h >> np.uint64(11)).astype(np.float64) * (2.0 / 2.0**53) - 1.0
-
-
-def _quintic(t: np.ndarray) -> np.ndarray:
-    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+    total, std = octave_sum(seed, stream, scale_m, octaves, x_m, y_m,
+                            persistence=PERSISTENCE)
+    return np.tanh(total / std)
 
 
 def _smoothstep(x: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -131,7 +89,7 @@ def warp_bound_m(variation: m.TextureVariation) -> float:
 
 def variation_layers(variation: m.TextureVariation, x_m: np.ndarray,
                      y_m: np.ndarray) -> dict[str, np.ndarray]:
-    """The fields at (x, y) metres from the extent's south-west corner: ``gain``
+    """The fields at world (x, y) metres: ``gain``
     (1 ± strength), ``mix_a`` and ``mix_b`` (0..1), ``warp_x_m`` and ``warp_y_m``
     (displacement of the texture lookup, m, within ± :func:`warp_bound_m`)."""
     v = variation
@@ -171,8 +129,9 @@ def variation_images(variation: m.TextureVariation,
         raise DesignerError(f"terrain extent {extent_m} is empty; the texture variation "
                             "needs an extent with x_max > x_min and y_max > y_min")
     w_px, h_px = variation_size_px(variation, width_m, length_m)
-    x = (np.arange(w_px) + 0.5) * (width_m / w_px)
-    y = length_m - (np.arange(h_px) + 0.5) * (length_m / h_px)
+    # at world X, Y: the variation is fixed to the ground, whatever the extent
+    x = x_min + (np.arange(w_px) + 0.5) * (width_m / w_px)
+    y = y_max - (np.arange(h_px) + 0.5) * (length_m / h_px)
     f = variation_layers(variation, x[None, :], y[:, None])
     bound_m = max(warp_bound_m(variation), 1e-9)
     bound_uv = bound_m / min(width_m, length_m)

@@ -22,6 +22,7 @@ from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.interiors import render_interior
 from designer.scene.build import BuiltTarget, build_heightfield, build_targets
+from designer.scene.surroundings import surroundings_mode
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
 from designer.survey.gcp_sightings import project_gcp_visibility
@@ -34,6 +35,7 @@ from designer.survey.render_cost import (
     project_image_costs,
     render_workers,
 )
+from designer.survey.surroundings import VOID_WARN, ImageGround, image_ground
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,8 @@ class PlanResult:
     cameras: tuple[tuple[str, int, float, float], ...] = ()
     #: where the render estimate's coefficients come from (RenderSpeed.describe)
     render_speed: str = ""
+    #: every image's share of pixels that see no ground, over the rendered terrain
+    ground: ImageGround | None = None
 
 
 def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None) -> PlanResult:
@@ -67,6 +71,9 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     carriers = tuple(platform_stations(project, hf)[1])
     images = project_images(project, hf)
     n_all = len(images.stations)
+    # the images see the rendered terrain: the declared one and its surroundings
+    ground = image_ground(project, hf, images)
+    hf = ground.rendered
     per_camera = _camera_figures(project, images, hf) if project.trajectory.rigs else ()
     targets = build_targets(project, hf)
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
@@ -85,7 +92,7 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),
-                      carriers, n_all, per_camera, speed.describe())
+                      carriers, n_all, per_camera, speed.describe(), ground)
 
 
 def _camera_figures(project: m.Project, images, hf: Heightfield
@@ -127,6 +134,15 @@ def plan_summary(result: PlanResult) -> dict:
     finite = gsd[np.isfinite(gsd)]
     out["gsd_terrain_m"] = ({"min": float(finite.min()), "mean": float(finite.mean()),
                              "max": float(finite.max())} if finite.size else None)
+    if result.ground is not None:
+        g = result.ground
+        out["surroundings"] = surroundings_mode(result.project.scene.terrain)
+        x0, x1, y0, y1 = g.rendered.extent_m
+        out["rendered_terrain_extent_m"] = {"min_X": x0, "max_X": x1, "min_Y": y0, "max_Y": y1}
+        out["void_share_max"] = float(g.void_share.max()) if len(g.void_share) else 0.0
+        out["images_void_over_1_percent"] = int(np.count_nonzero(g.void_share > VOID_WARN))
+        out["void_share"] = {n: round(float(v), 5)
+                             for n, v in zip(g.names, g.void_share, strict=True)}
     out["warnings"] = plan_warnings(result, out)
     out["render_time_source"] = result.render_speed
     out.update(rig_and_pattern_summary(result))
@@ -192,6 +208,9 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
                                     result.project.scene.terrain.extent, result.footprint_m)
     if repeat:
         warnings.append(repeat)
+    void = result.ground.warning(result.project) if result.ground is not None else None
+    if void:
+        warnings.append(void)
     if result.analysis.gcps is not None:
         few = [t.target.id for k, t in enumerate(result.targets)
                if result.analysis.gcps.counts[k] < 3]
@@ -248,6 +267,13 @@ def format_plan(result: PlanResult, source: str) -> str:
     if g:
         lines.append(f"  GSD over the terrain: {100 * g['min']:.2f} / {100 * g['mean']:.2f} / "
                      f"{100 * g['max']:.2f} cm (min / mean / max)")
+    if "void_share" in s:
+        x = s["rendered_terrain_extent_m"]
+        lines.append(f"  rendered terrain ({s['surroundings']} surroundings): X "
+                     f"{x['min_X']:.1f} to {x['max_X']:.1f}, Y {x['min_Y']:.1f} to "
+                     f"{x['max_Y']:.1f}; pixels seeing no ground: at most "
+                     f"{100 * s['void_share_max']:.2f} % of an image, "
+                     f"{s['images_void_over_1_percent']} images over {100 * VOID_WARN:g} %")
     lines.append(f"  footprint at the median GSD: {s['footprint_m'][0]:.1f} x "
                  f"{s['footprint_m'][1]:.1f} m")
     for name, label in (("front_overlap", "front overlap"), ("side_overlap", "side overlap")):

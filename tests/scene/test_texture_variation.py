@@ -63,13 +63,17 @@ def test_images_hold_the_fields_at_texel_centres():
     # 8 texels per finest wavelength (40 / 2^3 = 5 m): 0.625 m texels
     assert (w, h) == (160, 96)
     j, i = 10, 37  # row 10 from the north, column 37 from the west
-    x = (i + 0.5) * 100.0 / w
-    y = 60.0 - (j + 0.5) * 60.0 / h
+    x = 512000.0 + (i + 0.5) * 100.0 / w
+    y = 5406060.0 - (j + 0.5) * 60.0 / h
     f = variation_layers(V, np.array(x), np.array(y))
     assert img.shading[j, i, 0] / 65535 * GAIN_ENCODING == pytest.approx(f["gain"], abs=1e-4)
     assert img.shading[j, i, 1] / 65535 == pytest.approx(f["mix_a"], abs=1e-4)
     warp_u = (img.warp[j, i, 0] / 65535 - 0.5) * 2 * img.warp_bound_uv
     assert warp_u * 100.0 == pytest.approx(f["warp_x_m"], abs=1e-3)
-    # the fields are relative to the extent: the same offsets give the same image
-    moved = variation_images(V, tuple(c + 1000.0 for c in extent))
-    assert np.array_equal(moved.shading, img.shading)
+    # the fields are fixed to the world: a larger extent holds the same texels where it
+    # covers the same ground (its texel grid is the same one, 0.625 m, shifted by 20 texels)
+    grown = variation_images(V, (extent[0] - 12.5, extent[1] + 12.5, extent[2] - 12.5,
+                                 extent[3] + 12.5))
+    assert grown.shading.shape[:2] == (h + 40, w + 40)
+    np.testing.assert_allclose(grown.shading[20:20 + h, 20:20 + w].astype(float),
+                               img.shading.astype(float), atol=1.0)

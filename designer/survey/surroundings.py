@@ -1,0 +1,202 @@
+"""How far the images of a project look: the growth of the rendered terrain
+(:mod:`designer.scene.surroundings`) and each image's share of pixels that see no ground.
+
+Every image's border rays (:data:`BORDER_SAMPLES` per side) are cut with the plane of the
+lowest ground the surroundings can have; the rendered terrain covers those points plus a
+margin. A ray that meets that plane farther than :data:`DETAIL_REACH_HEIGHTS` times the
+camera's height above it (an oblique near the horizon) extends the terrain only that far
+and sets ``horizon``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+from designer.core.projection import pixel_rays_world
+from designer.project import model as m
+from designer.project.interiors import render_interior
+from designer.scene.surroundings import (
+    Growth,
+    Surroundings,
+    grow_terrain,
+    grown_extent,
+    growth_step_m,
+    surroundings_mode,
+)
+
+#: rays per image side whose ground points bound the surroundings
+BORDER_SAMPLES = 24
+#: a ray meeting the ground farther than this many camera heights is near the horizon:
+#: the detailed terrain stops there and the far ground continues to the horizon
+DETAIL_REACH_HEIGHTS = 12.0
+
+
+@dataclass(frozen=True)
+class Reach:
+    """Where the images' border rays meet the lowest ground: (x_min, x_max, y_min, y_max)
+    in world metres, and whether any ray looks farther than the detailed reach."""
+
+    extent_m: tuple[float, float, float, float]
+    horizon: bool
+
+
+def border_pixels(interior) -> np.ndarray:
+    """(4·(n − 1), 2) pixel positions around the image border, corners included."""
+    W, H = interior.image_size_px
+    n = BORDER_SAMPLES
+    t = np.linspace(0.0, 1.0, n)[:-1]
+    top = np.column_stack([t * W, np.zeros_like(t)])
+    right = np.column_stack([np.full_like(t, W), t * H])
+    bottom = np.column_stack([W - t * W, np.full_like(t, H)])
+    left = np.column_stack([np.zeros_like(t), H - t * H])
+    return np.concatenate([top, right, bottom, left])
+
+
+def _rays(interior, uv: np.ndarray, R: np.ndarray) -> np.ndarray:
+    try:
+        return pixel_rays_world(uv, R, interior)
+    except Exception:  # a distortion that cannot be inverted at the border: its pinhole
+        return pixel_rays_world(uv, R, replace(interior, distortion=None))
+
+
+def ground_reach(project: m.Project, images, ground_low_m: float) -> Reach:
+    """Where the border rays of every image meet the plane Z = ``ground_low_m`` (the lowest
+    ground around), capped at the detailed reach."""
+    interiors = {c: render_interior(project.camera(c), project.render.resolution_scale)
+                 for c in images.camera_order()}
+    uv = {c: border_pixels(i) for c, i in interiors.items()}
+    points, horizon = [], False
+    for st, c in zip(images.stations, images.camera_ids, strict=True):
+        d = _rays(interiors[c], uv[c], st.R_cam_to_world)
+        C = np.asarray(st.C_world, float)
+        height = max(C[2] - ground_low_m, 1.0)
+        reach = DETAIL_REACH_HEIGHTS * height
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(d[:, 2] < 0, (ground_low_m - C[2]) / d[:, 2], np.inf)
+        far = ~(t <= reach)
+        horizon |= bool(far.any())
+        # a ray near the horizon: its horizontal direction out to the detailed reach
+        horizontal = d[:, :2] / np.maximum(np.linalg.norm(d[:, :2], axis=1), 1e-12)[:, None]
+        xy = np.where(far[:, None], C[:2] + reach * horizontal, C[:2] + t[:, None] * d[:, :2])
+        points.append(xy)
+    xy = np.concatenate(points) if points else np.zeros((0, 2))
+    if not len(xy):
+        return Reach((math.inf, -math.inf, math.inf, -math.inf), False)
+    return Reach((float(xy[:, 0].min()), float(xy[:, 0].max()),
+                  float(xy[:, 1].min()), float(xy[:, 1].max())), horizon)
+
+
+def terrain_growth(project: m.Project, declared: Heightfield, images) -> Growth:
+    """How far to grow the declared terrain so every image of ``images`` (the project's,
+    :func:`designer.survey.project_poses.project_images` over ``declared``) sees ground
+    to its border; no growth with surroundings "none"."""
+    src = project.scene.terrain.source
+    if (surroundings_mode(project.scene.terrain) == "none" or not len(images.stations)
+            or isinstance(src, m.MeshTerrain)):
+        return Growth()
+    ground_low = float(declared.heights_m.min())
+    if isinstance(src, m.ProceduralTerrain):
+        ground_low = min(ground_low, src.min_height_m)
+    reach = ground_reach(project, images, ground_low)
+    step = growth_step_m(project, declared)
+    spacing = (min(step) if isinstance(src, m.FlatTerrain)
+               else min(declared.dx_m, declared.dy_m))
+    return Growth(grown_extent(declared.extent_m, reach.extent_m, step[0], step[1], spacing),
+                  reach.horizon)
+
+
+def project_surroundings(project: m.Project, base_dir: Path) -> tuple[Growth, Heightfield | None]:
+    """The growth of ``project``'s terrain and its declared height field (None for a
+    mesh terrain), planned as the renderer plans it."""
+    from designer.scene.build import build_heightfield
+    from designer.survey.project_poses import project_images
+
+    declared = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
+    if declared is None:
+        return Growth(), None
+    return terrain_growth(project, declared, project_images(project, declared)), declared
+
+
+def rendered_terrain(project: m.Project, declared: Heightfield, images) -> Surroundings:
+    """The height field the renderer draws: ``declared`` grown as far as ``images`` see."""
+    return grow_terrain(project, declared, terrain_growth(project, declared, images))
+
+
+#: rays along an image's longer side (and in proportion along the shorter) that measure
+#: the share of its pixels that see no ground
+VOID_SAMPLES = 64
+#: an image with more than this share of its pixels seeing no ground is warned about
+VOID_WARN = 0.01
+
+
+def void_shares(project: m.Project, images, raycaster) -> np.ndarray:
+    """(M,) share of each image's pixels (a grid of pixel-centre rays) whose ray meets no
+    terrain of ``raycaster`` (a :class:`~designer.survey.raycast.TerrainRaycaster` over
+    the rendered terrain): what renders as background."""
+    from designer.core.rotation import R_CV_FROM_PHOTO
+
+    out = np.zeros(len(images.stations))
+    for camera_id in images.camera_order():
+        interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
+        W, H = interior.image_size_px
+        ku = VOID_SAMPLES if W >= H else max(2, round(VOID_SAMPLES * W / H))
+        kv = VOID_SAMPLES if H > W else max(2, round(VOID_SAMPLES * H / W))
+        U, V = np.meshgrid((np.arange(ku) + 0.5) * W / ku, (np.arange(kv) + 0.5) * H / kv)
+        uv = np.column_stack([U.ravel(), V.ravel()])
+        try:
+            rays_cv = interior.rays_cv(uv)
+        except Exception:  # distortion not invertible to the border: its pinhole
+            rays_cv = replace(interior, distortion=None).rays_cv(uv)
+        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
+        C = np.array([images.stations[i].C_world for i in k], float).reshape(-1, 3)
+        R = np.array([images.stations[i].R_cam_to_world for i in k]).reshape(-1, 3, 3)
+        rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)
+        hit = raycaster.first_hit(np.repeat(C, len(uv), axis=0), rays.reshape(-1, 3))
+        out[k] = 1.0 - np.all(np.isfinite(hit), axis=1).reshape(len(k), len(uv)).mean(axis=1)
+    return out
+
+
+def void_warning(names, shares: np.ndarray, surroundings: str) -> str | None:
+    """The plan's warning about images that see past the rendered terrain, or None."""
+    shares = np.asarray(shares, float)
+    off = np.flatnonzero(shares > VOID_WARN)
+    if not off.size:
+        return None
+    worst = off[np.argmax(shares[off])]
+    see = "sees" if off.size == 1 else "see"
+    fix = ("declare <surroundings mode=\"auto\"/> in <terrain> or enlarge the terrain"
+           if surroundings == "none" else "enlarge the terrain")
+    return (f"{off.size} of {len(shares)} images {see} past the terrain (more than "
+            f"{100 * VOID_WARN:g} % of the picture shows no ground; worst {names[worst]}: "
+            f"{100 * shares[worst]:.1f} %): {fix}")
+
+
+@dataclass(frozen=True)
+class ImageGround:
+    """Each image's share of pixels that see no ground, over the rendered terrain."""
+
+    names: tuple[str, ...]
+    void_share: np.ndarray
+    rendered: Heightfield
+    growth: Growth
+
+    def warning(self, project: m.Project) -> str | None:
+        return void_warning(self.names, self.void_share,
+                            surroundings_mode(project.scene.terrain))
+
+
+def image_ground(project: m.Project, declared: Heightfield, images) -> ImageGround:
+    """Grow the declared terrain as the renderer does and measure each image's void
+    share: the one function behind ``designer plan`` (text and JSON), the window's plan
+    figures and ``designer check``."""
+    from designer.survey.raycast import TerrainRaycaster
+
+    growth = terrain_growth(project, declared, images)
+    rendered = grow_terrain(project, declared, growth).heightfield
+    shares = void_shares(project, images, TerrainRaycaster(rendered))
+    return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth)
