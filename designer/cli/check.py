@@ -48,4 +48,20 @@ def run(args) -> int:
             status = 2
             continue
         print(summary_line(path, project))
+        _warn_surroundings(path, project, args)
     return status
+
+
+def _warn_surroundings(path: Path, project, args) -> None:
+    """A warning (stderr, exit status unchanged) when images would see past the terrain."""
+    if args.no_files:
+        return
+    from designer.errors import DesignerError
+    from designer.survey.surroundings import surroundings_warning
+
+    try:
+        warning = surroundings_warning(project, path.parent)
+    except DesignerError:  # the flight cannot be planned: check says why elsewhere
+        warning = None
+    if warning:
+        print(f"warning: {path}: <terrain>: {warning}", file=sys.stderr)

@@ -59,6 +59,11 @@ def register(subparsers) -> None:
                              "shots.geojson; default: CLOUD when it is a COLMAP model")
     parser.add_argument("--no-align", action="store_true",
                         help="camera errors without the 7-parameter similarity alignment")
+    parser.add_argument("--area", choices=("aoi", "all"), default="aoi",
+                        help="points the statistics cover: 'aoi' (default) those over a "
+                             "project's area of interest, its declared terrain extent; "
+                             "'all' every point (the truth covers the surroundings the "
+                             "images saw too); a mesh file has no area of interest")
     parser.add_argument("--json", action="store_true", help="print summary.json instead")
     parser.set_defaults(func=run, interrupted_hint="nothing was written; run the same "
                         "command again")
@@ -183,7 +188,12 @@ def _tune_process() -> None:
 def _compare(args) -> int:
     from designer.errors import DesignerError
     from designer.evaluate.clouds import read_point_cloud
-    from designer.evaluate.compare import coarse_warnings, compare_cloud, reference_mesh
+    from designer.evaluate.compare import (
+        coarse_warnings,
+        compare_cloud,
+        crop_to_area,
+        reference_mesh,
+    )
     from designer.evaluate.report import format_summary
     from designer.evaluate.statistics import DEFAULT_TOLERANCES_M
 
@@ -210,12 +220,20 @@ def _compare(args) -> int:
                             f"not {args.reference.name}")
     if args.at_time is not None and not (args.at_time >= 0 and args.at_time < 1e7):
         raise DesignerError(f"--at-time {args.at_time}: give seconds after take-off, >= 0")
+    growth = None
+    if args.reference.suffix.lower() == ".xml":
+        # the truth covers the surroundings the renderer drew around the terrain
+        from designer.project import load_project
+        from designer.survey.surroundings import project_surroundings
+
+        growth = project_surroundings(load_project(args.reference), args.reference.parent)[0]
     mesh = reference_mesh(args.reference, with_targets=not args.no_targets,
-                          at_time_s=args.at_time, surface=args.surface or "dsm")
+                          at_time_s=args.at_time, surface=args.surface or "dsm", growth=growth)
+    cloud, area = crop_to_area(cloud, mesh, args.area)
     gcps, cameras = extra_errors(args)
     summary = compare_cloud(cloud, mesh, args.output, max_distance=args.max_distance,
                             tolerances=tolerances, cell_m=args.cell_m, gcps=gcps,
-                            cameras=cameras, offset=args.offset)
+                            cameras=cameras, offset=args.offset, area=area)
     if args.json:
         print(json.dumps(summary, indent=1))
     else:

@@ -43,21 +43,27 @@ class ReferenceMesh:
     crs: str | None = None
     #: "dtm" or "dsm" when built from a project, ``None`` for a mesh file
     surface: str | None = None
+    #: (x_min, x_max, y_min, y_max) world m of the project's area of interest (its
+    #: declared terrain extent), None for a mesh file
+    area_of_interest_m: tuple[float, float, float, float] | None = None
 
 
 def reference_mesh(path: str | os.PathLike, *, with_targets: bool = True,
-                   at_time_s: float | None = None, surface: str = "dsm") -> ReferenceMesh:
+                   at_time_s: float | None = None, surface: str = "dsm",
+                   growth=None) -> ReferenceMesh:
     """The true surface from a mesh file or a project XML: its bare earth (``surface``
     "dtm": terrain and GCP targets) or the surface with what stands on it ("dsm": plus
     scene objects, buildings, vegetation; moving objects only with ``at_time_s``, posed
-    then, seconds after take-off). See :mod:`designer.scene.surfaces`."""
+    then, seconds after take-off). See :mod:`designer.scene.surfaces`; ``growth`` grows a
+    project's terrain by its surroundings as the renderer did
+    (:func:`designer.survey.surroundings.project_surroundings`)."""
     return reference_meshes(path, surfaces=(surface,), with_targets=with_targets,
-                            at_time_s=at_time_s)[surface]
+                            at_time_s=at_time_s, growth=growth)[surface]
 
 
 def reference_meshes(path: str | os.PathLike, *, surfaces=("dtm", "dsm"),
                      with_targets: bool = True,
-                     at_time_s: float | None = None) -> dict[str, ReferenceMesh]:
+                     at_time_s: float | None = None, growth=None) -> dict[str, ReferenceMesh]:
     """:func:`reference_mesh` for each of ``surfaces``, keyed by name, from one load of
     the project and one build of its terrain. A mesh file is its own surface: the one
     mesh stands under every name."""
@@ -69,14 +75,41 @@ def reference_meshes(path: str | os.PathLike, *, surfaces=("dtm", "dsm"),
 
         project = load_project(path)
         built = true_surfaces(project, path.parent, surfaces, with_targets=with_targets,
-                              at_time_s=at_time_s)
-        return {surface: ReferenceMesh(vertices, faces, str(path), project.crs, surface)
+                              at_time_s=at_time_s, growth=growth)
+        e = project.scene.terrain.extent
+        aoi = (e.min_X, e.max_X, e.min_Y, e.max_Y)
+        return {surface: ReferenceMesh(vertices, faces, str(path), project.crs, surface, aoi)
                 for surface, (vertices, faces) in built.items()}
     from designer.scene.mesh import load_mesh
 
     mesh = load_mesh(path)
     reference = ReferenceMesh(mesh.vertices_world, mesh.faces, str(path))
     return dict.fromkeys(surfaces, reference)
+
+
+#: the areas ``designer compare`` takes its statistics over
+AREAS = ("aoi", "all")
+
+
+def crop_to_area(cloud: PointCloud, mesh: ReferenceMesh, area: str = "aoi"
+                 ) -> tuple[PointCloud, dict]:
+    """The points of ``cloud`` the statistics cover, and a record of that area: "aoi"
+    keeps the points over the project's area of interest (its declared terrain extent),
+    "all" every point (as does a mesh file, which has no area of interest)."""
+    if area not in AREAS:
+        raise DesignerError(f"area {area!r}: give one of {', '.join(AREAS)}")
+    box = mesh.area_of_interest_m
+    if area == "all" or box is None:
+        return cloud, {"name": "all points", "extent_m": None, "points_left_out": 0}
+    x0, x1, y0, y1 = box
+    xy = cloud.xyz[:, :2]
+    inside = (xy[:, 0] >= x0) & (xy[:, 0] <= x1) & (xy[:, 1] >= y0) & (xy[:, 1] <= y1)
+    kept = PointCloud(cloud.xyz[inside], None if cloud.rgb is None else cloud.rgb[inside],
+                      None if cloud.normals is None else cloud.normals[inside], cloud.source,
+                      cloud.coordinate_spacing_m)
+    return kept, {"name": "area of interest (the declared terrain extent)",
+                  "extent_m": [float(v) for v in box],
+                  "points_left_out": int(np.count_nonzero(~inside))}
 
 
 def check_overlap(cloud_xyz: np.ndarray, vertices: np.ndarray, cloud_name: str,
@@ -116,9 +149,11 @@ def compare_cloud(
     gcps: dict | None = None,
     cameras: dict | None = None,
     offset=None,
+    area: dict | None = None,
 ) -> dict:
     """Signed distances of ``cloud`` to ``mesh``, statistics and every product in
-    ``out_dir`` (created); returns the summary written to summary.json.
+    ``out_dir`` (created); returns the summary written to summary.json. ``area`` is the
+    record of the area ``cloud`` was cropped to (:func:`crop_to_area`), for the report.
 
     ``gcps`` / ``cameras`` are results of :func:`~designer.evaluate.gcp.gcp_errors` and
     :func:`~designer.evaluate.poses.camera_pose_errors` to include in the report.
@@ -180,6 +215,7 @@ def compare_cloud(
                    "max_distance": max_distance,
                    "coordinate_spacing_m": cloud.coordinate_spacing_m},
         "warnings": coarse_warnings(cloud),
+        "area": area or {"name": "all points", "extent_m": None, "points_left_out": 0},
         "convention": "signed distance = point to nearest mesh point (m), positive on the "
                       "side the mesh normals face (above the terrain)",
         "timing": {"index_s": t1 - t0, "distances_s": t2 - t1},

@@ -17,9 +17,20 @@ from designer.atomic import write_text_atomic
 from designer.evaluate.statistics import format_statistics
 
 
+def area_words(area: dict) -> str:
+    """Which points the statistics cover, in words (the summary's ``area`` record)."""
+    if not area.get("extent_m"):
+        return area["name"]
+    x0, x1, y0, y1 = area["extent_m"]
+    return (f"{area['name']}, X {x0:.1f} to {x1:.1f}, Y {y0:.1f} to {y1:.1f} "
+            f"({area['points_left_out']:,} points outside it left out)")
+
+
 def format_summary(summary: dict) -> str:
     """A plain-text table of the distance statistics (and GCP / pose RMSE if present)."""
     rows = format_statistics(summary["distances"])
+    if summary.get("area"):
+        rows.insert(0, ("statistics over", area_words(summary["area"])))
     surface = summary["inputs"].get("surface")
     if surface:
         rows.insert(0, ("true surface", {"dtm": "DTM (bare earth)",
@@ -60,6 +71,9 @@ def _markdown(summary: dict, images: dict[str, str]) -> str:
         lines.append(f"- offset added to the cloud: {inp['offset']} m")
     if inp.get("max_distance") is not None:
         lines.append(f"- maximum distance: {inp['max_distance']} m (farther points left out)")
+    area = summary.get("area")
+    if area:
+        lines.append(f"- statistics over: {area_words(area)}")
     lines += [f"- **warning**: {w}" for w in summary.get("warnings") or []]
     lines += ["- distance: signed, exact point-to-triangle, positive above (outside) the "
               "mesh; sign from the nearest feature's pseudo-normal",

@@ -241,7 +241,8 @@ def validation_cube() -> Template:
                  m.SurveyedPosition(m.Point3(X, Y, 0.0), m.Sigma3(0.002, 0.002, 0.003)))
         for i, (X, Y) in enumerate(corners))
     scene = m.Scene(
-        terrain=m.Terrain(m.Extent(-30.0, -30.0, 30.0, 30.0), m.FlatTerrain(0.0)),
+        # the experiment measures against the background beyond the plate: no surroundings
+        terrain=m.Terrain(m.Extent(-30.0, -30.0, 30.0, 30.0), m.FlatTerrain(0.0), "none"),
         texture=m.Texture(m.ProceduralTexture("noise", seed=1, texel_size_m=0.02),
                           repeat_X=6, repeat_Y=6, interpolation="linear"),
         targets=m.Targets(targets),
@@ -272,7 +273,8 @@ def psf() -> Template:
                               0.0, 0.0, 0.0)
         for i, (x, y) in enumerate((x, y) for y in (-2.0, 0.0, 2.0) for x in (-2.0, 0.0, 2.0)))
     scene = m.Scene(
-        terrain=m.Terrain(m.Extent(-20.0, -20.0, 20.0, 20.0), m.FlatTerrain(0.0)),
+        # the experiment is designed around its plane and background: no surroundings
+        terrain=m.Terrain(m.Extent(-20.0, -20.0, 20.0, 20.0), m.FlatTerrain(0.0), "none"),
         texture=m.Texture(m.ProceduralTexture("slanted-edge", seed=0, texel_size_m=0.005),
                           repeat_X=8, repeat_Y=8, interpolation="closest"),
         lighting=m.Lighting(m.Sun(180.0, 60.0), sun_strength=4.0, sky_strength=1.0),
@@ -302,7 +304,8 @@ def texture() -> Template:
                    image_width_px=4000, image_height_px=3000,
                    distortion=m.BrownConradyDistortion(k1=-0.05, k2=0.02, p1=1e-4, p2=-1e-4))
     scene = m.Scene(
-        terrain=m.Terrain(m.Extent(-20.0, -20.0, 20.0, 20.0), m.FlatTerrain(0.0)),
+        # the experiment is designed around its plane and background: no surroundings
+        terrain=m.Terrain(m.Extent(-20.0, -20.0, 20.0, 20.0), m.FlatTerrain(0.0), "none"),
         texture=m.Texture(m.ImageTexture("texture.png"), repeat_X=8, repeat_Y=8,
                           interpolation="linear"),
         lighting=m.Lighting(m.SunPosition("2024-06-21T11:00:00+02:00", 47.37, 8.54),

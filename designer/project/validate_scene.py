@@ -57,6 +57,10 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
     if is_ok(e.min_Y) and is_ok(e.max_Y) and not e.min_Y < e.max_Y:
         out.append(Issue(e, "extent", f"min-Y {e.min_Y!r} must be less than max-Y "
                                       f"{e.max_Y!r}; swap or correct them", attr="min-Y"))
+    if terrain.surroundings == "auto" and isinstance(src, m.MeshTerrain):
+        out.append(Issue(terrain, "surroundings", "mode=\"auto\" continues a height-field "
+                         "terrain (flat, procedural or DEM); a mesh terrain cannot be "
+                         "continued: use mode=\"none\" or a DEM", attr="mode"))
     if isinstance(src, m.ProceduralTerrain):
         if src.min_height_m > src.max_height_m:
             out.append(Issue(src, "procedural", f"min-height-m {src.min_height_m!r} is above "

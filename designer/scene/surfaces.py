@@ -102,10 +102,12 @@ def merge_triangles(parts: list[Triangles]) -> Triangles:
 
 def true_surfaces(project: m.Project, base_dir: Path, surfaces=SURFACES, *,
                   with_targets: bool = True,
-                  at_time_s: float | None = None) -> dict[str, Triangles]:
+                  at_time_s: float | None = None, growth=None) -> dict[str, Triangles]:
     """Each of ``surfaces`` ("dtm", "dsm") of ``project`` as world triangles (float64),
     keyed by name in the order given, from one build of the terrain (and targets): each
-    is equal, array for array, to :func:`true_surface` of that name."""
+    is equal, array for array, to :func:`true_surface` of that name. ``growth`` (a
+    :class:`~designer.scene.surroundings.Growth`) grows the terrain as the renderer did,
+    so the truth covers everything the images see; None: the declared terrain."""
     surfaces = (surfaces,) if isinstance(surfaces, str) else tuple(surfaces)
     for surface in surfaces:
         if surface not in SURFACES:
@@ -117,6 +119,10 @@ def true_surfaces(project: m.Project, base_dir: Path, surfaces=SURFACES, *,
     origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
     # Only the geometry is needed: build the terrain and targets, not the texture.
     hf = build_heightfield(terrain, base_dir, project.crs)
+    if hf is not None and growth is not None and any(growth.steps):
+        from designer.scene.surroundings import grow_terrain
+
+        hf = grow_terrain(project, hf, growth).heightfield
     mesh = build_terrain_mesh(terrain, hf, base_dir, origin)
     bare: list[Triangles] = [(mesh.vertices_world, mesh.faces)]
     if with_targets:

@@ -200,3 +200,24 @@ def image_ground(project: m.Project, declared: Heightfield, images) -> ImageGrou
     rendered = grow_terrain(project, declared, growth).heightfield
     shares = void_shares(project, images, TerrainRaycaster(rendered))
     return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth)
+
+
+def surroundings_warning(project: m.Project, base_dir: Path) -> str | None:
+    """``designer check``'s warning when images of the project would see past the
+    rendered terrain (more than VOID_WARN of their pixels), naming them and the fix;
+    None when every image sees ground (or the terrain is a mesh, which is not analysed)."""
+    from designer.scene.build import build_heightfield
+    from designer.survey.project_poses import project_images
+
+    declared = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
+    if declared is None:
+        return None
+    images = project_images(project, declared)
+    if not len(images.stations):
+        return None
+    ground = image_ground(project, declared, images)
+    off = [n for n, v in zip(ground.names, ground.void_share, strict=True) if v > VOID_WARN]
+    if not off:
+        return None
+    shown = ", ".join(off[:5]) + (f" and {len(off) - 5} more" if len(off) > 5 else "")
+    return f"{ground.warning(project)} [{shown}]"

@@ -76,17 +76,19 @@ def test_plan_warns_when_the_tiled_texture_repeats_inside_the_footprint(tmp_path
         return dataclasses.replace(example, scene=dataclasses.replace(example.scene,
                                                                       texture=tex))
 
-    # without the variation the 20 m tiles repeat inside the 75 x 50 m footprint
+    # without the variation the 20 m tiles repeat inside the 71 x 47.5 m footprint
     (warning,) = _texture_warnings(with_texture(variation=None), tmp_path, capsys)
-    assert warning.startswith("texture repeats every 20 m, shorter than the 50.")
+    assert warning.startswith("texture repeats every 20 m, shorter than the 47.5 m")
     assert "add <variation" in warning
     # one tile over the 100 m terrain: longer than the footprint, no repeat in an image
     assert _texture_warnings(with_texture(variation=None, repeat_X=1, repeat_Y=1),
                              tmp_path, capsys) == []
-    # 50 m tiles: just shorter than the 50.4 m short side of the footprint
-    (warning,) = _texture_warnings(with_texture(variation=None, repeat_X=2, repeat_Y=2),
+    # 50 m tiles: just longer than the 47.5 m short side of the footprint; 33 m shorter
+    assert _texture_warnings(with_texture(variation=None, repeat_X=2, repeat_Y=2),
+                             tmp_path, capsys) == []
+    (warning,) = _texture_warnings(with_texture(variation=None, repeat_X=3, repeat_Y=3),
                                    tmp_path, capsys)
-    assert warning.startswith("texture repeats every 50 m")
+    assert warning.startswith("texture repeats every 33.3333 m")
 
 
 def test_a_reader_that_stops_early_gets_no_traceback():
