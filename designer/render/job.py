@@ -42,6 +42,7 @@ from designer.render.job_spec import (
     RenderJob,
     RenderSpec,
 )
+from designer.render.terrain_bake import needs_two_levels, sample_light_rect, two_level_bake
 from designer.render.texture_bake import bake_varied_texture, can_bake
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.texture_variation import GAIN_ENCODING
@@ -53,6 +54,8 @@ from designer.survey.timeline import StationTime, iso_utc, project_station_times
 BAKED_TEXTURE = "texture_varied.png"
 #: … times the light map, for a static sun (one light map for every frame)
 BAKED_LIT_TEXTURE = "texture_lit.png"
+#: the job's file of the coarse bake over wide surroundings (render.terrain_bake)
+BAKED_COARSE_TEXTURE = "texture_coarse.png"
 #: a bake larger than this a side is written as an uncompressed TIFF (the terrain with
 #: its surroundings: PNG encoding took 14 s for 8800², TIFF 0.2 s); smaller ones stay PNG
 PNG_BAKE_MAX_PX = 4096
@@ -177,6 +180,8 @@ def prepare_job(
                                     uv_tiles=tuple(float(t) for t in scene.texture_tiles),
                                     interpolation=scene.interpolation.capitalize())
     baked = None  # written below, with the light map folded in where the sun is static
+    two = None  # a detail and a coarse bake for wide surroundings (render.terrain_bake)
+    repeat = (project.scene.texture.repeat_X, project.scene.texture.repeat_Y)
     if (bake_texture and scene.variation is not None
             and can_bake(scene.texture_rgb.shape, scene.texture_tiles)):
         # the blend of the three lookups baked into one image: one lookup per sample
@@ -187,6 +192,14 @@ def prepare_job(
                                         interpolation="Linear", extension="EXTEND",
                                         texture_colorspace="Non-Color",
                                         strength=terrain_material.strength * GAIN_ENCODING)
+    elif bake_texture and needs_two_levels(scene, repeat):
+        two = two_level_bake(scene, repeat, project.scene.texture.variation)
+        baked_material = MaterialSpec(texture=bake_file(BAKED_TEXTURE, two.inner.shape),
+                                      uv_tiles=(1.0, 1.0), interpolation="Linear",
+                                      extension="EXTEND", texture_colorspace="Non-Color",
+                                      strength=terrain_material.strength * GAIN_ENCODING)
+        terrain_material = (replace(baked_material, uv_map=TEXTURE_UV_MAP),
+                            replace(baked_material, texture=BAKED_COARSE_TEXTURE))
     elif scene.variation is not None:
         var = scene.variation
         write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
@@ -197,6 +210,8 @@ def prepare_job(
                                    variation_warp_uv=var.warp_bound_uv,
                                    strength=terrain_material.strength * GAIN_ENCODING)
     terrain_uv = {}
+    if two is not None:
+        terrain_uv = {"uv_texture": two.inner_uv, "material_index": two.material_index}
     if scene.texture_uv is not None:
         # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
         # edge texels held beyond the image; the light map keeps the terrain's uv.
@@ -229,6 +244,9 @@ def prepare_job(
         objects = list(steps[0].objects)
     if baked is not None:
         objects = _write_bake(baked, objects, job_dir, lit=not steps)
+    if two is not None:
+        objects = _write_two_bakes(two, scene.heightfield.extent_m, objects, job_dir,
+                                   lit=not steps)
     if times is not None:
         for i, t in enumerate(times):
             contexts[i].update(time_s=t.time_s, time_utc=iso_utc(t.time_utc),
@@ -330,6 +348,38 @@ def _write_bake(baked: np.ndarray, objects: list, job_dir: Path, lit: bool) -> l
     folded = replace(material, texture=lit_file, lightmap=None)
     return [replace(o, materials=(folded, *o.materials[1:])) if o is terrain else o
             for o in objects]
+
+
+def _write_two_bakes(two, extent_m, objects: list, job_dir: Path, lit: bool) -> list:
+    """Write the detail and coarse bakes (render.terrain_bake); with ``lit`` the light map
+    is folded into each, sampled over the part of the terrain each covers."""
+    terrain = next(o for o in objects if o.name == "terrain")
+    rects = (two.inner_rect_uv(extent_m), (0.0, 1.0, 0.0, 1.0))
+    light = None
+    if lit and terrain.materials[0].lightmap is not None:
+        light = cv2.imread(str(job_dir / terrain.materials[0].lightmap),
+                           cv2.IMREAD_UNCHANGED).astype(np.float32) / np.float32(65535.0)
+    folded = []
+    for material, bake, rect in zip(terrain.materials, (two.inner, two.coarse), rects,
+                                    strict=True):
+        if light is None:
+            write_png(job_dir / material.texture, cv2.cvtColor(bake, cv2.COLOR_RGB2BGR),
+                      fast=True)
+            folded.append(material)
+            continue
+        H, W = bake.shape[:2]
+        lit_image = np.empty_like(bake)
+        for r in range(0, H, 256):  # bands of rows: the light's float copy stays small
+            r1 = min(r + 256, H)
+            top = rect[3] - r / H * (rect[3] - rect[2])
+            bottom = rect[3] - r1 / H * (rect[3] - rect[2])
+            band = sample_light_rect(light, (r1 - r, W), (rect[0], rect[1], bottom, top))
+            product = bake[r:r1].astype(np.float32) * band[:, :, None]
+            lit_image[r:r1] = np.clip(np.rint(product), 0, 65535)
+        name = material.texture.replace("texture_", "texture_lit_", 1)
+        write_png(job_dir / name, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR), fast=True)
+        folded.append(replace(material, texture=name, lightmap=None))
+    return [replace(o, materials=tuple(folded)) if o is terrain else o for o in objects]
 
 
 def _rolling_shutters(project: m.Project, images, times):

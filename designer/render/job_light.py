@@ -51,10 +51,13 @@ class ObjectLighting:
     """Writes the lit objects of a scene under a given sun into the job folder."""
 
     def __init__(self, project: m.Project, base_dir: Path, scene: BuiltScene,
-                 origin: np.ndarray, job_dir: Path, terrain_material: MaterialSpec) -> None:
+                 origin: np.ndarray, job_dir: Path,
+                 terrain_material: MaterialSpec | tuple[MaterialSpec, ...]) -> None:
         self.project, self.base_dir, self.scene = project, Path(base_dir), scene
         self.origin, self.job_dir = origin, Path(job_dir)
-        self.terrain_material = terrain_material
+        #: the terrain's materials (two for a detail and a coarse bake, by face)
+        self.terrain_materials = (terrain_material if isinstance(terrain_material, tuple)
+                                  else (terrain_material,))
         #: per sun: its targets and scene objects; its (light map, direct part)
         self._others: dict[tuple[float, float], list[MeshSpec]] = {}
         self._bakes: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
@@ -86,7 +89,7 @@ class ObjectLighting:
         cloud shadows, the light map's direct sun is dimmed by the clouds at ``time_s``
         (s after take-off; None: at take-off)."""
         scene = self.scene
-        material = self.terrain_material
+        materials = self.terrain_materials
         clouds = self.project.scene.lighting.clouds
         if scene.heightfield is not None:
             size = self.lightmap_size_px()
@@ -97,9 +100,10 @@ class ObjectLighting:
                 light = self._cloudy_light(azimuth_deg, elevation_deg, size, time_s or 0.0)
             name = f"lightmap{tag}.png"
             write_png(self.job_dir / name, encode_lightmap_png16(light))
-            material = replace(material, lightmap=name,
-                               strength=material.strength * LIGHTMAP_SCALE)
-        objects = [MeshSpec("terrain", "terrain.npz", (material,))]
+            materials = tuple(replace(mat, lightmap=name,
+                                      strength=mat.strength * LIGHTMAP_SCALE)
+                              for mat in materials)
+        objects = [MeshSpec("terrain", "terrain.npz", materials)]
         cache = self._others
         if (azimuth_deg, elevation_deg) in cache:  # same sun, other clouds
             return objects + cache[(azimuth_deg, elevation_deg)]
