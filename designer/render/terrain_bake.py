@@ -25,7 +25,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from designer.render.texture_bake import MAX_BAKE_PX, bake_varied_texture
+from designer.render import texture_bake
+from designer.render.texture_bake import bake_varied_texture
 from designer.scene.build import BuiltScene
 from designer.scene.texture_variation import variation_images
 
@@ -59,9 +60,10 @@ def inner_tiles(scene: BuiltScene, repeat: tuple[int, int]) -> tuple[int, int, i
     the growth, trimmed on its widest side until the bake fits MAX_BAKE_PX."""
     h, w = scene.texture_rgb.shape[:2]
     grow = list(scene.growth.steps)
-    while (repeat[0] + grow[0] + grow[1]) * w > MAX_BAKE_PX and grow[0] + grow[1] > 0:
+    limit = texture_bake.MAX_BAKE_PX
+    while (repeat[0] + grow[0] + grow[1]) * w > limit and grow[0] + grow[1] > 0:
         grow[0 if grow[0] >= grow[1] else 1] -= 1
-    while (repeat[1] + grow[2] + grow[3]) * h > MAX_BAKE_PX and grow[2] + grow[3] > 0:
+    while (repeat[1] + grow[2] + grow[3]) * h > limit and grow[2] + grow[3] > 0:
         grow[2 if grow[2] >= grow[3] else 3] -= 1
     return tuple(grow)
 
@@ -71,8 +73,9 @@ def needs_two_levels(scene: BuiltScene, repeat: tuple[int, int]) -> bool:
     fits: the terrain gets a detail and a coarse bake."""
     h, w = scene.texture_rgb.shape[:2]
     tx, ty = scene.texture_tiles
-    whole = max(tx * w, ty * h) > MAX_BAKE_PX
-    declared = max(repeat[0] * w, repeat[1] * h) <= MAX_BAKE_PX
+    limit = texture_bake.MAX_BAKE_PX
+    whole = max(tx * w, ty * h) > limit
+    declared = max(repeat[0] * w, repeat[1] * h) <= limit
     return scene.variation is not None and any(scene.growth.steps) and whole and declared
 
 

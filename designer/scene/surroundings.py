@@ -140,7 +140,10 @@ def grow_terrain(project: m.Project, declared: Heightfield, growth: Growth) -> S
     gy0, gy1 = y0 - s * step[1], y1 + n * step[1]
     tiled = _tile_m(project) is not None and not isinstance(src, m.DemTerrain)
     if isinstance(src, m.FlatTerrain):
-        hf = Heightfield(gx0, gy0, gx1 - gx0, gy1 - gy0, np.full((2, 2), src.height_m))
+        # nodes on the steps (whole tiles): a bake's rectangle of whole tiles is whole faces
+        nx, ny = w + e + round((x1 - x0) / step[0]), s + n + round((y1 - y0) / step[1])
+        hf = Heightfield(gx0, gy0, (gx1 - gx0) / max(nx, 1), (gy1 - gy0) / max(ny, 1),
+                         np.full((max(ny, 1) + 1, max(nx, 1) + 1), src.height_m))
     elif isinstance(src, m.ProceduralTerrain):
         hf = _procedural(src, gx0, gx1, gy0, gy1)
     else:

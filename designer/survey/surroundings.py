@@ -29,6 +29,8 @@ from designer.scene.surroundings import (
     surroundings_mode,
 )
 
+#: the grid spacing flat ground's margin counts in (m)
+FLAT_MARGIN_SPACING_M = 0.5
 #: rays per image side whose ground points bound the surroundings
 BORDER_SAMPLES = 24
 #: a ray meeting the ground farther than this many camera heights is near the horizon:
@@ -104,7 +106,8 @@ def terrain_growth(project: m.Project, declared: Heightfield, images) -> Growth:
         ground_low = min(ground_low, src.min_height_m)
     reach = ground_reach(project, images, ground_low)
     step = growth_step_m(project, declared)
-    spacing = (min(step) if isinstance(src, m.FlatTerrain)
+    # the margin's floor: a few grid spacings (flat ground has no grid: 0.5 m)
+    spacing = (FLAT_MARGIN_SPACING_M if isinstance(src, m.FlatTerrain)
                else min(declared.dx_m, declared.dy_m))
     return Growth(grown_extent(declared.extent_m, reach.extent_m, step[0], step[1], spacing),
                   reach.horizon)
