@@ -42,7 +42,15 @@ from designer.render.job_spec import (
     RenderJob,
     RenderSpec,
 )
-from designer.render.terrain_bake import needs_two_levels, sample_light_rect, two_level_bake
+from designer.render.terrain_bake import (
+    FAR_TEXTURE,
+    SKY_RGB,
+    far_ground_arrays,
+    far_tile,
+    needs_two_levels,
+    sample_light_rect,
+    two_level_bake,
+)
 from designer.render.texture_bake import bake_varied_texture, can_bake
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.texture_variation import GAIN_ENCODING
@@ -218,8 +226,23 @@ def prepare_job(
         terrain_material = replace(terrain_material, uv_tiles=(1.0, 1.0),
                                    uv_map=TEXTURE_UV_MAP, extension="EXTEND")
         terrain_uv = {"uv_texture": scene.texture_uv}
-    save_npz(job_dir / "terrain.npz", vertices_local=scene.terrain.vertices_world - origin,
-             faces=scene.terrain.faces, uv=scene.terrain.uv, **terrain_uv)
+    arrays = {"vertices_world": scene.terrain.vertices_world, "faces": scene.terrain.faces,
+              "uv": scene.terrain.uv, **terrain_uv}
+    if scene.growth.horizon and scene.heightfield is not None:
+        # images look towards the horizon: a far ground ring out to it, a sky above it
+        materials = terrain_material if isinstance(terrain_material, tuple) else (
+            terrain_material,)
+        write_png(job_dir / FAR_TEXTURE, cv2.cvtColor(far_tile(scene.texture_rgb),
+                                                      cv2.COLOR_RGB2BGR))
+        far = MaterialSpec(texture=FAR_TEXTURE,
+                           uv_tiles=tuple(float(t) for t in scene.texture_tiles),
+                           interpolation="Linear")
+        if scene.texture_uv is not None:  # an orthophoto's edge colours
+            far = materials[0]
+        arrays = far_ground_arrays(scene, arrays, len(materials))
+        terrain_material = (*materials, far)
+    world = arrays.pop("vertices_world")
+    save_npz(job_dir / "terrain.npz", vertices_local=world - origin, **arrays)
     contexts = _frame_contexts(stations, [interiors[c] for c in images.camera_ids], scene)
     light = ObjectLighting(project, base_dir, scene, origin, job_dir, terrain_material)
     # the time line is the platform's: every image of a rig station is taken then
@@ -299,6 +322,8 @@ def prepare_job(
         width_px=interior.image_width_px,
         height_px=interior.image_height_px,
         objects=tuple(objects),
+        # the sky above the horizon where images see it (else the black background)
+        background_rgb=SKY_RGB if scene.growth.horizon else (0.0, 0.0, 0.0),
         light_steps=steps,
         moving_objects=moving_specs,
         vegetation=plant_specs,
@@ -360,7 +385,7 @@ def _write_two_bakes(two, extent_m, objects: list, job_dir: Path, lit: bool) -> 
         light = cv2.imread(str(job_dir / terrain.materials[0].lightmap),
                            cv2.IMREAD_UNCHANGED).astype(np.float32) / np.float32(65535.0)
     folded = []
-    for material, bake, rect in zip(terrain.materials, (two.inner, two.coarse), rects,
+    for material, bake, rect in zip(terrain.materials[:2], (two.inner, two.coarse), rects,
                                     strict=True):
         if light is None:
             write_png(job_dir / material.texture, cv2.cvtColor(bake, cv2.COLOR_RGB2BGR),
@@ -379,6 +404,7 @@ def _write_two_bakes(two, extent_m, objects: list, job_dir: Path, lit: bool) -> 
         name = material.texture.replace("texture_", "texture_lit_", 1)
         write_png(job_dir / name, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR), fast=True)
         folded.append(replace(material, texture=name, lightmap=None))
+    folded += terrain.materials[2:]  # the far ground keeps its own texture and light map
     return [replace(o, materials=tuple(folded)) if o is terrain else o for o in objects]
 
 

@@ -130,3 +130,49 @@ def sample_light_rect(light: np.ndarray, shape: tuple[int, int],
     wy = (py - iy).astype(np.float32)[:, None]
     rows = light[:, jx] * (1 - wx) + light[:, np.minimum(jx + 1, Lw - 1)] * wx  # (Lh, W)
     return rows[iy] * (1 - wy) + rows[np.minimum(iy + 1, Lh - 1)] * wy
+
+
+#: the sky seen above the horizon by images that look towards it (linear RGB; the
+#: renderer's background, black otherwise): a clear, slightly hazy blue
+SKY_RGB = (0.50, 0.66, 0.92)
+#: the far ground's tile is the detail tile averaged down by this factor a side: at the
+#: distances it is seen from, a finer tile would alias into noise (Cycles does not
+#: mip-map on the CPU)
+FAR_TILE_REDUCTION = 16
+#: the job's file of the far ground's tile
+FAR_TEXTURE = "texture_far.png"
+
+
+def far_ground_arrays(scene: BuiltScene, arrays: dict, n_materials: int) -> dict:
+    """The terrain mesh's arrays (``vertices_world``, ``faces``, ``uv`` and, when present,
+    ``uv_texture`` and ``material_index``) with the far ground ring
+    (:func:`designer.scene.surroundings.far_ground`) appended as material ``n_materials``.
+    The ring's UVs continue the terrain's (its tiles repeat); an orthophoto's texture
+    coordinates hold the edge colours outwards."""
+    from designer.scene.surroundings import far_ground
+
+    hf = scene.heightfield
+    outer, ring = far_ground(hf)
+    x0, x1, y0, y1 = hf.extent_m
+    n_inner = len(arrays["vertices_world"])
+    uv_outer = np.column_stack([(outer[:, 0] - x0) / (x1 - x0), (outer[:, 1] - y0) / (y1 - y0)])
+    out = dict(arrays)
+    out["vertices_world"] = np.concatenate([arrays["vertices_world"], outer])
+    out["faces"] = np.concatenate([arrays["faces"], ring])
+    out["uv"] = np.concatenate([arrays["uv"], uv_outer])
+    if "uv_texture" in arrays:
+        # each outer vertex takes the texture coordinate of the edge node it lies beyond
+        edge = ring[0::2, 0]
+        out["uv_texture"] = np.concatenate([arrays["uv_texture"], arrays["uv_texture"][edge]])
+    index = arrays.get("material_index", np.zeros(len(arrays["faces"]), np.int32))
+    out["material_index"] = np.concatenate(
+        [index, np.full(len(ring), n_materials, np.int32)]).astype(np.int32)
+    assert len(out["uv"]) == n_inner + len(outer)
+    return out
+
+
+def far_tile(texture_rgb: np.ndarray) -> np.ndarray:
+    """The far ground's tile: the detail tile averaged down FAR_TILE_REDUCTION times."""
+    h, w = texture_rgb.shape[:2]
+    size = (max(2, w // FAR_TILE_REDUCTION), max(2, h // FAR_TILE_REDUCTION))
+    return cv2.resize(texture_rgb, size, interpolation=cv2.INTER_AREA)

@@ -170,3 +170,51 @@ def _procedural(src: m.ProceduralTerrain, x0: float, x1: float, y0: float, y1: f
                         base_height_m=0.5 * (src.max_height_m + src.min_height_m),
                         roughness=src.roughness, hill_size_m=src.hill_size_m)
     return Heightfield(x0, y0, dx, dy, np.ascontiguousarray(z))
+
+
+#: how far the far ground reaches from the terrain's centre (m): its edge lies within
+#: 0.1° of the true horizon for a camera 50 m up
+FAR_GROUND_M = 30000.0
+
+
+def far_ground(hf: Heightfield, radius_m: float = FAR_GROUND_M
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """A ring of ground from the height field's edge out to a square ``radius_m`` from
+    its centre, for images that look towards the horizon: (outer vertices (n, 3) world
+    m, faces (2n, 3)). Face indices below ``nx·ny`` are the height field mesh's own edge
+    nodes (:func:`designer.scene.mesh.heightfield_to_mesh` numbering), so ring and terrain
+    share their seam exactly; the outer ring lies at the mean edge height. Faces are
+    counter-clockwise from above (normals up)."""
+    ny, nx = hf.heights_m.shape
+    # the edge nodes, counter-clockwise: south row west→east, east column south→north,
+    # north row east→west, west column north→south
+    south = [(0, j) for j in range(nx - 1)]
+    east = [(i, nx - 1) for i in range(ny - 1)]
+    north = [(ny - 1, j) for j in range(nx - 1, 0, -1)]
+    west = [(i, 0) for i in range(ny - 1, 0, -1)]
+    loop = np.array(south + east + north + west)
+    index = loop[:, 0] * nx + loop[:, 1]
+    x = hf.x0_m + loop[:, 1] * hf.dx_m
+    y = hf.y0_m + loop[:, 0] * hf.dy_m
+    z = hf.heights_m[loop[:, 0], loop[:, 1]]
+    x0, x1, y0, y1 = hf.extent_m
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    dx, dy = x - cx, y - cy
+    scale = radius_m / np.maximum(np.maximum(np.abs(dx), np.abs(dy)), 1e-9)
+    outer = np.column_stack([cx + dx * scale, cy + dy * scale, np.full(len(x), z.mean())])
+    n = len(loop)
+    base = ny * nx
+    k = np.arange(n)
+    k1 = (k + 1) % n
+    faces = np.empty((2 * n, 3), np.int64)
+    faces[0::2] = np.column_stack([index[k], base + k, base + k1])
+    faces[1::2] = np.column_stack([index[k], base + k1, index[k1]])
+    # counter-clockwise from above (the loop runs counter-clockwise, the ring outside it)
+    p = np.concatenate([np.column_stack([x, y, z]), outer])
+    lookup = np.full(base + n, -1)
+    lookup[index] = k
+    lookup[base + k] = n + k
+    a, b, c = (p[lookup[faces[:, i]]] for i in range(3))
+    up = ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    faces[up < 0] = faces[up < 0][:, [0, 2, 1]]
+    return outer, faces

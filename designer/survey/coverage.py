@@ -274,9 +274,12 @@ def analyse_stations(
     # neighbours are found by where the images look (an oblique camera looks ahead)
     centre_xy = np.where(np.isfinite(ground[:, -1, :2]), ground[:, -1, :2], C[:, :2])
     pairs = _overlap_pairs(centre_xy, line, grid_of)  # (station, other, role)
-    margins = _margins(samples, hit, pairs, C, R, interior)  # (P, 4, k²)
-    tri_share = _triangle_shares(margins.reshape(len(pairs), 4, k, k))  # (P, T)
     tri_valid = _triangle_valid(hit.reshape(M, k, k))  # (M, T)
+    if len(pairs):
+        margins = _margins(samples, hit, pairs, C, R, interior)  # (P, 4, k²)
+        tri_share = _triangle_shares(margins.reshape(len(pairs), 4, k, k))  # (P, T)
+    else:  # one image, or none that overlap: no overlap to measure (NaN below)
+        tri_share = np.zeros((0, tri_valid.shape[1]))
     shares = {}
     for role in range(3):
         sel = pairs[:, 2] == role

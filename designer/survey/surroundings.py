@@ -137,10 +137,13 @@ VOID_SAMPLES = 64
 VOID_WARN = 0.01
 
 
-def void_shares(project: m.Project, images, raycaster) -> np.ndarray:
+def void_shares(project: m.Project, images, raycaster, far_ground: bool = False
+                ) -> np.ndarray:
     """(M,) share of each image's pixels (a grid of pixel-centre rays) whose ray meets no
     terrain of ``raycaster`` (a :class:`~designer.survey.raycast.TerrainRaycaster` over
-    the rendered terrain): what renders as background."""
+    the rendered terrain): what renders as background. With ``far_ground`` (the
+    renderer's ring of ground to the horizon, and a sky) no ray sees the background: one
+    pointing down meets the far ground, one pointing up the sky."""
     from designer.core.rotation import R_CV_FROM_PHOTO
 
     out = np.zeros(len(images.stations))
@@ -159,6 +162,8 @@ def void_shares(project: m.Project, images, raycaster) -> np.ndarray:
         C = np.array([images.stations[i].C_world for i in k], float).reshape(-1, 3)
         R = np.array([images.stations[i].R_cam_to_world for i in k]).reshape(-1, 3, 3)
         rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)
+        if far_ground:
+            continue
         hit = raycaster.first_hit(np.repeat(C, len(uv), axis=0), rays.reshape(-1, 3))
         out[k] = 1.0 - np.all(np.isfinite(hit), axis=1).reshape(len(k), len(uv)).mean(axis=1)
     return out
@@ -201,7 +206,7 @@ def image_ground(project: m.Project, declared: Heightfield, images) -> ImageGrou
 
     growth = terrain_growth(project, declared, images)
     rendered = grow_terrain(project, declared, growth).heightfield
-    shares = void_shares(project, images, TerrainRaycaster(rendered))
+    shares = void_shares(project, images, TerrainRaycaster(rendered), growth.horizon)
     return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth)
 
 
