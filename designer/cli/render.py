@@ -48,6 +48,7 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from designer.errors import DesignerError
     from designer.render.pipeline import render_project
+    from designer.render.void_share import void_warning
 
     if args.workers is not None and args.workers < 1:
         raise DesignerError(f"--workers {args.workers}: give at least 1 worker")
@@ -82,6 +83,9 @@ def run(args) -> int:
 
         print(f"{len(summary.stale)} of the rendered images replaced images made from other "
               f"inputs: {count_reasons(summary.stale)}")
+    warning = void_warning(summary.void) if summary.void is not None else None
+    if warning is not None:  # the last line: images that are partly empty background
+        print(f"designer: warning: {warning}", file=sys.stderr)
     return 0
 
 

@@ -91,8 +91,7 @@ def render_frames_on_cluster(
                 for event in result["events"]:
                     event["host"] = result["host"]
                     if event["event"] == "frame_done":
-                        report.rendered[int(event["index"])] = float(event["seconds"])
-                        report.stages[int(event["index"])] = dict(event.get("stages") or {})
+                        report.frame_done(event)
                     elif event["event"] == "scene_ready":
                         report.scene_seconds.append(float(event["seconds"]))
                     elif event["event"] == "worker_done":

@@ -76,13 +76,16 @@ def apply_effects_pass(job_path: Path, frames: list[int], raw_dir: Path, *,
     """Finish the images of ``frames`` from raw renders kept in ``raw_dir`` (a render of
     the same scene, poses and Blender camera with ``keep_raw``), through this job's
     camera effects: no Cycles. Returns a RenderReport (``rendered``: seconds per image,
-    ``stages``: its steps). Images appear in the job's images folder only when complete.
+    ``stages``: its steps, ``void_share``: from the void maps kept beside the raw
+    renders, where there are). Images appear in the job's images folder only when
+    complete.
     """
     import time
 
     from designer.core.layout import PARTIAL_DIR
     from designer.errors import DesignerError
     from designer.render.runner import RenderReport, image_is_complete, remove_partial_files
+    from designer.render.void_share import VOID_MAP_SUFFIX, void_share_of_map
 
     job_path = Path(job_path)
     job = RenderJob.read(job_path)
@@ -131,13 +134,17 @@ def apply_effects_pass(job_path: Path, frames: list[int], raw_dir: Path, *,
             finally:
                 raw.unlink(missing_ok=True)
                 staged.unlink(missing_ok=True)
+            void_map = Path(raw_dir) / f"{final.stem}{VOID_MAP_SUFFIX}"
+            # the same rendered pixels: the void the raw render's worker measured
+            void_share = void_share_of_map(void_map) if void_map.is_file() else None
             seconds = time.perf_counter() - t_frame
             stages["effects_total_s"] = seconds
-            report.rendered[i] = seconds
-            report.stages[i] = stages
+            event = {"event": "frame_done", "index": i, "path": str(final),
+                     "seconds": seconds, "stages": stages, "void_share": void_share,
+                     "effects_pass": True}
+            report.frame_done(event)
             if progress is not None:
-                progress({"event": "frame_done", "index": i, "path": str(final),
-                          "seconds": seconds, "stages": stages, "effects_pass": True})
+                progress(event)
     finally:
         remove_partial_files(base, out_dir)
     report.wall_seconds = time.perf_counter() - t0

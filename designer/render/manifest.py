@@ -1,4 +1,4 @@
-"""OUT/manifest.json: versions, settings, per-image seconds and the inputs of every image.
+"""OUT/manifest.json: versions, settings, per-image seconds, void share and inputs.
 
 The manifest is rewritten (atomically) as soon as the ground truth is written and again
 as each image lands, so an interrupted run leaves a record of exactly the images it
@@ -26,6 +26,7 @@ from designer.render.job import PreparedJob
 from designer.render.provenance import ImageProvenance, ground_truth_digest
 from designer.render.runner import RenderReport
 from designer.render.stages import round_stages
+from designer.render.void_share import VoidSummary, round_void_share, void_summary
 
 __all__ = ["GROUND_TRUTH_DIR", "MANIFEST", "Manifest", "read_manifest"]
 
@@ -75,6 +76,7 @@ class Manifest:
             "prepare_seconds": round(prepare_seconds, 3),
             "ground_truth": previous.get("ground_truth"),
             "images_folder": IMAGES_DIR,
+            "void": None,  # the images' void summary (VoidSummary), kept up to date
             "images": {},
         }
         if prepared.cameras is not None:  # a rig: each camera's image size (image_size_px
@@ -104,17 +106,27 @@ class Manifest:
         self.data["ground_truth"] = record
         self._write()
 
-    def image_done(self, index: int, seconds: float, stages: dict | None = None) -> None:
+    def image_done(self, index: int, seconds: float, stages: dict | None = None,
+                   void_share: float | None = None) -> None:
         """Record a finished image: its seconds in the worker (``render_seconds``, the
         whole frame) and, when the worker reported them, each stage's seconds
-        (:data:`designer.render.stages.FRAME_STAGES`)."""
+        (:data:`designer.render.stages.FRAME_STAGES`) and the share of the image that
+        sees no object (``void_share``, 0..1: :mod:`designer.render.void_share`)."""
         name = self.prepared.job.image_names[index]
         entry = {"frame": index, "render_seconds": round(seconds, 4)}
         if stages:
             entry["stages"] = round_stages(stages)
+        if void_share is not None:
+            entry["void_share"] = round_void_share(void_share)
         entry["inputs"] = self.provenance[index].to_json()
         self.finished[name] = entry
         self._write()
+
+    def void_summary(self) -> VoidSummary:
+        """The void of every image the manifest records (this run's and earlier ones')."""
+        shares = {name: entry.get("void_share") for name, entry in self.data["images"].items()}
+        return void_summary({name: s if isinstance(s, float | int) and not isinstance(s, bool)
+                             else None for name, s in shares.items()})
 
     def ground_truth_seconds(self, seconds: float) -> None:
         """How long writing the ground truth (tables, masks) took in this run."""
@@ -139,4 +151,5 @@ class Manifest:
                                       if k in self.names and isinstance(v, dict)})
             self.recorded.update(self.finished)
             self.data["images"] = dict(sorted(self.recorded.items()))
+            self.data["void"] = asdict(self.void_summary())
             write_text_atomic(self.path, json.dumps(self.data, indent=1))

@@ -4,7 +4,7 @@ Output folder layout (:mod:`designer.core.layout`)::
 
     OUT/images/IMAGE_NAME…     only the images, each renamed in when complete
     OUT/ground-truth/…         COLMAP, OpenDroneMap, Metashape, OPK and GCP tables
-    OUT/manifest.json          versions, settings, per-image render seconds and inputs
+    OUT/manifest.json          versions, settings, per-image render seconds, void share and inputs
     OUT/README.txt             which file each program takes
     OUT/.designer-job/         the job the workers read (scene files, logs, partial images)
 
@@ -39,6 +39,7 @@ from designer.render.manifest import Manifest
 from designer.render.provenance import job_provenance
 from designer.render.readme import write_readme
 from designer.render.runner import ProgressCallback, RenderReport, render_frames
+from designer.render.void_share import VoidSummary
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
 
@@ -52,6 +53,8 @@ class RenderSummary:
     manifest: Path
     #: frames re-rendered although complete, with the parts of their inputs that changed
     stale: dict[int, list[str]] = field(default_factory=dict)
+    #: the void of the folder's images (the manifest's ``void``: this run's and earlier)
+    void: VoidSummary | None = None
 
     @property
     def images_dir(self) -> Path:
@@ -285,9 +288,10 @@ def render_project(
     ``colmap_offset``: the COLMAP ground truth's frame (``local``: world minus the mean
     camera centre rounded to metres; ``none``: world; ``E,N,H``: world minus that).
     ``keep_raw``: also keep each raw render (Blender's image, before the camera effects)
-    in that folder; ``raw_from``: no Cycles at all — finish the images from the raw
-    renders kept there by a render of the same scene, poses and camera, through this
-    project's camera effects (:func:`designer.render.effects_job.apply_effects_pass`).
+    in that folder, with its void map (``STEM.void-map.png``); ``raw_from``: no Cycles
+    at all — finish the images from the raw renders kept there by a render of the same
+    scene, poses and camera, through this project's camera effects
+    (:func:`designer.render.effects_job.apply_effects_pass`).
     """
     project_path = Path(project_path)
     project = load_project(project_path)
@@ -329,11 +333,8 @@ def render_project(
     def record(event: dict) -> None:
         if event.get("event") == "frame_done":
             manifest.image_done(int(event["index"]), float(event["seconds"]),
-                                event.get("stages"))
-            measured.rendered[int(event["index"])] = float(event["seconds"])
-            measured.stages[int(event["index"])] = dict(event.get("stages") or {})
-            if event.get("order") == 0:
-                measured.first_frames.add(int(event["index"]))
+                                event.get("stages"), event.get("void_share"))
+            measured.frame_done(event)
         elif event.get("event") == "worker_started":
             measured.scene_seconds.append(0.0)  # one entry per worker
         if progress is not None:
@@ -367,4 +368,4 @@ def render_project(
             "--resume to retry only those")
     resumed = [i for i in stale if resume and i in report.rendered]
     return RenderSummary(out_dir, prepared, report, ground_truth, manifest_path,
-                         stale={i: stale[i] for i in resumed})
+                         stale={i: stale[i] for i in resumed}, void=manifest.void_summary())

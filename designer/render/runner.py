@@ -44,6 +44,19 @@ class RenderReport:
     #: frames that were the first of their worker process (Cycles builds its copy of the
     #: scene during that render)
     first_frames: set[int] = field(default_factory=set)
+    #: index -> share of the image that sees no object (designer.render.void_share), for
+    #: the frames whose worker measured it
+    void_share: dict[int, float] = field(default_factory=dict)
+
+    def frame_done(self, event: dict) -> None:
+        """Record a worker's ``frame_done`` event: seconds, stages and void share."""
+        index = int(event["index"])
+        self.rendered[index] = float(event["seconds"])
+        self.stages[index] = dict(event.get("stages") or {})
+        if event.get("void_share") is not None:
+            self.void_share[index] = float(event["void_share"])
+        if event.get("order") == 0:
+            self.first_frames.add(index)
 
 
 def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
@@ -86,7 +99,8 @@ def render_frames(
     With ``resume``, a frame whose image is complete is skipped when ``keep(index)`` is
     true (by default always; the pipeline passes its provenance check). ``bare`` renders
     in Cycles only and writes nothing (``designer bench render``'s bare Cycles row);
-    ``keep_raw`` keeps each frame's raw render (before the camera effects) in that folder.
+    ``keep_raw`` keeps each frame's raw render (before the camera effects) in that folder,
+    with its void map (:mod:`designer.render.void_share`).
     """
     job_path = Path(job_path)
     job = RenderJob.read(job_path)
@@ -169,10 +183,7 @@ def _run_workers(job_path, batches, threads, report, progress, extra=()) -> set[
                 event["worker"] = key.data
                 if event["event"] == "frame_done":
                     finished.add(int(event["index"]))
-                    report.rendered[int(event["index"])] = float(event["seconds"])
-                    report.stages[int(event["index"])] = dict(event.get("stages") or {})
-                    if event.get("order") == 0:
-                        report.first_frames.add(int(event["index"]))
+                    report.frame_done(event)
                 elif event["event"] == "scene_ready":
                     report.scene_seconds.append(float(event["seconds"]))
                 elif event["event"] == "worker_done":

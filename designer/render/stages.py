@@ -14,6 +14,7 @@ FRAME_STAGES: dict[str, str] = {
     "setup_s": "frame set-up (camera, light step, plants, moving objects)",
     "cycles_s": "Cycles render (path tracing in Blender)",
     "cycles_cpu_s": "CPU-seconds of the Cycles render (all its threads)",
+    "void_s": "the void map read (share of the image that sees no object)",
     "blender_write_s": "Blender writes the raw image file",
     "decode_s": "the raw image decoded for the effects",
     "distortion_s": "lens distortion resample (with vignetting when fused)",

@@ -39,6 +39,7 @@ from designer.render.job_spec import (
     PlantSetSpec,
     RenderJob,
 )
+from designer.render.void_share import VOID_MAP_SUFFIX, void_share_of_map
 from designer.scene.texture_variation import MIRROR_OFFSETS
 
 
@@ -429,19 +430,62 @@ def build_scene(job: RenderJob, base: Path) -> tuple[bpy.types.Scene, bpy.types.
     return scene, camera
 
 
+def add_void_map(scene: bpy.types.Scene, folder: Path) -> Path | None:
+    """Have every render also write its void map (:mod:`designer.render.void_share`) to
+    the file returned, in ``folder``: Cycles' mist pass with the mist from the camera to
+    far beyond any object (a sample that hits an object adds 0, one that sees only the
+    background 1), written by the compositor as a 16-bit grey PNG. Neither changes the
+    image: the mist pass is a pass of its own and the compositor tree has no output but
+    the file. None (no void measured) with Blender before 5.0, whose compositor is set
+    up otherwise."""
+    if not hasattr(scene, "compositing_node_group"):
+        return None
+    import uuid
+
+    scene.view_layers[0].use_pass_mist = True
+    mist = scene.world.mist_settings
+    # (1 - d / 1e30) is 1.0 in float32 for any distance: a hit adds exactly 0 to the pass
+    mist.start, mist.depth, mist.falloff = 0.0, 1e30, "LINEAR"
+    scene.render.use_compositing = True
+    scene.render.compositor_device = "CPU"
+    scene.render.compositor_precision = "FULL"
+    tree = bpy.data.node_groups.new("void map", "CompositorNodeTree")
+    scene.compositing_node_group = tree
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    out = tree.nodes.new("CompositorNodeOutputFile")
+    out.format.media_type = "IMAGE"
+    out.format.file_format = "PNG"
+    out.format.color_mode = "BW"
+    out.format.color_depth = "16"
+    out.format.compression = 1
+    out.save_as_render = False  # the pass's values, no view transform
+    out.file_output_items.new("FLOAT", "")
+    tree.links.new(layers.outputs["Mist"], out.inputs[0])
+    # one name for the whole process, unique among the workers sharing ``folder`` (a
+    # cluster's too), without '#' (Blender writes the frame number there); written as
+    # given (configure_render: no file extension added)
+    folder.mkdir(parents=True, exist_ok=True)
+    out.directory = str(folder) + os.sep
+    out.file_name = f"void-map-{uuid.uuid4().hex}.png"
+    return folder / out.file_name
+
+
 def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, partial: Path,
                  chain=None, exif: bool = False, setup_s: float = 0.0, bare: bool = False,
-                 raw_dir: Path | None = None) -> dict:
+                 raw_dir: Path | None = None, void_map: Path | None = None) -> dict:
     """Render one frame; apply the camera effects (if any); write its time into the EXIF
-    when ``exif``; rename the image into place. Returns its path and the seconds of each
-    stage (``stages``: :data:`designer.render.stages.FRAME_STAGES`); ``setup_s`` is the
-    caller's part of the frame's set-up (light step, plants).
+    when ``exif``; rename the image into place. Returns its path, the seconds of each
+    stage (``stages``: :data:`designer.render.stages.FRAME_STAGES`) and its
+    ``void_share`` (0..1, :mod:`designer.render.void_share`; None without ``void_map``,
+    the file :func:`add_void_map` has each render write); ``setup_s`` is the caller's
+    part of the frame's set-up (light step, plants).
 
     Blender's file and the finished image are written in ``partial`` (a folder outside
     ``out_dir`` on the same file system); only the complete image is renamed into
     ``out_dir``, which therefore never holds anything but finished images. ``bare``
     renders without writing anything (``designer bench render``'s bare Cycles row);
-    ``raw_dir`` keeps Blender's file there too (before the camera effects).
+    ``raw_dir`` keeps Blender's file there too (before the camera effects), and its void
+    map beside it (``STEM.void-map.png``) for an effect pass to record.
     """
     t_setup = time.perf_counter()
     if frame.camera is not None:  # a rig: this frame's camera, then its pose
@@ -458,6 +502,8 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     partial.mkdir(parents=True, exist_ok=True)
     tmp = partial / f"{final.stem}.rendering{ext}"
     staged = partial / final.name  # the finished image, before its rename into out_dir
+    if void_map is not None:
+        void_map.unlink(missing_ok=True)  # a map found after the render is this frame's
     t0, cpu0 = time.perf_counter(), time.process_time()
     bpy.ops.render.render(write_still=False)
     t1, cpu = time.perf_counter(), time.process_time() - cpu0
@@ -466,14 +512,21 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     if bare:
         return {"path": None, "seconds": time.perf_counter() - t_setup + setup_s,
                 "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
-                "effects_seconds": 0.0, "stages": stages}
+                "effects_seconds": 0.0, "stages": stages, "void_share": None}
+    void_share = None
     try:
+        if void_map is not None:
+            void_share = void_share_of_map(void_map)
+            stages["void_s"] = time.perf_counter() - t1
+        t_write = time.perf_counter()
         # the same file write_still=True writes (the scene's image settings)
         bpy.data.images["Render Result"].save_render(filepath=str(tmp), scene=scene)
         t2 = time.perf_counter()
-        stages["blender_write_s"] = t2 - t1
+        stages["blender_write_s"] = t2 - t_write
         if raw_dir is not None:  # kept for effect passes (effects_job.apply_effects_pass)
             keep_raw(tmp, raw_dir / f"{final.stem}{ext}")
+            if void_map is not None:
+                keep_raw(void_map, raw_dir / f"{final.stem}{VOID_MAP_SUFFIX}")
         process_frame(tmp, staged, frame, chain, stages)
         if exif and frame.time_utc is not None:
             from designer.render.exif import write_time
@@ -485,11 +538,13 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
     finally:
         tmp.unlink(missing_ok=True)
         staged.unlink(missing_ok=True)
+        if void_map is not None:
+            void_map.unlink(missing_ok=True)
     t_end = time.perf_counter()
     stages["effects_total_s"] = t_end - t2
     return {"path": str(final), "seconds": t_end - t_setup + setup_s,
             "render_seconds": t1 - t0, "render_cpu_seconds": cpu,
-            "effects_seconds": t_end - t2, "stages": stages}
+            "effects_seconds": t_end - t2, "stages": stages, "void_share": void_share}
 
 
 def set_rolling_shutter(scene, camera, matrices) -> None:
@@ -553,6 +608,7 @@ def main(argv: list[str] | None = None) -> int:
     scene, camera = build_scene(job, base)
     plants = [add_plants(scene, spec, base) for spec in job.vegetation]
     chains = {} if args.bare else load_effects(job, base)
+    void_map = None if args.bare else add_void_map(scene, base / PARTIAL_DIR)
     emit(progress, event="scene_ready", seconds=time.perf_counter() - t0)
     current = {spec.name: spec for spec in job.objects}
     exif = job.image_metadata == "exif"
@@ -567,7 +623,7 @@ def main(argv: list[str] | None = None) -> int:
         done = render_frame(scene, camera, frame, out_dir, ext, base / PARTIAL_DIR,
                             chains.get(frame.camera_id), exif,
                             setup_s=time.perf_counter() - t_setup, bare=args.bare,
-                            raw_dir=args.keep_raw)
+                            raw_dir=args.keep_raw, void_map=void_map)
         # order: the frame's place in this process (its first frame also builds Cycles'
         # copy of the scene)
         emit(progress, event="frame_done", index=index, order=order, **done)

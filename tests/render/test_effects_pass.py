@@ -3,11 +3,15 @@ in its camera effects is finished without Cycles, byte for byte as a full render
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from designer.errors import DesignerError
 from designer.project import model as m
+from designer.render.manifest import read_manifest
 from designer.render.pipeline import render_project
+from designer.render.void_share import VOID_MAP_SUFFIX
 from tests.synthetic import small_survey, write_project_file
 
 
@@ -27,8 +31,10 @@ def test_an_effects_pass_equals_a_full_render(tmp_path):
     a = write_project_file(_project(1), tmp_path / "a")
     raw = tmp_path / "raw"
     first = render_project(a, tmp_path / "a" / "out", workers=1, keep_raw=raw)
+    stems = sorted(Path(n).stem for n in first.prepared.job.image_names.values())
+    # each raw render, and its void map for the pass to record
     assert sorted(p.name for p in raw.iterdir()) == sorted(
-        first.prepared.job.image_names.values())
+        [*first.prepared.job.image_names.values(), *(s + VOID_MAP_SUFFIX for s in stems)])
     b = write_project_file(_project(2), tmp_path / "b")
     passed = render_project(b, tmp_path / "b" / "pass", raw_from=raw)
     full = render_project(b, tmp_path / "b" / "full", workers=1)
@@ -38,6 +44,10 @@ def test_an_effects_pass_equals_a_full_render(tmp_path):
         # and differ from the first project's (another noise draw)
         assert (passed.images_dir / name).read_bytes() != (first.images_dir / name).read_bytes()
     assert all("cycles_s" not in s for s in passed.report.stages.values())
+    # the pass records the void its raw renders saw: the full render's
+    assert passed.report.void_share == full.report.void_share
+    assert sorted(full.report.void_share) == list(range(len(names)))
+    assert read_manifest(passed.out_dir)["void"] == read_manifest(full.out_dir)["void"]
     assert (raw / names[0]).is_file()  # the cache is kept for the next pass
     # a raw folder that lacks a frame: one line, nothing rendered
     (raw / names[0]).unlink()
