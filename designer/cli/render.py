@@ -83,7 +83,12 @@ def run(args) -> int:
 
         print(f"{len(summary.stale)} of the rendered images replaced images made from other "
               f"inputs: {count_reasons(summary.stale)}")
-    warning = void_warning(summary.void) if summary.void is not None else None
+    from designer.render.job_spec import SKY_RGB
+
+    # with a sky (images that look towards the horizon) the background is the sky, seen
+    # above the horizon: not void
+    sky = tuple(summary.prepared.job.background_rgb) == SKY_RGB
+    warning = void_warning(summary.void) if summary.void is not None and not sky else None
     if warning is not None:  # the last line: images that are partly empty background
         print(f"designer: warning: {warning}", file=sys.stderr)
     return 0

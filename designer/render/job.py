@@ -33,6 +33,7 @@ from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the jo
     frame_suns,
 )
 from designer.render.job_spec import (
+    SKY_RGB,
     TEXTURE_UV_MAP,
     AdaptiveSampling,
     CameraEffectsSpec,
@@ -44,7 +45,6 @@ from designer.render.job_spec import (
 )
 from designer.render.terrain_bake import (
     FAR_TEXTURE,
-    SKY_RGB,
     far_ground_arrays,
     far_tile,
     needs_two_levels,

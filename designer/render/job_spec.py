@@ -45,6 +45,12 @@ class JobError(DesignerError, ValueError):
     """A job.json that cannot be read as a render job (message names the file and fix)."""
 
 
+#: the sky seen above the horizon by images that look towards it (linear RGB; the
+#: renderer's background, black otherwise: designer.render.terrain_bake): a clear,
+#: slightly hazy blue
+SKY_RGB = (0.50, 0.66, 0.92)
+
+
 @dataclass(frozen=True)
 class AdaptiveSampling:
     """Cycles' adaptive sampling: flat pixels stop early, samples go to the edges."""

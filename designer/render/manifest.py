@@ -23,6 +23,7 @@ from designer.atomic import write_text_atomic
 from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR, MANIFEST
 from designer.export.colmap_read import OFFSET_FILE, model_offset_world
 from designer.render.job import PreparedJob
+from designer.render.job_spec import SKY_RGB
 from designer.render.provenance import ImageProvenance, ground_truth_digest
 from designer.render.runner import RenderReport
 from designer.render.stages import round_stages
@@ -77,6 +78,10 @@ class Manifest:
             "ground_truth": previous.get("ground_truth"),
             "images_folder": IMAGES_DIR,
             "void": None,  # the images' void summary (VoidSummary), kept up to date
+            # what an image's void shows: "black" background, or the "sky" above the
+            # horizon of images that look towards it (render.terrain_bake.SKY_RGB)
+            "background": "sky" if tuple(job.background_rgb) == SKY_RGB else (
+                "black" if not any(job.background_rgb) else list(job.background_rgb)),
             "images": {},
         }
         if prepared.cameras is not None:  # a rig: each camera's image size (image_size_px

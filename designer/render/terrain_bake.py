@@ -132,9 +132,6 @@ def sample_light_rect(light: np.ndarray, shape: tuple[int, int],
     return rows[iy] * (1 - wy) + rows[np.minimum(iy + 1, Lh - 1)] * wy
 
 
-#: the sky seen above the horizon by images that look towards it (linear RGB; the
-#: renderer's background, black otherwise): a clear, slightly hazy blue
-SKY_RGB = (0.50, 0.66, 0.92)
 #: the far ground's tile is the detail tile averaged down by this factor a side: at the
 #: distances it is seen from, a finer tile would alias into noise (Cycles does not
 #: mip-map on the CPU)
