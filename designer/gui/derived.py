@@ -342,9 +342,12 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
         geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
     from designer.survey.project_poses import project_images
     from designer.survey.render_cost import project_image_costs
+    from designer.survey.surroundings import rendered_terrain
 
     images = project_images(project, hf)
-    costs = tuple(project_image_costs(project, images, hf))
+    # the render draws the terrain with its surroundings: every pixel that sees them costs
+    costs = tuple(project_image_costs(project, images,
+                                      rendered_terrain(project, hf, images).heightfield))
     seconds = render_estimate_s(project, costs)
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,

@@ -142,6 +142,7 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
         project_image_costs,
         render_workers,
     )
+    from designer.survey.surroundings import rendered_terrain
 
     speed = speed or load_speed()
 
@@ -157,8 +158,10 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
             stations, camera_id = project_stations(project, heightfield)
             interior = interior_from_camera(project.camera(camera_id))
             renders[key] = (len(stations), reconstruct_seconds_per_image(project, interior))
-            costs = project_image_costs(project, project_images(project, heightfield),
-                                        heightfield)
+            images = project_images(project, heightfield)
+            # over the terrain as rendered, with its surroundings
+            costs = project_image_costs(project, images, rendered_terrain(
+                project, heightfield, images).heightfield)
             render_s += estimate_render_s(costs, render_workers(project, len(costs)),
                                           speed=speed)
         proc_key = repr(replace(project, name="", description=None))
