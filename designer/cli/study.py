@@ -8,7 +8,12 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
+
+#: ``designer study run``'s exit status when it finished but some runs failed (every
+#: result is written; bad input is 2, an interruption 130)
+RUNS_FAILED_EXIT = 3
 
 TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "rig-obliques", "rolling-shutter",
              "tiny")
@@ -95,4 +100,14 @@ def run_run(args) -> int:
           f"; {report.seconds:.0f} s")
     print(f"wrote {args.output / 'results.csv'}, {args.output / 'summary.json'}, "
           f"{args.output / 'report.html'}")
+    failed = [(run.run_id, row["status"]) for run, row in zip(plan.runs, report.rows,
+                                                               strict=True)
+              if row["status"] != "ok"]
+    if failed:  # the last line, for scripts and schedulers: the status says it too
+        run_id, status = failed[0]
+        reason = status.removeprefix("failed: ")
+        print(f"designer: {len(failed)} of {len(report.rows)} runs failed (first: {run_id}: "
+              f"{reason}); their results say why, the others are complete",
+              file=sys.stderr)
+        return RUNS_FAILED_EXIT
     return 0

@@ -208,3 +208,34 @@ def test_every_example_study_plans(tmp_path):
 def test_a_folder_given_as_the_study_file_is_a_clear_error(tmp_path):
     with pytest.raises(ProjectError, match=r"<study>: this is not a regular file"):
         read_study(tmp_path)
+
+
+def test_a_study_whose_runs_failed_exits_3_after_writing_every_result(killed_and_resumed,
+                                                                      tmp_path):
+    import shutil
+
+    out, _, _, second = killed_and_resumed
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    study = out.parent / "tiny.xml"
+    done = _designer("study", "run", str(study), "-o", str(copy), "--resume",
+                     "--progress", "none")
+    stdout, stderr = done.communicate(timeout=300)
+    assert done.returncode == 0, stderr
+    # a finished run that failed stays finished: the resumed study reports it
+    first_run = sorted((copy / "runs").iterdir())[1]
+    result = json.loads((first_run / "result.json").read_text())
+    result["status"] = "failed: georeferencing needs at least 3 control GCPs, got 1"
+    (first_run / "result.json").write_text(json.dumps(result))
+    failed = _designer("study", "run", str(study), "-o", str(copy), "--resume",
+                       "--progress", "none")
+    stdout, stderr = failed.communicate(timeout=300)
+    assert failed.returncode == 3, stderr
+    assert "failed 1" in stdout
+    last = stderr.strip().splitlines()[-1]
+    assert last.startswith(f"designer: 1 of {len(second.rows)} runs failed (first: "
+                           f"{first_run.name}: georeferencing needs at least 3")
+    with open(copy / "results.csv", newline="") as f:  # every result written first
+        rows = list(csv.DictReader(f))
+    assert len(rows) == len(second.rows)
+    assert sum(r["status"] != "ok" for r in rows) == 1
