@@ -293,9 +293,9 @@ def render_project(
     scene, poses and camera, through this project's camera effects
     (:func:`designer.render.effects_job.apply_effects_pass`).
     """
-    project_path = Path(project_path)
+    project_path = Path(project_path).resolve()
     project = load_project(project_path)
-    out_dir = Path(out_dir)
+    out_dir = Path(out_dir).resolve()  # tasks on cluster workers resolve nothing themselves
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     prepared = prepare_job(project, project_path.parent, out_dir, quality)

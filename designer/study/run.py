@@ -186,7 +186,9 @@ def run_study(plan: Plan, out_dir: Path, *, workers: int = 1, scheduler: str | N
     from designer.study.results import write_results
 
     progress = progress or (lambda _event: None)
-    out = Path(out_dir)
+    # absolute: every path a task carries derives from it, and a cluster worker resolves
+    # a relative one in its own working directory
+    out = Path(out_dir).resolve()
     _check_folder(out, plan, resume)
     if scheduler:  # an unreachable cluster is an error before anything is written
         _Dask(scheduler).close()

@@ -37,3 +37,49 @@ def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
     with pytest.raises(DesignerError, match=r"--scheduler tcp://127\.0\.0\.1:1: cannot connect"):
         run_study(plan, tmp_path / "out", scheduler="tcp://127.0.0.1:1")
     assert not (tmp_path / "out").exists()
+
+
+def test_command_line_workers_in_other_directories_and_a_relative_output(tmp_path):
+    """As on cluster nodes: `dask scheduler` and two `dask worker` processes started from
+    the command line, each in a working directory of its own; the study and a render are
+    given a relative -o in a third."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+    import time
+
+    dask = shutil.which("dask", path=str(Path(sys.executable).parent)) or "dask"
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    for name in ("sched", "w1", "w2", "client"):
+        (tmp_path / name).mkdir()
+    info = tmp_path / "sched" / "scheduler.json"
+    procs = [subprocess.Popen([dask, "scheduler", "--port", "0", "--no-dashboard",
+                               "--scheduler-file", str(info)], cwd=tmp_path / "sched",
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        deadline = time.monotonic() + 60
+        while not info.is_file() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        address = json.loads(info.read_text())["address"]
+        for w in ("w1", "w2"):
+            procs.append(subprocess.Popen(
+                [dask, "worker", address, "--nthreads", "1", "--no-dashboard"],
+                cwd=tmp_path / w, env=env, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL))
+        client = tmp_path / "client"
+        write_template("tiny", client / "tiny.xml")
+        run = subprocess.run([sys.executable, "-m", "designer", "study", "run", "tiny.xml",
+                              "-o", "S", "--scheduler", address, "--progress", "none"],
+                             cwd=client, env=env, capture_output=True, text=True,
+                             timeout=900)
+        assert run.returncode == 0, run.stderr
+        rows = [json.loads(p.read_text()) for p in sorted((client / "S").glob(
+            "runs/*/result.json"))]
+        assert [r["status"] for r in rows] == ["ok"] * 4
+        assert not list((tmp_path / "w1").iterdir()) and not list((tmp_path / "w2").iterdir())
+    finally:
+        for p in procs:
+            p.terminate()
+        for p in procs:
+            p.wait(timeout=30)
