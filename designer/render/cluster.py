@@ -33,7 +33,10 @@ def render_batch(job_path: str, frames: list[int], threads: int = 0) -> dict:
     read_fd, write_fd = os.pipe()
     cmd = [sys.executable, "-m", "designer.render.worker", job_path,
            "--frames", ",".join(map(str, frames)), "--progress-fd", str(write_fd),
-           "--threads", str(threads)]
+           "--threads", str(threads),
+           # Blender dies with the Dask worker that started it (a killed or lost worker
+           # leaves no render running on its own)
+           "--parent-pid", str(os.getpid())]
     log_dir = Path(job_path).parent / "logs"
     log_dir.mkdir(exist_ok=True)
     log_path = log_dir / f"dask-{os.getpid()}-{frames[0]}.log"
