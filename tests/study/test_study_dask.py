@@ -77,6 +77,21 @@ def test_command_line_workers_in_other_directories_and_a_relative_output(tmp_pat
         rows = [json.loads(p.read_text()) for p in sorted((client / "S").glob(
             "runs/*/result.json"))]
         assert [r["status"] for r in rows] == ["ok"] * 4
+        # a render with a relative -o on the same workers: the images of a local render
+        remote = subprocess.run([sys.executable, "-m", "designer", "render", "tiny-base.xml",
+                                 "-o", "R", "--scheduler", address, "--progress", "none"],
+                                cwd=client, env=env, capture_output=True, text=True,
+                                timeout=600)
+        assert remote.returncode == 0, remote.stderr
+        local = subprocess.run([sys.executable, "-m", "designer", "render", "tiny-base.xml",
+                                "-o", "L", "--progress", "none"], cwd=client, env=env,
+                               capture_output=True, text=True, timeout=600)
+        assert local.returncode == 0, local.stderr
+        names = sorted(p.name for p in (client / "L" / "images").iterdir())
+        assert names and names == sorted(p.name for p in (client / "R" / "images").iterdir())
+        for name in names:
+            assert ((client / "R" / "images" / name).read_bytes()
+                    == (client / "L" / "images" / name).read_bytes()), name
         assert not list((tmp_path / "w1").iterdir()) and not list((tmp_path / "w2").iterdir())
     finally:
         for p in procs:
