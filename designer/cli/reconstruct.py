@@ -50,6 +50,10 @@ def register(subparsers) -> None:
                              "dense.ply, dense.laz, dsm.tif, dod.tif, dod.png")
     parser.add_argument("--dense-max-image-px", type=int, default=None, metavar="PX",
                         help="longer image side for dense matching (default: full size)")
+    parser.add_argument("--mapper", choices=["incremental", "global"], default=None,
+                        help="structure from motion (--mode free): incremental (COLMAP's, "
+                             "the default) or global (GLOMAP's rotation averaging and global "
+                             "positioning); docs/processing.md compares them")
     parser.add_argument("--max-features", type=int, default=None,
                         help="SIFT features per image (default 8192)")
     parser.add_argument("--feature-cache", type=Path, default=None, metavar="DIR",
@@ -74,7 +78,8 @@ def run(args) -> int:
         marking_sigma_px=args.marking_sigma_px, position_prior=args.position_prior,
         dense=args.dense, max_features=args.max_features, pairs=args.pairs,
         min_track_length=args.min_track_length, control_ids=ids, control_count=count,
-        control_spread=args.control_spread, rolling_shutter=args.rolling_shutter)
+        control_spread=args.control_spread, rolling_shutter=args.rolling_shutter,
+        mapper=args.mapper)
     out = args.output or args.survey / f"reconstruction-{args.mode}"
     if args.dense_max_image_px is not None and args.dense_max_image_px < 64:
         from designer.errors import DesignerError

@@ -31,6 +31,7 @@ from designer.project.processing import (  # noqa: F401  (part of the model's fa
     PositionPrior,
     PreCalibrationError,
     Processing,
+    Sfm,
 )
 
 SCHEMA_VERSION = "1.0"

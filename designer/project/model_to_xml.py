@@ -312,6 +312,8 @@ def _processing(parent: etree._Element, p: m.Processing) -> None:
     write_declared(el, p.position_prior)
     write_declared(el, p.matching)
     _sub(el, "dense", mode=p.dense)
+    if p.sfm != m.Sfm():  # the default stays implicit: files of before stay the same
+        write_declared(el, p.sfm)
 
 
 def project_to_tree(project: m.Project) -> etree._Element:

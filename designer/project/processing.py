@@ -17,6 +17,7 @@ GcpMode = Literal["none", "similarity", "bundle"]
 PositionPriorMode = Literal["none", "gnss", "rtk"]
 Pairing = Literal["footprint", "position", "exhaustive"]
 DenseMode = Literal["none", "cpu", "auto"]
+Mapper = Literal["incremental", "global"]
 RollingShutterProcessing = Literal["none", "compensate"]
 
 
@@ -136,6 +137,16 @@ class Matching:
                                  range=(2, 100), label="shortest track")
 
 
+@element("sfm", title="structure from motion", path="processing.sfm", stage="processing")
+@dataclass(frozen=True)
+class Sfm:
+    mapper: Mapper = attr("incremental", doc="how the cameras and tie points are found: "
+                          "incremental (COLMAP's, image by image with bundle adjustments "
+                          "along the way) or global (GLOMAP's, all rotations, then all "
+                          "positions, then one adjustment)", factor="mapper",
+                          label="SfM mapper")
+
+
 @dataclass(frozen=True)
 class Processing:
     """Photogrammetric processing settings of ``designer reconstruct``."""
@@ -145,5 +156,6 @@ class Processing:
     position_prior: PositionPrior = field(default_factory=PositionPrior)
     matching: Matching = field(default_factory=Matching)
     dense: DenseMode = "none"
+    sfm: Sfm = field(default_factory=Sfm)
 
 

@@ -461,10 +461,11 @@ class _Reader:
         gcps = part("gcps", m.GcpProcessing, control=control)
         prior = part("position-prior", m.PositionPrior)
         matching = part("matching", m.Matching)
+        sfm = part("sfm", m.Sfm)
         dense_el = el.find(q("dense"))
         processing = m.Processing(
             calibration, gcps, prior, matching,
-            "none" if dense_el is None else dense_el.get("mode", "none"))
+            "none" if dense_el is None else dense_el.get("mode", "none"), sfm)
         return self.note(processing, el)
 
 

@@ -202,7 +202,7 @@ def reconstruct(
     if max_features is not None:
         p = m.Processing(p.calibration, p.gcps, p.position_prior,
                          m.Matching(max_features, p.matching.pairs, p.matching.min_track_length),
-                         p.dense)
+                         p.dense, p.sfm)
     truth = pycolmap.Reconstruction(str(gt_dir))
     # Work in a local frame (world − offset): no UTM-sized numbers reach COLMAP. The
     # ground truth is world − written (offset.json; zeros for a world-frame model); the
@@ -287,8 +287,12 @@ def reconstruct(
         rec = _known_pose_reconstruction(pycolmap, truth, db_path)
         rec = pycolmap.triangulate_points(rec, db_path, image_dir, sparse)
     else:
-        log("incremental SfM")
-        rec = _incremental(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+        if p.sfm.mapper == "global":
+            log("global SfM (rotation averaging, global positioning)")
+            rec = _global(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+        else:
+            log("incremental SfM")
+            rec = _incremental(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
         _check_every_camera_registered(rec, cams, survey)
     timings["reconstruction_s"] = time.perf_counter() - t
 
@@ -551,6 +555,26 @@ def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     if not maps:
         raise DesignerError(
             f"{image_dir}: COLMAP could not start a reconstruction: the images do not "
+            "overlap enough or show too little texture")
+    return max(maps.values(), key=lambda r: r.num_reg_images())
+
+
+def _global(pycolmap, db_path, image_dir, sparse, calibration: str):
+    """GLOMAP's global SfM (pycolmap.global_mapping): rotation averaging, global
+    positioning, one bundle adjustment, refining the interior as the incremental mapper
+    does (distortion in the final adjustment, with exactly the mode's terms)."""
+    options = pycolmap.GlobalPipelineOptions()
+    options.num_threads = -1
+    options.random_seed = 0  # the same images give the same model
+    ba = options.mapper.bundle_adjustment
+    ba.refine_focal_length = calibration != "fixed"
+    ba.refine_principal_point = calibration not in ("fixed", "focal")
+    ba.refine_extra_params = False
+    ba.refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
+    maps = pycolmap.global_mapping(db_path, image_dir, sparse, options=options)
+    if not maps:
+        raise DesignerError(
+            f"{image_dir}: COLMAP's global mapper found no reconstruction: the images do not "
             "overlap enough or show too little texture")
     return max(maps.values(), key=lambda r: r.num_reg_images())
 

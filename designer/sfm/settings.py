@@ -53,7 +53,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
                        control_ids: tuple[str, ...] | None = None,
                        control_count: int | None = None,
                        control_spread: str | None = None,
-                       rolling_shutter: str | None = None) -> m.Processing:
+                       rolling_shutter: str | None = None,
+                       mapper: str | None = None) -> m.Processing:
     """The project's ``<processing>`` (defaults when absent) with the given overrides."""
     base = m.Processing()
     path = project or project_of_survey(survey)
@@ -88,6 +89,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
     p = dataclasses.replace(p, matching=mt)
     if dense is not None:
         p = dataclasses.replace(p, dense=dense)
+    if mapper is not None:
+        p = dataclasses.replace(p, sfm=dataclasses.replace(p.sfm, mapper=mapper))
     check_processing(p)
     return p
 

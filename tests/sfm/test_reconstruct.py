@@ -166,3 +166,16 @@ def test_a_rig_camera_whose_images_register_to_nothing_is_a_clear_error(
     message = str(error.value)
     assert "\n" not in message and "'oblique' (12 images)" in message
     assert "overlap" in message
+
+
+def test_the_global_mapper_registers_every_image_and_meets_the_gcps(survey, tmp_path):
+    """GLOMAP's global SfM (``--mapper global``, ``<sfm mapper="global"/>``) on the same
+    survey: every image, GCPs within the GSD, and the summary says which mapper ran."""
+    processing = resolve_processing(survey, mapper="global")
+    assert processing.sfm.mapper == "global"
+    result = reconstruct(survey, tmp_path / "global", mode="free", processing=processing)
+    assert result.n_registered == result.n_images
+    assert result.n_points > 1000
+    for r in result.summary["gcps"]:
+        assert np.hypot(r["dx_m"], r["dy_m"]) <= GSD_M and abs(r["dz_m"]) <= 1.5 * GSD_M, r
+    assert result.summary["settings"]["sfm"]["mapper"] == "global"
