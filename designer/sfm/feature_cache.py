@@ -2,16 +2,21 @@
 
 Reconstructions that differ only in what happens after matching (GCP roles, marking
 error, calibration mode, priors, filters) extract the same SIFT features and match the
-same pairs. The cache keeps, per content key, the COLMAP database after feature
-extraction and after matching::
+same pairs; those that differ only after structure from motion (GCP mode, marking error,
+control selection, filters) also find the same cameras and tie points. The cache keeps,
+per content key, the COLMAP database after feature extraction and after matching, and
+the model the SfM mapper found::
 
     ROOT/features-KEY/database.db    features of the images
     ROOT/matches-KEY/database.db     … and the matches of the pairs
+    ROOT/sfm-KEY/model/              the mapper's model (COLMAP's binary files), before
+                                     any georeferencing
     ROOT/*.lock                      one lock per key (held while it is computed)
 
 Keys hash everything the step's result depends on: the images' bytes and names, the
 camera model and its starting parameters (stored in the database), the SIFT and
-matching options and the pycolmap version; the match key adds the pair list. A second
+matching options and the pycolmap version; the match key adds the pair list; the SfM
+key adds the mapper, the interior parameters it refines and the rig layout. A second
 process asking for a key that is being computed waits for it (``fcntl`` file lock) and
 then copies it, so concurrent runs of a study never extract the same images twice.
 Entries are complete or absent: a database enters the cache by an atomic rename.
@@ -87,4 +92,26 @@ class FeatureCache:
         entry.parent.mkdir(parents=True, exist_ok=True)
         tmp = entry.with_name(f".{DB_NAME}.part")
         shutil.copyfile(db_path, tmp)
+        os.replace(tmp, entry)
+
+    def fetch_model(self, k: str, model_dir: Path) -> bool:
+        """Copy the cached SfM model into ``model_dir`` (created); False if there is none."""
+        entry = self.root / f"sfm-{k}" / "model"
+        if not entry.is_dir():
+            return False
+        if model_dir.exists():
+            shutil.rmtree(model_dir)
+        shutil.copytree(entry, model_dir)
+        return True
+
+    def store_model(self, k: str, rec) -> None:
+        """Put the pycolmap Reconstruction ``rec`` into the cache (atomically: written
+        beside, then renamed into place)."""
+        entry = self.root / f"sfm-{k}" / "model"
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        tmp = entry.with_name(".model.part")
+        if tmp.exists():
+            shutil.rmtree(tmp)
+        tmp.mkdir()
+        rec.write(str(tmp))
         os.replace(tmp, entry)

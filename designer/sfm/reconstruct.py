@@ -287,12 +287,24 @@ def reconstruct(
         rec = _known_pose_reconstruction(pycolmap, truth, db_path)
         rec = pycolmap.triangulate_points(rec, db_path, image_dir, sparse)
     else:
-        if p.sfm.mapper == "global":
-            log("global SfM (rotation averaging, global positioning)")
-            rec = _global(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
-        else:
-            log("incremental SfM")
-            rec = _incremental(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+        # the mapper's model depends on the matches, the interior it refines, the mapper
+        # and the rig layout: runs that differ only after SfM share it
+        sfm_key = fc_key("sfm", match_key, p.calibration.mode, p.sfm.mapper,
+                         repr(None if layout is None else sorted(layout.frames.items()))
+                         ) if cache else ""
+        with cache.hold("sfm", sfm_key) if cache else contextlib.nullcontext():
+            reused["sfm"] = bool(cache) and cache.fetch_model(sfm_key, sparse / "cached")
+            if reused["sfm"]:
+                log("SfM model reused from the feature cache")
+                rec = pycolmap.Reconstruction(str(sparse / "cached"))
+            elif p.sfm.mapper == "global":
+                log("global SfM (rotation averaging, global positioning)")
+                rec = _global(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+            else:
+                log("incremental SfM")
+                rec = _incremental(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+            if cache and not reused["sfm"]:
+                cache.store_model(sfm_key, rec)
         _check_every_camera_registered(rec, cams, survey)
     timings["reconstruction_s"] = time.perf_counter() - t
 

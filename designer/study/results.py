@@ -44,7 +44,7 @@ _LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
          "dtm_cloud_mean_m", "dtm_cloud_rmse_m", "dome_amplitude_m", "focal_error_px",
          "k1_error",
          "render_reused", "processing_reused", "features_reused", "matches_reused",
-         "image_hash", "processing_hash",
+         "sfm_reused", "image_hash", "processing_hash",
          "error_map", "status")
 
 

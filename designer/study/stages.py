@@ -161,7 +161,8 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
     reused = s.get("reused_from_cache") or {}
     row: dict = {"reconstruct_s": t1 - t0, "registered": rec.n_registered,
                  "images": rec.n_images, "features_reused": reused.get("features", False),
-                 "matches_reused": reused.get("matches", False)}
+                 "matches_reused": reused.get("matches", False),
+                 "sfm_reused": reused.get("sfm", False)}
     for role in ("check", "control"):
         stats = s.get(role) or {}
         for key in ("rmse_x_m", "rmse_y_m", "rmse_z_m", "rmse_xy_m", "rmse_xyz_m"):

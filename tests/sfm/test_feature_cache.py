@@ -62,3 +62,36 @@ def test_a_cache_entry_is_complete_or_absent(tmp_path):
     assert cache.fetch("features", "k", tmp_path / "copy.db")
     assert (tmp_path / "copy.db").read_bytes() == db.read_bytes()
     assert not list((tmp_path / "c").rglob("*.part"))
+
+
+def test_runs_that_differ_only_after_sfm_share_the_mappers_model(survey, tmp_path):
+    """GCP mode and marking error act after structure from motion: the second run takes
+    the first one's model and gets the result a run without the cache gets."""
+    import numpy as np
+
+    from designer.sfm.settings import resolve_processing
+
+    cache = tmp_path / "cache"
+    similarity = resolve_processing(survey, gcps="similarity")
+    bundle = resolve_processing(survey, gcps="bundle", marking_sigma_px=0.3)
+    first = reconstruct(survey, tmp_path / "a", mode="free", processing=similarity,
+                        feature_cache=cache)
+    second = reconstruct(survey, tmp_path / "b", mode="free", processing=bundle,
+                         feature_cache=cache)
+    alone = reconstruct(survey, tmp_path / "c", mode="free", processing=bundle)
+    assert first.summary["reused_from_cache"]["sfm"] is False
+    assert second.summary["reused_from_cache"] == {"features": True, "matches": True,
+                                                   "sfm": True}
+    assert len(list(cache.glob("sfm-*/model"))) == 1
+    # sharing the model changes no result beyond what two runs of COLMAP's multi-threaded
+    # mapper differ by (a tie point in 6,400 here; the GCPs to 0.1 mm)
+    assert second.n_registered == alone.n_registered
+    assert abs(second.n_points - alone.n_points) <= 0.01 * alone.n_points
+    for a, b in zip(second.summary["gcps"], alone.summary["gcps"], strict=True):
+        assert np.allclose([a["dx_m"], a["dy_m"], a["dz_m"]],
+                           [b["dx_m"], b["dy_m"], b["dz_m"]], atol=1e-3), (a, b)
+    # another mapper is another model
+    other = reconstruct(survey, tmp_path / "d", mode="free", feature_cache=cache,
+                        processing=resolve_processing(survey, gcps="similarity",
+                                                      mapper="global"))
+    assert other.summary["reused_from_cache"]["sfm"] is False
