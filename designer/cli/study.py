@@ -16,7 +16,7 @@ from pathlib import Path
 RUNS_FAILED_EXIT = 3
 
 TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "rig-obliques", "rolling-shutter",
-             "tiny")
+             "example-processing", "tiny")
 
 
 def register(subparsers) -> None:

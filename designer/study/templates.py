@@ -118,12 +118,32 @@ STUDIES = {
              '  <design>one-at-a-time</design>\n'
              '  <replicates count="1"/>\n'
              '  <metrics>check_rmse_z_m registered</metrics>\n'),
+    "example-processing": ("The example survey (60 images of 100 m x 100 m of hills) processed "
+                           "four ways: a fixed or a self-calibrated (radial) camera, the GCPs "
+                           "as a similarity after the adjustment or in it, each with five "
+                           "draws of a 0.5 px marking error. One render, one feature "
+                           "extraction and matching, one SfM model per calibration.",
+                           '  <factor name="calibration">\n'
+                           '    <values>fixed radial</values>\n  </factor>\n'
+                           '  <factor name="gcp-mode">\n'
+                           '    <values>similarity bundle</values>\n  </factor>\n'
+                           '  <design>full-factorial</design>\n'
+                           '  <replicates count="5" vary="marking-error"/>\n'
+                           '  <metrics>check_rmse_xy_m check_rmse_z_m check_rmse_z_gsd'
+                           ' cloud_median_m</metrics>\n'),
 }
 
 TEMPLATE_NAMES = tuple(STUDIES)
 
 
 def template_base(name: str) -> m.Project:
+    if name == "example-processing":
+        from designer.project.templates import template
+
+        p = template("survey").project
+        return replace(p, processing=m.Processing(
+            gcps=m.GcpProcessing(mode="similarity", marking_sigma_px=0.5, seed=1),
+            matching=m.Matching(4096)))
     if name == "tiny":
         p = base_project(160, 120, samples=4)
         E0, N0, _ = ORIGIN
