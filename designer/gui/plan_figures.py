@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.gui.wording import count
+from designer.gui.wording import count, panel_directions
 from designer.project import model as m
 
 #: achieved overlaps (5 % quantile over the stations) below these are warned about
@@ -163,7 +163,8 @@ def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
                    f"than {_pct(f['side_overlap_p05'])}{planned}; raise the side overlap")
     void = void_warning(f["image_names"], 1.0 - f["terrain_share"], f["surroundings"])
     if void:
-        out.append(void)
+        # its fix as the Terrain panel's control, not the project file's element
+        out.append(panel_directions(void))
     few = [g for g, n in zip(f["gcp_ids"], f["gcp_images"], strict=True) if n < MIN_GCP_IMAGES]
     if few:
         out.append(f"GCPs seen by fewer than {count(MIN_GCP_IMAGES, 'image')}: "

@@ -56,6 +56,9 @@ class _Checked:
 
     label = "value"
     _integer = False
+    #: the minimum itself is refused: a range open at its low end (an XSD minExclusive,
+    #: such as a length greater than 0), kept exact rather than moved one decimal inside
+    low_open = False
     #: called with (field, message) when the field's verdict changes ("" = valid)
     listener: Callable[[QWidget, str], None] | None = None
 
@@ -81,8 +84,14 @@ class _Checked:
         """The accepted range as the user reads it (``0 to 99 %``)."""
         digits = 0 if self._integer else self.decimals()
         unit = self.suffix().strip()
-        return (f"{format_number(self.minimum(), digits)} to "
-                f"{format_number(self.maximum(), digits)}" + (f" {unit}" if unit else ""))
+        low = format_number(self.minimum(), digits)
+        low = f"more than {low} up" if self.low_open else low
+        return (f"{low} to {format_number(self.maximum(), digits)}"
+                + (f" {unit}" if unit else ""))
+
+    def in_range(self, value: float) -> bool:
+        low_ok = value > self.minimum() if self.low_open else value >= self.minimum()
+        return low_ok and value <= self.maximum()
 
     def problem(self, text: str) -> str:
         """Why ``text`` cannot be applied ("" when it can)."""
@@ -95,7 +104,13 @@ class _Checked:
             kind = "a whole number" if self._integer else "a number"
             return (f"{self.label}: “{text.strip()}” is not {kind} (allowed: "
                     f"{self.allowed()}); not applied")
-        if not (self.minimum() <= value <= self.maximum()) or value != value:
+        if (self.low_open and not self._integer
+                and round(value, self.decimals()) <= self.minimum() < value):
+            # the field holds its decimals only: the value would become the minimum
+            return (f"{self.label}: {raw} rounds to "
+                    f"{format_number(self.minimum(), self.decimals())} in this field; "
+                    f"allowed: {self.allowed()}; not applied")
+        if not self.in_range(value):  # NaN is in no range
             return (f"{self.label}: {raw} is out of range; allowed: {self.allowed()}; "
                     "not applied")
         return ""
@@ -129,6 +144,12 @@ class _Checked:
             self.lineEdit().setText(text)
 
     def stepBy(self, steps: int) -> None:
+        if self.low_open and self.value() + steps * self.singleStep() <= self.minimum():
+            # Qt would clamp to the minimum, which an open range refuses
+            low = format_number(self.minimum(), 0 if self._integer else self.decimals())
+            self._set_error(f"{self.label}: {low} is out of range; allowed: "
+                            f"{self.allowed()}; not applied")
+            return
         self._set_error("")
         super().stepBy(steps)
 
@@ -189,10 +210,13 @@ class CheckedSpin(_Checked, QSpinBox):
 
 
 def dspin(lo: float, hi: float, decimals: int = 3, step: float = 1.0,
-          suffix: str = "", label: str = "value") -> CheckedDoubleSpin:
+          suffix: str = "", label: str = "value", low_open: bool = False
+          ) -> CheckedDoubleSpin:
     """A number field that reports a value only when typing is done (Enter, focus out)
-    and refuses text outside [lo, hi] with a message."""
-    return set_up_dspin(CheckedDoubleSpin(label), lo, hi, decimals, step, suffix)
+    and refuses text outside [lo, hi] (with ``low_open``: (lo, hi]) with a message."""
+    box = set_up_dspin(CheckedDoubleSpin(label), lo, hi, decimals, step, suffix)
+    box.low_open = low_open
+    return box
 
 
 def set_up_dspin(box, lo: float, hi: float, decimals: int, step: float, suffix: str):

@@ -58,6 +58,13 @@ PANEL_DIRECTIONS = (
     (re.compile(r"no photos: add <exterior-orientations> with <photo> elements or a "
                 r"<flight-plan>"),
      "no photos: add a grid flight in the Flight panel, or import a flight (File menu)"),
+    (re.compile(r'declare <surroundings mode="auto"/> in <terrain> or enlarge the terrain'),
+     "choose surroundings “auto” in the Terrain panel, or enlarge the terrain"),
+    (re.compile(r'mode="auto" continues a height-field terrain \(flat, procedural or DEM\); '
+                r'a mesh terrain cannot be continued: use mode="none" or a DEM'),
+     "surroundings “auto” continue a height-field terrain (flat, procedural or DEM); a "
+     "mesh terrain cannot be continued: choose surroundings “none” in the Terrain panel, "
+     "or import the terrain as a DEM"),
 )
 _UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
 _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")

@@ -19,26 +19,28 @@ def _table_top(flight) -> QPoint:
 
 def test_warnings_that_come_and_go_leave_the_area_table_in_place(qtbot, window):
     w = window
-    project = edits.ensure_flight_plan(w.document.project)
+    # no surroundings: images that look past the terrain's edge see the background
+    project = edits.replace_path(edits.ensure_flight_plan(w.document.project),
+                                 "scene.terrain.surroundings", "none")
     inner = edits.set_flight(project, area=((-20.0, -20.0), (20.0, -20.0), (20.0, 20.0),
                                             (-20.0, 20.0)), altitude_agl_m=20.0)
     w.editor.edit(inner, "a flight over the terrain")
     w.docks["Flight"].raise_()
     wait_idle(qtbot, w)
     flight = w.panels["Flight"]
-    assert "beyond the terrain" not in flight.warnings_label.text()
+    assert "past the terrain" not in flight.warnings_label.text()
     before = _table_top(flight)
 
     far = edits.set_flight(w.document.project, area=edits.terrain_rectangle(project),
                            altitude_agl_m=80.0)
     w.editor.edit(far, "a flight beyond the terrain")
     wait_idle(qtbot, w)
-    assert "images look beyond the terrain" in flight.warnings_label.text()  # they came
+    assert "images see past the terrain" in flight.warnings_label.text()  # they came
     assert _table_top(flight) == before
 
     w.undo_action.trigger()  # Edit → Undo: … and went
     wait_idle(qtbot, w)
-    assert "beyond the terrain" not in flight.warnings_label.text()
+    assert "past the terrain" not in flight.warnings_label.text()
     assert _table_top(flight) == before
 
 

@@ -1,6 +1,6 @@
 """Terrain-aware planning in the Flight panel (problem 10 of the user test): the figures
-``designer plan`` computes, in the window, with warnings for a flight that looks beyond
-the terrain, low overlap and GCPs seen by fewer than 3 images."""
+``designer plan`` computes, in the window, with warnings for images that see past the
+terrain (without surroundings), low overlap and GCPs seen by fewer than 3 images."""
 
 from __future__ import annotations
 
@@ -25,9 +25,17 @@ def test_flight_beyond_the_terrain_is_warned_about(qtbot, window, tmp_path):
     w.docks["Flight"].raise_()
     wait_idle(qtbot, w)
     flight = w.panels["Flight"]
+    # the flat terrain's default surroundings continue it as far as the images see
+    assert "past the terrain" not in flight.warnings_label.text()
+    w.editor.edit(edits.replace_path(w.document.project, "scene.terrain.surroundings",
+                                     "none"), "no surroundings")
+    wait_idle(qtbot, w)
     warnings = flight.warnings_label.text()
-    assert "images look beyond the terrain" in warnings
+    assert "images see past the terrain" in warnings
     assert "worst IMG_" in warnings
+    # the fix, as the window does it
+    assert "choose surroundings “auto” in the Terrain panel" in warnings, warnings
+    assert "<surroundings" not in warnings, warnings
 
     # the same figures as designer plan
     path = tmp_path / "beyond.xml"
@@ -57,7 +65,7 @@ def test_flight_beyond_the_terrain_is_warned_about(qtbot, window, tmp_path):
                              altitude_agl_m=20.0)
     w.editor.edit(inner, "a flight over the terrain")
     wait_idle(qtbot, w)
-    assert "beyond the terrain" not in flight.warnings_label.text()
+    assert "past the terrain" not in flight.warnings_label.text()
     # … which leaves the corner GCP out of sight
     assert "GCPs seen by fewer than 3 images: GCP02" in flight.warnings_label.text()
     row = [table.item(r, 0).text() for r in range(table.rowCount())].index("GCP02")

@@ -44,3 +44,23 @@ def test_no_photos_points_to_the_flight_panel():
     (issue,) = [i for i in trajectory_issues(blank_project()) if "no photos" in i.message]
     said = panel_directions(issue.message)
     assert "<" not in said and "Flight panel" in said, issue.message
+
+
+def test_the_surroundings_fixes_point_to_the_terrain_panel():
+    import numpy as np
+
+    from designer.project.validate_scene import scene_issues
+    from designer.survey.surroundings import void_warning
+
+    warning = void_warning(("A.png", "B.png"), np.array([0.0, 0.3]), "none")
+    said = panel_directions(warning)
+    assert "<" not in said and "Terrain panel" in said and "“auto”" in said, warning
+    assert said.startswith("1 of 2 images sees past the terrain"), said
+
+    p = blank_project()
+    mesh = dataclasses.replace(p.scene.terrain, source=m.MeshTerrain("ground.ply"),
+                               surroundings="auto")
+    (issue,) = [i for i in scene_issues(dataclasses.replace(p.scene, terrain=mesh), None)
+                if "mesh terrain" in i.message]
+    said = panel_directions(issue.message)
+    assert "mode=" not in said and "Terrain panel" in said and "“none”" in said, issue.message

@@ -1,4 +1,5 @@
-"""Terrain: generate procedural hills (live preview) or a flat plane; import a DEM or a mesh."""
+"""Terrain: generate procedural hills (live preview) or a flat plane; import a DEM or a mesh;
+choose what is rendered beyond its extent (the surroundings)."""
 
 from __future__ import annotations
 
@@ -14,13 +15,24 @@ from PySide6.QtWidgets import (
 )
 
 from designer.gui.field_rules import ruled_dspin
-from designer.gui.panels.base import Panel
+from designer.gui.panels.base import ERROR_STYLE, Panel
 from designer.gui.widgets import combo, dspin, form, format_number, ispin, readout
 from designer.project import model as m
 from designer.project.checks import GRID_TOL, MAX_TERRAIN_NODES
 
 KINDS = [("procedural hills", "procedural"), ("flat plane", "flat"),
          ("DEM file (GeoTIFF, ESRI ASCII)", "dem"), ("mesh file (PLY, OBJ, STL)", "mesh")]
+
+#: the surroundings choices: the kind's default (None: nothing written to the file), or
+#: one of the modes declared explicitly
+SURROUNDINGS = (None, *m.SURROUNDINGS_MODES)
+SURROUNDINGS_TIP = ("What is rendered beyond the extent. auto: the terrain continues as far "
+                    "as the images see (hills, plane or DEM edge heights, and the texture), "
+                    "so no image sees past its edge; none: the extent only, pixels beyond it "
+                    "show the background. The default is auto for flat and procedural "
+                    "terrain, none for DEM and mesh files.")
+#: the largest hills' wavelength, as the file allows it (XSD PositiveLength: > 0, ≤ 1e6 m)
+HILL_SIZE_MAX_M = 1e6
 
 
 def grid_problem(size_m: float, spacing_m: float) -> bool:
@@ -53,6 +65,14 @@ class TerrainPanel(Panel):
         self.kind.currentIndexChanged.connect(self._kind_changed)
         top = form()
         top.addRow("source", self.kind)
+        self.surroundings = self.bindings.bind(
+            combo([(str(mode), mode) for mode in SURROUNDINGS]),
+            "scene.terrain.surroundings", "Terrain surroundings")
+        self.surroundings.setToolTip(SURROUNDINGS_TIP)
+        top.addRow("surroundings", self.surroundings)
+        self.surroundings_note = QLabel()
+        self.surroundings_note.setWordWrap(True)
+        top.addRow("", self.surroundings_note)
         layout.addLayout(top)
 
         extent = QGroupBox("extent (world X east, Y north; m)")
@@ -81,6 +101,11 @@ class TerrainPanel(Panel):
         f.addRow("highest", self.bindings.bind(
             ruled_dspin(self._highest_problem, -1e4, 1e4, 2, 1, "m"), f"{src}.max_height_m",
             "Terrain highest height"))
+        hill_size = dspin(0.0, HILL_SIZE_MAX_M, 3, 10, "m", low_open=True)
+        hill_size.setToolTip("Wavelength of the largest hills (more than 0 m); the hills are "
+                             "fixed to the world, so a larger extent keeps every hill")
+        f.addRow("hill size", self.bindings.bind(hill_size, f"{src}.hill_size_m",
+                                                 "Terrain hill size"))
         layout.addWidget(self.procedural)
 
         self.flat = QGroupBox("flat plane")
@@ -114,6 +139,7 @@ class TerrainPanel(Panel):
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
+        self._offer_surroundings(self.project.scene.terrain)
         super().refresh()
         terrain = self.project.scene.terrain
         blocked = self.kind.blockSignals(True)
@@ -124,6 +150,35 @@ class TerrainPanel(Panel):
         self.file_box.setVisible(terrain.kind in ("dem", "mesh"))
         if terrain.kind in ("dem", "mesh"):
             self.file_label.setText(terrain.source.file)
+
+    def _offer_surroundings(self, terrain: m.Terrain) -> None:
+        """The surroundings choices for the terrain's kind: its default named, and auto
+        greyed out for a mesh (only a height field can be continued)."""
+        from designer.scene.surroundings import surroundings_mode
+
+        default = surroundings_mode(dataclasses.replace(terrain, surroundings=None))
+        mesh = terrain.kind == "mesh"
+        items = self.surroundings.model()
+        for i, mode in enumerate(SURROUNDINGS):
+            if mode is None:
+                text = f"{default} (default)"
+            else:
+                text = "auto (not for a mesh)" if mesh and mode == "auto" else mode
+            self.surroundings.setItemText(i, text)
+        items.item(SURROUNDINGS.index("auto")).setEnabled(not mesh)
+        note, error = "", False
+        if mesh and terrain.surroundings == "auto":
+            note, error = ("auto cannot continue a mesh terrain (only a flat, procedural or "
+                           "DEM terrain can be continued): choose none, or import the "
+                           "terrain as a DEM"), True
+        elif mesh:
+            note = ("a mesh terrain is rendered as it is: pixels beyond it show the "
+                    "background")
+        elif surroundings_mode(terrain) == "none":
+            note = "pixels beyond the extent show the background"
+        self.surroundings_note.setText(note)
+        self.surroundings_note.setStyleSheet(ERROR_STYLE if error else "")
+        self.surroundings_note.setVisible(bool(note))
 
     def _show_result(self) -> None:
         result = self.sync.terrain
@@ -317,7 +372,10 @@ class TerrainPanel(Panel):
 
         def done(extent: m.Extent) -> None:
             source = m.DemTerrain(rel) if kind == "dem" else m.MeshTerrain(rel)
-            self.editor.edit(self._with_terrain(m.Terrain(extent, source)),
+            # a declared choice of surroundings stays, but for auto, which a mesh refuses
+            around = self.project.scene.terrain.surroundings
+            around = None if kind == "mesh" and around == "auto" else around
+            self.editor.edit(self._with_terrain(m.Terrain(extent, source, around)),
                              f"Import {kind.upper()} {path.name}")
 
         def failed(error: BaseException) -> None:
