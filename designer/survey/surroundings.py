@@ -164,8 +164,22 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False
         rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)
         if far_ground:
             continue
-        hit = raycaster.first_hit(np.repeat(C, len(uv), axis=0), rays.reshape(-1, 3))
-        out[k] = 1.0 - np.all(np.isfinite(hit), axis=1).reshape(len(k), len(uv)).mean(axis=1)
+        origins = np.repeat(C, len(uv), axis=0)
+        hit = raycaster.first_hit(origins, rays.reshape(-1, 3))
+        ground = np.all(np.isfinite(hit), axis=1)
+        # the raycaster's ground is solid: a ray from outside the terrain that enters its
+        # side below the surface stops there, but the rendered surface has no sides
+        x0, x1, y0, y1 = raycaster.heightfield.extent_m
+        eps = 1e-6 * max(1.0, abs(x0), abs(x1), abs(y0), abs(y1))
+        outside = ((origins[:, 0] < x0) | (origins[:, 0] > x1)
+                   | (origins[:, 1] < y0) | (origins[:, 1] > y1))
+        on_side = ((np.abs(hit[:, 0] - x0) < eps) | (np.abs(hit[:, 0] - x1) < eps)
+                   | (np.abs(hit[:, 1] - y0) < eps) | (np.abs(hit[:, 1] - y1) < eps))
+        side = ground & outside & on_side
+        if side.any():
+            below = hit[side, 2] < raycaster.height(hit[side, 0], hit[side, 1]) - 1e-6
+            ground[np.flatnonzero(side)[below]] = False
+        out[k] = 1.0 - ground.reshape(len(k), len(uv)).mean(axis=1)
     return out
 
 
