@@ -19,7 +19,7 @@ a virtual X display (Xvfb) when there is none:
 * ``gui-out-of-date.png`` — the Render panel after a quick draft render and a terrain
   edit: what is out of date and the button that re-renders it;
 * ``gui-flight-beyond.png`` — the Flight panel warning about a flight that looks far
-  beyond the terrain (the same survey flown at 120 m);
+  beyond the terrain (the same survey without surroundings, flown at 120 m);
 * ``gui-study-panel.png`` — the Study panel, whole: a study of the tiny test survey
   (``designer study new --template tiny``'s base: marking error 0.2 / 2 px and sun
   elevation 40°) built in it, run from it (about a minute) and its results shown
@@ -155,11 +155,15 @@ def take(out: Path) -> list[Path]:
     shot("gui-place-mode.png")
     window.view.interaction.set_mode("navigate")
 
-    # the same survey flown high: images look beyond the terrain
+    # the same survey without surroundings, flown high: images look beyond the terrain
+    import dataclasses
+
     from designer.gui import edits
 
-    window.editor.edit(edits.set_flight(window.document.project, altitude_agl_m=120.0),
-                       "Flight height")
+    bare = window.document.project
+    bare = dataclasses.replace(bare, scene=dataclasses.replace(bare.scene, terrain=(
+        dataclasses.replace(bare.scene.terrain, surroundings="none"))))
+    window.editor.edit(edits.set_flight(bare, altitude_agl_m=120.0), "Flight height")
     shot("gui-flight-beyond.png", window.docks["Flight"])
     window.undo_stack.undo()
     _render_then_edit(window, project)
