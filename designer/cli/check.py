@@ -49,6 +49,7 @@ def run(args) -> int:
             continue
         print(summary_line(path, project))
         _warn_surroundings(path, project, args)
+        _warn_hard_cases(path, project, args)
     return status
 
 
@@ -65,3 +66,18 @@ def _warn_surroundings(path: Path, project, args) -> None:
         warning = None
     if warning:
         print(f"warning: {path}: <terrain>: {warning}", file=sys.stderr)
+
+
+def _warn_hard_cases(path: Path, project, args) -> None:
+    """Warnings (stderr, exit status unchanged) where the project walks into a case that
+    degrades results: nearly collinear control, GSD against texel, a lens close to its
+    fold (designer.survey.hard_cases, docs/hard-cases.md)."""
+    from designer.survey.hard_cases import distortion_warning, hard_case_warnings
+
+    if args.no_files:  # the terrain may be a file: only the lens is checked
+        warnings = [w for cam in project.cameras
+                    if (w := distortion_warning(cam, project.render.resolution_scale))]
+    else:
+        warnings = hard_case_warnings(project, path.parent)
+    for warning in warnings:
+        print(warning.line(path), file=sys.stderr)

@@ -104,6 +104,12 @@ class Heightfield:
         t_stop = np.where(flat, np.where(inband, np.inf, -np.inf), np.maximum(t_a, t_b))
         t_start = np.maximum(t_start, 0.0)
         t_stop = np.minimum(t_stop, t_start + diag + step)
+        # no hit lies farther than the box's farthest corner: a nearly horizontal ray
+        # (z ~ 1e-17) would otherwise enter the band at t ~ 1e17, where a step of half a
+        # cell no longer changes t and the march never ends
+        far = np.sqrt(sum(np.maximum((lo - origins[:, k]) ** 2, (hi - origins[:, k]) ** 2)
+                          for k, (lo, hi) in enumerate(((x0, x1), (y0, y1), (z_lo, z_hi)))))
+        t_stop = np.minimum(t_stop, far)
         if max_range_m is not None:
             t_stop = np.minimum(t_stop, max_range_m)
 

@@ -17,6 +17,7 @@ from designer.errors import DesignerError
 from designer.project import model as m
 from designer.sfm.adjustment import ControlPoint, PositionPriors, adjust
 from designer.sfm.georeference import fit_similarity, triangulate_gcps
+from designer.survey.hard_cases import collinear_problem
 
 #: RANSAC inlier threshold of the GCP similarity, m
 GCP_SIMILARITY_MAX_ERROR_M = 0.5
@@ -84,6 +85,11 @@ def _gcp_similarity(rec, by_id, marks, control, offset, log, source: str) -> dic
             f"images ({few or 'no other control GCPs'}); georeferencing needs at least 3")
     src = np.array([points[g] for g in used])
     tgt = np.array([by_id[g].surveyed_xyz for g in used]) - offset
+    # nearly collinear control leaves the rotation about its line to the noise: RANSAC
+    # then returns a similarity silently off by degrees (docs/hard-cases.md)
+    problem = collinear_problem(tgt, "control GCPs")
+    if problem:
+        raise DesignerError(f"{source}: {problem}")
     sim = fit_similarity(src, tgt, GCP_SIMILARITY_MAX_ERROR_M, "control GCPs")
     rec.transform(sim)
     log(f"georeferenced on {len(used)} control GCPs (scale {sim.scale:.6f})")

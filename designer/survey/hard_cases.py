@@ -1,0 +1,253 @@
+"""Warnings for projects that walk into a case that degrades results (docs/hard-cases.md).
+
+Each warning is a :class:`HardCaseWarning`: the element at fault, what goes wrong with
+its size, and the fix. ``designer check`` prints them; none of them makes a project
+invalid (the invalid cases — a lens map that folds inside the image, control on one
+exact line — are refused where they are read or used).
+
+* control GCPs nearly collinear: a similarity (or a datum from control) cannot fix the
+  rotation about the line they lie on; :func:`point_spread` measures it;
+* the GSD finer than the texture's texel (the texture is magnified, features repeat) and,
+  the other way, texels finer than a third of the GSD (the plan's aliasing warning,
+  designer.survey.plan_report, reused);
+* a lens whose image corners come close to the radius where its radial map stops being
+  monotonic: undistortion magnifies pixel errors there.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.errors import DesignerError
+from designer.project import model as m
+
+#: control whose largest/second-largest spread exceeds this (width < length / 10) is
+#: reported: with 1 cm marking noise the rotation about the line is off by ~0.1°
+COLLINEAR_WARN_CONDITION = 10.0
+#: control this close to one line is refused by the similarity: 5 points 35 cm off a
+#: 100 m line; at 5 cm off it RANSAC returned a similarity 6° wrong without a word
+COLLINEAR_REFUSE_CONDITION = 100.0
+#: radial magnification 1/g'(r) of pixel errors by undistortion at the image corner
+DISTORTION_WARN_MAGNIFICATION = 2.0
+
+
+@dataclass(frozen=True)
+class HardCaseWarning:
+    element: str  #: the element at fault, e.g. "targets"
+    message: str  #: what goes wrong, with its size
+    fix: str
+
+    def line(self, path: Path | str) -> str:
+        """``warning: PATH: <element>: message; fix`` (one line)."""
+        return f"warning: {path}: <{self.element}>: {self.message}; {self.fix}"
+
+
+@dataclass(frozen=True)
+class PointSpread:
+    """How far points (N, 3), metres, are from lying on one line."""
+
+    length_m: float  #: extent along the first principal axis
+    width_m: float  #: extent along the second principal axis (the strip's width)
+    condition: float  #: first / second singular value of the centred points (inf: a line)
+
+
+def point_spread(xyz_m: np.ndarray) -> PointSpread:
+    """The spread of points (N, 3) in metres, centred first (UTM-sized input keeps its
+    precision)."""
+    xyz = np.asarray(xyz_m, dtype=np.float64)
+    if xyz.ndim != 2 or xyz.shape[1] != 3 or len(xyz) < 2:
+        raise ValueError(f"points must be shaped (N >= 2, 3), got {xyz.shape}")
+    centred = xyz - xyz.mean(axis=0)
+    _, s, Vt = np.linalg.svd(centred, full_matrices=False)
+    along = centred @ Vt[0]
+    across = centred @ Vt[1]
+    condition = math.inf if s[1] <= 1e-12 * max(s[0], 1e-300) else float(s[0] / s[1])
+    return PointSpread(float(np.ptp(along)), float(np.ptp(across)), condition)
+
+
+def collinear_problem(xyz_m: np.ndarray, what: str,
+                      threshold: float = COLLINEAR_REFUSE_CONDITION) -> str | None:
+    """One sentence if fewer than 3 points or the points (N, 3) lie so close to one line
+    (condition number above ``threshold``) that a similarity fitted on them cannot fix the
+    rotation about it; None otherwise."""
+    xyz = np.asarray(xyz_m, dtype=np.float64)
+    if len(xyz) < 3:
+        return f"only {len(xyz)} {what}; a similarity needs at least 3 not on one line"
+    s = point_spread(xyz)
+    if s.condition <= threshold:
+        return None
+    return (f"the {len(xyz)} {what} lie on one line ({s.length_m:.2f} m long, a strip "
+            f"{s.width_m:.3g} m wide, condition number {s.condition:.3g}): the rotation "
+            "about that line is undetermined; add control off the line (at least a tenth "
+            "of its length away)")
+
+
+def control_warning(targets) -> HardCaseWarning | None:
+    """The warning for nearly collinear control (``targets``: designer.scene.build's
+    BuiltTarget, their surveyed coordinates)."""
+    control = [t for t in targets if t.target.role == "control"]
+    if len(control) < 3:
+        return None
+    xyz = np.array([t.surveyed_xyz for t in control])
+    s = point_spread(xyz)
+    if s.condition <= COLLINEAR_WARN_CONDITION:
+        return None
+    ids = ", ".join(t.target.id for t in control)
+    return HardCaseWarning(
+        "targets",
+        f"the {len(control)} control GCPs ({ids}) are nearly collinear: they span a strip "
+        f"{s.width_m:.3g} m wide and {s.length_m:.1f} m long (condition number "
+        f"{s.condition:.3g}); the rotation about that line is fixed only by the strip's "
+        f"width, so errors grow with the distance from it",
+        "move or add control GCPs off the line, at least a tenth of its length away")
+
+
+def finest_gsd_m(project: m.Project, hf, images) -> float:
+    """The finest GSD (m/px) any image of ``images`` (designer.survey.project_poses) has
+    on the height field ``hf``, sampled at a 3 × 3 grid of pixels per image: the slant
+    distance along the optical axis × pixel pitch / focal length. NaN if no ray meets it.
+    """
+    from designer.core.projection import ground_sample_distance_m, pixel_rays_world
+    from designer.errors import NotInvertibleError
+    from designer.project.interiors import render_interior
+
+    starts, rays, axes, pitch_over_f = [], [], [], []
+    for station, camera_id in zip(images.stations, images.camera_ids, strict=True):
+        io = render_interior(project.camera(camera_id), project.render.resolution_scale)
+        W, H = io.image_size_px
+        g = np.linspace(0.05, 0.95, 3)
+        uv = np.stack(np.meshgrid(g * W, g * H), axis=-1).reshape(-1, 2)
+        try:
+            rays.append(pixel_rays_world(uv, station.R_cam_to_world, io))
+        except NotInvertibleError:
+            continue
+        starts.append(np.repeat(np.asarray(station.C_world, float)[None], len(uv), axis=0))
+        axes.append(np.repeat(-np.asarray(station.R_cam_to_world)[None, :, 2], len(uv), 0))
+        pitch_over_f.append(np.full(len(uv), float(ground_sample_distance_m(io, 1.0))))
+    if not rays:
+        return math.nan
+    C = np.concatenate(starts)
+    hits = hf.intersect_rays(C, np.concatenate(rays))  # one call: its set-up is the cost
+    depth = np.einsum("ij,ij->i", hits - C, np.concatenate(axes))
+    gsd = depth * np.concatenate(pitch_over_f)
+    gsd = gsd[np.isfinite(gsd) & (gsd > 0)]
+    return float(gsd.min()) if gsd.size else math.nan
+
+
+def texture_warnings(project: m.Project, gsd_min_m: float) -> list[HardCaseWarning]:
+    """The texture against the finest GSD (m/px): texels coarser than it, and texels
+    finer than a third of it (the plan's aliasing warning, plan_report.plan_warnings,
+    asked of the plan report itself so the rule and its wording stay in one place)."""
+    from types import SimpleNamespace
+
+    from designer.survey.plan_report import plan_warnings
+
+    if not math.isfinite(gsd_min_m):
+        return []
+    # a result that carries only the texture: no footprint, ground or GCP figures
+    texture_only = SimpleNamespace(project=project, footprint_m=(0.0, 0.0), ground=None,
+                                   analysis=SimpleNamespace(gcps=None))
+    out = [HardCaseWarning("texture", w, "see docs/hard-cases.md") for w in plan_warnings(
+        texture_only, {"gsd_terrain_m": {"min": gsd_min_m}})]
+    source = project.scene.texture.source
+    if isinstance(source, m.ProceduralTexture) and source.texel_size_m > gsd_min_m:
+        out.append(HardCaseWarning(
+            "texture",
+            f"the GSD ({100 * gsd_min_m:.2g} cm at its finest) is below the texture's texel "
+            f"({100 * source.texel_size_m:.2g} cm): each texel spans "
+            f"{source.texel_size_m / gsd_min_m:.3g} pixels, the ground shows interpolated "
+            "texels whose grid repeats, and features match poorly",
+            f"use a texel near GSD/2 ({100 * gsd_min_m / 2:.2g} cm) for this flight, or "
+            "fly higher"))
+    return out
+
+
+def _coefficients(model) -> tuple[float, ...]:
+    from designer.core.distortion import BrownConrady
+
+    if isinstance(model, BrownConrady):
+        return (model.k1, model.k2, model.k3)
+    return (model.k1, model.k2, model.k3, model.k4)
+
+
+def _radial_value(model, t: float) -> float:
+    """g(t) = t·(1 + k1 t² + k2 t⁴ + …): the distorted radius (Brown: of undistorted radius
+    t; fisheye: of the angle t off axis)."""
+    return t * (1.0 + sum(k * t ** (2 * i + 2) for i, k in enumerate(_coefficients(model))))
+
+
+def _radial_slope(model, t: float) -> float:
+    """g'(t), the radial map's slope."""
+    return 1.0 + sum((2 * i + 3) * k * t ** (2 * i + 2)
+                     for i, k in enumerate(_coefficients(model)))
+
+
+def distortion_warning(camera: m.Camera, resolution_scale: float = 1.0
+                       ) -> HardCaseWarning | None:
+    """A warning when the image corners come close to where the lens's radial map stops
+    being monotonic: undistortion there magnifies radial pixel errors by 1/g'(t) ≥
+    :data:`DISTORTION_WARN_MAGNIFICATION` (t: the corner's undistorted radius, or its
+    angle off axis for a fisheye). Beyond that radius the camera is refused
+    (designer.project.validate_camera)."""
+    from designer.core.distortion import BrownConrady
+    from designer.errors import NotInvertibleError
+    from designer.project.interiors import render_interior
+
+    io = render_interior(camera, resolution_scale)
+    model = io.distortion
+    if model is None or (isinstance(model, BrownConrady) and model.is_identity):
+        return None
+    W, H = io.image_size_px
+    corners = np.array([[0.0, 0.0], [W, 0.0], [0.0, H], [W, H]])
+    xd = (corners - [io.cx_px, io.cy_px]) / [io.fx_px, io.fy_px]
+    far = xd[np.argmax(np.hypot(xd[:, 0], xd[:, 1]))][None]
+    try:
+        if isinstance(model, BrownConrady):
+            t = float(np.hypot(*model.undistort(far)[0]))
+            limit, tag = model.max_monotone_radius(), "brown-conrady"
+        else:
+            t = float(np.arccos(np.clip(model.rays_from_distorted(far)[0, 2], -1.0, 1.0)))
+            limit, tag = min(model.max_monotone_theta(), math.pi), "fisheye-equidistant"
+    except NotInvertibleError:
+        return None  # beyond the lens map: the camera check refuses it
+    slope = _radial_slope(model, t)
+    magnification = math.inf if slope <= 0 else 1.0 / slope
+    if magnification < DISTORTION_WARN_MAGNIFICATION:
+        return None
+    f_px = io.fx_px
+    edge = (f" ({f_px * _radial_value(model, limit):.0f} px)" if math.isfinite(limit)
+            else "")
+    return HardCaseWarning(
+        tag,
+        f"camera {camera.id!r}: the image corner {f_px * float(np.hypot(*far[0])):.0f} px "
+        f"from the principal point lies close to the radius where the lens map stops being "
+        f"monotonic{edge}: undistorting pixels there magnifies their radial error "
+        f"{magnification:.3g}x",
+        "reduce the distortion coefficients or the image size/field of view, or crop the "
+        "corners")
+
+
+def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarning]:
+    """Every warning of this module for ``project`` (files relative to ``base_dir``)."""
+    from designer.scene.build import build_heightfield, build_targets
+    from designer.survey.project_poses import project_images
+
+    out = [w for cam in project.cameras
+           if (w := distortion_warning(cam, project.render.resolution_scale)) is not None]
+    try:
+        hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
+        if hf is None:  # a mesh terrain is not analysed
+            return out
+        warning = control_warning(build_targets(project, hf))
+        images = project_images(project, hf)
+    except DesignerError:  # the flight cannot be planned: check says why elsewhere
+        return out
+    if warning is not None:
+        out.append(warning)
+    if len(images.stations):
+        out += texture_warnings(project, finest_gsd_m(project, hf, images))
+    return out

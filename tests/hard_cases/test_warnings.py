@@ -1,0 +1,173 @@
+"""``designer check``'s hard-case warnings (designer.survey.hard_cases) and the guards
+without a render: each warning appears on the project that walks into its case and not
+on the same project a step away from it; the refusals name the case and the fix."""
+
+from __future__ import annotations
+
+import math
+import re
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from designer.cli.main import main
+from designer.core.heightfield import Heightfield
+from designer.errors import DesignerError
+from designer.project import model as m
+from designer.survey.hard_cases import collinear_problem, distortion_warning, point_spread
+from tests.hard_cases import scenes
+from tests.synthetic import model_camera, write_project_file
+
+
+def _check(tmp_path, project, capsys) -> list[str]:
+    path = write_project_file(project, tmp_path)
+    assert main(["check", str(path)]) == 0  # warnings never change the exit status
+    err = capsys.readouterr().err.splitlines()
+    assert all(line.startswith(f"warning: {path}: <") for line in err), err
+    return err
+
+
+# ------------------------------------------------------------------ collinear control
+@pytest.mark.parametrize(("width_m", "warned"), [(0.0, True), (0.5, True), (4.0, False)])
+def test_check_warns_when_control_is_nearly_collinear(tmp_path, capsys, width_m, warned):
+    """Five control GCPs 20 m along a line, ±width_m off it: a strip of 2·width_m in
+    plan; on the ±0.5 m terrain the 3-D strip is a little wider."""
+    err = _check(tmp_path, scenes.collinear_control(width_m), capsys)
+    found = [e for e in err if "<targets>:" in e]
+    assert bool(found) == warned, err
+    if warned:
+        (line,) = found
+        assert "nearly collinear" in line and "off the line" in line
+        width, length, condition = map(float, re.search(
+            r"a strip (\S+) m wide and (\S+) m long \(condition number (\S+)\)",
+            line).groups())
+        assert 2 * width_m <= width <= 2 * width_m + 0.3 and length == 20.0
+        assert condition > 10
+
+
+def test_point_spread_at_utm_size():
+    xyz = np.array([[830000.0 + t, 9999000.0 + 0.01 * (-1) ** i, 250.0]
+                    for i, t in enumerate(np.linspace(0, 100, 6))])
+    s = point_spread(xyz)
+    assert s.length_m == pytest.approx(100.0, abs=1e-5)
+    assert 0.02 <= s.width_m <= 0.03  # the zigzag tilts the axis a little
+    assert 2000 < s.condition < 8000
+    assert point_spread(xyz[:, :] * [1, 0, 1] + [0, 5e6, 0]).condition == math.inf
+
+
+def test_the_gcp_similarity_refuses_control_on_one_line(monkeypatch):
+    """RANSAC's similarity on control 5 cm off a 100 m line is silently wrong by degrees
+    (see docs/hard-cases.md); georeferencing refuses it with the condition number."""
+    from designer.core.truth import GroundControlPoint
+    from designer.sfm import process_free
+
+    E = np.linspace(-50, 50, 5)
+    surveyed = {f"G{k}": np.array([500000.0 + e, 5000000.0 + 0.05 * (-1) ** k, 250.0])
+                for k, e in enumerate(E)}
+    gcps = {g: GroundControlPoint(g, "control", xyz, xyz, [0.0, 0.0, 0.0])
+            for g, xyz in surveyed.items()}
+    offset = np.array([500000.0, 5000000.0, 250.0])
+    rng = np.random.default_rng(3)
+    local = {g: xyz - offset + rng.normal(0, 0.01, 3) for g, xyz in surveyed.items()}
+    monkeypatch.setattr(process_free, "triangulate_gcps",
+                        lambda rec, marks: (local, dict.fromkeys(local, 4)))
+    with pytest.raises(DesignerError) as info:
+        process_free._gcp_similarity(None, gcps, [], set(gcps), offset, lambda _: None,
+                                     "run 1")
+    message = str(info.value)
+    assert message.startswith("run 1: the 5 control GCPs lie on one line")
+    assert "condition number" in message and "add control off the line" in message
+    assert "\n" not in message
+
+
+def test_fewer_than_three_points_is_a_problem_too():
+    assert "only 2" in collinear_problem(np.zeros((2, 3)), "control GCPs")
+
+
+# ------------------------------------------------------------------ GSD and texel
+@pytest.mark.parametrize(("texel_m", "expected"), [
+    (0.002, "is below the texture's texel"),     # 1 mm GSD on 2 mm texels
+    (0.0005, None),                              # texel = GSD / 2: as advised
+])
+def test_check_warns_when_the_gsd_is_below_the_texel(tmp_path, capsys, texel_m, expected):
+    project = scenes.gsd_family(0.001)
+    texture = replace(project.scene.texture, source=replace(project.scene.texture.source,
+                                                            texel_size_m=texel_m))
+    err = _check(tmp_path, replace(project, scene=replace(project.scene, texture=texture)),
+                 capsys)
+    found = [e for e in err if "<texture>:" in e]
+    if expected is None:
+        assert found == [], err
+    else:
+        (line,) = found
+        assert expected in line and "GSD/2 (0.05 cm)" in line and "spans 2 pixels" in line
+
+
+def test_check_repeats_the_plans_aliasing_warning_for_texels_finer_than_a_third(
+        tmp_path, capsys):
+    project = scenes.gsd_family(0.5)  # 50 cm GSD: 5 cm texels alias
+    texture = replace(project.scene.texture, source=replace(project.scene.texture.source,
+                                                            texel_size_m=0.05))
+    err = _check(tmp_path, replace(project, scene=replace(project.scene, texture=texture)),
+                 capsys)
+    (line,) = [e for e in err if "<texture>:" in e]
+    assert "finer than a third of the GSD" in line and "alias" in line
+
+
+# ------------------------------------------------------------------ distortion
+@pytest.mark.parametrize(("k1", "warned"), [(-0.19, True), (-0.1, False), (0.2, False)])
+def test_distortion_close_to_its_fold_inside_the_image_is_warned(k1, warned):
+    """640 × 480, f = 500 px: the corner at normalised radius 0.8. k1 = −0.19 reaches
+    0.88 at its fold (r = 1.32); the corner's preimage r = 0.99 has g' = 0.45."""
+    cam = model_camera(distortion=m.BrownConradyDistortion(k1=k1))
+    warning = distortion_warning(cam)
+    assert (warning is not None) == warned
+    if warned:
+        assert warning.element == "brown-conrady"
+        assert "magnifies their radial error 2.2x" in warning.message
+        assert "lens map stops being monotonic (442 px)" in warning.message
+
+
+def test_check_prints_the_distortion_warning(tmp_path, capsys):
+    project = scenes.strong_brown()
+    err = _check(tmp_path, project, capsys)
+    (line,) = [e for e in err if "<brown-conrady>:" in e]
+    assert "camera 'cam'" in line and "reduce the distortion coefficients" in line
+
+
+def test_distortion_beyond_its_fold_inside_the_image_is_refused(tmp_path, capsys):
+    """k1 = −0.3 folds at normalised radius 0.58 (reaching 0.385); the corner is at 0.8."""
+    project = scenes.strong_brown()
+    cam = replace(project.cameras[0], distortion=m.BrownConradyDistortion(k1=-0.3))
+    path = write_project_file(replace(project, cameras=(cam,)), tmp_path)
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "folds the lens map inside the image" in err and "Traceback" not in err
+
+
+# ------------------------------------------------------------------ horizontal rays
+def test_a_horizontal_ray_over_a_height_field_ends():
+    """The principal ray of a camera at φ = 90° has z ~ 1e-17: it entered the height band
+    at t ~ 1e17 m, where a half-cell step no longer changes t, and the march never ended.
+    Run in a child process so a regression fails instead of hanging the suite."""
+    code = (
+        "import numpy as np\n"
+        "from designer.core.heightfield import Heightfield\n"
+        "from designer.core.rotation import rotation_from_opk\n"
+        "hf = Heightfield(0.0, 0.0, 0.5, 0.5, np.full((81, 81), 250.0) "
+        "+ np.random.default_rng(0).uniform(-0.5, 0.5, (81, 81)))\n"
+        "R = rotation_from_opk(0.0, np.pi / 2, np.pi / 2)\n"
+        "C = np.array([[50.0, 20.0, 256.0]])\n"
+        "hit = hf.intersect_rays(C, -R[:, 2][None])\n"
+        "down = hf.intersect_rays(C, np.array([[-1.0, 0.0, -0.3]]))\n"
+        "print(np.isnan(hit).all(), np.isfinite(down).all())\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60)
+    assert out.stdout.split() == ["True", "True"], out.stderr
+
+
+def test_heightfield_type_is_the_one_the_child_uses():
+    assert Heightfield.__module__ == "designer.core.heightfield"
