@@ -116,7 +116,13 @@ def cpu_seconds() -> float:
 
 
 #: the reconstruction's log line that starts a step → the step
-_STEP_LINES = {"features:": "features", "matching:": "matching"}
+_STEP_LINES = {"features:": "features", "matching:": "matching", "incremental SfM": "sfm",
+               "global SfM": "sfm"}
+#: the steps a reconstruction may take from the feature cache: the step, the row's column
+#: saying it was taken, the row's column naming the runs that share it
+REUSABLE_STEPS = (("features", "features_reused", "features_group"),
+                  ("matching", "matches_reused", "features_group"),
+                  ("sfm", "sfm_reused", "sfm_group"))
 #: where a study keeps what computing features and matches cost, per group of runs that
 #: share them (relative to the study folder)
 STEP_CPU_DIR = Path("cache") / "step-cpu"
@@ -124,9 +130,11 @@ STEP_CPU_DIR = Path("cache") / "step-cpu"
 
 class StageClock:
     """CPU seconds of the steps of a reconstruction, split at its log lines: the step a
-    line starts (``features: …``, ``matching: …``) runs until the next line. Passed as
-    the reconstruction's ``log``; ``on_step(step, cpu_s)`` hears each step as it ends
-    (``features``, ``matching``), before the reconstruction goes on."""
+    line starts (``features: …``, ``matching: …``, ``incremental SfM``) runs until the
+    next line (the SfM mapper's: until the model is georeferenced, a few cheap steps
+    after it). Passed as the reconstruction's ``log``; ``on_step(step, cpu_s)`` hears
+    each step as it ends (``features``, ``matching``, ``sfm``), before the
+    reconstruction goes on."""
 
     def __init__(self, on_step=None) -> None:
         self.marks: list[tuple[str, float]] = []
@@ -144,7 +152,7 @@ class StageClock:
         return next((s for p, s in _STEP_LINES.items() if message.startswith(p)), None)
 
     def step_cpu_s(self, step: str, end: float) -> float | None:
-        """CPU seconds of ``step`` (``features``/``matching``; None: it did not run, e.g.
+        """CPU seconds of ``step`` (``features``/``matching``/``sfm``; None: it did not run, e.g.
         its result came from the feature cache); ``end``: the CPU clock when the
         reconstruction returned."""
         for k, (message, start) in enumerate(self.marks):
@@ -179,28 +187,28 @@ def recorded_step_cpu(root: Path) -> dict[tuple[str, str], list[float]]:
 
 def add_reused_cpu(rows: list[dict], recorded: dict | None = None) -> list[dict]:
     """Each row's ``reconstruct_cpu_s``: what its reconstruction would have cost on its
-    own — the CPU it spent (``reconstruct_cpu_spent_s``) plus, for features or matches it
-    took from the study's feature cache, the CPU a reconstruction of the same images and
-    matching settings (``features_group``) spent computing them: the median of those
-    ``recorded`` (:func:`recorded_step_cpu`) and of the rows that computed them. Rows are
+    own — the CPU it spent (``reconstruct_cpu_spent_s``) plus, for each step it took from
+    the study's feature cache (features, matches, the SfM model), the CPU that computing
+    it cost a reconstruction of its group (:data:`REUSABLE_STEPS`): the median of those
+    ``recorded`` (:func:`recorded_step_cpu`), else of the rows that computed it. Rows are
     changed in place and returned."""
     spent: dict[tuple[str, str], list[float]] = {k: list(v) for k, v in
                                                   (recorded or {}).items()}
     if not recorded:
         for r in rows:
-            for step in ("features", "matching"):
+            for step, _, group in REUSABLE_STEPS:
                 v = r.get(f"{step}_cpu_s")
-                if v is not None and r.get("features_group"):
-                    spent.setdefault((r["features_group"], step), []).append(float(v))
+                if v is not None and r.get(group):
+                    spent.setdefault((r[group], step), []).append(float(v))
     for r in rows:
         own = r.get("reconstruct_cpu_spent_s")
         if own is None:
             r["reconstruct_cpu_s"] = None
             continue
         total = float(own)
-        for step, flag in (("features", "features_reused"), ("matching", "matches_reused")):
+        for step, flag, group in REUSABLE_STEPS:
             if _true(r.get(flag)) and r.get(f"{step}_cpu_s") is None:
-                done = spent.get((r.get("features_group"), step))
+                done = spent.get((r.get(group), step))
                 total += statistics.median(done) if done else 0.0
         r["reconstruct_cpu_s"] = total
     return rows

@@ -50,7 +50,8 @@ _FIRST = ("run", "variant", "replicate")
 _LAST = ("images", "gsd_m", "flight_min", "flight_min_source", "gcps", "control_gcps",
          "render_s", "reconstruct_s", "compare_s", "total_s", "amortised_s",
          "render_cpu_s", "render_cycles_cpu_s", "reconstruct_cpu_s",
-         "reconstruct_cpu_spent_s", "features_cpu_s", "matching_cpu_s", "compare_cpu_s",
+         "reconstruct_cpu_spent_s", "features_cpu_s", "matching_cpu_s", "sfm_cpu_s",
+         "compare_cpu_s",
          "cpu_s", "cpu_amortised_s", "render_runs", "processing_runs",
          "registered", "check_n", "check_rmse_x_m", "check_rmse_y_m", "check_rmse_z_m",
          "check_rmse_xy_m", "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd",
@@ -60,7 +61,7 @@ _LAST = ("images", "gsd_m", "flight_min", "flight_min_source", "gcps", "control_
          "dtm_cloud_mean_m", "dtm_cloud_rmse_m", "dome_amplitude_m", "focal_error_px",
          "k1_error",
          "render_reused", "processing_reused", "features_reused", "matches_reused",
-         "sfm_reused", "image_hash", "processing_hash", "features_group",
+         "sfm_reused", "image_hash", "processing_hash", "features_group", "sfm_group",
          "error_map", "status")
 
 

@@ -11,7 +11,7 @@ Output folder::
     DIR/cache/renders/HASH/       one render per distinct image set
     DIR/cache/processing/HASH/    one reconstruction + comparison per distinct processing
     DIR/cache/features/           features and matches, shared by runs of the same images
-    DIR/cache/step-cpu/GROUP/     the CPU seconds computing them cost (for the runs reusing them)
+    DIR/cache/step-cpu/GROUP/     what computing them (and SfM models) cost in CPU seconds
     DIR/results.csv, summary.json, report.html, report.md
 
 A run with a ``result.json`` is finished (``ok`` or ``failed: reason``) and never redone;
@@ -31,7 +31,7 @@ from pathlib import Path
 from designer.atomic import write_text_atomic
 from designer.errors import DesignerError
 from designer.study import stages
-from designer.study.cost import STEP_CPU_DIR
+from designer.study.cost import REUSABLE_STEPS, STEP_CPU_DIR
 from designer.study.design import Plan, Run
 
 Progress = Callable[[dict], None]
@@ -153,7 +153,7 @@ def _plan_runs(plan: Plan, out: Path, progress: Progress) -> dict[str, dict]:
         if info_path.is_file():
             info = json.loads(info_path.read_text())
             # planned by this version (an earlier one did not count the flight's cost)
-            if info.get("project_repr") == repr(project) and "flight_min" in info:
+            if info.get("project_repr") == repr(project) and "sfm_group" in info:
                 infos[run.run_id] = info
                 continue
         info = stages.plan_run(project, run_dir)
@@ -308,7 +308,8 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
             future = executor.submit(stages.process_stage, str(first / "survey"),
                                      str(first / "project.xml"), str(processing / p),
                                      str(out / "cache" / "features"),
-                                     str(out / STEP_CPU_DIR / infos[rid]["features_group"]),
+                                     {step: str(out / STEP_CPU_DIR / infos[rid][group])
+                                      for step, _, group in REUSABLE_STEPS},
                                      priority=0)
             pending[future] = ("process", p)
             counts["reconstructions_this_session"] += 1
@@ -371,6 +372,7 @@ def _row(info: dict, render: dict, result: dict, owner: bool, render_owner: bool
                 "gcps": info.get("gcps"), "control_gcps": info.get("control_gcps"),
                 "image_hash": info["image_hash"], "processing_hash": info["processing_hash"],
                 "features_group": info.get("features_group"),
+                "sfm_group": info.get("sfm_group"),
                 "render_s": render.get("render_s"), "render_cpu_s": render.get("render_cpu_s"),
                 "render_cycles_cpu_s": render.get("render_cycles_cpu_s"),
                 "render_reused": not render_owner, "processing_reused": not owner})

@@ -8,7 +8,8 @@
   camera effects; its wall and CPU seconds;
 * :func:`process_stage`: ``designer reconstruct`` (free mode, the project's
   ``<processing>``) and ``designer compare`` (cloud against the true surface); their
-  wall and CPU seconds, the CPU of feature extraction and matching apart.
+  wall and CPU seconds, the CPU of feature extraction, matching and the SfM mapper
+  apart.
 
 CPU seconds (:func:`designer.study.cost.cpu_seconds`) are those of the worker process
 that runs the stage and of its ended child processes, read before and after: a worker
@@ -92,13 +93,17 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
         np.array([pose.C_world for pose in prepared.poses]),
         None if prepared.times is None else [t.time_s for t in prepared.times])
     gcps, control_gcps = gcp_counts(project)
+    # runs whose reconstructions share features and matches (and the SfM model) through
+    # the feature cache, by what that sharing depends on
+    processing = project.processing or m.Processing()
+    features_group = digest("features", image_hash, repr(processing.matching))
     return {"project": "project.xml", "images": names, "image_hash": image_hash,
             "raw_hash": raw_hash,
             "processing_hash": processing_hash(image_hash, ground_truth_digest(gt),
                                                project.processing, MODE),
-            # runs whose reconstructions share features and matches through the cache
-            "features_group": digest("features", image_hash,
-                                     repr((project.processing or m.Processing()).matching)),
+            "features_group": features_group,
+            "sfm_group": digest("sfm", features_group, processing.calibration.mode,
+                                repr(processing.sfm)),
             "gsd_m": float(np.mean(gsd)) if gsd else None,
             "flight_min": flight_min, "flight_min_source": flight_source,
             "gcps": gcps, "control_gcps": control_gcps}
@@ -157,10 +162,12 @@ def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
 
 
 def process_stage(survey_dir: str, project_path: str, out_dir: str,
-                  feature_cache: str | None = None, step_cpu: str | None = None) -> dict:
+                  feature_cache: str | None = None,
+                  step_cpu: dict[str, str] | None = None) -> dict:
     """Reconstruct and compare one run; its metrics, or ``failed: reason``. Runs of the
-    same images share features and matches through ``feature_cache``; what computing
-    them cost is kept in ``step_cpu`` (:func:`designer.study.cost.record_step_cpu`)."""
+    same images share features, matches and SfM models through ``feature_cache``; what
+    computing each cost is kept in the folder ``step_cpu[step]``
+    (:func:`designer.study.cost.record_step_cpu`)."""
     # keep COLMAP's per-step log lines out of the study's output (errors still show);
     # read by its logging library when pycolmap loads in this worker
     os.environ.setdefault("GLOG_minloglevel", "2")
@@ -169,8 +176,7 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str,
     result: dict = {}
     try:
         result = _process(Path(survey_dir), Path(project_path), out,
-                          Path(feature_cache) if feature_cache else None,
-                          Path(step_cpu) if step_cpu else None)
+                          Path(feature_cache) if feature_cache else None, step_cpu)
         result["status"] = "ok"
     except (DesignerError, ValueError, RuntimeError, np.linalg.LinAlgError) as error:
         result["status"] = f"failed: {type(error).__name__ if not str(error) else error}"
@@ -181,7 +187,7 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str,
 
 
 def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | None,
-             step_cpu: Path | None = None) -> dict:
+             step_cpu: dict[str, str] | None = None) -> dict:
     from designer.evaluate import compare_cloud, read_point_cloud
     from designer.evaluate.compare import reference_meshes
     from designer.project import load_project
@@ -189,8 +195,8 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
     from designer.study.cost import StageClock, cpu_seconds, record_step_cpu
 
     project = load_project(project_path)
-    clock = StageClock(None if step_cpu is None else
-                       lambda step, cpu_s: record_step_cpu(step_cpu, out.name, step, cpu_s))
+    clock = StageClock(None if not step_cpu else lambda step, cpu_s: record_step_cpu(
+        Path(step_cpu[step]), out.name, step, cpu_s))
     t0, cpu0 = time.perf_counter(), cpu_seconds()
     rec = reconstruct(survey, out / "reconstruction", mode=MODE,
                       processing=project.processing, project_path=project_path,
@@ -202,11 +208,11 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
                  "images": rec.n_images, "features_reused": reused.get("features", False),
                  "matches_reused": reused.get("matches", False),
                  "sfm_reused": reused.get("sfm", False),
-                 # what this reconstruction spent; features and matches it took from
-                 # the cache cost it nothing (designer.study.cost.add_reused_cpu)
+                 # what this reconstruction spent; what it took from the cache cost
+                 # it nothing (designer.study.cost.add_reused_cpu)
                  "reconstruct_cpu_spent_s": cpu1 - cpu0,
-                 "features_cpu_s": clock.step_cpu_s("features", cpu1),
-                 "matching_cpu_s": clock.step_cpu_s("matching", cpu1)}
+                 **{f"{step}_cpu_s": clock.step_cpu_s(step, cpu1)
+                    for step in ("features", "matching", "sfm")}}
     for role in ("check", "control"):
         stats = s.get(role) or {}
         for key in ("rmse_x_m", "rmse_y_m", "rmse_z_m", "rmse_xy_m", "rmse_xyz_m"):

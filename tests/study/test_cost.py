@@ -227,26 +227,33 @@ def test_a_measured_cost_without_replicates_draws_no_front():
     assert front_rule([_point(0, 60.0, 0.05)], planned_cost=False)[0]
 
 
-def test_reused_features_count_what_their_computation_cost():
-    rows = [{"features_group": "g", "reconstruct_cpu_spent_s": 30.0, "features_cpu_s": 12.0,
-             "matching_cpu_s": 6.0, "features_reused": False, "matches_reused": False},
-            {"features_group": "g", "reconstruct_cpu_spent_s": 13.0, "features_cpu_s": None,
-             "matching_cpu_s": None, "features_reused": "True", "matches_reused": "True"},
-            {"features_group": "h", "reconstruct_cpu_spent_s": 20.0, "features_cpu_s": None,
+def test_reused_features_and_models_count_what_their_computation_cost():
+    rows = [{"features_group": "g", "sfm_group": "s", "reconstruct_cpu_spent_s": 30.0,
+             "features_cpu_s": 12.0, "matching_cpu_s": 6.0, "sfm_cpu_s": 4.0,
+             "features_reused": False, "matches_reused": False, "sfm_reused": False},
+            {"features_group": "g", "sfm_group": "s", "reconstruct_cpu_spent_s": 9.0,
+             "features_reused": "True", "matches_reused": "True", "sfm_reused": "True"},
+            # another calibration: the same features and matches, its own SfM
+            {"features_group": "g", "sfm_group": "t", "reconstruct_cpu_spent_s": 14.0,
+             "sfm_cpu_s": 5.0, "features_reused": True, "matches_reused": True,
+             "sfm_reused": False},
+            {"features_group": "h", "sfm_group": "u", "reconstruct_cpu_spent_s": 20.0,
              "matching_cpu_s": 5.0, "features_reused": True, "matches_reused": False},
             {"features_group": "g", "reconstruct_cpu_spent_s": None}]
     add_reused_cpu(rows)
-    assert [r["reconstruct_cpu_s"] for r in rows] == [30.0, 31.0, 20.0, None]
+    assert [r["reconstruct_cpu_s"] for r in rows] == [30.0, 31.0, 32.0, 20.0, None]
 
 
 def test_the_stage_clock_splits_at_the_reconstruction_log_lines():
     clock = StageClock()
     clock.marks = [("features: 18 images", 1.0), ("matching: 40 image pairs", 4.0),
-                   ("incremental SfM", 6.5)]
+                   ("incremental SfM", 6.5), ("georeferenced on 4 control GCPs", 8.0)]
     assert clock.step_cpu_s("features", 9.0) == 3.0
     assert clock.step_cpu_s("matching", 9.0) == 2.5
-    clock.marks = [("incremental SfM", 1.0)]  # both from the cache
+    assert clock.step_cpu_s("sfm", 9.0) == 1.5
+    clock.marks = [("SfM model reused from the feature cache", 1.0)]  # all from the cache
     assert clock.step_cpu_s("features", 9.0) is None
+    assert clock.step_cpu_s("sfm", 9.0) is None
 
 
 def test_the_accuracy_metric_is_never_a_cost():
