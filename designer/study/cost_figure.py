@@ -247,7 +247,7 @@ def markdown(analysis: dict, metric_label: str, rows: list[dict]) -> list[str]:
     md.append("")
     if on_front:
         md += ["Front, by cost:", ""] + [
-            f"- {p.label}: {p.cost.mean:.4g} ({cost.label}), {metric_label} "
+            f"- {p.label} — {cost.label}: {p.cost.mean:.4g}; {metric_label}: "
             f"{p.error.mean:.4g}" for p in on_front] + [""]
     return md
 

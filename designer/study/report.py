@@ -69,8 +69,13 @@ def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
         ax.set_xlabel(factor)
         ax.set_title("\n".join(textwrap.wrap(label(metric), 34)), fontsize=9)
         ax.grid(alpha=0.3)
+        if metric == cost:  # costs within a few per cent of each other look that close
+            lo, hi = ax.get_ylim()
+            least = 0.2 * max(abs(lo), abs(hi))
+            if hi - lo < least:
+                ax.set_ylim((lo + hi) / 2 - least / 2, (lo + hi) / 2 + least / 2)
     fig.suptitle(f"{factor}: mean and 95 % interval over replicates (grey: each run)",
-                 fontsize=10)
+                 fontsize=10, y=1.04)
     _save(fig, path)
     plt.close(fig)
 
