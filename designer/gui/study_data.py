@@ -250,10 +250,13 @@ class StudyFolder:
 
     @property
     def columns(self) -> list[str]:
-        """Table columns: the run, each factor's level, the metrics, seconds, status."""
+        """Table columns: the run, each factor's level, the metrics, the study's cost,
+        seconds, status."""
         factors = sorted({k for r in self.rows for k in r if k.startswith("factor:")})
+        cost = ((self.summary or {}).get("cost") or {}).get("column")
+        extra = [cost] if cost and cost != "total_s" and cost not in self.metrics else []
         metrics = [m for m in self.metrics if m != "total_s"]
-        return ["run", *factors, *metrics, "total_s", "status"]
+        return ["run", *factors, *metrics, *extra, "total_s", "status"]
 
     @property
     def failed_rows(self) -> list[dict]:

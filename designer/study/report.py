@@ -1,18 +1,23 @@
 """The study report: ``report.md`` and ``report.html`` with figures in ``figures/``.
 
 For each factor: the study's metrics against the factor's levels (mean and 95 %
-interval over replicates) and the seconds each level cost; across all runs: accuracy
-against cost with the Pareto front of the variants; error maps (cloud − true surface)
-of the extreme levels side by side; which factors matter: a least-squares model of each
-metric on all factors with its ANOVA table (:mod:`designer.study.stats`).
+interval over replicates) and what each level cost in the study's cost unit; across all
+runs: accuracy against that cost, each variant labelled by its levels, with the front of
+the variants that differ beyond the replicate spread (:mod:`designer.study.cost_figure`);
+error maps (cloud − true surface) of the extreme levels side by side; which factors
+matter: a least-squares model of each metric on all factors with its ANOVA table
+(:mod:`designer.study.stats`).
 """
 
 from __future__ import annotations
 
 import html
+import textwrap
 from pathlib import Path
 
 from designer.atomic import atomic_path, write_text_atomic
+from designer.study import cost_figure
+from designer.study.cost import COSTS, accuracy_metric
 from designer.study.levels import factor_levels, interval95, level_rows
 from designer.study.stats import factor_effects
 
@@ -29,6 +34,7 @@ _LABELS = {
     "k1_error": "k1 error", "dome_amplitude_m": "DoD dome amplitude (m)",
     "total_s": "seconds per run (on its own)", "render_s": "render seconds",
 }
+_LABELS.update({c.column: c.label for c in COSTS.values()})
 
 
 def label(metric: str) -> str:
@@ -44,7 +50,8 @@ def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     levels = factor_levels(plan, rows, factor)
-    panels = list(metrics) + ["total_s"]
+    cost = COSTS[plan.study.cost].column
+    panels = list(metrics) + [cost]
     fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels), 3.3), squeeze=False)
     x = list(range(len(levels)))
     for ax, metric in zip(axes[0], panels, strict=True):
@@ -54,66 +61,23 @@ def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
             if s["mean"] is None:
                 continue
             ax.errorbar(k, s["mean"], yerr=[[s["mean"] - s["low"]], [s["high"] - s["mean"]]],
-                        fmt="o", color="C0" if metric != "total_s" else "C3", capsize=4)
+                        fmt="o", color="C0" if metric != cost else "C3", capsize=4)
             points = [r.get(metric) for r in level_rows(plan, rows, factor, levels[k])
                       if r["status"] == "ok" and r.get(metric) is not None]
             ax.plot([k] * len(points), points, ".", color="0.6", ms=4)
         ax.set_xticks(x, levels, rotation=30 if max(map(len, levels)) > 5 else 0)
         ax.set_xlabel(factor)
-        ax.set_title(label(metric), fontsize=9)
+        ax.set_title("\n".join(textwrap.wrap(label(metric), 34)), fontsize=9)
         ax.grid(alpha=0.3)
+        if metric == cost:  # costs within a few per cent of each other look that close
+            lo, hi = ax.get_ylim()
+            least = 0.2 * max(abs(lo), abs(hi))
+            if hi - lo < least:
+                ax.set_ylim((lo + hi) / 2 - least / 2, (lo + hi) / 2 + least / 2)
     fig.suptitle(f"{factor}: mean and 95 % interval over replicates (grey: each run)",
-                 fontsize=10)
+                 fontsize=10, y=1.04)
     _save(fig, path)
     plt.close(fig)
-
-
-def pareto_front(points: list[tuple[float, float]]) -> list[int]:
-    """Indices of the points no other point beats in both cost and error (both minimised)."""
-    front = []
-    for i, (c, e) in enumerate(points):
-        if not any((c2 <= c and e2 <= e) and (c2 < c or e2 < e) for c2, e2 in points):
-            front.append(i)
-    return sorted(front, key=lambda i: points[i][0])
-
-
-def _variant_means(rows, metric: str) -> list[tuple[int, float, float, str]]:
-    out = []
-    for v in sorted({r["variant"] for r in rows}):
-        good = [r for r in rows if r["variant"] == v and r["status"] == "ok"]
-        cost = [r.get("total_s") for r in good if r.get("total_s") is not None]
-        err = [r.get(metric) for r in good if r.get(metric) is not None]
-        if cost and err:
-            levels = ", ".join(f"{k.removeprefix('factor:')}={val}" for k, val in good[0].items()
-                               if k.startswith("factor:"))
-            out.append((v, sum(cost) / len(cost), sum(err) / len(err), levels))
-    return out
-
-
-def _pareto_figure(rows, metric: str, path: Path) -> list[tuple]:
-    import matplotlib.pyplot as plt
-
-    means = _variant_means(rows, metric)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    ok = [r for r in rows if r["status"] == "ok" and r.get(metric) is not None]
-    ax.plot([r["total_s"] for r in ok], [r[metric] for r in ok], ".", color="0.65",
-            label="each run")
-    ax.plot([m[1] for m in means], [m[2] for m in means], "o", color="C0",
-            label="variant mean")
-    front = [means[i] for i in pareto_front([(m[1], m[2]) for m in means])]
-    ax.plot([m[1] for m in front], [m[2] for m in front], "-s", color="C3",
-            label="Pareto front")
-    for m in front:
-        ax.annotate(f"v{m[0]}", (m[1], m[2]), textcoords="offset points", xytext=(4, 4),
-                    fontsize=8)
-    ax.set_xlabel("cost: render + reconstruct + compare seconds per run")
-    ax.set_ylabel(label(metric))
-    ax.set_title("accuracy against cost, all variants")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    _save(fig, path)
-    plt.close(fig)
-    return front
 
 
 def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
@@ -179,7 +143,8 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
     figures = out / "figures"
     figures.mkdir(exist_ok=True)
     metrics = list(plan.study.metrics)
-    accuracy = next((m for m in metrics if m not in ("registered", "images")), metrics[0])
+    accuracy = accuracy_metric(metrics)
+    cost = COSTS[plan.study.cost]
     md = [f"# Study {plan.study.name}", ""]
     if plan.study.description:
         md += [plan.study.description, ""]
@@ -197,11 +162,11 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
             md += [f.description, ""]
         md += [f"![{f.name}](figures/{name})", "",
                "| level | runs | failed | " + " | ".join(label(m) for m in metrics)
-               + " | seconds per run |",
+               + f" | {cost.label} |",
                "|---" * (len(metrics) + 4) + "|"]
         for lv in summary["factors"][f.name]["levels"]:
             cells = []
-            for m in metrics + ["total_s"]:
+            for m in metrics + [cost.column]:
                 s = lv["metrics"][m]
                 cells.append("–" if s["mean"] is None else
                              f"{s['mean']:.4g} [{s['low']:.4g}, {s['high']:.4g}]")
@@ -211,12 +176,10 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
         maps = f"maps-{f.name}.png"
         if _maps_figure(plan, rows, f.name, figures / maps):
             md += [f"![error maps of {f.name}](figures/{maps})", ""]
-    front = _pareto_figure(rows, accuracy, figures / "pareto.png")
-    md += ["## Accuracy against cost", "", "![accuracy against cost](figures/pareto.png)", "",
-           "Pareto front (no other variant is both cheaper and more accurate):", ""]
-    md += [f"- v{v}: {cost:.1f} s, {label(accuracy)} {err:.4g} ({levels})"
-           for v, cost, err, levels in front]
-    md += ["", "## Which factors matter", "",
+    analysis = cost_figure.analyse(plan, rows, accuracy)
+    cost_figure.write_figure(analysis, label(accuracy), figures / "pareto.png")
+    md += cost_figure.markdown(analysis, label(accuracy), rows)
+    md += ["## Which factors matter", "",
            "Least squares of each metric on all factors (categorical; statsmodels), type II "
            "ANOVA: F, p and partial η² per factor; for a numeric factor, the metric's slope "
            "per unit of it with its 95 % interval.", "",

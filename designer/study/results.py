@@ -4,11 +4,16 @@ interval over replicates, and the counts of variants, renders, reconstructions, 
 hits and failed runs).
 
 Units: metres (``_m``), pixels (``_px``), ground sample distances (``_gsd``: the metre
-value divided by the run's mean GSD), seconds (``_s``).
+value divided by the run's mean GSD), seconds (``_s``), minutes (``_min``).
 
-Cost: ``total_s`` is what the run costs on its own (its render, reconstruction and
-comparison, even where the study shared them with other runs); ``amortised_s`` is its
-share within the study (a render shared by ``render_runs`` runs counts 1/render_runs).
+Cost in a surveyor's units (:mod:`designer.study.cost`): ``flight_min``, ``images``,
+``gcps`` (targets surveyed) and ``control_gcps``; CPU seconds of the render
+(``render_cpu_s``), the reconstruction (``reconstruct_cpu_s``, on its own) and the
+comparison (``compare_cpu_s``). Wall seconds: ``total_s`` is what the run costs on its
+own (its render, reconstruction and comparison, even where the study shared them with
+other runs); ``amortised_s`` is its share within the study (a render shared by
+``render_runs`` runs counts 1/render_runs); ``cpu_s`` and ``cpu_amortised_s`` are the
+same two for CPU seconds.
 """
 
 from __future__ import annotations
@@ -19,6 +24,12 @@ import json
 from pathlib import Path
 
 from designer.atomic import write_text_atomic
+from designer.study.cost import (
+    STEP_CPU_DIR,
+    accuracy_metric,
+    add_reused_cpu,
+    recorded_step_cpu,
+)
 from designer.study.levels import factor_levels, interval95, level_rows
 
 #: accuracy and cost columns of results.csv (a study's <metrics> name some of them)
@@ -31,11 +42,17 @@ METRIC_COLUMNS = (
     "dtm_cloud_median_m", "dtm_cloud_nmad_m", "dtm_cloud_mean_m", "dtm_cloud_rmse_m",
     "dome_amplitude_m", "focal_error_px", "k1_error", "render_s", "reconstruct_s",
     "compare_s", "total_s", "amortised_s",
+    "flight_min", "gcps", "control_gcps", "render_cpu_s", "reconstruct_cpu_s",
+    "compare_cpu_s", "cpu_s", "cpu_amortised_s",
 )
 
 _FIRST = ("run", "variant", "replicate")
-_LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
-         "amortised_s", "render_runs", "processing_runs",
+_LAST = ("images", "gsd_m", "flight_min", "flight_min_source", "gcps", "control_gcps",
+         "render_s", "reconstruct_s", "compare_s", "total_s", "amortised_s",
+         "render_cpu_s", "render_cycles_cpu_s", "reconstruct_cpu_s",
+         "reconstruct_cpu_spent_s", "features_cpu_s", "matching_cpu_s", "sfm_cpu_s",
+         "compare_cpu_s",
+         "cpu_s", "cpu_amortised_s", "render_runs", "processing_runs",
          "registered", "check_n", "check_rmse_x_m", "check_rmse_y_m", "check_rmse_z_m",
          "check_rmse_xy_m", "check_rmse_xyz_m", "check_rmse_x_gsd", "check_rmse_y_gsd",
          "check_rmse_z_gsd", "control_n", "control_rmse_x_m", "control_rmse_y_m",
@@ -44,12 +61,13 @@ _LAST = ("images", "gsd_m", "render_s", "reconstruct_s", "compare_s", "total_s",
          "dtm_cloud_mean_m", "dtm_cloud_rmse_m", "dome_amplitude_m", "focal_error_px",
          "k1_error",
          "render_reused", "processing_reused", "features_reused", "matches_reused",
-         "sfm_reused", "image_hash", "processing_hash",
+         "sfm_reused", "image_hash", "processing_hash", "features_group", "sfm_group",
          "error_map", "status")
 
 
 def complete_row(row: dict) -> dict:
-    """Add the derived columns: RMSE in GSD units and the total seconds of the run."""
+    """Add the derived columns: RMSE in GSD units, the wall and CPU seconds of the run on
+    its own and its share (``reconstruct_cpu_s`` first: :func:`add_reused_cpu`)."""
     gsd = row.get("gsd_m")
     for axis in ("x", "y", "z"):
         v = row.get(f"check_rmse_{axis}_m")
@@ -59,6 +77,12 @@ def complete_row(row: dict) -> dict:
     # the runs that share them
     row["amortised_s"] = (row.get("render_s") or 0.0) / max(1, row.get("render_runs") or 1) \
         + sum(row.get(k) or 0.0 for k in ("reconstruct_s", "compare_s")) \
+        / max(1, row.get("processing_runs") or 1)
+    cpu = [row.get(k) for k in ("render_cpu_s", "reconstruct_cpu_s", "compare_cpu_s")]
+    row["cpu_s"] = sum(v or 0.0 for v in cpu) if any(v is not None for v in cpu) else None
+    row["cpu_amortised_s"] = None if row["cpu_s"] is None else \
+        (row.get("render_cpu_s") or 0.0) / max(1, row.get("render_runs") or 1) \
+        + sum(row.get(k) or 0.0 for k in ("reconstruct_cpu_spent_s", "compare_cpu_s")) \
         / max(1, row.get("processing_runs") or 1)
     return row
 
@@ -113,7 +137,22 @@ def summarise(plan, rows: list[dict], counts: dict) -> dict:
             "effect_passes": counts.get("effect_passes"),
             "raw_renders_this_session": counts.get("raw_renders_this_session"),
             "effect_passes_this_session": counts.get("effect_passes_this_session"),
-            "ok": len(ok), "factors": by_factor, "rows": rows}
+            "ok": len(ok), "factors": by_factor, "cost": cost_summary(plan, rows),
+            "rows": rows}
+
+
+def cost_summary(plan, rows: list[dict]) -> dict:
+    """The study's cost axis, its accuracy metric and each variant's point on them:
+    mean and replicate range of both, its label, whether it is on the front."""
+    from designer.study.cost_figure import analyse
+
+    a = analyse(plan, rows, accuracy_metric(plan.study.metrics))
+    cost = a["cost"]
+    return {"axis": cost.name, "column": cost.column, "label": cost.label,
+            "metric": a["metric"], "front_drawn": a["drawn"], "rule": a["rule"],
+            "variants": [{"variant": p.variant, "label": p.label, "runs": p.runs,
+                          "cost": vars(p.cost), "error": vars(p.error),
+                          "front": p in a["front"]} for p in a["points"]]}
 
 
 def _stage(name: str) -> str:
@@ -125,7 +164,8 @@ def _stage(name: str) -> str:
 def write_results(plan, report) -> dict:
     """results.csv (+ .parquet), summary.json, report.html and report.md in the folder."""
     out = Path(report.out_dir)
-    rows = [complete_row(dict(r)) for r in report.rows]
+    rows = [complete_row(r) for r in add_reused_cpu([dict(r) for r in report.rows],
+                                                    recorded_step_cpu(out / STEP_CPU_DIR))]
     write_text_atomic(out / "results.csv", rows_csv(rows))
     _parquet(rows, out / "results.parquet")
     summary = summarise(plan, rows, report.counts)

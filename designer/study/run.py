@@ -11,6 +11,7 @@ Output folder::
     DIR/cache/renders/HASH/       one render per distinct image set
     DIR/cache/processing/HASH/    one reconstruction + comparison per distinct processing
     DIR/cache/features/           features and matches, shared by runs of the same images
+    DIR/cache/step-cpu/GROUP/     what computing them (and SfM models) cost in CPU seconds
     DIR/results.csv, summary.json, report.html, report.md
 
 A run with a ``result.json`` is finished (``ok`` or ``failed: reason``) and never redone;
@@ -30,6 +31,7 @@ from pathlib import Path
 from designer.atomic import write_text_atomic
 from designer.errors import DesignerError
 from designer.study import stages
+from designer.study.cost import REUSABLE_STEPS, STEP_CPU_DIR
 from designer.study.design import Plan, Run
 
 Progress = Callable[[dict], None]
@@ -150,7 +152,8 @@ def _plan_runs(plan: Plan, out: Path, progress: Progress) -> dict[str, dict]:
         info_path = run_dir / "run.json"
         if info_path.is_file():
             info = json.loads(info_path.read_text())
-            if info.get("project_repr") == repr(project):
+            # planned by this version (an earlier one did not count the flight's cost)
+            if info.get("project_repr") == repr(project) and "sfm_group" in info:
                 infos[run.run_id] = info
                 continue
         info = stages.plan_run(project, run_dir)
@@ -304,7 +307,10 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
             stages.link_images(renders / h, first / "survey", infos[rid]["images"])
             future = executor.submit(stages.process_stage, str(first / "survey"),
                                      str(first / "project.xml"), str(processing / p),
-                                     str(out / "cache" / "features"), priority=0)
+                                     str(out / "cache" / "features"),
+                                     {step: str(out / STEP_CPU_DIR / infos[rid][group])
+                                      for step, _, group in REUSABLE_STEPS},
+                                     priority=0)
             pending[future] = ("process", p)
             counts["reconstructions_this_session"] += 1
 
@@ -361,10 +367,17 @@ def _row(info: dict, render: dict, result: dict, owner: bool, render_owner: bool
     row.update({f"factor:{k}": v for k, v in info["levels"].items()})
     row.update({f"seed:{k}": v for k, v in info["seeds"].items()})
     row.update({"images": len(info["images"]), "gsd_m": info["gsd_m"],
+                "flight_min": info.get("flight_min"),
+                "flight_min_source": info.get("flight_min_source"),
+                "gcps": info.get("gcps"), "control_gcps": info.get("control_gcps"),
                 "image_hash": info["image_hash"], "processing_hash": info["processing_hash"],
-                "render_s": render.get("render_s"), "render_reused": not render_owner,
-                "processing_reused": not owner})
-    row.update({k: v for k, v in result.items() if k != "status"})
+                "features_group": info.get("features_group"),
+                "sfm_group": info.get("sfm_group"),
+                "render_s": render.get("render_s"), "render_cpu_s": render.get("render_cpu_s"),
+                "render_cycles_cpu_s": render.get("render_cycles_cpu_s"),
+                "render_reused": not render_owner, "processing_reused": not owner})
+    # the images rendered stay the run's count (the reconstruction reports those it read)
+    row.update({k: v for k, v in result.items() if k not in ("status", "images")})
     if row.get("error_map"):
         row["error_map"] = str(proc_dir / row["error_map"])
     row["status"] = result.get("status", "failed: unknown")

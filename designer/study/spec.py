@@ -65,6 +65,8 @@ class Study:
     replicates: Replicates = field(default_factory=Replicates)
     metrics: tuple[str, ...] = DEFAULT_METRICS
     description: str | None = None
+    #: what the report plots accuracy against (a name of designer.study.cost.COSTS)
+    cost: str = "flight-minutes"
     #: the study file (None for a study built in code); relative paths start at its folder
     source: Path | None = None
     where: Where = field(default_factory=Where)

@@ -1,12 +1,20 @@
 """The stages of one study run, as plain functions a worker process (or Dask worker) calls.
 
 * :func:`plan_run` (main process): the run's project file, its prepared render job →
-  image-set hash, GSD, image count; its ground truth → the processing hash;
+  image-set hash, GSD, image count, flight minutes; its ground truth → the processing
+  hash; its GCP counts;
 * :func:`render_stage`: ``designer render`` of one image set into the render cache, or
   an effect pass over the raw renders of another image set that differs only in its
-  camera effects;
+  camera effects; its wall and CPU seconds;
 * :func:`process_stage`: ``designer reconstruct`` (free mode, the project's
-  ``<processing>``) and ``designer compare`` (cloud against the true surface).
+  ``<processing>``) and ``designer compare`` (cloud against the true surface); their
+  wall and CPU seconds, the CPU of feature extraction, matching and the SfM mapper
+  apart.
+
+CPU seconds (:func:`designer.study.cost.cpu_seconds`) are those of the worker process
+that runs the stage and of its ended child processes, read before and after: a worker
+that runs one stage at a time (the local pool; a Dask worker with one thread) counts
+exactly that stage.
 
 Stage outputs land in cache folders named by content hash; ``done.json`` is written
 last (atomically), so a folder without it is unfinished and is redone.
@@ -61,7 +69,8 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
         job_provenance,
         raw_render_digests,
     )
-    from designer.study.cache import image_set_hash, processing_hash, raw_set_hash
+    from designer.study.cache import digest, image_set_hash, processing_hash, raw_set_hash
+    from designer.study.cost import flight_minutes, gcp_counts
 
     run_dir.mkdir(parents=True, exist_ok=True)
     project_path = run_dir / "project.xml"
@@ -79,11 +88,25 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
     image_hash = image_set_hash(provenance, prepared.job.image_names)
     raw_hash = raw_set_hash(raw_render_digests(prepared.job, provenance),
                             prepared.job.image_names)
+    # the images in flight order: a rig's images of one station share its centre
+    flight_min, flight_source = flight_minutes(
+        np.array([pose.C_world for pose in prepared.poses]),
+        None if prepared.times is None else [t.time_s for t in prepared.times])
+    gcps, control_gcps = gcp_counts(project)
+    # runs whose reconstructions share features and matches (and the SfM model) through
+    # the feature cache, by what that sharing depends on
+    processing = project.processing or m.Processing()
+    features_group = digest("features", image_hash, repr(processing.matching))
     return {"project": "project.xml", "images": names, "image_hash": image_hash,
             "raw_hash": raw_hash,
             "processing_hash": processing_hash(image_hash, ground_truth_digest(gt),
                                                project.processing, MODE),
-            "gsd_m": float(np.mean(gsd)) if gsd else None}
+            "features_group": features_group,
+            "sfm_group": digest("sfm", features_group, processing.calibration.mode,
+                                repr(processing.sfm)),
+            "gsd_m": float(np.mean(gsd)) if gsd else None,
+            "flight_min": flight_min, "flight_min_source": flight_source,
+            "gcps": gcps, "control_gcps": control_gcps}
 
 
 def render_stage(project_path: str, out_dir: str, workers: int = 1,
@@ -91,10 +114,15 @@ def render_stage(project_path: str, out_dir: str, workers: int = 1,
     """Render a project into ``out_dir`` (resuming what is there); seconds taken.
     ``keep_raw``: keep the raw renders there too; ``raw_from``: an effect pass over the
     raw renders kept there (no Cycles)."""
+    from designer.render.manifest import read_manifest
     from designer.render.pipeline import render_project
+    from designer.study.cost import cpu_seconds
 
     out = Path(out_dir)
-    t0 = time.perf_counter()
+    # images an earlier, killed session finished: their Cycles CPU seconds are added
+    # (the rest of that session's CPU — start-up, scene, effects — is not known)
+    earlier = _cycles_cpu_s(read_manifest(out))
+    t0, cpu0 = time.perf_counter(), cpu_seconds()
     try:
         render_project(Path(project_path), out, workers=workers, resume=True,
                        keep_raw=Path(keep_raw) if keep_raw else None,
@@ -103,9 +131,19 @@ def render_stage(project_path: str, out_dir: str, workers: int = 1,
     except DesignerError as error:
         status = f"failed: render: {error}"
     result = {"status": status, "render_s": time.perf_counter() - t0,
+              # this process (scene, ground truth, effects) and its Blender workers
+              "render_cpu_s": cpu_seconds() - cpu0 + earlier,
+              "render_cycles_cpu_s": _cycles_cpu_s(read_manifest(out)) or None,
               "kind": "effects pass" if raw_from else "cycles"}
     write_text_atomic(out / DONE, json.dumps(result))
     return result
+
+
+def _cycles_cpu_s(manifest: dict) -> float:
+    """The Cycles CPU seconds of every image a render manifest records."""
+    images = manifest.get("images") or {}
+    return float(sum((entry.get("stages") or {}).get("cycles_cpu_s", 0.0)
+                     for entry in images.values() if isinstance(entry, dict)))
 
 
 def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
@@ -124,9 +162,12 @@ def link_images(render_dir: Path, survey: Path, names: list[str]) -> None:
 
 
 def process_stage(survey_dir: str, project_path: str, out_dir: str,
-                  feature_cache: str | None = None) -> dict:
+                  feature_cache: str | None = None,
+                  step_cpu: dict[str, str] | None = None) -> dict:
     """Reconstruct and compare one run; its metrics, or ``failed: reason``. Runs of the
-    same images share features and matches through ``feature_cache``."""
+    same images share features, matches and SfM models through ``feature_cache``; what
+    computing each cost is kept in the folder ``step_cpu[step]``
+    (:func:`designer.study.cost.record_step_cpu`)."""
     # keep COLMAP's per-step log lines out of the study's output (errors still show);
     # read by its logging library when pycolmap loads in this worker
     os.environ.setdefault("GLOG_minloglevel", "2")
@@ -135,7 +176,7 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str,
     result: dict = {}
     try:
         result = _process(Path(survey_dir), Path(project_path), out,
-                          Path(feature_cache) if feature_cache else None)
+                          Path(feature_cache) if feature_cache else None, step_cpu)
         result["status"] = "ok"
     except (DesignerError, ValueError, RuntimeError, np.linalg.LinAlgError) as error:
         result["status"] = f"failed: {type(error).__name__ if not str(error) else error}"
@@ -145,24 +186,33 @@ def process_stage(survey_dir: str, project_path: str, out_dir: str,
     return result
 
 
-def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | None) -> dict:
+def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | None,
+             step_cpu: dict[str, str] | None = None) -> dict:
     from designer.evaluate import compare_cloud, read_point_cloud
     from designer.evaluate.compare import reference_meshes
     from designer.project import load_project
     from designer.sfm.reconstruct import reconstruct
+    from designer.study.cost import StageClock, cpu_seconds, record_step_cpu
 
     project = load_project(project_path)
-    t0 = time.perf_counter()
+    clock = StageClock(None if not step_cpu else lambda step, cpu_s: record_step_cpu(
+        Path(step_cpu[step]), out.name, step, cpu_s))
+    t0, cpu0 = time.perf_counter(), cpu_seconds()
     rec = reconstruct(survey, out / "reconstruction", mode=MODE,
                       processing=project.processing, project_path=project_path,
-                      log=lambda _message: None, feature_cache=feature_cache)
-    t1 = time.perf_counter()
+                      log=clock, feature_cache=feature_cache)
+    t1, cpu1 = time.perf_counter(), cpu_seconds()
     s = rec.summary
     reused = s.get("reused_from_cache") or {}
     row: dict = {"reconstruct_s": t1 - t0, "registered": rec.n_registered,
                  "images": rec.n_images, "features_reused": reused.get("features", False),
                  "matches_reused": reused.get("matches", False),
-                 "sfm_reused": reused.get("sfm", False)}
+                 "sfm_reused": reused.get("sfm", False),
+                 # what this reconstruction spent; what it took from the cache cost
+                 # it nothing (designer.study.cost.add_reused_cpu)
+                 "reconstruct_cpu_spent_s": cpu1 - cpu0,
+                 **{f"{step}_cpu_s": clock.step_cpu_s(step, cpu1)
+                    for step in ("features", "matching", "sfm")}}
     for role in ("check", "control"):
         stats = s.get(role) or {}
         for key in ("rmse_x_m", "rmse_y_m", "rmse_z_m", "rmse_xy_m", "rmse_xyz_m"):
@@ -189,5 +239,6 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
         row.update({"dtm_cloud_median_m": d["median"], "dtm_cloud_nmad_m": d["nmad"],
                     "dtm_cloud_mean_m": d["mean"], "dtm_cloud_rmse_m": d["rmse"]})
     row["compare_s"] = time.perf_counter() - t1
+    row["compare_cpu_s"] = cpu_seconds() - cpu1
     return row
 

@@ -13,6 +13,7 @@ from pathlib import Path
 from xml.sax.saxutils import escape, quoteattr
 
 from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS
+from designer.study.cost import DEFAULT_COST
 from designer.study.spec import Study, range_levels
 
 
@@ -59,6 +60,8 @@ def study_to_xml(study: Study, base_file: str | None = None) -> str:
     lines.append(f'  <replicates count="{int(rep.count)}"{vary}/>')
     if study.metrics:
         lines.append(f"  <metrics>{escape(' '.join(study.metrics))}</metrics>")
+    if study.cost != DEFAULT_COST:
+        lines.append(f"  <cost>{escape(study.cost)}</cost>")
     lines.append("</study>")
     return "\n".join(lines) + "\n"
 

@@ -17,6 +17,7 @@ from designer.project.problems import Problem, ProjectError, SourceMap
 from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS
 from designer.project.xml_read import _content_problem, _syntax_problem, read_xml_file
 from designer.project.xsd_messages import SchemaInfo, translate_xsd_error
+from designer.study.cost import DEFAULT_COST
 from designer.study.spec import (
     DEFAULT_METRICS,
     BaseProject,
@@ -146,7 +147,8 @@ def _model(root, smap: SourceMap, text: str, source: str, path: Path | None) -> 
         name=root.get("name"), base=BaseProject(file, inline_xml, where),
         factors=tuple(factors), design=_text(_child(root, "design")) or "one-at-a-time",
         replicates=replicates, metrics=metrics or DEFAULT_METRICS,
-        description=_text(_child(root, "description")), source=path,
+        description=_text(_child(root, "description")),
+        cost=_text(_child(root, "cost")) or DEFAULT_COST, source=path,
         where=_where(smap, root))
 
 

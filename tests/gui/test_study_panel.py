@@ -80,6 +80,13 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
     assert not panel.errors.isVisible()
 
+    # the cost the report plots accuracy against: flight minutes unless chosen
+    assert panel.cost_axis.currentData() == "flight-minutes"
+    assert "<cost>" not in panel.study_text()
+    panel.cost_axis.setCurrentIndex(panel.cost_axis.findData("control-gcps"))
+    assert "<cost>control-gcps</cost>" in panel.study_text()
+    assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
+
     # saved through the dialog: a study file the reader reads back as the panel shows it
     path = tmp_path / "studies" / "sun.xml"
     path.parent.mkdir()
@@ -99,12 +106,14 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
         "one-at-a-time", 2, ("marking-error",))
     assert set(study.metrics) == {"check_rmse_xy_m", "check_rmse_z_m", "cloud_nmad_m",
                                   "registered"}
+    assert study.cost == "control-gcps"
     assert panel.run_box.folder.text() == str(path.parent / "sun-study")
 
     # another study replaces it in the panel; opening the saved file brings it back
     for row in list(panel.rows):
         qtbot.mouseClick(row.remove_button, Qt.MouseButton.LeftButton)
     set_field(qtbot, panel.replicates, "1")
+    panel.cost_axis.setCurrentIndex(panel.cost_axis.findData("images"))
     assert not panel.rows
     answer_file_dialog(path)
     qtbot.mouseClick(panel.open_button, Qt.MouseButton.LeftButton)
@@ -112,6 +121,7 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
         ("marking-sigma-px", "0.2 2"), ("sun-elevation-deg", "30:40:10")]
     assert panel.name.text() == "sun-and-marks" and panel.replicates.value() == 2
     assert panel.vary["marking-error"].isChecked() and not panel.vary["pose-noise"].isChecked()
+    assert panel.cost_axis.currentData() == "control-gcps"
     assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)
     assert panel.run_box.run_button.isEnabled()
 
@@ -222,7 +232,8 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     table = results.table
     headers = [table.horizontalHeaderItem(c).text() for c in range(table.columnCount())]
     assert table.rowCount() == 2
-    assert {"run", "marking-sigma-px", "check_rmse_z_m", "status"} <= set(headers)
+    assert {"run", "marking-sigma-px", "check_rmse_z_m", "flight_min", "status"} <= \
+        set(headers)
     levels = {table.item(r, headers.index("marking-sigma-px")).text() for r in range(2)}
     assert levels == {"0.5", "2"}
     assert {table.item(r, headers.index("status")).text() for r in range(2)} == {"ok"}

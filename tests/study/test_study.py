@@ -106,6 +106,66 @@ def test_a_processing_only_factor_renders_once(killed_and_resumed):
         assert r["dtm_cloud_nmad_m"] == r["cloud_nmad_m"]
 
 
+def test_each_run_costs_flight_minutes_images_gcps_and_cpu_seconds(killed_and_resumed):
+    out, *_ = killed_and_resumed
+    with (out / "results.csv").open() as table:
+        rows = list(csv.DictReader(table))
+    cpus = os.cpu_count() or 1
+    # no time line: the same path for every run (the sun and the marks leave it), at the
+    # default speed; every GCP target surveyed, 4 of them control
+    assert {r["flight_min_source"] for r in rows} == {"path at 8 m/s"}
+    assert len({r["flight_min"] for r in rows}) == 1 and 0.05 < float(rows[0]["flight_min"])
+    assert {(r["images"], r["gcps"], r["control_gcps"]) for r in rows} == {("18", "10", "4")}
+    for r in rows:
+        # CPU seconds of the work, not of the machine: more than nothing, and at most
+        # every core busy for the stage's wall time (the render's Blender workers count:
+        # at least the Cycles seconds its manifest records)
+        assert float(r["render_cpu_s"]) >= float(r["render_cycles_cpu_s"]) * 0.999 > 0
+        assert 0 < float(r["reconstruct_cpu_spent_s"]) <= \
+            float(r["reconstruct_s"]) * cpus * 1.05 + 0.5
+        assert 0 < float(r["compare_cpu_s"]) <= float(r["compare_s"]) * cpus * 1.05 + 0.5
+        assert float(r["reconstruct_cpu_s"]) >= float(r["reconstruct_cpu_spent_s"])
+        assert float(r["cpu_s"]) == pytest.approx(sum(float(r[k]) for k in (
+            "render_cpu_s", "reconstruct_cpu_s", "compare_cpu_s")), rel=1e-4)
+    # a reconstruction that took its features, matches or SfM model from the cache counts
+    # what computing them cost the run that did (recorded as each step ended, so even a
+    # run of the killed session counts)
+    by_image = {}
+    for r in rows:
+        by_image.setdefault(r["image_hash"], []).append(r)
+    for group in by_image.values():
+        on_its_own = [float(r["reconstruct_cpu_s"]) for r in group]
+        for r in group:
+            if r["features_reused"] == "True":
+                assert float(r["reconstruct_cpu_s"]) > float(r["reconstruct_cpu_spent_s"])
+        # the same work on its own: within a factor of two of each other
+        assert max(on_its_own) < 2 * min(on_its_own)
+    # the study's CPU: each render once, each reconstruction's own spending
+    owners = [r for r in rows if r["render_reused"] == "False"]
+    spent = sum(float(r["render_cpu_s"]) for r in owners) + sum(
+        float(r["reconstruct_cpu_spent_s"]) + float(r["compare_cpu_s"]) for r in rows)
+    assert sum(float(r["cpu_amortised_s"]) for r in rows) == pytest.approx(spent, rel=1e-4)
+    summary = json.loads((out / "summary.json").read_text())
+    cost = summary["cost"]
+    assert (cost["axis"], cost["column"], cost["metric"]) == (
+        "flight-minutes", "flight_min", "check_rmse_z_m")
+    # one replicate and one flight for all: the most accurate variant is the front
+    best = min(cost["variants"], key=lambda v: v["error"]["mean"])
+    assert [v["label"] for v in cost["variants"] if v["front"]] == [best["label"]]
+
+
+def test_the_report_labels_variants_by_their_levels(killed_and_resumed):
+    out, *_ = killed_and_resumed
+    md = (out / "report.md").read_text()
+    section = md.split("## Accuracy against cost", 1)[1].split("## Which factors", 1)[0]
+    for label in ("base: marking-sigma 0.5 px, sun-elevation 55°", "marking-sigma 0.2 px",
+                  "marking-sigma 2 px", "sun-elevation 40°"):
+        assert f"| {label} | 1 |" in section, section
+    assert "Cost: **flight minutes per survey**" in section
+    assert "front: variants no other beats in both cost and error" in section.lower()
+    assert "| v0" not in section and "- v0" not in section
+
+
 def test_the_report_and_every_run_project_stand_on_their_own(killed_and_resumed):
     out, *_ = killed_and_resumed
     html = (out / "report.html").read_text()

@@ -34,6 +34,7 @@ from designer.gui.study_form import LEVELS_HINT, FactorRow, check_study
 from designer.gui.study_results import StudyResults
 from designer.gui.widgets import combo, form, ispin, message_box
 from designer.gui.wording import count, estimate_basis
+from designer.study.cost import COSTS
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
 from designer.survey.render_cost import load_speed
@@ -139,6 +140,16 @@ class StudyPanel(StudyFiles, Panel):
             self.metrics.addItem(item)
         self.metrics.itemChanged.connect(self.changed)
         v.addWidget(self.metrics)
+        f = form()
+        self.cost_axis = combo([(c.name, c.name) for c in COSTS.values()])
+        for k, c in enumerate(COSTS.values()):
+            self.cost_axis.setItemData(k, c.label, 3)  # Qt.ToolTipRole
+        self.cost_axis.setObjectName("study-cost")
+        self.cost_axis.setToolTip("the cost the report plots accuracy against (<cost> in the "
+                             "study file; docs/studies.md)")
+        self.cost_axis.currentIndexChanged.connect(self.changed)
+        f.addRow("accuracy against", self.cost_axis)
+        v.addLayout(f)
         layout.addWidget(metrics)
 
         # the plan line, errors and warnings below the Run box, in an area of a fixed
@@ -248,7 +259,8 @@ class StudyPanel(StudyFiles, Panel):
                      design=self.design.currentData(),
                      replicates=Replicates(self.replicates.value(), tuple(
                          n for n, box in self.vary.items() if box.isChecked())),
-                     metrics=metrics, description=self.description, source=path)
+                     metrics=metrics, description=self.description,
+                     cost=self.cost_axis.currentData(), source=path)
 
     def study_text(self, study_path: Path | None = None) -> str:
         from designer.study.writer import study_to_xml

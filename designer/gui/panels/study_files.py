@@ -101,6 +101,7 @@ class StudyFiles:
         for k in range(self.metrics.count()):
             item = self.metrics.item(k)
             item.setCheckState(checked_state(item.text() in study.metrics))
+        self.cost_axis.setCurrentIndex(self.cost_axis.findData(study.cost))
         self.study_path = path
         self.file_label.setText(f"opened: {path}" + (
             "; its base project is another file now: save the study to keep it"

@@ -24,6 +24,10 @@ from designer.gui.study_process import StudyProcess, study_command
 from designer.gui.study_results import FAILED_COLOUR
 from designer.gui.widgets import form, ispin
 
+#: ``designer study run``'s exit status when it finished and some runs failed (every
+#: result written; designer.cli.study.RUNS_FAILED_EXIT)
+RUNS_FAILED_EXIT = 3
+
 
 class StudyRunBox(QGroupBox):
     def __init__(self, panel) -> None:
@@ -205,7 +209,7 @@ class StudyRunBox(QGroupBox):
                                f"finished and kept in {self.out_dir}"
                                + (f" ({len(failed)} failed)" if failed else "")
                                + "; Resume continues")
-        elif code == 0 and failed:
+        elif code in (0, RUNS_FAILED_EXIT) and failed:
             self.state.setText(f"finished in {duration_text(seconds)}: {folder.outcome()}; "
                                "results below")
         elif code == 0:
