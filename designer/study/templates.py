@@ -32,8 +32,10 @@ def base_project(width_px: int = 640, height_px: int = 480, samples: int = 16,
         terrain=m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.ProceduralTerrain(
             seed=5, grid_spacing_m=0.5, roughness=0.3, min_height_m=H0 - 3.0,
             max_height_m=H0 + 3.0, hill_size_m=60.0)),  # the largest hills span the field
+        # the variation keeps the tile's copies in the surroundings from repeating it
         texture=m.Texture(m.ProceduralTexture("grass", seed=2, texel_size_m=0.03 * 640 / width_px),
-                          repeat_X=1, repeat_Y=1, interpolation="linear"),
+                          repeat_X=1, repeat_Y=1, interpolation="linear",
+                          variation=m.TextureVariation(seed=7, scale_m=40.0, strength=0.35)),
         targets=m.Targets(targets, m.SurveyAccuracy(m.Sigma3(0.01, 0.01, 0.015), seed=1)),
         lighting=m.Lighting(m.Sun(azimuth_deg=150.0, elevation_deg=55.0)),
     )

@@ -35,7 +35,7 @@ from designer.survey.render_cost import (
     project_image_costs,
     render_workers,
 )
-from designer.survey.surroundings import VOID_WARN, ImageGround, image_ground
+from designer.survey.surroundings import VOID_WARN, ImageGround, image_ground, repeat_warning
 
 
 @dataclass(frozen=True)
@@ -211,6 +211,10 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
     void = result.ground.warning(result.project) if result.ground is not None else None
     if void:
         warnings.append(void)
+    copies = (repeat_warning(result.project, result.ground.growth)
+              if result.ground is not None else None)
+    if copies:
+        warnings.append(copies)
     if result.analysis.gcps is not None:
         few = [t.target.id for k, t in enumerate(result.targets)
                if result.analysis.gcps.counts[k] < 3]

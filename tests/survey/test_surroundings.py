@@ -113,3 +113,19 @@ def test_plan_json_gives_every_images_void_share(tmp_path):
     assert any("see past the terrain" in w for w in s["warnings"])
     text = _designer("plan", tmp_path / "none.xml")
     assert "pixels seeing no ground: at most" in text.stdout
+
+
+def test_surroundings_that_repeat_a_plain_tile_are_warned_about():
+    """Without a variation, the surroundings hold exact copies of the tile beside the
+    terrain (the altitude study's 40 m flight failed its SfM on them)."""
+    from designer.scene.surroundings import Growth
+    from designer.survey.surroundings import repeat_warning
+
+    project = template("survey").project
+    assert repeat_warning(project, Growth((1, 1, 1, 1))) is None  # the example varies
+    plain = dataclasses.replace(project, scene=dataclasses.replace(
+        project.scene, texture=dataclasses.replace(project.scene.texture, variation=None)))
+    warning = repeat_warning(plain, Growth((1, 1, 1, 1)))
+    assert warning.startswith("the surroundings repeat the texture's 20 m tile")
+    assert 'scale-m="40"' in warning and 'mode="none"' in warning
+    assert repeat_warning(plain, Growth()) is None  # nothing grown: nothing repeated
