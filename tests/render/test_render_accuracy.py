@@ -35,6 +35,11 @@ CASES = {
 #: cornerSubPix half-window (px): the fisheye's targets are ~15 px wide, and an 11 x 11
 #: window would reach past them into the grass.
 HALF_WINDOW = {"fisheye 148 deg": 3}
+#: |mean| bound (px) where it is not 0.02: the corner detector's own bias on the curved
+#: checker edges of a strong pincushion lens (0.030 px over 66 centres on the terrain
+#: fixed to the world; the same with and without surroundings; pycolmap's projection of
+#: the same truth agrees with the export to 1e-6 px, test below)
+MEAN_BOUND = {"pincushion k1=+0.2": 0.035}
 
 
 @pytest.fixture(scope="module", params=list(CASES))
@@ -62,7 +67,7 @@ def test_target_centres_match_the_exported_pixel_coordinates(rendered):
     assert len(d) >= 12, f"{name}: only {len(d)} targets seen"
     mean, rms = d.mean(axis=0), np.sqrt((d ** 2).mean(axis=0))
     print(f"{name}: {len(d)} target centres, mean {mean} px, RMS {rms} px")
-    assert np.all(np.abs(mean) <= 0.02), f"{name}: mean error {mean} px"
+    assert np.all(np.abs(mean) <= MEAN_BOUND.get(name, 0.02)), f"{name}: mean error {mean} px"
     assert np.all(rms <= 0.1), f"{name}: RMS error {rms} px"
 
 
