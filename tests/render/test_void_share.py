@@ -80,7 +80,10 @@ def test_the_manifest_records_the_void_each_image_sees_and_render_warns(tmp_path
                                  kappa_deg=0.0)
     east = dataclasses.replace(east, X=15.0, Y=2.0, Z=30.0, omega_deg=3.0, phi_deg=-2.0,
                                kappa_deg=20.0)
-    project = dataclasses.replace(project, trajectory=m.Trajectory((centre, east)))
+    # no surroundings: the east photo sees the black background past the terrain's edge
+    terrain = dataclasses.replace(project.scene.terrain, surroundings="none")
+    project = dataclasses.replace(project, trajectory=m.Trajectory((centre, east)),
+                                  scene=dataclasses.replace(project.scene, terrain=terrain))
     path = write_project_file(project, tmp_path)
     out = tmp_path / "out"
     assert main(["render", str(path), "-o", str(out), "--workers", "1",
