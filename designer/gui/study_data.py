@@ -189,14 +189,10 @@ def _gcp_shortfall(project) -> str | None:
     mode = p.gcps.mode
     if mode == "none" or (mode == "bundle" and p.position_prior.mode != "none"):
         return None
+    from designer.project.processing import control_count
+
     targets = project.targets
-    selection = p.gcps.control
-    if selection is None:
-        n = sum(t.role == "control" for t in targets)
-    elif selection.ids:
-        n = len(set(selection.ids))
-    else:
-        n = min(selection.count or 0, len(targets))
+    n = control_count(p.gcps.control, targets)
     if n >= MIN_CONTROL_GCPS:
         return None
     has = (f"the project has {len(targets)} GCP targets" if n == len(targets) else

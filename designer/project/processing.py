@@ -126,6 +126,17 @@ class PositionPrior:
                 self.sigma_vertical_m if self.sigma_vertical_m is not None else v)
 
 
+def control_count(selection: ControlSelection | None, targets) -> int:
+    """How many of ``targets`` (the project's GCP targets) are control points under
+    ``selection``: their declared roles when there is none, else its ids or its count
+    (at most the targets there are)."""
+    if selection is None:
+        return sum(t.role == "control" for t in targets)
+    if selection.ids:
+        return len(set(selection.ids))
+    return min(selection.count or 0, len(targets))
+
+
 @element("matching", title="matching", path="processing.matching", stage="processing")
 @dataclass(frozen=True)
 class Matching:

@@ -558,17 +558,21 @@ def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     # angle rejects every pair of a typical 80 % overlap flight.
     options.mapper.init_min_tri_angle = 4.0
     options.mapper.init_min_num_inliers = 50
-    # The mapper's own adjustments refine at most focal length and principal point;
-    # distortion is estimated in the final adjustment, with exactly the mode's terms.
-    options.ba_refine_focal_length = calibration != "fixed"
-    options.ba_refine_principal_point = calibration not in ("fixed", "focal")
-    options.ba_refine_extra_params = False
+    (options.ba_refine_focal_length, options.ba_refine_principal_point,
+     options.ba_refine_extra_params) = _mapper_refines(calibration)
     maps = pycolmap.incremental_mapping(db_path, image_dir, sparse, options=options)
     if not maps:
         raise DesignerError(
             f"{image_dir}: COLMAP could not start a reconstruction: the images do not "
             "overlap enough or show too little texture")
     return max(maps.values(), key=lambda r: r.num_reg_images())
+
+
+def _mapper_refines(calibration: str) -> tuple[bool, bool, bool]:
+    """(focal length, principal point, distortion) the mapper's own adjustments refine
+    for the calibration mode: at most focal length and principal point; distortion is
+    estimated in the final adjustment, with exactly the mode's terms."""
+    return calibration != "fixed", calibration not in ("fixed", "focal"), False
 
 
 def _global(pycolmap, db_path, image_dir, sparse, calibration: str):
@@ -579,9 +583,8 @@ def _global(pycolmap, db_path, image_dir, sparse, calibration: str):
     options.num_threads = -1
     options.random_seed = 0  # the same images give the same model
     ba = options.mapper.bundle_adjustment
-    ba.refine_focal_length = calibration != "fixed"
-    ba.refine_principal_point = calibration not in ("fixed", "focal")
-    ba.refine_extra_params = False
+    ba.refine_focal_length, ba.refine_principal_point, ba.refine_extra_params = \
+        _mapper_refines(calibration)
     ba.refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
     maps = pycolmap.global_mapping(db_path, image_dir, sparse, options=options)
     if not maps:

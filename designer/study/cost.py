@@ -92,19 +92,13 @@ def flight_minutes(centres_world: np.ndarray, times_s: Sequence[float] | None
 def gcp_counts(project) -> tuple[int, int]:
     """(GCP targets to survey, of them the processing's control points)."""
     from designer.project import model as m
+    from designer.project.processing import control_count
 
     targets = project.targets
     p = project.processing or m.Processing()
     if p.gcps.mode == "none":
         return len(targets), 0
-    selection = p.gcps.control
-    if selection is None:
-        control = sum(t.role == "control" for t in targets)
-    elif selection.ids:
-        control = len(set(selection.ids))
-    else:
-        control = min(selection.count or 0, len(targets))
-    return len(targets), control
+    return len(targets), control_count(p.gcps.control, targets)
 
 
 def cpu_seconds() -> float:
