@@ -38,6 +38,10 @@ def register(subparsers) -> None:
     parser.add_argument("--image-size", choices=["small", "example"], default=None,
                         help="study: the base survey's small 640 x 480 camera, or the example "
                              "survey's camera at its 1368 x 912 px")
+    parser.add_argument("--template", default=None, metavar="NAME",
+                        help="study: the study template to run (gcp-count, or "
+                             "example-processing: the example-size study, CPU seconds per "
+                             "stage and run)")
     parser.add_argument("--variants", action="store_true",
                         help="render: also the rows of the world's elements (sun over time, "
                              "moving objects, buildings, plants, clouds, rig, rolling shutter)")
@@ -67,6 +71,18 @@ def run(args) -> int:
             raise DesignerError(f"--image-size: only 'designer bench study' takes it, not "
                                 f"'designer bench {args.name}'")
         options["image_size"] = args.image_size
+    if args.template is not None:
+        if "template" not in inspect.signature(module.run).parameters:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--template: only 'designer bench study' takes it, not "
+                                f"'designer bench {args.name}'")
+        if args.template not in module.TEMPLATES:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--template {args.template}: give one of "
+                                f"{', '.join(module.TEMPLATES)}")
+        options["template"] = args.template
     if args.variants:
         if "variants" not in inspect.signature(module.run).parameters:
             from designer.errors import DesignerError

@@ -145,18 +145,22 @@ def _ground_truth_formats(run: Run) -> Run:
 def _plan_runs(plan: Plan, out: Path, progress: Progress) -> dict[str, dict]:
     """run.json of every run (written now, or kept from an earlier run of the study)."""
     infos = {}
+    planned: dict[str, tuple[Path, dict]] = {}  # images_key → the first run with them
     for k, run in enumerate(plan.runs):
         run = _ground_truth_formats(run)
         run_dir = out / "runs" / run.run_id
         project = stages.rebase_files(run.project, plan.base_dir, run_dir)
+        key = stages.images_key(project)
         info_path = run_dir / "run.json"
         if info_path.is_file():
             info = json.loads(info_path.read_text())
-            # planned by this version (an earlier one did not count the flight's cost)
-            if info.get("project_repr") == repr(project) and "sfm_group" in info:
+            # planned by this version (an earlier one did not keep the ground truth's digest)
+            if info.get("project_repr") == repr(project) and "ground_truth_digest" in info:
                 infos[run.run_id] = info
+                planned.setdefault(key, (run_dir, info))
                 continue
-        info = stages.plan_run(project, run_dir)
+        info = stages.plan_run(project, run_dir, planned.get(key))
+        planned.setdefault(key, (run_dir, info))
         info.update({"run": run.run_id, "variant": run.variant, "replicate": run.replicate,
                      "levels": run.levels, "seeds": run.seeds, "project_repr": repr(project)})
         write_text_atomic(info_path, json.dumps(info, indent=1))

@@ -2,7 +2,8 @@
 
 * :func:`plan_run` (main process): the run's project file, its prepared render job →
   image-set hash, GSD, image count, flight minutes; its ground truth → the processing
-  hash; its GCP counts;
+  hash; its GCP counts. Runs that differ only in their processing share one prepared
+  job: the later ones copy the first one's ground truth;
 * :func:`render_stage`: ``designer render`` of one image set into the render cache, or
   an effect pass over the raw renders of another image set that differs only in its
   camera effects; its wall and CPU seconds;
@@ -59,9 +60,57 @@ def rebase_files(project: m.Project, from_dir: Path, to_dir: Path) -> m.Project:
     return replace(project, scene=scene)
 
 
-def plan_run(project: m.Project, run_dir: Path) -> dict:
-    """Write the run's project and survey ground truth; its hashes, GSD and image count."""
+#: the parts of a run's plan that depend on its images alone (not on its processing)
+IMAGE_KEYS = ("images", "image_hash", "raw_hash", "ground_truth_digest", "gsd_m",
+              "flight_min", "flight_min_source")
+
+
+def images_key(project: m.Project) -> str:
+    """What a run's images and ground truth depend on: the project without its
+    processing (runs of one study share a folder depth, so file references match)."""
+    return repr(replace(project, processing=None))
+
+
+def plan_run(project: m.Project, run_dir: Path,
+             same_images: tuple[Path, dict] | None = None) -> dict:
+    """Write the run's project and survey ground truth; its hashes, GSD and image count.
+
+    ``same_images``: (run folder, plan) of a run with the same :func:`images_key` — its
+    ground truth is copied and its image-set figures kept instead of preparing the
+    render job again (the terrain's texture and light bakes take most of a plan)."""
     from designer.project import write_project
+    from designer.study.cache import digest, processing_hash
+    from designer.study.cost import gcp_counts
+
+    run_dir.mkdir(parents=True, exist_ok=True)
+    write_project(project, run_dir / "project.xml")
+    gt = run_dir / "survey" / GROUND_TRUTH_DIR
+    if gt.exists():
+        shutil.rmtree(gt)
+    if same_images is None:
+        info = _plan_images(project, run_dir)
+    else:
+        other_dir, other = same_images
+        shutil.copytree(other_dir / "survey" / GROUND_TRUTH_DIR, gt)
+        info = {k: other[k] for k in IMAGE_KEYS}
+    gcps, control_gcps = gcp_counts(project)
+    # runs whose reconstructions share features and matches (and the SfM model) through
+    # the feature cache, by what that sharing depends on
+    processing = project.processing or m.Processing()
+    features_group = digest("features", info["image_hash"], repr(processing.matching))
+    return {"project": "project.xml", **info,
+            "processing_hash": processing_hash(info["image_hash"],
+                                               info["ground_truth_digest"],
+                                               project.processing, MODE),
+            "features_group": features_group,
+            "sfm_group": digest("sfm", features_group, processing.calibration.mode,
+                                repr(processing.sfm)),
+            "gcps": gcps, "control_gcps": control_gcps}
+
+
+def _plan_images(project: m.Project, run_dir: Path) -> dict:
+    """The image-set part of a run's plan (:data:`IMAGE_KEYS`), its ground truth written
+    under ``run_dir/survey``."""
     from designer.render.job import prepare_job
     from designer.render.pipeline import write_ground_truth
     from designer.render.provenance import (
@@ -69,44 +118,27 @@ def plan_run(project: m.Project, run_dir: Path) -> dict:
         job_provenance,
         raw_render_digests,
     )
-    from designer.study.cache import digest, image_set_hash, processing_hash, raw_set_hash
-    from designer.study.cost import flight_minutes, gcp_counts
+    from designer.study.cache import image_set_hash, raw_set_hash
+    from designer.study.cost import flight_minutes
 
-    run_dir.mkdir(parents=True, exist_ok=True)
-    project_path = run_dir / "project.xml"
-    write_project(project, project_path)
     survey = run_dir / "survey"
     prepared = prepare_job(project, run_dir, survey)
     provenance = job_provenance(prepared.job, prepared.job_path.parent)
     names = [prepared.job.image_names[i] for i in sorted(prepared.job.image_names)]
-    gt = survey / GROUND_TRUTH_DIR
-    if gt.exists():
-        shutil.rmtree(gt)
     write_ground_truth(project, prepared, survey)
     gsd = [f.gsd_m for f in prepared.job.frames if f.gsd_m is not None]
     shutil.rmtree(prepared.job_path.parent, ignore_errors=True)
-    image_hash = image_set_hash(provenance, prepared.job.image_names)
-    raw_hash = raw_set_hash(raw_render_digests(prepared.job, provenance),
-                            prepared.job.image_names)
     # the images in flight order: a rig's images of one station share its centre
     flight_min, flight_source = flight_minutes(
         np.array([pose.C_world for pose in prepared.poses]),
         None if prepared.times is None else [t.time_s for t in prepared.times])
-    gcps, control_gcps = gcp_counts(project)
-    # runs whose reconstructions share features and matches (and the SfM model) through
-    # the feature cache, by what that sharing depends on
-    processing = project.processing or m.Processing()
-    features_group = digest("features", image_hash, repr(processing.matching))
-    return {"project": "project.xml", "images": names, "image_hash": image_hash,
-            "raw_hash": raw_hash,
-            "processing_hash": processing_hash(image_hash, ground_truth_digest(gt),
-                                               project.processing, MODE),
-            "features_group": features_group,
-            "sfm_group": digest("sfm", features_group, processing.calibration.mode,
-                                repr(processing.sfm)),
+    return {"images": names,
+            "image_hash": image_set_hash(provenance, prepared.job.image_names),
+            "raw_hash": raw_set_hash(raw_render_digests(prepared.job, provenance),
+                                     prepared.job.image_names),
+            "ground_truth_digest": ground_truth_digest(survey / GROUND_TRUTH_DIR),
             "gsd_m": float(np.mean(gsd)) if gsd else None,
-            "flight_min": flight_min, "flight_min_source": flight_source,
-            "gcps": gcps, "control_gcps": control_gcps}
+            "flight_min": flight_min, "flight_min_source": flight_source}
 
 
 def render_stage(project_path: str, out_dir: str, workers: int = 1,
