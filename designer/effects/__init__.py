@@ -10,7 +10,8 @@ for, in physical order (``chain.EffectChain``):
 * ``sensor``: shot noise, dark current, read noise, ADC; Gaussian DN noise;
 * ``jpeg``: JPEG compression;
 * ``srgb``: the exact sRGB transfer function;
-* ``from_model``: the project model's effects → a chain.
+* ``registry``: which effect implements which project element (``@implements``);
+* ``from_model``: the project model's effects → a chain, through the registry.
 
 Use, per camera and frame::
 
