@@ -135,9 +135,9 @@ def _compare(project_path: Path, recon, plan, out: Path, log) -> dict:
     """Cloud vs mesh and check points vs truth, in metres and in GSD."""
     import numpy as np
 
-    from designer.evaluate.clouds import read_point_cloud
     from designer.evaluate.compare import compare_cloud, crop_to_area, reference_mesh
     from designer.evaluate.gcp import gcp_errors
+    from designer.evaluate.point_clouds import read_point_cloud
     from designer.export.tables import read_gcp_truth_csv
     from designer.project import load_project
     from designer.survey.surroundings import project_surroundings

@@ -42,7 +42,7 @@ MAY_IMPORT: dict[str, set[str]] = {
     "evaluate": {"core", "project", "scene", "export"},
     "sfm": {"core", "project", "scene", "survey", "export", "evaluate"},
     "render": {"core", "project", "scene", "survey", "export", "effects"},
-    "validate": {"core", "scene", "effects", "render"},
+    "experiments": {"core", "scene", "effects", "render"},
     "demo": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
              "render"},
     "study": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
@@ -50,9 +50,9 @@ MAY_IMPORT: dict[str, set[str]] = {
     "gui": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
             "render", "study", "flight"},
     "bench": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-              "render", "validate", "gui", "study"},
+              "render", "experiments", "gui", "study"},
     "cli": {"core", "project", "scene", "survey", "export", "effects", "evaluate", "sfm",
-            "render", "validate", "demo", "gui", "bench", "study", "flight"},
+            "render", "experiments", "demo", "gui", "bench", "study", "flight"},
     "__main__": {"cli"},
 }
 
@@ -90,7 +90,7 @@ NOT_LOADED_BY: dict[str, tuple[str, ...]] = {
     "designer.flight": ("lxml", "pyproj", "pyexiv2", "designer.flight.importer"),
     # the validations (and the commands running them) plan and check renders; only the
     # render worker, in Blender, loads bpy
-    "designer.validate.*": ("bpy",),
+    "designer.experiments.*": ("bpy",),
     "designer.bench.accuracy": ("bpy",),
     "designer.cli.validate": ("bpy",),
 }
@@ -184,7 +184,7 @@ def test_every_package_has_a_row_in_the_table():
     ("core/rotation.py", "from designer.project import model", "core may import only"),
     ("export/odm.py", "from designer.render.job import prepare_job", "export may import only"),
     ("survey/flight.py", "    from designer.gui import app", "survey may import only"),
-    ("evaluate/clouds.py", "from designer.scene._private import x", "private"),
+    ("evaluate/point_clouds.py", "from designer.scene._private import x", "private"),
     ("effects/chain.py", "import bpy", "only render.worker may"),
     ("sfm/reconstruct.py", "from PySide6 import QtCore", "only gui, bench.gui may"),
 ])

@@ -11,7 +11,7 @@ machine load disturbs less) against the corner error's standard deviation and bi
 The same poses and corners are measured in every row, so the detector's own error — the
 same in every row — cancels out of the comparison; what differs is what the renderer does.
 Plain 64 spp is rendered first and last and its mean time is the reference ("× plain 64").
-The quality presets (``designer.validate.settings.QUALITY_PRESETS``) are the cheapest
+The quality presets (``designer.experiments.settings.QUALITY_PRESETS``) are the cheapest
 measured settings at least as accurate as plain 4, 16 and 64 spp — the old presets — and
 the table marks the Pareto front (no other setting is both faster and more accurate).
 
@@ -33,11 +33,11 @@ from designer.atomic import write_text_atomic
 from designer.core.distortion import BrownConrady
 from designer.effects.distortion_render import pinhole_render_camera
 from designer.effects.srgb import encode_image
-from designer.validate.corners import Detector
-from designer.validate.cube import cube_corners, cube_walls, measurable, random_poses
-from designer.validate.jobs import render_views
-from designer.validate.projection import IO_SETS
-from designer.validate.settings import PLAIN_64, QUALITY_PRESETS, RenderSettings
+from designer.experiments.corners import Detector
+from designer.experiments.cube import cube_corners, cube_walls, measurable, random_poses
+from designer.experiments.jobs import render_views
+from designer.experiments.projection import IO_SETS
+from designer.experiments.settings import PLAIN_64, QUALITY_PRESETS, RenderSettings
 
 SIZE_PX = (960, 640)
 N_IMAGES = 8
@@ -240,7 +240,7 @@ def _write_outputs(rows: list[dict], out_dir: Path) -> None:
 
 def plot(rows: list[dict], path: Path) -> Path:
     """Corner-error std and bias against render time per megapixel, one marker per setting."""
-    from designer.validate.figures import figure, save
+    from designer.experiments.figures import figure, save
 
     fig = figure(12.5, 5.4)
     ax, bx = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)

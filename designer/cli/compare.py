@@ -187,13 +187,13 @@ def _tune_process() -> None:
 
 def _compare(args) -> int:
     from designer.errors import DesignerError
-    from designer.evaluate.clouds import read_point_cloud
     from designer.evaluate.compare import (
         coarse_warnings,
         compare_cloud,
         crop_to_area,
         reference_mesh,
     )
+    from designer.evaluate.point_clouds import read_point_cloud
     from designer.evaluate.report import format_summary
     from designer.evaluate.statistics import DEFAULT_TOLERANCES_M
 

@@ -89,9 +89,9 @@ def _finish(summary: dict, out: Path, t0: float) -> int:
 
 def run_projection(args) -> int:
     from designer.errors import DesignerError
-    from designer.validate.projection import ProjectionConfig, run_projection
-    from designer.validate.projection_report import write_projection_report
-    from designer.validate.settings import quality
+    from designer.experiments.projection import ProjectionConfig, run_projection
+    from designer.experiments.projection_report import write_projection_report
+    from designer.experiments.settings import quality
 
     t0 = time.perf_counter()
     n = FULL_IMAGES if args.full else args.images
@@ -119,8 +119,8 @@ def run_projection(args) -> int:
 
 
 def run_psf(args) -> int:
-    from designer.validate.psf import PSFConfig, validate_psf
-    from designer.validate.settings import quality
+    from designer.experiments.psf import PSFConfig, validate_psf
+    from designer.experiments.settings import quality
 
     t0 = time.perf_counter()
     summary = validate_psf(PSFConfig(settings=quality(args.quality), workers=args.workers),
@@ -132,8 +132,8 @@ def run_psf(args) -> int:
 
 
 def run_texture(args) -> int:
-    from designer.validate.settings import quality
-    from designer.validate.texture import TextureConfig, validate_texture
+    from designer.experiments.settings import quality
+    from designer.experiments.texture import TextureConfig, validate_texture
 
     t0 = time.perf_counter()
     summary = validate_texture(TextureConfig(settings=quality(args.quality),

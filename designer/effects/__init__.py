@@ -10,7 +10,8 @@ for, in physical order (``chain.EffectChain``):
 * ``sensor``: shot noise, dark current, read noise, ADC; Gaussian DN noise;
 * ``jpeg``: JPEG compression;
 * ``srgb``: the exact sRGB transfer function;
-* ``from_model``: the project model's effects → a chain.
+* ``registry``: which effect implements which project element (``@implements``);
+* ``from_model``: the project model's effects → a chain, through the registry.
 
 Use, per camera and frame::
 
@@ -26,6 +27,7 @@ from typing import TYPE_CHECKING
 from designer._lazy import attach
 
 __getattr__, __dir__, __all__ = attach(__name__, {
+    "CameraContext": "designer.effects.base",
     "Defocus": "designer.effects.optics",
     "DistortionWarp": "designer.effects.distortion_render",
     "EFFECT_ORDER": "designer.effects.base",
@@ -44,19 +46,27 @@ __getattr__, __dir__, __all__ = attach(__name__, {
     "encode_jpeg": "designer.effects.jpeg",
     "frame_key": "designer.effects.base",
     "gaussian_blur": "designer.effects.optics",
+    "implements": "designer.effects.registry",
     "jpeg_roundtrip": "designer.effects.jpeg",
     "linear_motion_kernel": "designer.effects.motion",
     "linear_to_srgb": "designer.effects.srgb",
     "motion_blur": "designer.effects.motion",
     "pinhole_render_camera": "designer.effects.distortion_render",
     "process_file": "designer.effects.chain",
+    "registered_effects": "designer.effects.registry",
     "simulate_sensor": "designer.effects.sensor",
     "srgb_to_linear": "designer.effects.srgb",
     "write_jpeg": "designer.effects.jpeg",
 })
 
 if TYPE_CHECKING:
-    from designer.effects.base import EFFECT_ORDER, Effect, FrameContext, frame_key
+    from designer.effects.base import (
+        EFFECT_ORDER,
+        CameraContext,
+        Effect,
+        FrameContext,
+        frame_key,
+    )
     from designer.effects.chain import EffectChain, process_file
     from designer.effects.distortion_render import (
         DistortionWarp,
@@ -73,5 +83,6 @@ if TYPE_CHECKING:
         RadialVignetting,
         gaussian_blur,
     )
+    from designer.effects.registry import implements, registered_effects
     from designer.effects.sensor import GaussianNoiseDN, SensorModel, simulate_sensor
     from designer.effects.srgb import linear_to_srgb, srgb_to_linear

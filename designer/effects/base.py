@@ -19,9 +19,12 @@ differently), every other effect treats the channels alike.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from designer.core.interior import InteriorOrientation
 
 Domain = Literal["linear", "encoded", "integer"]
 ChannelOrder = Literal["BGR", "RGB"]
@@ -66,19 +69,45 @@ class FrameContext:
     distance_m: float | None = None
 
 
+@dataclass(frozen=True)
+class CameraContext:
+    """What an effect built from a project element needs to know about the camera.
+
+    Attributes:
+        interior: the output camera (with its distortion), whose pixels the effects
+            after the distortion warp see.
+        pixels_per_output_px: how much finer than the output the pinhole render is
+            (the distortion warp's oversample; 1 without distortion), for the effects
+            that run before the warp.
+    """
+
+    interior: InteriorOrientation
+    pixels_per_output_px: float = 1.0
+
+
 class Effect:
     """Base of every effect: a frozen dataclass with a ``kind`` from EFFECT_ORDER.
 
     ``apply(image, frame_index, context)`` returns a new image in the effect's domain
-    and never modifies its input.
+    and never modifies its input. An effect a project can ask for names its model
+    element in ``model`` and builds itself from that element whole in ``from_model``
+    (both set up by ``designer.effects.registry.implements``).
     """
 
+    #: the project model class (``designer.project.model``) this effect implements;
+    #: None for effects only code builds (the distortion warp comes from the camera)
+    model: ClassVar[type | None] = None
     kind: ClassVar[str] = ""
     domain: ClassVar[Domain] = "linear"
     #: an effect whose kind is not in EFFECT_ORDER runs right after this kind, in this
     #: stage (so a new effect is declared in its own module alone)
     runs_after: ClassVar[str] = ""
     stage_name: ClassVar[str] = ""
+
+    @classmethod
+    def from_model(cls, element: Any, camera: CameraContext) -> Effect:
+        """The effect a project's ``element`` (an instance of ``cls.model``) asks for."""
+        raise NotImplementedError(f"{cls.__name__} is not built from a project element")
 
     @property
     def is_identity(self) -> bool:

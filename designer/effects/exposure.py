@@ -10,7 +10,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from designer.effects.base import Effect, FrameContext, channels_last, frame_key
+from designer.effects.base import CameraContext, Effect, FrameContext, channels_last, frame_key
+from designer.effects.registry import implements
+from designer.project import model as m
 
 #: wavelengths (m) standing for the camera's red, green and blue channels
 _WAVELENGTHS_M = {"R": 600e-9, "G": 540e-9, "B": 460e-9}
@@ -32,6 +34,7 @@ def white_balance_gains(balanced_k: float, light_k: float) -> dict[str, float]:
     return {c: ratio(c, balanced_k) / ratio(c, light_k) for c in "RGB"}
 
 
+@implements(m.ExposureVariation)
 @dataclass(frozen=True)
 class ExposureWhiteBalance(Effect):
     """Gain 2^e (e ~ N(0, σ_ev²)) and white balance for T ~ N(reference, σ_k²), drawn per
@@ -44,6 +47,12 @@ class ExposureWhiteBalance(Effect):
     kind: ClassVar[str] = "exposure"
     runs_after: ClassVar[str] = "blur"
     stage_name: ClassVar[str] = "camera"
+
+    @classmethod
+    def from_model(cls, element: m.ExposureVariation, camera: CameraContext
+                   ) -> ExposureWhiteBalance:
+        return cls(element.exposure_sigma_ev, element.white_balance_sigma_k,
+                   element.reference_k, element.seed)
 
     @property
     def is_identity(self) -> bool:

@@ -15,8 +15,10 @@ import cv2
 import numpy as np
 
 from designer.atomic import write_bytes_atomic
-from designer.effects.base import ChannelOrder, Effect, FrameContext
+from designer.effects.base import CameraContext, ChannelOrder, Effect, FrameContext
+from designer.effects.registry import implements
 from designer.errors import DesignerError
+from designer.project import model as m
 
 
 def _check(image: np.ndarray, quality: int) -> None:
@@ -71,6 +73,7 @@ def write_jpeg(path: str | os.PathLike, image: np.ndarray, quality: int,
     write_bytes_atomic(path, encode_jpeg(image, quality, channel_order))
 
 
+@implements(m.Jpeg)
 @dataclass(frozen=True)
 class JpegCompression(Effect):
     """JPEG compression artefacts at ``quality``; works on the stored uint8 image."""
@@ -81,6 +84,10 @@ class JpegCompression(Effect):
 
     def __post_init__(self) -> None:
         _check(np.zeros((1, 1), np.uint8), self.quality)
+
+    @classmethod
+    def from_model(cls, element: m.Jpeg, camera: CameraContext) -> JpegCompression:
+        return cls(element.quality)
 
     def encode(self, image: np.ndarray, context: FrameContext) -> bytes:
         return encode_jpeg(image, self.quality, context.channel_order)

@@ -19,8 +19,10 @@ from typing import ClassVar
 import cv2
 import numpy as np
 
-from designer.effects.base import Effect, FrameContext
+from designer.effects.base import CameraContext, Effect, FrameContext
+from designer.effects.registry import implements
 from designer.errors import DesignerError
+from designer.project import model as m
 
 BORDER = cv2.BORDER_REFLECT
 #: points per pixel of blur length used to draw the line PSF
@@ -77,6 +79,7 @@ def flight_direction_uv(velocity_world: np.ndarray, R_cam_to_world: np.ndarray
     return (0.0, 0.0) if norm == 0 else (du / norm, dv / norm)
 
 
+@implements(m.MotionBlur)
 @dataclass(frozen=True)
 class LinearMotionBlur(Effect):
     """Motion blur of length speed · exposure / GSD px along the frame's flight direction.
@@ -90,6 +93,12 @@ class LinearMotionBlur(Effect):
     speed_m_s: float
     pixels_per_output_px: float = 1.0
     kind: ClassVar[str] = "motion_blur"
+
+    @classmethod
+    def from_model(cls, element: m.MotionBlur, camera: CameraContext) -> LinearMotionBlur:
+        """It runs on the pinhole render, ``camera.pixels_per_output_px`` finer."""
+        return cls(element.exposure_time_s, element.speed_m_s,
+                   float(camera.pixels_per_output_px))
 
     @property
     def is_identity(self) -> bool:

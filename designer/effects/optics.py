@@ -17,8 +17,10 @@ import numpy as np
 
 from designer.core.interior import InteriorOrientation
 from designer.effects._pixel_kernels import times_gain
-from designer.effects.base import Effect, FrameContext, channels_last
+from designer.effects.base import CameraContext, Effect, FrameContext, channels_last
+from designer.effects.registry import implements
 from designer.errors import DesignerError
+from designer.project import model as m
 
 #: how images are extended beyond their edges by the blurs (mirror about the edge)
 BORDER = cv2.BORDER_REFLECT
@@ -61,6 +63,7 @@ def natural_vignetting_gain(interior: InteriorOrientation, u_px: np.ndarray,
     return (cos_theta**4).reshape(np.shape(u_px))
 
 
+@implements(m.Vignetting)
 @dataclass(frozen=True)
 class RadialVignetting(Effect):
     """Multiply by the radial polynomial gain of ``radial_vignetting_gain``, and with
@@ -74,6 +77,12 @@ class RadialVignetting(Effect):
     coefficients: tuple[float, ...]
     natural_cos4: bool = False
     kind: ClassVar[str] = "vignetting"
+
+    @classmethod
+    def from_model(cls, element: m.Vignetting, camera: CameraContext) -> RadialVignetting:
+        """``<vignetting>``: the corner fall-off c is the ρ² term −c."""
+        return cls(camera.interior, (-element.corner_falloff, element.rho4, element.rho6),
+                   natural_cos4=element.natural_cos4)
 
     @classmethod
     def from_corner_falloff(cls, interior: InteriorOrientation, corner_falloff: float
@@ -127,12 +136,17 @@ def gaussian_blur(image: np.ndarray, sigma_px: float) -> np.ndarray:
     return cv2.GaussianBlur(image, (0, 0), sigmaX=sigma_px, sigmaY=sigma_px, borderType=BORDER)
 
 
+@implements(m.Blur)
 @dataclass(frozen=True)
 class GaussianBlur(Effect):
     """Gaussian optical blur, σ in output pixels."""
 
     sigma_px: float
     kind: ClassVar[str] = "blur"
+
+    @classmethod
+    def from_model(cls, element: m.Blur, camera: CameraContext) -> GaussianBlur:
+        return cls(element.sigma_px)
 
     @property
     def is_identity(self) -> bool:
@@ -210,6 +224,7 @@ class Defocus(Effect):
         return defocus_blur(image, self.diameter_x_px, self.diameter_y_px)
 
 
+@implements(m.Defocus)
 @dataclass(frozen=True)
 class ThinLensDefocus(Effect):
     """Thin-lens defocus of a camera focused at ``focus_distance_m``: a uniform disc PSF
@@ -228,6 +243,11 @@ class ThinLensDefocus(Effect):
             raise DesignerError(
                 f"the focus distance {self.focus_distance_m:g} m must exceed the focal length "
                 f"{self.interior.focal_length_mm:g} mm")
+
+    @classmethod
+    def from_model(cls, element: m.Defocus, camera: CameraContext) -> ThinLensDefocus:
+        return cls(camera.interior, element.f_number, element.focus_distance_m,
+                   element.object_distance_m)
 
     def at_distance(self, context: FrameContext) -> Defocus:
         """The fixed-diameter defocus of this frame (``Defocus.from_thin_lens``)."""

@@ -37,8 +37,10 @@ from typing import ClassVar
 import numpy as np
 
 from designer.effects import _sensor_kernels
-from designer.effects.base import Effect, FrameContext, channels_last, frame_key
+from designer.effects.base import CameraContext, Effect, FrameContext, channels_last, frame_key
+from designer.effects.registry import implements
 from designer.effects.srgb import code_thresholds, encode_table, max_code
+from designer.project import model as m
 
 #: expected electrons from which shot noise is drawn as a normal of the same mean and
 #: variance (see the module docstring)
@@ -110,6 +112,7 @@ def simulate_sensor(
     return out.reshape(src.shape)
 
 
+@implements(m.Sensor)
 @dataclass(frozen=True)
 class SensorModel(Effect):
     """Shot noise, dark current, read noise and ADC quantisation (``simulate_sensor``).
@@ -135,6 +138,15 @@ class SensorModel(Effect):
     seed: int = 0
     kind: ClassVar[str] = "sensor"
 
+    @classmethod
+    def from_model(cls, element: m.Sensor, camera: CameraContext) -> SensorModel:
+        """``<sensor>``: photon shot noise always on."""
+        return cls(full_well_e=element.full_well_e, exposure_scale=element.exposure_scale,
+                   read_noise_e=element.read_noise_e,
+                   dark_current_e_per_s=element.dark_current_e_per_s,
+                   exposure_time_s=element.exposure_time_s, adc_bits=element.adc_bits,
+                   shot_noise=True, seed=element.seed)
+
     def apply(self, image: np.ndarray, frame_index: int, context: FrameContext,
               gain: np.ndarray | None = None, codes: np.dtype | None = None,
               encoded: bool = False, dn_noise: GaussianNoiseDN | None = None) -> np.ndarray:
@@ -153,6 +165,7 @@ class SensorModel(Effect):
         )
 
 
+@implements(m.SensorNoise)
 @dataclass(frozen=True)
 class GaussianNoiseDN(Effect):
     """N(0, σ²) added to the stored (sRGB-encoded) values, σ in 8-bit digital numbers."""
@@ -165,6 +178,10 @@ class GaussianNoiseDN(Effect):
     def __post_init__(self) -> None:
         if not self.sigma_dn >= 0:
             raise ValueError(f"sigma_dn = {self.sigma_dn!r} must be >= 0")
+
+    @classmethod
+    def from_model(cls, element: m.SensorNoise, camera: CameraContext) -> GaussianNoiseDN:
+        return cls(element.sigma_dn, element.seed)
 
     @property
     def is_identity(self) -> bool:

@@ -26,7 +26,7 @@ __getattr__, __dir__, __all__ = attach(__name__, {
     "DEFAULT_TOLERANCES_M": "designer.evaluate.statistics",
     "ErrorGrid": "designer.evaluate.maps",
     "MeshIndex": "designer.evaluate.distance",
-    "PointCloud": "designer.evaluate.clouds",
+    "PointCloud": "designer.evaluate.point_clouds",
     "ReferenceMesh": "designer.evaluate.compare",
     "build_mesh_index": "designer.evaluate.distance",
     "camera_pose_errors": "designer.evaluate.poses",
@@ -37,7 +37,7 @@ __getattr__, __dir__, __all__ = attach(__name__, {
     "grid_errors": "designer.evaluate.maps",
     "read_camera_poses": "designer.evaluate.poses",
     "read_gcp_estimates_csv": "designer.evaluate.gcp",
-    "read_point_cloud": "designer.evaluate.clouds",
+    "read_point_cloud": "designer.evaluate.point_clouds",
     "reference_mesh": "designer.evaluate.compare",
     "signed_distances": "designer.evaluate.distance",
     "similarity_transform": "designer.evaluate.poses",
@@ -51,7 +51,6 @@ __getattr__, __dir__, __all__ = attach(__name__, {
 })
 
 if TYPE_CHECKING:
-    from designer.evaluate.clouds import PointCloud, read_point_cloud
     from designer.evaluate.compare import ReferenceMesh, compare_cloud, reference_mesh
     from designer.evaluate.distance import MeshIndex, build_mesh_index, signed_distances
     from designer.evaluate.gcp import gcp_errors, read_gcp_estimates_csv
@@ -63,6 +62,7 @@ if TYPE_CHECKING:
         write_error_map_png,
         write_histogram_png,
     )
+    from designer.evaluate.point_clouds import PointCloud, read_point_cloud
     from designer.evaluate.poses import camera_pose_errors, read_camera_poses, similarity_transform
     from designer.evaluate.report import format_summary, write_report
     from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics

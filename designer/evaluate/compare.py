@@ -29,7 +29,7 @@ import numpy as np
 from designer.atomic import write_text_atomic
 from designer.core.bounds import column_bounds
 from designer.errors import DesignerError
-from designer.evaluate.clouds import MAX_COORDINATE_SPACING_M, PointCloud
+from designer.evaluate.point_clouds import MAX_COORDINATE_SPACING_M, PointCloud
 from designer.evaluate.statistics import DEFAULT_TOLERANCES_M, distance_statistics
 
 

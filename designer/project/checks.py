@@ -1,4 +1,5 @@
-"""Shared pieces of the semantic checks: limits, element names, number checks."""
+"""Shared pieces of the semantic checks: the coordinate limit, element names, number
+checks and formats (the scene's limits: ``designer.project.scene_limits``)."""
 
 from __future__ import annotations
 
@@ -6,17 +7,10 @@ import math
 
 from designer.project import model as m
 from designer.project.problems import Issue
+from designer.project.scene_limits import GRID_TOL, MAX_TERRAIN_NODES  # noqa: F401  (read by gui.panels.terrain)
 
 #: no coordinate or length in a project may exceed this (m); larger values are typos
 MAX_ABS_COORDINATE_M = 1e8
-#: generated texture tiles have this many texels per side, at least and at most
-MIN_TEXTURE_TEXELS = 16
-MAX_TEXTURE_TEXELS = 8192
-#: largest side of a texture variation image (px, designer.scene.texture_variation)
-VARIATION_MAX_PX = 2048
-#: largest procedural terrain grid (nodes), and the "whole number of cells" tolerance
-MAX_TERRAIN_NODES = 64e6
-GRID_TOL = 1e-9
 BIT_DEPTHS = {"png": (8, 16), "jpeg": (8,), "tiff": (8, 16, 32), "exr": (16, 32)}
 EXTENSIONS = {"png": (".png",), "jpeg": (".jpg", ".jpeg"), "tiff": (".tif", ".tiff"),
               "exr": (".exr",)}

@@ -2,8 +2,9 @@
 
 The checks follow ``InteriorOrientation.problems()`` but point at the element at
 fault (focal length, sensor, image size, principal point); the core object is built
-only from a camera that passed them, and the lens model's invertibility over the
-image is asked of ``designer.core.distortion``.
+only from a camera that passed them, through the one model → core boundary
+(``designer.project.interiors.interior_from_camera``), and the lens model's
+invertibility over the image is asked of ``designer.core.distortion``.
 """
 
 from __future__ import annotations
@@ -15,9 +16,6 @@ from designer.project import model as m
 from designer.project.checks import finite_issues
 from designer.project.declare import declared_field
 from designer.project.problems import Issue
-
-#: relative tolerance of "square pixels" (the same as designer.core.interior)
-SQUARE_PIXEL_RTOL = 1e-6
 
 
 def camera_issues(cam: m.Camera, resolution_scale: float = 1.0) -> list[Issue]:
@@ -69,6 +67,8 @@ def camera_issues(cam: m.Camera, resolution_scale: float = 1.0) -> list[Issue]:
 
 
 def _pixel_shape(cam: m.Camera) -> list[Issue]:
+    from designer.core.interior import SQUARE_PIXEL_RTOL  # numpy: loaded when checking
+
     pitch_x = cam.sensor_width_mm / cam.image_width_px
     pitch_y = cam.sensor_height_mm / cam.image_height_px
     if cam.pixel_aspect is None:
@@ -108,8 +108,7 @@ def _scaled_size(cam: m.Camera, scale: float) -> list[Issue]:
 
 def _core_model(cam: m.Camera) -> list[Issue]:
     """Build the core interior orientation; report what it refuses and lens folds."""
-    from designer.core.distortion import BrownConrady, FisheyeEquidistant
-    from designer.core.interior import InteriorOrientation
+    from designer.project.interiors import interior_from_camera
 
     d = cam.distortion
     tag = "brown-conrady" if isinstance(d, m.BrownConradyDistortion) else "fisheye-equidistant"
@@ -117,15 +116,8 @@ def _core_model(cam: m.Camera) -> list[Issue]:
     if issues:
         return [Issue(cam, tag, i.message, attr=i.attr) for i in issues]
     try:
-        core_d = None
-        if isinstance(d, m.BrownConradyDistortion):
-            core_d = BrownConrady(d.k1, d.k2, d.k3, d.p1, d.p2)
-        elif isinstance(d, m.FisheyeEquidistantDistortion):
-            core_d = FisheyeEquidistant(d.k1, d.k2, d.k3, d.k4)
-        io = InteriorOrientation(
-            cam.focal_length_mm, cam.sensor_width_mm, cam.sensor_height_mm,
-            cam.image_width_px, cam.image_height_px, cam.principal_point_x_mm,
-            cam.principal_point_y_mm, cam.pixel_aspect, core_d)
+        io = interior_from_camera(cam)
+        core_d = io.distortion
         problem = None if core_d is None else core_d.invertibility_problem(
             io.fx_px, io.fy_px, io.cx_px, io.cy_px, io.image_width_px, io.image_height_px)
     except DesignerError as error:

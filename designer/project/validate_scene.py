@@ -9,10 +9,6 @@ from pathlib import Path
 
 from designer.project import model as m
 from designer.project.checks import (
-    GRID_TOL,
-    MAX_TERRAIN_NODES,
-    MAX_TEXTURE_TEXELS,
-    MIN_TEXTURE_TEXELS,
     file_issue,
     finite_issues,
     is_ok,
@@ -30,6 +26,12 @@ from designer.project.files import (
     resolve,
 )
 from designer.project.problems import Issue
+from designer.project.scene_limits import (
+    GRID_TOL,
+    MAX_TERRAIN_NODES,
+    MAX_TEXTURE_TEXELS,
+    MIN_TEXTURE_TEXELS,
+)
 from designer.project.validate_buildings import building_issues
 
 

@@ -3,26 +3,13 @@ it and the image metadata that carries it (docs/world.md)."""
 
 from __future__ import annotations
 
-import datetime as _dt
 import math
 
 from designer.project import model as m
 from designer.project.declare import declared_field
 from designer.project.problems import Issue
+from designer.project.utc import EXAMPLE_UTC, parse_utc
 from designer.project.validate_declared import element_issues
-
-EXAMPLE_UTC = "2026-06-21T09:30:00Z"
-
-
-def parse_utc(text: str) -> _dt.datetime | None:
-    """The moment of an ISO 8601 text in UTC (aware datetime), or None if it is not one."""
-    try:
-        moment = _dt.datetime.fromisoformat(text.strip())
-    except ValueError:
-        return None
-    if moment.tzinfo is None or moment.utcoffset() != _dt.timedelta(0):
-        return None
-    return moment.astimezone(_dt.UTC)
 
 
 def trigger_distance_m(project: m.Project, plan: m.FlightPlan) -> float | None:

@@ -24,6 +24,7 @@ from designer.effects.motion import flight_direction_uv
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.interiors import render_interior
+from designer.project.utc import iso_utc
 from designer.render.blender_camera import blender_camera, blender_matrix_world
 from designer.render.job_files import save_npz, write_png
 from designer.render.job_light import (  # noqa: F401  (TARGET_*: part of the job's face)
@@ -56,7 +57,7 @@ from designer.scene.build import BuiltScene, build_scene
 from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_images
 from designer.survey.surroundings import project_surroundings
-from designer.survey.timeline import StationTime, iso_utc, project_station_times
+from designer.survey.timeline import StationTime, project_station_times
 
 #: the job's file of the varied ground texture baked into one image
 BAKED_TEXTURE = "texture_varied.png"

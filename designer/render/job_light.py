@@ -127,7 +127,7 @@ class ObjectLighting:
     def _cloudy_light(self, azimuth_deg: float, elevation_deg: float,
                       size: tuple[int, int], time_s: float) -> np.ndarray:
         """The light map with the direct sun dimmed by the cloud shadows at ``time_s``."""
-        from designer.scene.clouds import attenuation
+        from designer.scene.cloud_shadows import attenuation
 
         bakes = self._bakes
         key = (azimuth_deg, elevation_deg)

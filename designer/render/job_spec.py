@@ -1,7 +1,7 @@
 """The render job: the one typed interface between designer and its Blender workers.
 
 ``job.json`` is written by :mod:`designer.render.job` (a survey) or
-:mod:`designer.validate.jobs` (a validation scene) and read by the worker, the local
+:mod:`designer.experiments.jobs` (a validation scene) and read by the worker, the local
 runner, the cluster runner and the pipeline — always through :class:`RenderJob`, whose
 fields carry the only defaults. Everything in it is local (world − ``origin_world``):
 Blender stores float32. No bpy and no numpy here, so the worker and every reader load

@@ -229,7 +229,7 @@ def cloud_shadows_csv(clouds, prepared: PreparedJob) -> str:
     """Per image: its time (s after take-off; 0 without a time line: the clouds stay as
     at take-off), how far the shadows have drifted (m east, m north) and the clouds'
     parameters."""
-    from designer.scene.clouds import wind_shift_m
+    from designer.scene.cloud_shadows import wind_shift_m
 
     head = ("image,time_s,shift_east_m,shift_north_m,cover,size_m,softness_m,depth,"
             "wind_speed_m_s,wind_direction_deg,seed")

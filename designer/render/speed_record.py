@@ -11,35 +11,13 @@ import numpy as np
 from designer.render.job import PreparedJob
 from designer.render.runner import RenderReport
 from designer.survey.render_cost import (
-    ImageCost,
     fit_speed,
     frame_cpu_s,
+    image_costs,
     load_speed,
     refine,
     save_speed,
-    terrain_fractions,
 )
-
-
-def image_costs(prepared: PreparedJob, frames: list[int]) -> list[ImageCost]:
-    """The model's view of the job's frames ``frames``: size, samples, terrain share."""
-    fractions = np.ones(len(frames))
-    groups: dict[int, list[int]] = {}
-    for k, i in enumerate(frames):
-        groups.setdefault(id(prepared.interior_of(prepared.poses[i].image_name)), []).append(k)
-    hf = prepared.scene.heightfield
-    for members in groups.values():
-        poses = [prepared.poses[frames[k]] for k in members]
-        interior = prepared.interior_of(poses[0].image_name)
-        fractions[members] = terrain_fractions(
-            hf, np.array([p.C_world for p in poses]),
-            np.array([p.R_cam_to_world for p in poses]), interior)
-    spp = prepared.job.render.samples
-    out = []
-    for k, i in enumerate(frames):
-        W, H = prepared.job.frame_size_px(i)
-        out.append(ImageCost(W * H / 1e6, spp, float(fractions[k])))
-    return out
 
 
 def record_render_speed(prepared: PreparedJob, report: RenderReport,
@@ -57,7 +35,13 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
     frames = [i for i in timed if i not in report.first_frames] or timed
     cores = max(1, cores or os.cpu_count() or 1)
     workers = max(1, len(report.peak_rss_mb) or len(report.scene_seconds) or 1)
-    all_costs = dict(zip(timed, image_costs(prepared, timed), strict=True))
+    poses = [prepared.poses[i] for i in timed]
+    costs = image_costs(prepared.scene.heightfield,
+                        np.array([p.C_world for p in poses]).reshape(-1, 3),
+                        np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
+                        [prepared.interior_of(p.image_name) for p in poses],
+                        prepared.job.render.samples)
+    all_costs = dict(zip(timed, costs, strict=True))
     images = [all_costs[i] for i in frames]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
     post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0))

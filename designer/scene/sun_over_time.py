@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from designer.core.crs import crs_token
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.validate_world import EXAMPLE_UTC, parse_utc
+from designer.project.utc import EXAMPLE_UTC, parse_utc
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ import numpy as np
 
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.checks import VARIATION_MAX_PX
+from designer.project.scene_limits import VARIATION_MAX_PX
 from designer.scene.world_noise import octave_sum
 
 #: texels per wavelength of the finest octave

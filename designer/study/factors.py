@@ -163,7 +163,7 @@ def _with_sun_elevation(p: m.Project, value: float) -> m.Project:
 
 
 def _utc(text: str) -> str:
-    from designer.project.validate_world import EXAMPLE_UTC, parse_utc
+    from designer.project.utc import EXAMPLE_UTC, parse_utc
 
     if parse_utc(text) is None:
         raise ValueError(f"not an ISO 8601 moment in UTC; write e.g. {EXAMPLE_UTC}")

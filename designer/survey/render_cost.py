@@ -239,23 +239,41 @@ def render_workers(project, n_images: int, cores: int | None = None) -> int:
     return max(1, project.render.workers or default_workers(max(1, n_images), cores))
 
 
+def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
+                interiors: Sequence, samples: int) -> list[ImageCost]:
+    """The model's view of N images: size (megapixels of each image's rendered interior),
+    ``samples`` per pixel and the share of its pixels that see the terrain
+    (``terrain_fractions``). ``C_world`` (N, 3) m and ``R_cam_to_world`` (N, 3, 3) are the
+    images' poses, ``interiors`` their N rendered interior orientations; images sharing
+    one interior object are measured together."""
+    C_world, R_cam_to_world = np.asarray(C_world, float), np.asarray(R_cam_to_world, float)
+    groups: dict[int, list[int]] = {}
+    for k, interior in enumerate(interiors):
+        groups.setdefault(id(interior), []).append(k)
+    out: list[ImageCost | None] = [None] * len(interiors)
+    for members in groups.values():
+        interior = interiors[members[0]]
+        fractions = terrain_fractions(heightfield, C_world[members], R_cam_to_world[members],
+                                      interior)
+        W, H = interior.image_size_px
+        for k, f in zip(members, fractions, strict=True):
+            out[k] = ImageCost(W * H / 1e6, samples, float(f))
+    return out
+
+
 def project_image_costs(project, images, heightfield) -> list[ImageCost]:
-    """The model's view of every image of a project (``images``:
-    :func:`designer.survey.project_poses.project_images`), all cameras of a rig."""
+    """``image_costs`` of every image of a project (``images``:
+    :func:`designer.survey.project_poses.project_images`), all cameras of a rig, at the
+    project's samples per pixel."""
     from designer.project.interiors import render_interior
 
-    spp = project.render.effective_samples
-    out: list[ImageCost | None] = [None] * len(images.stations)
-    for camera_id in images.camera_order():
-        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
-        interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
-        st = [images.stations[i] for i in k]
-        fractions = terrain_fractions(heightfield, np.array([s.C_world for s in st]),
-                                      np.array([s.R_cam_to_world for s in st]), interior)
-        W, H = interior.image_size_px
-        for i, f in zip(k, fractions, strict=True):
-            out[i] = ImageCost(W * H / 1e6, spp, float(f))
-    return out
+    interiors = {c: render_interior(project.camera(c), project.render.resolution_scale)
+                 for c in images.camera_order()}
+    st = images.stations
+    return image_costs(heightfield, np.array([s.C_world for s in st]).reshape(-1, 3),
+                       np.array([s.R_cam_to_world for s in st]).reshape(-1, 3, 3),
+                       [interiors[c] for c in images.camera_ids],
+                       project.render.effective_samples)
 
 
 def format_duration(seconds: float) -> str:

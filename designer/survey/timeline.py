@@ -23,7 +23,7 @@ import numpy as np
 
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.validate_world import EXAMPLE_UTC, parse_utc
+from designer.project.utc import EXAMPLE_UTC, parse_utc
 from designer.survey.flight import Station
 
 
@@ -83,11 +83,6 @@ def project_station_times(project: m.Project, stations: Sequence[Station]
     times = station_times_s(stations, time_line, fixed)
     return [StationTime(st.image_name, float(t), takeoff + _dt.timedelta(seconds=float(t)))
             for st, t in zip(stations, times, strict=True)]
-
-
-def iso_utc(moment: _dt.datetime) -> str:
-    """ISO 8601 text of a UTC moment with microseconds and 'Z': 2026-06-21T09:30:04.250000Z."""
-    return moment.astimezone(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
 
 
 def station_velocities_m_s(stations: Sequence[Station], time_line: m.TimeLine) -> np.ndarray:

@@ -90,6 +90,23 @@ def test_terrain_fraction_of_an_image_half_over_the_edge():
     assert np.all(rc.terrain_fractions(None, C, np.array([R] * 3), interior) == 1.0)
 
 
+def test_image_costs_measure_each_image_with_its_own_interior():
+    hf = Heightfield(0.0, 0.0, 1.0, 1.0, np.zeros((101, 101)))  # 100 × 100 m, flat
+    big = InteriorOrientation(focal_length_mm=10.0, sensor_width_mm=10.0,
+                              sensor_height_mm=10.0, image_width_px=100, image_height_px=100)
+    small = InteriorOrientation(focal_length_mm=10.0, sensor_width_mm=10.0,
+                                sensor_height_mm=8.0, image_width_px=50, image_height_px=40)
+    R = np.array([np.eye(3)] * 3)
+    C = np.array([[50.0, 50.0, 40.0], [100.0, 50.0, 40.0], [300.0, 50.0, 40.0]])
+    costs = rc.image_costs(hf, C, R, [big, small, big], 16)
+    assert [c.megapixels for c in costs] == [0.01, 0.002, 0.01]
+    assert all(c.samples == 16 for c in costs)
+    fractions = [c.terrain_fraction for c in costs]
+    assert fractions[0] == pytest.approx(1.0)
+    assert fractions[1] == pytest.approx(0.5, abs=0.06)
+    assert fractions[2] == 0.0
+
+
 def test_durations_never_read_zero():
     assert rc.format_duration(0.2) == "1 s"
     assert rc.format_duration(45) == "45 s"

@@ -11,7 +11,7 @@ import pytest
 
 from designer.project import load_project
 from designer.project import model as m
-from designer.scene.clouds import attenuation, shadow_share
+from designer.scene.cloud_shadows import attenuation, shadow_share
 from designer.study.factors import DRAWS, FACTORS
 from tests.synthetic import assert_located_error, write_project_file
 from tests.world.helpers import timed_survey

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.validate.stats import correlations, summarise, variance_test
+from designer.experiments.stats import correlations, summarise, variance_test
 
 
 def test_summary_has_the_t_interval_of_the_mean():

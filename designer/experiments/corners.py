@@ -1,7 +1,7 @@
 """The corner detector: Harris corners, OpenCV sub-pixel refinement, nearest-neighbour match.
 
 The same detector measures the rendered cube images and the synthetic baseline
-(:mod:`designer.validate.synthetic`), so the two error distributions are comparable.
+(:mod:`designer.experiments.synthetic`), so the two error distributions are comparable.
 
 1. ``cv2.goodFeaturesToTrack`` with the Harris response (k = 0.04, 5 px block) finds
    candidates to the nearest pixel;

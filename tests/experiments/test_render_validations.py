@@ -10,11 +10,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from designer.validate.projection import IO_SETS, ProjectionConfig, run_projection
-from designer.validate.projection_report import write_projection_report
-from designer.validate.psf import PSFConfig, validate_psf
-from designer.validate.settings import RenderSettings, quality
-from designer.validate.texture import TextureConfig, validate_texture
+from designer.experiments.projection import IO_SETS, ProjectionConfig, run_projection
+from designer.experiments.projection_report import write_projection_report
+from designer.experiments.psf import PSFConfig, validate_psf
+from designer.experiments.settings import RenderSettings, quality
+from designer.experiments.texture import TextureConfig, validate_texture
 
 pytestmark = pytest.mark.blender
 

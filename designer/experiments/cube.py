@@ -20,9 +20,9 @@ import numpy as np
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
 from designer.core.rotation import rotation_from_quaternion
+from designer.experiments.jobs import MeshObject
 from designer.render.job_spec import MaterialSpec
 from designer.scene.texture import checkerboard_texture
-from designer.validate.jobs import MeshObject
 
 CUBE_SIZE_M = 10.0
 SQUARES = 10

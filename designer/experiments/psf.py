@@ -29,11 +29,11 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
+from designer.experiments import figures
+from designer.experiments.jobs import MeshObject, render_views
+from designer.experiments.report import Criterion, Report, write_report
+from designer.experiments.settings import RenderSettings, quality
 from designer.render.job_spec import MaterialSpec
-from designer.validate import figures
-from designer.validate.jobs import MeshObject, render_views
-from designer.validate.report import Criterion, Report, write_report
-from designer.validate.settings import RenderSettings, quality
 
 SIZE_PX = 33
 FOCAL_PX = 1000.0

@@ -27,10 +27,10 @@ from designer.core.interior import InteriorOrientation
 from designer.effects.resample import block_mean
 from designer.effects.srgb import decode_image, encode_image
 from designer.errors import DesignerError
+from designer.experiments.settings import RenderSettings
 from designer.render.blender_camera import blender_camera, blender_matrix_world
 from designer.render.job_spec import FrameSpec, MaterialSpec, MeshSpec, RenderJob
 from designer.render.runner import render_frames
-from designer.validate.settings import RenderSettings
 
 
 @dataclass(frozen=True)

@@ -7,17 +7,17 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from designer.validate import figures
-from designer.validate.corners import HALF_WINDOW_PX, MAX_MATCH_PX
-from designer.validate.cube import CUBE_SIZE_M, SQUARES
-from designer.validate.projection import (
+from designer.experiments import figures
+from designer.experiments.corners import HALF_WINDOW_PX, MAX_MATCH_PX
+from designer.experiments.cube import CUBE_SIZE_M, SQUARES
+from designer.experiments.projection import (
     ALPHA,
     MIN_CORNERS_PER_IMAGE,
     MIN_IMAGES_CAMERA_TEST,
     MIN_RELEVANT_R,
     ProjectionResult,
 )
-from designer.validate.report import Report, fmt_p, write_report
+from designer.experiments.report import Report, fmt_p, write_report
 
 
 def write_projection_report(result: ProjectionResult, out_dir: Path) -> dict:

@@ -1,14 +1,14 @@
 """Projection validation: do rendered checkerboard corners sit where the camera model says?
 
 Section 6.1 of the original study, in code. Images are rendered from random poses inside
-the checkerboard cube (:mod:`designer.validate.cube`) with cameras drawn from five
+the checkerboard cube (:mod:`designer.experiments.cube`) with cameras drawn from five
 interior orientations (:data:`IO_SETS`: focal length, sensor size, principal point
 offset). In every image the Harris detector with sub-pixel refinement
-(:mod:`designer.validate.corners`) finds the corners, which are matched to the corners
+(:mod:`designer.experiments.corners`) finds the corners, which are matched to the corners
 projected by ``designer.core.projection``. The differences in x, y and radius must have
 a mean of 0, no correlation with the position in the image, the radius or the camera,
 and a spread no larger than the detector's own on exactly area-sampled synthetic images
-of the same corners (:mod:`designer.validate.baseline`).
+of the same corners (:mod:`designer.experiments.baseline`).
 
 ``render_pp_error_px`` renders with the principal point moved by that many pixels from
 the one projected — a deliberate camera-mapping bug that the validation must catch.
@@ -25,9 +25,9 @@ import numpy as np
 
 from designer.core.interior import InteriorOrientation
 from designer.errors import DesignerError
-from designer.validate.baseline import BaselineResult, detector_baseline, local_affine
-from designer.validate.corners import Detector
-from designer.validate.cube import (
+from designer.experiments.baseline import BaselineResult, detector_baseline, local_affine
+from designer.experiments.corners import Detector
+from designer.experiments.cube import (
     CUBE_SIZE_M,
     SQUARES,
     cube_corners,
@@ -35,10 +35,10 @@ from designer.validate.cube import (
     measurable,
     random_poses,
 )
-from designer.validate.jobs import RenderedViews, render_views
-from designer.validate.report import Criterion
-from designer.validate.settings import RenderSettings, quality
-from designer.validate.stats import (
+from designer.experiments.jobs import RenderedViews, render_views
+from designer.experiments.report import Criterion
+from designer.experiments.settings import RenderSettings, quality
+from designer.experiments.stats import (
     Correlation,
     ErrorSummary,
     VarianceTest,

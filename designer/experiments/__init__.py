@@ -1,4 +1,4 @@
-"""Validation experiments: is what Cycles renders what the photogrammetric model says?
+"""Cycles validation experiments: is what Cycles renders what the photogrammetric model says?
 
 Three experiments after the original study (docs/validation.md), each a plain function
 returning its figures and pass/fail, wrapped by ``designer validate``:

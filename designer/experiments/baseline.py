@@ -5,7 +5,7 @@ rotation, scale, skew and foreshortening — of one corner measured in the rende
 images (the derivative of its wall's projection at that corner, computed from the
 camera model, not from the rendered pixels), moved by a random sub-pixel translation
 so that the corner lands anywhere on the pixel grid. The image is what a perfect
-renderer would write (:mod:`designer.validate.synthetic`: exact pixel areas, sRGB,
+renderer would write (:mod:`designer.experiments.synthetic`: exact pixel areas, sRGB,
 8 bits), so its corner error is the detector's alone, for the same corner geometries as
 the rendered ones. A variance test then asks whether the rendered error is larger.
 """
@@ -18,8 +18,8 @@ import numpy as np
 
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import R_cv_from_world
-from designer.validate.corners import Detector
-from designer.validate.synthetic import render
+from designer.experiments.corners import Detector
+from designer.experiments.synthetic import render
 
 SIZE_PX = 64
 

@@ -9,10 +9,10 @@ import pytest
 
 from designer.core.projection import project_points
 from designer.core.rotation import rotation_from_opk
-from designer.validate import psf, texture
-from designer.validate.baseline import local_affine
-from designer.validate.cube import cube_corners, cube_walls, measurable, random_poses
-from designer.validate.projection import IO_SETS
+from designer.experiments import psf, texture
+from designer.experiments.baseline import local_affine
+from designer.experiments.cube import cube_corners, cube_walls, measurable, random_poses
+from designer.experiments.projection import IO_SETS
 
 
 def test_cube_has_486_inner_corners_on_its_walls_at_texel_borders():

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from designer.bench.accuracy import eligible, suggested_presets
+from designer.experiments import texture
+from designer.experiments.jobs import render_views, scaled_interior, write_job
+from designer.experiments.settings import PLAIN_64, QUALITY_PRESETS, RenderSettings, quality
 from designer.render.blender_camera import blender_camera
 from designer.render.job_spec import AdaptiveSampling, RenderJob, RenderSpec
-from designer.validate import texture
-from designer.validate.jobs import render_views, scaled_interior, write_job
-from designer.validate.settings import PLAIN_64, QUALITY_PRESETS, RenderSettings, quality
 
 
 def test_job_render_section_and_labels():

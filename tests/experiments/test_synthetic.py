@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.validate.synthetic import coverage, random_board, render
+from designer.experiments.synthetic import coverage, random_board, render
 
 
 def supersampled(H, size, n=48):

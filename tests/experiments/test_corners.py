@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.validate.corners import Detector, match
-from designer.validate.synthetic import random_board, render
+from designer.experiments.corners import Detector, match
+from designer.experiments.synthetic import random_board, render
 
 
 def test_detector_is_unbiased_and_subpixel_on_exact_images():

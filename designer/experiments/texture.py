@@ -7,7 +7,7 @@ texel is seen as 100 × 100 px. The camera sits off the texel grid by a fraction
 pixel, so texel edges fall inside pixels, not on their borders.
 
 The expected image comes from the camera model alone: the plane's projection (a
-homography) mapped through exact pixel-area integration (:mod:`designer.validate.synthetic`)
+homography) mapped through exact pixel-area integration (:mod:`designer.experiments.synthetic`)
 or, without antialiasing, the texel under each pixel centre.
 
 * 'Closest' texture interpolation without antialiasing: every pixel is pure black or
@@ -31,13 +31,13 @@ import numpy as np
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import R_cv_from_world
 from designer.effects.srgb import decode_image, encode_image
+from designer.experiments import figures
+from designer.experiments.jobs import MeshObject, render_views
+from designer.experiments.report import Criterion, Report, write_report
+from designer.experiments.settings import RenderSettings, quality
+from designer.experiments.synthetic import coverage
 from designer.render.job_spec import MaterialSpec
 from designer.scene.texture import checkerboard_texture
-from designer.validate import figures
-from designer.validate.jobs import MeshObject, render_views
-from designer.validate.report import Criterion, Report, write_report
-from designer.validate.settings import RenderSettings, quality
-from designer.validate.synthetic import coverage
 
 TEXELS = 10
 TEXEL_M = 0.1
@@ -82,7 +82,7 @@ def image_from_board() -> np.ndarray:
 
     The texture's top-left texel is black and texel (row r, column c) white when r + c is
     odd; rows count down from v = 1 (north), so the texel at board (x, y) is white when
-    ⌊x⌋ + ⌊y⌋ is even — the complement of :func:`designer.validate.synthetic.coverage`.
+    ⌊x⌋ + ⌊y⌋ is even — the complement of :func:`designer.experiments.synthetic.coverage`.
     """
     C, R = pose()
     interior = camera()
