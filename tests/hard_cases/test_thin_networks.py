@@ -73,7 +73,7 @@ def test_flat_terrain_under_radial_self_calibration_measures_its_dome(flat_surve
     project, survey = flat_survey
     rec = designer("reconstruct", survey, "-o", tmp_path / "r", "--mode", "free",
                    "--calibration", "radial", "--gcps", "similarity", "--control", SPREAD,
-                   "--dense", "cpu")
+                   "--dense", "cpu", "--max-features", "4096")
     assert rec.returncode == 0 and "Traceback" not in rec.stderr, rec.stderr
     reported = re.search(r"dome amplitude ([+-]\d+\.\d+) m", rec.stdout)
     assert reported, rec.stdout
