@@ -62,7 +62,7 @@ def test_every_row_names_its_test_tolerance_and_how_it_was_checked():
         checked = row["Fails without the guard"]
         assert checked not in ("", "—") and "not re-checked" not in checked, case
     cases = " ".join(r["Case"] for r in rows)
-    for needed in ("N 9 999 000", "horizontally", "κ wrapping", "fisheye", "fold",
+    for needed in ("N 9 999 000", "horizontally", "κ wrapping", "Fisheye", "fold",
                    "1 mm and 50 cm GSD", "self-calibration", "collinear",
                    "One image, one flight line, zero overlap", "1° and 89°",
                    "rolling-shutter readout", "10 million points", "float32 at UTM",
@@ -84,3 +84,19 @@ def test_a_misspelt_test_name_is_caught(misspelt):
     assert missing_tests(misspelt) == [misspelt.strip("`")]
     real = misspelt.replace("hieght", "height").replace("test_no_such_file", "test_sun_extremes")
     assert missing_tests(real) == []
+
+
+def test_the_hard_cases_run_in_the_default_pytest():
+    """`python -m pytest` (what `make test` runs) collects tests/hard_cases: the test path
+    is the tests tree and no marker is deselected by default (blender and slow label)."""
+    import tomllib
+
+    settings = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["pytest"][
+        "ini_options"]
+    assert settings["testpaths"] == ["tests"]
+    options = settings.get("addopts", "").split()
+    assert "-m" not in options and not any(o.startswith(("-m=", "--deselect", "--ignore"))
+                                           for o in options), options
+    for conftest in (ROOT / "tests").rglob("conftest.py"):
+        text = conftest.read_text()
+        assert "collection_modifyitems" not in text and "hard_cases" not in text, conftest

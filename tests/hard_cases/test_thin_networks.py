@@ -13,14 +13,12 @@ import re
 import shutil
 import subprocess
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
-from designer.project import model as m
 from designer.render.pipeline import render_project
-from designer.study.templates import template_base
+from tests.hard_cases.scenes import flat_tiny
 from tests.synthetic import write_project_file
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
@@ -30,13 +28,6 @@ ROOT = Path(__file__).resolve().parents[2]
 COLLINEAR = "G01,G04,G06"
 #: five targets around the block: good control
 SPREAD = "G00,G02,G03,G05,G06"
-
-
-def flat_tiny() -> m.Project:
-    project = template_base("tiny")
-    E0, N0, H0 = project.origin.E0, project.origin.N0, project.origin.H0
-    terrain = m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.FlatTerrain(H0))
-    return replace(project, scene=replace(project.scene, terrain=terrain))
 
 
 def designer(*args, timeout=600) -> subprocess.CompletedProcess:

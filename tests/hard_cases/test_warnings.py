@@ -177,11 +177,9 @@ def test_heightfield_type_is_the_one_the_child_uses():
 def _thin(kind: str) -> m.Project:
     """One image; a flight plan over a 2 × 14 m strip (one line of 6 images); a plan with
     no overlap (2 images over the study template's 14 m block)."""
-    from tests.hard_cases.test_thin_networks import flat_tiny
-
     if kind == "one image":
         return scenes.tiny_survey(n_photos=1)
-    project = flat_tiny()
+    project = scenes.flat_tiny()
     plan = project.trajectory.flight_plan
     E0, N0 = project.origin.E0, project.origin.N0
     if kind == "one flight line":
