@@ -133,7 +133,7 @@ def coarse_warnings(cloud: PointCloud) -> list[str]:
     spacing = cloud.coordinate_spacing_m
     if spacing is None or spacing <= MAX_COORDINATE_SPACING_M:
         return []
-    return [f"the cloud's stored coordinates are spaced {spacing * 1000:.3g} mm apart "
+    return [f"the cloud's stored coordinates are spaced {spacing * 1000:.4g} mm apart "
             f"(> {MAX_COORDINATE_SPACING_M * 1000:g} mm): the distances include that "
             "quantisation"]
 

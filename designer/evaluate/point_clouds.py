@@ -152,7 +152,7 @@ def coarse_message(path: Path, xyz: np.ndarray, spacing_m: float, offset_hint=No
         rewrite = "write it with a scale of 0.001 m or finer"
     else:
         stored = (f"coordinates stored as float32 up to |{max_abs:.0f}| m, where float32 "
-                  f"spacing is {spacing_m * 1000:.3g} mm")
+                  f"spacing is {spacing_m * 1000:.4g} mm")
         rewrite = (f"write it in a local frame (coordinates minus an offset such as "
                    f"{hint_text}) and pass --offset {hint_text}, which is added in float64 "
                    "after reading, or give the tool's model instead (a COLMAP model folder "

@@ -226,4 +226,23 @@ def _lighting(light: m.Lighting) -> list[Issue]:
     if moment is not None and moment.tzinfo is None:
         out.append(Issue(sun, "sun-position", f"date-time '{sun.date_time}' has no time zone; "
                          "add one, e.g. +02:00 or Z for UTC", attr="date-time"))
+    elif moment is not None and -90 <= sun.latitude_deg <= 90 and \
+            -180 <= sun.longitude_deg <= 180:  # ranges: validate_declared
+        out += _sun_below_horizon(sun, moment)
     return out
+
+
+def _sun_below_horizon(sun: m.SunPosition, moment: datetime) -> list[Issue]:
+    """A sun at or below the horizon lights nothing directly: the light map would be sky
+    only, shadowless, silently unlike the day the file names (docs/hard-cases.md)."""
+    from astral import Observer
+    from astral.sun import elevation
+
+    observer = Observer(latitude=sun.latitude_deg, longitude=sun.longitude_deg)
+    height_deg = float(elevation(observer, moment))
+    if height_deg > 0:
+        return []
+    return [Issue(sun, "sun-position", f"the sun is {abs(height_deg):.1f}° below the horizon at "
+                  f"{sun.date_time} ({sun.latitude_deg}°, {sun.longitude_deg}°); give a "
+                  "moment in daylight, or a <sun> with elevation-deg above 0",
+                  attr="date-time")]

@@ -424,10 +424,34 @@ def _rolling_shutters(project: m.Project, images, times):
     if times is None:
         raise DesignerError(f"camera '{rolling[0]}' has a rolling shutter but the trajectory "
                             "has no <time-line>; add one or set readout-s 0")
+    _readout_within_frame_interval(shutters, images, times)
     from designer.survey.timeline import station_velocities_m_s
 
     platform = station_velocities_m_s(images.platform, project.trajectory.time_line)
     return frame_shutters, platform[np.asarray(images.station_index)]
+
+
+def _readout_within_frame_interval(shutters, images, times) -> None:
+    """DesignerError when a camera's readout is not shorter than the time between two of
+    its photos: its rows would still be read when the next exposure starts (validation
+    checks this against a declared trigger-interval-s; here, against the time line)."""
+    for cam, rs in shutters.items():
+        if rs is None:
+            continue
+        mine = [t for t, c in zip(times, images.camera_ids, strict=True) if c == cam]
+        seconds = np.unique([t.time_s for t in mine])  # a rig station's images: one time
+        if len(seconds) < 2:
+            continue
+        gaps = np.diff(seconds)
+        k = int(np.argmin(gaps))
+        if rs.readout_s >= gaps[k] * (1 - 1e-9):
+            first = next(t.image_name for t in mine if t.time_s == seconds[k])
+            second = next(t.image_name for t in mine if t.time_s == seconds[k + 1])
+            raise DesignerError(
+                f"camera '{cam}': readout-s {rs.readout_s:g} s is not shorter than the "
+                f"{gaps[k]:.3g} s between {first} and {second} on the time line; a frame "
+                "must be read before the next is taken: shorten the readout, fly slower or "
+                "space the photos further")
 
 
 def _matrix_rows(M: np.ndarray) -> tuple[tuple[float, ...], ...]:

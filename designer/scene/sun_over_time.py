@@ -68,8 +68,17 @@ def sun_at(moment: _dt.datetime, site: Site) -> tuple[float, float]:
 
 
 def suns_at(moments: Sequence[_dt.datetime], site: Site) -> list[tuple[float, float]]:
-    """The sun (grid azimuth, elevation; deg) at each moment."""
-    return [sun_at(t, site) for t in moments]
+    """The sun (grid azimuth, elevation; deg) at each moment; DesignerError when it is at
+    or below the horizon at one of them (a sky-lit, shadowless image, silently unlike the
+    moment named)."""
+    suns = [sun_at(t, site) for t in moments]
+    for t, (_, elevation_deg) in zip(moments, suns, strict=True):
+        if elevation_deg <= 0:
+            raise DesignerError(
+                f"sun-over-time: the sun is {abs(elevation_deg):.1f}° below the horizon at "
+                f"{t.isoformat()} ({site.latitude_deg:.4f}°, {site.longitude_deg:.4f}°); "
+                "move <time-line> takeoff-utc into daylight")
+    return suns
 
 
 def takeoff_sun(project: m.Project, sun: m.SunOverTime) -> tuple[float, float]:

@@ -177,7 +177,9 @@ def plan_study(study: Study) -> Plan:
             if problems:
                 raise _problem(study, study.base.where, "base-project", problems[0])
         variants.append((combo, project))
-    if len(variants) < 2:
+    # one combination is a study of one run (measured, no effect estimated); several
+    # that all collapse onto the base are a mistake
+    if len(variants) < 2 and len(combos) > 1:
         raise _problem(study, study.where, "study",
                        "the design is empty: every level equals the base project; give "
                        "levels that differ from it")

@@ -11,7 +11,10 @@ exact line — are refused where they are read or used).
   the other way, texels finer than a third of the GSD (the plan's aliasing warning,
   designer.survey.plan_report, reused);
 * a lens whose image corners come close to the radius where its radial map stops being
-  monotonic: undistortion magnifies pixel errors there.
+  monotonic: undistortion magnifies pixel errors there;
+* networks too thin for structure from motion: fewer than 3 images, every image on one
+  flight line, a front overlap under half the footprint (:func:`network_warnings`,
+  printed by ``designer plan`` too).
 """
 
 from __future__ import annotations
@@ -150,7 +153,7 @@ def texture_warnings(project: m.Project, gsd_min_m: float) -> list[HardCaseWarni
         return []
     # a result that carries only the texture: no footprint, ground or GCP figures
     texture_only = SimpleNamespace(project=project, footprint_m=(0.0, 0.0), ground=None,
-                                   analysis=SimpleNamespace(gcps=None))
+                                   stations=(), analysis=SimpleNamespace(gcps=None))
     out = [HardCaseWarning("texture", w, "see docs/hard-cases.md") for w in plan_warnings(
         texture_only, {"gsd_terrain_m": {"min": gsd_min_m}})]
     source = project.scene.texture.source
@@ -231,6 +234,38 @@ def distortion_warning(camera: m.Camera, resolution_scale: float = 1.0
         "corners")
 
 
+#: front overlap (%) below which consecutive images share less than half their footprint:
+#: few ground points are then seen by the 3 images a tie point needs along a line
+MIN_FRONT_OVERLAP_PERCENT = 50.0
+
+
+def network_warnings(project: m.Project, n_images: int, line_indices) -> list[HardCaseWarning]:
+    """The image network against what SfM needs: ``n_images`` images taken at platform
+    stations on the flight lines ``line_indices`` (−1: an explicit photo)."""
+    out = []
+    if n_images < 3:
+        out.append(HardCaseWarning(
+            "trajectory", f"{n_images} image{'s' if n_images != 1 else ''}: structure from "
+            "motion needs at least 3 overlapping images (designer reconstruct refuses fewer)",
+            "add photos, or fly a <flight-plan> over the area"))
+    lines = {int(k) for k in line_indices}
+    if n_images >= 3 and len(lines) == 1 and min(lines) >= 0:
+        out.append(HardCaseWarning(
+            "flight-plan", f"all {n_images} images lie on one flight line: no side overlap, "
+            "the block rests on one strip and control along it is nearly collinear (its roll "
+            "about the line is weakly determined)",
+            "fly a second line (widen the area or raise side-overlap-percent), or place "
+            "control on both sides of the line"))
+    plan = project.trajectory.flight_plan
+    if plan is not None and plan.front_overlap_percent < MIN_FRONT_OVERLAP_PERCENT:
+        out.append(HardCaseWarning(
+            "flight-plan", f"front overlap {plan.front_overlap_percent:g} %: consecutive "
+            "images share less than half their footprint, so few ground points are seen by "
+            "the 3 images a tie point needs",
+            "raise front-overlap-percent to 60 or more"))
+    return out
+
+
 def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarning]:
     """Every warning of this module for ``project`` (files relative to ``base_dir``)."""
     from designer.scene.build import build_heightfield, build_targets
@@ -248,6 +283,8 @@ def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarni
         return out
     if warning is not None:
         out.append(warning)
+    out += network_warnings(project, len(images.stations),
+                            [images.platform[k].line_index for k in images.station_index])
     if len(images.stations):
         out += texture_warnings(project, finest_gsd_m(project, hf, images))
     return out

@@ -220,6 +220,12 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
                if result.analysis.gcps.counts[k] < 3]
         if few:
             warnings.append(f"GCPs seen by fewer than 3 images: {', '.join(few)}")
+    if result.stations:  # a result for the texture only has none
+        from designer.survey.hard_cases import network_warnings
+
+        n = result.n_images_all_cameras or len(result.stations)
+        warnings += [f"{w.message}; {w.fix}" for w in network_warnings(
+            result.project, n, [s.line_index for s in result.stations])]
     return warnings
 
 

@@ -125,3 +125,14 @@ def collinear_control(width_m: float) -> m.Project:
     spots = [(-10.0, width_m), (-5.0, -width_m), (0.0, 0.0), (5.0, width_m),
              (10.0, -width_m), (-10.0, 10.0), (10.0, 10.0), (-10.0, -10.0), (10.0, -10.0)]
     return with_targets(base, spots, control={0, 1, 2, 3, 4})
+
+
+def flat_tiny() -> m.Project:
+    """The study template "tiny" (18 images of 160 × 120 px from 12 m over a 14 m block,
+    GSD 10 cm, 10 GCP targets G00…G09) over flat ground."""
+    from designer.study.templates import template_base
+
+    project = template_base("tiny")
+    E0, N0, H0 = project.origin.E0, project.origin.N0, project.origin.H0
+    terrain = m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.FlatTerrain(H0))
+    return replace(project, scene=replace(project.scene, terrain=terrain))

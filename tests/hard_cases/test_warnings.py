@@ -171,3 +171,47 @@ def test_a_horizontal_ray_over_a_height_field_ends():
 
 def test_heightfield_type_is_the_one_the_child_uses():
     assert Heightfield.__module__ == "designer.core.heightfield"
+
+
+# ------------------------------------------------------------------ thin networks
+def _thin(kind: str) -> m.Project:
+    """One image; a flight plan over a 2 × 14 m strip (one line of 6 images); a plan with
+    no overlap (2 images over the study template's 14 m block)."""
+    if kind == "one image":
+        return scenes.tiny_survey(n_photos=1)
+    project = scenes.flat_tiny()
+    plan = project.trajectory.flight_plan
+    E0, N0 = project.origin.E0, project.origin.N0
+    if kind == "one flight line":
+        plan = replace(plan, area=((E0 - 1, N0 - 7), (E0 + 1, N0 - 7), (E0 + 1, N0 + 7),
+                                   (E0 - 1, N0 + 7)))
+    else:
+        plan = replace(plan, front_overlap_percent=0.0, side_overlap_percent=0.0)
+    return replace(project, trajectory=m.Trajectory(flight_plan=plan))
+
+
+THIN = {
+    "one image": ["<trajectory>: 1 image: structure from motion needs at least 3 "
+                  "overlapping images"],
+    "one flight line": ["<flight-plan>: all 6 images lie on one flight line: no side overlap"],
+    "zero overlap": ["<trajectory>: 2 images: structure from motion needs at least 3",
+                     "<flight-plan>: front overlap 0 %: consecutive images share less than "
+                     "half their footprint"],
+}
+
+
+@pytest.mark.parametrize("kind", list(THIN))
+def test_check_and_plan_warn_of_a_network_too_thin_for_sfm(tmp_path, capsys, kind):
+    err = _check(tmp_path, _thin(kind), capsys)
+    for expected in THIN[kind]:
+        assert any(expected in line for line in err), err
+    path = tmp_path / "project.xml"
+    assert main(["plan", str(path)]) == 0
+    out = capsys.readouterr().out
+    for expected in THIN[kind]:
+        assert f"  warning: {expected.split('>: ', 1)[1]}" in out, out
+
+
+def test_a_thick_network_has_no_network_warning(tmp_path, capsys):
+    err = _check(tmp_path, scenes.tiny_survey(n_photos=6), capsys)
+    assert not [e for e in err if "<trajectory>" in e or "<flight-plan>" in e], err
