@@ -38,7 +38,12 @@ from designer.render.job import PreparedJob, prepare_job
 from designer.render.manifest import Manifest
 from designer.render.provenance import job_provenance
 from designer.render.readme import write_readme
-from designer.render.runner import ProgressCallback, RenderReport, render_frames
+from designer.render.runner import (
+    ProgressCallback,
+    RenderReport,
+    image_size_px,
+    render_frames,
+)
 from designer.render.void_share import VoidSummary
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
@@ -299,7 +304,7 @@ def render_project(
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     prepared = prepare_job(project, project_path.parent, out_dir, quality)
-    provenance = job_provenance(prepared.job, prepared.job_path.parent)
+    provenance = job_provenance(prepared.job, prepared.job_path.parent, project)
     prepare_seconds = time.perf_counter() - t0
     wanted = parse_frames(frames, len(prepared.poses))
     manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
@@ -319,7 +324,8 @@ def render_project(
     move_old_layout_images(out_dir, names.values())
     images = Path(prepared.job.output_dir)
     # complete-looking images rendered from other inputs (or with no record of them)
-    stale = {i: manifest.changed_parts(i) for i in wanted if (images / names[i]).is_file()}
+    stale = {i: manifest.changed_parts(i, image_size_px(images / names[i]))
+             for i in wanted if (images / names[i]).is_file()}
     stale = {i: parts for i, parts in stale.items() if parts}
 
     def keep(index: int) -> bool:
