@@ -63,11 +63,16 @@ def run(args) -> int:
                                  resume=args.resume, progress=reporter,
                                  scheduler=args.scheduler, colmap_offset=args.colmap_offset)
     except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: the workers are stopped
+        from designer.render.pipeline import continue_hint
+
         images = args.output / "images"
-        kept = sum(1 for p in images.iterdir() if p.is_file()) if images.is_dir() else 0
         why = f" by {stop.args[0]}" if stop.args else ""
-        print(f"designer: interrupted{why}: {kept} finished images kept in {images}; run "
-              "the same command with --resume to render only the rest", file=sys.stderr)
+        kept = getattr(stop, "kept", None)
+        if kept is not None:  # counted against the project: up to date apart from stale
+            said = f"in {images}: {kept.text(args.resume)}"
+        else:  # stopped while the job was prepared: nothing was rendered
+            said = f"no image rendered; {continue_hint(args.resume)}"
+        print(f"designer: interrupted{why}: {said}", file=sys.stderr)
         return 130
     finally:
         reporter.close()

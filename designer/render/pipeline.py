@@ -67,6 +67,68 @@ class RenderSummary:
         return Path(self.prepared.job.output_dir)
 
 
+@dataclass(frozen=True)
+class ImagesKept:
+    """What a stopped render leaves in its images folder, image by image: up to date
+    (rendered from the project as it is now; ``rendered_now`` of them by the stopped
+    run), out of date (on disk, rendered from other inputs: replaced when rendered
+    again) and not rendered."""
+
+    total: int
+    up_to_date: int
+    rendered_now: int
+    out_of_date: int
+    not_rendered: int
+
+    def text(self, resume: bool, *, resume_option: str = "--resume",
+             rerun: str = "run the same command") -> str:
+        """One line: the counts, then how to continue. ``resume``: whether the stopped
+        run had resume on (then the same run continues); ``resume_option`` and
+        ``rerun`` name the option and the action in the caller's words (the Render
+        panel: "'resume' ticked", "start the render")."""
+        parts = [f"{self.up_to_date} of {self.total} images up to date "
+                 f"({self.rendered_now} rendered by this run)"]
+        if self.out_of_date:
+            parts.append(f"{self.out_of_date} out of date (rendered from other inputs, "
+                         "replaced when rendered again)")
+        if self.not_rendered:
+            parts.append(f"{self.not_rendered} not rendered")
+        return "; ".join(parts) + "; " + continue_hint(resume, resume_option=resume_option,
+                                                       rerun=rerun)
+
+    def to_json(self) -> dict:
+        return {"total": self.total, "up_to_date": self.up_to_date,
+                "rendered_now": self.rendered_now, "out_of_date": self.out_of_date,
+                "not_rendered": self.not_rendered}
+
+
+def continue_hint(resume: bool, *, resume_option: str = "--resume",
+                  rerun: str = "run the same command") -> str:
+    """How to continue a stopped render: with resume on, the same run again; without,
+    the same run with resume on (only then are finished images kept)."""
+    if resume:
+        return f"{rerun} again to render only the rest"
+    return f"{rerun} with {resume_option} to render only the rest"
+
+
+def images_kept(manifest: Manifest, wanted_names: dict[int, str], images: Path,
+                rendered_now: int) -> ImagesKept:
+    """Count the images folder against the manifest: an image is up to date when its
+    file is there and its record's inputs are the project's now (the file is renamed in
+    only when complete, and its size is part of those inputs: nothing is decoded)."""
+    up_to_date = out_of_date = 0
+    for index, name in wanted_names.items():
+        if not (images / name).is_file():
+            continue
+        if manifest.changed_parts(index):
+            out_of_date += 1
+        else:
+            up_to_date += 1
+    total = len(wanted_names)
+    return ImagesKept(total, up_to_date, rendered_now, out_of_date,
+                      total - up_to_date - out_of_date)
+
+
 def parse_frames(text: str | None, n_frames: int) -> list[int]:
     """'0-99,120' → [0, …, 99, 120]; None → every frame. Indices are 0-based."""
     if text is None:
@@ -362,6 +424,12 @@ def render_project(
                                    workers=workers or project.render.workers,
                                    resume=resume, progress=record, keep=keep,
                                    keep_raw=keep_raw)
+    except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: say what is kept
+        stop.kept = images_kept(manifest, {i: names[i] for i in wanted}, images,
+                                len(measured.rendered))
+        if progress is not None:
+            progress({"event": "interrupted", **stop.kept.to_json(), "resume": resume})
+        raise
     finally:
         if not scheduler and raw_from is None:  # a cluster's machines are not this one
             measured.wall_seconds = time.perf_counter() - t_render
