@@ -78,9 +78,8 @@ def run(args) -> int:
         reporter.close()
     report = summary.report
     n = len(report.rendered)
-    per_image = f" ({report.wall_seconds / n:.1f} s per image)" if n else ""
     print(f"{args.output}: {n} images rendered, {len(report.skipped)} already complete "
-          f"and up to date, in {report.wall_seconds:.1f} s{per_image}; images in "
+          f"and up to date, {summary.times.text()}; images in "
           f"{args.output / 'images'}, ground truth in {args.output / 'ground-truth'}, "
           f"which file each program takes in {args.output / 'README.txt'}")
     if summary.stale:

@@ -145,7 +145,11 @@ class Manifest:
         """How long writing the ground truth (tables, masks) took in this run."""
         self.data["ground_truth_seconds"] = round(seconds, 3)
 
-    def finish(self, report: RenderReport) -> Path:
+    def finish(self, report: RenderReport, times=None) -> Path:
+        """The run's last record: its report and its timings
+        (:class:`designer.render.timing.RenderTimes`, ``times_last_run``)."""
+        if times is not None:
+            self.data["times_last_run"] = times.to_json()
         if report.blender_version:
             self.data["blender_version"] = report.blender_version
         self.data.update(scene_build_seconds=report.scene_seconds,

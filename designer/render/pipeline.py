@@ -44,6 +44,7 @@ from designer.render.runner import (
     image_size_px,
     render_frames,
 )
+from designer.render.timing import RenderTimes
 from designer.render.void_share import VoidSummary
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
@@ -60,6 +61,8 @@ class RenderSummary:
     stale: dict[int, list[str]] = field(default_factory=dict)
     #: the void of the folder's images (the manifest's ``void``: this run's and earlier)
     void: VoidSummary | None = None
+    #: this run's timings, each named for what it counts
+    times: RenderTimes | None = None
 
     @property
     def images_dir(self) -> Path:
@@ -360,20 +363,21 @@ def render_project(
     scene, poses and camera, through this project's camera effects
     (:func:`designer.render.effects_job.apply_effects_pass`).
     """
+    t_command = time.perf_counter()
     project_path = Path(project_path).resolve()
     project = load_project(project_path)
     out_dir = Path(out_dir).resolve()  # tasks on cluster workers resolve nothing themselves
     out_dir.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
     prepared = prepare_job(project, project_path.parent, out_dir, quality)
     provenance = job_provenance(prepared.job, prepared.job_path.parent, project)
-    prepare_seconds = time.perf_counter() - t0
+    prepare_seconds = time.perf_counter() - t_command
     wanted = parse_frames(frames, len(prepared.poses))
     manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
                         crs=project.crs)
     t_truth = time.perf_counter()
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
-    manifest.ground_truth_seconds(time.perf_counter() - t_truth)
+    truth_seconds = time.perf_counter() - t_truth
+    manifest.ground_truth_seconds(truth_seconds)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
     # the readout ODM is told: the first rolling-shutter image's
@@ -434,7 +438,11 @@ def render_project(
         if not scheduler and raw_from is None:  # a cluster's machines are not this one
             measured.wall_seconds = time.perf_counter() - t_render
             _record_speed(prepared, measured, prepare_seconds)
-    manifest_path = manifest.finish(report)
+    times = RenderTimes.measured(report, time.perf_counter() - t_command, prepare_seconds,
+                                 truth_seconds)
+    manifest_path = manifest.finish(report, times)
+    if progress is not None:
+        progress({"event": "finished", **times.to_json()})
     if report.failed:
         raise DesignerError(
             f"{len(report.failed)} of {len(wanted)} images failed twice (frames "
@@ -442,4 +450,5 @@ def render_project(
             "--resume to retry only those")
     resumed = [i for i in stale if resume and i in report.rendered]
     return RenderSummary(out_dir, prepared, report, ground_truth, manifest_path,
-                         stale={i: stale[i] for i in resumed}, void=manifest.void_summary())
+                         stale={i: stale[i] for i in resumed}, void=manifest.void_summary(),
+                         times=times)
