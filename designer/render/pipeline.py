@@ -323,7 +323,8 @@ def image_times(prepared: PreparedJob) -> list[ImageTime] | None:
                                  strict=True)]
 
 
-def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: float) -> None:
+def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: float,
+                  project=None) -> None:
     """Refine this machine's render-time coefficients from the run (the next estimate
     uses them); a cache folder that cannot be written, or frames the model cannot read
     (a ray grid through a lens it cannot invert), cost only that refinement, with a
@@ -333,7 +334,7 @@ def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: 
     from designer.render.speed_record import record_render_speed
 
     try:
-        record_render_speed(prepared, report, prepare_seconds)
+        record_render_speed(prepared, report, prepare_seconds, project=project)
     except (OSError, ValueError, ArithmeticError, DesignerError) as error:
         # the images are done: bookkeeping of the speed must not fail the render
         print(f"designer: warning: render speed not recorded ({error})", file=sys.stderr)
@@ -437,7 +438,7 @@ def render_project(
     finally:
         if not scheduler and raw_from is None:  # a cluster's machines are not this one
             measured.wall_seconds = time.perf_counter() - t_render
-            _record_speed(prepared, measured, prepare_seconds)
+            _record_speed(prepared, measured, prepare_seconds, project)
     times = RenderTimes.measured(report, time.perf_counter() - t_command, prepare_seconds,
                                  truth_seconds)
     manifest_path = manifest.finish(report, times)
