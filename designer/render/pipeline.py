@@ -391,9 +391,11 @@ def render_project(
     move_old_layout_images(out_dir, names.values())
     images = Path(prepared.job.output_dir)
     # complete-looking images rendered from other inputs (or with no record of them)
+    stale = {i: manifest.changed_parts(i) for i in wanted if (images / names[i]).is_file()}
+    # the file's size (a decode) only for those: an image whose inputs are unchanged has
+    # the size they give
     stale = {i: manifest.changed_parts(i, image_size_px(images / names[i]))
-             for i in wanted if (images / names[i]).is_file()}
-    stale = {i: parts for i, parts in stale.items() if parts}
+             for i, parts in stale.items() if parts}
 
     def keep(index: int) -> bool:
         return index not in stale
