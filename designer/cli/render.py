@@ -63,19 +63,23 @@ def run(args) -> int:
                                  resume=args.resume, progress=reporter,
                                  scheduler=args.scheduler, colmap_offset=args.colmap_offset)
     except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: the workers are stopped
+        from designer.render.pipeline import continue_hint
+
         images = args.output / "images"
-        kept = sum(1 for p in images.iterdir() if p.is_file()) if images.is_dir() else 0
         why = f" by {stop.args[0]}" if stop.args else ""
-        print(f"designer: interrupted{why}: {kept} finished images kept in {images}; run "
-              "the same command with --resume to render only the rest", file=sys.stderr)
+        kept = getattr(stop, "kept", None)
+        if kept is not None:  # counted against the project: up to date apart from stale
+            said = f"in {images}: {kept.text(args.resume)}"
+        else:  # stopped while the job was prepared: nothing was rendered
+            said = f"no image rendered; {continue_hint(args.resume)}"
+        print(f"designer: interrupted{why}: {said}", file=sys.stderr)
         return 130
     finally:
         reporter.close()
     report = summary.report
     n = len(report.rendered)
-    per_image = f" ({report.wall_seconds / n:.1f} s per image)" if n else ""
     print(f"{args.output}: {n} images rendered, {len(report.skipped)} already complete "
-          f"and up to date, in {report.wall_seconds:.1f} s{per_image}; images in "
+          f"and up to date, {summary.times.text()}; images in "
           f"{args.output / 'images'}, ground truth in {args.output / 'ground-truth'}, "
           f"which file each program takes in {args.output / 'README.txt'}")
     if summary.stale:

@@ -22,7 +22,12 @@ from designer.core.layout import (
 )
 from designer.errors import DesignerError
 from designer.render.manifest import read_manifest
-from designer.render.provenance import describe_parts, ground_truth_digest, job_provenance
+from designer.render.provenance import (
+    describe_parts,
+    ground_truth_digest,
+    job_provenance,
+    size_reason,
+)
 
 
 @dataclass(frozen=True)
@@ -93,7 +98,7 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
     from designer.project import load_project
     from designer.render.job import prepare_job
     from designer.render.pipeline import write_ground_truth
-    from designer.render.runner import image_is_complete
+    from designer.render.runner import image_size_px
 
     out_dir = Path(out_dir)
     manifest = read_manifest(out_dir)
@@ -114,7 +119,7 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
     with tempfile.TemporaryDirectory(prefix="designer-check-") as tmp:
         scratch = Path(tmp)
         prepared = prepare_job(project, Path(project_path).parent, scratch, quality)
-        provenance = job_provenance(prepared.job, prepared.job_path.parent)
+        provenance = job_provenance(prepared.job, prepared.job_path.parent, project)
         offset = (manifest.get("ground_truth") or {}).get("colmap_offset") or "local"
         write_ground_truth(project, prepared, scratch, str(offset))
         truth_now = ground_truth_digest(scratch / GROUND_TRUTH_DIR)
@@ -125,14 +130,17 @@ def check_output(out_dir: Path, project_path: Path | None = None, *,
     folder = images_dir(out_dir)
     for index, name in sorted(job.image_names.items()):
         path = folder / name
-        if not image_is_complete(path, *job.frame_size_px(index)):
+        size_px = image_size_px(path)
+        if size_px is None:  # not there, or not readable
             status.missing.append(name)
             continue
         inputs = (images.get(name) or {}).get("inputs")
-        if inputs and inputs.get("digest") == provenance[index].digest:
+        if (inputs and inputs.get("digest") == provenance[index].digest
+                and size_px == tuple(job.frame_size_px(index))):
             status.up_to_date.append(name)
         else:
-            status.stale[name] = provenance[index].changed_parts(inputs)
+            status.stale[name] = provenance[index].changed_parts(inputs, size_px) or [
+                size_reason(size_px, job.frame_size_px(index))]
     names = set(job.image_names.values())
     if folder.is_dir():
         status.extra.extend(sorted(p.name for p in folder.iterdir()

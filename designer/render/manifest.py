@@ -89,14 +89,22 @@ class Manifest:
             self.data["image_size_px_by_camera"] = {
                 c: list(i.image_size_px) for c, i in prepared.cameras.interiors.items()}
 
-    def changed_parts(self, index: int) -> list[str]:
-        """What changed since the image of frame ``index`` was rendered ([] = nothing)."""
+    def changed_parts(self, index: int, size_on_disk_px: tuple[int, int] | None = None
+                      ) -> list[str]:
+        """What changed since the image of frame ``index`` was rendered ([] = nothing);
+        ``size_on_disk_px``: the (W, H) of its file now (a size the job no longer makes
+        is a change even when the record is lost)."""
+        from designer.render.provenance import size_reason
+
         name = self.prepared.job.image_names[index]
         inputs = self.recorded.get(name, {}).get("inputs")
         current = self.provenance[index]
-        if inputs and inputs.get("digest") == current.digest:
+        size_now = tuple(self.prepared.job.frame_size_px(index))
+        sized = size_on_disk_px is not None and tuple(size_on_disk_px) != size_now
+        if inputs and inputs.get("digest") == current.digest and not sized:
             return []
-        return current.changed_parts(inputs)
+        return (current.changed_parts(inputs, size_on_disk_px)
+                or [size_reason(size_on_disk_px, size_now)])
 
     def ground_truth_written(self, colmap_offset: str = "local") -> None:
         """Record the ground truth's digest and the COLMAP model's offset: ``colmap_offset``
@@ -137,7 +145,11 @@ class Manifest:
         """How long writing the ground truth (tables, masks) took in this run."""
         self.data["ground_truth_seconds"] = round(seconds, 3)
 
-    def finish(self, report: RenderReport) -> Path:
+    def finish(self, report: RenderReport, times=None) -> Path:
+        """The run's last record: its report and its timings
+        (:class:`designer.render.timing.RenderTimes`, ``times_last_run``)."""
+        if times is not None:
+            self.data["times_last_run"] = times.to_json()
         if report.blender_version:
             self.data["blender_version"] = report.blender_version
         self.data.update(scene_build_seconds=report.scene_seconds,

@@ -38,7 +38,13 @@ from designer.render.job import PreparedJob, prepare_job
 from designer.render.manifest import Manifest
 from designer.render.provenance import job_provenance
 from designer.render.readme import write_readme
-from designer.render.runner import ProgressCallback, RenderReport, render_frames
+from designer.render.runner import (
+    ProgressCallback,
+    RenderReport,
+    image_size_px,
+    render_frames,
+)
+from designer.render.timing import RenderTimes
 from designer.render.void_share import VoidSummary
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
@@ -55,11 +61,75 @@ class RenderSummary:
     stale: dict[int, list[str]] = field(default_factory=dict)
     #: the void of the folder's images (the manifest's ``void``: this run's and earlier)
     void: VoidSummary | None = None
+    #: this run's timings, each named for what it counts
+    times: RenderTimes | None = None
 
     @property
     def images_dir(self) -> Path:
         """OUT/images: the rendered images and nothing else."""
         return Path(self.prepared.job.output_dir)
+
+
+@dataclass(frozen=True)
+class ImagesKept:
+    """What a stopped render leaves in its images folder, image by image: up to date
+    (rendered from the project as it is now; ``rendered_now`` of them by the stopped
+    run), out of date (on disk, rendered from other inputs: replaced when rendered
+    again) and not rendered."""
+
+    total: int
+    up_to_date: int
+    rendered_now: int
+    out_of_date: int
+    not_rendered: int
+
+    def text(self, resume: bool, *, resume_option: str = "--resume",
+             rerun: str = "run the same command") -> str:
+        """One line: the counts, then how to continue. ``resume``: whether the stopped
+        run had resume on (then the same run continues); ``resume_option`` and
+        ``rerun`` name the option and the action in the caller's words (the Render
+        panel: "'resume' ticked", "start the render")."""
+        parts = [f"{self.up_to_date} of {self.total} images up to date "
+                 f"({self.rendered_now} rendered by this run)"]
+        if self.out_of_date:
+            parts.append(f"{self.out_of_date} out of date (rendered from other inputs, "
+                         "replaced when rendered again)")
+        if self.not_rendered:
+            parts.append(f"{self.not_rendered} not rendered")
+        return "; ".join(parts) + "; " + continue_hint(resume, resume_option=resume_option,
+                                                       rerun=rerun)
+
+    def to_json(self) -> dict:
+        return {"total": self.total, "up_to_date": self.up_to_date,
+                "rendered_now": self.rendered_now, "out_of_date": self.out_of_date,
+                "not_rendered": self.not_rendered}
+
+
+def continue_hint(resume: bool, *, resume_option: str = "--resume",
+                  rerun: str = "run the same command") -> str:
+    """How to continue a stopped render: with resume on, the same run again; without,
+    the same run with resume on (only then are finished images kept)."""
+    if resume:
+        return f"{rerun} again to render only the rest"
+    return f"{rerun} with {resume_option} to render only the rest"
+
+
+def images_kept(manifest: Manifest, wanted_names: dict[int, str], images: Path,
+                rendered_now: int) -> ImagesKept:
+    """Count the images folder against the manifest: an image is up to date when its
+    file is there and its record's inputs are the project's now (the file is renamed in
+    only when complete, and its size is part of those inputs: nothing is decoded)."""
+    up_to_date = out_of_date = 0
+    for index, name in wanted_names.items():
+        if not (images / name).is_file():
+            continue
+        if manifest.changed_parts(index):
+            out_of_date += 1
+        else:
+            up_to_date += 1
+    total = len(wanted_names)
+    return ImagesKept(total, up_to_date, rendered_now, out_of_date,
+                      total - up_to_date - out_of_date)
 
 
 def parse_frames(text: str | None, n_frames: int) -> list[int]:
@@ -253,7 +323,8 @@ def image_times(prepared: PreparedJob) -> list[ImageTime] | None:
                                  strict=True)]
 
 
-def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: float) -> None:
+def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: float,
+                  project=None) -> None:
     """Refine this machine's render-time coefficients from the run (the next estimate
     uses them); a cache folder that cannot be written, or frames the model cannot read
     (a ray grid through a lens it cannot invert), cost only that refinement, with a
@@ -263,7 +334,7 @@ def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: 
     from designer.render.speed_record import record_render_speed
 
     try:
-        record_render_speed(prepared, report, prepare_seconds)
+        record_render_speed(prepared, report, prepare_seconds, project=project)
     except (OSError, ValueError, ArithmeticError, DesignerError) as error:
         # the images are done: bookkeeping of the speed must not fail the render
         print(f"designer: warning: render speed not recorded ({error})", file=sys.stderr)
@@ -293,20 +364,21 @@ def render_project(
     scene, poses and camera, through this project's camera effects
     (:func:`designer.render.effects_job.apply_effects_pass`).
     """
+    t_command = time.perf_counter()
     project_path = Path(project_path).resolve()
     project = load_project(project_path)
     out_dir = Path(out_dir).resolve()  # tasks on cluster workers resolve nothing themselves
     out_dir.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
     prepared = prepare_job(project, project_path.parent, out_dir, quality)
-    provenance = job_provenance(prepared.job, prepared.job_path.parent)
-    prepare_seconds = time.perf_counter() - t0
+    provenance = job_provenance(prepared.job, prepared.job_path.parent, project)
+    prepare_seconds = time.perf_counter() - t_command
     wanted = parse_frames(frames, len(prepared.poses))
     manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
                         crs=project.crs)
     t_truth = time.perf_counter()
     ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
-    manifest.ground_truth_seconds(time.perf_counter() - t_truth)
+    truth_seconds = time.perf_counter() - t_truth
+    manifest.ground_truth_seconds(truth_seconds)
     manifest.ground_truth_written(colmap_offset)
     names = prepared.job.image_names
     # the readout ODM is told: the first rolling-shutter image's
@@ -320,7 +392,10 @@ def render_project(
     images = Path(prepared.job.output_dir)
     # complete-looking images rendered from other inputs (or with no record of them)
     stale = {i: manifest.changed_parts(i) for i in wanted if (images / names[i]).is_file()}
-    stale = {i: parts for i, parts in stale.items() if parts}
+    # the file's size (a decode) only for those: an image whose inputs are unchanged has
+    # the size they give
+    stale = {i: manifest.changed_parts(i, image_size_px(images / names[i]))
+             for i, parts in stale.items() if parts}
 
     def keep(index: int) -> bool:
         return index not in stale
@@ -356,11 +431,21 @@ def render_project(
                                    workers=workers or project.render.workers,
                                    resume=resume, progress=record, keep=keep,
                                    keep_raw=keep_raw)
+    except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: say what is kept
+        stop.kept = images_kept(manifest, {i: names[i] for i in wanted}, images,
+                                len(measured.rendered))
+        if progress is not None:
+            progress({"event": "interrupted", **stop.kept.to_json(), "resume": resume})
+        raise
     finally:
         if not scheduler and raw_from is None:  # a cluster's machines are not this one
             measured.wall_seconds = time.perf_counter() - t_render
-            _record_speed(prepared, measured, prepare_seconds)
-    manifest_path = manifest.finish(report)
+            _record_speed(prepared, measured, prepare_seconds, project)
+    times = RenderTimes.measured(report, time.perf_counter() - t_command, prepare_seconds,
+                                 truth_seconds)
+    manifest_path = manifest.finish(report, times)
+    if progress is not None:
+        progress({"event": "finished", **times.to_json()})
     if report.failed:
         raise DesignerError(
             f"{len(report.failed)} of {len(wanted)} images failed twice (frames "
@@ -368,4 +453,5 @@ def render_project(
             "--resume to retry only those")
     resumed = [i for i in stale if resume and i in report.rendered]
     return RenderSummary(out_dir, prepared, report, ground_truth, manifest_path,
-                         stale={i: stale[i] for i in resumed}, void=manifest.void_summary())
+                         stale={i: stale[i] for i in resumed}, void=manifest.void_summary(),
+                         times=times)

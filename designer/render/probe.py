@@ -4,7 +4,7 @@ It renders six frames of the example survey (``designer new --template survey``)
 ``designer demo`` renders them — at the edges of the flight and over the middle, so
 both the terrain's and the background's cost are seen — and stores the fitted
 coefficients (:mod:`designer.survey.render_cost`, source "probe"). About 30 s on 2
-cores. Every later ``designer render`` refines them.
+cores. Every later ``designer render`` adds a record of its own kind.
 """
 
 from __future__ import annotations
@@ -41,7 +41,8 @@ def probe_render_speed(progress=None):
 
             raise DesignerError(f"the probe render failed (frames {report.failed}); see "
                                 "'designer render' of 'designer new --template survey'")
-        speed = record_render_speed(prepared, report, prepare_s, source="probe")
+        speed = record_render_speed(prepared, report, prepare_s, source="probe",
+                                    project=project)
         if speed is None:
             from designer.errors import DesignerError
 

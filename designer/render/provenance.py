@@ -19,6 +19,13 @@ part          what goes in                                                      
 ``pose``      the frame's index, name, camera matrix (+ effect context, time)  per image
 ============  ===============================================================  =========
 
+Beside the parts, each record keeps ``details`` that explain a change but decide nothing
+(they are not in the digest): the image size, the camera without its size, the pose as
+Blender uses it, and digests of the project's terrain, texture, lighting, GCP targets and
+objects. :meth:`ImageProvenance.changed_parts` turns a changed part into what a person
+changed ("image size 1368 × 912 → 684 × 456", "lighting"); a record written before the
+details existed gets the part names.
+
 Targets are hashed per frame: only the target vertices that project into the frame
 (with a 25 % margin) count, so moving one GCP re-renders the images that see it. The
 ground truth is hashed from the files it is written to (the exporters write text that is
@@ -30,7 +37,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from functools import cache
 from pathlib import Path
 
@@ -46,27 +53,91 @@ TARGETS_MESH = "gcp_targets"
 VIEW_MARGIN = 0.25
 
 
+#: the project's parts a scene or targets change is explained by (details, model terms)
+SCENE_REASONS = ("terrain", "texture", "lighting", "objects", "gcp targets")
+
+
 @dataclass(frozen=True)
 class ImageProvenance:
-    """The hash of each part an image depends on, and of all of them together."""
+    """The hash of each part an image depends on, and of all of them together;
+    ``details`` explain a change (see the module docstring) and are not in the digest."""
 
     parts: dict[str, str]
+    details: dict = field(default_factory=dict, compare=False)
 
     @property
     def digest(self) -> str:
         return _digest(json.dumps(self.parts, sort_keys=True))
 
-    def changed_parts(self, recorded: dict | None) -> list[str]:
-        """The parts that differ from a manifest entry's ``inputs`` (all if none)."""
+    def changed_parts(self, recorded: dict | None,
+                      size_on_disk_px: tuple[int, int] | None = None) -> list[str]:
+        """What changed since a manifest entry's ``inputs`` were recorded, in words of the
+        project: the parts that differ, each refined by the details both records have
+        (``["unrecorded"]`` without a record). ``size_on_disk_px`` (W, H): the size of
+        the image file now there, which a record without details does not hold."""
         if not recorded:
             return ["unrecorded"]
         changed = [p for p in PARTS if recorded.get(p) != self.parts.get(p)]
-        if "pose" in changed and "targets" in changed:
-            changed.remove("targets")  # a moved camera sees other targets: that is the pose
-        return changed
+        old = recorded.get("details") if isinstance(recorded.get("details"), dict) else {}
+        new = self.details
+        reasons: list[str] = []
+        for part in changed:
+            reasons += self._reasons(part, old, new, size_on_disk_px)
+        if "pose" in reasons and "targets" in reasons:
+            reasons.remove("targets")  # a moved camera sees other targets: that is the pose
+        out = list(dict.fromkeys(reasons))
+        if "effect context" in out and len(out) > 1:
+            # the GSD or motion an effect reads changed because of what else changed
+            out.remove("effect context")
+        return out
+
+    def _reasons(self, part: str, old: dict, new: dict, size_on_disk_px) -> list[str]:
+        if part == "camera":
+            before = tuple(size_on_disk_px or old.get("size_px") or ())
+            after = tuple(new.get("size_px") or ())
+            sized = bool(before and after and before != after)
+            out = [size_reason(before, after)] if sized else []
+            if not old.get("camera_unsized"):
+                return out or ["camera"]
+            if old.get("camera_unsized") != new.get("camera_unsized"):
+                out.append("camera")
+            return out or ["camera"]
+        if part in ("scene", "targets"):
+            return _scene_reasons(old, new) or [part]
+        if part == "effects":
+            if old.get("effects_model") and old.get("effects_model") == new.get("effects_model"):
+                return ["effect context"]  # the camera they apply to changed
+            return ["effects"]
+        if part == "pose":
+            if old.get("pose_blender") and old.get("pose_blender") == new.get("pose_blender"):
+                return ["effect context"]  # only what the camera effects read changed
+            return ["pose"]
+        return [part]
 
     def to_json(self) -> dict:
-        return {**self.parts, "digest": self.digest}
+        return {**self.parts, "digest": self.digest, "details": self.details}
+
+
+def _scene_reasons(old: dict, new: dict) -> list[str]:
+    """The project's scene parts whose digests differ (both records must have them)."""
+    return [r for r in SCENE_REASONS
+            if old.get(r) is not None and new.get(r) is not None and old[r] != new[r]]
+
+
+def size_reason(before: tuple, after: tuple) -> str:
+    """'image size 1368 × 912 → 684 × 456'."""
+    return f"image size {before[0]} × {before[1]} → {after[0]} × {after[1]}"
+
+
+def project_details(project) -> dict[str, str]:
+    """Digests of the project's scene parts that explain a change (not in any digest
+    that decides whether an image is up to date)."""
+    scene = project.scene
+    return {"terrain": _digest(repr(scene.terrain)), "texture": _digest(repr(scene.texture)),
+            "lighting": _digest(repr(scene.lighting), repr(getattr(project, "timeline", None))),
+            "objects": _digest(repr((scene.objects, scene.moving_objects, scene.buildings,
+                                     scene.vegetation))),
+            "gcp targets": _digest(repr(scene.targets))}
 
 
 def _digest(*chunks: bytes | str) -> str:
@@ -116,9 +187,12 @@ def bpy_version() -> str:
         return "absent"
 
 
-def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
-    """Per frame index, the provenance of the image the job renders for it."""
+def job_provenance(job: RenderJob, job_dir: Path, project=None
+                   ) -> dict[int, ImageProvenance]:
+    """Per frame index, the provenance of the image the job renders for it; with the
+    ``project`` the job was made from, details that say in its terms what changed."""
     job_dir = Path(job_dir)
+    scene_details = project_details(project) if project is not None else {}
     render = {k: v for k, v in asdict(job.render).items() if k not in ("threads", "quality")}
     common = {
         "software": _digest(__version__, bpy_version()),
@@ -146,6 +220,8 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         if not spec.rig:
             effects = next(iter(camera_effects.values()))
     common["effects"] = effects
+    # what the project asks of the effects (their interior follows the camera)
+    effects_model = _digest(repr(job.effects.model)) if job.effects is not None else "none"
     out = {}
     for frame in job.frames:
         parts = dict(common)
@@ -172,7 +248,16 @@ def job_provenance(job: RenderJob, job_dir: Path) -> dict[int, ImageProvenance]:
         if job.image_metadata != "none":
             pose["image_metadata"] = job.image_metadata
         parts["pose"] = _digest(_canonical(pose))
-        out[frame.index] = ImageProvenance({p: parts[p] for p in PARTS})
+        camera = asdict(job.frame_camera(frame))
+        del camera["resolution_x_px"], camera["resolution_y_px"]
+        # where the camera is and looks (the sun it is lit by is the lighting's detail)
+        blender_pose = {k: v for k, v in asdict(frame).items()
+                        if k not in (*_EFFECT_ONLY_FRAME_FIELDS, *_NOT_POSE_FIELDS)}
+        details = {"size_px": list(job.frame_size(frame)),
+                   "camera_unsized": _digest(_canonical(camera)),
+                   "pose_blender": _digest(_canonical(blender_pose)),
+                   "effects_model": effects_model, **scene_details}
+        out[frame.index] = ImageProvenance({p: parts[p] for p in PARTS}, details)
     return out
 
 
@@ -249,10 +334,18 @@ def describe_parts(parts: list[str]) -> str:
              "scene": "the scene (terrain, texture, lighting, buildings or plants)",
              "targets": "the GCP targets in view", "effects": "the camera effects",
              "pose": "the pose", "unrecorded": "no record of its inputs",
+             "terrain": "the terrain", "texture": "the texture", "lighting": "the lighting",
+             "objects": "the scene objects (buildings, plants, objects)",
+             "gcp targets": "the GCP targets",
+             "effect context": "what the camera effects read per image (GSD, motion)",
              "missing": "the image is missing"}
     names = [words.get(p, p) for p in parts]
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
+
+#: frame fields that are not where the camera is: its camera, size and sun
+_NOT_POSE_FIELDS = ("camera", "camera_id", "size_px", "sun_azimuth_deg",
+                    "sun_elevation_deg", "light_step")
 
 #: frame fields that only the camera effects or the file's metadata use: a raw render
 #: (Blender's image, before the effects) does not depend on them

@@ -61,12 +61,18 @@ class RenderReport:
 
 def image_is_complete(path: Path, width_px: int, height_px: int) -> bool:
     """True if ``path`` decodes to an image of the expected size."""
+    return image_size_px(path) == (width_px, height_px)
+
+
+def image_size_px(path: Path) -> tuple[int, int] | None:
+    """(W, H) of the image ``path`` decodes to; None when it is absent or unreadable."""
+    path = Path(path)
     if not path.is_file() or path.stat().st_size == 0:
-        return False
+        return None
     import cv2
 
     image = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    return image is not None and image.shape[:2] == (height_px, width_px)
+    return None if image is None else (int(image.shape[1]), int(image.shape[0]))
 
 
 def remove_partial_files(job_dir: Path, images: Path) -> None:

@@ -1,9 +1,12 @@
-"""After a render: refine this machine's render coefficients from its frames
-(:mod:`designer.survey.render_cost`), so the next estimate is this machine's."""
+"""After a render: record this machine's render coefficients fitted to its frames
+(:mod:`designer.survey.render_cost`), filed under what drives their cost, so the next
+estimate of that kind of render is this machine's."""
 
 from __future__ import annotations
 
+import json
 import os
+from collections import Counter
 from dataclasses import replace
 
 import numpy as np
@@ -11,21 +14,23 @@ import numpy as np
 from designer.render.job import PreparedJob
 from designer.render.runner import RenderReport
 from designer.survey.render_cost import (
+    cost_key,
     fit_speed,
     frame_cpu_s,
     image_costs,
     load_speed,
-    refine,
     save_speed,
 )
 
 
 def record_render_speed(prepared: PreparedJob, report: RenderReport,
                         prepare_seconds: float, cores: int | None = None,
-                        source: str = "render"):
+                        source: str = "render", project=None):
     """Fit the coefficients to the frames ``report`` rendered (with their stages) and
-    store them (a render's refine what is stored, a probe's replace it); returns the
-    stored :class:`RenderSpeed`, or None when the run rendered no frame with stages."""
+    add them as a record filed under the frames' kind (``project``'s scene and effects,
+    the samples and the image size: the most common among the frames); a probe's record
+    replaces the earlier probe's. Returns the recorded :class:`RenderSpeed`, or None
+    when the run rendered no frame with stages."""
     timed = sorted(i for i, st in report.stages.items()
                    if "cycles_cpu_s" in st and i in report.rendered)
     if not timed:
@@ -40,20 +45,21 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
                         np.array([p.C_world for p in poses]).reshape(-1, 3),
                         np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
                         [prepared.interior_of(p.image_name) for p in poses],
-                        prepared.job.render.samples)
+                        prepared.job.render.samples, project)
     all_costs = dict(zip(timed, costs, strict=True))
     images = [all_costs[i] for i in frames]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
     post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0))
             for i in frames]
-    stored = load_speed()
-    measured = fit_speed(images, cpu, post, 0.0, source, prior=stored)
+    keys = Counter(json.dumps(cost_key(c), sort_keys=True) for c in images)
+    typical = next(c for c in images
+                   if json.dumps(cost_key(c), sort_keys=True) == keys.most_common(1)[0][0])
+    measured = fit_speed(images, cpu, post, 0.0, source, prior=load_speed(typical))
     # the fixed part: what the model of every timed frame leaves of the wall time
     frames_wall = (sum(frame_cpu_s(measured, c) for c in all_costs.values()) / cores
                    + sum(c.megapixels * measured.post_s_per_mp for c in all_costs.values())
                    / workers)
     fixed = prepare_seconds + max(0.0, report.wall_seconds - frames_wall)
     measured = replace(measured, fixed_s=fixed)
-    speed = measured if source == "probe" else refine(stored, measured)
-    save_speed(speed)
-    return speed
+    save_speed(measured, typical)
+    return measured

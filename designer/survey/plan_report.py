@@ -85,10 +85,11 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
         # every image that sees a GCP counts (each camera of a rig), as in the GUI
         analysis = replace(analysis, gcps=project_gcp_visibility(
             project, images, np.array([t.true_xyz for t in targets]), rc))
-    speed = load_speed()
+    costs = project_image_costs(project, images, hf)
+    # each kind of image with this machine's figures for its kind
+    speed = load_speed(costs[0] if costs else None)
     analysis = replace(analysis, render_time_s=estimate_render_s(
-        project_image_costs(project, images, hf), render_workers(project, n_all),
-        speed=speed))
+        costs, render_workers(project, n_all)))
     gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),

@@ -15,20 +15,30 @@ and the whole render stage of N images with w workers on c cores
 workers render); ``fixed`` is the preparation and the workers' start (scene, texture
 bake, lens warp, Blender start-up).
 
-The coefficients are this machine's (:class:`RenderSpeed`), kept in
-``render-speed.json`` in designer's cache folder (``$DESIGNER_CACHE_DIR``, else
-``$XDG_CACHE_HOME/designer``, else ``~/.cache/designer``). ``designer warmup`` (run by
-``make setup``) measures them with a short probe render of the example survey, and every
-``designer render`` refines them from its own frames (the manifest's per-stage
-seconds). Without either, the estimate uses :data:`REFERENCE` and says it is
-uncalibrated.
+The coefficients are this machine's (:class:`RenderSpeed`), measured by ``designer
+warmup`` (run by ``make setup``: a short probe render of the example survey) and by every
+``designer render`` (from its own frames: the manifest's per-stage seconds). Each render
+adds one record to ``render-speed.json`` in designer's cache folder
+(``$DESIGNER_CACHE_DIR``, else ``$XDG_CACHE_HOME/designer``, else
+``~/.cache/designer``), filed under what drives its cost (:func:`cost_key`): the scene's
+kind (terrain alone, or with buildings, plants, moving objects, objects), the samples per
+pixel and the image size (each in powers of two), and the camera effects. An estimate
+takes, per coefficient, the median of the latest :data:`RECENT` records of its own key —
+Cycles' coefficients from records of the same scene kind, samples and size, the seconds
+outside Cycles from records of the same effects and size, the fixed part from records of
+the same whole key — widening to the scene kind, then to every record, only where its key
+has none. So an estimate does not move when another kind of project renders, and one slow
+render (a busy machine) among several of the same kind moves no median far. Cycles' part
+is measured in CPU-seconds (all its threads), which a busy machine changes far less than
+wall time, and divided by the cores to predict wall time. Without any record the estimate
+uses :data:`REFERENCE` and says it is uncalibrated.
 
 Not modelled: buildings, plants and moving objects (more geometry than the terrain),
 adaptive sampling (metrology preset: counted at its maximum samples), a machine busy
 with other work, and workers competing for the caches (two workers of one core each
 render the example about 20 % slower than one worker with both cores, which the model
-does not see: docs/benchmarks.md). A render of such a project refines the
-coefficients towards it.
+does not see: docs/benchmarks.md). A render of such a project records its own
+coefficients under its own kind.
 """
 
 from __future__ import annotations
@@ -47,7 +57,19 @@ SPEED_FILE = "render-speed.json"
 #: rays per image side used to measure the terrain fraction (cols × rows)
 FRACTION_GRID = (16, 11)
 #: a render of at least this many images replaces the stored coefficients outright
+#: (:func:`refine`)
 FULL_WEIGHT_IMAGES = 8
+#: an estimate uses the median of at most this many latest records of its key
+RECENT = 9
+#: records kept in the file (the oldest dropped first)
+MAX_RECORDS = 300
+#: the coefficient groups and the key fields each is matched on, narrowest first
+_MATCH = {
+    ("terrain_cpu_s_per_mp_sample", "background_cpu_s_per_mp_sample"):
+        (("scene", "samples_band", "size_band"), ("scene", "samples_band"), ("scene",)),
+    ("post_s_per_mp",): (("effects", "size_band"), ("effects",)),
+    ("fixed_s",): (("scene", "effects", "samples_band", "size_band"), ("scene", "effects")),
+}
 
 
 @dataclass(frozen=True)
@@ -98,30 +120,94 @@ def cache_dir() -> Path:
     return Path(base) / "designer"
 
 
-def load_speed() -> RenderSpeed:
-    """This machine's coefficients, or :data:`REFERENCE` when none were measured (or the
-    file is unreadable)."""
-    path = cache_dir() / SPEED_FILE
+_COEFFICIENTS = ("terrain_cpu_s_per_mp_sample", "background_cpu_s_per_mp_sample",
+                 "post_s_per_mp", "fixed_s")
+
+
+def _band(value: float) -> int:
+    """The power of two nearest ``value`` (samples 12 → 4 (16), 0.3 MP → -2 (0.25))."""
+    return round(math.log2(value)) if value > 0 else -99
+
+
+def cost_key(image: ImageCost) -> dict:
+    """What drives an image's cost, as a record's key: scene kind, effects, samples and
+    size (each a power of two)."""
+    return {"scene": image.scene, "effects": image.effects,
+            "samples_band": _band(image.samples), "size_band": _band(image.megapixels)}
+
+
+def _read_records() -> list[dict]:
+    """The stored records (a file of the form before records, one coefficient set,
+    is one record with no key); [] when absent or unreadable."""
     try:
-        data = json.loads(path.read_text())
-        speed = RenderSpeed(**{k: data[k] for k in RenderSpeed.__dataclass_fields__
-                               if k in data})
-    except (OSError, ValueError, TypeError):
-        return REFERENCE
-    values = (speed.terrain_cpu_s_per_mp_sample, speed.background_cpu_s_per_mp_sample,
-              speed.post_s_per_mp, speed.fixed_s)
-    if not all(math.isfinite(v) and v >= 0 for v in values):
-        return REFERENCE
-    return speed
+        data = json.loads((cache_dir() / SPEED_FILE).read_text())
+    except (OSError, ValueError):
+        return []
+    records = data.get("records") if isinstance(data, dict) and "records" in data else [data]
+    out = []
+    for r in records if isinstance(records, list) else []:
+        if not isinstance(r, dict):
+            continue
+        try:
+            values = [float(r[k]) for k in _COEFFICIENTS]
+        except (KeyError, TypeError, ValueError):
+            continue
+        if all(math.isfinite(v) and v >= 0 for v in values):
+            out.append(r)
+    return out
 
 
-def save_speed(speed: RenderSpeed) -> Path:
-    """Store the coefficients atomically; returns the file."""
+def _speed_of(record: dict, images: int | None = None) -> RenderSpeed:
+    return RenderSpeed(*(float(record[k]) for k in _COEFFICIENTS),
+                       source=str(record.get("source", "render")),
+                       measured=str(record.get("measured", "")),
+                       images=int(record.get("images", 0)) if images is None else images)
+
+
+def load_speed(image: ImageCost | None = None) -> RenderSpeed:
+    """This machine's coefficients for images like ``image`` (module docstring: the
+    median of the latest records of its key, widened only where it has none); without
+    ``image``, over the latest records of every kind. :data:`REFERENCE` when nothing was
+    measured (or the file is unreadable)."""
+    records = _read_records()
+    if not records:
+        return REFERENCE
+    if len(records) == 1:
+        return _speed_of(records[0])
+    key = cost_key(image) if image is not None else None
+    values: dict[str, float] = {}
+    used: dict[int, dict] = {}
+    for names, levels in _MATCH.items():
+        chosen = []
+        for fields in (levels if key is not None else ()):
+            chosen = [r for r in records if all(r.get(f) == key[f] for f in fields)]
+            if chosen:
+                break
+        chosen = (chosen or records)[-RECENT:]
+        for r in chosen:
+            used[id(r)] = r
+        for name in names:
+            values[name] = float(np.median([float(r[name]) for r in chosen]))
+    latest = max(used.values(), key=lambda r: records.index(r))
+    return RenderSpeed(**values, source=str(latest.get("source", "render")),
+                       measured=str(latest.get("measured", "")),
+                       images=sum(int(r.get("images", 0)) for r in used.values()))
+
+
+def save_speed(speed: RenderSpeed, image: ImageCost | None = None) -> Path:
+    """Add ``speed`` as the latest record, filed under ``image``'s key (module
+    docstring; without ``image``, under no key: used only where no key matches);
+    atomically; returns the file. A probe's record replaces the earlier probe's."""
     from designer.atomic import write_text_atomic
 
+    records = _read_records()
+    if speed.source == "probe":
+        records = [r for r in records if r.get("source") != "probe"]
+    record = {**asdict(speed), **(cost_key(image) if image is not None else {})}
+    records = [*records, record][-MAX_RECORDS:]
     path = cache_dir() / SPEED_FILE
     path.parent.mkdir(parents=True, exist_ok=True)
-    write_text_atomic(path, json.dumps(asdict(speed), indent=1))
+    write_text_atomic(path, json.dumps({"records": records}, indent=1))
     return path
 
 
@@ -138,6 +224,11 @@ class ImageCost:
     megapixels: float  # of the finished image (W × H / 10⁶)
     samples: int
     terrain_fraction: float = 1.0
+    #: the scene's kind: "terrain", or "terrain+buildings+plants+moving+objects" (those
+    #: it has; :func:`scene_kind`)
+    scene: str = "terrain"
+    #: the camera effects applied ("none", or their names joined by "+": effects_key)
+    effects: str = "none"
 
 
 def frame_cpu_s(speed: RenderSpeed, image: ImageCost) -> float:
@@ -149,13 +240,46 @@ def frame_cpu_s(speed: RenderSpeed, image: ImageCost) -> float:
 
 def estimate_render_s(images: Sequence[ImageCost], workers: int, cores: int | None = None,
                       speed: RenderSpeed | None = None) -> float:
-    """Wall seconds of the whole render stage (module docstring)."""
-    speed = speed or load_speed()
+    """Wall seconds of the whole render stage (module docstring); without ``speed``, each
+    kind of image (:func:`cost_key`) with this machine's coefficients for its kind."""
     cores = max(1, cores or os.cpu_count() or 1)
     workers = max(1, min(workers, cores, max(1, len(images))))
-    cpu = sum(frame_cpu_s(speed, i) for i in images)
-    post = sum(i.megapixels * speed.post_s_per_mp for i in images)
-    return speed.fixed_s + cpu / cores + post / workers
+    if speed is not None:
+        speeds = [speed] * len(images)
+    else:
+        by_key: dict[str, RenderSpeed] = {}
+        speeds = [by_key.setdefault(json.dumps(cost_key(i), sort_keys=True), load_speed(i))
+                  for i in images]
+        if not images:
+            speeds, speed = [], load_speed()
+    cpu = sum(frame_cpu_s(sp, i) for sp, i in zip(speeds, images, strict=True))
+    post = sum(i.megapixels * sp.post_s_per_mp for sp, i in zip(speeds, images, strict=True))
+    fixed = max((sp.fixed_s for sp in speeds), default=speed.fixed_s if speed else 0.0)
+    return fixed + cpu / cores + post / workers
+
+
+def scene_kind(project) -> str:
+    """What a project's scene holds beyond the terrain, as a key: 'terrain',
+    'terrain+buildings', … (buildings, plants, moving objects, objects)."""
+    scene = project.scene
+    parts = ["terrain"]
+    for name, present in (("buildings", scene.buildings), ("plants", scene.vegetation),
+                          ("moving", scene.moving_objects), ("objects", scene.objects)):
+        if present:
+            parts.append(name)
+    return "+".join(parts)
+
+
+def effects_key(project) -> str:
+    """The camera effects a project applies, as a key: 'none' or 'distortion+jpeg+…'."""
+    from dataclasses import fields
+
+    effects = project.effects
+    names = sorted(f.name for f in fields(effects) if getattr(effects, f.name) is not None) \
+        if effects is not None else []
+    if any(getattr(c, "distortion", None) is not None for c in project.cameras):
+        names.append("distortion")
+    return "+".join(sorted(names)) or "none"
 
 
 def fit_speed(images: Sequence[ImageCost], cycles_cpu_s: Sequence[float],
@@ -240,12 +364,15 @@ def render_workers(project, n_images: int, cores: int | None = None) -> int:
 
 
 def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
-                interiors: Sequence, samples: int) -> list[ImageCost]:
+                interiors: Sequence, samples: int, project=None) -> list[ImageCost]:
     """The model's view of N images: size (megapixels of each image's rendered interior),
     ``samples`` per pixel and the share of its pixels that see the terrain
     (``terrain_fractions``). ``C_world`` (N, 3) m and ``R_cam_to_world`` (N, 3, 3) are the
     images' poses, ``interiors`` their N rendered interior orientations; images sharing
-    one interior object are measured together."""
+    one interior object are measured together. ``project``: the images' project, whose
+    scene kind and effects file them (:func:`cost_key`)."""
+    kind = ({"scene": scene_kind(project), "effects": effects_key(project)}
+            if project is not None else {})
     C_world, R_cam_to_world = np.asarray(C_world, float), np.asarray(R_cam_to_world, float)
     groups: dict[int, list[int]] = {}
     for k, interior in enumerate(interiors):
@@ -257,7 +384,7 @@ def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
                                       interior)
         W, H = interior.image_size_px
         for k, f in zip(members, fractions, strict=True):
-            out[k] = ImageCost(W * H / 1e6, samples, float(f))
+            out[k] = ImageCost(W * H / 1e6, samples, float(f), **kind)
     return out
 
 
@@ -273,7 +400,7 @@ def project_image_costs(project, images, heightfield) -> list[ImageCost]:
     return image_costs(heightfield, np.array([s.C_world for s in st]).reshape(-1, 3),
                        np.array([s.R_cam_to_world for s in st]).reshape(-1, 3, 3),
                        [interiors[c] for c in images.camera_ids],
-                       project.render.effective_samples)
+                       project.render.effective_samples, project)
 
 
 def format_duration(seconds: float) -> str:

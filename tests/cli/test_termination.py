@@ -159,3 +159,37 @@ def test_a_bench_cut_short_keeps_its_measured_rows(tmp_path):
     assert "interrupted by SIGTERM: the rows printed above were measured" in err
     assert _wait_until(lambda: _group(proc.pid) == [], 20), _group(proc.pid)
     assert list(tmp_path.iterdir()) == []  # its temporary folder removed
+
+
+def test_a_stopped_resume_counts_up_to_date_and_out_of_date_images_apart(tmp_path):
+    """Eight images rendered, then the render settings change and a --resume run is
+    stopped after its first image: one image is up to date, seven are on disk from the
+    old settings; the message says so (not '8 finished images kept') and, --resume being
+    given already, does not ask for it."""
+    quick = small_survey(n_photos=8, samples=1, size_px=(320, 240))
+    project = write_project_file(quick, tmp_path)
+    out = tmp_path / "out"
+    render_project(project, out, workers=1)
+    project = _slow_project(tmp_path)  # the same survey at 192 samples
+    proc = _start("render", str(project), "-o", str(out), "--workers", "1", "--resume",
+                  "--progress", "json")
+    for line in proc.stdout:
+        if json.loads(line)["event"] == "frame_done":
+            break
+    proc.send_signal(signal.SIGTERM)
+    rest, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    events = [json.loads(x) for x in rest.splitlines() if x.strip()]
+    stopped = [e for e in events if e["event"] == "interrupted"]
+    assert len(stopped) == 1
+    n = stopped[0]["up_to_date"]
+    assert 1 <= n < 8
+    assert stopped[0] == {"event": "interrupted", "total": 8, "up_to_date": n,
+                          "rendered_now": n, "out_of_date": 8 - n, "not_rendered": 0,
+                          "resume": True}
+    last = [x for x in err.splitlines() if x.strip()][-1]
+    assert last.startswith("designer: interrupted by SIGTERM: ")
+    assert f"{n} of 8 images up to date ({n} rendered by this run)" in last
+    assert f"{8 - n} out of date" in last
+    assert "run the same command again" in last and "with --resume" not in last
+    assert "finished images kept" not in last

@@ -162,7 +162,7 @@ def test_resume_rerenders_what_changed_and_check_output_agrees(tmp_path):
     assert not status.ok
     assert set(status.stale) == {f"IMG_{k:03d}.png" for k in range(4)}
     # the targets lie on the terrain, so they moved with it
-    assert all(parts == ["scene", "targets"] for parts in status.stale.values())
+    assert all(parts == ["terrain"] for parts in status.stale.values())
     assert status.ground_truth.startswith("out of date")
 
     # one pose changes too; --resume re-renders all four (terrain) and reports why
@@ -202,3 +202,44 @@ def test_two_processes_rendering_slices_keep_each_others_records(tmp_path):
         b.image_done(4 + k, 1.0)
     data = json.loads((tmp_path / "out" / "manifest.json").read_text())
     assert sorted(data["images"]) == [f"IMG_{k:03d}.png" for k in range(8)]
+
+
+@pytest.mark.blender
+def test_out_of_date_reasons_name_exactly_what_changed(tmp_path):
+    """Only the resolution scale changes: the images on disk are out of date by their
+    size (never 'missing', never 'pose'); only the sun: by the lighting; one pose: that
+    image by its pose."""
+    from designer.render.check_output import check_output
+    from designer.render.pipeline import render_project
+
+    project = small_survey(n_photos=3, samples=1, size_px=(96, 72),
+                           effects=m.Effects(sensor_noise=m.SensorNoise(1.0, 1)))
+    folder = tmp_path / "survey"
+    path = write_project_file(project, folder)
+    out = tmp_path / "out"
+    render_project(path, out, workers=1)
+    names = [f"IMG_{k:03d}.png" for k in range(3)]
+
+    halved = replace(project, render=replace(project.render, resolution_scale=0.5))
+    write_project_file(halved, folder)
+    status = check_output(out)
+    assert status.missing == []
+    assert status.stale == {n: ["image size 96 × 72 → 48 × 36"] for n in names}
+    assert "3 out of date: 3 by image size 96 × 72 → 48 × 36" in status.summary()
+
+    write_project_file(CHANGES["sun"](project), folder)
+    status = check_output(out)
+    assert status.missing == []
+    assert status.stale == {n: ["lighting"] for n in names}
+    assert "3 by the lighting" in status.summary()
+
+    photo = project.trajectory.exterior_orientations[1]
+    write_project_file(_with_photo(project, 1, X=photo.X + 0.5), folder)
+    status = check_output(out)
+    assert status.stale == {"IMG_001.png": ["pose"]}
+
+    # --resume after the resolution change says the same as check-output
+    write_project_file(halved, folder)
+    summary = render_project(path, out, workers=1, resume=True)
+    assert summary.stale == {k: ["image size 96 × 72 → 48 × 36"] for k in range(3)}
+    assert check_output(out).ok

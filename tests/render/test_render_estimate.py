@@ -41,3 +41,20 @@ def test_the_plan_estimate_matches_the_render_it_estimates(tmp_path):
     assert all(s["cycles_s"] > 0 and s["cycles_cpu_s"] > 0 for s in stages)
     assert all(s["blender_write_s"] >= 0 for s in stages)
     assert manifest["ground_truth_seconds"] >= 0
+
+
+@pytest.mark.blender
+def test_an_estimate_does_not_follow_a_different_project_rendered_in_between(tmp_path):
+    """A's estimate after rendering A, then after rendering B (1 sample per pixel on
+    tiny images: a cost per megapixel-sample many times A's) is the same within 10 %:
+    B's frames are recorded under B's own kind and do not move A's figures."""
+    a = small_survey(n_photos=9, samples=16, size_px=(240, 180))
+    b = small_survey(n_photos=9, samples=1, size_px=(64, 48))
+    path_a = write_project_file(a, tmp_path / "a")
+    path_b = write_project_file(b, tmp_path / "b")
+    render_project(path_a, tmp_path / "out-a", workers=1)
+    before = plan_project(a, path_a.parent).analysis.render_time_s
+    render_project(path_b, tmp_path / "out-b", workers=1)
+    after = plan_project(a, path_a.parent).analysis.render_time_s
+    print(f"A's estimate {before:.2f} s, after rendering B {after:.2f} s")
+    assert 0.9 < after / before < 1.1, (before, after)

@@ -112,3 +112,26 @@ def test_durations_never_read_zero():
     assert rc.format_duration(45) == "45 s"
     assert rc.format_duration(300) == "5.0 min"
     assert rc.format_duration(3 * 3600) == "3.0 h"
+
+
+def test_an_estimate_uses_its_own_kind_and_one_slow_render_moves_no_median(tmp_path,
+                                                                          monkeypatch):
+    monkeypatch.setenv("DESIGNER_CACHE_DIR", str(tmp_path))
+    survey = rc.ImageCost(1.25, 16, 0.8, scene="terrain", effects="jpeg")
+    tiny = rc.ImageCost(0.003, 1, 1.0, scene="terrain", effects="none")
+    town = rc.ImageCost(1.25, 16, 0.8, scene="terrain+buildings", effects="jpeg")
+    for _ in range(3):
+        rc.save_speed(replace(TRUE, images=8), survey)
+    rc.save_speed(replace(TRUE, terrain_cpu_s_per_mp_sample=1.6, fixed_s=40.0, images=8),
+                  survey)  # one render on a busy machine
+    before = rc.estimate_render_s([survey] * 10, workers=1, cores=2)
+    assert rc.load_speed(survey).terrain_cpu_s_per_mp_sample == pytest.approx(0.4)
+    # other kinds render in between: the survey's estimate does not move
+    rc.save_speed(replace(TRUE, terrain_cpu_s_per_mp_sample=9.0, background_cpu_s_per_mp_sample=
+                          9.0, post_s_per_mp=5.0, fixed_s=1.0, images=8), tiny)
+    rc.save_speed(replace(TRUE, terrain_cpu_s_per_mp_sample=0.9, fixed_s=30.0, images=8), town)
+    assert rc.estimate_render_s([survey] * 10, workers=1, cores=2) == before
+    # a kind never rendered borrows from its scene kind, then from every record
+    assert rc.load_speed(town).terrain_cpu_s_per_mp_sample == pytest.approx(0.9)
+    other = rc.ImageCost(5.0, 64, 0.5, scene="terrain+plants", effects="blur")
+    assert rc.load_speed(other).calibrated
