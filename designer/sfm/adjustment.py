@@ -11,9 +11,11 @@ same Ceres problem, with COLMAP's own cost functions:
 * camera-position priors (GNSS/RTK centres with σ horizontal/vertical);
 * which interior parameters are estimated (a subset manifold on the camera block).
 
-With rolling-shutter compensation (``rolling_shutter`` given) the problem is built by
-designer.sfm.rolling_adjustment instead, with the same observations and weights plus
-each rolling-shutter image's velocity during its readout.
+With rolling-shutter compensation (``rolling_shutter`` given) the problem is solved by
+designer.sfm.rolling_adjustment instead (vectorised, not a Ceres problem), with the same
+observations, weights, priors and gauge — the images, stations, camera parameters,
+priors and gauge come from one set-up, designer.sfm.block_setup — plus each
+rolling-shutter image's velocity during its readout.
 
 Everything is in the local frame (world − offset, float64). Tie points are weighted
 with σ = 1 px, so σ₀ is the a-posteriori standard deviation of unit weight in px.

@@ -8,10 +8,19 @@ while the camera moves on at a constant velocity and keeps its attitude. With
 compensation, every image gets three more parameters, its velocity ``vel`` (model frame,
 m/s), and a point X seen at (u, v) is projected from the perspective centre
 C + delay(v) · vel — equivalently, the point X − delay(v) · vel is projected with the
-image's own pose, which is how the cost below evaluates it (COLMAP's own reprojection
-cost at the moved point, its Jacobians chained: ∂/∂vel = −delay · ∂/∂X). The delay comes
+image's own pose, which is how it is evaluated (∂/∂vel = −delay · ∂/∂X). The delay comes
 from the observed row (the usual first-order form of rolling-shutter adjustment; the
 observed row differs from the model row by the residual).
+
+The problem — the same observations, weights, priors and gauge as COLMAP's adjustment
+in designer.sfm.adjustment, from one set-up (designer.sfm.block_setup) — is held in
+arrays and evaluated for all observations at once with analytic Jacobians
+(designer.sfm.rolling_problem, COLMAP's FULL_OPENCV model in designer.sfm.full_opencv),
+and solved by Ceres's Levenberg–Marquardt with the points eliminated by the Schur
+complement (designer.sfm.schur_lm): 60 images and 110,000 observations in about 2 s of
+CPU where a Ceres problem with a Python cost per observation took 27 s
+(designer.sfm.rolling_reference, kept as the reference; ``designer bench
+rolling-adjustment``).
 
 Velocities start from the model's camera centres differenced along the flight's time
 line (the next photo in time, else the previous, when they are at most
