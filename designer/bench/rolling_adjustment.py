@@ -34,25 +34,22 @@ def _spec(scale: float):
 
 def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     """One row per solver (module docstring), the reference first."""
-    import pycolmap
-
     from designer.sfm.adjustment import MIN_GCP_SIGMA_M, MIN_MARKING_SIGMA_PX, PositionPriors
     from designer.sfm.rolling_adjustment import adjust_rolling
     from designer.sfm.rolling_reference import adjust_rolling_ceres
-    from designer.sfm.synthetic_rolling import rolling_block
+    from designer.sfm.synthetic_rolling import block_counts, copy_of, rolling_block
 
     spec = _spec(scale)
     rec, _, true_C, shutters = rolling_block(spec)
     priors = PositionPriors({n: C.copy() for n, C in true_C.items()}, 0.02, 0.03)
-    n_obs = sum(pt.track.length() for pt in rec.points3D.values())
-    size = f"{rec.num_reg_images()} images, {rec.num_points3D()} points, {n_obs} obs."
+    size = "{} images, {} points, {} observations".format(*block_counts(rec))
     load = os.getloadavg()[0]
     rows, results = [], []
     for label, solver in (("per-observation Ceres (before)", adjust_rolling_ceres),
                           ("vectorised Schur LM (now)", adjust_rolling)):
         best_wall = best_cpu = float("inf")
         for _ in range(max(1, repeats)):
-            copy = pycolmap.Reconstruction(rec)
+            copy = copy_of(rec)
             wall, cpu = time.perf_counter(), time.process_time()
             solution, _ = solver(copy, (), shutters, [], MIN_MARKING_SIGMA_PX, priors,
                                  MIN_GCP_SIGMA_M)

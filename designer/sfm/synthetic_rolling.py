@@ -111,3 +111,16 @@ def rolling_block(spec: BlockSpec = BlockSpec(), seed: int = 0):
             t.add_element(image_id, j)
         true_pts[rec.add_point3D(pts[p] + rng.normal(0, 0.05, 3), t)] = pts[p]
     return rec, true_pts, true_C, shutters
+
+
+def copy_of(rec):
+    """An independent copy of a reconstruction (each solver adjusts its own)."""
+    import pycolmap
+
+    return pycolmap.Reconstruction(rec)
+
+
+def block_counts(rec) -> tuple[int, int, int]:
+    """(registered images, points, observations) of a reconstruction."""
+    return (rec.num_reg_images(), rec.num_points3D(),
+            sum(pt.track.length() for pt in rec.points3D.values()))
