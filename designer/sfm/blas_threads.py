@@ -2,8 +2,9 @@
 
 The Schur solver's dense Cholesky (a few hundred unknowns) is over in milliseconds on
 one thread; OpenBLAS splits it over every core, and its threads wait for each other by
-spinning: on a machine whose cores are busy with other work a 500 × 500 factorisation
-then takes 40 times as long (0.2 s instead of 5 ms, measured on 2 shared cores). This
+spinning: on a machine whose cores are busy with other work a 560 × 560 factorisation
+then takes 60 times as long (scipy.linalg.cho_factor, 2 shared cores at load average 9:
+1.8 s wall instead of 0.03 s). This
 sets the thread count of every OpenBLAS loaded in the process (numpy's and scipy's own
 copies) for the duration of a ``with`` block, as threadpoolctl does, and restores it.
 Where the libraries cannot be found (no /proc, another BLAS) nothing changes.

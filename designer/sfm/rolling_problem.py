@@ -104,7 +104,7 @@ class RollingProblem:
         Y = s.X[a.obs_point]
         if self.moving:
             Y -= a.delay[:, None] * s.vel[a.obs_image]
-        RY = np.empty_like(Y)  # R_f Y, rig frame about the station's centre
+        RY = np.empty_like(Y)  # R_f Y: rotated into the rig frame, not yet moved
         P = np.empty_like(Y)   # the camera frame
         for rows, f, mount in self.images:
             RY[rows] = Y[rows] @ s.R[f].T
@@ -125,8 +125,7 @@ class RollingProblem:
                 A[rows] = A[rows] @ mount[0]
             J_X[rows] = A[rows] @ s.R[f]
         J_rot = np.cross(RY[:, None, :], A)  # −A [RY]×
-        parts = [J_rot, A]
-        parts.append(-a.delay[:, None, None] * J_X)
+        parts = [J_rot, A, -a.delay[:, None, None] * J_X]  # rotation, translation, velocity
         if len(a.variable):
             parts.append(J_cam * w[:, :, None])
         return r, np.concatenate(parts, axis=2), J_X
@@ -139,11 +138,6 @@ class RollingProblem:
         r_vel = (s.vel[a.vel_image] - a.vel_start) / a.vel_sigma[:, None]
         r_ctl = (s.X[a.control_index] - a.control_xyz) / a.control_sigma
         return r_pos, r_vel, r_ctl
-
-    def cost(self, s: RollingState) -> float:
-        r = self.residuals(s)
-        return 0.5 * (float(np.sum(r * r)) + sum(float(np.sum(p * p))
-                                                   for p in self._prior_residuals(s)))
 
     def linearize(self, s: RollingState) -> Linearization:
         a = self.a
