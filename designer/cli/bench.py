@@ -21,6 +21,7 @@ BENCHMARKS = {
     "dense": "designer.bench.dense",
     "study": "designer.bench.study",
     "reconstruct": "designer.bench.reconstruct",
+    "rolling-adjustment": "designer.bench.rolling_adjustment",
 }
 
 

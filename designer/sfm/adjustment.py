@@ -11,9 +11,11 @@ same Ceres problem, with COLMAP's own cost functions:
 * camera-position priors (GNSS/RTK centres with σ horizontal/vertical);
 * which interior parameters are estimated (a subset manifold on the camera block).
 
-With rolling-shutter compensation (``rolling_shutter`` given) the problem is built by
-designer.sfm.rolling_adjustment instead, with the same observations and weights plus
-each rolling-shutter image's velocity during its readout.
+With rolling-shutter compensation (``rolling_shutter`` given) the problem is solved by
+designer.sfm.rolling_adjustment instead (vectorised, not a Ceres problem), with the same
+observations, weights, priors and gauge — the images, stations, camera parameters,
+priors and gauge come from one set-up, designer.sfm.block_setup — plus each
+rolling-shutter image's velocity during its readout.
 
 Everything is in the local frame (world − offset, float64). Tie points are weighted
 with σ = 1 px, so σ₀ is the a-posteriori standard deviation of unit weight in px.
@@ -25,6 +27,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from designer.sfm.block_setup import (
+    constant_params,
+    posed_images,
+    prior_sigmas_m,
+    reprojection_cost,
+    station_priors,
+)
 from designer.sfm.control_costs import add_control_points
 from designer.sfm.settings import VARIABLE_PARAMS
 
@@ -125,44 +134,29 @@ def adjust(rec, calibration: str, control: list[ControlPoint] | None = None,
     cam_params = {cid: camera.params for cid, camera in rec.cameras.items()}
     for params in cam_params.values():
         if variable and problem.has_parameter_block(params):
-            constant = [i for i in range(len(params)) if i not in variable]
-            problem.set_manifold(params, pyceres.SubsetManifold(len(params), constant))
-
-    # a rig's images share their station's pose (rig_from_world) and project through
-    # their mount's fixed cam_from_rig (designer.sfm.rigs); any other image is its own rig
-    poses, camera_of, in_rig, frame_of = {}, {}, {}, {}
-    for image in rec.images.values():
-        if image.has_pose:
-            frame = rec.frames[image.frame_id]
-            pose = frame.rig_from_world.params
-            if problem.has_parameter_block(pose):
-                poses[image.name] = pose
-                camera_of[image.name] = image.camera_id
-                frame_of[image.name] = image.frame_id
-                rig = rec.rigs[frame.rig_id]
-                sensor = pycolmap.sensor_t(pycolmap.SensorType.CAMERA, image.camera_id)
-                if not rig.is_ref_sensor(sensor):
-                    in_rig[image.name] = rig.sensor_from_rig(sensor)
+            problem.set_manifold(params, pyceres.SubsetManifold(
+                len(params), constant_params(variable, len(params))))
+    # a station's pose (rig_from_world) is COLMAP's block, shared by the rig's images
+    images = {n: im for n, im in posed_images(rec).items()
+              if problem.has_parameter_block(rec.frames[im.frame_id].rig_from_world.params)}
+    poses = {f: rec.frames[f].rig_from_world.params for f in {im.frame_id
+                                                              for im in images.values()}}
 
     def add_mark(xyz, name, uv, cov_uv):
-        cid = camera_of[name]
-        model = rec.cameras[cid].model
-        cost = cf.RigReprojErrorCost(model, cov_uv, uv, in_rig[name]) if name in in_rig \
-            else cf.ReprojErrorCost(model, cov_uv, uv)
-        problem.add_residual_block(cost, None, [xyz, poses[name], cam_params[cid]])
+        image = images[name]
+        problem.add_residual_block(
+            reprojection_cost(rec.cameras[image.camera_id], cov_uv, uv, image), None,
+            [xyz, poses[image.frame_id], cam_params[image.camera_id]])
 
-    xyz_by_id = add_control_points(problem, control, poses.__contains__, add_mark,
+    xyz_by_id = add_control_points(problem, control, images.__contains__, add_mark,
                                    max(marking_sigma_px, MIN_MARKING_SIGMA_PX),
                                    MIN_GCP_SIGMA_M, keep_alive)
     if priors is not None:
-        cov = np.diag([priors.sigma_h_m ** 2, priors.sigma_h_m ** 2, priors.sigma_v_m ** 2])
-        posed = set()  # a station of a rig has one pose: one GNSS position (its first image's)
-        for name, C in sorted(priors.C_local.items()):
-            if name in poses and frame_of[name] not in posed:
-                posed.add(frame_of[name])
-                problem.add_residual_block(
-                    cf.AbsolutePosePositionPriorCost(cov, np.asarray(C, float)), None,
-                    [poses[name]])
+        cov = np.diag(prior_sigmas_m(priors) ** 2)
+        frame_of = {n: im.frame_id for n, im in images.items()}
+        for f, C in station_priors(priors, frame_of.get):
+            problem.add_residual_block(cf.AbsolutePosePositionPriorCost(cov, C), None,
+                                       [poses[f]])
     summary = adjuster.solve()
     return _result(summary.ceres_summary, xyz_by_id)
 

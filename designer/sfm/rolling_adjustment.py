@@ -8,10 +8,19 @@ while the camera moves on at a constant velocity and keeps its attitude. With
 compensation, every image gets three more parameters, its velocity ``vel`` (model frame,
 m/s), and a point X seen at (u, v) is projected from the perspective centre
 C + delay(v) · vel — equivalently, the point X − delay(v) · vel is projected with the
-image's own pose, which is how the cost below evaluates it (COLMAP's own reprojection
-cost at the moved point, its Jacobians chained: ∂/∂vel = −delay · ∂/∂X). The delay comes
+image's own pose, which is how it is evaluated (∂/∂vel = −delay · ∂/∂X). The delay comes
 from the observed row (the usual first-order form of rolling-shutter adjustment; the
 observed row differs from the model row by the residual).
+
+The problem — the same observations, weights, priors and gauge as COLMAP's adjustment
+in designer.sfm.adjustment, from one set-up (designer.sfm.block_setup) — is held in
+arrays and evaluated for all observations at once with analytic Jacobians
+(designer.sfm.rolling_problem, COLMAP's FULL_OPENCV model in designer.sfm.full_opencv),
+and solved by Ceres's Levenberg–Marquardt with the points eliminated by the Schur
+complement (designer.sfm.schur_lm): 60 images and 110,000 observations in about 2 s of
+CPU where a Ceres problem with a Python cost per observation took 27 s
+(designer.sfm.rolling_reference, kept as the reference; ``designer bench
+rolling-adjustment``).
 
 Velocities start from the model's camera centres differenced along the flight's time
 line (the next photo in time, else the previous, when they are at most
@@ -37,7 +46,6 @@ import numpy as np
 
 from designer.core.rolling_shutter import row_delay_s
 from designer.errors import DesignerError
-from designer.sfm.control_costs import add_control_points
 
 #: σ of the velocity prior around its time-line start (model units / s: m/s once
 #: georeferenced)
@@ -106,82 +114,6 @@ def start_velocities(C: dict[str, np.ndarray], shutters: dict[str, RollingShutte
     return out
 
 
-def _rolling_cost_class():
-    import pyceres
-
-    class RollingShutterReprojCost(pyceres.CostFunction):
-        """Reprojection error of an observation exposed ``delay_s`` after the first row:
-        parameter blocks point (3), rotation quaternion xyzw (4), translation (3), camera
-        (n), velocity (3); COLMAP's cost at the point moved by −delay · velocity."""
-
-        def __init__(self, inner, delay_s: float, n_camera: int):
-            super().__init__()
-            self.inner = inner
-            self.delay = float(delay_s)
-            self.set_num_residuals(2)
-            self.set_parameter_block_sizes([3, 4, 3, n_camera, 3])
-
-        def Evaluate(self, parameters, residuals, jacobians):
-            X, q, t, cam, vel = parameters
-            Y = X - self.delay * vel
-            pose = np.concatenate([q, t])
-            if jacobians is None:
-                r, _ = self.inner.evaluate(Y, pose, cam)
-                residuals[:] = r[:, 0]
-                return True
-            r, (JY, Jpose, Jcam) = self.inner.evaluate(Y, pose, cam)
-            residuals[:] = r[:, 0]
-            if jacobians[0] is not None:
-                jacobians[0][:] = JY.ravel()
-            if jacobians[1] is not None:
-                jacobians[1][:] = Jpose[:, :4].ravel()
-            if jacobians[2] is not None:
-                jacobians[2][:] = Jpose[:, 4:].ravel()
-            if jacobians[3] is not None:
-                jacobians[3][:] = Jcam.ravel()
-            if jacobians[4] is not None:
-                jacobians[4][:] = (-self.delay * JY).ravel()
-            return True
-
-    class PositionPriorCost(pyceres.CostFunction):
-        """COLMAP's camera-position prior on a pose split into quaternion and translation."""
-
-        def __init__(self, inner):
-            super().__init__()
-            self.inner = inner
-            self.set_num_residuals(3)
-            self.set_parameter_block_sizes([4, 3])
-
-        def Evaluate(self, parameters, residuals, jacobians):
-            q, t = parameters
-            r, (J,) = self.inner.evaluate(np.concatenate([q, t]))
-            residuals[:] = r[:, 0]
-            if jacobians is not None:
-                if jacobians[0] is not None:
-                    jacobians[0][:] = J[:, :4].ravel()
-                if jacobians[1] is not None:
-                    jacobians[1][:] = J[:, 4:].ravel()
-            return True
-
-    class VelocityPriorCost(pyceres.CostFunction):
-        """(vel − start) / σ."""
-
-        def __init__(self, start: np.ndarray, sigma: float):
-            super().__init__()
-            self.start = np.asarray(start, float).copy()
-            self.w = 1.0 / float(sigma)
-            self.set_num_residuals(3)
-            self.set_parameter_block_sizes([3])
-
-        def Evaluate(self, parameters, residuals, jacobians):
-            residuals[:] = (parameters[0] - self.start) * self.w
-            if jacobians is not None and jacobians[0] is not None:
-                jacobians[0][:] = (np.eye(3) * self.w).ravel()
-            return True
-
-    return RollingShutterReprojCost, PositionPriorCost, VelocityPriorCost
-
-
 @dataclass
 class RollingShutterSolution:
     """The estimated velocities by image name (model frame, per second) and the summary."""
@@ -200,139 +132,228 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
     docstring): tie points (σ 1 px), control marks and surveyed control coordinates, camera
     position priors, the interior parameters ``variable``; ``rec`` is updated in place.
     Images without a rolling shutter (not in ``shutters``) are global-shutter images.
-    Returns the solution and the control points' adjusted coordinates by id."""
-    import pyceres
-    import pycolmap
-    from pycolmap import cost_functions as cf
+    Returns the solution and the control points' adjusted coordinates by id.
 
-    RSCost, PriorCost, VelPrior = _rolling_cost_class()
-    problem = pyceres.Problem()
-    keep: list = []
-    cam_params = {cid: camera.params for cid, camera in rec.cameras.items()}
-    # poses by frame: a rig's images share their station's rig_from_world and project
-    # through their mount's fixed cam_from_rig (designer.sfm.rigs)
-    q, t, img_of, vel, frame_of, in_rig = {}, {}, {}, {}, {}, {}
-    C_now = {}
-    for image in rec.images.values():
-        if not image.has_pose:
-            continue
-        fid = image.frame_id
-        frame = rec.frames[fid]
-        if fid not in q:
-            pose = frame.rig_from_world.params
-            q[fid] = np.array(pose[:4], float)
-            t[fid] = np.array(pose[4:], float)
-        rig = rec.rigs[frame.rig_id]
-        sensor = pycolmap.sensor_t(pycolmap.SensorType.CAMERA, image.camera_id)
-        if not rig.is_ref_sensor(sensor):
-            in_rig[image.name] = rig.sensor_from_rig(sensor)
-        frame_of[image.name] = fid
-        img_of[image.name] = image
-        C_now[image.name] = image.projection_center()
-    starts = start_velocities(C_now, shutters)
-    for name, v0 in starts.items():
-        vel[name] = v0.copy()
-    eye2 = np.eye(2)
-    points = {pid: np.array(pt.xyz, float) for pid, pt in rec.points3D.items()}
-    zero_vel = np.zeros(3)  # a global-shutter image's (constant) velocity
+    All observations are evaluated at once (designer.sfm.rolling_problem) and solved by
+    Levenberg–Marquardt with the points eliminated (designer.sfm.schur_lm); the Ceres
+    formulation it replaced, a Python cost per observation, is
+    designer.sfm.rolling_reference."""
+    from designer.sfm.rolling_problem import RollingProblem
+    from designer.sfm.schur_lm import SchurLayout, solve
 
-    def add_observation(X, name, uv, cov):
-        image = img_of[name]
-        cid = image.camera_id
-        camera = rec.cameras[cid]
-        s = shutters.get(name)
-        delay = 0.0
-        if s is not None:
-            delay = float(row_delay_s(uv[1], camera.height, s.readout_s, s.direction))
-        uv = np.asarray(uv, float)
-        inner = cf.RigReprojErrorCost(camera.model, cov, uv, in_rig[name]) \
-            if name in in_rig else cf.ReprojErrorCost(camera.model, cov, uv)
-        v = vel.get(name, zero_vel)
-        f = frame_of[name]
-        return problem.add_residual_block(RSCost(inner, delay, len(cam_params[cid])), None,
-                                          [X, q[f], t[f], cam_params[cid], v])
+    block = _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
+                           min_gcp_sigma_m, fix_gauge)
+    a = block.arrays
+    velocities = {n: v.copy() for n, v in block.starts.items()}
+    if not len(a.obs_image):
+        from designer.sfm.schur_lm import LMSummary
 
-    tie_blocks: list = []  # (point id, residual block) of every tie observation (σ 1 px)
-    for pid, X in points.items():
-        for el in rec.points3D[pid].track.elements:
-            image = rec.images[el.image_id]
-            if image.name not in img_of:
-                continue
-            tie_blocks.append((pid, add_observation(
-                X, image.name, np.asarray(image.points2D[el.point2D_idx].xy, float), eye2)))
-    if problem.has_parameter_block(zero_vel):
-        problem.set_parameter_block_constant(zero_vel)
+        summary = LMSummary(0.0, 0.0, 0, 0, "CONVERGENCE", 0, 0)
+        return RollingShutterSolution(velocities, summary, {}), {}
+    problem = RollingProblem(a)
+    layout = SchurLayout(a.obs_image, a.obs_point, a.image_cols, a.n_cam,
+                         len(block.state.X))
+    state, summary = solve(problem, layout, block.state, max_iterations,
+                           n_residuals=a.n_residuals)
 
-    xyz_by_id = add_control_points(problem, control, img_of.__contains__, add_observation,
-                                   sigma_mark_px, min_gcp_sigma_m, keep)
-    if priors is not None:
-        cov = np.diag([priors.sigma_h_m ** 2, priors.sigma_h_m ** 2, priors.sigma_v_m ** 2])
-        posed = set()  # a station of a rig has one pose: one GNSS position (its first image's)
-        for name, C in sorted(priors.C_local.items()):
-            f = frame_of.get(name)
-            if f is not None and f not in posed and problem.has_parameter_block(q[f]):
-                posed.add(f)
-                problem.add_residual_block(
-                    PriorCost(cf.AbsolutePosePositionPriorCost(cov, np.asarray(C, float))),
-                    None, [q[f], t[f]])
-    for name, v in vel.items():
-        if problem.has_parameter_block(v):
-            sigma = VELOCITY_PRIOR_SIGMA if np.any(starts[name]) else \
-                VELOCITY_PRIOR_SIGMA_NO_START
-            problem.add_residual_block(VelPrior(starts[name], sigma), None, [v])
+    from designer.core.rotation import quaternion_from_rotation
 
-    for f in q:
-        if problem.has_parameter_block(q[f]):
-            problem.set_manifold(q[f], pyceres.EigenQuaternionManifold())
-    for params in cam_params.values():
-        if not problem.has_parameter_block(params):
-            continue
-        if variable:
-            constant = [i for i in range(len(params)) if i not in variable]
-            problem.set_manifold(params, pyceres.SubsetManifold(len(params), constant))
-        else:
-            problem.set_parameter_block_constant(params)
-    if fix_gauge:
-        _fix_gauge(problem, [f for f in q if problem.has_parameter_block(q[f])], q, t)
-
-    options = pyceres.SolverOptions()
-    options.linear_solver_type = pyceres.LinearSolverType.SPARSE_SCHUR
-    options.max_num_iterations = max_iterations
-    options.function_tolerance = 1e-9
-    options.num_threads = 1  # the costs are Python: one thread (the GIL) anyway
-    summary = pyceres.SolverSummary()
-    pyceres.solve(options, problem, summary)
-
-    for f in q:
-        pose = rec.frames[f].rig_from_world
-        pose.params[:4] = q[f] / np.linalg.norm(q[f])
-        pose.params[4:] = t[f]
-    for pid, X in points.items():
-        rec.points3D[pid].xyz = X
+    q_wxyz = quaternion_from_rotation(state.R)
+    for k, fid in enumerate(block.frame_ids):
+        pose = rec.frames[fid].rig_from_world
+        pose.params[:4] = np.roll(q_wxyz[k], -1)  # COLMAP's order: x y z w
+        pose.params[4:] = state.t[k]
+    for k, pid in enumerate(block.point_ids):
+        rec.points3D[pid].xyz = state.X[k]
+    if len(a.variable):
+        for k, cid in enumerate(block.camera_ids):
+            camera = rec.cameras[cid]
+            n = len(camera.params)
+            camera.params = state.cam[k, :n]
+    for k, name in enumerate(block.image_names):
+        if name in velocities:
+            velocities[name] = state.vel[k].copy()
     # each tie observation's reprojection error with the compensation (σ 1 px: the
     # residual is in px), by point: COLMAP's own figures would project every row from the
     # first row's pose
-    errors: dict[int, list[float]] = {}
-    if tie_blocks:
-        r = np.asarray(problem.evaluate_residuals([b for _, b in tie_blocks]), float)
-        norms = np.hypot(r[0::2], r[1::2])
-        for (pid, _), e in zip(tie_blocks, norms, strict=True):
-            errors.setdefault(pid, []).append(float(e))
-    return (RollingShutterSolution({n: v.copy() for n, v in vel.items()}, summary, errors),
-            {k: v.copy() for k, v in xyz_by_id.items()})
+    r = problem.residuals(state)[block.tie_rows]
+    by_point = np.argsort(block.tie_point_ids, kind="stable")
+    norms = np.hypot(r[by_point, 0], r[by_point, 1]).tolist()
+    ids, first = np.unique(block.tie_point_ids[by_point], return_index=True)
+    ends = [*first[1:].tolist(), len(norms)]
+    errors = {pid: norms[a:b] for pid, a, b in zip(ids.tolist(), first.tolist(), ends,
+                                                   strict=True)}
+    n_tie = len(block.point_ids)
+    xyz = {gid: state.X[n_tie + k].copy() for k, gid in enumerate(block.control_ids)}
+    return RollingShutterSolution(velocities, summary, errors), xyz
 
 
-def _fix_gauge(problem, frames, q, t) -> None:
-    """No datum (no control, no priors): the first frame's pose is held, and the second
-    frame's largest translation component (the scale), as COLMAP's two-camera gauge."""
-    import pyceres
+@dataclass
+class _RollingBlock:
+    """The arrays of a rolling-shutter adjustment and what their indices stand for."""
 
-    if not frames:
-        return
-    first = frames[0]
-    problem.set_parameter_block_constant(q[first])
-    problem.set_parameter_block_constant(t[first])
-    if len(frames) > 1:
-        second = frames[1]
-        k = int(np.argmax(np.abs(t[second] - t[first])))
-        problem.set_manifold(t[second], pyceres.SubsetManifold(3, [k]))
+    arrays: object  # designer.sfm.rolling_problem.RollingArrays
+    state: object   # designer.sfm.rolling_problem.RollingState
+    starts: dict[str, np.ndarray]
+    frame_ids: list[int]
+    image_names: list[str]
+    camera_ids: list[int]
+    point_ids: list[int]        # tie points (the control points follow them)
+    control_ids: list[str]
+    tie_rows: np.ndarray        # rows of the sorted observations that are tie points
+    tie_point_ids: np.ndarray   # their point ids
+
+
+def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
+                   min_gcp_sigma_m, fix_gauge) -> _RollingBlock:
+    """The problem of :func:`adjust_rolling` as arrays (designer.sfm.rolling_problem):
+    the images with a pose and an observation, their stations and cameras, the points."""
+    from designer.core.rotation import rotation_from_quaternion
+    from designer.sfm.block_setup import (
+        posed_images,
+        prior_sigmas_m,
+        station_priors,
+        two_station_gauge,
+    )
+    from designer.sfm.control_costs import control_in_block
+    from designer.sfm.full_opencv import PREFIX_MODELS, full_opencv_params
+    from designer.sfm.observations import tie_observations
+    from designer.sfm.rolling_problem import (
+        POSE_COLS,
+        VEL_COLS,
+        RollingArrays,
+        RollingState,
+    )
+
+    posed = posed_images(rec)
+    starts = start_velocities({n: rec.images[im.image_id].projection_center()
+                               for n, im in posed.items()}, shutters)
+    names = list(posed)
+    # tie observations of the posed images, image by image
+    tie = tie_observations(rec)
+    image_index = np.full(int(max(rec.images, default=0)) + 1, -1)
+    image_index[[im.image_id for im in posed.values()]] = np.arange(len(posed))
+    o_img = image_index[tie.image_id]
+    keep = o_img >= 0
+    o_img = o_img[keep]
+    point_ids, o_pt = np.unique(tie.point3D_id[keep], return_inverse=True)
+    o_uv = [tie.xy[keep]]
+    n_tie_obs, n_tie = len(o_img), len(point_ids)
+    by_id = np.argsort(tie.point_ids)
+    X = [tie.point_xyz[by_id[np.searchsorted(tie.point_ids, point_ids, sorter=by_id)]]]
+    o_img, o_pt, o_w = [o_img], [o_pt], [np.ones(n_tie_obs)]
+    in_block = control_in_block(control, posed.__contains__, min_gcp_sigma_m)
+    names_index = {n: k for k, n in enumerate(names)}
+    for k, cp in enumerate(in_block):
+        X.append(cp.surveyed_local[None])
+        o_img.append(np.array([names_index[name] for name, _ in cp.marks]))
+        o_pt.append(np.full(len(cp.marks), n_tie + k))
+        o_uv.append(np.array([uv for _, uv in cp.marks], float))
+        o_w.append(np.full(len(cp.marks), 1.0 / sigma_mark_px))
+    o_img = np.concatenate(o_img).astype(np.int64)
+    o_pt = np.concatenate(o_pt).astype(np.int64)
+    o_uv = np.concatenate(o_uv).reshape(-1, 2)
+    o_w = np.concatenate(o_w)
+    X = np.concatenate(X).reshape(-1, 3)
+
+    # the images, stations and cameras with an observation, in the reconstruction's order
+    used = np.unique(o_img)
+    image_names = [names[k] for k in used]
+    renumber = np.full(len(names), -1)
+    renumber[used] = np.arange(len(used))
+    o_img = renumber[o_img]
+    images = [posed[n] for n in image_names]
+    used_frames = {im.frame_id for im in images}
+    frame_ids = [f for f in dict.fromkeys(im.frame_id for im in posed.values())
+                 if f in used_frames]
+    camera_ids = list(dict.fromkeys(im.camera_id for im in images))
+    image_frame = np.array([frame_ids.index(im.frame_id) for im in images])
+    image_camera = np.array([camera_ids.index(im.camera_id) for im in images])
+    mount_R = np.tile(np.eye(3), (len(images), 1, 1))
+    mount_t = np.zeros((len(images), 3))
+    for k, im in enumerate(images):
+        if im.cam_from_rig is not None:
+            mount_R[k] = im.cam_from_rig.rotation.matrix()
+            mount_t[k] = im.cam_from_rig.translation
+    cams = [rec.cameras[cid] for cid in camera_ids]
+    for camera in cams:
+        if camera.model.name not in PREFIX_MODELS:
+            raise DesignerError(
+                f"camera model {camera.model.name}: rolling-shutter compensation supports "
+                "pinhole and Brown–Conrady cameras; use a brown-conrady distortion")
+    cam = np.array([full_opencv_params(c.model.name, c.params) for c in cams])
+    variable = np.array(sorted(variable), np.int64)
+
+    delay = np.zeros(len(o_img))
+    vel = np.zeros((len(images), 3))
+    for k, (name, im) in enumerate(zip(image_names, images, strict=True)):
+        s = shutters.get(name)
+        if s is not None:
+            rows = o_img == k
+            delay[rows] = row_delay_s(o_uv[rows, 1], rec.cameras[im.camera_id].height,
+                                      s.readout_s, s.direction)
+            vel[k] = starts[name]
+
+    R, t = [], []
+    for fid in frame_ids:
+        pose = np.asarray(rec.frames[fid].rig_from_world.params, float)
+        R.append(rotation_from_quaternion(np.roll(pose[:4], 1)))  # x y z w → w x y z
+        t.append(pose[4:].copy())
+    R, t = np.array(R), np.array(t)
+
+    # global camera-side columns: stations (6, less the gauge's), velocities, cameras
+    held = set()
+    if fix_gauge:
+        first, second, k = two_station_gauge(list(range(len(frame_ids))), lambda f: t[f])
+        held |= {(first, j) for j in range(POSE_COLS)}
+        if second is not None:
+            held.add((second, 3 + k))
+    frame_cols = np.full((len(frame_ids), POSE_COLS), -1)
+    n = 0
+    for f in range(len(frame_ids)):
+        for j in range(POSE_COLS):
+            if (f, j) not in held:
+                frame_cols[f, j] = n
+                n += 1
+    vel_cols = np.full((len(images), VEL_COLS), -1)
+    vel_image = [k for k, name in enumerate(image_names) if name in shutters]
+    for k in vel_image:
+        vel_cols[k] = np.arange(n, n + VEL_COLS)
+        n += VEL_COLS
+    cam_cols = np.full((len(cams), len(variable)), -1)
+    for c, camera in enumerate(cams):
+        for j, p in enumerate(variable):
+            if p < len(camera.params):
+                cam_cols[c, j] = n
+                n += 1
+    image_cols = np.hstack([frame_cols[image_frame], vel_cols, cam_cols[image_camera]])
+
+    prior_frame, prior_C = [], []
+    if priors is not None:
+        frame_index = {f: k for k, f in enumerate(frame_ids)}
+        frame_of = {n: frame_index.get(im.frame_id) for n, im in posed.items()}
+        for f, C in station_priors(priors, frame_of.get):
+            prior_frame.append(f)
+            prior_C.append(C)
+    prior_sigma = np.tile(prior_sigmas_m(priors), (len(prior_frame), 1)) if priors \
+        is not None else np.zeros((0, 3))
+    vel_sigma = [VELOCITY_PRIOR_SIGMA if np.any(starts[image_names[k]])
+                 else VELOCITY_PRIOR_SIGMA_NO_START for k in vel_image]
+
+    order = np.lexsort((o_pt, o_img))  # by image, then point
+    tie_rows = np.flatnonzero(order < n_tie_obs)  # sorted rows of the tie observations
+    arrays = RollingArrays(
+        obs_image=o_img[order], obs_point=o_pt[order], uv=o_uv[order], weight=o_w[order],
+        delay=delay[order], image_frame=image_frame, image_camera=image_camera,
+        mount_R=mount_R, mount_t=mount_t, variable=variable,
+        control_index=np.arange(n_tie, n_tie + len(in_block), dtype=np.int64),
+        control_xyz=np.array([cp.surveyed_local for cp in in_block]).reshape(-1, 3),
+        control_sigma=np.array([cp.sigma_m for cp in in_block]).reshape(-1, 3),
+        prior_frame=np.array(prior_frame, np.int64), prior_C=np.array(prior_C).reshape(-1, 3),
+        prior_sigma=prior_sigma, vel_image=np.array(vel_image, np.int64),
+        vel_start=vel[vel_image].reshape(-1, 3), vel_sigma=np.array(vel_sigma, float),
+        image_cols=image_cols, n_cam=n)
+    state = RollingState(R=R, t=t, vel=vel, cam=cam, X=X)
+    return _RollingBlock(arrays, state, starts, frame_ids, image_names, camera_ids,
+                         point_ids.tolist(), [cp.gcp_id for cp in in_block], tie_rows,
+                         point_ids[o_pt[order][tie_rows]])
