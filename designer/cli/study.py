@@ -44,6 +44,9 @@ def register(subparsers) -> None:
                      help="run the stages on this existing Dask cluster")
     run.add_argument("--resume", action="store_true",
                      help="continue a study in DIR: finished runs are kept, not redone")
+    run.add_argument("--retry-failed", action="store_true",
+                     help="with --resume: also redo the runs that failed (their failed "
+                          "render or reconstruction; a render keeps its finished images)")
     run.add_argument("--progress", choices=["bar", "json", "none"], default="bar")
     run.set_defaults(func=run_run, interrupted_hint="the finished runs are kept; run the "
                      "same command with --resume to do the rest")
@@ -89,9 +92,13 @@ def run_run(args) -> int:
 
     if args.workers < 1:
         raise DesignerError(f"--workers {args.workers}: give 1 or more")
+    if args.retry_failed and not args.resume:
+        raise DesignerError("--retry-failed redoes the failed runs of a study folder; give "
+                            "it with --resume")
     plan = plan_study(read_study(args.study))
     report = run_study(plan, args.output, workers=args.workers, scheduler=args.scheduler,
-                       resume=args.resume, progress=print_progress(args.progress))
+                       resume=args.resume, progress=print_progress(args.progress),
+                       retry_failed=args.retry_failed)
     c = report.counts
     print(f"{args.output}: {c['runs']} runs of {c['variants']} variants; renders "
           f"{c['renders']} (distinct image sets), reconstructions {c['reconstructions']}, "
@@ -107,7 +114,8 @@ def run_run(args) -> int:
         run_id, status = failed[0]
         reason = status.removeprefix("failed: ")
         print(f"designer: {len(failed)} of {len(report.rows)} runs failed (first: {run_id}: "
-              f"{reason}); their results say why, the others are complete",
+              f"{reason}); their results say why, the others are complete; --resume "
+              "--retry-failed redoes the failed ones",
               file=sys.stderr)
         return RUNS_FAILED_EXIT
     return 0

@@ -14,8 +14,10 @@ Output folder::
     DIR/cache/step-cpu/GROUP/     what computing them (and SfM models) cost in CPU seconds
     DIR/results.csv, summary.json, report.html, report.md
 
-A run with a ``result.json`` is finished (``ok`` or ``failed: reason``) and never redone;
-``--resume`` continues a killed study, re-rendering only unfinished images.
+A run with a ``result.json`` is finished (``ok`` or ``failed: reason``) and is not redone
+by ``--resume``, which continues a killed study, re-rendering only unfinished images;
+``--resume --retry-failed`` also redoes the failed runs: their failed render or
+reconstruction is done again (a render keeps its finished, up-to-date images).
 """
 
 from __future__ import annotations
@@ -170,6 +172,29 @@ def _plan_runs(plan: Plan, out: Path, progress: Progress) -> dict[str, dict]:
     return infos
 
 
+def _failed(path: Path) -> bool:
+    """A result (result.json or a stage's done.json) that records a failure."""
+    try:
+        return json.loads(path.read_text()).get("status", "ok") != "ok"
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def _forget_failures(out: Path, infos: dict[str, dict]) -> None:
+    """Make every failed run unfinished again, with the failed stages it depends on: the
+    run's result.json and a failed render's or reconstruction's done.json are removed
+    (a render's images stay: the render resumes)."""
+    for rid, info in infos.items():
+        result = out / "runs" / rid / "result.json"
+        if not _failed(result):
+            continue
+        result.unlink()
+        for stage in (out / "cache" / "renders" / info["image_hash"],
+                      out / "cache" / "processing" / info["processing_hash"]):
+            if _failed(stage / stages.DONE):
+                (stage / stages.DONE).unlink()
+
+
 def _check_folder(out: Path, plan: Plan, resume: bool) -> None:
     marker = out / "study.json"
     if marker.is_file():
@@ -188,7 +213,7 @@ def _check_folder(out: Path, plan: Plan, resume: bool) -> None:
 
 def run_study(plan: Plan, out_dir: Path, *, workers: int = 1, scheduler: str | None = None,
               resume: bool = False, progress: Progress | None = None,
-              render_workers: int = 1) -> StudyRunReport:
+              render_workers: int = 1, retry_failed: bool = False) -> StudyRunReport:
     """Run every run of ``plan`` into ``out_dir``; results, summary and report written."""
     from designer.study.results import write_results
 
@@ -208,6 +233,8 @@ def run_study(plan: Plan, out_dir: Path, *, workers: int = 1, scheduler: str | N
         "factors": {f.name: list(f.values) for f in plan.study.factors},
         "runs": [r.run_id for r in plan.runs]}, indent=1))
     infos = _plan_runs(plan, out, progress)
+    if retry_failed:
+        _forget_failures(out, infos)
     finished = {rid for rid in infos if (out / "runs" / rid / "result.json").is_file()}
     counts = _execute(out, infos, finished, workers, scheduler, progress, render_workers)
     rows = [json.loads((out / "runs" / r.run_id / "result.json").read_text())

@@ -299,3 +299,17 @@ def test_a_study_whose_runs_failed_exits_3_after_writing_every_result(killed_and
         rows = list(csv.DictReader(f))
     assert len(rows) == len(second.rows)
     assert sum(r["status"] != "ok" for r in rows) == 1
+    assert "--resume --retry-failed redoes the failed ones" in last
+    # --retry-failed redoes it (its reconstruction was fine: the row is written again)
+    retried = _designer("study", "run", str(study), "-o", str(copy), "--resume",
+                        "--retry-failed", "--progress", "none")
+    stdout, stderr = retried.communicate(timeout=300)
+    assert retried.returncode == 0, stderr
+    assert json.loads((first_run / "result.json").read_text())["status"] == "ok"
+    assert "failed 0" in stdout
+    alone = _designer("study", "run", str(study), "-o", str(copy), "--retry-failed",
+                      "--progress", "none")
+    _, stderr = alone.communicate(timeout=300)
+    assert alone.returncode == 2
+    assert stderr.strip().splitlines()[-1] == ("designer: error: --retry-failed redoes the failed "
+                                               "runs of a study folder; give it with --resume")
