@@ -1,4 +1,4 @@
-"""The window's table of directions (designer.gui.wording.PANEL_DIRECTIONS) matches the
+"""The window's table of directions (designer.gui.state.wording.PANEL_DIRECTIONS) matches the
 messages validation gives today: each time-line message a window user can meet reads
 as a panel and a control, not as an element to add (Qt-free)."""
 
@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from designer.gui.files import blank_project
-from designer.gui.wording import panel_directions
+from designer.gui.state.files import blank_project
+from designer.gui.state.wording import panel_directions
 from designer.project import model as m
 from designer.project.validate_trajectory import trajectory_issues
 from designer.project.validate_world import world_issues

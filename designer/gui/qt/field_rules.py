@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from designer.gui.widgets import CheckedDoubleSpin, CheckedSpin
+from designer.gui.qt.widgets import CheckedDoubleSpin, CheckedSpin
 
 #: the rule: the reason a value is refused ("" when it may be applied)
 Rule = Callable[[float], str]
@@ -36,7 +36,7 @@ class _Ruled:
 
 
 class RuledDoubleSpin(_Ruled, CheckedDoubleSpin):
-    """A :class:`~designer.gui.widgets.CheckedDoubleSpin` that also refuses the values
+    """A :class:`~designer.gui.qt.widgets.CheckedDoubleSpin` that also refuses the values
     its ``rule`` names a reason against."""
 
     def __init__(self, rule: Rule, label: str = "value") -> None:
@@ -45,7 +45,7 @@ class RuledDoubleSpin(_Ruled, CheckedDoubleSpin):
 
 
 class RuledSpin(_Ruled, CheckedSpin):
-    """A :class:`~designer.gui.widgets.CheckedSpin` (whole numbers) with a rule."""
+    """A :class:`~designer.gui.qt.widgets.CheckedSpin` (whole numbers) with a rule."""
 
     def __init__(self, rule: Rule, label: str = "value") -> None:
         super().__init__(label)
@@ -54,15 +54,15 @@ class RuledSpin(_Ruled, CheckedSpin):
 
 def ruled_dspin(rule: Rule, lo: float, hi: float, decimals: int = 3, step: float = 1.0,
                 suffix: str = "", label: str = "value") -> RuledDoubleSpin:
-    """:func:`~designer.gui.widgets.dspin` with a rule across fields."""
-    from designer.gui.widgets import set_up_dspin
+    """:func:`~designer.gui.qt.widgets.dspin` with a rule across fields."""
+    from designer.gui.qt.widgets import set_up_dspin
 
     return set_up_dspin(RuledDoubleSpin(rule, label), lo, hi, decimals, step, suffix)
 
 
 def ruled_ispin(rule: Rule, lo: int, hi: int, suffix: str = "",
                 label: str = "value") -> RuledSpin:
-    """:func:`~designer.gui.widgets.ispin` with a rule across fields."""
+    """:func:`~designer.gui.qt.widgets.ispin` with a rule across fields."""
     box = RuledSpin(rule, label)
     box.setRange(lo, hi)
     if suffix:

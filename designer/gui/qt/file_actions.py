@@ -10,8 +10,8 @@ from PySide6.QtCore import QSettings, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QMenu, QMessageBox
 
-from designer.gui import files
-from designer.gui.wording import count
+from designer.gui.state import files
+from designer.gui.state.wording import count
 from designer.project import TEMPLATE_NAMES, ProjectError, read_project_file
 
 MAX_RECENT = 8

@@ -19,24 +19,24 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from designer.gui import files
-from designer.gui.document import ProjectDocument
-from designer.gui.file_actions import FileActions
-from designer.gui.panels.buildings import BuildingsPanel
-from designer.gui.panels.camera import CameraPanel
-from designer.gui.panels.effects import EffectsPanel
-from designer.gui.panels.flight import FlightPanel
-from designer.gui.panels.gcps import GcpPanel
-from designer.gui.panels.lighting import LightingPanel
-from designer.gui.panels.moving import MovingObjectsPanel
-from designer.gui.panels.terrain import TerrainPanel
-from designer.gui.panels.texture import TexturePanel
-from designer.gui.panels.vegetation import VegetationPanel
-from designer.gui.scene_sync import SceneSync
-from designer.gui.scene_view import SceneView
-from designer.gui.site_flight_actions import SiteFlightActions
-from designer.gui.tasks import TaskRunner
-from designer.gui.undo import Editor
+from designer.gui.qt.file_actions import FileActions
+from designer.gui.qt.panels.buildings import BuildingsPanel
+from designer.gui.qt.panels.camera import CameraPanel
+from designer.gui.qt.panels.effects import EffectsPanel
+from designer.gui.qt.panels.flight import FlightPanel
+from designer.gui.qt.panels.gcps import GcpPanel
+from designer.gui.qt.panels.lighting import LightingPanel
+from designer.gui.qt.panels.moving import MovingObjectsPanel
+from designer.gui.qt.panels.terrain import TerrainPanel
+from designer.gui.qt.panels.texture import TexturePanel
+from designer.gui.qt.panels.vegetation import VegetationPanel
+from designer.gui.qt.scene_sync import SceneSync
+from designer.gui.qt.scene_view import SceneView
+from designer.gui.qt.site_flight_actions import SiteFlightActions
+from designer.gui.qt.tasks import TaskRunner
+from designer.gui.qt.undo import Editor
+from designer.gui.state import files
+from designer.gui.state.document import ProjectDocument
 
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("buildings", "Buildings"),
           ("vegetation", "Plants"), ("targets", "GCP targets"),
@@ -49,16 +49,16 @@ def _extra_panels():
     """Panels that are optional at import time (render needs no Qt extras; results uses
     matplotlib's Qt canvas)."""
     out = []
-    from designer.gui.panels.render import RenderPanel
+    from designer.gui.qt.panels.render import RenderPanel
 
     out.append(("right", RenderPanel))
-    from designer.gui.panels.processing import ProcessingPanel
+    from designer.gui.qt.panels.processing import ProcessingPanel
 
     out.append(("right", ProcessingPanel))
-    from designer.gui.panels.results import ResultsPanel
+    from designer.gui.qt.panels.results import ResultsPanel
 
     out.append(("right", ResultsPanel))
-    from designer.gui.panels.study import StudyPanel
+    from designer.gui.qt.panels.study import StudyPanel
 
     out.append(("right", StudyPanel))
     return out
@@ -114,7 +114,7 @@ class MainWindow(QMainWindow):
         self.document.reset(self.document.project, None)
         from PySide6.QtWidgets import QApplication
 
-        from designer.gui.input_guard import InputGuard
+        from designer.gui.qt.input_guard import InputGuard
 
         self.input_guard = InputGuard(self)
         QApplication.instance().installEventFilter(self.input_guard)
@@ -124,7 +124,7 @@ class MainWindow(QMainWindow):
         """The 3D view, and above it the bar that shows an exception no slot caught."""
         from PySide6.QtWidgets import QVBoxLayout
 
-        from designer.gui.uncaught import ErrorBar
+        from designer.gui.qt.uncaught import ErrorBar
 
         centre = QWidget(self)
         column = QVBoxLayout(centre)
@@ -150,7 +150,7 @@ class MainWindow(QMainWindow):
 
     def _watch_outputs(self) -> None:
         """Render and Results say when what they show no longer matches the project."""
-        from designer.gui.stale_watch import StaleWatch
+        from designer.gui.qt.stale_watch import StaleWatch
 
         self.stale_watch = StaleWatch(self.document, self.tasks, self)
         render, results = self.panels.get("Render"), self.panels.get("Results")
@@ -212,7 +212,7 @@ class MainWindow(QMainWindow):
     def show_problems(self, lines: list[str], headline: str = "") -> None:
         """List problems inline (an empty list hides the Problems panel); while listed they
         are checked again after every change, so fixed ones (also by an undo) go away."""
-        from designer.gui.wording import humanize, panel_directions
+        from designer.gui.state.wording import humanize, panel_directions
 
         lines = [panel_directions(humanize(line)) for line in lines]
         self._problems_project = self.document.project if lines else None

@@ -1,4 +1,4 @@
-"""Runs a :class:`~designer.gui.reconstruct_job.ReconstructJob`'s commands one after the
+"""Runs a :class:`~designer.gui.state.reconstruct_job.ReconstructJob`'s commands one after the
 other in their own processes; the window only reads their output.
 
 Cancel sends SIGINT, on which a designer command stops cleanly; COLMAP's feature
@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
-from designer.gui.reconstruct_job import COMPARE_STAGE, STAGES, ReconstructJob, stage_of_line
-from designer.gui.render_process import CommandProcess
+from designer.gui.qt.command_process import CommandProcess
+from designer.gui.state.reconstruct_job import COMPARE_STAGE, STAGES, ReconstructJob, stage_of_line
 
 #: how long (ms) a cancelled command may take to stop on SIGINT before it is killed
 CANCEL_GRACE_MS = 2000

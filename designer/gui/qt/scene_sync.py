@@ -1,7 +1,7 @@
 """Keeps the 3D view in step with the document: model events in, view updates out.
 
 On each ``project`` event it looks at which parts changed and recomputes only what
-depends on them, in worker threads (:class:`~designer.gui.tasks.TaskRunner`):
+depends on them, in worker threads (:class:`~designer.gui.qt.tasks.TaskRunner`):
 
 terrain → height field, ray caster, display mesh and its light → targets, stations,
 coverage; texture → texture image (1–2 s for a procedural one) and the display UVs;
@@ -22,9 +22,9 @@ import numpy as np
 from PySide6.QtCore import QObject, Signal
 
 from designer.errors import DesignerError
-from designer.gui import derived
-from designer.gui.document import ProjectDocument
-from designer.gui.tasks import TaskRunner
+from designer.gui.qt.tasks import TaskRunner
+from designer.gui.state import derived
+from designer.gui.state.document import ProjectDocument
 from designer.project import model as m
 
 TERRAIN_PARTS = {"terrain"}
@@ -34,7 +34,7 @@ STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
 
 
 def _message(error: BaseException) -> str:
-    from designer.gui.wording import humanize
+    from designer.gui.state.wording import humanize
 
     if isinstance(error, DesignerError | ValueError | KeyError | OSError):
         return humanize(str(error))
@@ -65,7 +65,7 @@ class SceneSync(QObject):
         self.objects: derived.ObjectsResult | None = None
         self.buildings: derived.BuildingsResult | None = None
         self.vegetation: derived.VegetationResult | None = None
-        #: the flight over the real terrain (designer.gui.plan_figures), or None
+        #: the flight over the real terrain (designer.gui.state.plan_figures), or None
         self.plan = None
         self.errors: dict[str, str] = {}
         self.coverage_enabled = False
@@ -364,7 +364,7 @@ class SceneSync(QObject):
     # ------------------------------------------------------------------ plan figures
     def refresh_plan(self) -> None:
         """Analyse the flight over the real terrain (as designer plan does), in a thread."""
-        from designer.gui.plan_figures import compute_plan_figures
+        from designer.gui.state.plan_figures import compute_plan_figures
 
         terrain, stations = self.terrain, self.stations
         if terrain is None or stations is None or terrain.heightfield is None:

@@ -1,13 +1,13 @@
 """The 3D view: the one class that owns the pyvistaqt ``QtInteractor``.
 
-It knows nothing about the project model: :mod:`designer.gui.scene_sync` hands it
+It knows nothing about the project model: :mod:`designer.gui.qt.scene_sync` hands it
 arrays (world coordinates) per layer and it maps layer names to VTK actors, updating
 an existing actor's data in place where it can. World coordinates are shifted by a
 display offset (the terrain's centre) before they reach VTK, which renders in float32.
 
 Layers: ``terrain``, ``objects``, ``targets`` (markers, checker plates, labels), ``frusta``,
 ``footprints``, ``flight``, ``area``, ``coverage``, ``cloud``, plus the interaction
-overlays of :mod:`designer.gui.interaction`.
+overlays of :mod:`designer.gui.qt.interaction`.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ import numpy as np
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
-from designer.gui.interaction import ViewInteraction
-from designer.gui.view_overlays import CLOUD_BAR, OverlayLayers
+from designer.gui.qt.interaction import ViewInteraction
+from designer.gui.state.view_overlays import CLOUD_BAR, OverlayLayers
 from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
@@ -199,7 +199,7 @@ class SceneView(OverlayLayers, QWidget):
                      texture_rgb: np.ndarray | None = None, linear: bool = True,
                      irradiance: np.ndarray | None = None) -> None:
         """The terrain mesh, textured; with ``irradiance`` (relative light per vertex,
-        :func:`~designer.gui.view_geometry.shade_rgb`) it is drawn lit by the project's
+        :func:`~designer.gui.state.view_geometry.shade_rgb`) it is drawn lit by the project's
         sun and sky, else by the view's own lights."""
         pv = self._pv
         faces = np.asarray(faces, dtype=np.int64)
@@ -223,7 +223,7 @@ class SceneView(OverlayLayers, QWidget):
         The colours are multiplied with the texture by the GPU, so no per-pixel lighting
         is left to compute: on a software OpenGL that is most of a frame's terrain cost.
         """
-        from designer.gui.view_geometry import shade_rgb
+        from designer.gui.state.view_geometry import shade_rgb
 
         mesh, actor = self._meshes.get("terrain"), self.plotter.actors.get("terrain")
         if irradiance is not None and (mesh is None or len(irradiance) != mesh.n_points):
@@ -359,7 +359,7 @@ class SceneView(OverlayLayers, QWidget):
     def show_objects(self, vertices_world: np.ndarray | None, faces: np.ndarray | None = None,
                      face_irradiance: np.ndarray | None = None) -> None:
         """The scene's mesh objects (one merged mesh), each face shaded by its light."""
-        from designer.gui.view_geometry import shade_rgb
+        from designer.gui.state.view_geometry import shade_rgb
 
         self._show_faces("objects", vertices_world, faces,
                          lambda: shade_rgb(face_irradiance, OBJECT_COLOUR))
@@ -369,7 +369,7 @@ class SceneView(OverlayLayers, QWidget):
                        face_roof: np.ndarray | None = None) -> None:
         """The buildings (one merged mesh): facades and roofs in their colours, each face
         shaded by its light."""
-        from designer.gui.view_geometry import shade_rgb
+        from designer.gui.state.view_geometry import shade_rgb
 
         self._show_faces("buildings", vertices_world, faces, lambda: np.where(
             np.asarray(face_roof)[:, None], shade_rgb(face_irradiance, ROOF_COLOUR),
@@ -380,7 +380,7 @@ class SceneView(OverlayLayers, QWidget):
                         face_albedo: np.ndarray | None = None) -> None:
         """The plants (one merged mesh), each face in its albedo lit as flat open ground,
         as the renderer draws them."""
-        from designer.gui.view_geometry import flat_lit_rgb
+        from designer.gui.state.view_geometry import flat_lit_rgb
 
         self._show_faces("vegetation", vertices_world, faces, lambda: flat_lit_rgb(face_albedo))
 

@@ -26,7 +26,7 @@ from pathlib import Path
 from PySide6.QtWidgets import QFileDialog, QMenu
 
 from designer.errors import DesignerError
-from designer.gui.wording import count
+from designer.gui.state.wording import count
 
 #: Export flight plan: file type → (format, heights)
 EXPORT_FILTERS = {

@@ -1,7 +1,7 @@
 """Watches whether the render output (and its reconstruction) is still the project's.
 
 After an edit (debounced), when a file is opened or saved and when a render finishes,
-:func:`designer.gui.output_state.render_state` runs in a worker thread (keyed
+:func:`designer.gui.state.output_state.render_state` runs in a worker thread (keyed
 ``output-state``: a newer check supersedes an older one) and ``render_state`` is
 emitted with the answer (None: nothing rendered yet, or a render is running).
 """
@@ -12,7 +12,7 @@ from pathlib import Path
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
-from designer.gui.output_state import render_state
+from designer.gui.state.output_state import render_state
 
 #: quiet time after the last edit before the (seconds-long) check starts, ms
 DEBOUNCE_MS = 700

@@ -2,7 +2,7 @@
 values or a START:STOP:STEP range, the base project's value beside them), and the check
 that runs off the UI thread — the study text parsed by the study reader, planned by
 :func:`designer.study.design.plan_study` and costed by
-:func:`designer.gui.study_data.plan_cost`."""
+:func:`designer.gui.state.study_data.plan_cost`."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from pathlib import Path
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QLineEdit, QToolButton, QWidget
 
-from designer.gui.study_data import parse_levels, parse_range
+from designer.gui.state.study_data import parse_levels, parse_range
 
 LEVELS_HINT = "values separated by spaces (3 4 6 8), or a range START:STOP:STEP (20:40:5)"
 
@@ -68,7 +68,7 @@ _terrain_cache: dict[str, object] = {}
 
 def _heightfield(plan):
     """The base project's heightfield (the last one kept: edits of the study reuse it)."""
-    from designer.gui import derived
+    from designer.gui.state import derived
 
     key = repr((plan.base.scene.terrain, str(plan.base_dir)))
     if key not in _terrain_cache:
@@ -83,7 +83,7 @@ def check_study(text: str | None, source: str, path: Path, speed=None):
     ``FILE:LINE:COL: <element>: message`` for anything wrong."""
     from dataclasses import replace
 
-    from designer.gui.study_data import plan_cost, plan_warnings
+    from designer.gui.state.study_data import plan_cost, plan_warnings
     from designer.study.design import plan_study
     from designer.study.xml import parse_study, read_study
 

@@ -17,7 +17,7 @@ from pathlib import Path
 from PySide6.QtCore import QProcess, QProcessEnvironment, QTimer
 
 import designer
-from designer.gui.render_process import CommandProcess
+from designer.gui.qt.command_process import CommandProcess
 from designer.lifetime import child_environment
 
 #: how long (ms) the study's processes may take to stop on SIGINT before they are killed

@@ -22,7 +22,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from designer.gui.study_data import StudyFolder, cell_text
+from designer.gui.state.study_data import StudyFolder, cell_text
 
 FAILED_COLOUR = "#c0392b"
 FAILED_BACKGROUND = "#fdecea"
@@ -36,7 +36,7 @@ class _Figure(QLabel):
 
 
 class StudyResults(QWidget):
-    """Shows one :class:`~designer.gui.study_data.StudyFolder`."""
+    """Shows one :class:`~designer.gui.state.study_data.StudyFolder`."""
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)

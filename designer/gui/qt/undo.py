@@ -13,7 +13,7 @@ import time
 
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
-from designer.gui.document import ProjectDocument
+from designer.gui.state.document import ProjectDocument
 from designer.project import model as m
 
 _MERGE_IDS: dict[str, int] = {}

@@ -33,7 +33,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from designer.gui.edits import AbsentElement, check_path, get_path, replace_path
+from designer.gui.state.edits import AbsentElement, check_path, get_path, replace_path
 from designer.project import model as m
 
 Getter = Callable[[m.Project], Any]
@@ -290,7 +290,7 @@ def readout() -> QLabel:
 
 def path_accessors(path: str) -> tuple[Getter, Setter]:
     """Getter and setter of a model path (checked now: a misspelt path raises
-    :class:`~designer.gui.edits.UnknownField`)."""
+    :class:`~designer.gui.state.edits.UnknownField`)."""
     check_path(path)
     return (lambda p: get_path(p, path)), (lambda p, v: replace_path(p, path, v))
 
@@ -304,9 +304,9 @@ def model_getter(path: str, convert: Callable[[Any], Any] | None = None) -> Gett
 
 
 class Bindings:
-    """Fields bound to the project through an :class:`~designer.gui.undo.Editor`.
+    """Fields bound to the project through an :class:`~designer.gui.qt.undo.Editor`.
 
-    A field whose element the project lacks (:class:`~designer.gui.edits.AbsentElement`:
+    A field whose element the project lacks (:class:`~designer.gui.state.edits.AbsentElement`:
     an optional element that is off, a union variant without the field) is disabled; a
     path that names no field of the model raises when it is bound, and any other error
     of a getter or setter propagates: a broken binding is loud, never a greyed field."""

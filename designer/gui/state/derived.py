@@ -1,6 +1,6 @@
 """Everything the view derives from a project, as plain functions (Qt-free).
 
-They run in worker threads (:mod:`designer.gui.tasks`), take immutable inputs and
+They run in worker threads (:mod:`designer.gui.qt.tasks`), take immutable inputs and
 return frozen results, so a result can be handed to the UI thread as it is. World
 coordinates in metres. Each wraps the project's own code: the scene builder, the
 flight planner, the coverage analysis — the GUI computes nothing of its own.
@@ -17,7 +17,7 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.errors import DesignerError
-from designer.gui.view_geometry import (
+from designer.gui.state.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
     StationGeometry,
     TerrainDisplay,

@@ -183,7 +183,7 @@ def panel_for_problem(line: str) -> str | None:
 def blank_project() -> m.Project:
     """A starting point: 100 m × 100 m of flat ground at the origin, grass, a Phantom 4
     Pro camera, no targets and no flight yet."""
-    from designer.gui.camera_presets import preset
+    from designer.gui.state.camera_presets import preset
 
     extent = m.Extent(-50.0, -50.0, 50.0, 50.0)
     scene = m.Scene(

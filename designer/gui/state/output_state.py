@@ -18,7 +18,7 @@ from pathlib import Path
 from designer.atomic import write_text_atomic
 from designer.core.layout import images_dir
 from designer.errors import DesignerError
-from designer.gui.wording import count
+from designer.gui.state.wording import count
 
 RECONSTRUCTION_INPUTS = "inputs.json"
 #: how RenderState.text begins when the render folder could not be compared

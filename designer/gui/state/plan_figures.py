@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.gui.wording import count, panel_directions
+from designer.gui.state.wording import count, panel_directions
 from designer.project import model as m
 
 #: achieved overlaps (5 % quantile over the stations) below these are warned about

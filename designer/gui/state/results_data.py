@@ -205,7 +205,7 @@ def evaluate_gcps(path: Path, project: m.Project, heightfield) -> dict:
 
 def load_compared_cloud(path: Path, reference: str = "") -> CloudResult:
     """The cloud and distances ``designer compare`` wrote (``distances.ply``)."""
-    from designer.gui.reconstruct_job import read_compared_cloud
+    from designer.gui.state.reconstruct_job import read_compared_cloud
 
     xyz, d = read_compared_cloud(Path(path))
     if len(xyz) == 0:
@@ -216,7 +216,7 @@ def load_compared_cloud(path: Path, reference: str = "") -> CloudResult:
 
 def last_reconstruction(survey_dir: Path) -> Path | None:
     """The newest ``distances.ply`` of a reconstruction of ``survey_dir`` (any mode)."""
-    from designer.gui.reconstruct_job import MODES, ReconstructJob
+    from designer.gui.state.reconstruct_job import MODES, ReconstructJob
 
     found = [ReconstructJob(Path(), Path(survey_dir), mode).distances_ply
              for _text, mode in MODES]

@@ -55,7 +55,7 @@ def _features_key(render_key: str, project) -> str:
 
 def reconstruct_seconds_per_image(project, interior) -> float:
     """Estimated reconstruction + comparison seconds per image of ``project``."""
-    from designer.gui.derived import rendered_size_px
+    from designer.gui.state.derived import rendered_size_px
 
     w_px, h_px = rendered_size_px(interior, project.render.resolution_scale)
     seconds = min(RECONSTRUCT_S_A + RECONSTRUCT_S_B_PER_MP * w_px * h_px / 1e6,
@@ -223,8 +223,8 @@ def plan_warnings(plan) -> list[str]:
 
 
 def duration_text(seconds: float) -> str:
-    """The window's one way of writing a time (:func:`designer.gui.wording.duration`)."""
-    from designer.gui.wording import duration
+    """The window's one way of writing a time (:func:`designer.gui.state.wording.duration`)."""
+    from designer.gui.state.wording import duration
 
     return duration(seconds)
 

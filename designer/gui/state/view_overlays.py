@@ -1,7 +1,7 @@
 """Layers of the 3D view that show results over the scene: the coverage heat map, a
 point cloud coloured by its signed distance (its colour range, picking a point), GCP
 errors as lines; and framing the view on what is drawn. Mixed into
-:class:`~designer.gui.scene_view.SceneView`, whose layer bookkeeping (``_show``,
+:class:`~designer.gui.qt.scene_view.SceneView`, whose layer bookkeeping (``_show``,
 ``_meshes``, ``_kept``, ``_visible``, ``local``, ``offset``) they use. Coordinates are
 world (m) in, local (world − offset) to VTK."""
 
@@ -20,7 +20,7 @@ CLOUD_BAR = "signed distance (mm)"
 
 
 class OverlayLayers:
-    """The result layers of :class:`~designer.gui.scene_view.SceneView` (a mixin)."""
+    """The result layers of :class:`~designer.gui.qt.scene_view.SceneView` (a mixin)."""
 
     def show_coverage(self, grid_xyz_world: np.ndarray, shape: tuple[int, int],
                       counts: np.ndarray) -> None:

@@ -1,2 +1,2 @@
 """Dockable side panels, one module each; every panel edits the project only through the
-:class:`~designer.gui.undo.Editor` and redraws itself from document events."""
+:class:`~designer.gui.qt.undo.Editor` and redraws itself from document events."""

@@ -8,7 +8,7 @@ from pathlib import Path
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QLabel, QScrollArea, QVBoxLayout, QWidget
 
-from designer.gui.widgets import Bindings, CheckedDoubleSpin, CheckedSpin
+from designer.gui.qt.widgets import Bindings, CheckedDoubleSpin, CheckedSpin
 
 ERROR_STYLE = "color: #c0392b"
 

@@ -9,10 +9,10 @@ import dataclasses
 
 from PySide6.QtWidgets import QComboBox, QGroupBox, QHBoxLayout, QPushButton
 
-from designer.gui.edits import AbsentElement
-from designer.gui.field_rules import ruled_like
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, form, readout
+from designer.gui.qt.field_rules import ruled_like
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, declared_field, form, readout
+from designer.gui.state.edits import AbsentElement
 from designer.project import model as m
 from designer.project.checks import plain_number
 from designer.project.geometry import point_in_polygon

@@ -7,10 +7,8 @@ import dataclasses
 from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
 
 from designer.errors import DesignerError
-from designer.gui import camera_presets, edits
-from designer.gui.edits import AbsentElement, get_path
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import (
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import (
     INVALID_STYLE,
     combo,
     declared_field,
@@ -19,6 +17,8 @@ from designer.gui.widgets import (
     model_getter,
     readout,
 )
+from designer.gui.state import camera_presets, edits
+from designer.gui.state.edits import AbsentElement, get_path
 from designer.project import model as m
 from designer.project.declare import declared_field as declared
 

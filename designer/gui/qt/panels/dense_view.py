@@ -9,7 +9,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QPixmap
 from PySide6.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QPushButton, QVBoxLayout
 
-from designer.gui.reconstruct_job import DenseProducts, dense_products
+from designer.gui.state.reconstruct_job import DenseProducts, dense_products
 
 
 class DenseView(QGroupBox):

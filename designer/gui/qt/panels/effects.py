@@ -9,9 +9,9 @@ import dataclasses
 
 from PySide6.QtWidgets import QCheckBox, QDoubleSpinBox, QGroupBox
 
-from designer.gui import edits
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import declared_field, form, model_getter, readout
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import declared_field, form, model_getter, readout
+from designer.gui.state import edits
 from designer.project import declare
 from designer.project import model as m
 

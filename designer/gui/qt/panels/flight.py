@@ -18,10 +18,10 @@ from PySide6.QtWidgets import (
     QTableWidgetItem,
 )
 
-from designer.gui import derived, edits
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
-from designer.gui.wording import count
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
+from designer.gui.state import derived, edits
+from designer.gui.state.wording import count
 from designer.project import model as m
 
 FP = "trajectory.flight_plan"
@@ -297,7 +297,7 @@ class FlightPanel(Panel):
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
         if stations.render_costs:
-            from designer.gui.wording import duration, estimate_basis
+            from designer.gui.state.wording import duration, estimate_basis
             from designer.survey.render_cost import load_speed
 
             # this machine's speed as measured now (a render since may have refined it)

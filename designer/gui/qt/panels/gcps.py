@@ -23,9 +23,9 @@ from PySide6.QtWidgets import (
 )
 
 from designer.errors import DesignerError
-from designer.gui import edits, wording
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, dspin, form, format_number, ispin
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, dspin, form, format_number, ispin
+from designer.gui.state import edits, wording
 from designer.project import model as m
 
 COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
@@ -188,7 +188,7 @@ class GcpPanel(Panel):
 
     def _image_counts(self) -> None:
         """The images column: how many images of the flight see each GCP."""
-        from designer.gui.plan_figures import MIN_GCP_IMAGES
+        from designer.gui.state.plan_figures import MIN_GCP_IMAGES
 
         plan = self.sync.plan
         counts = dict(zip(plan.gcp_ids, plan.gcp_images, strict=True)) if plan else {}

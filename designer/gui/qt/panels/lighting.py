@@ -10,9 +10,9 @@ import math
 from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 
 from designer.errors import DesignerError
-from designer.gui import derived, edits
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, dspin, form, readout
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, declared_field, dspin, form, readout
+from designer.gui.state import derived, edits
 from designer.project import model as m
 from designer.project.declare import declared_field as declared
 from designer.project.declare import switched_on

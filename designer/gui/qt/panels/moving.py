@@ -9,9 +9,9 @@ import dataclasses
 
 from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton
 
-from designer.gui.edits import AbsentElement
-from designer.gui.panels.base import ERROR_STYLE, Panel
-from designer.gui.widgets import combo, declared_field, form, readout
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
+from designer.gui.qt.widgets import combo, declared_field, form, readout
+from designer.gui.state.edits import AbsentElement
 from designer.project import model as m
 
 #: the walking and driving speeds new objects get (m/s)

@@ -13,10 +13,9 @@ import dataclasses
 
 from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 
-from designer.gui import edits
-from designer.gui.field_rules import ruled_ispin
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import (
+from designer.gui.qt.field_rules import ruled_ispin
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import (
     INVALID_STYLE,
     combo,
     declared_field,
@@ -26,6 +25,7 @@ from designer.gui.widgets import (
     model_getter,
     readout,
 )
+from designer.gui.state import edits
 from designer.project import model as m
 from designer.project.processing import POSITION_PRIOR_SIGMAS_M
 from designer.project.validate_processing import MIN_SIMILARITY_CONTROL

@@ -24,13 +24,13 @@ from PySide6.QtWidgets import (
 )
 
 from designer.core.layout import images_dir
-from designer.gui import derived
-from designer.gui.field_rules import ruled_dspin
-from designer.gui.panels.base import Panel
-from designer.gui.panels.out_of_date import OutOfDate
-from designer.gui.render_process import RenderProcess
-from designer.gui.widgets import combo, form, format_number, ispin, readout
-from designer.gui.wording import count, duration, estimate_basis
+from designer.gui.qt.command_process import RenderProcess
+from designer.gui.qt.field_rules import ruled_dspin
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.panels.out_of_date import OutOfDate
+from designer.gui.qt.widgets import combo, form, format_number, ispin, readout
+from designer.gui.state import derived
+from designer.gui.state.wording import count, duration, estimate_basis
 from designer.project import model as m
 from designer.survey.render_cost import load_speed
 
@@ -381,7 +381,7 @@ class RenderPanel(Panel):
 
     def open_image(self, item) -> None:
         """The full image with the GCP observations drawn on it, in a window."""
-        from designer.gui.image_viewer import ImageViewer
+        from designer.gui.qt.image_viewer import ImageViewer
 
         path = item.data(Qt.ItemDataRole.UserRole + 1)
         index = int(item.data(Qt.ItemDataRole.UserRole))

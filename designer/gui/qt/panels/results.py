@@ -21,20 +21,20 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from designer.gui import output_state, results_data
-from designer.gui.panels.base import Panel
-from designer.gui.panels.dense_view import DenseView
-from designer.gui.panels.out_of_date import OutOfDate
-from designer.gui.reconstruct_job import (
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.panels.dense_view import DenseView
+from designer.gui.qt.panels.out_of_date import OutOfDate
+from designer.gui.qt.reconstruct_process import ReconstructRun
+from designer.gui.qt.widgets import combo, dspin, form, readout
+from designer.gui.state import output_state, results_data
+from designer.gui.state.reconstruct_job import (
     MODES,
     STAGES,
     ReconstructJob,
     processing_text,
     survey_status,
 )
-from designer.gui.reconstruct_process import ReconstructRun
-from designer.gui.widgets import combo, dspin, form, readout
-from designer.gui.wording import count
+from designer.gui.state.wording import count
 
 CMAP = "RdBu_r"
 

@@ -26,14 +26,14 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from designer.gui.panels.base import ERROR_STYLE, Panel
-from designer.gui.panels.study_files import StudyFiles, checked_state, relative
-from designer.gui.panels.study_run import StudyRunBox
-from designer.gui.study_data import duration_text
-from designer.gui.study_form import LEVELS_HINT, FactorRow, check_study
-from designer.gui.study_results import StudyResults
-from designer.gui.widgets import combo, form, ispin, message_box
-from designer.gui.wording import count, estimate_basis
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
+from designer.gui.qt.panels.study_files import StudyFiles, checked_state, relative
+from designer.gui.qt.panels.study_run import StudyRunBox
+from designer.gui.qt.study_form import LEVELS_HINT, FactorRow, check_study
+from designer.gui.qt.study_results import StudyResults
+from designer.gui.qt.widgets import combo, form, ispin, message_box
+from designer.gui.state.study_data import duration_text
+from designer.gui.state.wording import count, estimate_basis
 from designer.study.cost import COSTS
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
@@ -240,7 +240,7 @@ class StudyPanel(StudyFiles, Panel):
             return BaseProject(file=relative(file, study_path.parent))
         if self.inline_base is not None:
             return BaseProject(inline_xml=self.inline_base)
-        from designer.gui.files import rebase_files
+        from designer.gui.state.files import rebase_files
         from designer.project.model_to_xml import project_to_bytes
 
         # the window's project, not saved: its files are named from its own folder, and

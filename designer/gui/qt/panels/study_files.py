@@ -11,12 +11,12 @@ from pathlib import Path
 
 from PySide6.QtWidgets import QFileDialog
 
-from designer.gui.study_data import range_text
+from designer.gui.state.study_data import range_text
 from designer.study.factors import FACTORS
 
 
 class StudyFiles:
-    """Mixed into :class:`~designer.gui.panels.study.StudyPanel`."""
+    """Mixed into :class:`~designer.gui.qt.panels.study.StudyPanel`."""
 
     def save_study(self, path: Path | None = None) -> bool:
         """Write the study file (the open project saved first when it is the base)."""
@@ -137,7 +137,7 @@ class StudyFiles:
                 return False
             path = Path(chosen)
         from designer.errors import DesignerError
-        from designer.gui.study_data import read_folder
+        from designer.gui.state.study_data import read_folder
 
         try:
             folder = read_folder(path)

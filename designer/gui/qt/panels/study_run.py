@@ -19,10 +19,10 @@ from PySide6.QtWidgets import (
     QToolButton,
 )
 
-from designer.gui.study_data import StudyFolder, duration_text, read_folder
-from designer.gui.study_process import StudyProcess, study_command
-from designer.gui.study_results import FAILED_COLOUR
-from designer.gui.widgets import form, ispin
+from designer.gui.qt.study_process import StudyProcess, study_command
+from designer.gui.qt.study_results import FAILED_COLOUR
+from designer.gui.qt.widgets import form, ispin
+from designer.gui.state.study_data import StudyFolder, duration_text, read_folder
 
 #: ``designer study run``'s exit status when it finished and some runs failed (every
 #: result written; designer.cli.study.RUNS_FAILED_EXIT)

@@ -14,9 +14,9 @@ from PySide6.QtWidgets import (
     QPushButton,
 )
 
-from designer.gui.field_rules import ruled_dspin
-from designer.gui.panels.base import ERROR_STYLE, Panel
-from designer.gui.widgets import combo, dspin, form, format_number, ispin, readout
+from designer.gui.qt.field_rules import ruled_dspin
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
+from designer.gui.qt.widgets import combo, dspin, form, format_number, ispin, readout
 from designer.project import model as m
 from designer.project.checks import GRID_TOL, MAX_TERRAIN_NODES
 

@@ -11,10 +11,10 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QImage, QPixmap
 from PySide6.QtWidgets import QFileDialog, QGroupBox, QHBoxLayout, QLabel, QPushButton
 
-from designer.gui import derived
-from designer.gui.field_rules import ruled_dspin, ruled_ispin
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, form, format_number, ispin, readout
+from designer.gui.qt.field_rules import ruled_dspin, ruled_ispin
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, declared_field, form, format_number, ispin, readout
+from designer.gui.state import derived
 from designer.project import model as m
 from designer.survey.plan_report import texture_repeat_warning
 

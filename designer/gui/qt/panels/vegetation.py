@@ -9,10 +9,10 @@ import dataclasses
 
 from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton
 
-from designer.gui import edits
-from designer.gui.edits import AbsentElement
-from designer.gui.panels.base import Panel
-from designer.gui.widgets import combo, declared_field, form, readout
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, declared_field, form, readout
+from designer.gui.state import edits
+from designer.gui.state.edits import AbsentElement
 from designer.project import model as m
 
 VEGETATION = "scene.vegetation"
