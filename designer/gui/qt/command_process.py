@@ -1,7 +1,8 @@
 """``designer`` commands in their own process (QProcess), read line by line.
 
 :class:`CommandProcess` runs any command and forwards each JSON object it prints as the
-``event`` signal and every other line (stdout or stderr) as ``output``.
+``event`` signal and every other line (stdout or stderr) as ``output``; the render,
+reconstruct and study processes are its subclasses, started by its one ``start``.
 
 :class:`RenderProcess` runs ``designer render … --progress json``. Blender runs in the
 render command's worker processes, never in the window's: the window only reads JSON
@@ -20,16 +21,21 @@ from pathlib import Path
 
 from PySide6.QtCore import QObject, QProcess, QProcessEnvironment, Signal
 
+import designer
 from designer.lifetime import child_environment
 
 
 class CommandProcess(QObject):
-    """One command in a QProcess; ``cancel_signal`` is what Cancel sends it."""
+    """One command in a QProcess; ``cancel_signal`` is what Cancel sends it,
+    ``own_session`` whether it leads a process group of its own, ``what`` how the refusal
+    to start a second one names it."""
 
     event = Signal(dict)
     finished = Signal(int, str)  # exit code, last lines of stderr
     output = Signal(str)         # any non-JSON line
     cancel_signal = signal.SIGINT
+    own_session = False
+    what = "a command"
 
     def __init__(self, parent: QObject | None = None) -> None:
         super().__init__(parent)
@@ -43,13 +49,24 @@ class CommandProcess(QObject):
         return self.process is not None and self.process.state() != QProcess.ProcessState.NotRunning
 
     def start(self, argv: list[str], cwd: Path | None = None) -> None:
+        """Start ``argv`` (in ``cwd``); it imports this window's designer package and dies
+        with the window. With ``own_session`` it leads a new session (its own process
+        group), so that a subclass can signal it and every process it started at once."""
         if self.running:
-            raise RuntimeError("a command is already running")
+            raise RuntimeError(f"{self.what} is already running")
         self._buffer, self._stderr, self.cancelled = b"", b"", False
         proc = QProcess(self)
+        if self.own_session and os.name == "posix":
+            params = QProcess.UnixProcessParameters()
+            params.flags = QProcess.UnixProcessFlag.CreateNewSession
+            proc.setUnixProcessParameters(params)
         if cwd is not None:
             proc.setWorkingDirectory(str(cwd))
+        # the command imports this window's designer package, wherever it is started
         env = QProcessEnvironment.systemEnvironment()
+        root = str(Path(designer.__file__).resolve().parents[1])
+        env.insert("PYTHONPATH", os.pathsep.join(
+            p for p in (root, env.value("PYTHONPATH", "")) if p))
         for key, value in child_environment().items():  # it dies with this window
             env.insert(key, value)
         proc.setProcessEnvironment(env)

@@ -14,11 +14,9 @@ import signal
 import sys
 from pathlib import Path
 
-from PySide6.QtCore import QProcess, QProcessEnvironment, QTimer
+from PySide6.QtCore import QTimer
 
-import designer
 from designer.gui.qt.command_process import CommandProcess
-from designer.lifetime import child_environment
 
 #: how long (ms) the study's processes may take to stop on SIGINT before they are killed
 CANCEL_GRACE_MS = 5000
@@ -32,33 +30,10 @@ def study_command(study: Path, out_dir: Path, resume: bool = False,
 
 
 class StudyProcess(CommandProcess):
-    """The study command; Cancel stops its whole process group."""
+    """The study command, leader of a new session; Cancel stops its whole process group."""
 
-    def start(self, argv: list[str], cwd: Path | None = None) -> None:
-        """Start ``argv`` as the leader of a new session (its own process group)."""
-        if self.running:
-            raise RuntimeError("a study is already running")
-        self._buffer, self._stderr, self.cancelled = b"", b"", False
-        proc = QProcess(self)
-        if os.name == "posix":
-            params = QProcess.UnixProcessParameters()
-            params.flags = QProcess.UnixProcessFlag.CreateNewSession
-            proc.setUnixProcessParameters(params)
-        if cwd is not None:
-            proc.setWorkingDirectory(str(cwd))
-        # the command imports this window's designer package, wherever it is started
-        env = QProcessEnvironment.systemEnvironment()
-        root = str(Path(designer.__file__).resolve().parents[1])
-        env.insert("PYTHONPATH", os.pathsep.join(
-            p for p in (root, env.value("PYTHONPATH", "")) if p))
-        for key, value in child_environment().items():  # it dies with this window
-            env.insert(key, value)
-        proc.setProcessEnvironment(env)
-        proc.readyReadStandardOutput.connect(self._read_stdout)
-        proc.readyReadStandardError.connect(self._read_stderr)
-        proc.finished.connect(self._done)
-        self.process = proc
-        proc.start(argv[0], argv[1:])
+    own_session = True
+    what = "a study"
 
     def _signal_group(self, sig: int) -> None:
         pid = self.process.processId() if self.process is not None else 0
