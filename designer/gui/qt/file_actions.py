@@ -11,7 +11,7 @@ from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QMenu, QMessageBox
 
 from designer.gui.state import files
-from designer.gui.state.wording import count
+from designer.gui.state.wording import count, humanize, problem_text
 from designer.project import TEMPLATE_NAMES, ProjectError, read_project_file
 
 MAX_RECENT = 8
@@ -139,12 +139,14 @@ class FileActions:
         try:
             project, smap = read_project_file(path)
         except (ProjectError, OSError) as error:
-            lines = error.lines if isinstance(error, ProjectError) else [f"{path}: {error}"]
+            lines = ([problem_text(p, error.source) for p in error.problems]
+                     if isinstance(error, ProjectError) else [humanize(f"{path}: {error}")])
             self.window.show_problems(lines, f"Cannot open {path.name}")
             return False
         from designer.project import semantic_problems
 
-        problems = [p.format(str(path)) for p in semantic_problems(project, path.parent, smap)]
+        problems = [problem_text(p, str(path))
+                    for p in semantic_problems(project, path.parent, smap)]
         self.scratch_files = ()
         self.stack.clear()
         self.document.reset(project, path)

@@ -210,11 +210,9 @@ class MainWindow(QMainWindow):
             self.statusBar().clearMessage()
 
     def show_problems(self, lines: list[str], headline: str = "") -> None:
-        """List problems inline (an empty list hides the Problems panel); while listed they
-        are checked again after every change, so fixed ones (also by an undo) go away."""
-        from designer.gui.state.wording import humanize, panel_directions
-
-        lines = [panel_directions(humanize(line)) for line in lines]
+        """List problems inline (an empty list hides the Problems panel), each line as
+        worded by :mod:`designer.gui.state.wording`; while listed they are checked again
+        after every change, so fixed ones (also by an undo) go away."""
         self._problems_project = self.document.project if lines else None
         self.problems.clear()
         self.problems.addItems(lines)

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from designer.atomic import write_bytes_atomic
+from designer.gui.state.wording import problem_text
 from designer.project import model as m
 from designer.project import parse_project, project_to_bytes, semantic_problems, template
 from designer.project.files import resolve
@@ -89,14 +90,16 @@ def plan_save(project: m.Project, path: Path, base_dir: Path,
     try:
         parsed, smap = parse_project(data, str(path))
     except ProjectError as error:
-        return SavePlan(path, to_write, data, error.lines)
+        return SavePlan(path, to_write, data,
+                        [problem_text(p, error.source) for p in error.problems])
     # Relative names like ../x resolve only through an existing folder: make the new
     # folder for the check and take it away again if the save does not happen.
     made = _missing_parents(check_base)
     for folder in reversed(made):
         folder.mkdir()
     try:
-        problems = [p.format(str(path)) for p in semantic_problems(parsed, check_base, smap)]
+        problems = [problem_text(p, str(path))
+                    for p in semantic_problems(parsed, check_base, smap)]
     finally:
         for folder in made:
             folder.rmdir()

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.gui.state.wording import count, panel_directions
+from designer.gui.state.wording import count
 from designer.project import model as m
 
 #: achieved overlaps (5 % quantile over the stations) below these are warned about
@@ -148,8 +148,17 @@ def _rendered_images(project: m.Project, hf, raycaster, scale: float,
     return RenderedImages(names, share, vis.images, vis.uv_px)
 
 
+def void_text(void) -> str:
+    """The warning about images that see past the terrain (a
+    ``designer.survey.surroundings.VoidImages``), its fix as the Terrain panel's control
+    (where ``designer plan`` names the project file's element)."""
+    return void.warning("choose surroundings “auto” in the Terrain panel, or enlarge the "
+                        "terrain" if void.surroundings == "none" else
+                        "enlarge the terrain in the Terrain panel")
+
+
 def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
-    from designer.survey.surroundings import void_warning
+    from designer.survey.surroundings import void_images
 
     out = []
     if np.isfinite(f["front_overlap_p05"]) and f["front_overlap_p05"] < LOW_FRONT_OVERLAP:
@@ -161,10 +170,9 @@ def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
         planned = f" (planned {plan.side_overlap_percent:.0f} %)" if plan else ""
         out.append(f"low side overlap: 5 % of the images overlap the next line by less "
                    f"than {_pct(f['side_overlap_p05'])}{planned}; raise the side overlap")
-    void = void_warning(f["image_names"], 1.0 - f["terrain_share"], f["surroundings"])
-    if void:
-        # its fix as the Terrain panel's control, not the project file's element
-        out.append(panel_directions(void))
+    void = void_images(f["image_names"], 1.0 - f["terrain_share"], f["surroundings"])
+    if void is not None:
+        out.append(void_text(void))
     few = [g for g, n in zip(f["gcp_ids"], f["gcp_images"], strict=True) if n < MIN_GCP_IMAGES]
     if few:
         out.append(f"GCPs seen by fewer than {count(MIN_GCP_IMAGES, 'image')}: "

@@ -1,13 +1,20 @@
 """Messages as the window's user reads them (Qt-free).
 
-Errors raised by the library name its parameters (``size_x_m``) and print numbers the
-way Python does (``5.40595e+06``); the window shows the field as the panel labels it
-and numbers in fixed point with sensible decimals.
+Validation issues are worded from their structured fields (code, element, attribute,
+value, limits; :class:`designer.project.problems.Issue`) and the declarations' labels,
+never by reading their message: :func:`issue_text`, :func:`problem_text`. Errors raised
+by the library as plain text name its parameters (``size_x_m``) and print numbers the
+way Python does (``5.40595e+06``); :func:`humanize` shows such a field as the panel
+labels it and numbers in fixed point with sensible decimals.
 """
 
 from __future__ import annotations
 
+import math
 import re
+
+from designer.project.declare import Declared, declared
+from designer.project.problems import Issue, Problem
 
 #: library parameter names → what the panels call them
 FIELD_NAMES = {
@@ -33,39 +40,38 @@ FIELD_NAMES = {
     "texel_size_m": "texel size",
     "size_m": "target size",
 }
-#: directions in the project file's terms (as designer validate words them for someone
-#: editing the XML) → the panel and control that do it in the window
+#: the switch that gives the flight its time line, as the window shows it
 _TIME_LINE_ON = ("switch on the time line in the Flight panel "
                  "(“the photos have times”)")
-PANEL_DIRECTIONS = (
-    (re.compile(r"the trajectory has no <time-line>(?: to move the camera along)?; add a "
-                r"<time-line> to <trajectory> or set readout-s 0"),
-     f"the flight has no time line to move the camera along; {_TIME_LINE_ON}, or set the "
-     "readout to 0 s in the Camera panel"),
-    (re.compile(r"the trajectory has no <time-line>; add one or give the sun as <sun> or "
-                r"<sun-position>"),
-     f"the flight has no time line; {_TIME_LINE_ON}, or give the sun by its direction or "
-     "a moment and place in the Lighting panel"),
-    (re.compile(r"the trajectory has no <time-line>; add one or remove <moving-objects>"),
-     f"the flight has no time line; {_TIME_LINE_ON}, or remove the moving objects in the "
-     "Moving objects panel"),
-    (re.compile(r"the trajectory has no <time-line>; add one or write metadata none"),
-     f"the flight has no time line; {_TIME_LINE_ON}"),
-    (re.compile(r"the trajectory has no <time-line>; add one or remove time-s"),
-     f"the flight has no time line; {_TIME_LINE_ON}"),
-    (re.compile(r"sun-over-time needs a <time-line> with a UTC takeoff-utc, e\.g\. \S+"),
-     f"the sun follows the flight's time line, which is off; {_TIME_LINE_ON}"),
-    (re.compile(r"no photos: add <exterior-orientations> with <photo> elements or a "
-                r"<flight-plan>"),
-     "no photos: add a grid flight in the Flight panel, or import a flight (File menu)"),
-    (re.compile(r'declare <surroundings mode="auto"/> in <terrain> or enlarge the terrain'),
-     "choose surroundings “auto” in the Terrain panel, or enlarge the terrain"),
-    (re.compile(r'mode="auto" continues a height-field terrain \(flat, procedural or DEM\); '
-                r'a mesh terrain cannot be continued: use mode="none" or a DEM'),
-     "surroundings “auto” continue a height-field terrain (flat, procedural or DEM); a "
-     "mesh terrain cannot be continued: choose surroundings “none” in the Terrain panel, "
-     "or import the terrain as a DEM"),
-)
+#: (issue code, element) → what the window says for a validation issue whose fix, in the
+#: project file's terms, is an element to add: the panel and control that do it. Filled
+#: in from the issue's fields: {obj} the model object, {value} the attribute's value.
+DIRECTIONS: dict[tuple[str, str], str] = {
+    ("needs-time-line", "rolling-shutter"):
+        "a camera reads its rows out over {value:g} s, but the flight has no time line to "
+        f"move the camera along; {_TIME_LINE_ON}, or set the readout to 0 s in the Camera "
+        "panel",
+    ("needs-time-line", "sun-over-time"):
+        "the sun follows each photo's time, but the flight has no time line; "
+        f"{_TIME_LINE_ON}, or give the sun by its direction or a moment and place in the "
+        "Lighting panel",
+    ("needs-time-line", "object"):
+        "moving object '{obj.id}' is posed at each photo's time, but the flight has no "
+        f"time line; {_TIME_LINE_ON}, or remove the moving objects in the Moving objects "
+        "panel",
+    ("needs-time-line", "output"):
+        "EXIF metadata holds each photo's time, but the flight has no time line; "
+        f"{_TIME_LINE_ON}",
+    ("needs-time-line", "photo"):
+        "photo '{obj.name}' has a time, but the flight has no time line; "
+        f"{_TIME_LINE_ON}",
+    ("no-photos", "trajectory"):
+        "no photos: add a grid flight in the Flight panel, or import a flight (File menu)",
+    ("surroundings-need-height-field", "surroundings"):
+        "surroundings “auto” continue a height-field terrain (flat, procedural or DEM); a "
+        "mesh terrain cannot be continued: choose surroundings “none” in the Terrain "
+        "panel, or import the terrain as a DEM",
+}
 _UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
 _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
 _SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
@@ -109,12 +115,68 @@ def humanize(message: str) -> str:
     return _LONG.sub(lambda mt: fixed(float(mt.group(1))), message)
 
 
-def panel_directions(message: str) -> str:
-    """A library message with its directions for editing the project file replaced by
-    the panel and control that do it in the window (:data:`PANEL_DIRECTIONS`)."""
-    for pattern, direction in PANEL_DIRECTIONS:
-        message = pattern.sub(direction, message)
-    return message
+def _declaration(issue: Issue) -> Declared | None:
+    """The declaration of the attribute an issue is about, from its object's class."""
+    for d in declared(type(issue.obj)):
+        if d.xml == issue.attr and d.attr.child == issue.key:
+            return d
+    return None
+
+
+def _value_text(value: object) -> str:
+    if isinstance(value, float) and math.isfinite(value):
+        return fixed(value)
+    return "not a number" if isinstance(value, float) else f"{value}"
+
+
+def _range_words(d: Declared | None, limits: tuple[float | None, float | None]) -> str:
+    """``from 0 to 0.5 s``, ``greater than 0 m``, ``at most 100 %``: the limits in fixed
+    point, open or closed as the declaration says."""
+    low, high = limits
+    low_open = d is not None and d.attr.low_open
+    high_open = d is not None and d.attr.high_open
+    unit = f" {d.attr.unit}" if d is not None and d.attr.unit else ""
+    if low is None and high is None:
+        return "a finite number"
+    if low is not None and high is not None and not (low_open or high_open):
+        return f"from {fixed(low)} to {fixed(high)}{unit}"
+    words = []
+    if low is not None:
+        words.append(("greater than " if low_open else "at least ") + fixed(low))
+    if high is not None:
+        words.append(("below " if high_open else "at most ") + fixed(high))
+    return " and ".join(words) + unit
+
+
+def issue_text(issue: Issue) -> str:
+    """A validation issue as the window says it, from its structured fields: a range or
+    choice with the field as its panel labels it (the declaration's ``label``) and
+    numbers in fixed point; a fix done in a panel (:data:`DIRECTIONS`) as that panel and
+    control; any other issue as its message, numbers in fixed point."""
+    direction = DIRECTIONS.get((issue.code, issue.tag))
+    if direction is not None:
+        return direction.format(obj=issue.obj, value=issue.value)
+    d = _declaration(issue) if issue.attr else None
+    label = d.label if d is not None else (issue.attr or issue.tag).replace("-", " ")
+    if issue.code == "range" and issue.limits is not None:
+        return f"{label} {_value_text(issue.value)} must be {_range_words(d, issue.limits)}"
+    if issue.code == "choice" and issue.choices:
+        return (f"{label} “{issue.value}” is not one of {', '.join(issue.choices)}; choose "
+                "one of them")
+    return humanize(issue.message)
+
+
+def problem_text(problem: Problem | str, source: str) -> str:
+    """A problem as a line of the window's Problems list: ``FILE:LINE:COL: <element>:``
+    (the place and element, which pick the panel that fixes it) and, for a validation
+    issue, :func:`issue_text`; a problem without an issue (a schema error, a message) as
+    its text with field names as labelled and numbers in fixed point."""
+    if isinstance(problem, str):
+        return humanize(problem)
+    if problem.issue is None:
+        return humanize(problem.format(source))
+    worded = f"<{problem.issue.tag}>: {issue_text(problem.issue)}"
+    return Problem(worded, problem.line, problem.column).format(source)
 
 
 def duration(seconds: float) -> str:
