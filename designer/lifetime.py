@@ -41,18 +41,21 @@ def stop_on_termination_signals() -> None:
         signal.signal(sig, _interrupt)
 
 
-def die_with_parent(parent_pid: int | None = None) -> None:
-    """Linux: the kernel sends this process SIGKILL when its parent exits. With
-    ``parent_pid`` (the parent's pid as the parent knew it), a parent already gone
-    before this call ends this process at once. Elsewhere: nothing (the parent's own
-    clean stop is all there is)."""
+def die_with_parent(parent_pid: int | None = None,
+                    signum: int = signal.SIGKILL) -> None:
+    """Linux: the kernel sends this process ``signum`` (SIGKILL unless told: a program
+    that must clean up on its way out, as the X server removing its lock file, asks for
+    SIGTERM) when its parent exits. With ``parent_pid`` (the parent's pid as the parent
+    knew it), a parent already gone before this call ends this process at once. Safe
+    as a ``preexec_fn``. Elsewhere: nothing (the parent's own clean stop is all there
+    is)."""
     if not sys.platform.startswith("linux"):
         return
     import ctypes
 
     try:
         libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+        libc.prctl(_PR_SET_PDEATHSIG, int(signum), 0, 0, 0)
     except (OSError, AttributeError):
         return
     if parent_pid is not None and os.getppid() != parent_pid:

@@ -81,7 +81,7 @@ def take(out: Path) -> list[Path]:
     from PySide6.QtCore import QSettings
 
     from designer.gui.app import application, wait_idle
-    from designer.gui.main_window import MainWindow
+    from designer.gui.qt.main_window import MainWindow
 
     work = Path(tempfile.mkdtemp(prefix="designer-screenshots-"))
     project = work / "survey.xml"
@@ -158,7 +158,7 @@ def take(out: Path) -> list[Path]:
     # the same survey without surroundings, flown high: images look beyond the terrain
     import dataclasses
 
-    from designer.gui import edits
+    from designer.gui.state import edits
 
     bare = window.document.project
     bare = dataclasses.replace(bare, scene=dataclasses.replace(bare.scene, terrain=(
@@ -190,7 +190,7 @@ def take_study(out: Path) -> list[Path]:
     from PySide6.QtCore import QSettings
 
     from designer.gui.app import application, wait_idle
-    from designer.gui.main_window import MainWindow
+    from designer.gui.qt.main_window import MainWindow
     from designer.study.templates import write_template
 
     work = Path(tempfile.mkdtemp(prefix="designer-screenshots-study-"))
@@ -244,7 +244,7 @@ def _render_then_edit(window, project: Path, timeout_s: float = 600.0) -> None:
     window: the Render panel says what is out of date."""
     import time
 
-    from designer.gui import edits
+    from designer.gui.state import edits
     from designer.project import model as m
 
     p = window.document.project

@@ -60,15 +60,23 @@ MAY_IMPORT: dict[str, set[str]] = {
 THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "bpy": ("render.worker",),
     "mathutils": ("render.worker",),
-    "PySide6": ("gui", "bench.gui"),
-    "pyvista": ("gui", "bench"),  # bench compare measures pyvista's distance filter too
-    "pyvistaqt": ("gui",),
-    "vtk": ("gui",),
-    "vtkmodules": ("gui",),
+    # Qt and VTK only in the GUI's widgets and its start-up; never in gui.state
+    "PySide6": ("gui.qt", "gui.app", "bench.gui"),
+    "pyvista": ("gui.qt", "bench"),  # bench compare measures pyvista's distance filter too
+    "pyvistaqt": ("gui.qt",),
+    "vtk": ("gui.qt",),
+    "vtkmodules": ("gui.qt",),
     "pycolmap": ("sfm",),
     "pyceres": ("sfm",),
     "distributed": ("render.cluster", "study.run"),
     "pyexiv2": ("flight.image_meta", "render.exif"),
+}
+
+#: sub-package → the designer modules or packages it must not import, inside its own
+#: package's row of MAY_IMPORT: the GUI's Qt-free state never imports its widgets or the
+#: start-up that builds them (the arrows point from the widgets to the state)
+SUBPACKAGE_MAY_NOT_IMPORT: dict[str, tuple[str, ...]] = {
+    "gui.state": ("gui.qt", "gui.app"),
 }
 
 #: module imported in a fresh interpreter (P.* = every module of package P) → modules that
@@ -93,18 +101,17 @@ NOT_LOADED_BY: dict[str, tuple[str, ...]] = {
     "designer.experiments.*": ("bpy",),
     "designer.bench.accuracy": ("bpy",),
     "designer.cli.validate": ("bpy",),
+    "designer.gui.state.*": ("PySide6", "pyvista", "pyvistaqt", "vtk", "vtkmodules"),
 }
 
 #: third-party modules made missing (``sys.modules[name] = None``) in a fresh interpreter
-#: with a bare environment → modules that must import all the same: the GUI's Qt-free
-#: half (document, edits, view geometry, files, presets) and the command line, whose
+#: with a bare environment → modules that must import all the same (P.* = every module of
+#: package P): the GUI's Qt-free state and the command line, whose
 #: parser must also take a ``gui`` command there
 IMPORT_WITHOUT: dict[tuple[str, ...], tuple[str, ...]] = {
     ("PySide6", "vtk", "vtkmodules", "pyvista", "pyvistaqt"): (
-        "designer.gui", "designer.gui.document", "designer.gui.edits",
-        "designer.gui.view_geometry", "designer.gui.derived", "designer.gui.files",
-        "designer.gui.camera_presets", "designer.gui.results_data", "designer.gui.xvfb",
-        "designer.gui.reconstruct_job", "designer.cli.gui", "designer.cli.main"),
+        "designer.gui", "designer.gui.state.*", "designer.gui.xvfb", "designer.cli.gui",
+        "designer.cli.main"),
 }
 
 
@@ -121,8 +128,9 @@ def _modules(root: Path) -> list[str]:
     return sorted(out)
 
 
-def _imports(root: Path, module: str) -> list[tuple[int, str]]:
-    """(line, imported module) of every import statement of ``module``."""
+def _imports(root: Path, module: str, expand: bool = False) -> list[tuple[int, str]]:
+    """(line, imported module) of every import statement of ``module``; with ``expand``,
+    ``from designer.p import m`` also names the module designer.p.m where there is one."""
     rel = Path(*module.split(".")[1:])
     path = root / rel / "__init__.py"
     if not path.is_file():
@@ -136,6 +144,10 @@ def _imports(root: Path, module: str) -> list[tuple[int, str]]:
             if node.module == "designer":  # from designer import x
                 out += [(node.lineno, f"designer.{a.name}") for a in node.names
                         if not a.name.startswith("__")]
+            elif expand and node.module.startswith("designer."):  # from designer.p import m
+                base = root.joinpath(*node.module.split(".")[1:])
+                out += [(node.lineno, f"{node.module}.{a.name}") for a in node.names
+                        if (base / f"{a.name}.py").is_file() or (base / a.name).is_dir()]
     return out
 
 
@@ -146,6 +158,14 @@ def violations(root: Path, module: str) -> list[str]:
     inside = module.split(".", 1)[1] if "." in module else ""
     allowed = MAY_IMPORT.get(own)
     found = []
+    for sub, barred in SUBPACKAGE_MAY_NOT_IMPORT.items():
+        if not (inside == sub or inside.startswith(sub + ".")):
+            continue
+        for line, name in _imports(root, module, expand=True):
+            within = name.split(".", 1)[1] if name.startswith("designer.") else ""
+            if any(within == b or within.startswith(b + ".") for b in barred):
+                found.append(f"{module}:{line} imports {name}: {sub} may not import "
+                             f"{', '.join(barred)}")
     for line, name in _imports(root, module):
         if name.startswith("designer."):
             target = _package_of(name)
@@ -186,7 +206,15 @@ def test_every_package_has_a_row_in_the_table():
     ("survey/flight.py", "    from designer.gui import app", "survey may import only"),
     ("evaluate/point_clouds.py", "from designer.scene._private import x", "private"),
     ("effects/chain.py", "import bpy", "only render.worker may"),
-    ("sfm/reconstruct.py", "from PySide6 import QtCore", "only gui, bench.gui may"),
+    ("sfm/reconstruct.py", "from PySide6 import QtCore", "only gui.qt, gui.app, bench.gui"),
+    # the GUI's state stays Qt-free: no Qt or VTK import, not even a lazy one, and none of
+    # the widgets
+    ("gui/state/document.py", "from PySide6.QtCore import QObject", "only gui.qt, gui.app"),
+    ("gui/state/wording.py", "    import pyvista", "only gui.qt, bench may"),
+    ("gui/state/view_geometry.py", "    from pyvistaqt import QtInteractor", "only gui.qt may"),
+    ("gui/state/edits.py", "from designer.gui.qt.widgets import Bindings",
+     "gui.state may not import gui.qt"),
+    ("gui/state/derived.py", "    from designer.gui import app", "may not import gui.qt, gui.app"),
 ])
 def test_the_contract_catches_a_wrong_import(tmp_path, module, line, fragment):
     """A copy of the package with one deliberately wrong import fails the check."""
@@ -453,7 +481,15 @@ def test_importing_loads_nothing_heavy(module):
 
 @pytest.mark.parametrize("missing", sorted(IMPORT_WITHOUT), ids=",".join)
 def test_importing_works_without_the_missing_libraries(missing):
-    modules = IMPORT_WITHOUT[missing]
+    modules = []
+    for name in IMPORT_WITHOUT[missing]:  # P.* → every module of package P
+        if name.endswith(".*"):
+            folder = PACKAGE.joinpath(*name[:-2].split(".")[1:])
+            modules += [f"{name[:-2]}.{p.stem}" for p in sorted(folder.glob("*.py"))
+                        if p.stem != "__init__"]
+        else:
+            modules.append(name)
+    assert len(modules) > len(IMPORT_WITHOUT[missing])  # the state's modules were found
     code = ("import sys\n"
             f"for name in {missing!r}:\n"
             "    sys.modules[name] = None\n"
@@ -470,7 +506,7 @@ def test_importing_works_without_the_missing_libraries(missing):
 def test_the_missing_library_check_sees_an_import():
     """The check can fail: the GUI's main window needs Qt."""
     code = ("import sys\nsys.modules['PySide6'] = None\n"
-            "import designer.gui.main_window\n")
+            "import designer.gui.qt.main_window\n")
     result = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent,
                             capture_output=True, text=True)
     assert result.returncode != 0 and "PySide6" in result.stderr

@@ -30,7 +30,7 @@ EDITS = 7
 
 
 def _project(side_m: float):
-    from designer.gui import camera_presets
+    from designer.gui.state import camera_presets
     from designer.project import model as m
 
     E0, N0 = 500000.0, 5000000.0
@@ -70,9 +70,9 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
 def _run(scale: float) -> list[dict]:
     from PySide6.QtCore import QSettings
 
-    from designer.gui import edits
     from designer.gui.app import application, wait_idle
-    from designer.gui.main_window import MainWindow
+    from designer.gui.qt.main_window import MainWindow
+    from designer.gui.state import edits
 
     app = application()
     side = round(1000.0 * math.sqrt(scale))
@@ -99,8 +99,8 @@ def _run(scale: float) -> list[dict]:
 
     # One frame, as drawn, and with the terrain at full resolution for comparison.
     frame_s = _frame_seconds(app, view)
-    from designer.gui.derived import display_irradiance
-    from designer.gui.view_geometry import terrain_display
+    from designer.gui.state.derived import display_irradiance
+    from designer.gui.state.view_geometry import terrain_display
 
     t = sync.terrain
     full = terrain_display(t.heightfield, None, t.tiles, max_nodes_per_side=10**6)

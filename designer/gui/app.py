@@ -49,7 +49,7 @@ def run(project: Path | None = None, screenshot: Path | None = None,
     xvfb = ensure_display() if screenshot is not None else None
     try:
         app = application()
-        from designer.gui.main_window import MainWindow
+        from designer.gui.qt.main_window import MainWindow
 
         window = MainWindow()
         if project is not None and not window.open_project(Path(project)):

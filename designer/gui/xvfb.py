@@ -8,9 +8,13 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import time
+from functools import partial
 from pathlib import Path
+
+from designer.lifetime import die_with_parent
 
 SCREEN = "1600x1000x24"
 
@@ -29,9 +33,12 @@ def start_xvfb(screen: str = SCREEN, first: int = 90, tries: int = 50
     for number in range(first, first + tries):
         if Path(f"/tmp/.X{number}-lock").exists() or Path(f"/tmp/.X11-unix/X{number}").exists():
             continue
+        # a crash or a forgotten stop never leaves the X server running: it gets SIGTERM
+        # when this process ends (SIGTERM, not SIGKILL, so that it removes its lock file)
         proc = subprocess.Popen([exe, f":{number}", "-screen", "0", screen, "-nolisten", "tcp"],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                preexec_fn=_die_with_parent)
+                                preexec_fn=partial(die_with_parent, os.getpid(),
+                                                   signal.SIGTERM))
         for _ in range(100):
             if Path(f"/tmp/.X11-unix/X{number}").exists():
                 return proc, f":{number}"
@@ -42,18 +49,6 @@ def start_xvfb(screen: str = SCREEN, first: int = 90, tries: int = 50
             proc.terminate()
             proc.wait(5)
     raise XvfbError("could not start Xvfb on any display")
-
-
-def _die_with_parent() -> None:
-    """In the child: ask Linux for SIGTERM when the parent exits, so a crash or a
-    forgotten stop never leaves the X server running."""
-    try:
-        import ctypes
-        import signal
-
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        pass
 
 
 def stop_xvfb(proc: subprocess.Popen) -> None:

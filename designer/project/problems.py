@@ -7,18 +7,21 @@ one per line, all of them, so an editor can jump to each.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from designer.errors import DesignerError
 
 
 @dataclass(frozen=True)
 class Problem:
-    """One located problem: ``message`` already starts with ``<element>:``."""
+    """One located problem: ``message`` already starts with ``<element>:``; ``issue``, the
+    semantic :class:`Issue` it was located from (None for a schema or syntax error),
+    carries its structured fields for programs that word it their own way (the GUI)."""
 
     message: str
     line: int = 1
     column: int = 1
+    issue: Issue | None = field(default=None, compare=False, repr=False)
 
     def format(self, source: str) -> str:
         """``FILE:LINE:COLUMN: message`` on one line (line breaks in values are escaped)."""
@@ -53,6 +56,12 @@ class Issue:
     :class:`SourceMap`), ``tag`` the element named in the message, ``attr`` the
     attribute that holds the wrong value (for the column), ``key`` how the reader
     registered the element when it differs from ``tag`` (e.g. ``"vertex:3"``).
+
+    The structured fields say the same as ``message`` for a program to word its own
+    way, so that no one parses the message: ``code``, what kind of problem it is (one of
+    :data:`CODES`; "" for one that only its message describes), ``value`` the wrong value
+    of ``attr``, ``limits`` the (lowest, highest) it may have (None: unbounded on that
+    side) and ``choices`` the values it may take.
     """
 
     obj: object
@@ -60,6 +69,21 @@ class Issue:
     message: str
     attr: str | None = None
     key: str | None = None
+    code: str = ""
+    value: object = None
+    limits: tuple[float | None, float | None] | None = None
+    choices: tuple[str, ...] | None = None
+
+
+#: the kinds of problem an :class:`Issue` names in its ``code``
+CODES = {
+    "range": "a declared attribute outside its range (``value``, ``limits``)",
+    "choice": "a declared attribute that is none of its choices (``value``, ``choices``)",
+    "needs-time-line": "the element (``tag``) needs the flight's <time-line>, which the "
+                       "trajectory lacks",
+    "no-photos": "the trajectory has neither photos nor a flight plan",
+    "surroundings-need-height-field": "surroundings mode auto over a mesh terrain",
+}
 
 
 class SourceMap:
@@ -85,7 +109,7 @@ class SourceMap:
         key = issue.key or issue.tag
         line = self._where.get((id(issue.obj), key)) or self._first.get(id(issue.obj), 1)
         line, column = self.position(line, issue.tag, issue.attr)
-        return Problem(f"<{issue.tag}>: {issue.message}", line, column)
+        return Problem(f"<{issue.tag}>: {issue.message}", line, column, issue)
 
     def position(self, line: int, tag: str, attr: str | None = None) -> tuple[int, int]:
         """(line, 1-based column) of ``<tag``, or of ``attr=`` inside that start tag.
@@ -122,4 +146,4 @@ class SourceMap:
 
 def unlocated(issue: Issue) -> Problem:
     """An issue of a model that was not read from a file (line 0, column 0)."""
-    return Problem(f"<{issue.tag}>: {issue.message}", 0, 0)
+    return Problem(f"<{issue.tag}>: {issue.message}", 0, 0, issue)

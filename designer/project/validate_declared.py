@@ -1,7 +1,8 @@
 """The single-field checks of every declared element (designer.project.declare): each
 attribute inside its range or among its choices, with the located message
 ``<tag>: name = value must be from low to high unit``. Rules across fields stay with
-the element's own checks."""
+the element's own checks. Each issue carries its structured fields (code "range" or
+"choice", the value, the limits or choices) beside the message."""
 
 from __future__ import annotations
 
@@ -28,10 +29,14 @@ def element_issues(obj) -> list[Issue]:
         value = getattr(obj, d.name)
         if d.in_range(value):
             continue
+        tag = d.attr.child or el.tag
         if d.choices is not None:
             text = (f"{d.xml} = {value!r} is not one of {', '.join(d.choices)}; "
                     "use one of them")
+            out.append(Issue(obj, tag, text, attr=d.xml, key=d.attr.child, code="choice",
+                             value=value, choices=d.choices))
         else:
             text = f"{d.xml} = {value!r} must be {d.range_text()}"
-        out.append(Issue(obj, d.attr.child or el.tag, text, attr=d.xml, key=d.attr.child))
+            out.append(Issue(obj, tag, text, attr=d.xml, key=d.attr.child, code="range",
+                             value=value, limits=(d.attr.low, d.attr.high)))
     return out

@@ -62,7 +62,8 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
     if terrain.surroundings == "auto" and isinstance(src, m.MeshTerrain):
         out.append(Issue(terrain, "surroundings", "mode=\"auto\" continues a height-field "
                          "terrain (flat, procedural or DEM); a mesh terrain cannot be "
-                         "continued: use mode=\"none\" or a DEM", attr="mode"))
+                         "continued: use mode=\"none\" or a DEM", attr="mode",
+                         code="surroundings-need-height-field", value=terrain.surroundings))
     if isinstance(src, m.ProceduralTerrain):
         if src.min_height_m > src.max_height_m:
             out.append(Issue(src, "procedural", f"min-height-m {src.min_height_m!r} is above "

@@ -32,7 +32,8 @@ def trajectory_issues(project: m.Project) -> list[Issue]:
     out: list[Issue] = []
     if not traj.exterior_orientations and traj.flight_plan is None and not traj.patterns:
         out.append(Issue(traj, "trajectory", "no photos: add <exterior-orientations> with "
-                                             "<photo> elements or a <flight-plan>"))
+                                             "<photo> elements or a <flight-plan>",
+                         code="no-photos"))
     out += rig_issues(project)
     out += pattern_issues(project)
     out += _photos(project)

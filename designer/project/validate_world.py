@@ -45,7 +45,7 @@ def world_issues(project: m.Project) -> list[Issue]:
     if timed and tl is None:
         out.append(Issue(timed[0], "photo", f"photo '{timed[0].name}' has a time-s but the "
                          "trajectory has no <time-line>; add one or remove time-s",
-                         attr="time-s"))
+                         attr="time-s", code="needs-time-line"))
     last = None
     for p in timed:
         if not (math.isfinite(p.time_s) and p.time_s >= 0):
@@ -68,7 +68,7 @@ def world_issues(project: m.Project) -> list[Issue]:
         if tl is None:
             out.append(Issue(render, "output", "metadata exif writes each photo's time, but the "
                              "trajectory has no <time-line>; add one or write metadata none",
-                             attr="metadata"))
+                             attr="metadata", code="needs-time-line"))
         if render.output_format not in ("jpeg", "tiff"):
             out.append(Issue(render, "output", f"metadata exif is written into JPEG and TIFF "
                              f"photos, not {render.output_format}; use format jpeg or tiff",
@@ -117,7 +117,8 @@ def _rolling_shutters(project: m.Project) -> list[Issue]:
             out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}' reads its rows out "
                              f"over {readout:g} s, but the trajectory has no <time-line> to "
                              "move the camera along; add a <time-line> to <trajectory> or set "
-                             "readout-s 0", attr="readout-s"))
+                             "readout-s 0", attr="readout-s", code="needs-time-line",
+                             value=readout))
         elif tl.trigger_interval_s is not None and readout >= tl.trigger_interval_s:
             out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}': readout-s {readout:g} "
                              "s is not shorter than the time line's trigger-interval-s "
@@ -136,7 +137,7 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
     if project.trajectory.time_line is None:
         out.append(Issue(sun, "sun-over-time", "the sun follows each photo's time, but the "
                          "trajectory has no <time-line>; add one or give the sun as <sun> or "
-                         "<sun-position>"))
+                         "<sun-position>", code="needs-time-line"))
     if (sun.latitude_deg is None) != (sun.longitude_deg is None):
         out.append(Issue(sun, "sun-over-time", "give both latitude-deg and longitude-deg, or "
                          "neither (then the project origin is used)",
@@ -167,7 +168,7 @@ def _moving_objects(project: m.Project) -> list[Issue]:
         if project.trajectory.time_line is None:
             out.append(Issue(obj, "object", f"moving object '{obj.id}' is posed at each "
                              "photo's time, but the trajectory has no <time-line>; add one "
-                             "or remove <moving-objects>"))
+                             "or remove <moving-objects>", code="needs-time-line"))
         if obj.id in seen:
             out.append(Issue(obj, "object", f"moving object id '{obj.id}' is used twice; "
                              "give each object its own id", attr="id"))

@@ -183,19 +183,47 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False
     return out
 
 
-def void_warning(names, shares: np.ndarray, surroundings: str) -> str | None:
-    """The plan's warning about images that see past the rendered terrain, or None."""
+@dataclass(frozen=True)
+class VoidImages:
+    """The images that see past the rendered terrain: more than :data:`VOID_WARN` of
+    their pixels show no ground. ``count`` of ``total`` images; the worst, ``worst_name``,
+    with ``worst_share`` (0..1) of its pixels; ``surroundings``: the terrain's mode
+    ("none" or "auto"), which decides the fix."""
+
+    count: int
+    total: int
+    worst_name: str
+    worst_share: float
+    surroundings: str
+
+    def warning(self, fix: str) -> str:
+        """The warning with ``fix`` (in the words of where it is read: the project file's
+        element for the command line, a panel's control for the GUI) as its end."""
+        see = "sees" if self.count == 1 else "see"
+        return (f"{self.count} of {self.total} images {see} past the terrain (more than "
+                f"{100 * VOID_WARN:g} % of the picture shows no ground; worst "
+                f"{self.worst_name}: {100 * self.worst_share:.1f} %): {fix}")
+
+
+def void_images(names, shares: np.ndarray, surroundings: str) -> VoidImages | None:
+    """The images whose share of void pixels (``shares``, 0..1, one per name) exceeds
+    :data:`VOID_WARN`, or None when there are none."""
     shares = np.asarray(shares, float)
     off = np.flatnonzero(shares > VOID_WARN)
     if not off.size:
         return None
     worst = off[np.argmax(shares[off])]
-    see = "sees" if off.size == 1 else "see"
-    fix = ("declare <surroundings mode=\"auto\"/> in <terrain> or enlarge the terrain"
-           if surroundings == "none" else "enlarge the terrain")
-    return (f"{off.size} of {len(shares)} images {see} past the terrain (more than "
-            f"{100 * VOID_WARN:g} % of the picture shows no ground; worst {names[worst]}: "
-            f"{100 * shares[worst]:.1f} %): {fix}")
+    return VoidImages(int(off.size), len(shares), names[worst], float(shares[worst]),
+                      surroundings)
+
+
+def void_warning(names, shares: np.ndarray, surroundings: str) -> str | None:
+    """The plan's warning about images that see past the rendered terrain, or None."""
+    void = void_images(names, shares, surroundings)
+    if void is None:
+        return None
+    return void.warning("declare <surroundings mode=\"auto\"/> in <terrain> or enlarge the "
+                        "terrain" if void.surroundings == "none" else "enlarge the terrain")
 
 
 @dataclass(frozen=True)

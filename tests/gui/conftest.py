@@ -61,7 +61,7 @@ def window(qtbot, settings, tmp_path, monkeypatch):
     """The designer window, shown, on a blank project; closed without prompts."""
     from PySide6.QtWidgets import QMessageBox
 
-    from designer.gui.main_window import MainWindow
+    from designer.gui.qt.main_window import MainWindow
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(QMessageBox, "question",

@@ -112,7 +112,7 @@ def design_example(qtbot, w, n_gcps: int = 5) -> list[np.ndarray]:
     from PySide6.QtCore import QPoint, Qt
     from PySide6.QtWidgets import QDoubleSpinBox, QSpinBox
 
-    from designer.gui import camera_presets
+    from designer.gui.state import camera_presets
 
     doc = w.document
     assert w.file_actions.new(None)
@@ -181,7 +181,7 @@ def design_example(qtbot, w, n_gcps: int = 5) -> list[np.ndarray]:
 
 def add_hills_and_flight(w) -> None:
     """Procedural hills (±3 m) and the default flight, as one edit."""
-    from designer.gui import edits
+    from designer.gui.state import edits
     from designer.project import model as m
 
     project = w.document.project

@@ -10,9 +10,9 @@ import dataclasses
 import pytest
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui import edits
-from designer.gui.edits import AbsentElement, UnknownField
-from designer.gui.widgets import Bindings, model_getter
+from designer.gui.qt.widgets import Bindings, model_getter
+from designer.gui.state import edits
+from designer.gui.state.edits import AbsentElement, UnknownField
 from designer.project import declare
 from designer.project import model as m
 from designer.project.templates import survey

@@ -8,7 +8,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui.panels.buildings import NEW_EAVE_M, NEW_RISE_M, NEW_SIZE_M
+from designer.gui.qt.panels.buildings import NEW_EAVE_M, NEW_RISE_M, NEW_SIZE_M
 from designer.project.geometry import point_in_polygon
 from tests.gui.helpers import field, open_panel, refused_message, set_field, wait_idle
 

@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from designer.gui.reconstruct_process import ReconstructRun
+from designer.gui.qt.reconstruct_process import ReconstructRun
 
 pytestmark = pytest.mark.gui
 

@@ -7,7 +7,7 @@ from designer.project import model as m
 
 
 def test_the_effects_panel_has_its_group_and_fields(qtbot):
-    from designer.gui.panels.effects import EFFECTS
+    from designer.gui.qt.panels.effects import EFFECTS
 
     title, default, fields = EFFECTS["exposure_variation"]
     assert title.startswith("auto exposure and white balance")

@@ -18,7 +18,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QSpinBox
 
-from designer.gui.reconstruct_job import STAGES
+from designer.gui.state.reconstruct_job import STAGES
 from tests.gui.helpers import design_example, field, problems, set_field, wait_idle
 
 pytestmark = [pytest.mark.gui, pytest.mark.blender, pytest.mark.slow]

@@ -43,8 +43,8 @@ def test_estimates_say_uncalibrated_and_short_times_read_in_seconds(qtbot, windo
     (0.0, "< 0.1 s"), (0.04, "< 0.1 s"), (0.4, "0.4 s"), (3.0, "3.0 s"), (12.4, "12 s"),
     (89.0, "89 s"), (216.0, "3.6 min"), (8640.0, "2.4 h"), (float("nan"), "–")])
 def test_times_are_written_in_seconds_when_short(seconds, text):
-    from designer.gui.study_data import duration_text
-    from designer.gui.wording import duration
+    from designer.gui.state.study_data import duration_text
+    from designer.gui.state.wording import duration
 
     assert duration(seconds) == text
     assert duration_text(seconds) == text  # the Study panel's times read the same

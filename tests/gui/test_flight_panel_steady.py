@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 from PySide6.QtCore import QPoint
 
-from designer.gui import edits
+from designer.gui.state import edits
 from tests.gui.helpers import wait_idle
 
 pytestmark = pytest.mark.gui

@@ -47,7 +47,7 @@ def test_a_gcp_off_the_terrain_is_named_by_its_id_in_the_numbers_typed(qtbot, wi
     assert w.file_actions.new("survey")
     wait_idle(qtbot, w)
     gcps = open_panel(w, "GCPs")
-    from designer.gui.widgets import format_number as num
+    from designer.gui.qt.widgets import format_number as num
 
     e = w.document.project.scene.terrain.extent
     gid = w.document.project.targets[0].id

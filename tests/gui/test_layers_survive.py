@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.gui import edits
+from designer.gui.state import edits
 from designer.project import model as m
 from tests.gui.helpers import add_hills_and_flight, wait_idle, write_xyz_ply
 

@@ -8,9 +8,9 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit, QSpinBox
 
-from designer.gui import derived
-from designer.gui.panels.lighting import DEFAULT_CLOUDS
-from designer.gui.view_geometry import shade_rgb
+from designer.gui.qt.panels.lighting import DEFAULT_CLOUDS
+from designer.gui.state import derived
+from designer.gui.state.view_geometry import shade_rgb
 from designer.project import model as m
 from designer.scene.lighting import sun_position_deg, surface_normals
 from tests.gui.helpers import field, set_field, wait_idle

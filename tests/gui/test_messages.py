@@ -10,8 +10,8 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui import edits
-from designer.gui.wording import humanize
+from designer.gui.state import edits
+from designer.gui.state.wording import humanize
 from designer.project import model as m
 from tests.gui.helpers import field, ground_pixels, problems, type_cell, wait_idle
 

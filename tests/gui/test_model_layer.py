@@ -15,9 +15,9 @@ import pytest
 
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import rotation_from_opk
-from designer.gui import camera_presets, edits, files
-from designer.gui.document import ProjectDocument, changed_parts
-from designer.gui.view_geometry import station_geometry, terrain_display
+from designer.gui.state import camera_presets, edits, files
+from designer.gui.state.document import ProjectDocument, changed_parts
+from designer.gui.state.view_geometry import station_geometry, terrain_display
 from designer.project import load_project, template
 from designer.project import model as m
 from designer.project.validate_camera import camera_issues
@@ -201,7 +201,12 @@ def test_blank_project_with_a_flight_is_valid(tmp_path):
 # ------------------------------------------------------------------- reconstruction
 def test_reconstruct_job_commands_and_stages(tmp_path):
     from designer.cli.main import build_parser
-    from designer.gui.reconstruct_job import COMPARE_STAGE, STAGES, ReconstructJob, stage_of_line
+    from designer.gui.state.reconstruct_job import (
+        COMPARE_STAGE,
+        STAGES,
+        ReconstructJob,
+        stage_of_line,
+    )
 
     job = ReconstructJob(tmp_path / "s.xml", tmp_path / "out", "free", 2048)
     reconstruct, compare = job.commands()
@@ -228,8 +233,8 @@ def test_reconstruct_job_commands_and_stages(tmp_path):
 
 def test_compared_cloud_is_read_back(tmp_path):
     from designer.evaluate import write_distances_ply
-    from designer.gui.reconstruct_job import read_compared_cloud, survey_status
-    from designer.gui.results_data import load_compared_cloud
+    from designer.gui.state.reconstruct_job import read_compared_cloud, survey_status
+    from designer.gui.state.results_data import load_compared_cloud
 
     rng = np.random.default_rng(2)
     xyz = rng.normal(size=(50, 3)) + [512000.0, 5406000.0, 300.0]

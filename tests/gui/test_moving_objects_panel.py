@@ -7,7 +7,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui.panels.moving import NEW_SPEED_M_S
+from designer.gui.qt.panels.moving import NEW_SPEED_M_S
 from tests.gui.helpers import set_field, wait_idle
 
 pytestmark = pytest.mark.gui

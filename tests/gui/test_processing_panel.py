@@ -11,7 +11,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QLineEdit, QSpinBox
 
 from designer.evaluate.writers import write_distances_ply
-from designer.gui.reconstruct_job import ReconstructJob
+from designer.gui.state.reconstruct_job import ReconstructJob
 from designer.project import load_project
 from designer.sfm.settings import resolve_processing
 from tests.gui.helpers import add_hills_and_flight, field, problems, set_field, wait_idle

@@ -11,7 +11,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QMessageBox, QTabBar
 
-from designer.gui import edits
+from designer.gui.state import edits
 from designer.project import TEMPLATE_NAMES
 from tests.gui.helpers import choose_menu, wait_idle
 
@@ -121,7 +121,7 @@ def test_one_photo_is_one_photo(qtbot, window, tmp_path):
     assert status.startswith("imported 1 photo from"), status
     assert w.undo_stack.text(w.undo_stack.index() - 1) == "Import flight (1 photo)"
 
-    from designer.gui.wording import count
+    from designer.gui.state.wording import count
 
     assert count(1, "image") == "1 image" and count(3, "image") == "3 images"
     assert count(0, "GCP") == "0 GCPs" and count(1, "run") == "1 run"

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
-from designer.gui import edits
+from designer.gui.state import edits
 from designer.project import model as m
 from designer.survey.render_cost import load_speed
 from tests.gui.helpers import problems, wait_idle
@@ -68,12 +68,12 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     # panels show the model's figure for this project
     speed = load_speed()
     assert speed.source == "render" and speed.images >= n - first - 1
-    from designer.gui import derived
+    from designer.gui.state import derived
 
     total = derived.render_estimate_s(w.document.project, w.sync.stations.render_costs,
                                       "draft")
     line = next(x for x in panel.cost.text().splitlines() if x.startswith("draft:"))
-    from designer.gui.wording import duration
+    from designer.gui.state.wording import duration
 
     assert f"{duration(total / n)}/image" in line
     assert "this machine" in w.panels["Flight"].time_label.text()

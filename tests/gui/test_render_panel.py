@@ -11,8 +11,8 @@ import sys
 import pytest
 from PySide6.QtCore import Qt
 
-from designer.gui import edits
-from designer.gui.render_process import RenderProcess
+from designer.gui.qt.command_process import RenderProcess
+from designer.gui.state import edits
 from designer.project import model as m
 from tests.gui.helpers import problems, wait_idle
 from tests.gui.render_helpers import FAKE_RENDER

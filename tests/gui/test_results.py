@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.gui import edits
+from designer.gui.state import edits
 from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
 from tests.gui.helpers import add_hills_and_flight, problems, wait_idle, write_xyz_ply
 

@@ -10,7 +10,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from designer.evaluate.writers import write_distances_ply
-from designer.gui.reconstruct_job import ReconstructJob
+from designer.gui.state.reconstruct_job import ReconstructJob
 from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
 from tests.gui.helpers import (
     add_hills_and_flight,

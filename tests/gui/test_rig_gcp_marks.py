@@ -15,7 +15,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 
 from designer.core.projection import project_points
-from designer.gui.render_process import RenderProcess
+from designer.gui.qt.command_process import RenderProcess
 from designer.project.interiors import render_interior
 from designer.survey.project_poses import project_images
 from tests.gui.helpers import open_panel, problems, wait_idle
@@ -124,7 +124,7 @@ def test_gcp_panel_counts_every_image_of_the_rig(qtbot, window, tmp_path):
         expected[g[~hidden]] += 1
     assert expected.sum() > 2 * len(w.sync.stations.stations)  # the obliques count
     panel = open_panel(w, "GCPs")
-    from designer.gui.panels.gcps import IMAGES_COLUMN
+    from designer.gui.qt.panels.gcps import IMAGES_COLUMN
 
     shown = {panel.table.item(r, 0).text(): int(panel.table.item(r, IMAGES_COLUMN).text())
              for r in range(panel.table.rowCount())}

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from PySide6.QtCore import Qt
 
-from designer.gui.render_process import RenderProcess
+from designer.gui.qt.command_process import RenderProcess
 from designer.survey.project_poses import project_images
 from tests.gui.helpers import problems, wait_idle
 from tests.gui.render_helpers import FAKE_RENDER

@@ -9,7 +9,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
 
-from designer.gui import edits
+from designer.gui.state import edits
 from designer.project import processing as pr
 from tests.gui.helpers import (
     cloud_with_outlier,

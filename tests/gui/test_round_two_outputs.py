@@ -10,7 +10,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui import edits
+from designer.gui.state import edits
 from tests.gui.helpers import field, set_field
 from tests.gui.tiny_survey_helpers import (
     record_reconstruction,

@@ -13,8 +13,8 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QLabel
 
-from designer.gui import edits
-from designer.gui.render_process import RenderProcess
+from designer.gui.qt.command_process import RenderProcess
+from designer.gui.state import edits
 from tests.gui.helpers import (
     add_hills_and_flight,
     open_panel,
@@ -34,7 +34,7 @@ def test_thumbnails_keep_the_image_shape_and_show_the_names(qtbot, window, monke
     """4:3 images rendered while the Render panel is on screen: each thumbnail is drawn
     120 × 90 px (not squeezed into the size of its text) with its name under it, even
     when the thumbnail is read after the item was laid out."""
-    from designer.gui.panels import render as render_panel
+    from designer.gui.qt.panels import render as render_panel
 
     w = window
     project = edits.set_flight(edits.ensure_flight_plan(w.document.project),

@@ -58,7 +58,7 @@ def test_a_moving_object_starting_after_the_last_photo_is_pointed_out(qtbot, win
     from PySide6.QtCore import Qt
     from PySide6.QtWidgets import QDoubleSpinBox
 
-    from designer.gui import edits
+    from designer.gui.state import edits
     from tests.gui.helpers import open_panel, set_field
 
     w = window

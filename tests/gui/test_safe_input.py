@@ -12,7 +12,7 @@ from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QLabel, QScrollArea
 
-from designer.gui import edits
+from designer.gui.state import edits
 from tests.gui.helpers import field, wait_idle
 
 pytestmark = pytest.mark.gui

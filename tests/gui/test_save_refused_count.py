@@ -7,7 +7,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 
-from designer.gui.widgets import format_number as num
+from designer.gui.qt.widgets import format_number as num
 from tests.gui.helpers import answer_file_dialog, problems, type_cell, wait_idle
 
 pytestmark = pytest.mark.gui

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.gui import edits
-from designer.gui.scene_view import OBJECT_COLOUR
-from designer.gui.view_geometry import shade_rgb
+from designer.gui.qt.scene_view import OBJECT_COLOUR
+from designer.gui.state import edits
+from designer.gui.state.view_geometry import shade_rgb
 from designer.project import model as m
 from tests.gui.helpers import wait_idle
 

@@ -160,7 +160,7 @@ def test_export_flight_plan_in_each_format_reads_back(qtbot, window, tmp_path):
 
 
 def test_flight_figures_that_do_not_exist_are_said_in_words():
-    from designer.gui.panels.flight import _gsd_text
+    from designer.gui.qt.panels.flight import _gsd_text
 
     nan = float("nan")
     assert _gsd_text(0.0492, 0.0635, 0.0532) == (

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui import edits
+from designer.gui.state import edits
 from tests.gui.helpers import add_hills_and_flight, field, set_field, wait_idle, write_xyz_ply
 
 pytestmark = pytest.mark.gui

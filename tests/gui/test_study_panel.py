@@ -324,7 +324,7 @@ def test_a_study_whose_runs_would_fail_is_warned_before_run(qtbot, window, tmp_p
     _add(qtbot, panel, "marking-sigma-px", "2")
     _checked(qtbot, w, panel)
     assert panel.warnings.isVisible()
-    from designer.gui import edits
+    from designer.gui.state import edits
 
     w.editor.edit(edits.replace_path(w.document.project, "processing.gcps.mode", "none"),
                   "GCP mode none")

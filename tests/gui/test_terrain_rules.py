@@ -9,7 +9,7 @@ from __future__ import annotations
 import pytest
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui.widgets import format_number as num
+from designer.gui.qt.widgets import format_number as num
 from tests.gui.helpers import field, open_panel, set_field, wait_idle
 
 pytestmark = pytest.mark.gui

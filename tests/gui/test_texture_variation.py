@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from PySide6.QtWidgets import QDoubleSpinBox, QSpinBox
 
-from designer.gui import edits
+from designer.gui.state import edits
 from tests.gui.helpers import field, set_field, wait_idle
 
 pytestmark = pytest.mark.gui

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from PySide6.QtWidgets import QDoubleSpinBox, QLineEdit
 
-from designer.gui.panels.flight import DEFAULT_TIME_LINE
+from designer.gui.qt.panels.flight import DEFAULT_TIME_LINE
 from designer.project import model as m
 from tests.gui.helpers import field, set_field, wait_idle
 

@@ -8,7 +8,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui.view_geometry import flat_lit_rgb
+from designer.gui.state.view_geometry import flat_lit_rgb
 from designer.scene.build import build_heightfield, build_terrain_mesh
 from designer.scene.surfaces import Ground, merge_triangles
 from designer.scene.vegetation import KIND_ALBEDO, WOOD_ALBEDO, vegetation_mesh_world

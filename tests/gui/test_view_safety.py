@@ -8,7 +8,7 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
 
-from designer.gui import edits
+from designer.gui.state import edits
 from designer.project import model as m
 from tests.gui.helpers import ground_pixels, wait_idle
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 
-from designer.gui import edits
+from designer.gui.state import edits
 from designer.project import model as m
 from tests.gui.helpers import problems, wait_idle
 
@@ -59,8 +59,8 @@ def record_reconstruction(w, path, with_settings: bool = True) -> None:
     cloud, the digests of the images it was made from and (``with_settings``)
     summary.json with the project's processing settings."""
     from designer.evaluate.writers import write_distances_ply
-    from designer.gui import output_state
-    from designer.gui.reconstruct_job import ReconstructJob
+    from designer.gui.state import output_state
+    from designer.gui.state.reconstruct_job import ReconstructJob
     from designer.sfm.settings import settings_dict
 
     survey = w.panels["Render"].out_dir

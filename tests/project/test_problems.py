@@ -52,3 +52,19 @@ def test_project_error_lists_every_problem_one_a_line():
     error = ProjectError("p.xml", [Problem("<a>: one", 1, 2), Problem("<b>: two", 3, 4)])
     assert str(error) == "p.xml:1:2: <a>: one\np.xml:3:4: <b>: two"
     assert error.exit_code == 2
+
+
+def test_a_located_problem_carries_its_issue_s_structured_fields():
+    """A range problem says in fields what its message says in words (code, element,
+    attribute, value, limits), and the located Problem keeps them: no program has to
+    parse a message (the GUI words problems from these fields)."""
+    from designer.project import model as m
+    from designer.project.validate_declared import element_issues
+
+    (issue,) = element_issues(m.RollingShutter(readout_s=0.9))
+    assert (issue.code, issue.tag, issue.attr, issue.value, issue.limits) == (
+        "range", "rolling-shutter", "readout-s", 0.9, (0, 0.5))
+    assert issue.message == "readout-s = 0.9 must be from 0 to 0.5 s"
+    problem = SourceMap('<rolling-shutter readout-s="0.9"/>\n').locate(issue)
+    assert problem.issue is issue and (problem.line, problem.column) == (1, 18)
+    assert problem == Problem(problem.message, 1, 18)  # the issue is not part of its value

@@ -172,7 +172,7 @@ def test_an_old_layout_folder_is_checked_and_resume_moves_it(rendered, tmp_path)
 
     assert main(["check-output", str(out), "--project", str(project)]) == 1
     # and the desktop designer's Render panel line
-    from designer.gui.output_state import render_state
+    from designer.gui.state.output_state import render_state
     from designer.project import load_project
 
     state = render_state(out, project, load_project(project))

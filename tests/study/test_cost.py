@@ -34,7 +34,7 @@ ROOT = Path(__file__).resolve().parents[2]
 @pytest.fixture(scope="module")
 def tiny_platform():
     """The tiny base project and its platform stations (the flight, in order)."""
-    from designer.gui import derived
+    from designer.gui.state import derived
     from designer.survey.project_poses import project_images
 
     project = template_base("tiny")

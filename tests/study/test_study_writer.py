@@ -71,7 +71,7 @@ def test_levels_with_spaces_are_refused():
 
 
 def test_typed_levels_and_ranges_match_the_reader():
-    from designer.gui.study_data import parse_levels
+    from designer.gui.state.study_data import parse_levels
 
     assert parse_levels("3 4, 6;8") == ("3", "4", "6", "8")
     xml = ('<study xmlns="urn:designer:project:1" schema-version="1.0" name="r">'
@@ -94,8 +94,8 @@ def test_typed_levels_and_ranges_match_the_reader():
 def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
     from dataclasses import replace
 
-    from designer.gui import derived
-    from designer.gui.study_data import plan_cost
+    from designer.gui.state import derived
+    from designer.gui.state.study_data import plan_cost
     from designer.survey.render_cost import REFERENCE
 
     path = ROOT / "resources" / "studies" / f"{name}.xml"
@@ -118,8 +118,12 @@ def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
 def test_the_estimate_counts_shared_features_once():
     """gcp-count: 15 processings of one image set that differ only in the GCPs used —
     the first extracts and matches, the other 14 reuse its features and matches."""
-    from designer.gui import derived
-    from designer.gui.study_data import FEATURE_SHARE, plan_cost, reconstruct_seconds_per_image
+    from designer.gui.state import derived
+    from designer.gui.state.study_data import (
+        FEATURE_SHARE,
+        plan_cost,
+        reconstruct_seconds_per_image,
+    )
     from designer.project.interiors import interior_from_camera
     from designer.survey.project_poses import project_stations
 

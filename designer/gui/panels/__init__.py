@@ -1,2 +1,0 @@
-"""Dockable side panels, one module each; every panel edits the project only through the
-:class:`~designer.gui.undo.Editor` and redraws itself from document events."""

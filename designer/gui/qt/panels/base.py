@@ -1,0 +1,94 @@
+"""What every panel shares: the editor, the scene sync, bound fields, refresh on events."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QLabel, QScrollArea, QVBoxLayout, QWidget
+
+from designer.gui.qt.widgets import Bindings, CheckedDoubleSpin, CheckedSpin
+
+ERROR_STYLE = "color: #c0392b"
+
+
+class Panel(QWidget):
+    """A side panel. Subclasses set ``title`` and ``parts`` (the document parts that
+    make it refresh) and build their fields in ``build(layout)``."""
+
+    title = "Panel"
+    parts: frozenset[str] = frozenset()
+
+    def __init__(self, editor, sync, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.editor, self.sync = editor, sync
+        self.bindings = Bindings(editor)
+        inner = QWidget()
+        self.body = QVBoxLayout(inner)
+        self.body.setContentsMargins(6, 6, 6, 6)
+        scroll = QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        scroll.setWidget(inner)
+        outer = QVBoxLayout(self)
+        outer.setContentsMargins(0, 0, 0, 0)
+        self.input_label = QLabel()
+        self.input_label.setObjectName("input-errors")
+        self.input_label.setWordWrap(True)
+        self.input_label.setStyleSheet(ERROR_STYLE)
+        self.input_label.hide()
+        # below the fields: appearing, the message shortens the panel's scrolled part
+        # from its bottom and moves no field (above them, it pushed them down under the
+        # mouse)
+        outer.addWidget(scroll)
+        outer.addWidget(self.input_label)
+        self.input_errors: dict[QWidget, str] = {}
+        self.build(self.body)
+        self.body.addStretch(1)
+        self.watch_fields()
+        editor.document.events.connect("project", self._on_project)
+        self.refresh()
+
+    def watch_fields(self, root: QWidget | None = None) -> None:
+        """Show the verdicts of the number fields below ``root`` (default: the panel)."""
+        for box in (root or self).findChildren(CheckedDoubleSpin) + \
+                (root or self).findChildren(CheckedSpin):
+            box.listener = self._field_verdict
+
+    def _field_verdict(self, widget: QWidget, message: str) -> None:
+        if message:
+            self.input_errors[widget] = message
+        else:
+            self.input_errors.pop(widget, None)
+        self.show_input_errors()
+
+    def show_input_errors(self) -> None:
+        text = "\n".join(dict.fromkeys(self.input_errors.values()))
+        self.input_label.setText(text)
+        self.input_label.setVisible(bool(text))
+        window = self.window()
+        if text and hasattr(window, "statusBar"):
+            window.statusBar().showMessage(text.splitlines()[-1], 8000)
+
+    @property
+    def project(self):
+        return self.editor.project
+
+    def build(self, layout: QVBoxLayout) -> None:
+        raise NotImplementedError
+
+    def _on_project(self, old, new, parts) -> None:
+        if parts & self.parts:
+            self.refresh()
+
+    def refresh(self) -> None:
+        self.bindings.refresh(self.project)
+
+    def relative_path(self, path: str) -> str:
+        """``path`` relative to the project's folder where it lies below it."""
+        base = self.editor.document.base_dir
+        try:
+            return Path(os.path.relpath(path, base)).as_posix()
+        except ValueError:
+            return str(path)

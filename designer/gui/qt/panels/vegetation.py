@@ -1,0 +1,201 @@
+"""Vegetation: grass tufts, shrubs and trees scattered over the terrain by a seeded
+process, kept clear of the GCP targets, swaying in the wind at each photo's time
+(docs/world.md, Vegetation and wind). Groups of plants are added, edited and removed
+here, every edit on the undo stack; mesh-file plants are given in the project file."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton
+
+from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.widgets import combo, declared_field, form, readout
+from designer.gui.state import edits
+from designer.gui.state.edits import AbsentElement
+from designer.project import model as m
+
+VEGETATION = "scene.vegetation"
+WIND = "scene.vegetation.wind"
+#: the density a new group gets: plants per m²
+NEW_DENSITY_PER_M2 = {"grass-tuft": 2.0, "shrub": 0.05, "tree": 0.005}
+#: a new group's height spread, as a share of its mean height
+NEW_HEIGHT_SD = 0.15
+
+
+def new_group(kind: str) -> m.PlantGroup:
+    """A group of ``kind`` at its default size and density, sizes written out."""
+    height, crown = m.PLANT_KINDS[kind]
+    return m.PlantGroup(NEW_DENSITY_PER_M2[kind], kind, height_m=height,
+                        height_sd_m=round(NEW_HEIGHT_SD * height, 3), crown_m=crown)
+
+
+class VegetationPanel(Panel):
+    title = "Vegetation"
+    parts = frozenset({"objects", "trajectory", "terrain"})
+
+    def build(self, layout) -> None:
+        self.enabled = QCheckBox("plants on the terrain")
+        self.enabled.toggled.connect(self._toggled)
+        layout.addWidget(self.enabled)
+        self.placement = QGroupBox("placement")
+        f = form(self.placement)
+        f.addRow("seed", self.bindings.bind(declared_field(m.Vegetation, "seed"),
+                                            f"{VEGETATION}.seed",
+                                            "Vegetation seed"))
+        f.addRow("clear of targets", self.bindings.bind(
+            declared_field(m.Vegetation, "clearance_m"), f"{VEGETATION}.clearance_m",
+            "Vegetation target clearance"))
+        layout.addWidget(self.placement)
+
+        self.chooser = QComboBox()
+        self.chooser.setObjectName("plant-group")
+        self.chooser.currentIndexChanged.connect(lambda _i: self._show_selected())
+        layout.addWidget(self.chooser)
+        buttons = QHBoxLayout()
+        self.add_buttons = {}
+        for kind, label in (("grass-tuft", "add grass"), ("shrub", "add shrubs"),
+                            ("tree", "add trees")):
+            button = QPushButton(label)
+            button.clicked.connect(lambda _c=False, k=kind: self._add(k))
+            buttons.addWidget(button)
+            self.add_buttons[kind] = button
+        self.remove = QPushButton("remove")
+        self.remove.clicked.connect(self._remove)
+        buttons.addWidget(self.remove)
+        layout.addLayout(buttons)
+
+        self.selected = QGroupBox("selected plants")
+        f = form(self.selected)
+        self.kind = combo([("grass tufts", "grass-tuft"), ("shrubs", "shrub"),
+                           ("trees", "tree")])
+        f.addRow("kind", self.bindings.bind(self.kind, self._access("kind"), "Plant kind"))
+        f.addRow("density", self.bindings.bind(declared_field(m.PlantGroup, "density_per_m2"),
+                                               self._access("density_per_m2"),
+                                               "Plant density"))
+        f.addRow("height", self.bindings.bind(declared_field(m.PlantGroup, "height_m"),
+                                              self._access("height_m"), "Plant height"))
+        f.addRow("height spread", self.bindings.bind(declared_field(m.PlantGroup, "height_sd_m"),
+                                                     self._access("height_sd_m"),
+                                                     "Plant height spread"))
+        f.addRow("crown", self.bindings.bind(declared_field(m.PlantGroup, "crown_m"),
+                                             self._access("crown_m"), "Plant crown"))
+        self.count_label = readout()
+        f.addRow("plants", self.count_label)
+        layout.addWidget(self.selected)
+
+        self.wind = QGroupBox("wind")
+        f = form(self.wind)
+        self.windy = QCheckBox("plants sway in the wind")
+        self.windy.toggled.connect(self._wind_toggled)
+        f.addRow(self.windy)
+        for label, name, undo in (("amplitude", "amplitude_deg", "Wind amplitude"),
+                                  ("gust period", "gust_period_s", "Wind gust period"),
+                                  ("towards", "direction_deg", "Wind direction")):
+            f.addRow(label, self.bindings.bind(declared_field(m.Wind, name), f"{WIND}.{name}",
+                                               undo))
+        self.wind_note = QLabel()
+        self.wind_note.setWordWrap(True)
+        f.addRow(self.wind_note)
+        layout.addWidget(self.wind)
+
+    # ------------------------------------------------------------------ access
+    def _index(self) -> int:
+        """The chosen group; the first when none is chosen yet."""
+        return max(self.chooser.currentIndex(), 0)
+
+    def _groups(self, p: m.Project) -> tuple[m.PlantGroup, ...]:
+        return p.scene.vegetation.plants if p.scene.vegetation is not None else ()
+
+    def _access(self, name: str):
+        def get(p: m.Project):
+            k, groups = self._index(), self._groups(p)
+            if not 0 <= k < len(groups):
+                raise AbsentElement(f"{VEGETATION}.plants[{k}].{name}", name, None)
+            value = getattr(groups[k], name)
+            if value is None and name in ("height_m", "crown_m") and groups[k].kind:
+                value = m.PLANT_KINDS[groups[k].kind][0 if name == "height_m" else 1]
+            return value
+
+        def put(p: m.Project, value):
+            k, groups = self._index(), list(self._groups(p))
+            if not 0 <= k < len(groups):
+                raise AbsentElement(f"{VEGETATION}.plants[{k}].{name}", name, None)
+            groups[k] = dataclasses.replace(groups[k], **{name: value})
+            return edits.replace_path(p, f"{VEGETATION}.plants", tuple(groups))
+
+        return get, put
+
+    # ------------------------------------------------------------------ model → view
+    def refresh(self) -> None:
+        veg = self.project.scene.vegetation
+        blocked = self.enabled.blockSignals(True)
+        self.enabled.setChecked(veg is not None)
+        self.enabled.blockSignals(blocked)
+        groups = self._groups(self.project)
+        keep = self._index()
+        blocked = self.chooser.blockSignals(True)
+        self.chooser.clear()
+        for k, g in enumerate(groups):
+            self.chooser.addItem(f"{k + 1}: {g.kind or g.mesh} ({g.density_per_m2:g} /m²)", k)
+        self.chooser.setCurrentIndex(min(max(keep, 0), len(groups) - 1))
+        self.chooser.blockSignals(blocked)
+        blocked = self.windy.blockSignals(True)
+        self.windy.setChecked(veg is not None and veg.wind is not None)
+        self.windy.blockSignals(blocked)
+        self.windy.setEnabled(veg is not None)
+        for button in self.add_buttons.values():
+            button.setEnabled(True)
+        self.wind_note.setText(
+            "" if veg is None or veg.wind is None else
+            "the plants sway with each photo's time" if self.project.trajectory.time_line
+            else "no time line: the plants stand upright (switch it on in the Flight panel)")
+        self._show_selected()
+
+    def _show_selected(self) -> None:
+        super().refresh()
+        groups = self._groups(self.project)
+        k = self._index()
+        self.remove.setEnabled(bool(groups))
+        if 0 <= k < len(groups):
+            g = groups[k]
+            self.kind.setEnabled(g.mesh is None)
+            e = self.project.scene.terrain.extent
+            area = (e.max_X - e.min_X) * (e.max_Y - e.min_Y)
+            self.count_label.setText(f"about {g.density_per_m2 * area:,.0f} on the "
+                                     f"{area:,.0f} m² terrain (fewer near targets)")
+        else:
+            self.count_label.setText("–")
+
+    # ------------------------------------------------------------------ view → model
+    def _toggled(self, on: bool) -> None:
+        if on == (self.project.scene.vegetation is not None):
+            return
+        value = m.Vegetation((new_group("shrub"),)) if on else None
+        self.editor.edit(edits.replace_path(self.project, VEGETATION, value),
+                         "Vegetation " + ("on" if on else "off"))
+
+    def _wind_toggled(self, on: bool) -> None:
+        veg = self.project.scene.vegetation
+        if veg is None or on == (veg.wind is not None):
+            return
+        self.editor.edit(edits.replace_path(self.project, WIND, m.Wind() if on else None),
+                         "Wind " + ("on" if on else "off"))
+
+    def _add(self, kind: str) -> None:
+        p = self.project
+        veg = p.scene.vegetation or m.Vegetation(())
+        veg = dataclasses.replace(veg, plants=(*veg.plants, new_group(kind)))
+        self.editor.edit(edits.replace_path(p, VEGETATION, veg), f"Add {kind} plants")
+        self.chooser.setCurrentIndex(self.chooser.count() - 1)
+
+    def _remove(self) -> None:
+        p, k = self.project, self._index()
+        groups = list(self._groups(p))
+        if not 0 <= k < len(groups):
+            return
+        groups.pop(k)
+        value = (dataclasses.replace(p.scene.vegetation, plants=tuple(groups))
+                 if groups else None)
+        self.editor.edit(edits.replace_path(p, VEGETATION, value),
+                         f"Remove plant group {k + 1}")

@@ -1,0 +1,442 @@
+"""Keeps the 3D view in step with the document: model events in, view updates out.
+
+On each ``project`` event it looks at which parts changed and recomputes only what
+depends on them, in worker threads (:class:`~designer.gui.qt.tasks.TaskRunner`):
+
+terrain → height field, ray caster, display mesh and its light → targets, stations,
+coverage; texture → texture image (1–2 s for a procedural one) and the display UVs;
+lighting → the light on the drawn terrain and objects; objects → the placed meshes, the
+buildings and the plants (also rebuilt on the new terrain);
+cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
+
+Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
+the ``*_changed`` signals; errors arrive as messages (a half-typed flight plan is not an
+exception, it is a message in the Flight panel).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from PySide6.QtCore import QObject, Signal
+
+from designer.errors import DesignerError
+from designer.gui.qt.tasks import TaskRunner
+from designer.gui.state import derived
+from designer.gui.state.document import ProjectDocument
+from designer.project import model as m
+
+TERRAIN_PARTS = {"terrain"}
+#: a picked point farther than this (m) from the terrain's top surface is not ground
+GROUND_TOLERANCE_M = 0.05
+STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
+
+
+def _message(error: BaseException) -> str:
+    from designer.gui.state.wording import humanize
+
+    if isinstance(error, DesignerError | ValueError | KeyError | OSError):
+        return humanize(str(error))
+    return f"{type(error).__name__}: {humanize(str(error))}"
+
+
+class SceneSync(QObject):
+    terrain_changed = Signal()
+    texture_changed = Signal()
+    targets_changed = Signal()
+    stations_changed = Signal()
+    coverage_changed = Signal()
+    lighting_changed = Signal()
+    plan_changed = Signal()
+    message = Signal(str)
+    #: a message posted by ``message`` that no longer holds (its error went)
+    message_withdrawn = Signal(str)
+
+    def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
+        super().__init__(view)
+        self.document, self.view, self.tasks = document, view, tasks
+        self.terrain: derived.TerrainResult | None = None
+        self.texture_rgb: np.ndarray | None = None
+        self.texture: derived.TextureResult | None = None
+        self.targets: derived.TargetsResult | None = None
+        self.stations: derived.StationsResult | None = None
+        self.coverage: derived.CoverageResult | None = None
+        self.objects: derived.ObjectsResult | None = None
+        self.buildings: derived.BuildingsResult | None = None
+        self.vegetation: derived.VegetationResult | None = None
+        #: the flight over the real terrain (designer.gui.state.plan_figures), or None
+        self.plan = None
+        self.errors: dict[str, str] = {}
+        self.coverage_enabled = False
+        self._tiles: tuple[int, int] | None = None
+        self._area_key: tuple | None = None
+        document.events.connect("project", self._on_project)
+        document.events.connect("reset", self._on_reset)
+        view.interaction.ground_picker = self._pick_ground
+
+    # ------------------------------------------------------------------ events
+    def _on_reset(self, project) -> None:
+        self.terrain = None
+        self.texture_rgb = None
+        self.stations = None
+        self.coverage = None
+        self.plan = None
+        self._tiles = None
+        self._area_key = None
+
+    def _on_project(self, old, new, parts) -> None:
+        if parts & TERRAIN_PARTS or self.terrain is None:
+            self.refresh_terrain()
+        else:
+            if "texture" in parts:
+                self._retile()
+            if "targets" in parts:
+                self.refresh_targets()
+            if parts & STATION_PARTS:
+                self.refresh_stations()
+        procedural = isinstance(self.document.project.scene.texture.source,
+                                m.ProceduralTexture)
+        if "texture" in parts or (parts & TERRAIN_PARTS and procedural):
+            self.refresh_texture()
+        if "lighting" in parts and not parts & TERRAIN_PARTS and self.terrain is not None:
+            self.refresh_lighting()
+        if parts & {"objects", "lighting"}:
+            self.refresh_objects()
+            if not parts & TERRAIN_PARTS:
+                self.refresh_buildings()
+                self.refresh_vegetation()
+        if "trajectory" in parts or "terrain" in parts:
+            self._show_area()
+
+    def _fail(self, key: str, error: BaseException) -> None:
+        self._clear(key)
+        self.errors[key] = _message(error)
+        self.message.emit(f"{key}: {self.errors[key]}")
+
+    def _clear(self, key: str) -> None:
+        """``key`` works again: its error goes, and so does the message that posted it."""
+        text = self.errors.pop(key, None)
+        if text:
+            self.message_withdrawn.emit(f"{key}: {text}")
+
+    # ------------------------------------------------------------------ terrain
+    def refresh_terrain(self) -> None:
+        project = self.document.project
+        self.tasks.submit("terrain", derived.compute_terrain, project, self.document.base_dir,
+                          self.view.max_display_nodes, on_done=self._terrain_done,
+                          on_error=lambda e: self._terrain_failed(e))
+
+    def _terrain_failed(self, error: BaseException) -> None:
+        self.terrain = None
+        self.view.remove_layer("terrain")
+        self._fail("terrain", error)
+        self.terrain_changed.emit()
+        self.refresh_targets()
+        self.refresh_stations()
+        self.refresh_buildings()
+        self.refresh_vegetation()
+
+    def _terrain_done(self, result: derived.TerrainResult) -> None:
+        self._clear("terrain")
+        first = self.terrain is None or not np.allclose(
+            self.view.offset[:2], result.centre_world[:2], atol=0.5 * max(
+                result.terrain.extent.width_m, result.terrain.extent.length_m))
+        self.terrain = result
+        if first:
+            self.view.set_offset(result.centre_world)  # drops every layer: draw them anew
+            if self.objects is not None:
+                self._objects_done(self.objects)
+        self.view.interaction.ground_picker = (
+            self._pick_ground if result.raycaster is not None else None)
+        p = self.document.project.scene.texture
+        self._tiles = (p.repeat_X, p.repeat_Y)
+        display = (result.display if self._tiles == result.tiles
+                   else derived.retile(result, self._tiles))
+        self.view.show_terrain(display.points_world, display.faces, self._uv(display),
+                               self.texture_rgb, p.interpolation == "linear",
+                               result.irradiance)
+        if first:
+            self.view.reset_view()
+        self.terrain_changed.emit()
+        self.refresh_targets()
+        self.refresh_stations()
+        self.refresh_buildings()
+        self.refresh_vegetation()
+        self._show_area()
+
+    def _retile(self) -> None:
+        tex = self.document.project.scene.texture
+        tiles = (tex.repeat_X, tex.repeat_Y)
+        if self.terrain is None or tiles == self._tiles:
+            return
+        self._tiles = tiles
+        display = derived.retile(self.terrain, tiles)
+        self.view.show_terrain(display.points_world, display.faces, self._uv(display),
+                               self.texture_rgb, tex.interpolation == "linear",
+                               self.terrain.irradiance)
+
+    # ------------------------------------------------------------------ objects
+    def refresh_objects(self) -> None:
+        """Read and place the scene's mesh objects (a worker thread: files are read)."""
+        if not self.document.project.scene.objects:
+            self.tasks.cancel("objects")
+            self._objects_done(None)
+            return
+        self.tasks.submit("objects", derived.compute_objects, self.document.project,
+                          self.document.base_dir, on_done=self._objects_done,
+                          on_error=self._objects_failed)
+
+    def _objects_done(self, result: derived.ObjectsResult | None) -> None:
+        self._clear("objects")
+        self.objects = result
+        if result is None:
+            self.view.show_objects(None)
+        else:
+            self.view.show_objects(result.vertices_world, result.faces,
+                                   result.face_irradiance)
+
+    def _objects_failed(self, error: BaseException) -> None:
+        self.objects = None
+        self.view.show_objects(None)
+        self._fail("objects", error)
+
+    # ------------------------------------------------------------------ buildings
+    def refresh_buildings(self) -> None:
+        """Build the scene's buildings on the computed terrain (a worker thread)."""
+        if not self.document.project.scene.buildings or self.terrain is None:
+            self.tasks.cancel("buildings")
+            self._buildings_done(None)
+            return
+        self.tasks.submit("buildings", derived.compute_buildings, self.document.project,
+                          self.document.base_dir, self.terrain, on_done=self._buildings_done,
+                          on_error=self._buildings_failed)
+
+    def _buildings_done(self, result: derived.BuildingsResult | None) -> None:
+        self._clear("buildings")
+        self.buildings = result
+        if result is None:
+            self.view.show_buildings(None)
+        else:
+            self.view.show_buildings(result.vertices_world, result.faces,
+                                     result.face_irradiance, result.face_roof)
+
+    def _buildings_failed(self, error: BaseException) -> None:
+        self.buildings = None
+        self.view.show_buildings(None)
+        self._fail("buildings", error)
+
+    # ------------------------------------------------------------------ vegetation
+    def refresh_vegetation(self) -> None:
+        """Place the scene's plants on the computed terrain (a worker thread)."""
+        if self.document.project.scene.vegetation is None or self.terrain is None:
+            self.tasks.cancel("vegetation")
+            self._vegetation_done(None)
+            return
+        self.tasks.submit("vegetation", derived.compute_vegetation, self.document.project,
+                          self.document.base_dir, self.terrain, on_done=self._vegetation_done,
+                          on_error=self._vegetation_failed)
+
+    def _vegetation_done(self, result: derived.VegetationResult | None) -> None:
+        self._clear("vegetation")
+        self.vegetation = result
+        if result is None:
+            self.view.show_vegetation(None)
+        else:
+            self.view.show_vegetation(result.vertices_world, result.faces, result.face_albedo)
+
+    def _vegetation_failed(self, error: BaseException) -> None:
+        self.vegetation = None
+        self.view.show_vegetation(None)
+        self._fail("vegetation", error)
+
+    # ------------------------------------------------------------------ lighting
+    def refresh_lighting(self) -> None:
+        """Light the drawn terrain anew (sun, sky) without recomputing the terrain."""
+        terrain = self.terrain
+        self.tasks.submit("lighting", derived.display_irradiance,
+                          self.document.project.scene.lighting, terrain.display,
+                          terrain.heightfield, terrain.raycaster,
+                          on_done=lambda light: self._lighting_done(terrain, light),
+                          on_error=lambda e: self._fail("lighting", e))
+
+    def _lighting_done(self, terrain: derived.TerrainResult, light: np.ndarray) -> None:
+        if terrain is not self.terrain:
+            return  # the terrain changed meanwhile; its own result carries its light
+        self._clear("lighting")
+        self.terrain = dataclasses.replace(terrain, irradiance=light)
+        self.view.set_terrain_irradiance(light)
+        self.lighting_changed.emit()
+
+    # ------------------------------------------------------------------ texture
+    def refresh_texture(self) -> None:
+        self.tasks.submit("texture", derived.compute_texture_result, self.document.project,
+                          self.document.base_dir, on_done=self._texture_done,
+                          on_error=self._texture_failed)
+
+    def _uv(self, display) -> np.ndarray:
+        """The drawn terrain's texture coordinates for the current texture."""
+        return display.uv if self.texture is None else self.texture.display_uv(display)
+
+    def _displayed(self):
+        """The terrain display as drawn now (its current tiling), or None."""
+        if self.terrain is None:
+            return None
+        return (self.terrain.display if self._tiles in (None, self.terrain.tiles)
+                else derived.retile(self.terrain, self._tiles))
+
+    def _texture_done(self, result: derived.TextureResult) -> None:
+        self._clear("texture")
+        placed_before = self.texture is not None and self.texture.orthophoto is not None
+        self.texture, self.texture_rgb = result, result.rgb
+        tex = self.document.project.scene.texture
+        display = self._displayed()
+        if display is not None and (placed_before or result.orthophoto is not None):
+            self.view.set_terrain_uv(self._uv(display))
+        self.view.set_texture(result.rgb, tex.interpolation == "linear")
+        self.texture_changed.emit()
+
+    def _texture_failed(self, error: BaseException) -> None:
+        self.texture, self.texture_rgb = None, None
+        self.view.set_texture(None)
+        self._fail("texture", error)
+        self.texture_changed.emit()
+
+    # ------------------------------------------------------------------ targets
+    def refresh_targets(self) -> None:
+        project = self.document.project
+        hf = self.terrain.heightfield if self.terrain is not None else None
+        if self.terrain is None and project.targets:
+            return  # drawn once the terrain is there
+        try:
+            self.targets = derived.compute_targets(project, hf)
+            self._clear("targets")
+        except (DesignerError, ValueError) as error:
+            self.targets = None
+            self._fail("targets", error)
+        t = self.targets
+        if t is None:
+            self.view.show_targets([], [], np.zeros((0, 3)))
+        else:
+            self.view.show_targets(t.ids, t.roles, t.true_xyz, t.plates)
+        self.targets_changed.emit()
+        if self.stations is not None and self.terrain is not None:
+            self.refresh_plan()
+
+    # ------------------------------------------------------------------ stations
+    def refresh_stations(self) -> None:
+        project = self.document.project
+        if not project.cameras or (project.trajectory.flight_plan is None
+                                   and not project.trajectory.exterior_orientations):
+            self.tasks.cancel("stations")
+            self._stations_failed(DesignerError("no camera stations yet: set up a flight"))
+            return
+        self.tasks.submit("stations", derived.compute_stations, project, self.terrain,
+                          on_done=self._stations_done, on_error=self._planning_failed)
+
+    def _planning_failed(self, error: BaseException) -> None:
+        if self.terrain is None and self.errors.get("terrain"):
+            # planned without the terrain, the stations fail for its want (a height-field
+            # terrain would be taken for a mesh): the terrain is what to fix
+            error = DesignerError("no camera stations while the terrain cannot be made; "
+                                  "the Terrain panel says why")
+        self._stations_failed(error)
+
+    def _stations_done(self, result: derived.StationsResult) -> None:
+        self._clear("stations")
+        self.stations = result
+        self.view.show_stations(result.geometry)
+        if len(result.C_world) and not self.view.in_view(result.C_world).any():
+            # an edit moved every camera out of sight: show them with the terrain
+            self.view.frame_all(result.C_world)
+        self.stations_changed.emit()
+        self.refresh_plan()
+        if self.coverage_enabled:
+            self.refresh_coverage()
+
+    def _stations_failed(self, error: BaseException) -> None:
+        self.stations = None
+        self.view.show_stations(None)
+        self.errors["stations"] = _message(error)
+        self.stations_changed.emit()
+        self.refresh_plan()
+
+    # ------------------------------------------------------------------ plan figures
+    def refresh_plan(self) -> None:
+        """Analyse the flight over the real terrain (as designer plan does), in a thread."""
+        from designer.gui.state.plan_figures import compute_plan_figures
+
+        terrain, stations = self.terrain, self.stations
+        if terrain is None or stations is None or terrain.heightfield is None:
+            self.tasks.cancel("plan")
+            self.plan = None
+            self.plan_changed.emit()
+            return
+        self.tasks.submit("plan", compute_plan_figures, self.document.project, terrain,
+                          stations, self.targets, on_done=self._plan_done,
+                          on_error=self._plan_failed)
+
+    def _plan_done(self, figures) -> None:
+        self._clear("plan")
+        self.plan = figures
+        self.plan_changed.emit()
+
+    def _plan_failed(self, error: BaseException) -> None:
+        self.plan = None
+        self.errors["plan"] = _message(error)
+        self.plan_changed.emit()
+
+    # ------------------------------------------------------------------ coverage
+    def set_coverage_enabled(self, enabled: bool) -> None:
+        self.coverage_enabled = enabled
+        if enabled:
+            self.refresh_coverage()
+        else:
+            self.view.remove_layer("coverage")
+            self.view.request_render()
+
+    def refresh_coverage(self) -> None:
+        if self.terrain is None or self.stations is None:
+            return
+        self.message.emit("computing the coverage map…")
+        self.tasks.submit("coverage", derived.compute_coverage, self.document.project,
+                          self.terrain, self.stations, on_done=self._coverage_done,
+                          on_error=lambda e: self._fail("coverage", e))
+
+    def _coverage_done(self, result: derived.CoverageResult) -> None:
+        self._clear("coverage")
+        self.coverage = result
+        if self.coverage_enabled:
+            self.view.show_coverage(result.points_world, result.shape, result.count)
+            shares = ", ".join(f"{100 * v:.0f} % by ≥ {k}" for k, v in result.shares.items())
+            self.message.emit(f"coverage: area seen {shares}")
+        self.coverage_changed.emit()
+
+    # ------------------------------------------------------------------ area, picking
+    def _show_area(self) -> None:
+        plan = self.document.project.trajectory.flight_plan
+        key = (None if plan is None else plan.area, id(self.terrain), self.view.offset.tobytes())
+        if key == self._area_key:
+            return  # unchanged: no frame for nothing
+        self._area_key = key
+        if plan is None or len(plan.area) < 3:
+            self.view.show_polygon("area", None)
+            return
+        self.view.show_polygon("area", derived.draped_polygon(np.array(plan.area),
+                                                              self.terrain))
+
+    def _pick_ground(self, origin: np.ndarray, direction: np.ndarray):
+        if self.terrain is None or self.terrain.raycaster is None:
+            return None
+        rc = self.terrain.raycaster
+        hit = rc.first_hit(origin[None, :], direction[None, :])[0]
+        if not np.all(np.isfinite(hit)):
+            return None
+        x0, x1, y0, y1 = rc.heightfield.extent_m
+        if not (x0 <= hit[0] <= x1 and y0 <= hit[1] <= y1):
+            return None
+        # a ray passing beside the terrain meets the side of the solid block, below the
+        # surface: that is no ground to place anything on
+        if abs(hit[2] - float(rc.height(hit[0], hit[1]))) > GROUND_TOLERANCE_M:
+            return None
+        return hit

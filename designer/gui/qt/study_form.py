@@ -1,0 +1,93 @@
+"""The study being edited in the Study panel: one row per factor (its levels typed as
+values or a START:STOP:STEP range, the base project's value beside them), and the check
+that runs off the UI thread — the study text parsed by the study reader, planned by
+:func:`designer.study.design.plan_study` and costed by
+:func:`designer.gui.state.study_data.plan_cost`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import Signal
+from PySide6.QtWidgets import QHBoxLayout, QLabel, QLineEdit, QToolButton, QWidget
+
+from designer.gui.state.study_data import parse_levels, parse_range
+
+LEVELS_HINT = "values separated by spaces (3 4 6 8), or a range START:STOP:STEP (20:40:5)"
+
+
+class FactorRow(QWidget):
+    """A factor of the study: its name, its levels, a button that removes it."""
+
+    changed = Signal()
+    remove = Signal(object)
+
+    def __init__(self, name: str, stage: str, doc: str, base_value: str,
+                 levels: str = "", parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.name = name
+        row = QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        label = QLabel(f"<b>{name}</b><br><small>{stage}; base: {base_value or 'not set'}</small>")
+        label.setToolTip(doc)
+        label.setMinimumWidth(150)
+        self.levels = QLineEdit(levels)
+        self.levels.setObjectName(f"levels-{name}")
+        self.levels.setPlaceholderText("levels, e.g. 3 4 6 or 20:40:5")
+        self.levels.setToolTip(f"{doc}\nLevels: {LEVELS_HINT}")
+        self.levels.textChanged.connect(lambda _t: self.changed.emit())
+        self.count = QLabel("")
+        self.count.setMinimumWidth(56)
+        self.remove_button = QToolButton()
+        self.remove_button.setObjectName(f"remove-{name}")
+        self.remove_button.setText("✕")
+        self.remove_button.setToolTip(f"remove the factor {name}")
+        self.remove_button.clicked.connect(lambda: self.remove.emit(self))
+        row.addWidget(label)
+        row.addWidget(self.levels, 1)
+        row.addWidget(self.count)
+        row.addWidget(self.remove_button)
+
+    def values(self) -> tuple[str, ...]:
+        """The levels; ValueError names the factor and what is wrong."""
+        try:
+            values = parse_levels(self.levels.text())
+        except ValueError as error:
+            self.count.setText("")
+            raise ValueError(f"factor {self.name}: {error}") from None
+        self.count.setText(f"{len(values)} level{'s' if len(values) != 1 else ''}")
+        return values
+
+    def range_spec(self) -> tuple[float, float, float] | None:
+        """(start, stop, step) when the levels are typed as a range, else None."""
+        return parse_range(self.levels.text())
+
+
+_terrain_cache: dict[str, object] = {}
+
+
+def _heightfield(plan):
+    """The base project's heightfield (the last one kept: edits of the study reuse it)."""
+    from designer.gui.state import derived
+
+    key = repr((plan.base.scene.terrain, str(plan.base_dir)))
+    if key not in _terrain_cache:
+        _terrain_cache.clear()
+        _terrain_cache[key] = derived.compute_terrain(plan.base, plan.base_dir).heightfield
+    return _terrain_cache[key]
+
+
+def check_study(text: str | None, source: str, path: Path, speed=None):
+    """(plan, cost) of the study ``text`` (None: the file ``path`` as it is on disk), the
+    cost with the warnings of runs that would fail; ProjectError lines
+    ``FILE:LINE:COL: <element>: message`` for anything wrong."""
+    from dataclasses import replace
+
+    from designer.gui.state.study_data import plan_cost, plan_warnings
+    from designer.study.design import plan_study
+    from designer.study.xml import parse_study, read_study
+
+    study = read_study(path) if text is None else parse_study(text.encode(), source, path)
+    plan = plan_study(study)
+    cost = plan_cost(plan, _heightfield(plan), speed)
+    return plan, replace(cost, warnings=tuple(plan_warnings(plan)))

@@ -1,0 +1,168 @@
+"""The results part of the Study panel: a study output folder's runs as a table (each
+factor's level, the study's metrics, seconds and status) and the report's figures with a
+selector to browse them (designer.study.report writes them to ``DIR/figures``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import Qt, QUrl, Signal
+from PySide6.QtGui import QColor, QDesktopServices, QPixmap
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QComboBox,
+    QDialog,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QScrollArea,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from designer.gui.state.study_data import StudyFolder, cell_text
+
+FAILED_COLOUR = "#c0392b"
+FAILED_BACKGROUND = "#fdecea"
+
+
+class _Figure(QLabel):
+    double_clicked = Signal()
+
+    def mouseDoubleClickEvent(self, event) -> None:
+        self.double_clicked.emit()
+
+
+class StudyResults(QWidget):
+    """Shows one :class:`~designer.gui.state.study_data.StudyFolder`."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        self.summary = QLabel("no study folder open")
+        self.summary.setWordWrap(True)
+        layout.addWidget(self.summary)
+        self.table = QTableWidget(0, 0)
+        self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
+        self.table.setMinimumHeight(160)
+        self.table.verticalHeader().hide()
+        layout.addWidget(self.table)
+        row = QHBoxLayout()
+        self.figure_choice = QComboBox()
+        self.figure_choice.setToolTip("the report's figures")
+        self.figure_choice.currentIndexChanged.connect(self._show_figure)
+        self.report_button = QPushButton("Open report")
+        self.report_button.setToolTip("report.html in the web browser")
+        self.report_button.clicked.connect(self._open_report)
+        self.report_button.setEnabled(False)
+        row.addWidget(QLabel("plot"))
+        row.addWidget(self.figure_choice, 1)
+        row.addWidget(self.report_button)
+        layout.addLayout(row)
+        self.figure = _Figure()
+        self.figure.setObjectName("study-figure")
+        self.figure.setAlignment(Qt.AlignmentFlag.AlignCenter)
+        self.figure.setMinimumHeight(120)
+        self.figure.setToolTip("double-click: the plot at full size")
+        self.figure.double_clicked.connect(self.open_figure)
+        layout.addWidget(self.figure)
+        self.folder: StudyFolder | None = None
+        self._pixmap = QPixmap()
+
+    def show_folder(self, folder: StudyFolder) -> None:
+        self.folder = folder
+        self.summary.setText(folder.describe())
+        self.summary.setStyleSheet(f"color: {FAILED_COLOUR}" if folder.failed_rows else "")
+        columns = folder.columns
+        self.table.clear()
+        self.table.setColumnCount(len(columns))
+        self.table.setHorizontalHeaderLabels([c.removeprefix("factor:") for c in columns])
+        self.table.setRowCount(len(folder.rows))
+        for r, row in enumerate(folder.rows):
+            failed = str(row.get("status", "")) != "ok"
+            for c, key in enumerate(columns):
+                item = QTableWidgetItem(cell_text(row.get(key)))
+                if failed:  # the whole row stands out; the reason on every cell
+                    item.setBackground(QColor(FAILED_BACKGROUND))
+                    item.setToolTip(f"{row.get('run', '')} failed: "
+                                    f"{folder.failure_reason(row)}")
+                    if key == "status":
+                        item.setForeground(Qt.GlobalColor.red)
+                self.table.setItem(r, c, item)
+        self.table.resizeColumnsToContents()
+        blocked = self.figure_choice.blockSignals(True)
+        self.figure_choice.clear()
+        for path in folder.figures:
+            self.figure_choice.addItem(path.stem, str(path))
+        self.figure_choice.blockSignals(blocked)
+        self.report_button.setEnabled((folder.path / "report.html").is_file())
+        self._show_figure()
+
+    def clear(self) -> None:
+        """Show no study folder."""
+        self.folder = None
+        self.summary.setText("no study folder open")
+        self.summary.setStyleSheet("")
+        self.table.clear()
+        self.table.setRowCount(0)
+        self.table.setColumnCount(0)
+        blocked = self.figure_choice.blockSignals(True)
+        self.figure_choice.clear()
+        self.figure_choice.blockSignals(blocked)
+        self.report_button.setEnabled(False)
+        self._show_figure()
+
+    def select_figure(self, name: str) -> None:
+        index = self.figure_choice.findText(name)
+        if index >= 0:
+            self.figure_choice.setCurrentIndex(index)
+
+    @property
+    def figure_path(self) -> Path | None:
+        data = self.figure_choice.currentData()
+        return Path(data) if data else None
+
+    def _show_figure(self, *_) -> None:
+        path = self.figure_path
+        self._pixmap = QPixmap(str(path)) if path is not None else QPixmap()
+        if self._pixmap.isNull():
+            self.figure.setPixmap(QPixmap())
+            self.figure.setText("no plot yet" if path is None else f"cannot read {path}")
+            return
+        self.figure.setToolTip(f"{path}\ndouble-click: the plot at full size")
+        self._fit()
+
+    def _fit(self) -> None:
+        if self._pixmap.isNull():
+            return
+        width = max(200, self.width() - 8)
+        self.figure.setPixmap(self._pixmap.scaledToWidth(
+            min(width, self._pixmap.width()), Qt.TransformationMode.SmoothTransformation))
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._fit()
+
+    def open_figure(self) -> QDialog | None:
+        """The current plot at full size in a window of its own."""
+        if self._pixmap.isNull():
+            return None
+        dialog = QDialog(self)
+        dialog.setWindowTitle(str(self.figure_path))
+        label = QLabel()
+        label.setPixmap(self._pixmap)
+        scroll = QScrollArea()
+        scroll.setWidget(label)
+        QVBoxLayout(dialog).addWidget(scroll)
+        dialog.resize(min(1400, self._pixmap.width() + 40), min(900, self._pixmap.height() + 40))
+        dialog.show()
+        self.viewer = dialog
+        return dialog
+
+    def _open_report(self) -> None:
+        if self.folder is not None:
+            QDesktopServices.openUrl(QUrl.fromLocalFile(str(self.folder.path / "report.html")))

@@ -1,0 +1,423 @@
+"""Everything the view derives from a project, as plain functions (Qt-free).
+
+They run in worker threads (:mod:`designer.gui.qt.tasks`), take immutable inputs and
+return frozen results, so a result can be handed to the UI thread as it is. World
+coordinates in metres. Each wraps the project's own code: the scene builder, the
+flight planner, the coverage analysis — the GUI computes nothing of its own.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from designer.core.heightfield import Heightfield
+from designer.core.interior import InteriorOrientation
+from designer.errors import DesignerError
+from designer.gui.state.view_geometry import (
+    MAX_DISPLAY_NODES_PER_SIDE,
+    StationGeometry,
+    TerrainDisplay,
+    station_geometry,
+    terrain_display,
+    vertex_normals,
+    with_mount_frusta,
+)
+from designer.project import model as m
+from designer.scene.build import build_heightfield, build_targets, build_terrain_mesh
+from designer.scene.build import build_texture as _build_texture
+from designer.scene.lighting import (
+    irradiance,
+    sun_direction_world,
+    sun_position_deg,
+    surface_normals,
+)
+from designer.scene.mesh import TerrainMesh
+from designer.scene.objects import PlacedObjects, build_objects
+from designer.survey.flight import CameraCalc, camera_calc
+from designer.survey.raycast import TerrainRaycaster
+
+
+@dataclass(frozen=True, eq=False)
+class TerrainResult:
+    """The terrain as computed for the view; ``irradiance`` (N,) is the light at each
+    display vertex (relative, 1 = flat ground in full sun, see :func:`display_irradiance`)."""
+
+    terrain: m.Terrain
+    heightfield: Heightfield | None
+    mesh: TerrainMesh | None
+    raycaster: TerrainRaycaster | None
+    display: TerrainDisplay
+    z_mean_m: float
+    centre_world: np.ndarray
+    n_vertices: int
+    tiles: tuple[int, int]
+    max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE
+    irradiance: np.ndarray | None = None
+
+
+def compute_terrain(project: m.Project, base_dir: Path,
+                    max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE) -> TerrainResult:
+    """Height field (or mesh), its ray caster and the thinned display mesh."""
+    terrain = project.scene.terrain
+    hf = build_heightfield(terrain, Path(base_dir), project.crs)
+    mesh = None
+    tiles = (project.scene.texture.repeat_X, project.scene.texture.repeat_Y)
+    if hf is None:
+        origin = np.array([project.origin.E0, project.origin.N0, project.origin.H0])
+        mesh = build_terrain_mesh(terrain, None, Path(base_dir), origin)
+        z = mesh.vertices_world[:, 2]
+        n = len(mesh.vertices_world)
+        rc = None
+    else:
+        z = hf.heights_m
+        n = z.size
+        rc = TerrainRaycaster(hf)
+    display = terrain_display(hf, mesh, tiles, max_display_nodes)
+    lo, hi = display.points_world.min(axis=0), display.points_world.max(axis=0)
+    centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(np.mean(z))])
+    light = display_irradiance(project.scene.lighting, display, hf, rc, project=project)
+    return TerrainResult(terrain, hf, mesh, rc, display, float(np.mean(z)), centre, n, tiles,
+                         max_display_nodes, light)
+
+
+def sun_angles_deg(lighting: m.Lighting, project: m.Project | None = None
+                   ) -> tuple[float, float]:
+    """(azimuth clockwise from grid north, elevation) of the project's sun, degrees; a sun
+    over time is shown as it is at take-off (it needs the ``project``'s time line)."""
+    sun = lighting.sun
+    if isinstance(sun, m.Sun):
+        return float(sun.azimuth_deg), float(sun.elevation_deg)
+    if isinstance(sun, m.SunOverTime):
+        from designer.errors import DesignerError
+        from designer.scene.sun_over_time import takeoff_sun
+
+        if project is None:
+            raise DesignerError("a sun over time needs the project's time line")
+        return takeoff_sun(project, sun)
+    return sun_position_deg(sun.date_time, sun.latitude_deg, sun.longitude_deg)
+
+
+def display_irradiance(lighting: m.Lighting, display: TerrainDisplay,
+                       heightfield: Heightfield | None = None,
+                       raycaster: TerrainRaycaster | None = None,
+                       project: m.Project | None = None) -> np.ndarray:
+    """Light (N,) at the display mesh's vertices, by the renderer's own model
+    (:func:`designer.scene.lighting.irradiance`: Lambert sun with cast shadows plus an
+    isotropic sky, 1 = flat ground in full sun). Normals of a height field are taken over
+    one display cell (the surface as drawn); shadows are cast by the full height field.
+    A mesh terrain gets its vertex normals and no cast shadows."""
+    azimuth, elevation = sun_angles_deg(lighting, project)
+    sun = sun_direction_world(azimuth, elevation)
+    points = display.points_world
+    lit = np.ones(len(points))
+    if heightfield is not None:
+        step = display.stride * min(heightfield.dx_m, heightfield.dy_m)
+        normals = surface_normals(heightfield, points[:, 0], points[:, 1], step)
+        facing = np.flatnonzero(normals @ sun > 0)
+        if raycaster is not None and sun[2] > 0 and len(facing):
+            start = points[facing] + 0.01 * normals[facing]
+            hits = raycaster.first_hit(start, np.tile(sun, (len(facing), 1)))
+            lit[facing[np.isfinite(hits[:, 0])]] = 0.0
+    else:
+        normals = vertex_normals(points, display.faces)
+    return irradiance(normals, lit, sun, lighting.sun_strength, lighting.sky_strength)
+
+
+def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:
+    """The display mesh with another texture repeat (no new height field)."""
+    return terrain_display(result.heightfield, result.mesh, tiles, result.max_display_nodes)
+
+
+def compute_texture(project: m.Project, base_dir: Path) -> np.ndarray:
+    """The texture tile (H, W, 3) uint8, as the renderer will use it."""
+    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir),
+                          project.crs)
+
+
+@dataclass(frozen=True, eq=False)
+class TextureResult:
+    """The texture image (H, W, 3) uint8 and, for an orthophoto, the crop that places it
+    by its geotransform (``orthophoto``; ``None``: the image is tiled over the terrain)."""
+
+    rgb: np.ndarray
+    orthophoto: object | None = None
+    crs: str | None = None
+
+    def display_uv(self, display: TerrainDisplay) -> np.ndarray:
+        """Texture coordinates of the drawn terrain's vertices, as the renderer maps it:
+        an orthophoto by its geotransform, any other texture by the display's tiling."""
+        if self.orthophoto is None:
+            return display.uv
+        from designer.scene.orthophoto import orthophoto_uv
+
+        return orthophoto_uv(self.orthophoto, display.points_world[:, :2], self.crs)
+
+
+def compute_texture_result(project: m.Project, base_dir: Path) -> TextureResult:
+    """:func:`compute_texture` with what places an orthophoto on the terrain."""
+    from designer.scene.build import build_orthophoto
+
+    tex, terrain = project.scene.texture, project.scene.terrain
+    ortho = build_orthophoto(tex, terrain, Path(base_dir), project.crs)
+    if ortho is not None:
+        return TextureResult(ortho.rgb, ortho, project.crs)
+    return TextureResult(compute_texture(project, base_dir))
+
+
+def texel_size_m(project: m.Project, texture_rgb: np.ndarray | None) -> tuple[float, float]:
+    """Ground size (m) of one texel along X and Y (NaN when unknown)."""
+    tex = project.scene.texture
+    e = project.scene.terrain.extent
+    if isinstance(tex.source, m.ProceduralTexture):
+        return tex.source.texel_size_m, tex.source.texel_size_m
+    if texture_rgb is None:
+        return math.nan, math.nan
+    h, w = texture_rgb.shape[:2]
+    return e.width_m / tex.repeat_X / w, e.length_m / tex.repeat_Y / h
+
+
+@dataclass(frozen=True, eq=False)
+class BuildingsResult:
+    """The buildings as the renderer draws them: one merged mesh (``vertices_world``,
+    ``faces``), each face's relative light and whether it is roof (else facade)."""
+
+    vertices_world: np.ndarray
+    faces: np.ndarray
+    face_irradiance: np.ndarray
+    face_roof: np.ndarray
+
+
+def compute_buildings(project: m.Project, base_dir: Path, terrain: TerrainResult
+                      ) -> BuildingsResult:
+    """Every building standing on the computed terrain, lit by the project's sun."""
+    from designer.scene.buildings import ROOF, build_buildings
+    from designer.scene.lighting import irradiance, sun_direction_world
+    from designer.scene.surfaces import Ground, merge_triangles
+
+    built = build_buildings(project, Path(base_dir), Ground(terrain.heightfield, terrain.mesh))
+    v, f = merge_triangles([(b.vertices_world, b.faces) for b in built])
+    normal = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    length = np.linalg.norm(normal, axis=1, keepdims=True)
+    normal = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+    light = project.scene.lighting
+    sun = sun_direction_world(*sun_angles_deg(light, project))
+    e = irradiance(normal, np.ones(len(f)), sun, light.sun_strength, light.sky_strength)
+    roof = np.concatenate([b.face_kind == ROOF for b in built]) if built else np.zeros(0, bool)
+    return BuildingsResult(v, f, e, roof)
+
+
+@dataclass(frozen=True, eq=False)
+class VegetationResult:
+    """The plants as the renderer places them, standing upright (the wind's sway is not
+    drawn): one merged mesh (``vertices_world``, ``faces``), each face's linear albedo
+    (M, 3) (foliage in its group's colour, wood in the wood colour) and the number of
+    plants."""
+
+    vertices_world: np.ndarray
+    faces: np.ndarray
+    face_albedo: np.ndarray
+    n_plants: int
+
+
+def compute_vegetation(project: m.Project, base_dir: Path, terrain: TerrainResult
+                       ) -> VegetationResult:
+    """Every plant of the project's groups on the computed terrain (the renderer's
+    placement: same seeds, same clearances)."""
+    from designer.scene.surfaces import Ground, merge_triangles
+    from designer.scene.vegetation import WOOD_ALBEDO, place_vegetation, posed_set
+
+    sets = [s for s in place_vegetation(project, Path(base_dir),
+                                        Ground(terrain.heightfield, terrain.mesh)) if len(s)]
+    v, f = merge_triangles([posed_set(s, None, None) for s in sets])
+    albedo = [np.where(np.tile(s.template.material_index, len(s))[:, None] == 1,
+                       np.asarray(WOOD_ALBEDO), np.asarray(s.albedo_rgb)) for s in sets]
+    return VegetationResult(v, f, np.vstack(albedo) if albedo else np.zeros((0, 3)),
+                            sum(len(s) for s in sets))
+
+
+#: the scene's objects as the renderer draws them (designer.scene.objects)
+ObjectsResult = PlacedObjects
+
+
+def compute_objects(project: m.Project, base_dir: Path) -> ObjectsResult:
+    """Read and place every scene object (an unreadable file names itself)."""
+    return build_objects(project, Path(base_dir), *sun_angles_deg(project.scene.lighting, project))
+
+
+@dataclass(frozen=True, eq=False)
+class TargetsResult:
+    ids: list[str]
+    roles: list[str]
+    true_xyz: np.ndarray
+    plates: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+def compute_targets(project: m.Project, hf: Heightfield | None) -> TargetsResult:
+    built = build_targets(project, hf)
+    return TargetsResult(
+        [b.target.id for b in built], [b.target.role for b in built],
+        np.array([b.true_xyz for b in built]).reshape(-1, 3),
+        [(b.vertices_world, b.faces, b.colors) for b in built])
+
+
+@dataclass(frozen=True, eq=False)
+class StationsResult:
+    """Camera stations as drawn plus the figures the Flight panel shows."""
+
+    geometry: StationGeometry
+    n_images: int
+    camera_id: str
+    interior: InteriorOrientation
+    calc: CameraCalc | None
+    render_time_s: float | None
+    C_world: np.ndarray
+    R_cam_to_world: np.ndarray
+    stations: tuple = ()
+    #: every image (all cameras of a rig) as the render-time model sees it
+    #: (designer.survey.render_cost): size, samples, share on the terrain
+    render_costs: tuple = ()
+    #: every rendered image's name, in render (frame) order: a rig station gives one per
+    #: camera, so these are not the stations' names
+    image_names: tuple[str, ...] = ()
+
+
+def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
+    """Estimated wall seconds of rendering the images ``costs`` (ImageCost) on this
+    machine (:mod:`designer.survey.render_cost`), at the project's samples or a preset's."""
+    from dataclasses import replace as _replace
+
+    from designer.survey.render_cost import estimate_render_s, render_workers
+
+    if preset is not None:
+        costs = [_replace(c, samples=m.PRESET_SAMPLES[preset]) for c in costs]
+    return estimate_render_s(costs, render_workers(project, len(costs)))
+
+
+def rendered_size_px(interior: InteriorOrientation, resolution_scale: float) -> tuple[int, int]:
+    """Width and height (px) of the rendered images, rounded as the renderer rounds them
+    (:func:`designer.survey.project_poses.render_interior`)."""
+    if resolution_scale == 1.0:
+        return interior.image_width_px, interior.image_height_px
+    return (round(interior.image_width_px * resolution_scale),
+            round(interior.image_height_px * resolution_scale))
+
+
+def rendered_gsd_m(gsd_m: float, interior: InteriorOrientation,
+                   resolution_scale: float) -> float:
+    """The GSD (m) of the rendered image: the same sensor and lens, fewer pixels across."""
+    return gsd_m * interior.image_width_px / rendered_size_px(interior, resolution_scale)[0]
+
+
+def compute_stations(project: m.Project, terrain: TerrainResult | None) -> StationsResult:
+    """Stations of the flight plan and explicit photos, drawn over the terrain."""
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_stations
+
+    hf = terrain.heightfield if terrain is not None else None
+    stations, camera_id = project_stations(project, hf)
+    try:
+        interior = interior_from_camera(project.camera(camera_id))
+    except KeyError:
+        raise DesignerError(f"the stations use camera '{camera_id}', which is not defined; "
+                            "choose a camera in the Flight panel") from None
+    C = np.array([s.C_world for s in stations])
+    R = np.array([s.R_cam_to_world for s in stations])
+    line = np.array([s.line_index for s in stations])
+    rc = terrain.raycaster if terrain is not None else None
+    geometry = station_geometry(C, R, line, interior, rc.first_hit if rc else None,
+                                terrain.z_mean_m if terrain is not None else 0.0)
+    plan = project.trajectory.flight_plan
+    calc = None
+    if plan is not None:
+        calc = camera_calc(interior, altitude_agl_m=plan.altitude_agl_m, gsd_m=plan.gsd_m,
+                           front_overlap_fraction=plan.front_overlap_percent / 100,
+                           side_overlap_fraction=plan.side_overlap_percent / 100,
+                           orientation=plan.orientation)
+    n_images = len(stations)
+    if project.trajectory.rigs:
+        geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
+    from designer.survey.project_poses import project_images
+    from designer.survey.render_cost import project_image_costs
+    from designer.survey.surroundings import rendered_terrain
+
+    images = project_images(project, hf)
+    # the render draws the terrain with its surroundings: every pixel that sees them costs
+    costs = tuple(project_image_costs(project, images,
+                                      rendered_terrain(project, hf, images).heightfield))
+    seconds = render_estimate_s(project, costs)
+    return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
+                          tuple(stations), costs,
+                          tuple(s.image_name for s in images.stations))
+
+
+def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
+                  terrain: TerrainResult | None) -> tuple[StationGeometry, int]:
+    """Frusta and footprints of every mount of the rigs flown, and the image count of all
+    cameras."""
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_images
+
+    images = project_images(project, hf)
+    rc = terrain.raycaster if terrain is not None else None
+    mounts = []
+    for camera_id in images.camera_order():
+        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
+        interior = interior_from_camera(project.camera(camera_id))
+        st = [images.stations[i] for i in k]
+        mounts.append(station_geometry(
+            np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
+            np.array([s.line_index for s in st]), interior, rc.first_hit if rc else None,
+            terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
+    return with_mount_frusta(platform, mounts), len(images.stations)
+
+
+@dataclass(frozen=True, eq=False)
+class CoverageResult:
+    points_world: np.ndarray
+    shape: tuple[int, int]
+    count: np.ndarray
+    shares: dict[int, float]
+
+
+def compute_coverage(project: m.Project, terrain: TerrainResult,
+                     stations: StationsResult) -> CoverageResult:
+    """Images seeing each cell of a ground grid over the survey area (occlusion included)."""
+    from designer.survey.coverage import coverage_map, ground_grid
+
+    if terrain.heightfield is None:
+        raise DesignerError("the coverage map needs a height-field terrain")
+    plan = project.trajectory.flight_plan
+    e = project.scene.terrain.extent
+    area = (np.array(plan.area) if plan is not None else
+            np.array([[e.min_X, e.min_Y], [e.max_X, e.min_Y], [e.max_X, e.max_Y],
+                      [e.min_X, e.max_Y]]))
+    grid = ground_grid(terrain.heightfield, area)
+    cover = coverage_map(grid, stations.C_world, stations.R_cam_to_world, stations.interior,
+                         terrain.raycaster)
+    xyz = grid.points_world()
+    count = np.where(grid.valid, cover.count, 0)
+    return CoverageResult(xyz, grid.shape, count, cover.shares)
+
+
+def draped_polygon(xy: np.ndarray, terrain: TerrainResult | None, lift_m: float = 0.3,
+                   step_m: float | None = None) -> np.ndarray:
+    """A closed polygon (N, 2) densified along its edges and laid on the terrain (N', 3)."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if terrain is None or terrain.heightfield is None:
+        z = terrain.z_mean_m if terrain is not None else 0.0
+        return np.column_stack([xy, np.full(len(xy), z + lift_m)])
+    hf = terrain.heightfield
+    if step_m is None:
+        x0, x1, y0, y1 = hf.extent_m
+        step_m = max(x1 - x0, y1 - y0) / 200
+    pts = []
+    for a, b in zip(xy, np.roll(xy, -1, axis=0), strict=True):
+        k = max(1, int(np.ceil(np.hypot(*(b - a)) / step_m)))
+        pts.append(a + (b - a) * (np.arange(k) / k)[:, None])
+    dense = np.vstack(pts)
+    z = hf.height_at_clamped(dense[:, 0], dense[:, 1]) + lift_m
+    return np.column_stack([dense, z])

@@ -1,0 +1,209 @@
+"""Messages as the window's user reads them (Qt-free).
+
+Validation issues are worded from their structured fields (code, element, attribute,
+value, limits; :class:`designer.project.problems.Issue`) and the declarations' labels,
+never by reading their message: :func:`issue_text`, :func:`problem_text`. Errors raised
+by the library as plain text name its parameters (``size_x_m``) and print numbers the
+way Python does (``5.40595e+06``); :func:`humanize` shows such a field as the panel
+labels it and numbers in fixed point with sensible decimals.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from designer.project.declare import Declared, declared
+from designer.project.problems import Issue, Problem
+
+#: library parameter names → what the panels call them
+FIELD_NAMES = {
+    "size_x_m": "terrain width (X)",
+    "size_y_m": "terrain length (Y)",
+    "spacing_m": "grid spacing",
+    "grid_spacing_m": "grid spacing",
+    "min_spacing_m": "min spacing",
+    "margin_m": "margin",
+    "gsd_m": "ground sample distance",
+    "altitude_agl_m": "height above ground",
+    "front_overlap": "front overlap",
+    "side_overlap": "side overlap",
+    "grid_angle_deg": "line azimuth",
+    "tilt_deg": "forward tilt",
+    "n_check": "number of check points",
+    "cell_m": "coverage grid cell",
+    "focal_length_mm": "focal length",
+    "sensor_width_mm": "sensor width",
+    "sensor_height_mm": "sensor height",
+    "image_width_px": "image width",
+    "image_height_px": "image height",
+    "texel_size_m": "texel size",
+    "size_m": "target size",
+}
+#: the switch that gives the flight its time line, as the window shows it
+_TIME_LINE_ON = ("switch on the time line in the Flight panel "
+                 "(“the photos have times”)")
+#: (issue code, element) → what the window says for a validation issue whose fix, in the
+#: project file's terms, is an element to add: the panel and control that do it. Filled
+#: in from the issue's fields: {obj} the model object, {value} the attribute's value.
+DIRECTIONS: dict[tuple[str, str], str] = {
+    ("needs-time-line", "rolling-shutter"):
+        "a camera reads its rows out over {value:g} s, but the flight has no time line to "
+        f"move the camera along; {_TIME_LINE_ON}, or set the readout to 0 s in the Camera "
+        "panel",
+    ("needs-time-line", "sun-over-time"):
+        "the sun follows each photo's time, but the flight has no time line; "
+        f"{_TIME_LINE_ON}, or give the sun by its direction or a moment and place in the "
+        "Lighting panel",
+    ("needs-time-line", "object"):
+        "moving object '{obj.id}' is posed at each photo's time, but the flight has no "
+        f"time line; {_TIME_LINE_ON}, or remove the moving objects in the Moving objects "
+        "panel",
+    ("needs-time-line", "output"):
+        "EXIF metadata holds each photo's time, but the flight has no time line; "
+        f"{_TIME_LINE_ON}",
+    ("needs-time-line", "photo"):
+        "photo '{obj.name}' has a time, but the flight has no time line; "
+        f"{_TIME_LINE_ON}",
+    ("no-photos", "trajectory"):
+        "no photos: add a grid flight in the Flight panel, or import a flight (File menu)",
+    ("surroundings-need-height-field", "surroundings"):
+        "surroundings “auto” continue a height-field terrain (flat, procedural or DEM); a "
+        "mesh terrain cannot be continued: choose surroundings “none” in the Terrain "
+        "panel, or import the terrain as a DEM",
+}
+_UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
+_IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
+_SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
+_LONG = re.compile(r"(?<![\w.])([-+]?\d+\.\d{4,})\b")
+
+
+def fixed(value: float, decimals: int | None = None) -> str:
+    """A number in fixed point: 3 decimals (mm) for metre-sized values and up, more
+    significant digits for small ones; trailing zeros dropped."""
+    if decimals is None:
+        a = abs(value)
+        decimals = 3 if a >= 1 or a == 0 else min(9, 3 - int(f"{a:e}".split("e")[1]))
+    text = f"{value:.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def field_name(ident: str) -> str:
+    """``size_x_m`` → ``terrain width (X)``; an unknown ``foo_bar_m`` → ``foo bar (m)``."""
+    if ident in FIELD_NAMES:
+        return FIELD_NAMES[ident]
+    words = ident.split("_")
+    unit = _UNITS.get(words[-1]) if len(words) > 1 else None
+    if unit is not None:
+        words = words[:-1]
+    return " ".join(words) + (f" ({unit})" if unit else "")
+
+
+def _maybe_field(ident: str) -> str:
+    """Only names of parameters (known, or ending in a unit) are renamed."""
+    if ident in FIELD_NAMES or ident.rsplit("_", 1)[-1] in _UNITS:
+        return field_name(ident)
+    return ident
+
+
+def humanize(message: str) -> str:
+    """A library message with field names as labelled and numbers in fixed point."""
+    message = _IDENT.sub(lambda mt: _maybe_field(mt.group(0)), message)
+    message = _SCI.sub(lambda mt: fixed(float(mt.group(0))), message)
+    return _LONG.sub(lambda mt: fixed(float(mt.group(1))), message)
+
+
+def _declaration(issue: Issue) -> Declared | None:
+    """The declaration of the attribute an issue is about, from its object's class."""
+    for d in declared(type(issue.obj)):
+        if d.xml == issue.attr and d.attr.child == issue.key:
+            return d
+    return None
+
+
+def _value_text(value: object) -> str:
+    if isinstance(value, float) and math.isfinite(value):
+        return fixed(value)
+    return "not a number" if isinstance(value, float) else f"{value}"
+
+
+def _range_words(d: Declared | None, limits: tuple[float | None, float | None]) -> str:
+    """``from 0 to 0.5 s``, ``greater than 0 m``, ``at most 100 %``: the limits in fixed
+    point, open or closed as the declaration says."""
+    low, high = limits
+    low_open = d is not None and d.attr.low_open
+    high_open = d is not None and d.attr.high_open
+    unit = f" {d.attr.unit}" if d is not None and d.attr.unit else ""
+    if low is None and high is None:
+        return "a finite number"
+    if low is not None and high is not None and not (low_open or high_open):
+        return f"from {fixed(low)} to {fixed(high)}{unit}"
+    words = []
+    if low is not None:
+        words.append(("greater than " if low_open else "at least ") + fixed(low))
+    if high is not None:
+        words.append(("below " if high_open else "at most ") + fixed(high))
+    return " and ".join(words) + unit
+
+
+def issue_text(issue: Issue) -> str:
+    """A validation issue as the window says it, from its structured fields: a range or
+    choice with the field as its panel labels it (the declaration's ``label``) and
+    numbers in fixed point; a fix done in a panel (:data:`DIRECTIONS`) as that panel and
+    control; any other issue as its message, numbers in fixed point."""
+    direction = DIRECTIONS.get((issue.code, issue.tag))
+    if direction is not None:
+        return direction.format(obj=issue.obj, value=issue.value)
+    d = _declaration(issue) if issue.attr else None
+    label = d.label if d is not None else (issue.attr or issue.tag).replace("-", " ")
+    if issue.code == "range" and issue.limits is not None:
+        return f"{label} {_value_text(issue.value)} must be {_range_words(d, issue.limits)}"
+    if issue.code == "choice" and issue.choices:
+        return (f"{label} “{issue.value}” is not one of {', '.join(issue.choices)}; choose "
+                "one of them")
+    return humanize(issue.message)
+
+
+def problem_text(problem: Problem | str, source: str) -> str:
+    """A problem as a line of the window's Problems list: ``FILE:LINE:COL: <element>:``
+    (the place and element, which pick the panel that fixes it) and, for a validation
+    issue, :func:`issue_text`; a problem without an issue (a schema error, a message) as
+    its text with field names as labelled and numbers in fixed point."""
+    if isinstance(problem, str):
+        return humanize(problem)
+    if problem.issue is None:
+        return humanize(problem.format(source))
+    worded = f"<{problem.issue.tag}>: {issue_text(problem.issue)}"
+    return Problem(worded, problem.line, problem.column).format(source)
+
+
+def duration(seconds: float) -> str:
+    """A time as a person reads it: '0.4 s', '12 s', '3.6 min', '2.4 h'. Short times are
+    given in seconds (one decimal below 10 s), never as '0.0 min' or '0 s'."""
+    import math
+
+    if not math.isfinite(seconds):
+        return "–"
+    if seconds < 0.05:
+        return "< 0.1 s"
+    if seconds < 9.95:
+        return f"{seconds:.1f} s"
+    if seconds < 90:
+        return f"{round(seconds)} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def estimate_basis(speed) -> str:
+    """Where a render-time estimate comes from (a ``render_cost.RenderSpeed``): it says
+    'uncalibrated' while the figures are the reference machine's, not this one's."""
+    return speed.describe()
+
+
+def count(n: int, noun: str, plural: str | None = None) -> str:
+    """'1 image', '3 images', '0 GCPs': the number with its noun in the right number
+    (``plural`` for nouns not made plural with an 's')."""
+    return f"{n} {noun if n == 1 else (plural or noun + 's')}"
