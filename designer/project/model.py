@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from designer.project.declare import attr, element
+from designer.project.declare import SEED_RANGE, attr, element
 from designer.project.processing import (  # noqa: F401  (part of the model's face)
     POSITION_PRIOR_SIGMAS_M,
     Calibration,
@@ -178,7 +178,7 @@ class TextureVariation:
     one half as long); ``strength`` (0..1) the brightness swing, 1 ± strength.
     """
 
-    seed: int = attr(doc="the variation's random seed", range=(0, None))
+    seed: int = attr(doc="the variation's random seed", range=SEED_RANGE)
     scale_m: float = attr(doc="wavelength of the coarsest variation, e.g. 2-3 tiles",
                           unit="m", range=(0, 1e6), low_open=True, xml="scale-m")
     strength: float = attr(doc="brightness swing, 1 ± strength", range=(0, 1))
@@ -293,12 +293,12 @@ class MovingObject:
     height) is required for a box and overrides a car's or person's size.
     ``albedo_rgb`` is the linear diffuse colour."""
 
-    id: str = attr(doc="the object's id")
+    id: str = attr(doc="the object's id", xsd="d:Identifier")
     path: tuple[PathPoint, ...]
     speed_m_s: float = attr(doc="speed along the path", unit="m/s", range=(0, 100),
                             low_open=True, child="path", label="speed", decimals=2, step=0.5)
-    shape: str | None = attr("car", doc="a built-in shape (car, person, box)")
-    file: str | None = attr(None, doc="a mesh file in the object's frame")
+    shape: str | None = attr("car", doc="a built-in shape (car, person, box)", absent=None)
+    file: str | None = attr(None, doc="a mesh file in the object's frame", xsd="d:FilePath")
     size_m: tuple[float, float, float] | None = None
     start_s: float = attr(0.0, doc="when it starts along its path, after take-off", unit="s",
                           range=(0, None), child="path", write_default=False,
@@ -324,7 +324,7 @@ class Building:
     building's frame (origin at the base centre, +Y forward, +Z up, m) placed with its
     origin at ``position`` (X, Y) turned by ``heading_deg`` (clockwise from grid north)."""
 
-    id: str = attr(doc="the building's id")
+    id: str = attr(doc="the building's id", xsd="d:Identifier")
     footprint: tuple[PathPoint, ...] = ()
     roof: str = attr("flat", doc="roof shape of an extruded building (flat, gable, hip)")
     eave_height_m: float = attr(6.0, doc="wall height above the base", unit="m",
@@ -337,7 +337,8 @@ class Building:
                                              "north (none: along the longer side)",
                                              unit="deg", label="ridge direction",
                                              decimals=1, step=5)
-    file: str | None = attr(None, doc="a mesh file in the building's frame")
+    file: str | None = attr(None, doc="a mesh file in the building's frame",
+                             xsd="d:FilePath")
     position: PathPoint | None = None
     heading_deg: float = attr(0.0, doc="turn of a mesh building, clockwise from grid north",
                               unit="deg", label="heading", decimals=1, step=5)
@@ -360,8 +361,9 @@ class PlantGroup:
 
     density_per_m2: float = attr(doc="plants per m²", unit="/m²", range=(0, 100),
                                  low_open=True, label="density", decimals=4, step=0.01)
-    kind: str | None = attr("shrub", doc="a built-in plant kind (grass-tuft, shrub, tree)")
-    mesh: str | None = attr(None, doc="a mesh file in the plant's frame")
+    kind: str | None = attr("shrub", doc="a built-in plant kind (grass-tuft, shrub, tree)",
+                            absent=None)
+    mesh: str | None = attr(None, doc="a mesh file in the plant's frame", xsd="d:FilePath")
     height_m: float | None = attr(None, doc="mean plant height (none: the kind's or the "
                                   "mesh's)", unit="m", range=(0, 150), low_open=True,
                                   label="height", decimals=2, step=0.1)
@@ -401,7 +403,7 @@ class Vegetation:
     optional wind (docs/world.md, Vegetation and wind)."""
 
     plants: tuple[PlantGroup, ...]
-    seed: int = attr(0, doc="the placement's random seed", range=(0, None))
+    seed: int = attr(0, doc="the placement's random seed", range=SEED_RANGE)
     clearance_m: float = attr(0.5, doc="distance kept clear around every GCP target plate",
                               unit="m", range=(0, 100), label="clear of targets",
                               decimals=2, step=0.1)
@@ -426,7 +428,8 @@ class Sun:
 class SunPosition:
     """Sun computed for an ISO 8601 moment (with time zone) and a place (deg)."""
 
-    date_time: str = attr(doc="the moment, ISO 8601 with a time zone", label="date, time")
+    date_time: str = attr(doc="the moment, ISO 8601 with a time zone", label="date, time",
+                          xsd="xs:dateTime")
     latitude_deg: float = attr(doc="latitude of the site", unit="deg", range=(-90, 90),
                                label="latitude", decimals=5, step=0.1)
     longitude_deg: float = attr(doc="longitude of the site", unit="deg", range=(-180, 180),
@@ -475,7 +478,7 @@ class CloudShadows:
                                      "clockwise from grid north", unit="deg", range=(0, 360),
                                      high_open=True, factor="wind-direction-deg",
                                      label="wind towards", decimals=1, step=5)
-    seed: int = attr(0, doc="the cloud field's random seed", range=(0, None))
+    seed: int = attr(0, doc="the cloud field's random seed", range=SEED_RANGE)
 
 
 @dataclass(frozen=True)
@@ -638,7 +641,7 @@ class TimeLine:
     interval between photos (s), checked against the planned spacing."""
 
     takeoff_utc: str = attr(doc="moment of the first photo, ISO 8601 UTC",
-                            label="take-off (UTC)")
+                            label="take-off (UTC)", xsd="xs:dateTime")
     speed_m_s: float = attr(doc="ground speed along the flight lines", unit="m/s",
                             range=(0, 100), low_open=True, factor="flight-speed-m-s",
                             label="ground speed", decimals=2, step=0.5)
@@ -660,14 +663,15 @@ class Mount:
     images are named as the station's with ``suffix`` before the extension
     (IMG_00001.png → IMG_00001_F.png)."""
 
-    camera: str = attr(doc="the id of the project camera mounted")
-    suffix: str = attr(doc="added to the station's image name before the extension")
+    camera: str = attr(doc="the id of the project camera mounted", xsd="d:Identifier")
+    suffix: str = attr(doc="added to the station's image name before the extension",
+                       xsd="d:ImageSuffix")
     omega_deg: float = attr(0.0, doc="rotation about the platform's x axis", unit="deg",
-                            range=(-360, 360), xml="omega", label="ω")
+                            range=(-180, 180), xml="omega", label="ω")
     phi_deg: float = attr(0.0, doc="rotation about the platform's y axis", unit="deg",
-                          range=(-360, 360), xml="phi", label="φ")
+                          range=(-180, 180), xml="phi", label="φ")
     kappa_deg: float = attr(0.0, doc="rotation about the platform's z axis", unit="deg",
-                            range=(-360, 360), xml="kappa", label="κ")
+                            range=(-180, 180), xml="kappa", label="κ")
 
 
 @dataclass(frozen=True)
@@ -780,7 +784,7 @@ class Defocus:
 class SensorNoise:
     sigma_dn: float = attr(doc="σ of additive Gaussian noise, 8-bit digital numbers",
                            unit="DN", range=(0, 100), label="σ", decimals=2, step=0.5)
-    seed: int = attr(0, doc="the noise's random seed", range=(0, None))
+    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE)
 
 
 @element("sensor", title="sensor (photon shot noise, dark current, read noise, ADC)",
@@ -805,7 +809,7 @@ class Sensor:
     exposure_scale: float = attr(0.8, doc="white in the render collects this × full well",
                                  unit="× full well", range=(0, 100), label="white at",
                                  decimals=3, step=0.05)
-    seed: int = attr(0, doc="the noise's random seed", range=(0, None))
+    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE)
 
 
 @element("blur", title="optical blur (Gaussian)", path="effects.blur", on={"sigma_px": 0.5})
@@ -852,7 +856,7 @@ class ExposureVariation:
                                         label="white balance σ", decimals=0, step=50)
     reference_k: float = attr(5500.0, doc="colour temperature of the light", unit="K",
                               range=(2000, 12000), label="light at", decimals=0, step=100)
-    seed: int = attr(0, doc="the draws' random seed", range=(0, None))
+    seed: int = attr(0, doc="the draws' random seed", range=SEED_RANGE)
 
 
 @dataclass(frozen=True)

@@ -55,7 +55,11 @@ def read_declared(cls, el: etree._Element, **given):
     for d in declared(cls):
         holder = el if d.attr.child is None else el.find(q(d.attr.child))
         raw = None if holder is None else holder.get(d.xml)
-        if d.name in values or raw is None:
+        if d.name in values:
+            continue
+        if raw is None:
+            if d.attr.has_absent:
+                values[d.name] = d.attr.absent
             continue
         if d.base is bool:
             values[d.name] = _bool(raw)
@@ -215,7 +219,7 @@ class _Reader:
         size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
         albedo = el.get("albedo-rgb")
         obj = read_declared(
-            m.MovingObject, el, path=points, shape=el.get("shape"),  # absent: no shape
+            m.MovingObject, el, path=points,
             size_m=None if all(v is None for v in size) else size,
             albedo_rgb=m.MovingObject.albedo_rgb if albedo is None else _numbers(albedo))
         self.note(obj, path_el, "path")
@@ -242,7 +246,7 @@ class _Reader:
         for g in el.iterchildren(q("plants")):
             albedo = g.get("albedo-rgb")
             groups.append(self.note(read_declared(
-                m.PlantGroup, g, kind=g.get("kind"),  # absent: no kind (a mesh group)
+                m.PlantGroup, g,
                 albedo_rgb=None if albedo is None else _numbers(albedo)), g))
         wind_el = el.find(q("wind"))
         wind = None
