@@ -13,7 +13,8 @@ and where it lives in the project). From that:
 * the GUI builds the field's spin box (limits, suffix, tooltip) from it
   (``designer.gui.widgets.declared_field``), and the Effects panel a whole group;
 * :mod:`designer.study.factors` makes a factor (get/set, its ``designer study factors``
-  line) of every attribute with ``factor=``;
+  line) of every attribute with ``factor=``, and a replicate draw of every seed with
+  ``draw=``;
 * :func:`attribute_table` writes the docs' table, :mod:`designer.project.xsd_gen` the
   XSD's attributes of every declared element.
 
@@ -65,6 +66,8 @@ class Attr:
     absent: Any = None
     #: False: ``absent`` is not given (an absent attribute reads as the field's default)
     has_absent: bool = False
+    #: a seed: the study's replicate draw that re-seeds it (designer.study.factors.DRAWS)
+    draw: str | None = None
 
 
 def attr(default: Any = MISSING, *, doc: str, unit: str = "",
@@ -72,18 +75,20 @@ def attr(default: Any = MISSING, *, doc: str, unit: str = "",
          low_open: bool = False, high_open: bool = False, xml: str | None = None,
          label: str | None = None, factor: str | None = None, write_default: bool = True,
          decimals: int = 3, step: float = 0.1, special: str | None = None,
-         child: str | None = None, xsd: str | None = None, absent: Any = MISSING) -> Any:
+         child: str | None = None, xsd: str | None = None, absent: Any = MISSING,
+         draw: str | None = None) -> Any:
     """A dataclass field carrying its declaration: ``range`` (low, high) is inclusive
     unless ``low_open``/``high_open``; ``xml`` defaults to the field's name with ``-`` for
     ``_``; ``factor`` names the study factor that varies it; ``child`` the child element
     the attribute sits on; ``xsd`` the XSD simple type of a text value; ``absent`` what
-    an absent XML attribute reads as when that is not the default (e.g. None)."""
+    an absent XML attribute reads as when that is not the default (e.g. None); ``draw``
+    names the study's replicate draw that re-seeds a seed."""
     low, high = range
     meta = Attr(doc=doc, unit=unit, low=low, high=high, low_open=low_open,
                 high_open=high_open, xml=xml, label=label, factor=factor,
                 write_default=write_default, decimals=decimals, step=step, special=special,
                 child=child, xsd=xsd, absent=None if absent is MISSING else absent,
-                has_absent=absent is not MISSING)
+                has_absent=absent is not MISSING, draw=draw)
     return dataclasses.field(default=default, metadata={"attr": meta})
 
 
@@ -310,6 +315,17 @@ def attribute_table(cls: type) -> str:
         rows.append(f"| `{d.xml}` | {d.attr.unit} | {rng} | {default} | {d.attr.doc} | "
                     f"{'`' + d.attr.factor + '`' if d.attr.factor else ''} |")
     return "\n".join(rows) + "\n"
+
+
+def element_at(root: Any, path: str) -> Any:
+    """The element at the dotted ``path`` of ``root`` (None when it, or one above it, is
+    absent)."""
+    obj = root
+    for part in path.split("."):
+        obj = getattr(obj, part)
+        if obj is None:
+            return None
+    return obj
 
 
 def value_at(root: Any, path: str, name: str) -> Any:

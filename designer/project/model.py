@@ -478,7 +478,8 @@ class CloudShadows:
                                      "clockwise from grid north", unit="deg", range=(0, 360),
                                      high_open=True, factor="wind-direction-deg",
                                      label="wind towards", decimals=1, step=5)
-    seed: int = attr(0, doc="the cloud field's random seed", range=SEED_RANGE)
+    seed: int = attr(0, doc="the cloud field's random seed", range=SEED_RANGE,
+                     draw="clouds")
 
 
 @dataclass(frozen=True)
@@ -784,7 +785,8 @@ class Defocus:
 class SensorNoise:
     sigma_dn: float = attr(doc="σ of additive Gaussian noise, 8-bit digital numbers",
                            unit="DN", range=(0, 100), label="σ", decimals=2, step=0.5)
-    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE)
+    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE,
+                     draw="sensor-noise")
 
 
 @element("sensor", title="sensor (photon shot noise, dark current, read noise, ADC)",
@@ -809,7 +811,8 @@ class Sensor:
     exposure_scale: float = attr(0.8, doc="white in the render collects this × full well",
                                  unit="× full well", range=(0, 100), label="white at",
                                  decimals=3, step=0.05)
-    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE)
+    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE,
+                     draw="sensor-noise")
 
 
 @element("blur", title="optical blur (Gaussian)", path="effects.blur", on={"sigma_px": 0.5})
@@ -856,7 +859,8 @@ class ExposureVariation:
                                         label="white balance σ", decimals=0, step=50)
     reference_k: float = attr(5500.0, doc="colour temperature of the light", unit="K",
                               range=(2000, 12000), label="light at", decimals=0, step=100)
-    seed: int = attr(0, doc="the draws' random seed", range=SEED_RANGE)
+    seed: int = attr(0, doc="the draws' random seed", range=SEED_RANGE,
+                     draw="exposure-variation")
 
 
 @dataclass(frozen=True)

@@ -490,23 +490,9 @@ def _without_clouds(p: m.Project) -> m.Project:
     return _set_clouds(p, None)
 
 
-def _seed_clouds(p: m.Project, seed: int) -> m.Project:
-    return _with_clouds(p, seed=seed) if _clouds_on(p) else p
-
-
 # ------------------------------------------------------------------ replicate draws
 def _seed_survey(p: m.Project, seed: int) -> m.Project:
     return _with_survey(p, replace(_survey(p), seed=seed))
-
-
-def _seed_sensor(p: m.Project, seed: int) -> m.Project:
-    fx = _effects(p)
-    changes = {}
-    if fx.sensor_noise is not None:
-        changes["sensor_noise"] = replace(fx.sensor_noise, seed=seed)
-    if fx.sensor is not None:
-        changes["sensor"] = replace(fx.sensor, seed=seed)
-    return _with_effects(p, **changes) if changes else p
 
 
 def _seed_selection(p: m.Project, seed: int) -> m.Project:
@@ -515,19 +501,51 @@ def _seed_selection(p: m.Project, seed: int) -> m.Project:
     return _with_control(p, spread="random", seed=seed)
 
 
-#: random draws a replicate can re-seed: name → (documentation, how to set the seed)
-DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
+_HAND_WRITTEN_DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
+    # the flight plan's and the survey's seeds are not declared attributes
     "pose-noise": ("the flown positions and attitudes (flight-plan random-seed)",
                    lambda p, s: _with_plan(p, random_seed=s)),
     "survey-error": ("the simulated survey of the GCPs", _seed_survey),
-    "marking-error": ("the GCP marking error in the images",
-                      lambda p, s: _with_gcps(p, seed=s)),
-    "sensor-noise": ("the sensor noise of the images", _seed_sensor),
-    "clouds": ("the cloud field of the drifting cloud shadows", _seed_clouds),
+    # more than a seed: a drawn selection is a random one
     "gcp-selection": ("which GCPs are control (a control-count drawn at random)",
                       _seed_selection),
-    "position-prior": ("the errors of the measured camera positions",
-                       lambda p, s: _with_prior(p, seed=s)),
-    "pre-calibration": ("the starting interior-orientation errors",
-                        lambda p, s: _with_precal(p, seed=s)),
 }
+
+
+def _declared_draws() -> dict[str, tuple[str, Callable[[m.Project, int], m.Project]]]:
+    """A draw of every name some seed declares with ``draw=`` (designer.project.declare):
+    it sets each such seed of the elements the project has (a project without them has
+    nothing to re-draw)."""
+    seeds: dict[str, list[tuple[str, str, str]]] = {}
+    for cls in declare.declared_elements(m.Project):
+        el = declare.element_of(cls)
+        for d in declare.declared(cls):
+            if d.attr.draw is not None:
+                if el.path is None:
+                    raise RuntimeError(f"{cls.__name__}.{d.name} declares draw "
+                                       f"{d.attr.draw!r} but <{el.tag}> has no path")
+                seeds.setdefault(d.attr.draw, []).append(
+                    (el.path, d.name, f"<{el.tag}> {d.xml}"))
+
+    def reseed(p: m.Project, seed: int, where: list[tuple[str, str, str]]) -> m.Project:
+        for path, name, _ in where:
+            if declare.element_at(p, path) is not None:
+                p = declare.with_value(p, path, name, seed)
+        return p
+
+    return {name: ("the " + " and ".join(w for _, _, w in where),
+                   lambda p, s, where=where: reseed(p, s, where))
+            for name, where in seeds.items()}
+
+
+def _all_draws() -> dict[str, tuple[str, Callable[[m.Project, int], m.Project]]]:
+    draws = dict(_HAND_WRITTEN_DRAWS)
+    for name, draw in _declared_draws().items():
+        if name in draws:
+            raise RuntimeError(f"replicate draw {name!r} is defined twice")
+        draws[name] = draw
+    return draws
+
+
+#: random draws a replicate can re-seed: name → (documentation, how to set the seed)
+DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = _all_draws()
