@@ -34,8 +34,9 @@ from typing import Any, Literal
 #: how a change of a factor's value is carried out (see designer.study.factors)
 Stage = Literal["render", "processing"]
 
-#: the range of every random seed: a 32-bit unsigned whole number
-SEED_RANGE = (0, 4294967295)
+#: the range of every random seed: a whole number that fits 31 bits (the replicate
+#: seeds, Qt's spin boxes)
+SEED_RANGE = (0, 2147483647)
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,8 @@ class Attr:
     has_absent: bool = False
     #: a seed: the study's replicate draw that re-seeds it (designer.study.factors.DRAWS)
     draw: str | None = None
+    #: True: the value is the text of the child element ``<xml>``, not an attribute
+    text: bool = False
 
 
 def attr(default: Any = MISSING, *, doc: str, unit: str = "",
@@ -76,19 +79,20 @@ def attr(default: Any = MISSING, *, doc: str, unit: str = "",
          label: str | None = None, factor: str | None = None, write_default: bool = True,
          decimals: int = 3, step: float = 0.1, special: str | None = None,
          child: str | None = None, xsd: str | None = None, absent: Any = MISSING,
-         draw: str | None = None) -> Any:
+         draw: str | None = None, text: bool = False) -> Any:
     """A dataclass field carrying its declaration: ``range`` (low, high) is inclusive
     unless ``low_open``/``high_open``; ``xml`` defaults to the field's name with ``-`` for
     ``_``; ``factor`` names the study factor that varies it; ``child`` the child element
     the attribute sits on; ``xsd`` the XSD simple type of a text value; ``absent`` what
     an absent XML attribute reads as when that is not the default (e.g. None); ``draw``
-    names the study's replicate draw that re-seeds a seed."""
+    names the study's replicate draw that re-seeds a seed; ``text`` makes the value the
+    text of a child element ``<xml>`` instead of an attribute."""
     low, high = range
     meta = Attr(doc=doc, unit=unit, low=low, high=high, low_open=low_open,
                 high_open=high_open, xml=xml, label=label, factor=factor,
                 write_default=write_default, decimals=decimals, step=step, special=special,
                 child=child, xsd=xsd, absent=None if absent is MISSING else absent,
-                has_absent=absent is not MISSING, draw=draw)
+                has_absent=absent is not MISSING, draw=draw, text=text)
     return dataclasses.field(default=default, metadata={"attr": meta})
 
 
@@ -182,7 +186,7 @@ class Declared:
 
 
 class _Bound(float):
-    """A range bound that prints whole numbers in full (a seed's 4294967295, not 4.3e+09)
+    """A range bound that prints whole numbers in full (a seed's 2147483647, not 2.14748e+09)
     and others as ``:g`` does."""
 
     def __new__(cls, value):

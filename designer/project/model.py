@@ -597,39 +597,75 @@ class ExteriorOrientation:
     time_s: float | None = None
 
 
+@element("pose-noise", title="pose noise", path="trajectory.flight_plan.pose_noise")
 @dataclass(frozen=True)
 class PoseNoise:
     """σ of position (m, world axes) and of rotation (deg, camera axes x, y, z)."""
 
-    sigma_X_m: float = 0.0
-    sigma_Y_m: float = 0.0
-    sigma_Z_m: float = 0.0
-    sigma_omega_deg: float = 0.0
-    sigma_phi_deg: float = 0.0
-    sigma_kappa_deg: float = 0.0
+    sigma_X_m: float = attr(0.0, doc="σ of the flown position along X (Easting)", unit="m",
+                            range=(0, 1e6), label="σ X", decimals=3, step=0.01)
+    sigma_Y_m: float = attr(0.0, doc="σ of the flown position along Y (Northing)", unit="m",
+                            range=(0, 1e6), label="σ Y", decimals=3, step=0.01)
+    sigma_Z_m: float = attr(0.0, doc="σ of the flown position along Z (height)", unit="m",
+                            range=(0, 1e6), label="σ Z", decimals=3, step=0.01)
+    sigma_omega_deg: float = attr(0.0, doc="σ of the flown rotation about the camera x axis",
+                                  unit="deg", range=(0, 90), label="σ ω", decimals=3,
+                                  step=0.01)
+    sigma_phi_deg: float = attr(0.0, doc="σ of the flown rotation about the camera y axis",
+                                unit="deg", range=(0, 90), label="σ φ", decimals=3,
+                                step=0.01)
+    sigma_kappa_deg: float = attr(0.0, doc="σ of the flown rotation about the camera z axis",
+                                  unit="deg", range=(0, 90), label="σ κ", decimals=3,
+                                  step=0.01)
 
 
+@element("flight-plan", title="grid flight plan", path="trajectory.flight_plan")
 @dataclass(frozen=True)
 class FlightPlan:
-    """A grid flight over ``area`` (world X/Y vertices, m); exactly one of altitude/GSD."""
+    """A grid flight over ``area`` (world X/Y vertices, m); exactly one of altitude/GSD.
+    Its values are the texts of child elements (``text=True``) but for ``camera`` and
+    ``image_prefix``; the area, the altitude reference and the pose noise are
+    hand-written parts of the reader and writer."""
 
-    camera: str
-    image_prefix: str
+    camera: str = attr(doc="id of the camera flown, or the name of a rig", xsd="d:Identifier")
+    image_prefix: str = attr(doc="planned photos are named prefix + 5-digit number + "
+                             "extension", xsd="d:Identifier")
     area: tuple[tuple[float, float], ...]
-    altitude_agl_m: float | None = None
-    gsd_m: float | None = None
-    front_overlap_percent: float = 80.0
-    side_overlap_percent: float = 70.0
-    grid_angle_deg: float = 0.0
-    crosshatch: bool = False
-    orientation: Orientation = "landscape"
-    start_corner: StartCorner = "SW"
-    terrain_following: bool = False
+    altitude_agl_m: float | None = attr(None, doc="flying height above ground level "
+                                        "(exactly one of it and gsd-m)", unit="m",
+                                        range=(0, 1e6), low_open=True, text=True,
+                                        label="altitude", decimals=2, step=1)
+    gsd_m: float | None = attr(None, doc="ground sample distance of the images at nadir "
+                               "(exactly one of it and altitude-agl-m)", unit="m/px",
+                               range=(0, 1e6), low_open=True, text=True, label="GSD",
+                               decimals=4, step=0.001)
+    front_overlap_percent: float = attr(80.0, doc="forward overlap of consecutive images",
+                                        unit="%", range=(0, 95), text=True,
+                                        factor="front-overlap-percent",
+                                        label="front overlap", decimals=1, step=5)
+    side_overlap_percent: float = attr(70.0, doc="overlap of neighbouring flight lines",
+                                       unit="%", range=(0, 95), text=True,
+                                       factor="side-overlap-percent", label="side overlap",
+                                       decimals=1, step=5)
+    grid_angle_deg: float = attr(0.0, doc="direction of the flight lines, clockwise from grid "
+                                 "north", unit="deg", range=(0, 180), high_open=True,
+                                 text=True, label="grid angle", decimals=1, step=5)
+    crosshatch: bool = attr(False, doc="fly the grid a second time at 90 degrees", text=True,
+                            factor="crosshatch")
+    orientation: Orientation = attr("landscape", doc="landscape: image top along the flight "
+                                    "direction; portrait: image right along it", text=True)
+    start_corner: StartCorner = attr("SW", doc="corner of the area where the first line "
+                                     "starts", text=True)
+    terrain_following: bool = attr(False, doc="every photo at altitude-agl-m above the "
+                                   "terrain below it", text=True)
     #: "mean" | "max" | "min" of the terrain in the area, or a world height Z (m)
     altitude_reference: str | float = "mean"
-    tilt_deg: float = 0.0
+    tilt_deg: float = attr(0.0, doc="forward camera tilt from nadir", unit="deg",
+                           range=(-80, 80), text=True, factor="tilt-deg", label="tilt",
+                           decimals=1, step=5)
     pose_noise: PoseNoise | None = None
-    random_seed: int = 0
+    random_seed: int = attr(0, doc="seed of the pose noise", range=SEED_RANGE, text=True,
+                            draw="pose-noise")
 
 
 @element("time-line", title="time line", path="trajectory.time_line")

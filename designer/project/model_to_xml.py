@@ -50,7 +50,7 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     ``parent``: ``lead`` attributes first (fields that are not declared), then the
     declared ones in declaration order (None left out, and a default that is not to be
     written); an attribute declared on a child element goes on that child (made here,
-    the first child)."""
+    the first child), a text value in its own child element, in declaration order."""
     from designer.project.declare import declared, element_of
 
     decl = element_of(type(obj))
@@ -64,8 +64,12 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
             holder = el.find(q(d.attr.child))
             if holder is None:
                 holder = etree.SubElement(el, q(d.attr.child))
-        holder.set(d.xml, _bool(value) if d.base is bool else
-               _num(value) if d.base in (int, float) else str(value))
+        text = (_bool(value) if d.base is bool else
+                _num(value) if d.base in (int, float) else str(value))
+        if d.attr.text:
+            etree.SubElement(holder, q(d.xml)).text = text
+        else:
+            holder.set(d.xml, text)
     return el
 
 
@@ -252,31 +256,18 @@ def _pattern(el: etree._Element, p: m.FlightPattern) -> None:
 
 
 def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
-    fp_el = _sub(el, "flight-plan", camera=fp.camera, image_prefix=fp.image_prefix)
-    area = _sub(fp_el, "area")
+    fp_el = write_declared(el, fp)  # camera, image-prefix; the values as child elements
+    area = etree.Element(q("area"))
+    fp_el.insert(0, area)
     for X, Y in fp.area:
         _sub(area, "vertex", X=_num(X), Y=_num(Y))
-    if fp.altitude_agl_m is not None:
-        _sub(fp_el, "altitude-agl-m", _num(fp.altitude_agl_m))
-    else:
-        _sub(fp_el, "gsd-m", _num(fp.gsd_m))
-    _sub(fp_el, "front-overlap-percent", _num(fp.front_overlap_percent))
-    _sub(fp_el, "side-overlap-percent", _num(fp.side_overlap_percent))
-    _sub(fp_el, "grid-angle-deg", _num(fp.grid_angle_deg))
-    _sub(fp_el, "crosshatch", _bool(fp.crosshatch))
-    _sub(fp_el, "orientation", fp.orientation)
-    _sub(fp_el, "start-corner", fp.start_corner)
-    _sub(fp_el, "terrain-following", _bool(fp.terrain_following))
     reference = fp.altitude_reference
-    _sub(fp_el, "altitude-reference", reference if isinstance(reference, str) else _num(reference))
-    _sub(fp_el, "tilt-deg", _num(fp.tilt_deg))
+    fp_el.find(q("tilt-deg")).addprevious(etree.Element(q("altitude-reference")))
+    fp_el.find(q("altitude-reference")).text = (reference if isinstance(reference, str)
+                                                else _num(reference))
     if fp.pose_noise is not None:
-        n = fp.pose_noise
-        _sub(fp_el, "pose-noise", **{
-            "sigma-X-m": _num(n.sigma_X_m), "sigma-Y-m": _num(n.sigma_Y_m),
-            "sigma-Z-m": _num(n.sigma_Z_m), "sigma-omega-deg": _num(n.sigma_omega_deg),
-            "sigma-phi-deg": _num(n.sigma_phi_deg), "sigma-kappa-deg": _num(n.sigma_kappa_deg)})
-    _sub(fp_el, "random-seed", _num(fp.random_seed))
+        noise = write_declared(fp_el, fp.pose_noise)
+        fp_el.find(q("random-seed")).addprevious(noise)
 
 
 def _effects(parent: etree._Element, fx: m.Effects) -> None:

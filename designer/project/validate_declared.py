@@ -33,5 +33,8 @@ def element_issues(obj) -> list[Issue]:
                     "use one of them")
         else:
             text = f"{d.xml} = {value!r} must be {d.range_text()}"
-        out.append(Issue(obj, d.attr.child or el.tag, text, attr=d.xml, key=d.attr.child))
+        if d.attr.text:  # the value is the text of the child element <xml>
+            out.append(Issue(obj, d.xml, text))
+        else:
+            out.append(Issue(obj, d.attr.child or el.tag, text, attr=d.xml, key=d.attr.child))
     return out

@@ -47,14 +47,19 @@ def _bool(text: str) -> bool:
 
 def read_declared(cls, el: etree._Element, **given):
     """An instance of the declared element class ``cls`` from the attributes of ``el``
-    (designer.project.declare): absent ones take their defaults; ``given`` supplies the
-    fields that are not attributes (children)."""
+    (designer.project.declare) and the texts of its declared text children: absent ones
+    take their defaults; ``given`` supplies the fields that are not declared (children)."""
     from designer.project.declare import declared
 
     values = dict(given)
     for d in declared(cls):
         holder = el if d.attr.child is None else el.find(q(d.attr.child))
-        raw = None if holder is None else holder.get(d.xml)
+        if holder is None:
+            raw = None
+        elif d.attr.text:
+            raw = _text(holder.find(q(d.xml)))
+        else:
+            raw = holder.get(d.xml)
         if d.name in values:
             continue
         if raw is None:
@@ -372,31 +377,12 @@ class _Reader:
         noise_el = el.find(q("pose-noise"))
         noise = None
         if noise_el is not None:
-            noise = self.note(m.PoseNoise(*(_f(noise_el, f"sigma-{k}") for k in (
-                "X-m", "Y-m", "Z-m", "omega-deg", "phi-deg", "kappa-deg"))), noise_el)
-        altitude = _text(el.find(q("altitude-agl-m")))
+            noise = self.note(read_declared(m.PoseNoise, noise_el), noise_el)
         reference = _text(el.find(q("altitude-reference")))
         if reference is not None and reference not in ("mean", "max", "min"):
             reference = float(reference)
-        gsd = _text(el.find(q("gsd-m")))
-        plan = m.FlightPlan(
-            camera=el.get("camera"),
-            image_prefix=el.get("image-prefix"),
-            area=tuple(vertices),
-            altitude_agl_m=None if altitude is None else float(altitude),
-            gsd_m=None if gsd is None else float(gsd),
-            front_overlap_percent=float(_text(el.find(q("front-overlap-percent")))),
-            side_overlap_percent=float(_text(el.find(q("side-overlap-percent")))),
-            grid_angle_deg=float(_text(el.find(q("grid-angle-deg")))),
-            crosshatch=_bool(_text(el.find(q("crosshatch")))),
-            orientation=_text(el.find(q("orientation"))) or "landscape",
-            start_corner=_text(el.find(q("start-corner"))) or "SW",
-            terrain_following=_bool(_text(el.find(q("terrain-following")))),
-            altitude_reference="mean" if reference is None else reference,
-            tilt_deg=float(_text(el.find(q("tilt-deg")))),
-            pose_noise=noise,
-            random_seed=int(_text(el.find(q("random-seed")))),
-        )
+        plan = read_declared(m.FlightPlan, el, area=tuple(vertices), pose_noise=noise,
+                             altitude_reference="mean" if reference is None else reference)
         self.note(plan, el)
         self.child_lines(plan, el)
         for key, line in plan_key_lines:

@@ -342,16 +342,6 @@ _HAND_WRITTEN: list[Factor] = [
     _F("gsd-m", "ground sample distance the flight is planned for (m/px); replaces altitude",
        "render", _float, lambda p: _plan(p).gsd_m,
        lambda p, v: _with_plan(p, gsd_m=v, altitude_agl_m=None)),
-    _F("front-overlap-percent", "forward overlap of consecutive images (%)", "render", _float,
-       lambda p: _plan(p).front_overlap_percent,
-       lambda p, v: _with_plan(p, front_overlap_percent=v)),
-    _F("side-overlap-percent", "overlap of neighbouring flight lines (%)", "render", _float,
-       lambda p: _plan(p).side_overlap_percent,
-       lambda p, v: _with_plan(p, side_overlap_percent=v)),
-    _F("crosshatch", "fly the grid a second time at 90 degrees (true/false)", "render", _bool,
-       lambda p: _plan(p).crosshatch, lambda p, v: _with_plan(p, crosshatch=v)),
-    _F("tilt-deg", "forward camera tilt from nadir (deg)", "render", _float,
-       lambda p: _plan(p).tilt_deg, lambda p, v: _with_plan(p, tilt_deg=v)),
     _F("flight-camera", "the camera id or rig name the grid flight flies (e.g. a nadir camera "
        "or an oblique rig)", "render", str, lambda p: _plan(p).camera,
        lambda p, v: _with_plan(p, camera=v)),
@@ -502,9 +492,7 @@ def _seed_selection(p: m.Project, seed: int) -> m.Project:
 
 
 _HAND_WRITTEN_DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
-    # the flight plan's and the survey's seeds are not declared attributes
-    "pose-noise": ("the flown positions and attitudes (flight-plan random-seed)",
-                   lambda p, s: _with_plan(p, random_seed=s)),
+    # the survey's seed is not a declared attribute
     "survey-error": ("the simulated survey of the GCPs", _seed_survey),
     # more than a seed: a drawn selection is a random one
     "gcp-selection": ("which GCPs are control (a control-count drawn at random)",

@@ -83,6 +83,9 @@ def schema_disagreements(cls: type, doc: etree._ElementTree) -> list[str]:
                 attrs.update({k: v for k, v in _attributes(child_decl, doc).items()
                               if any(d.xml == k and d.attr.child == child
                                      for d in declared(cls))})
+        for d in declared(cls):
+            if d.attr.text and _child_element(decl, d.xml, doc) is not None:
+                attrs[d.xml] = _child_element(decl, d.xml, doc)  # a text element
         problems = []
         missing = sorted({d.xml for d in declared(cls)} - set(attrs))
         if missing:  # (XSD attributes of fields that are not declared are the reader's)
@@ -91,12 +94,14 @@ def schema_disagreements(cls: type, doc: etree._ElementTree) -> list[str]:
         else:
             for d in declared(cls):
                 a = attrs[d.xml]
-                if d.required != (a.get("use") == "required"):
+                use = a.get("use") if not d.attr.text else (
+                    "required" if a.get("minOccurs", "1") != "0" else "optional")
+                if d.required != (use == "required"):
                     problems.append(f"<{el.tag}> {d.xml}: declared "
                                     f"{'required' if d.required else 'optional'}, XSD "
-                                    f"use={a.get('use')}")
+                                    f"use={use}")
                 default = d.xml_default
-                wanted = (None if d.required or default is None else
+                wanted = (None if d.required or default is None or d.attr.text else
                           ("true" if default else "false") if d.base is bool else
                           number_text(default) if d.base in (int, float) else str(default))
                 if a.get("default") != wanted:
