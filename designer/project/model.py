@@ -913,19 +913,42 @@ class Effects:
     exposure_variation: ExposureVariation | None = None
 
 
+@element("render", title="render settings", path="render")
 @dataclass(frozen=True)
 class Render:
-    preset: Preset = "survey"
-    samples: int | None = None
-    pixel_filter_type: PixelFilterType = "box"
-    pixel_filter_width_px: float = 1.0
-    resolution_scale: float = 1.0
-    workers: int = 1
-    output_format: ImageFormat = "png"
-    bit_depth: int = 8
-    distortion_oversample: int = 1
+    """How Cycles renders the photos: values held as child-element texts, the pixel
+    filter's and the output's as attributes of ``<pixel-filter>`` and ``<output>``."""
+
+    preset: Preset = attr("survey", doc="quality preset: Cycles samples per pixel (draft 4, "
+                          "survey 16, metrology 64)", text=True)
+    samples: int | None = attr(None, doc="Cycles samples per pixel, instead of the preset's",
+                               range=(1, 65536), text=True, label="samples")
+    pixel_filter_type: PixelFilterType = attr("box", doc="Cycles pixel filter",
+                                              child="pixel-filter", xml="type",
+                                              label="pixel filter")
+    pixel_filter_width_px: float = attr(1.0, doc="pixel filter width", unit="px",
+                                        range=(0.01, 10), child="pixel-filter",
+                                        xml="width-px", label="filter width", decimals=2,
+                                        step=0.1)
+    resolution_scale: float = attr(1.0, doc="rendered image size = camera image size × this",
+                                   range=(0, 1), low_open=True, text=True,
+                                   label="resolution scale", decimals=3, step=0.05)
+    workers: int = attr(1, doc="Blender worker processes run at once", range=(1, 256),
+                        text=True, label="workers")
+    output_format: ImageFormat = attr("png", doc="image file format of the photos",
+                                      child="output", xml="format", label="format")
+    bit_depth: int = attr(8, doc="bits per channel (png 8 or 16, jpeg 8, tiff 8, 16 or 32, "
+                          "exr 16 or 32)", range=(8, 32), child="output", xml="bit-depth",
+                          label="bit depth")
+    distortion_oversample: int = attr(1, doc="a distorted camera's pinhole render is this "
+                                      "many times larger before it is resampled",
+                                      range=(1, 4), text=True, write_default=False,
+                                      label="distortion oversample")
     #: "exif": each image carries its time (DateTimeOriginal…) from the time line
-    image_metadata: ImageMetadata = "none"
+    image_metadata: ImageMetadata = attr("none", doc="exif: each image carries its time "
+                                         "from the time line", child="output",
+                                         xml="metadata", write_default=False,
+                                         label="image metadata")
 
     @property
     def effective_samples(self) -> int:

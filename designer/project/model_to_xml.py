@@ -276,21 +276,6 @@ def _effects(parent: etree._Element, fx: m.Effects) -> None:
         if getattr(fx, f.name) is not None:
             write_declared(el, getattr(fx, f.name))
 
-def _render(parent: etree._Element, r: m.Render) -> None:
-    el = _sub(parent, "render")
-    _sub(el, "preset", r.preset)
-    if r.samples is not None:
-        _sub(el, "samples", _num(r.samples))
-    _sub(el, "pixel-filter", type=r.pixel_filter_type, width_px=_num(r.pixel_filter_width_px))
-    _sub(el, "resolution-scale", _num(r.resolution_scale))
-    _sub(el, "workers", _num(r.workers))
-    out = _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
-    if r.image_metadata != "none":
-        out.set("metadata", r.image_metadata)
-    if r.distortion_oversample != 1:
-        _sub(el, "distortion-oversample", _num(r.distortion_oversample))
-
-
 def _processing(parent: etree._Element, p: m.Processing) -> None:
     el = _sub(parent, "processing")
     cal = write_declared(el, p.calibration)
@@ -324,7 +309,7 @@ def project_to_tree(project: m.Project) -> etree._Element:
     _trajectory(root, project.trajectory)
     if project.effects is not None:
         _effects(root, project.effects)
-    _render(root, project.render)
+    write_declared(root, project.render)
     outputs = _sub(root, "outputs", directory=project.outputs.directory)
     for fmt in project.outputs.ground_truth:
         _sub(outputs, "ground-truth", format=fmt)

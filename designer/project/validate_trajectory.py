@@ -247,23 +247,10 @@ def _vignetting_gain_issues(v) -> list[Issue]:
 
 def render_output_issues(project: m.Project) -> list[Issue]:
     r, out = project.render, []
-    if r.preset not in ("draft", "survey", "metrology"):
-        out.append(Issue(r, "preset", "the preset must be draft, survey or metrology"))
-    if r.samples is not None and not 1 <= r.samples <= 65536:
-        out.append(Issue(r, "samples", f"samples = {r.samples!r} must be from 1 to 65536"))
-    if not (math.isfinite(r.pixel_filter_width_px) and 0.01 <= r.pixel_filter_width_px <= 10):
-        out.append(Issue(r, "pixel-filter", "width-px must be from 0.01 to 10 px",
-                         attr="width-px"))
-    if not (math.isfinite(r.resolution_scale) and 0 < r.resolution_scale <= 1):
-        out.append(Issue(r, "resolution-scale", f"resolution scale {r.resolution_scale!r} must "
-                                                "be greater than 0 and at most 1"))
-    if not 1 <= r.workers <= 256:
-        out.append(Issue(r, "workers", f"workers = {r.workers!r} must be from 1 to 256"))
+    # preset, samples, filter, scale, workers and their choices are declared
+    # (designer.project.validate_declared); the bit depth each format allows is not
     depths = BIT_DEPTHS.get(r.output_format)
-    if depths is None:
-        out.append(Issue(r, "output", f"unknown output format '{r.output_format}'; use png, "
-                                      "jpeg, tiff or exr", attr="format"))
-    elif r.bit_depth not in depths:
+    if depths is not None and r.bit_depth not in depths:
         out.append(Issue(r, "output", f"{r.output_format} images cannot have {r.bit_depth} "
                          f"bits per channel; use bit-depth " + " or ".join(map(str, depths)),
                          attr="bit-depth"))

@@ -402,21 +402,7 @@ class _Reader:
         return self.note(effects, el)
 
     def render(self, el: etree._Element) -> m.Render:
-        pf = el.find(q("pixel-filter"))
-        out = el.find(q("output"))
-        samples = _text(el.find(q("samples")))
-        render = m.Render(
-            preset=_text(el.find(q("preset"))),
-            samples=None if samples is None else int(samples),
-            pixel_filter_type=pf.get("type"),
-            pixel_filter_width_px=_f(pf, "width-px"),
-            resolution_scale=float(_text(el.find(q("resolution-scale")))),
-            workers=int(_text(el.find(q("workers")))),
-            output_format=out.get("format"),
-            bit_depth=int(out.get("bit-depth")),
-            distortion_oversample=int(_text(el.find(q("distortion-oversample"))) or 1),
-            image_metadata=out.get("metadata", "none"),
-        )
+        render = read_declared(m.Render, el)
         self.note(render, el)
         self.child_lines(render, el)
         return render
