@@ -53,13 +53,22 @@ PRESET_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 
 
 # ---------------------------------------------------------------------- project level
+#: the range of a world coordinate X or Y, and of a world height Z (m)
+COORDINATE_RANGE = (-1e8, 1e8)
+HEIGHT_RANGE = (-12000, 100000)
+
+
+@element("origin", title="project origin", path="origin")
 @dataclass(frozen=True)
 class Origin:
     """Project origin, world frame (m), float64; Blender gets world − origin."""
 
-    E0: float
-    N0: float
-    H0: float
+    E0: float = attr(doc="easting of the origin", unit="m", range=COORDINATE_RANGE, xml="E0",
+                     decimals=3, step=1)
+    N0: float = attr(doc="northing of the origin", unit="m", range=COORDINATE_RANGE,
+                     xml="N0", decimals=3, step=1)
+    H0: float = attr(doc="height of the origin", unit="m", range=HEIGHT_RANGE, xml="H0",
+                     decimals=3, step=1)
 
 
 @dataclass(frozen=True)
@@ -72,14 +81,19 @@ class Point3:
 
 
 # ---------------------------------------------------------------------- terrain
+@element("extent", title="terrain extent", path="scene.terrain.extent")
 @dataclass(frozen=True)
 class Extent:
     """Rectangle of ground, world X/Y (m)."""
 
-    min_X: float
-    min_Y: float
-    max_X: float
-    max_Y: float
+    min_X: float = attr(doc="west edge (easting)", unit="m", range=COORDINATE_RANGE,
+                        xml="min-X")
+    min_Y: float = attr(doc="south edge (northing)", unit="m", range=COORDINATE_RANGE,
+                        xml="min-Y")
+    max_X: float = attr(doc="east edge (easting)", unit="m", range=COORDINATE_RANGE,
+                        xml="max-X")
+    max_Y: float = attr(doc="north edge (northing)", unit="m", range=COORDINATE_RANGE,
+                        xml="max-Y")
 
     @property
     def width_m(self) -> float:
@@ -93,22 +107,30 @@ class Extent:
         return self.min_X <= X <= self.max_X and self.min_Y <= Y <= self.max_Y
 
 
+@element("flat", title="flat terrain")
 @dataclass(frozen=True)
 class FlatTerrain:
-    height_m: float
+    height_m: float = attr(doc="height Z of the plane, world frame", unit="m",
+                           range=HEIGHT_RANGE)
 
 
+@element("procedural", title="procedural terrain")
 @dataclass(frozen=True)
 class ProceduralTerrain:
     """Smooth hills fixed to the world on a grid (spacing in m), inside min..max (world Z,
     m); the largest hills are ``hill_size_m`` across (:mod:`designer.scene.terrain`)."""
 
-    seed: int
-    grid_spacing_m: float
-    roughness: float
-    min_height_m: float
-    max_height_m: float
-    hill_size_m: float = 100.0
+    seed: int = attr(doc="random seed of the relief", range=SEED_RANGE)
+    grid_spacing_m: float = attr(doc="distance between grid nodes; the extent's width and "
+                                 "length must be whole multiples of it", unit="m",
+                                 range=(0, 1e6), low_open=True)
+    roughness: float = attr(doc="0 (rolling hills) to 1 (rugged ground)", range=(0, 1))
+    min_height_m: float = attr(doc="lowest terrain height, world Z", unit="m",
+                               range=HEIGHT_RANGE)
+    max_height_m: float = attr(doc="highest terrain height, world Z (at least "
+                               "min-height-m)", unit="m", range=HEIGHT_RANGE)
+    hill_size_m: float = attr(100.0, doc="wavelength of the largest hills", unit="m",
+                              range=(0, 1e6), low_open=True)
 
 
 @dataclass(frozen=True)
@@ -162,11 +184,13 @@ class OrthophotoTexture:
     file: str
 
 
+@element("procedural", title="procedural texture")
 @dataclass(frozen=True)
 class ProceduralTexture:
-    pattern: TexturePattern
-    seed: int
-    texel_size_m: float
+    pattern: TexturePattern = attr(doc="the generated pattern")
+    seed: int = attr(doc="random seed of the pattern", range=SEED_RANGE)
+    texel_size_m: float = attr(doc="ground size of one texel", unit="m", range=(0, 1e6),
+                               low_open=True)
 
 
 @element("variation", title="texture variation", path="scene.texture.variation")
@@ -482,11 +506,15 @@ class CloudShadows:
                      draw="clouds")
 
 
+@element("lighting", title="lighting", path="scene.lighting")
 @dataclass(frozen=True)
 class Lighting:
     sun: Sun | SunPosition | SunOverTime
-    sun_strength: float = 4.0
-    sky_strength: float = 1.0
+    sun_strength: float = attr(4.0, doc="sun irradiance in Blender units (about 3 to 5: a "
+                               "sunny day)", unit="W/m²", range=(0, 1000),
+                               label="sun strength", decimals=2, step=0.5)
+    sky_strength: float = attr(1.0, doc="multiplier of the sky light (1: a clear sky)",
+                               range=(0, 1000), label="sky strength", decimals=2, step=0.1)
     #: None: no clouds (the static ideal)
     clouds: CloudShadows | None = None
 

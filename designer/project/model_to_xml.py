@@ -96,15 +96,10 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     el = _sub(parent, "scene")
     terrain = _sub(el, "terrain")
     e = scene.terrain.extent
-    _sub(terrain, "extent", **{"min-X": _num(e.min_X), "min-Y": _num(e.min_Y),
-                               "max-X": _num(e.max_X), "max-Y": _num(e.max_Y)})
+    write_declared(terrain, e)
     src = scene.terrain.source
-    if isinstance(src, m.FlatTerrain):
-        _sub(terrain, "flat", height_m=_num(src.height_m))
-    elif isinstance(src, m.ProceduralTerrain):
-        _sub(terrain, "procedural", seed=_num(src.seed), grid_spacing_m=_num(src.grid_spacing_m),
-             roughness=_num(src.roughness), min_height_m=_num(src.min_height_m),
-             max_height_m=_num(src.max_height_m), hill_size_m=_num(src.hill_size_m))
+    if isinstance(src, m.FlatTerrain | m.ProceduralTerrain):
+        write_declared(terrain, src)
     elif isinstance(src, m.DemTerrain):
         _sub(terrain, "dem", file=src.file)
     else:
@@ -120,8 +115,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
         if isinstance(tex.source, m.ImageTexture):
             _sub(tex_el, "image", file=tex.source.file)
         else:
-            _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
-                 texel_size_m=_num(tex.source.texel_size_m))
+            write_declared(tex_el, tex.source)
         _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
                                   "repeat-Y": _num(tex.repeat_Y)})
         if tex.variation is not None:
@@ -173,8 +167,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.vegetation is not None:
         _vegetation(el, scene.vegetation)
     light = scene.lighting
-    light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),
-                    sky_strength=_num(light.sky_strength))
+    light_el = write_declared(el, light)
     write_declared(light_el, light.sun)  # a direction, a moment and place, or over time
     if light.clouds is not None:
         write_declared(light_el, light.clouds)
@@ -300,8 +293,7 @@ def project_to_tree(project: m.Project) -> etree._Element:
     if project.description is not None:
         _sub(root, "description", project.description)
     _sub(root, "crs", project.crs)
-    o = project.origin
-    _sub(root, "origin", E0=_num(o.E0), N0=_num(o.N0), H0=_num(o.H0))
+    write_declared(root, project.origin)
     _scene(root, project.scene)
     cameras = _sub(root, "cameras")
     for cam in project.cameras:

@@ -66,9 +66,6 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
             out.append(Issue(src, "procedural", f"min-height-m {src.min_height_m!r} is above "
                              f"max-height-m {src.max_height_m!r}; swap them",
                              attr="min-height-m"))
-        if not 0 <= src.roughness <= 1:
-            out.append(Issue(src, "procedural", f"roughness {src.roughness!r} must be from 0 "
-                             "to 1", attr="roughness"))
         out += _grid(src, e)
     elif isinstance(src, m.DemTerrain) and base is not None:
         path = resolve(base, src.file)
@@ -136,9 +133,8 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     elif isinstance(src, m.ImageTexture):
         if base is not None:
             out += file_issue(src, "image", image_problem(resolve(base, src.file)))
-    elif not (src.texel_size_m > 0):
-        out.append(Issue(src, "procedural", "texel-size-m must be > 0 m", attr="texel-size-m"))
-    elif out == [] and extent.width_m > 0 and extent.length_m > 0:
+    elif out == [] and src.texel_size_m > 0 and extent.width_m > 0 and extent.length_m > 0:
+        # (a texel size of 0 or less: the declared range, validate_declared)
         tile = max(extent.width_m / tex.repeat_X, extent.length_m / tex.repeat_Y)
         texels = tile / src.texel_size_m
         if texels > MAX_TEXTURE_TEXELS:
@@ -206,11 +202,7 @@ def _objects(objects: tuple[m.SceneObject, ...], base: Path | None) -> list[Issu
 
 
 def _lighting(light: m.Lighting) -> list[Issue]:
-    out = []
-    for name, value in (("sun-strength", light.sun_strength),
-                        ("sky-strength", light.sky_strength)):
-        if not (value >= 0):
-            out.append(Issue(light, "lighting", f"{name} must be >= 0", attr=name))
+    out = []  # the strengths' ranges: validate_declared
     sun = light.sun  # the angles' ranges: validate_declared
     if isinstance(sun, m.Sun | m.SunOverTime):  # over time: with the time line (validate_world)
         return out

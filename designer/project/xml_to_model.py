@@ -93,8 +93,7 @@ class _Reader:
     # ----------------------------------------------------------------- project
     def project(self, root: etree._Element) -> m.Project:
         origin_el = root.find(q("origin"))
-        origin = self.note(m.Origin(_f(origin_el, "E0"), _f(origin_el, "N0"),
-                                    _f(origin_el, "H0")), origin_el)
+        origin = self.note(read_declared(m.Origin, origin_el), origin_el)
         effects_el = root.find(q("effects"))
         processing_el = root.find(q("processing"))
         project = m.Project(
@@ -140,21 +139,15 @@ class _Reader:
 
     def terrain(self, el: etree._Element) -> m.Terrain:
         ext_el = el.find(q("extent"))
-        extent = self.note(m.Extent(_f(ext_el, "min-X"), _f(ext_el, "min-Y"),
-                                    _f(ext_el, "max-X"), _f(ext_el, "max-Y")), ext_el)
+        extent = self.note(read_declared(m.Extent, ext_el), ext_el)
         src_el = ext_el.getnext()
         while not isinstance(src_el.tag, str):
             src_el = src_el.getnext()
         kind = etree.QName(src_el).localname
         if kind == "flat":
-            source = m.FlatTerrain(_f(src_el, "height-m"))
+            source = read_declared(m.FlatTerrain, src_el)
         elif kind == "procedural":
-            source = m.ProceduralTerrain(
-                seed=int(src_el.get("seed")), grid_spacing_m=_f(src_el, "grid-spacing-m"),
-                roughness=_f(src_el, "roughness"),
-                min_height_m=_f(src_el, "min-height-m"), max_height_m=_f(src_el, "max-height-m"),
-                **({} if src_el.get("hill-size-m") is None
-                   else {"hill_size_m": _f(src_el, "hill-size-m")}))
+            source = read_declared(m.ProceduralTerrain, src_el)
         elif kind == "dem":
             source = m.DemTerrain(src_el.get("file"))
         else:
@@ -178,8 +171,7 @@ class _Reader:
             source = self.note(m.ImageTexture(image_el.get("file")), image_el)
         else:
             p = el.find(q("procedural"))
-            source = self.note(m.ProceduralTexture(
-                p.get("pattern"), int(p.get("seed")), _f(p, "texel-size-m")), p)
+            source = self.note(read_declared(m.ProceduralTexture, p), p)
         tiling = el.find(q("tiling"))
         var_el = el.find(q("variation"))
         variation = None
@@ -276,7 +268,7 @@ class _Reader:
         c = el.find(q("cloud-shadows"))
         if c is not None:
             clouds = self.note(read_declared(m.CloudShadows, c), c)
-        lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"), clouds)
+        lighting = read_declared(m.Lighting, el, sun=sun, clouds=clouds)
         return self.note(lighting, el)
 
     # ----------------------------------------------------------------- cameras
