@@ -223,13 +223,17 @@ class Texture:
 
 
 # ---------------------------------------------------------------------- targets
+@element("true", title="true target centre")
 @dataclass(frozen=True)
 class TruePosition:
     """True target centre (world, m); ``Z=None`` drapes it on the terrain."""
 
-    X: float
-    Y: float
-    Z: float | None = None
+    X: float = attr(doc="easting of the target centre", unit="m", range=COORDINATE_RANGE,
+                    xml="X")
+    Y: float = attr(doc="northing of the target centre", unit="m", range=COORDINATE_RANGE,
+                    xml="Y")
+    Z: float | None = attr(None, doc="height of the target centre (none: on the terrain)",
+                           unit="m", range=HEIGHT_RANGE, xml="Z")
 
 
 @dataclass(frozen=True)
@@ -249,14 +253,16 @@ class SurveyedPosition:
     sigma: Sigma3
 
 
+@element("target", title="GCP target")
 @dataclass(frozen=True)
 class Target:
     """A GCP target: ``control`` georeferences, ``check`` only measures accuracy."""
 
-    id: str
-    role: Role
-    shape: TargetShape
-    size_m: float
+    id: str = attr(doc="the target's id (unique)", xsd="d:Identifier")
+    role: Role = attr(doc="control georeferences, check only measures accuracy")
+    shape: TargetShape = attr(doc="the target's pattern")
+    size_m: float = attr(doc="side (or diameter) of the target plate", unit="m",
+                         range=(0, 1e6), low_open=True, label="size", decimals=3, step=0.1)
     true: TruePosition
     surveyed: SurveyedPosition | None = None
 

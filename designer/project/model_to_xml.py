@@ -129,9 +129,8 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
             _sigma_attrs(acc_el, acc.sigma)
             acc_el.set("seed", _num(acc.seed))
         for t in scene.targets.targets:
-            t_el = _sub(targets_el, "target", id=t.id, role=t.role, shape=t.shape,
-                        size_m=_num(t.size_m))
-            _point_attrs(_sub(t_el, "true"), t.true.X, t.true.Y, t.true.Z)
+            t_el = write_declared(targets_el, t)
+            write_declared(t_el, t.true)
             if t.surveyed is not None:
                 s_el = _sub(t_el, "surveyed")
                 p = t.surveyed.position

@@ -165,10 +165,7 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
             reported.add(t.id)
             out.append(Issue(t, "target", f"GCP id '{t.id}' is used by {counts[t.id]} targets; "
                                           "give each target its own id", attr="id"))
-        if t.role not in ("control", "check"):
-            out.append(Issue(t, "target", "role must be 'control' or 'check'", attr="role"))
-        if not (t.size_m > 0):
-            out.append(Issue(t, "target", "size-m must be > 0 m", attr="size-m"))
+        # role, shape and size: their declared ranges (validate_declared)
         if is_ok(t.true.X) and is_ok(t.true.Y) and not extent.contains(t.true.X, t.true.Y):
             out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {plain_m(t.true.X)}, Y "
                              f"{plain_m(t.true.Y)} lies outside the terrain extent "

@@ -197,16 +197,14 @@ class _Reader:
 
     def target(self, el: etree._Element) -> m.Target:
         true_el = el.find(q("true"))
-        true = self.note(m.TruePosition(_f(true_el, "X"), _f(true_el, "Y"),
-                                        _opt_f(true_el, "Z")), true_el)
+        true = self.note(read_declared(m.TruePosition, true_el), true_el)
         s_el = el.find(q("surveyed"))
         surveyed = None
         if s_el is not None:
             point = self.note(m.Point3(_f(s_el, "X"), _f(s_el, "Y"), _f(s_el, "Z")), s_el)
             sigma = self.note(self._sigma(s_el), s_el)
             surveyed = self.note(m.SurveyedPosition(point, sigma), s_el)
-        target = m.Target(el.get("id"), el.get("role"), el.get("shape"), _f(el, "size-m"),
-                          true, surveyed)
+        target = read_declared(m.Target, el, true=true, surveyed=surveyed)
         return self.note(target, el)
 
     def moving_object(self, el: etree._Element) -> m.MovingObject:
