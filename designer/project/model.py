@@ -539,25 +539,32 @@ class Scene:
 
 
 # ---------------------------------------------------------------------- cameras
+def _coefficient(doc: str):
+    """A declared distortion coefficient: dimensionless, -1000 to 1000, default 0."""
+    return attr(0.0, doc=doc, range=(-1000, 1000), decimals=6, step=0.001)
+
+
+@element("brown-conrady", title="Brown-Conrady distortion")
 @dataclass(frozen=True)
 class BrownConradyDistortion:
     """OpenCV's (k1, k2, k3, p1, p2) on normalised computer-vision coordinates."""
 
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    p1: float = 0.0
-    p2: float = 0.0
+    k1: float = _coefficient("radial coefficient of r²")
+    k2: float = _coefficient("radial coefficient of r⁴")
+    k3: float = _coefficient("radial coefficient of r⁶")
+    p1: float = _coefficient("tangential coefficient p1 (OpenCV's order)")
+    p2: float = _coefficient("tangential coefficient p2 (OpenCV's order)")
 
 
+@element("fisheye-equidistant", title="equidistant fisheye distortion")
 @dataclass(frozen=True)
 class FisheyeEquidistantDistortion:
     """OpenCV's equidistant fisheye (k1..k4 on θ)."""
 
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    k4: float = 0.0
+    k1: float = _coefficient("coefficient of θ²")
+    k2: float = _coefficient("coefficient of θ⁴")
+    k3: float = _coefficient("coefficient of θ⁶")
+    k4: float = _coefficient("coefficient of θ⁸")
 
 
 #: the order the rows of a rolling-shutter sensor are read in
@@ -745,13 +752,15 @@ class Mount:
                             range=(-180, 180), xml="kappa", label="κ")
 
 
+@element("rig", title="camera rig")
 @dataclass(frozen=True)
 class Rig:
     """Several cameras fired together at each station (e.g. nadir + four 45° obliques);
     a photo or flight plan whose ``camera`` is the rig's ``name`` takes one image per
     mount. All mounts share the station's perspective centre."""
 
-    name: str
+    name: str = attr(doc="the rig's name, used as the camera of photos and flight plans",
+                     xsd="d:Identifier")
     mounts: tuple[Mount, ...]
 
 
@@ -989,9 +998,11 @@ class Render:
         return self.samples if self.samples is not None else PRESET_SAMPLES[self.preset]
 
 
+@element("outputs", title="outputs", path="outputs")
 @dataclass(frozen=True)
 class Outputs:
-    directory: str = "output"
+    directory: str = attr("output", doc="output folder, relative to this XML file's folder",
+                          xsd="d:FilePath")
     ground_truth: tuple[GroundTruthFormat, ...] = ()
 
 

@@ -194,13 +194,8 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
              y_mm=_num(cam.principal_point_y_mm))
     if cam.pixel_aspect is not None:
         _sub(el, "pixel-aspect", _num(cam.pixel_aspect))
-    d = cam.distortion
-    if isinstance(d, m.BrownConradyDistortion):
-        _sub(el, "brown-conrady", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
-             p1=_num(d.p1), p2=_num(d.p2))
-    elif isinstance(d, m.FisheyeEquidistantDistortion):
-        _sub(el, "fisheye-equidistant", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
-             k4=_num(d.k4))
+    if cam.distortion is not None:
+        write_declared(el, cam.distortion)
     if cam.rolling_shutter is not None:
         write_declared(el, cam.rolling_shutter)
 
@@ -208,7 +203,7 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
 def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
     el = _sub(parent, "trajectory")
     for rig in traj.rigs:
-        rig_el = _sub(el, "rig", name=rig.name)
+        rig_el = write_declared(el, rig)
         for mount in rig.mounts:
             write_declared(rig_el, mount)
     if traj.exterior_orientations:
@@ -301,7 +296,7 @@ def project_to_tree(project: m.Project) -> etree._Element:
     if project.effects is not None:
         _effects(root, project.effects)
     write_declared(root, project.render)
-    outputs = _sub(root, "outputs", directory=project.outputs.directory)
+    outputs = write_declared(root, project.outputs)
     for fmt in project.outputs.ground_truth:
         _sub(outputs, "ground-truth", format=fmt)
     if project.processing is not None:

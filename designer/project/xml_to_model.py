@@ -279,11 +279,9 @@ class _Reader:
         bc = el.find(q("brown-conrady"))
         fe = el.find(q("fisheye-equidistant"))
         if bc is not None:
-            distortion = self.note(m.BrownConradyDistortion(
-                *(_f(bc, k) for k in ("k1", "k2", "k3", "p1", "p2"))), bc)
+            distortion = self.note(read_declared(m.BrownConradyDistortion, bc), bc)
         elif fe is not None:
-            distortion = self.note(m.FisheyeEquidistantDistortion(
-                *(_f(fe, k) for k in ("k1", "k2", "k3", "k4"))), fe)
+            distortion = self.note(read_declared(m.FisheyeEquidistantDistortion, fe), fe)
         camera = m.Camera(
             id=el.get("id"),
             name=_text(el.find(q("name"))),
@@ -332,7 +330,7 @@ class _Reader:
             mount = read_declared(m.Mount, mount_el)
             self.smap.add(mount, "mount", mount_el.sourceline)
             mounts.append(mount)
-        return self.note(m.Rig(el.get("name"), tuple(mounts)), el)
+        return self.note(read_declared(m.Rig, el, mounts=tuple(mounts)), el)
 
     def pattern(self, el: etree._Element) -> m.FlightPattern:
         common = (el.get("camera"), el.get("image-prefix"))
@@ -399,7 +397,7 @@ class _Reader:
 
     def outputs(self, el: etree._Element) -> m.Outputs:
         formats = tuple(g.get("format") for g in el.iterchildren(q("ground-truth")))
-        outputs = self.note(m.Outputs(el.get("directory"), formats), el)
+        outputs = self.note(read_declared(m.Outputs, el, ground_truth=formats), el)
         for i, g in enumerate(el.iterchildren(q("ground-truth"))):
             self.smap.add(outputs, f"ground-truth:{i}", g.sourceline)
         return outputs
