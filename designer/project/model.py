@@ -133,18 +133,25 @@ class ProceduralTerrain:
                               range=(0, 1e6), low_open=True)
 
 
+def _file(doc: str):
+    """A declared, required file path (relative to the XML file's folder)."""
+    return attr(doc=doc, xsd="d:FilePath")
+
+
+@element("dem", title="DEM terrain")
 @dataclass(frozen=True)
 class DemTerrain:
     """A GeoTIFF or ESRI ASCII grid of world heights."""
 
-    file: str
+    file: str = _file("the DEM file, relative to this XML file's folder")
 
 
+@element("mesh", title="mesh terrain")
 @dataclass(frozen=True)
 class MeshTerrain:
     """A .ply/.obj/.stl mesh in world − origin coordinates."""
 
-    file: str
+    file: str = _file("the mesh file, relative to this XML file's folder")
 
 
 TerrainSource = FlatTerrain | ProceduralTerrain | DemTerrain | MeshTerrain
@@ -172,16 +179,18 @@ class Terrain:
 
 
 # ---------------------------------------------------------------------- texture
+@element("image", title="texture image")
 @dataclass(frozen=True)
 class ImageTexture:
-    file: str
+    file: str = _file("the texture image file, relative to this XML file's folder")
 
 
+@element("orthophoto", title="orthophoto")
 @dataclass(frozen=True)
 class OrthophotoTexture:
     """A georeferenced image (GeoTIFF) draped by its own geotransform, not tiled."""
 
-    file: str
+    file: str = _file("the orthophoto (GeoTIFF), relative to this XML file's folder")
 
 
 @element("procedural", title="procedural texture")
@@ -293,10 +302,11 @@ class Placement:
     scale: float = 1.0
 
 
+@element("object", title="scene object")
 @dataclass(frozen=True)
 class SceneObject:
-    name: str
-    file: str
+    name: str = attr(doc="the object's name", xsd="d:Identifier")
+    file: str = _file("the mesh file, relative to this XML file's folder")
     placement: Placement
 
 

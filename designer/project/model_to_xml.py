@@ -98,24 +98,14 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     e = scene.terrain.extent
     write_declared(terrain, e)
     src = scene.terrain.source
-    if isinstance(src, m.FlatTerrain | m.ProceduralTerrain):
-        write_declared(terrain, src)
-    elif isinstance(src, m.DemTerrain):
-        _sub(terrain, "dem", file=src.file)
-    else:
-        _sub(terrain, "mesh", file=src.file)
+    write_declared(terrain, src)
     if scene.terrain.surroundings is not None:
         _sub(terrain, "surroundings", mode=scene.terrain.surroundings)
 
     tex = scene.texture
     tex_el = _sub(el, "texture", interpolation=tex.interpolation)
-    if isinstance(tex.source, m.OrthophotoTexture):
-        _sub(tex_el, "orthophoto", file=tex.source.file)
-    else:
-        if isinstance(tex.source, m.ImageTexture):
-            _sub(tex_el, "image", file=tex.source.file)
-        else:
-            write_declared(tex_el, tex.source)
+    write_declared(tex_el, tex.source)  # an image, a generated pattern or an orthophoto
+    if not isinstance(tex.source, m.OrthophotoTexture):
         _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
                                   "repeat-Y": _num(tex.repeat_Y)})
         if tex.variation is not None:
@@ -139,7 +129,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.objects:
         objects_el = _sub(el, "objects")
         for obj in scene.objects:
-            o_el = _sub(objects_el, "object", name=obj.name, file=obj.file)
+            o_el = write_declared(objects_el, obj)
             pl = obj.placement
             p_el = _sub(o_el, "placement")
             _point_attrs(p_el, pl.position.X, pl.position.Y, pl.position.Z)

@@ -148,10 +148,8 @@ class _Reader:
             source = read_declared(m.FlatTerrain, src_el)
         elif kind == "procedural":
             source = read_declared(m.ProceduralTerrain, src_el)
-        elif kind == "dem":
-            source = m.DemTerrain(src_el.get("file"))
         else:
-            source = m.MeshTerrain(src_el.get("file"))
+            source = read_declared(m.DemTerrain if kind == "dem" else m.MeshTerrain, src_el)
         self.note(source, src_el)
         around_el = el.find(q("surroundings"))
         around = None if around_el is None else around_el.get("mode")
@@ -164,11 +162,11 @@ class _Reader:
         image_el = el.find(q("image"))
         ortho_el = el.find(q("orthophoto"))
         if ortho_el is not None:
-            source = self.note(m.OrthophotoTexture(ortho_el.get("file")), ortho_el)
+            source = self.note(read_declared(m.OrthophotoTexture, ortho_el), ortho_el)
             texture = m.Texture(source, 1, 1, el.get("interpolation"))
             return self.note(texture, el)
         if image_el is not None:
-            source = self.note(m.ImageTexture(image_el.get("file")), image_el)
+            source = self.note(read_declared(m.ImageTexture, image_el), image_el)
         else:
             p = el.find(q("procedural"))
             source = self.note(read_declared(m.ProceduralTexture, p), p)
@@ -255,7 +253,7 @@ class _Reader:
         point = self.note(m.Point3(_f(p, "X"), _f(p, "Y"), _f(p, "Z")), p)
         placement = self.note(m.Placement(point, _f(p, "omega"), _f(p, "phi"), _f(p, "kappa"),
                                           _f(p, "scale")), p)
-        return self.note(m.SceneObject(el.get("name"), el.get("file"), placement), el)
+        return self.note(read_declared(m.SceneObject, el, placement=placement), el)
 
     def lighting(self, el: etree._Element) -> m.Lighting:
         sun_el, kind = next((c, k) for k in (m.Sun, m.SunPosition, m.SunOverTime)
