@@ -678,7 +678,8 @@ class FlightPlan:
     ``image_prefix``; the area, the altitude reference and the pose noise are
     hand-written parts of the reader and writer."""
 
-    camera: str = attr(doc="id of the camera flown, or the name of a rig", xsd="d:Identifier")
+    camera: str = attr(doc="id of the camera flown, or the name of a rig (e.g. a nadir camera "
+                       "or an oblique rig)", xsd="d:Identifier", factor="flight-camera")
     image_prefix: str = attr(doc="planned photos are named prefix + 5-digit number + "
                              "extension", xsd="d:Identifier")
     area: tuple[tuple[float, float], ...]

@@ -342,9 +342,6 @@ _HAND_WRITTEN: list[Factor] = [
     _F("gsd-m", "ground sample distance the flight is planned for (m/px); replaces altitude",
        "render", _float, lambda p: _plan(p).gsd_m,
        lambda p, v: _with_plan(p, gsd_m=v, altitude_agl_m=None)),
-    _F("flight-camera", "the camera id or rig name the grid flight flies (e.g. a nadir camera "
-       "or an oblique rig)", "render", str, lambda p: _plan(p).camera,
-       lambda p, v: _with_plan(p, camera=v)),
     _F("flight-geometry", "nadir (single grid), crosshatch (two grids at 90 deg, nadir) or "
        "tilted (crosshatch with the camera tilted 20 deg forward)", "render",
        _choice(*GEOMETRIES), _geometry, _set_geometry),
