@@ -8,7 +8,8 @@ HEADER = """# Element attributes
 Every declared element of a project file: each attribute's unit, range, default,
 meaning and the study factor that varies it. Made from the model's declarations by
 `python -m designer.project.attributes > docs/attributes.md` (a test checks it is
-current); the XSD (schema/designer-project-1.0.xsd) states the same.
+current); the XSD's attributes of these elements (schema/designer-project-1.0.xsd) are
+generated from the same declarations by `python -m designer.project.xsd_gen`.
 """
 
 

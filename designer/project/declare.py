@@ -11,10 +11,12 @@ and where it lives in the project). From that:
 * :mod:`designer.project.validate_declared` checks every single-field range, with the
   located message ``<tag>: name = value must be from low to high unit``;
 * the GUI builds the field's spin box (limits, suffix, tooltip) from it
-  (``designer.gui.widgets.declared_field``), and the Effects panel a whole group;
+  (``designer.gui.qt.widgets.declared_field``), and the Effects panel a whole group;
 * :mod:`designer.study.factors` makes a factor (get/set, its ``designer study factors``
-  line) of every attribute with ``factor=``;
-* :func:`attribute_table` writes the docs' table; a test compares the XSD with it.
+  line) of every attribute with ``factor=``, and a replicate draw of every seed with
+  ``draw=``;
+* :func:`attribute_table` writes the docs' table, :mod:`designer.project.xsd_gen` the
+  XSD's attributes of every declared element.
 
 Rules across fields (e.g. highest > lowest) stay hand-written beside the element's
 checks. This module is lxml-, Qt- and numpy-free: the model imports it.
@@ -31,6 +33,10 @@ from typing import Any, Literal
 
 #: how a change of a factor's value is carried out (see designer.study.factors)
 Stage = Literal["render", "processing"]
+
+#: the range of every random seed: a whole number that fits 31 bits (the replicate
+#: seeds, Qt's spin boxes)
+SEED_RANGE = (0, 2147483647)
 
 
 @dataclass(frozen=True)
@@ -55,6 +61,16 @@ class Attr:
     special: str | None = None
     #: the child element that holds the attribute (e.g. a moving object's "path")
     child: str | None = None
+    #: the XSD simple type of a text value ("d:Identifier", "xs:dateTime"; xs:string)
+    xsd: str | None = None
+    #: the value an absent XML attribute reads as, when not the field's default
+    absent: Any = None
+    #: False: ``absent`` is not given (an absent attribute reads as the field's default)
+    has_absent: bool = False
+    #: a seed: the study's replicate draw that re-seeds it (designer.study.factors.DRAWS)
+    draw: str | None = None
+    #: True: the value is the text of the child element ``<xml>``, not an attribute
+    text: bool = False
 
 
 def attr(default: Any = MISSING, *, doc: str, unit: str = "",
@@ -62,16 +78,21 @@ def attr(default: Any = MISSING, *, doc: str, unit: str = "",
          low_open: bool = False, high_open: bool = False, xml: str | None = None,
          label: str | None = None, factor: str | None = None, write_default: bool = True,
          decimals: int = 3, step: float = 0.1, special: str | None = None,
-         child: str | None = None) -> Any:
+         child: str | None = None, xsd: str | None = None, absent: Any = MISSING,
+         draw: str | None = None, text: bool = False) -> Any:
     """A dataclass field carrying its declaration: ``range`` (low, high) is inclusive
     unless ``low_open``/``high_open``; ``xml`` defaults to the field's name with ``-`` for
     ``_``; ``factor`` names the study factor that varies it; ``child`` the child element
-    the attribute sits on."""
+    the attribute sits on; ``xsd`` the XSD simple type of a text value; ``absent`` what
+    an absent XML attribute reads as when that is not the default (e.g. None); ``draw``
+    names the study's replicate draw that re-seeds a seed; ``text`` makes the value the
+    text of a child element ``<xml>`` instead of an attribute."""
     low, high = range
     meta = Attr(doc=doc, unit=unit, low=low, high=high, low_open=low_open,
                 high_open=high_open, xml=xml, label=label, factor=factor,
                 write_default=write_default, decimals=decimals, step=step, special=special,
-                child=child)
+                child=child, xsd=xsd, absent=None if absent is MISSING else absent,
+                has_absent=absent is not MISSING, draw=draw, text=text)
     return dataclasses.field(default=default, metadata={"attr": meta})
 
 
@@ -121,6 +142,11 @@ class Declared:
         return self.default is MISSING
 
     @property
+    def xml_default(self) -> Any:
+        """What an absent XML attribute reads as (MISSING: it is required)."""
+        return self.attr.absent if self.attr.has_absent else self.default
+
+    @property
     def label(self) -> str:
         return self.attr.label or self.xml.replace("-", " ")
 
@@ -141,7 +167,8 @@ class Declared:
 
     def range_text(self) -> str:
         """``from 0 to 1 m``, ``greater than 0 and at most 100 m/s``, ``one of a, b``."""
-        a = self.attr
+        a = dataclasses.replace(self.attr, low=_Bound(self.attr.low),
+                                high=_Bound(self.attr.high))
         unit = f" {a.unit}" if a.unit else ""
         if self.choices is not None:
             return "one of " + ", ".join(self.choices)
@@ -156,6 +183,20 @@ class Declared:
         low = f"greater than {a.low:g}" if a.low_open else f"at least {a.low:g}"
         return f"{low} and " + (f"below {a.high:g}" if a.high_open else
                                 f"at most {a.high:g}") + unit
+
+
+class _Bound(float):
+    """A range bound that prints whole numbers in full (a seed's 2147483647, not 2.14748e+09)
+    and others as ``:g`` does."""
+
+    def __new__(cls, value):
+        return None if value is None else super().__new__(cls, value)
+
+    def __init__(self, value):
+        self.whole = isinstance(value, int)
+
+    def __format__(self, spec: str) -> str:
+        return str(int(self)) if self.whole else format(float(self), spec)
 
 
 def element_of(cls: type) -> Element | None:
@@ -270,14 +311,25 @@ def attribute_table(cls: type) -> str:
             "| attribute | unit | range | default | meaning | study factor |",
             "|---|---|---|---|---|---|"]
     for d in declared(cls):
-        default = "required" if d.required else ("none" if d.default is None else
-                                                  str(d.default).lower()
-                                                  if isinstance(d.default, bool)
-                                                  else f"{d.default}")
+        value = d.xml_default
+        default = "required" if d.required else ("none" if value is None else
+                                                  str(value).lower()
+                                                  if isinstance(value, bool) else f"{value}")
         rng = d.range_text() if (d.choices or d.base in (int, float)) else ""
         rows.append(f"| `{d.xml}` | {d.attr.unit} | {rng} | {default} | {d.attr.doc} | "
                     f"{'`' + d.attr.factor + '`' if d.attr.factor else ''} |")
     return "\n".join(rows) + "\n"
+
+
+def element_at(root: Any, path: str) -> Any:
+    """The element at the dotted ``path`` of ``root`` (None when it, or one above it, is
+    absent)."""
+    obj = root
+    for part in path.split("."):
+        obj = getattr(obj, part)
+        if obj is None:
+            return None
+    return obj
 
 
 def value_at(root: Any, path: str, name: str) -> Any:

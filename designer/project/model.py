@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from designer.project.declare import attr, element
+from designer.project.declare import SEED_RANGE, attr, element
 from designer.project.processing import (  # noqa: F401  (part of the model's face)
     POSITION_PRIOR_SIGMAS_M,
     Calibration,
@@ -53,13 +53,22 @@ PRESET_SAMPLES = {"draft": 4, "survey": 16, "metrology": 64}
 
 
 # ---------------------------------------------------------------------- project level
+#: the range of a world coordinate X or Y, and of a world height Z (m)
+COORDINATE_RANGE = (-1e8, 1e8)
+HEIGHT_RANGE = (-12000, 100000)
+
+
+@element("origin", title="project origin", path="origin")
 @dataclass(frozen=True)
 class Origin:
     """Project origin, world frame (m), float64; Blender gets world − origin."""
 
-    E0: float
-    N0: float
-    H0: float
+    E0: float = attr(doc="easting of the origin", unit="m", range=COORDINATE_RANGE, xml="E0",
+                     decimals=3, step=1)
+    N0: float = attr(doc="northing of the origin", unit="m", range=COORDINATE_RANGE,
+                     xml="N0", decimals=3, step=1)
+    H0: float = attr(doc="height of the origin", unit="m", range=HEIGHT_RANGE, xml="H0",
+                     decimals=3, step=1)
 
 
 @dataclass(frozen=True)
@@ -72,14 +81,19 @@ class Point3:
 
 
 # ---------------------------------------------------------------------- terrain
+@element("extent", title="terrain extent", path="scene.terrain.extent")
 @dataclass(frozen=True)
 class Extent:
     """Rectangle of ground, world X/Y (m)."""
 
-    min_X: float
-    min_Y: float
-    max_X: float
-    max_Y: float
+    min_X: float = attr(doc="west edge (easting)", unit="m", range=COORDINATE_RANGE,
+                        xml="min-X")
+    min_Y: float = attr(doc="south edge (northing)", unit="m", range=COORDINATE_RANGE,
+                        xml="min-Y")
+    max_X: float = attr(doc="east edge (easting)", unit="m", range=COORDINATE_RANGE,
+                        xml="max-X")
+    max_Y: float = attr(doc="north edge (northing)", unit="m", range=COORDINATE_RANGE,
+                        xml="max-Y")
 
     @property
     def width_m(self) -> float:
@@ -93,36 +107,51 @@ class Extent:
         return self.min_X <= X <= self.max_X and self.min_Y <= Y <= self.max_Y
 
 
+@element("flat", title="flat terrain")
 @dataclass(frozen=True)
 class FlatTerrain:
-    height_m: float
+    height_m: float = attr(doc="height Z of the plane, world frame", unit="m",
+                           range=HEIGHT_RANGE)
 
 
+@element("procedural", title="procedural terrain")
 @dataclass(frozen=True)
 class ProceduralTerrain:
     """Smooth hills fixed to the world on a grid (spacing in m), inside min..max (world Z,
     m); the largest hills are ``hill_size_m`` across (:mod:`designer.scene.terrain`)."""
 
-    seed: int
-    grid_spacing_m: float
-    roughness: float
-    min_height_m: float
-    max_height_m: float
-    hill_size_m: float = 100.0
+    seed: int = attr(doc="random seed of the relief", range=SEED_RANGE)
+    grid_spacing_m: float = attr(doc="distance between grid nodes; the extent's width and "
+                                 "length must be whole multiples of it", unit="m",
+                                 range=(0, 1e6), low_open=True)
+    roughness: float = attr(doc="0 (rolling hills) to 1 (rugged ground)", range=(0, 1))
+    min_height_m: float = attr(doc="lowest terrain height, world Z", unit="m",
+                               range=HEIGHT_RANGE)
+    max_height_m: float = attr(doc="highest terrain height, world Z (at least "
+                               "min-height-m)", unit="m", range=HEIGHT_RANGE)
+    hill_size_m: float = attr(100.0, doc="wavelength of the largest hills", unit="m",
+                              range=(0, 1e6), low_open=True)
 
 
+def _file(doc: str):
+    """A declared, required file path (relative to the XML file's folder)."""
+    return attr(doc=doc, xsd="d:FilePath")
+
+
+@element("dem", title="DEM terrain")
 @dataclass(frozen=True)
 class DemTerrain:
     """A GeoTIFF or ESRI ASCII grid of world heights."""
 
-    file: str
+    file: str = _file("the DEM file, relative to this XML file's folder")
 
 
+@element("mesh", title="mesh terrain")
 @dataclass(frozen=True)
 class MeshTerrain:
     """A .ply/.obj/.stl mesh in world − origin coordinates."""
 
-    file: str
+    file: str = _file("the mesh file, relative to this XML file's folder")
 
 
 TerrainSource = FlatTerrain | ProceduralTerrain | DemTerrain | MeshTerrain
@@ -150,23 +179,27 @@ class Terrain:
 
 
 # ---------------------------------------------------------------------- texture
+@element("image", title="texture image")
 @dataclass(frozen=True)
 class ImageTexture:
-    file: str
+    file: str = _file("the texture image file, relative to this XML file's folder")
 
 
+@element("orthophoto", title="orthophoto")
 @dataclass(frozen=True)
 class OrthophotoTexture:
     """A georeferenced image (GeoTIFF) draped by its own geotransform, not tiled."""
 
-    file: str
+    file: str = _file("the orthophoto (GeoTIFF), relative to this XML file's folder")
 
 
+@element("procedural", title="procedural texture")
 @dataclass(frozen=True)
 class ProceduralTexture:
-    pattern: TexturePattern
-    seed: int
-    texel_size_m: float
+    pattern: TexturePattern = attr(doc="the generated pattern")
+    seed: int = attr(doc="random seed of the pattern", range=SEED_RANGE)
+    texel_size_m: float = attr(doc="ground size of one texel", unit="m", range=(0, 1e6),
+                               low_open=True)
 
 
 @element("variation", title="texture variation", path="scene.texture.variation")
@@ -178,7 +211,7 @@ class TextureVariation:
     one half as long); ``strength`` (0..1) the brightness swing, 1 ± strength.
     """
 
-    seed: int = attr(doc="the variation's random seed", range=(0, None))
+    seed: int = attr(doc="the variation's random seed", range=SEED_RANGE)
     scale_m: float = attr(doc="wavelength of the coarsest variation, e.g. 2-3 tiles",
                           unit="m", range=(0, 1e6), low_open=True, xml="scale-m")
     strength: float = attr(doc="brightness swing, 1 ± strength", range=(0, 1))
@@ -199,13 +232,17 @@ class Texture:
 
 
 # ---------------------------------------------------------------------- targets
+@element("true", title="true target centre")
 @dataclass(frozen=True)
 class TruePosition:
     """True target centre (world, m); ``Z=None`` drapes it on the terrain."""
 
-    X: float
-    Y: float
-    Z: float | None = None
+    X: float = attr(doc="easting of the target centre", unit="m", range=COORDINATE_RANGE,
+                    xml="X")
+    Y: float = attr(doc="northing of the target centre", unit="m", range=COORDINATE_RANGE,
+                    xml="Y")
+    Z: float | None = attr(None, doc="height of the target centre (none: on the terrain)",
+                           unit="m", range=HEIGHT_RANGE, xml="Z")
 
 
 @dataclass(frozen=True)
@@ -225,14 +262,16 @@ class SurveyedPosition:
     sigma: Sigma3
 
 
+@element("target", title="GCP target")
 @dataclass(frozen=True)
 class Target:
     """A GCP target: ``control`` georeferences, ``check`` only measures accuracy."""
 
-    id: str
-    role: Role
-    shape: TargetShape
-    size_m: float
+    id: str = attr(doc="the target's id (unique)", xsd="d:Identifier")
+    role: Role = attr(doc="control georeferences, check only measures accuracy")
+    shape: TargetShape = attr(doc="the target's pattern")
+    size_m: float = attr(doc="side (or diameter) of the target plate", unit="m",
+                         range=(0, 1e6), low_open=True, label="size", decimals=3, step=0.1)
     true: TruePosition
     surveyed: SurveyedPosition | None = None
 
@@ -263,10 +302,11 @@ class Placement:
     scale: float = 1.0
 
 
+@element("object", title="scene object")
 @dataclass(frozen=True)
 class SceneObject:
-    name: str
-    file: str
+    name: str = attr(doc="the object's name", xsd="d:Identifier")
+    file: str = _file("the mesh file, relative to this XML file's folder")
     placement: Placement
 
 
@@ -293,12 +333,12 @@ class MovingObject:
     height) is required for a box and overrides a car's or person's size.
     ``albedo_rgb`` is the linear diffuse colour."""
 
-    id: str = attr(doc="the object's id")
+    id: str = attr(doc="the object's id", xsd="d:Identifier")
     path: tuple[PathPoint, ...]
     speed_m_s: float = attr(doc="speed along the path", unit="m/s", range=(0, 100),
                             low_open=True, child="path", label="speed", decimals=2, step=0.5)
-    shape: str | None = attr("car", doc="a built-in shape (car, person, box)")
-    file: str | None = attr(None, doc="a mesh file in the object's frame")
+    shape: str | None = attr("car", doc="a built-in shape (car, person, box)", absent=None)
+    file: str | None = attr(None, doc="a mesh file in the object's frame", xsd="d:FilePath")
     size_m: tuple[float, float, float] | None = None
     start_s: float = attr(0.0, doc="when it starts along its path, after take-off", unit="s",
                           range=(0, None), child="path", write_default=False,
@@ -324,7 +364,7 @@ class Building:
     building's frame (origin at the base centre, +Y forward, +Z up, m) placed with its
     origin at ``position`` (X, Y) turned by ``heading_deg`` (clockwise from grid north)."""
 
-    id: str = attr(doc="the building's id")
+    id: str = attr(doc="the building's id", xsd="d:Identifier")
     footprint: tuple[PathPoint, ...] = ()
     roof: str = attr("flat", doc="roof shape of an extruded building (flat, gable, hip)")
     eave_height_m: float = attr(6.0, doc="wall height above the base", unit="m",
@@ -337,7 +377,8 @@ class Building:
                                              "north (none: along the longer side)",
                                              unit="deg", label="ridge direction",
                                              decimals=1, step=5)
-    file: str | None = attr(None, doc="a mesh file in the building's frame")
+    file: str | None = attr(None, doc="a mesh file in the building's frame",
+                             xsd="d:FilePath")
     position: PathPoint | None = None
     heading_deg: float = attr(0.0, doc="turn of a mesh building, clockwise from grid north",
                               unit="deg", label="heading", decimals=1, step=5)
@@ -360,8 +401,9 @@ class PlantGroup:
 
     density_per_m2: float = attr(doc="plants per m²", unit="/m²", range=(0, 100),
                                  low_open=True, label="density", decimals=4, step=0.01)
-    kind: str | None = attr("shrub", doc="a built-in plant kind (grass-tuft, shrub, tree)")
-    mesh: str | None = attr(None, doc="a mesh file in the plant's frame")
+    kind: str | None = attr("shrub", doc="a built-in plant kind (grass-tuft, shrub, tree)",
+                            absent=None)
+    mesh: str | None = attr(None, doc="a mesh file in the plant's frame", xsd="d:FilePath")
     height_m: float | None = attr(None, doc="mean plant height (none: the kind's or the "
                                   "mesh's)", unit="m", range=(0, 150), low_open=True,
                                   label="height", decimals=2, step=0.1)
@@ -401,7 +443,7 @@ class Vegetation:
     optional wind (docs/world.md, Vegetation and wind)."""
 
     plants: tuple[PlantGroup, ...]
-    seed: int = attr(0, doc="the placement's random seed", range=(0, None))
+    seed: int = attr(0, doc="the placement's random seed", range=SEED_RANGE)
     clearance_m: float = attr(0.5, doc="distance kept clear around every GCP target plate",
                               unit="m", range=(0, 100), label="clear of targets",
                               decimals=2, step=0.1)
@@ -426,7 +468,8 @@ class Sun:
 class SunPosition:
     """Sun computed for an ISO 8601 moment (with time zone) and a place (deg)."""
 
-    date_time: str = attr(doc="the moment, ISO 8601 with a time zone", label="date, time")
+    date_time: str = attr(doc="the moment, ISO 8601 with a time zone", label="date, time",
+                          xsd="xs:dateTime")
     latitude_deg: float = attr(doc="latitude of the site", unit="deg", range=(-90, 90),
                                label="latitude", decimals=5, step=0.1)
     longitude_deg: float = attr(doc="longitude of the site", unit="deg", range=(-180, 180),
@@ -475,14 +518,19 @@ class CloudShadows:
                                      "clockwise from grid north", unit="deg", range=(0, 360),
                                      high_open=True, factor="wind-direction-deg",
                                      label="wind towards", decimals=1, step=5)
-    seed: int = attr(0, doc="the cloud field's random seed", range=(0, None))
+    seed: int = attr(0, doc="the cloud field's random seed", range=SEED_RANGE,
+                     draw="clouds")
 
 
+@element("lighting", title="lighting", path="scene.lighting")
 @dataclass(frozen=True)
 class Lighting:
     sun: Sun | SunPosition | SunOverTime
-    sun_strength: float = 4.0
-    sky_strength: float = 1.0
+    sun_strength: float = attr(4.0, doc="sun irradiance in Blender units (about 3 to 5: a "
+                               "sunny day)", unit="W/m²", range=(0, 1000),
+                               label="sun strength", decimals=2, step=0.5)
+    sky_strength: float = attr(1.0, doc="multiplier of the sky light (1: a clear sky)",
+                               range=(0, 1000), label="sky strength", decimals=2, step=0.1)
     #: None: no clouds (the static ideal)
     clouds: CloudShadows | None = None
 
@@ -501,25 +549,32 @@ class Scene:
 
 
 # ---------------------------------------------------------------------- cameras
+def _coefficient(doc: str):
+    """A declared distortion coefficient: dimensionless, -1000 to 1000, default 0."""
+    return attr(0.0, doc=doc, range=(-1000, 1000), decimals=6, step=0.001)
+
+
+@element("brown-conrady", title="Brown-Conrady distortion")
 @dataclass(frozen=True)
 class BrownConradyDistortion:
     """OpenCV's (k1, k2, k3, p1, p2) on normalised computer-vision coordinates."""
 
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    p1: float = 0.0
-    p2: float = 0.0
+    k1: float = _coefficient("radial coefficient of r²")
+    k2: float = _coefficient("radial coefficient of r⁴")
+    k3: float = _coefficient("radial coefficient of r⁶")
+    p1: float = _coefficient("tangential coefficient p1 (OpenCV's order)")
+    p2: float = _coefficient("tangential coefficient p2 (OpenCV's order)")
 
 
+@element("fisheye-equidistant", title="equidistant fisheye distortion")
 @dataclass(frozen=True)
 class FisheyeEquidistantDistortion:
     """OpenCV's equidistant fisheye (k1..k4 on θ)."""
 
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    k4: float = 0.0
+    k1: float = _coefficient("coefficient of θ²")
+    k2: float = _coefficient("coefficient of θ⁴")
+    k3: float = _coefficient("coefficient of θ⁶")
+    k4: float = _coefficient("coefficient of θ⁸")
 
 
 #: the order the rows of a rolling-shutter sensor are read in
@@ -593,39 +648,76 @@ class ExteriorOrientation:
     time_s: float | None = None
 
 
+@element("pose-noise", title="pose noise", path="trajectory.flight_plan.pose_noise")
 @dataclass(frozen=True)
 class PoseNoise:
     """σ of position (m, world axes) and of rotation (deg, camera axes x, y, z)."""
 
-    sigma_X_m: float = 0.0
-    sigma_Y_m: float = 0.0
-    sigma_Z_m: float = 0.0
-    sigma_omega_deg: float = 0.0
-    sigma_phi_deg: float = 0.0
-    sigma_kappa_deg: float = 0.0
+    sigma_X_m: float = attr(0.0, doc="σ of the flown position along X (Easting)", unit="m",
+                            range=(0, 1e6), label="σ X", decimals=3, step=0.01)
+    sigma_Y_m: float = attr(0.0, doc="σ of the flown position along Y (Northing)", unit="m",
+                            range=(0, 1e6), label="σ Y", decimals=3, step=0.01)
+    sigma_Z_m: float = attr(0.0, doc="σ of the flown position along Z (height)", unit="m",
+                            range=(0, 1e6), label="σ Z", decimals=3, step=0.01)
+    sigma_omega_deg: float = attr(0.0, doc="σ of the flown rotation about the camera x axis",
+                                  unit="deg", range=(0, 90), label="σ ω", decimals=3,
+                                  step=0.01)
+    sigma_phi_deg: float = attr(0.0, doc="σ of the flown rotation about the camera y axis",
+                                unit="deg", range=(0, 90), label="σ φ", decimals=3,
+                                step=0.01)
+    sigma_kappa_deg: float = attr(0.0, doc="σ of the flown rotation about the camera z axis",
+                                  unit="deg", range=(0, 90), label="σ κ", decimals=3,
+                                  step=0.01)
 
 
+@element("flight-plan", title="grid flight plan", path="trajectory.flight_plan")
 @dataclass(frozen=True)
 class FlightPlan:
-    """A grid flight over ``area`` (world X/Y vertices, m); exactly one of altitude/GSD."""
+    """A grid flight over ``area`` (world X/Y vertices, m); exactly one of altitude/GSD.
+    Its values are the texts of child elements (``text=True``) but for ``camera`` and
+    ``image_prefix``; the area, the altitude reference and the pose noise are
+    hand-written parts of the reader and writer."""
 
-    camera: str
-    image_prefix: str
+    camera: str = attr(doc="id of the camera flown, or the name of a rig (e.g. a nadir camera "
+                       "or an oblique rig)", xsd="d:Identifier", factor="flight-camera")
+    image_prefix: str = attr(doc="planned photos are named prefix + 5-digit number + "
+                             "extension", xsd="d:Identifier")
     area: tuple[tuple[float, float], ...]
-    altitude_agl_m: float | None = None
-    gsd_m: float | None = None
-    front_overlap_percent: float = 80.0
-    side_overlap_percent: float = 70.0
-    grid_angle_deg: float = 0.0
-    crosshatch: bool = False
-    orientation: Orientation = "landscape"
-    start_corner: StartCorner = "SW"
-    terrain_following: bool = False
+    altitude_agl_m: float | None = attr(None, doc="flying height above ground level "
+                                        "(exactly one of it and gsd-m)", unit="m",
+                                        range=(0, 1e6), low_open=True, text=True,
+                                        label="altitude", decimals=2, step=1)
+    gsd_m: float | None = attr(None, doc="ground sample distance of the images at nadir "
+                               "(exactly one of it and altitude-agl-m)", unit="m/px",
+                               range=(0, 1e6), low_open=True, text=True, label="GSD",
+                               decimals=4, step=0.001)
+    front_overlap_percent: float = attr(80.0, doc="forward overlap of consecutive images",
+                                        unit="%", range=(0, 95), text=True,
+                                        factor="front-overlap-percent",
+                                        label="front overlap", decimals=1, step=5)
+    side_overlap_percent: float = attr(70.0, doc="overlap of neighbouring flight lines",
+                                       unit="%", range=(0, 95), text=True,
+                                       factor="side-overlap-percent", label="side overlap",
+                                       decimals=1, step=5)
+    grid_angle_deg: float = attr(0.0, doc="direction of the flight lines, clockwise from grid "
+                                 "north", unit="deg", range=(0, 180), high_open=True,
+                                 text=True, label="grid angle", decimals=1, step=5)
+    crosshatch: bool = attr(False, doc="fly the grid a second time at 90 degrees", text=True,
+                            factor="crosshatch")
+    orientation: Orientation = attr("landscape", doc="landscape: image top along the flight "
+                                    "direction; portrait: image right along it", text=True)
+    start_corner: StartCorner = attr("SW", doc="corner of the area where the first line "
+                                     "starts", text=True)
+    terrain_following: bool = attr(False, doc="every photo at altitude-agl-m above the "
+                                   "terrain below it", text=True)
     #: "mean" | "max" | "min" of the terrain in the area, or a world height Z (m)
     altitude_reference: str | float = "mean"
-    tilt_deg: float = 0.0
+    tilt_deg: float = attr(0.0, doc="forward camera tilt from nadir", unit="deg",
+                           range=(-80, 80), text=True, factor="tilt-deg", label="tilt",
+                           decimals=1, step=5)
     pose_noise: PoseNoise | None = None
-    random_seed: int = 0
+    random_seed: int = attr(0, doc="seed of the pose noise", range=SEED_RANGE, text=True,
+                            draw="pose-noise")
 
 
 @element("time-line", title="time line", path="trajectory.time_line")
@@ -638,7 +730,7 @@ class TimeLine:
     interval between photos (s), checked against the planned spacing."""
 
     takeoff_utc: str = attr(doc="moment of the first photo, ISO 8601 UTC",
-                            label="take-off (UTC)")
+                            label="take-off (UTC)", xsd="xs:dateTime")
     speed_m_s: float = attr(doc="ground speed along the flight lines", unit="m/s",
                             range=(0, 100), low_open=True, factor="flight-speed-m-s",
                             label="ground speed", decimals=2, step=0.5)
@@ -660,23 +752,26 @@ class Mount:
     images are named as the station's with ``suffix`` before the extension
     (IMG_00001.png → IMG_00001_F.png)."""
 
-    camera: str = attr(doc="the id of the project camera mounted")
-    suffix: str = attr(doc="added to the station's image name before the extension")
+    camera: str = attr(doc="the id of the project camera mounted", xsd="d:Identifier")
+    suffix: str = attr(doc="added to the station's image name before the extension",
+                       xsd="d:ImageSuffix")
     omega_deg: float = attr(0.0, doc="rotation about the platform's x axis", unit="deg",
-                            range=(-360, 360), xml="omega", label="ω")
+                            range=(-180, 180), xml="omega", label="ω")
     phi_deg: float = attr(0.0, doc="rotation about the platform's y axis", unit="deg",
-                          range=(-360, 360), xml="phi", label="φ")
+                          range=(-180, 180), xml="phi", label="φ")
     kappa_deg: float = attr(0.0, doc="rotation about the platform's z axis", unit="deg",
-                            range=(-360, 360), xml="kappa", label="κ")
+                            range=(-180, 180), xml="kappa", label="κ")
 
 
+@element("rig", title="camera rig")
 @dataclass(frozen=True)
 class Rig:
     """Several cameras fired together at each station (e.g. nadir + four 45° obliques);
     a photo or flight plan whose ``camera`` is the rig's ``name`` takes one image per
     mount. All mounts share the station's perspective centre."""
 
-    name: str
+    name: str = attr(doc="the rig's name, used as the camera of photos and flight plans",
+                     xsd="d:Identifier")
     mounts: tuple[Mount, ...]
 
 
@@ -780,7 +875,8 @@ class Defocus:
 class SensorNoise:
     sigma_dn: float = attr(doc="σ of additive Gaussian noise, 8-bit digital numbers",
                            unit="DN", range=(0, 100), label="σ", decimals=2, step=0.5)
-    seed: int = attr(0, doc="the noise's random seed", range=(0, None))
+    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE,
+                     draw="sensor-noise")
 
 
 @element("sensor", title="sensor (photon shot noise, dark current, read noise, ADC)",
@@ -805,7 +901,8 @@ class Sensor:
     exposure_scale: float = attr(0.8, doc="white in the render collects this × full well",
                                  unit="× full well", range=(0, 100), label="white at",
                                  decimals=3, step=0.05)
-    seed: int = attr(0, doc="the noise's random seed", range=(0, None))
+    seed: int = attr(0, doc="the noise's random seed", range=SEED_RANGE,
+                     draw="sensor-noise")
 
 
 @element("blur", title="optical blur (Gaussian)", path="effects.blur", on={"sigma_px": 0.5})
@@ -852,7 +949,8 @@ class ExposureVariation:
                                         label="white balance σ", decimals=0, step=50)
     reference_k: float = attr(5500.0, doc="colour temperature of the light", unit="K",
                               range=(2000, 12000), label="light at", decimals=0, step=100)
-    seed: int = attr(0, doc="the draws' random seed", range=(0, None))
+    seed: int = attr(0, doc="the draws' random seed", range=SEED_RANGE,
+                     draw="exposure-variation")
 
 
 @dataclass(frozen=True)
@@ -869,28 +967,53 @@ class Effects:
     exposure_variation: ExposureVariation | None = None
 
 
+@element("render", title="render settings", path="render")
 @dataclass(frozen=True)
 class Render:
-    preset: Preset = "survey"
-    samples: int | None = None
-    pixel_filter_type: PixelFilterType = "box"
-    pixel_filter_width_px: float = 1.0
-    resolution_scale: float = 1.0
-    workers: int = 1
-    output_format: ImageFormat = "png"
-    bit_depth: int = 8
-    distortion_oversample: int = 1
+    """How Cycles renders the photos: values held as child-element texts, the pixel
+    filter's and the output's as attributes of ``<pixel-filter>`` and ``<output>``."""
+
+    preset: Preset = attr("survey", doc="quality preset: Cycles samples per pixel (draft 4, "
+                          "survey 16, metrology 64)", text=True)
+    samples: int | None = attr(None, doc="Cycles samples per pixel, instead of the preset's",
+                               range=(1, 65536), text=True, label="samples")
+    pixel_filter_type: PixelFilterType = attr("box", doc="Cycles pixel filter",
+                                              child="pixel-filter", xml="type",
+                                              label="pixel filter")
+    pixel_filter_width_px: float = attr(1.0, doc="pixel filter width", unit="px",
+                                        range=(0.01, 10), child="pixel-filter",
+                                        xml="width-px", label="filter width", decimals=2,
+                                        step=0.1)
+    resolution_scale: float = attr(1.0, doc="rendered image size = camera image size × this",
+                                   range=(0, 1), low_open=True, text=True,
+                                   label="resolution scale", decimals=3, step=0.05)
+    workers: int = attr(1, doc="Blender worker processes run at once", range=(1, 256),
+                        text=True, label="workers")
+    output_format: ImageFormat = attr("png", doc="image file format of the photos",
+                                      child="output", xml="format", label="format")
+    bit_depth: int = attr(8, doc="bits per channel (png 8 or 16, jpeg 8, tiff 8, 16 or 32, "
+                          "exr 16 or 32)", range=(8, 32), child="output", xml="bit-depth",
+                          label="bit depth")
+    distortion_oversample: int = attr(1, doc="a distorted camera's pinhole render is this "
+                                      "many times larger before it is resampled",
+                                      range=(1, 4), text=True, write_default=False,
+                                      label="distortion oversample")
     #: "exif": each image carries its time (DateTimeOriginal…) from the time line
-    image_metadata: ImageMetadata = "none"
+    image_metadata: ImageMetadata = attr("none", doc="exif: each image carries its time "
+                                         "from the time line", child="output",
+                                         xml="metadata", write_default=False,
+                                         label="image metadata")
 
     @property
     def effective_samples(self) -> int:
         return self.samples if self.samples is not None else PRESET_SAMPLES[self.preset]
 
 
+@element("outputs", title="outputs", path="outputs")
 @dataclass(frozen=True)
 class Outputs:
-    directory: str = "output"
+    directory: str = attr("output", doc="output folder, relative to this XML file's folder",
+                          xsd="d:FilePath")
     ground_truth: tuple[GroundTruthFormat, ...] = ()
 
 

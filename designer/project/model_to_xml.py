@@ -50,7 +50,7 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     ``parent``: ``lead`` attributes first (fields that are not declared), then the
     declared ones in declaration order (None left out, and a default that is not to be
     written); an attribute declared on a child element goes on that child (made here,
-    the first child)."""
+    the first child), a text value in its own child element, in declaration order."""
     from designer.project.declare import declared, element_of
 
     decl = element_of(type(obj))
@@ -64,8 +64,12 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
             holder = el.find(q(d.attr.child))
             if holder is None:
                 holder = etree.SubElement(el, q(d.attr.child))
-        holder.set(d.xml, _bool(value) if d.base is bool else
-               _num(value) if d.base in (int, float) else str(value))
+        text = (_bool(value) if d.base is bool else
+                _num(value) if d.base in (int, float) else str(value))
+        if d.attr.text:
+            etree.SubElement(holder, q(d.xml)).text = text
+        else:
+            holder.set(d.xml, text)
     return el
 
 
@@ -92,32 +96,16 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     el = _sub(parent, "scene")
     terrain = _sub(el, "terrain")
     e = scene.terrain.extent
-    _sub(terrain, "extent", **{"min-X": _num(e.min_X), "min-Y": _num(e.min_Y),
-                               "max-X": _num(e.max_X), "max-Y": _num(e.max_Y)})
+    write_declared(terrain, e)
     src = scene.terrain.source
-    if isinstance(src, m.FlatTerrain):
-        _sub(terrain, "flat", height_m=_num(src.height_m))
-    elif isinstance(src, m.ProceduralTerrain):
-        _sub(terrain, "procedural", seed=_num(src.seed), grid_spacing_m=_num(src.grid_spacing_m),
-             roughness=_num(src.roughness), min_height_m=_num(src.min_height_m),
-             max_height_m=_num(src.max_height_m), hill_size_m=_num(src.hill_size_m))
-    elif isinstance(src, m.DemTerrain):
-        _sub(terrain, "dem", file=src.file)
-    else:
-        _sub(terrain, "mesh", file=src.file)
+    write_declared(terrain, src)
     if scene.terrain.surroundings is not None:
         _sub(terrain, "surroundings", mode=scene.terrain.surroundings)
 
     tex = scene.texture
     tex_el = _sub(el, "texture", interpolation=tex.interpolation)
-    if isinstance(tex.source, m.OrthophotoTexture):
-        _sub(tex_el, "orthophoto", file=tex.source.file)
-    else:
-        if isinstance(tex.source, m.ImageTexture):
-            _sub(tex_el, "image", file=tex.source.file)
-        else:
-            _sub(tex_el, "procedural", pattern=tex.source.pattern, seed=_num(tex.source.seed),
-                 texel_size_m=_num(tex.source.texel_size_m))
+    write_declared(tex_el, tex.source)  # an image, a generated pattern or an orthophoto
+    if not isinstance(tex.source, m.OrthophotoTexture):
         _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
                                   "repeat-Y": _num(tex.repeat_Y)})
         if tex.variation is not None:
@@ -131,9 +119,8 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
             _sigma_attrs(acc_el, acc.sigma)
             acc_el.set("seed", _num(acc.seed))
         for t in scene.targets.targets:
-            t_el = _sub(targets_el, "target", id=t.id, role=t.role, shape=t.shape,
-                        size_m=_num(t.size_m))
-            _point_attrs(_sub(t_el, "true"), t.true.X, t.true.Y, t.true.Z)
+            t_el = write_declared(targets_el, t)
+            write_declared(t_el, t.true)
             if t.surveyed is not None:
                 s_el = _sub(t_el, "surveyed")
                 p = t.surveyed.position
@@ -142,7 +129,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.objects:
         objects_el = _sub(el, "objects")
         for obj in scene.objects:
-            o_el = _sub(objects_el, "object", name=obj.name, file=obj.file)
+            o_el = write_declared(objects_el, obj)
             pl = obj.placement
             p_el = _sub(o_el, "placement")
             _point_attrs(p_el, pl.position.X, pl.position.Y, pl.position.Z)
@@ -169,8 +156,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
     if scene.vegetation is not None:
         _vegetation(el, scene.vegetation)
     light = scene.lighting
-    light_el = _sub(el, "lighting", sun_strength=_num(light.sun_strength),
-                    sky_strength=_num(light.sky_strength))
+    light_el = write_declared(el, light)
     write_declared(light_el, light.sun)  # a direction, a moment and place, or over time
     if light.clouds is not None:
         write_declared(light_el, light.clouds)
@@ -198,13 +184,8 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
              y_mm=_num(cam.principal_point_y_mm))
     if cam.pixel_aspect is not None:
         _sub(el, "pixel-aspect", _num(cam.pixel_aspect))
-    d = cam.distortion
-    if isinstance(d, m.BrownConradyDistortion):
-        _sub(el, "brown-conrady", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
-             p1=_num(d.p1), p2=_num(d.p2))
-    elif isinstance(d, m.FisheyeEquidistantDistortion):
-        _sub(el, "fisheye-equidistant", k1=_num(d.k1), k2=_num(d.k2), k3=_num(d.k3),
-             k4=_num(d.k4))
+    if cam.distortion is not None:
+        write_declared(el, cam.distortion)
     if cam.rolling_shutter is not None:
         write_declared(el, cam.rolling_shutter)
 
@@ -212,7 +193,7 @@ def _camera(parent: etree._Element, cam: m.Camera) -> None:
 def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
     el = _sub(parent, "trajectory")
     for rig in traj.rigs:
-        rig_el = _sub(el, "rig", name=rig.name)
+        rig_el = write_declared(el, rig)
         for mount in rig.mounts:
             write_declared(rig_el, mount)
     if traj.exterior_orientations:
@@ -252,31 +233,18 @@ def _pattern(el: etree._Element, p: m.FlightPattern) -> None:
 
 
 def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
-    fp_el = _sub(el, "flight-plan", camera=fp.camera, image_prefix=fp.image_prefix)
-    area = _sub(fp_el, "area")
+    fp_el = write_declared(el, fp)  # camera, image-prefix; the values as child elements
+    area = etree.Element(q("area"))
+    fp_el.insert(0, area)
     for X, Y in fp.area:
         _sub(area, "vertex", X=_num(X), Y=_num(Y))
-    if fp.altitude_agl_m is not None:
-        _sub(fp_el, "altitude-agl-m", _num(fp.altitude_agl_m))
-    else:
-        _sub(fp_el, "gsd-m", _num(fp.gsd_m))
-    _sub(fp_el, "front-overlap-percent", _num(fp.front_overlap_percent))
-    _sub(fp_el, "side-overlap-percent", _num(fp.side_overlap_percent))
-    _sub(fp_el, "grid-angle-deg", _num(fp.grid_angle_deg))
-    _sub(fp_el, "crosshatch", _bool(fp.crosshatch))
-    _sub(fp_el, "orientation", fp.orientation)
-    _sub(fp_el, "start-corner", fp.start_corner)
-    _sub(fp_el, "terrain-following", _bool(fp.terrain_following))
     reference = fp.altitude_reference
-    _sub(fp_el, "altitude-reference", reference if isinstance(reference, str) else _num(reference))
-    _sub(fp_el, "tilt-deg", _num(fp.tilt_deg))
+    fp_el.find(q("tilt-deg")).addprevious(etree.Element(q("altitude-reference")))
+    fp_el.find(q("altitude-reference")).text = (reference if isinstance(reference, str)
+                                                else _num(reference))
     if fp.pose_noise is not None:
-        n = fp.pose_noise
-        _sub(fp_el, "pose-noise", **{
-            "sigma-X-m": _num(n.sigma_X_m), "sigma-Y-m": _num(n.sigma_Y_m),
-            "sigma-Z-m": _num(n.sigma_Z_m), "sigma-omega-deg": _num(n.sigma_omega_deg),
-            "sigma-phi-deg": _num(n.sigma_phi_deg), "sigma-kappa-deg": _num(n.sigma_kappa_deg)})
-    _sub(fp_el, "random-seed", _num(fp.random_seed))
+        noise = write_declared(fp_el, fp.pose_noise)
+        fp_el.find(q("random-seed")).addprevious(noise)
 
 
 def _effects(parent: etree._Element, fx: m.Effects) -> None:
@@ -284,21 +252,6 @@ def _effects(parent: etree._Element, fx: m.Effects) -> None:
     for f in dataclasses.fields(fx):  # in the schema's order, the model's field order
         if getattr(fx, f.name) is not None:
             write_declared(el, getattr(fx, f.name))
-
-def _render(parent: etree._Element, r: m.Render) -> None:
-    el = _sub(parent, "render")
-    _sub(el, "preset", r.preset)
-    if r.samples is not None:
-        _sub(el, "samples", _num(r.samples))
-    _sub(el, "pixel-filter", type=r.pixel_filter_type, width_px=_num(r.pixel_filter_width_px))
-    _sub(el, "resolution-scale", _num(r.resolution_scale))
-    _sub(el, "workers", _num(r.workers))
-    out = _sub(el, "output", format=r.output_format, bit_depth=_num(r.bit_depth))
-    if r.image_metadata != "none":
-        out.set("metadata", r.image_metadata)
-    if r.distortion_oversample != 1:
-        _sub(el, "distortion-oversample", _num(r.distortion_oversample))
-
 
 def _processing(parent: etree._Element, p: m.Processing) -> None:
     el = _sub(parent, "processing")
@@ -324,8 +277,7 @@ def project_to_tree(project: m.Project) -> etree._Element:
     if project.description is not None:
         _sub(root, "description", project.description)
     _sub(root, "crs", project.crs)
-    o = project.origin
-    _sub(root, "origin", E0=_num(o.E0), N0=_num(o.N0), H0=_num(o.H0))
+    write_declared(root, project.origin)
     _scene(root, project.scene)
     cameras = _sub(root, "cameras")
     for cam in project.cameras:
@@ -333,8 +285,8 @@ def project_to_tree(project: m.Project) -> etree._Element:
     _trajectory(root, project.trajectory)
     if project.effects is not None:
         _effects(root, project.effects)
-    _render(root, project.render)
-    outputs = _sub(root, "outputs", directory=project.outputs.directory)
+    write_declared(root, project.render)
+    outputs = write_declared(root, project.outputs)
     for fmt in project.outputs.ground_truth:
         _sub(outputs, "ground-truth", format=fmt)
     if project.processing is not None:

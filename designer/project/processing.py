@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from designer.project.declare import attr, element
+from designer.project.declare import SEED_RANGE, attr, element
 
 CalibrationMode = Literal["fixed", "focal", "focal-principal-point", "radial", "full"]
 GcpMode = Literal["none", "similarity", "bundle"]
@@ -49,7 +49,8 @@ class PreCalibrationError:
                      decimals=5, step=0.0001)
     p2: float = attr(0.0, doc="σ of the starting p2 error", range=(0, 1e6), label="p2 σ",
                      decimals=5, step=0.0001)
-    seed: int = attr(0, doc="the errors' random seed", range=(0, None))
+    seed: int = attr(0, doc="the errors' random seed", range=SEED_RANGE,
+                     draw="pre-calibration")
 
 
 @element("calibration", title="calibration", path="processing.calibration",
@@ -82,7 +83,7 @@ class ControlSelection:
     spread: Literal["even", "random"] = attr("even", doc="how control-count GCPs are chosen "
                                              "(even: spread over the area)",
                                              factor="control-spread", label="spread")
-    seed: int = attr(0, doc="the random choice's seed", range=(0, None))
+    seed: int = attr(0, doc="the random choice's seed", range=SEED_RANGE)
 
 
 @element("gcps", title="GCPs", path="processing.gcps", stage="processing")
@@ -96,7 +97,8 @@ class GcpProcessing:
                                    "axis", unit="px", range=(0, 50),
                                    factor="marking-sigma-px", label="marking σ", decimals=2,
                                    step=0.1)
-    seed: int = attr(0, doc="the marking error's random seed", range=(0, None))
+    seed: int = attr(0, doc="the marking error's random seed", range=SEED_RANGE,
+                     draw="marking-error")
     control: ControlSelection | None = None
 
 
@@ -116,7 +118,8 @@ class PositionPrior:
                                           "(none: the mode's)", unit="m", range=(0, 1000),
                                           low_open=True, label="σ vertical", decimals=3,
                                           step=0.01)
-    seed: int = attr(0, doc="the position errors' random seed", range=(0, None))
+    seed: int = attr(0, doc="the position errors' random seed", range=SEED_RANGE,
+                     draw="position-prior")
 
     @property
     def sigmas_m(self) -> tuple[float, float]:

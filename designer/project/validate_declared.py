@@ -29,14 +29,16 @@ def element_issues(obj) -> list[Issue]:
         value = getattr(obj, d.name)
         if d.in_range(value):
             continue
-        tag = d.attr.child or el.tag
         if d.choices is not None:
             text = (f"{d.xml} = {value!r} is not one of {', '.join(d.choices)}; "
                     "use one of them")
-            out.append(Issue(obj, tag, text, attr=d.xml, key=d.attr.child, code="choice",
-                             value=value, choices=d.choices))
+            fields = {"code": "choice", "value": value, "choices": d.choices}
         else:
             text = f"{d.xml} = {value!r} must be {d.range_text()}"
-            out.append(Issue(obj, tag, text, attr=d.xml, key=d.attr.child, code="range",
-                             value=value, limits=(d.attr.low, d.attr.high)))
+            fields = {"code": "range", "value": value, "limits": (d.attr.low, d.attr.high)}
+        if d.attr.text:  # the value is the text of the child element <xml>
+            out.append(Issue(obj, d.xml, text, **fields))
+        else:
+            out.append(Issue(obj, d.attr.child or el.tag, text, attr=d.xml, key=d.attr.child,
+                             **fields))
     return out

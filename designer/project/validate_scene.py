@@ -69,9 +69,6 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
             out.append(Issue(src, "procedural", f"min-height-m {src.min_height_m!r} is above "
                              f"max-height-m {src.max_height_m!r}; swap them",
                              attr="min-height-m"))
-        if not 0 <= src.roughness <= 1:
-            out.append(Issue(src, "procedural", f"roughness {src.roughness!r} must be from 0 "
-                             "to 1", attr="roughness"))
         out += _grid(src, e)
     elif isinstance(src, m.DemTerrain) and base is not None:
         path = resolve(base, src.file)
@@ -139,9 +136,8 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     elif isinstance(src, m.ImageTexture):
         if base is not None:
             out += file_issue(src, "image", image_problem(resolve(base, src.file)))
-    elif not (src.texel_size_m > 0):
-        out.append(Issue(src, "procedural", "texel-size-m must be > 0 m", attr="texel-size-m"))
-    elif out == [] and extent.width_m > 0 and extent.length_m > 0:
+    elif out == [] and src.texel_size_m > 0 and extent.width_m > 0 and extent.length_m > 0:
+        # (a texel size of 0 or less: the declared range, validate_declared)
         tile = max(extent.width_m / tex.repeat_X, extent.length_m / tex.repeat_Y)
         texels = tile / src.texel_size_m
         if texels > MAX_TEXTURE_TEXELS:
@@ -172,10 +168,7 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
             reported.add(t.id)
             out.append(Issue(t, "target", f"GCP id '{t.id}' is used by {counts[t.id]} targets; "
                                           "give each target its own id", attr="id"))
-        if t.role not in ("control", "check"):
-            out.append(Issue(t, "target", "role must be 'control' or 'check'", attr="role"))
-        if not (t.size_m > 0):
-            out.append(Issue(t, "target", "size-m must be > 0 m", attr="size-m"))
+        # role, shape and size: their declared ranges (validate_declared)
         if is_ok(t.true.X) and is_ok(t.true.Y) and not extent.contains(t.true.X, t.true.Y):
             out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {plain_m(t.true.X)}, Y "
                              f"{plain_m(t.true.Y)} lies outside the terrain extent "
@@ -209,11 +202,7 @@ def _objects(objects: tuple[m.SceneObject, ...], base: Path | None) -> list[Issu
 
 
 def _lighting(light: m.Lighting) -> list[Issue]:
-    out = []
-    for name, value in (("sun-strength", light.sun_strength),
-                        ("sky-strength", light.sky_strength)):
-        if not (value >= 0):
-            out.append(Issue(light, "lighting", f"{name} must be >= 0", attr=name))
+    out = []  # the strengths' ranges: validate_declared
     sun = light.sun  # the angles' ranges: validate_declared
     if isinstance(sun, m.Sun | m.SunOverTime):  # over time: with the time line (validate_world)
         return out

@@ -171,37 +171,14 @@ def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
                                                          bool(project.trajectory.rigs)),
                          attr="camera"))
     out += _area(project, fp)
+    # the ranges of altitude, GSD, overlaps, angles and choices are declared
+    # (designer.project.validate_declared)
     if (fp.altitude_agl_m is None) == (fp.gsd_m is None):
         out.append(Issue(fp, "flight-plan", "give exactly one of <altitude-agl-m> and <gsd-m>"))
-    elif fp.altitude_agl_m is not None and not (is_ok(fp.altitude_agl_m)
-                                                and fp.altitude_agl_m > 0):
-        out.append(Issue(fp, "altitude-agl-m", f"altitude {fp.altitude_agl_m!r} m must be "
-                                               "greater than 0 m above ground"))
-    elif fp.gsd_m is not None and not (is_ok(fp.gsd_m) and fp.gsd_m > 0):
-        out.append(Issue(fp, "gsd-m", f"GSD {fp.gsd_m!r} m must be greater than 0"))
-    for tag, value in (("front-overlap-percent", fp.front_overlap_percent),
-                       ("side-overlap-percent", fp.side_overlap_percent)):
-        if not 0 <= value <= 95:
-            out.append(Issue(fp, tag, f"overlap {value!r} % must be from 0 to 95 %"))
-    if not 0 <= fp.grid_angle_deg < 180:
-        out.append(Issue(fp, "grid-angle-deg", "the grid angle must be from 0 to less than "
-                                               "180 degrees"))
-    if not -80 <= fp.tilt_deg <= 80:
-        out.append(Issue(fp, "tilt-deg", "the tilt must be from -80 to 80 degrees (0 = nadir)"))
-    if fp.orientation not in ("landscape", "portrait"):
-        out.append(Issue(fp, "orientation", "orientation must be landscape or portrait"))
-    if fp.start_corner not in ("SW", "SE", "NW", "NE"):
-        out.append(Issue(fp, "start-corner", "start-corner must be SW, SE, NW or NE"))
     ref = fp.altitude_reference
     if not (ref in ("mean", "max", "min") if isinstance(ref, str) else is_ok(ref)):
         out.append(Issue(fp, "altitude-reference", f"altitude reference {ref!r} must be mean, "
                                                    "max, min or a finite height in m"))
-    if fp.pose_noise is not None:
-        for name, value in vars(fp.pose_noise).items():
-            if not (math.isfinite(value) and value >= 0):
-                attr = name.replace("_", "-")
-                out.append(Issue(fp.pose_noise, "pose-noise", f"{attr} = {value!r} must be a "
-                                 "finite number >= 0", attr=attr))
     pattern = re.compile(rf"{re.escape(fp.image_prefix)}\d{{4,}}(\.\w+)?$")
     clash = next((p for p in project.trajectory.exterior_orientations
                   if pattern.match(p.name)), None)
@@ -271,23 +248,10 @@ def _vignetting_gain_issues(v) -> list[Issue]:
 
 def render_output_issues(project: m.Project) -> list[Issue]:
     r, out = project.render, []
-    if r.preset not in ("draft", "survey", "metrology"):
-        out.append(Issue(r, "preset", "the preset must be draft, survey or metrology"))
-    if r.samples is not None and not 1 <= r.samples <= 65536:
-        out.append(Issue(r, "samples", f"samples = {r.samples!r} must be from 1 to 65536"))
-    if not (math.isfinite(r.pixel_filter_width_px) and 0.01 <= r.pixel_filter_width_px <= 10):
-        out.append(Issue(r, "pixel-filter", "width-px must be from 0.01 to 10 px",
-                         attr="width-px"))
-    if not (math.isfinite(r.resolution_scale) and 0 < r.resolution_scale <= 1):
-        out.append(Issue(r, "resolution-scale", f"resolution scale {r.resolution_scale!r} must "
-                                                "be greater than 0 and at most 1"))
-    if not 1 <= r.workers <= 256:
-        out.append(Issue(r, "workers", f"workers = {r.workers!r} must be from 1 to 256"))
+    # preset, samples, filter, scale, workers and their choices are declared
+    # (designer.project.validate_declared); the bit depth each format allows is not
     depths = BIT_DEPTHS.get(r.output_format)
-    if depths is None:
-        out.append(Issue(r, "output", f"unknown output format '{r.output_format}'; use png, "
-                                      "jpeg, tiff or exr", attr="format"))
-    elif r.bit_depth not in depths:
+    if depths is not None and r.bit_depth not in depths:
         out.append(Issue(r, "output", f"{r.output_format} images cannot have {r.bit_depth} "
                          f"bits per channel; use bit-depth " + " or ".join(map(str, depths)),
                          attr="bit-depth"))

@@ -47,15 +47,24 @@ def _bool(text: str) -> bool:
 
 def read_declared(cls, el: etree._Element, **given):
     """An instance of the declared element class ``cls`` from the attributes of ``el``
-    (designer.project.declare): absent ones take their defaults; ``given`` supplies the
-    fields that are not attributes (children)."""
+    (designer.project.declare) and the texts of its declared text children: absent ones
+    take their defaults; ``given`` supplies the fields that are not declared (children)."""
     from designer.project.declare import declared
 
     values = dict(given)
     for d in declared(cls):
         holder = el if d.attr.child is None else el.find(q(d.attr.child))
-        raw = None if holder is None else holder.get(d.xml)
-        if d.name in values or raw is None:
+        if holder is None:
+            raw = None
+        elif d.attr.text:
+            raw = _text(holder.find(q(d.xml)))
+        else:
+            raw = holder.get(d.xml)
+        if d.name in values:
+            continue
+        if raw is None:
+            if d.attr.has_absent:
+                values[d.name] = d.attr.absent
             continue
         if d.base is bool:
             values[d.name] = _bool(raw)
@@ -84,8 +93,7 @@ class _Reader:
     # ----------------------------------------------------------------- project
     def project(self, root: etree._Element) -> m.Project:
         origin_el = root.find(q("origin"))
-        origin = self.note(m.Origin(_f(origin_el, "E0"), _f(origin_el, "N0"),
-                                    _f(origin_el, "H0")), origin_el)
+        origin = self.note(read_declared(m.Origin, origin_el), origin_el)
         effects_el = root.find(q("effects"))
         processing_el = root.find(q("processing"))
         project = m.Project(
@@ -131,25 +139,17 @@ class _Reader:
 
     def terrain(self, el: etree._Element) -> m.Terrain:
         ext_el = el.find(q("extent"))
-        extent = self.note(m.Extent(_f(ext_el, "min-X"), _f(ext_el, "min-Y"),
-                                    _f(ext_el, "max-X"), _f(ext_el, "max-Y")), ext_el)
+        extent = self.note(read_declared(m.Extent, ext_el), ext_el)
         src_el = ext_el.getnext()
         while not isinstance(src_el.tag, str):
             src_el = src_el.getnext()
         kind = etree.QName(src_el).localname
         if kind == "flat":
-            source = m.FlatTerrain(_f(src_el, "height-m"))
+            source = read_declared(m.FlatTerrain, src_el)
         elif kind == "procedural":
-            source = m.ProceduralTerrain(
-                seed=int(src_el.get("seed")), grid_spacing_m=_f(src_el, "grid-spacing-m"),
-                roughness=_f(src_el, "roughness"),
-                min_height_m=_f(src_el, "min-height-m"), max_height_m=_f(src_el, "max-height-m"),
-                **({} if src_el.get("hill-size-m") is None
-                   else {"hill_size_m": _f(src_el, "hill-size-m")}))
-        elif kind == "dem":
-            source = m.DemTerrain(src_el.get("file"))
+            source = read_declared(m.ProceduralTerrain, src_el)
         else:
-            source = m.MeshTerrain(src_el.get("file"))
+            source = read_declared(m.DemTerrain if kind == "dem" else m.MeshTerrain, src_el)
         self.note(source, src_el)
         around_el = el.find(q("surroundings"))
         around = None if around_el is None else around_el.get("mode")
@@ -162,15 +162,14 @@ class _Reader:
         image_el = el.find(q("image"))
         ortho_el = el.find(q("orthophoto"))
         if ortho_el is not None:
-            source = self.note(m.OrthophotoTexture(ortho_el.get("file")), ortho_el)
+            source = self.note(read_declared(m.OrthophotoTexture, ortho_el), ortho_el)
             texture = m.Texture(source, 1, 1, el.get("interpolation"))
             return self.note(texture, el)
         if image_el is not None:
-            source = self.note(m.ImageTexture(image_el.get("file")), image_el)
+            source = self.note(read_declared(m.ImageTexture, image_el), image_el)
         else:
             p = el.find(q("procedural"))
-            source = self.note(m.ProceduralTexture(
-                p.get("pattern"), int(p.get("seed")), _f(p, "texel-size-m")), p)
+            source = self.note(read_declared(m.ProceduralTexture, p), p)
         tiling = el.find(q("tiling"))
         var_el = el.find(q("variation"))
         variation = None
@@ -196,16 +195,14 @@ class _Reader:
 
     def target(self, el: etree._Element) -> m.Target:
         true_el = el.find(q("true"))
-        true = self.note(m.TruePosition(_f(true_el, "X"), _f(true_el, "Y"),
-                                        _opt_f(true_el, "Z")), true_el)
+        true = self.note(read_declared(m.TruePosition, true_el), true_el)
         s_el = el.find(q("surveyed"))
         surveyed = None
         if s_el is not None:
             point = self.note(m.Point3(_f(s_el, "X"), _f(s_el, "Y"), _f(s_el, "Z")), s_el)
             sigma = self.note(self._sigma(s_el), s_el)
             surveyed = self.note(m.SurveyedPosition(point, sigma), s_el)
-        target = m.Target(el.get("id"), el.get("role"), el.get("shape"), _f(el, "size-m"),
-                          true, surveyed)
+        target = read_declared(m.Target, el, true=true, surveyed=surveyed)
         return self.note(target, el)
 
     def moving_object(self, el: etree._Element) -> m.MovingObject:
@@ -215,7 +212,7 @@ class _Reader:
         size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
         albedo = el.get("albedo-rgb")
         obj = read_declared(
-            m.MovingObject, el, path=points, shape=el.get("shape"),  # absent: no shape
+            m.MovingObject, el, path=points,
             size_m=None if all(v is None for v in size) else size,
             albedo_rgb=m.MovingObject.albedo_rgb if albedo is None else _numbers(albedo))
         self.note(obj, path_el, "path")
@@ -242,7 +239,7 @@ class _Reader:
         for g in el.iterchildren(q("plants")):
             albedo = g.get("albedo-rgb")
             groups.append(self.note(read_declared(
-                m.PlantGroup, g, kind=g.get("kind"),  # absent: no kind (a mesh group)
+                m.PlantGroup, g,
                 albedo_rgb=None if albedo is None else _numbers(albedo)), g))
         wind_el = el.find(q("wind"))
         wind = None
@@ -256,7 +253,7 @@ class _Reader:
         point = self.note(m.Point3(_f(p, "X"), _f(p, "Y"), _f(p, "Z")), p)
         placement = self.note(m.Placement(point, _f(p, "omega"), _f(p, "phi"), _f(p, "kappa"),
                                           _f(p, "scale")), p)
-        return self.note(m.SceneObject(el.get("name"), el.get("file"), placement), el)
+        return self.note(read_declared(m.SceneObject, el, placement=placement), el)
 
     def lighting(self, el: etree._Element) -> m.Lighting:
         sun_el, kind = next((c, k) for k in (m.Sun, m.SunPosition, m.SunOverTime)
@@ -267,7 +264,7 @@ class _Reader:
         c = el.find(q("cloud-shadows"))
         if c is not None:
             clouds = self.note(read_declared(m.CloudShadows, c), c)
-        lighting = m.Lighting(sun, _f(el, "sun-strength"), _f(el, "sky-strength"), clouds)
+        lighting = read_declared(m.Lighting, el, sun=sun, clouds=clouds)
         return self.note(lighting, el)
 
     # ----------------------------------------------------------------- cameras
@@ -280,11 +277,9 @@ class _Reader:
         bc = el.find(q("brown-conrady"))
         fe = el.find(q("fisheye-equidistant"))
         if bc is not None:
-            distortion = self.note(m.BrownConradyDistortion(
-                *(_f(bc, k) for k in ("k1", "k2", "k3", "p1", "p2"))), bc)
+            distortion = self.note(read_declared(m.BrownConradyDistortion, bc), bc)
         elif fe is not None:
-            distortion = self.note(m.FisheyeEquidistantDistortion(
-                *(_f(fe, k) for k in ("k1", "k2", "k3", "k4"))), fe)
+            distortion = self.note(read_declared(m.FisheyeEquidistantDistortion, fe), fe)
         camera = m.Camera(
             id=el.get("id"),
             name=_text(el.find(q("name"))),
@@ -333,7 +328,7 @@ class _Reader:
             mount = read_declared(m.Mount, mount_el)
             self.smap.add(mount, "mount", mount_el.sourceline)
             mounts.append(mount)
-        return self.note(m.Rig(el.get("name"), tuple(mounts)), el)
+        return self.note(read_declared(m.Rig, el, mounts=tuple(mounts)), el)
 
     def pattern(self, el: etree._Element) -> m.FlightPattern:
         common = (el.get("camera"), el.get("image-prefix"))
@@ -368,31 +363,12 @@ class _Reader:
         noise_el = el.find(q("pose-noise"))
         noise = None
         if noise_el is not None:
-            noise = self.note(m.PoseNoise(*(_f(noise_el, f"sigma-{k}") for k in (
-                "X-m", "Y-m", "Z-m", "omega-deg", "phi-deg", "kappa-deg"))), noise_el)
-        altitude = _text(el.find(q("altitude-agl-m")))
+            noise = self.note(read_declared(m.PoseNoise, noise_el), noise_el)
         reference = _text(el.find(q("altitude-reference")))
         if reference is not None and reference not in ("mean", "max", "min"):
             reference = float(reference)
-        gsd = _text(el.find(q("gsd-m")))
-        plan = m.FlightPlan(
-            camera=el.get("camera"),
-            image_prefix=el.get("image-prefix"),
-            area=tuple(vertices),
-            altitude_agl_m=None if altitude is None else float(altitude),
-            gsd_m=None if gsd is None else float(gsd),
-            front_overlap_percent=float(_text(el.find(q("front-overlap-percent")))),
-            side_overlap_percent=float(_text(el.find(q("side-overlap-percent")))),
-            grid_angle_deg=float(_text(el.find(q("grid-angle-deg")))),
-            crosshatch=_bool(_text(el.find(q("crosshatch")))),
-            orientation=_text(el.find(q("orientation"))) or "landscape",
-            start_corner=_text(el.find(q("start-corner"))) or "SW",
-            terrain_following=_bool(_text(el.find(q("terrain-following")))),
-            altitude_reference="mean" if reference is None else reference,
-            tilt_deg=float(_text(el.find(q("tilt-deg")))),
-            pose_noise=noise,
-            random_seed=int(_text(el.find(q("random-seed")))),
-        )
+        plan = read_declared(m.FlightPlan, el, area=tuple(vertices), pose_noise=noise,
+                             altitude_reference="mean" if reference is None else reference)
         self.note(plan, el)
         self.child_lines(plan, el)
         for key, line in plan_key_lines:
@@ -412,28 +388,14 @@ class _Reader:
         return self.note(effects, el)
 
     def render(self, el: etree._Element) -> m.Render:
-        pf = el.find(q("pixel-filter"))
-        out = el.find(q("output"))
-        samples = _text(el.find(q("samples")))
-        render = m.Render(
-            preset=_text(el.find(q("preset"))),
-            samples=None if samples is None else int(samples),
-            pixel_filter_type=pf.get("type"),
-            pixel_filter_width_px=_f(pf, "width-px"),
-            resolution_scale=float(_text(el.find(q("resolution-scale")))),
-            workers=int(_text(el.find(q("workers")))),
-            output_format=out.get("format"),
-            bit_depth=int(out.get("bit-depth")),
-            distortion_oversample=int(_text(el.find(q("distortion-oversample"))) or 1),
-            image_metadata=out.get("metadata", "none"),
-        )
+        render = read_declared(m.Render, el)
         self.note(render, el)
         self.child_lines(render, el)
         return render
 
     def outputs(self, el: etree._Element) -> m.Outputs:
         formats = tuple(g.get("format") for g in el.iterchildren(q("ground-truth")))
-        outputs = self.note(m.Outputs(el.get("directory"), formats), el)
+        outputs = self.note(read_declared(m.Outputs, el, ground_truth=formats), el)
         for i, g in enumerate(el.iterchildren(q("ground-truth"))):
             self.smap.add(outputs, f"ground-truth:{i}", g.sourceline)
         return outputs

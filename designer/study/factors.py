@@ -342,19 +342,6 @@ _HAND_WRITTEN: list[Factor] = [
     _F("gsd-m", "ground sample distance the flight is planned for (m/px); replaces altitude",
        "render", _float, lambda p: _plan(p).gsd_m,
        lambda p, v: _with_plan(p, gsd_m=v, altitude_agl_m=None)),
-    _F("front-overlap-percent", "forward overlap of consecutive images (%)", "render", _float,
-       lambda p: _plan(p).front_overlap_percent,
-       lambda p, v: _with_plan(p, front_overlap_percent=v)),
-    _F("side-overlap-percent", "overlap of neighbouring flight lines (%)", "render", _float,
-       lambda p: _plan(p).side_overlap_percent,
-       lambda p, v: _with_plan(p, side_overlap_percent=v)),
-    _F("crosshatch", "fly the grid a second time at 90 degrees (true/false)", "render", _bool,
-       lambda p: _plan(p).crosshatch, lambda p, v: _with_plan(p, crosshatch=v)),
-    _F("tilt-deg", "forward camera tilt from nadir (deg)", "render", _float,
-       lambda p: _plan(p).tilt_deg, lambda p, v: _with_plan(p, tilt_deg=v)),
-    _F("flight-camera", "the camera id or rig name the grid flight flies (e.g. a nadir camera "
-       "or an oblique rig)", "render", str, lambda p: _plan(p).camera,
-       lambda p, v: _with_plan(p, camera=v)),
     _F("flight-geometry", "nadir (single grid), crosshatch (two grids at 90 deg, nadir) or "
        "tilted (crosshatch with the camera tilted 20 deg forward)", "render",
        _choice(*GEOMETRIES), _geometry, _set_geometry),
@@ -490,23 +477,9 @@ def _without_clouds(p: m.Project) -> m.Project:
     return _set_clouds(p, None)
 
 
-def _seed_clouds(p: m.Project, seed: int) -> m.Project:
-    return _with_clouds(p, seed=seed) if _clouds_on(p) else p
-
-
 # ------------------------------------------------------------------ replicate draws
 def _seed_survey(p: m.Project, seed: int) -> m.Project:
     return _with_survey(p, replace(_survey(p), seed=seed))
-
-
-def _seed_sensor(p: m.Project, seed: int) -> m.Project:
-    fx = _effects(p)
-    changes = {}
-    if fx.sensor_noise is not None:
-        changes["sensor_noise"] = replace(fx.sensor_noise, seed=seed)
-    if fx.sensor is not None:
-        changes["sensor"] = replace(fx.sensor, seed=seed)
-    return _with_effects(p, **changes) if changes else p
 
 
 def _seed_selection(p: m.Project, seed: int) -> m.Project:
@@ -515,19 +488,49 @@ def _seed_selection(p: m.Project, seed: int) -> m.Project:
     return _with_control(p, spread="random", seed=seed)
 
 
-#: random draws a replicate can re-seed: name → (documentation, how to set the seed)
-DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
-    "pose-noise": ("the flown positions and attitudes (flight-plan random-seed)",
-                   lambda p, s: _with_plan(p, random_seed=s)),
+_HAND_WRITTEN_DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
+    # the survey's seed is not a declared attribute
     "survey-error": ("the simulated survey of the GCPs", _seed_survey),
-    "marking-error": ("the GCP marking error in the images",
-                      lambda p, s: _with_gcps(p, seed=s)),
-    "sensor-noise": ("the sensor noise of the images", _seed_sensor),
-    "clouds": ("the cloud field of the drifting cloud shadows", _seed_clouds),
+    # more than a seed: a drawn selection is a random one
     "gcp-selection": ("which GCPs are control (a control-count drawn at random)",
                       _seed_selection),
-    "position-prior": ("the errors of the measured camera positions",
-                       lambda p, s: _with_prior(p, seed=s)),
-    "pre-calibration": ("the starting interior-orientation errors",
-                        lambda p, s: _with_precal(p, seed=s)),
 }
+
+
+def _declared_draws() -> dict[str, tuple[str, Callable[[m.Project, int], m.Project]]]:
+    """A draw of every name some seed declares with ``draw=`` (designer.project.declare):
+    it sets each such seed of the elements the project has (a project without them has
+    nothing to re-draw)."""
+    seeds: dict[str, list[tuple[str, str, str]]] = {}
+    for cls in declare.declared_elements(m.Project):
+        el = declare.element_of(cls)
+        for d in declare.declared(cls):
+            if d.attr.draw is not None:
+                if el.path is None:
+                    raise RuntimeError(f"{cls.__name__}.{d.name} declares draw "
+                                       f"{d.attr.draw!r} but <{el.tag}> has no path")
+                seeds.setdefault(d.attr.draw, []).append(
+                    (el.path, d.name, f"<{el.tag}> {d.xml}"))
+
+    def reseed(p: m.Project, seed: int, where: list[tuple[str, str, str]]) -> m.Project:
+        for path, name, _ in where:
+            if declare.element_at(p, path) is not None:
+                p = declare.with_value(p, path, name, seed)
+        return p
+
+    return {name: ("the " + " and ".join(w for _, _, w in where),
+                   lambda p, s, where=where: reseed(p, s, where))
+            for name, where in seeds.items()}
+
+
+def _all_draws() -> dict[str, tuple[str, Callable[[m.Project, int], m.Project]]]:
+    draws = dict(_HAND_WRITTEN_DRAWS)
+    for name, draw in _declared_draws().items():
+        if name in draws:
+            raise RuntimeError(f"replicate draw {name!r} is defined twice")
+        draws[name] = draw
+    return draws
+
+
+#: random draws a replicate can re-seed: name → (documentation, how to set the seed)
+DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = _all_draws()

@@ -8,13 +8,14 @@ from datetime import datetime, timedelta, timezone
 from hypothesis import strategies as st
 
 from designer.project import model as m
+from designer.project.declare import SEED_RANGE
 
 identifiers = st.from_regex(r"[A-Za-z0-9][A-Za-z0-9_.+\-]{0,15}", fullmatch=True)
 texts = (st.text(st.characters(categories=("L", "N", "P", "S", "Zs")), min_size=1, max_size=30)
          .map(str.strip).filter(bool))
 paths = st.from_regex(r"[a-z]{1,8}(/[a-z0-9_]{1,8})?\.(png|jpg|ply|obj|stl|asc|tif)",
                       fullmatch=True)
-seeds = st.integers(0, 2**32 - 1)
+seeds = st.integers(*SEED_RANGE)
 
 
 def reals(lo: float, hi: float) -> st.SearchStrategy[float]:

@@ -1,6 +1,7 @@
 """The declarations (designer.project.declare) against what is derived from them or
-stated beside them: the XSD has every declared attribute, with the declared range and
-requiredness; docs/attributes.md is current; every factor is defined once."""
+stated beside them: the XSD's declared attributes are what the generator makes of the
+declarations (names, types, ranges, defaults, requiredness, documentation), and an
+independent reading of the XSD agrees; docs/attributes.md is current."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from designer.project import model as m
 from designer.project.attributes import attribute_tables
 from designer.project.declare import declared, declared_elements, element_of
 from designer.project.schema import schema_path
+from designer.project.xsd_gen import expected_regions, generate, number_text, regions
 
 ROOT = Path(__file__).resolve().parents[2]
 XS = "{http://www.w3.org/2001/XMLSchema}"
@@ -81,6 +83,9 @@ def schema_disagreements(cls: type, doc: etree._ElementTree) -> list[str]:
                 attrs.update({k: v for k, v in _attributes(child_decl, doc).items()
                               if any(d.xml == k and d.attr.child == child
                                      for d in declared(cls))})
+        for d in declared(cls):
+            if d.attr.text and _child_element(decl, d.xml, doc) is not None:
+                attrs[d.xml] = _child_element(decl, d.xml, doc)  # a text element
         problems = []
         missing = sorted({d.xml for d in declared(cls)} - set(attrs))
         if missing:  # (XSD attributes of fields that are not declared are the reader's)
@@ -89,8 +94,23 @@ def schema_disagreements(cls: type, doc: etree._ElementTree) -> list[str]:
         else:
             for d in declared(cls):
                 a = attrs[d.xml]
-                if d.required and a.get("use") != "required":
-                    problems.append(f"<{el.tag}> {d.xml}: declared required, XSD optional")
+                use = a.get("use") if not d.attr.text else (
+                    "required" if a.get("minOccurs", "1") != "0" else "optional")
+                if d.required != (use == "required"):
+                    problems.append(f"<{el.tag}> {d.xml}: declared "
+                                    f"{'required' if d.required else 'optional'}, XSD "
+                                    f"use={use}")
+                default = d.xml_default
+                wanted = (None if d.required or default is None or d.attr.text else
+                          ("true" if default else "false") if d.base is bool else
+                          number_text(default) if d.base in (int, float) else str(default))
+                if a.get("default") != wanted:
+                    problems.append(f"<{el.tag}> {d.xml}: XSD default {a.get('default')}, "
+                                    f"declared {wanted}")
+                if d.attr.doc.lower() not in (a.findtext(
+                        f"{XS}annotation/{XS}documentation") or "").lower():
+                    problems.append(f"<{el.tag}> {d.xml}: the XSD's documentation does not "
+                                    "state the declared doc")
                 for facet, bound, open_ in (("minInclusive", d.attr.low, False),
                                             ("minExclusive", d.attr.low, True),
                                             ("maxInclusive", d.attr.high, False),
@@ -115,6 +135,47 @@ def xsd():
 @pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.__name__)
 def test_the_xsd_agrees_with_the_declaration(cls, xsd):
     assert schema_disagreements(cls, xsd) == []
+
+
+def test_the_xsd_is_generated_from_the_declarations():
+    """Every declared element's attributes in the committed XSD are exactly what the
+    generator makes of the declarations today."""
+    text = schema_path().read_text(encoding="utf-8")
+    assert generate(text) == text, (
+        "the XSD's declared attributes differ from the declarations: run "
+        "python -m designer.project.xsd_gen")
+
+
+def test_every_declared_element_has_one_region_in_the_xsd():
+    found = regions(schema_path().read_text(encoding="utf-8"))
+    assert len(found) == len(set(found))
+    assert set(found) == expected_regions()
+
+
+def test_a_hand_edited_declared_attribute_is_found_and_regenerated():
+    """The comparison fails for an XSD whose declared part differs from the declaration
+    (a default, a facet, a use, a documentation), and the generator restores it; the
+    hand-written parts around the regions stay as they are."""
+    text = schema_path().read_text(encoding="utf-8")
+    start = text.index("<!-- declared CloudShadows:")
+    region = text[start:text.index("<!-- end of declared CloudShadows -->")]
+    for old, new in (('name="cover" default="0.3"', 'name="cover" default="0.35"'),
+                     ('<xs:maxExclusive value="360"/>', '<xs:maxInclusive value="360"/>'),
+                     ('name="seed" default="0"', 'name="seed" use="required"'),
+                     ("Shadowed fraction", "Shaded fraction")):
+        assert old in region
+        edited = text[:start] + region.replace(old, new, 1) + text[start + len(region):]
+        assert generate(edited) != edited
+        assert generate(edited) == text
+    outside = text.replace("Optional free-text description.", "A free-text description.")
+    assert generate(outside) == outside
+
+
+def test_a_generated_xsd_lacking_a_region_is_refused():
+    text = schema_path().read_text(encoding="utf-8").replace(
+        "<!-- declared Sfm:", "<!-- Sfm:")
+    with pytest.raises(ValueError, match="no declared region for Sfm"):
+        generate(text)
 
 
 def test_a_disagreement_is_found(xsd):

@@ -42,8 +42,8 @@ def test_a_value_with_line_breaks_stays_on_one_line():
         parse_project(data, "p.xml")
     except ProjectError as error:
         assert error.lines == [
-            "p.xml:56:5: <workers>: value '2\\n\\n3' is not valid here; expected: Number of "
-            "Blender worker processes run at once, 1 to 256."]
+            "p.xml:56:5: <workers>: value '2\\n\\n3' is not valid here; expected: Blender "
+            "worker processes run at once; from 1 to 256; default 1."]
     else:
         raise AssertionError("not refused")
 
