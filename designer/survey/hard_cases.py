@@ -141,21 +141,27 @@ def finest_gsd_m(project: m.Project, hf, images) -> float:
     return float(gsd.min()) if gsd.size else math.nan
 
 
+#: texels finer than GSD / this alias: pixels average several texels, features do not repeat
+ALIASING_RATIO = 3.0
+
+
+def aliasing_warning(source, gsd_min_m: float) -> str | None:
+    """A procedural texture whose texels are finer than a third of the finest GSD (m/px):
+    the plan report's and ``designer check``'s one wording of it."""
+    if isinstance(source, m.ProceduralTexture) and source.texel_size_m < gsd_min_m / ALIASING_RATIO:
+        return (f"texture texels ({100 * source.texel_size_m:.1f} cm) are finer than a third "
+                f"of the GSD ({100 * gsd_min_m:.1f} cm): pixels will alias the texture and "
+                "SIFT features will not repeat between images; use a texel near GSD/2")
+    return None
+
+
 def texture_warnings(project: m.Project, gsd_min_m: float) -> list[HardCaseWarning]:
     """The texture against the finest GSD (m/px): texels coarser than it, and texels
-    finer than a third of it (the plan's aliasing warning, plan_report.plan_warnings,
-    asked of the plan report itself so the rule and its wording stay in one place)."""
-    from types import SimpleNamespace
-
-    from designer.survey.plan_report import plan_warnings
-
+    finer than a third of it (:func:`aliasing_warning`, as the plan report says it)."""
     if not math.isfinite(gsd_min_m):
         return []
-    # a result that carries only the texture: no footprint, ground or GCP figures
-    texture_only = SimpleNamespace(project=project, footprint_m=(0.0, 0.0), ground=None,
-                                   stations=(), analysis=SimpleNamespace(gcps=None))
-    out = [HardCaseWarning("texture", w, "see docs/hard-cases.md") for w in plan_warnings(
-        texture_only, {"gsd_terrain_m": {"min": gsd_min_m}})]
+    aliasing = aliasing_warning(project.scene.texture.source, gsd_min_m)
+    out = [HardCaseWarning("texture", aliasing, "see docs/hard-cases.md")] if aliasing else []
     source = project.scene.texture.source
     if isinstance(source, m.ProceduralTexture) and source.texel_size_m > gsd_min_m:
         out.append(HardCaseWarning(

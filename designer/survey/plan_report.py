@@ -26,6 +26,7 @@ from designer.scene.surroundings import surroundings_mode
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
 from designer.survey.gcp_sightings import project_gcp_visibility
+from designer.survey.hard_cases import aliasing_warning, network_warnings
 from designer.survey.project_poses import platform_stations, project_images, project_stations
 from designer.survey.raycast import TerrainRaycaster
 from designer.survey.render_cost import (
@@ -154,8 +155,6 @@ def plan_summary(result: PlanResult) -> dict:
     return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in out.items()}
 
 
-#: a texture finer than GSD / this aliases: pixels average too few texels per sample
-ALIASING_RATIO = 3.0
 
 
 def rig_and_pattern_summary(result: PlanResult) -> dict:
@@ -199,12 +198,9 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
     warnings = []
     source = result.project.scene.texture.source
     gsd = figures.get("gsd_terrain_m")
-    if isinstance(source, m.ProceduralTexture) and gsd:
-        if source.texel_size_m < gsd["min"] / ALIASING_RATIO:
-            warnings.append(
-                f"texture texels ({100 * source.texel_size_m:.1f} cm) are finer than a third "
-                f"of the GSD ({100 * gsd['min']:.1f} cm): pixels will alias the texture and "
-                "SIFT features will not repeat between images; use a texel near GSD/2")
+    aliasing = aliasing_warning(source, gsd["min"]) if gsd else None
+    if aliasing:
+        warnings.append(aliasing)
     repeat = texture_repeat_warning(result.project.scene.texture,
                                     result.project.scene.terrain.extent, result.footprint_m)
     if repeat:
@@ -222,8 +218,6 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
         if few:
             warnings.append(f"GCPs seen by fewer than 3 images: {', '.join(few)}")
     if result.stations:  # a result for the texture only has none
-        from designer.survey.hard_cases import network_warnings
-
         n = result.n_images_all_cameras or len(result.stations)
         warnings += [f"{w.message}; {w.fix}" for w in network_warnings(
             result.project, n, [s.line_index for s in result.stations])]

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import hashlib
 
-import cv2
 import numpy as np
 import pycolmap
 import pytest
@@ -17,7 +16,7 @@ from designer.export.colmap_read import model_offset_world
 from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv, read_opk_csv
 from designer.render.pipeline import render_project
 from tests.hard_cases import scenes
-from tests.render.helpers import detect_centres
+from tests.hard_cases.centres import MAX_PX, MAX_PX_OBLIQUE, MEAN_PX, measured_centres
 from tests.synthetic import write_project_file
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
@@ -42,16 +41,6 @@ CASES = {
     "GSD 50 cm": (lambda: scenes.gsd_family(0.5), 4,
                   "scale the Blender lens/sensor instead of clamping them"),
 }
-#: the mean detected-minus-exported centre (px) per axis, and the largest single one: the
-#: geometry is exact; the spread is antialiasing at 8 samples (docs/conventions.md)
-MEAN_PX, MAX_PX = 0.05, 0.5
-#: oblique targets: the detector's window reaches past their foreshortened checker
-MAX_PX_OBLIQUE = {"horizontal cameras (phi = ±90°)": 0.8}
-#: horizontal cameras see the targets obliquely: only those seen ≥ 20° below the horizon
-#: are measured (flatter ones are under 8 px tall)
-MIN_DEPRESSION_DEG = 20.0
-
-
 @pytest.fixture(scope="module", params=list(CASES))
 def rendered(request, tmp_path_factory):
     build, _, _ = CASES[request.param]
@@ -60,32 +49,10 @@ def rendered(request, tmp_path_factory):
     return request.param, summary
 
 
-def _measured(summary, half_window):
-    """(detected − exported) px of every observation inside the image, away from the
-    border, seen steeply enough."""
-    obs = read_gcp_observations_csv(summary.ground_truth["gcp_observations"])
-    truth = {g.gcp_id: g.true_xyz for g in read_gcp_truth_csv(summary.ground_truth["gcp_truth"])}
-    centres = {p.image_name: p.C_world for p in summary.prepared.poses}
-    W, H = summary.prepared.interior.image_size_px
-    rng = np.random.default_rng(0)
-    out = []
-    for name in sorted({o.image_name for o in obs}):
-        rows = [o for o in obs if o.image_name == name]
-        uv = np.array([o.uv_px for o in rows])
-        d = np.array([centres[name] - truth[o.gcp_id] for o in rows])
-        depression = np.degrees(np.arcsin(d[:, 2] / np.linalg.norm(d, axis=1)))
-        keep = ((uv[:, 0] > 10) & (uv[:, 0] < W - 10) & (uv[:, 1] > 10) & (uv[:, 1] < H - 10)
-                & (depression >= MIN_DEPRESSION_DEG))
-        if keep.any():
-            gray = cv2.imread(str(summary.images_dir / name), cv2.IMREAD_GRAYSCALE)
-            out.append(detect_centres(gray, uv[keep], rng, half_window) - uv[keep])
-    return np.concatenate(out) if out else np.zeros((0, 2))
-
-
 def test_exported_gcp_pixels_are_the_rendered_checker_centres(rendered):
     name, summary = rendered
     _, half_window, fix = CASES[name]
-    d = _measured(summary, half_window)
+    d = measured_centres(summary, half_window)
     assert len(d) >= 6, f"{name}: only {len(d)} target centres measurable; {fix}"
     assert np.isfinite(d).all(), f"{name}: a non-finite centre; {fix}"
     mean, worst = np.abs(d.mean(axis=0)), np.abs(d).max()

@@ -19,7 +19,7 @@ from designer.render.pipeline import render_project
 from designer.scene.lighting import bake_lightmap
 from designer.scene.sun_over_time import Site, suns_at
 from tests.hard_cases import scenes
-from tests.hard_cases.test_numbers_meet import MEAN_PX, _measured
+from tests.hard_cases.centres import MEAN_PX, measured_centres
 from tests.synthetic import write_project_file
 
 SUN_STRENGTH, SKY_STRENGTH = 4.0, 1.0  # tiny_survey's lighting
@@ -60,7 +60,7 @@ def test_images_under_a_low_and_a_high_sun_are_exposed_like_any_other(rendered):
 def test_gcp_centres_are_found_where_the_ground_truth_says_under_a_low_and_a_high_sun(
         rendered):
     elevation, summary, _ = rendered
-    d = _measured(summary, 4)
+    d = measured_centres(summary, 4)
     assert len(d) >= 6 and np.isfinite(d).all(), f"sun at {elevation}°: {len(d)} centres"
     assert (np.abs(d.mean(axis=0)) <= MEAN_PX).all(), f"sun at {elevation}°: {d.mean(axis=0)}"
 

@@ -147,8 +147,18 @@ def lightings(draw) -> m.Lighting:
         tzinfo=offset)
     sun = draw(st.one_of(
         st.builds(m.Sun, reals(0, 359.99), reals(0.01, 90)),
-        st.builds(m.SunPosition, st.just(moment.isoformat()), reals(-90, 90), reals(-180, 180))))
+        st.builds(m.SunPosition, st.just(moment.isoformat()), reals(-90, 90),
+                  reals(-180, 180)).filter(lambda s: _daylight(s, moment))))
     return m.Lighting(sun, draw(reals(0, 1000)), draw(reals(0, 1000)))
+
+
+def _daylight(sun: m.SunPosition, moment: datetime) -> bool:
+    """The sun above the horizon (a valid project names a moment in daylight)."""
+    from astral import Observer
+    from astral.sun import elevation
+
+    return float(elevation(Observer(latitude=sun.latitude_deg, longitude=sun.longitude_deg),
+                           moment)) > 0.5
 
 
 @st.composite
