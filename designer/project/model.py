@@ -953,6 +953,26 @@ class ExposureVariation:
                      draw="exposure-variation")
 
 
+@element("chromatic-aberration", title="lateral chromatic aberration",
+         path="effects.chromatic_aberration")
+@dataclass(frozen=True)
+class ChromaticAberration:
+    """Lateral chromatic aberration: the red and the blue image at a slightly different
+    scale than the green one, radially about the principal point: a point of a channel at
+    radius r lands at r·(1 + s·10⁻⁶), s its ``*_scale_ppm``. Green stays exact, so the
+    exported ground truth is green's (designer.effects.chromatic). Switched on at 0 ppm,
+    so a study factor varies only the channel it names."""
+
+    red_scale_ppm: float = attr(0.0, doc="radial scale of the red image relative to green "
+                                "(+: farther from the principal point)", unit="ppm",
+                                range=(-5000, 5000), factor="chromatic-aberration-red-ppm",
+                                label="red scale", decimals=1, step=10)
+    blue_scale_ppm: float = attr(0.0, doc="radial scale of the blue image relative to "
+                                 "green (+: farther from the principal point)", unit="ppm",
+                                 range=(-5000, 5000), factor="chromatic-aberration-blue-ppm",
+                                 label="blue scale", decimals=1, step=10)
+
+
 @dataclass(frozen=True)
 class Effects:
     """Image effects, each ``None`` when off. Distortion comes from the camera."""
@@ -965,6 +985,7 @@ class Effects:
     jpeg: Jpeg | None = None
     defocus: Defocus | None = None
     exposure_variation: ExposureVariation | None = None
+    chromatic_aberration: ChromaticAberration | None = None
 
 
 @element("render", title="render settings", path="render")

@@ -111,7 +111,9 @@ def documentation(d: Declared) -> str:
     if d.attr.unit in _UNIT_WORDS:
         d = dataclasses.replace(d, attr=dataclasses.replace(d.attr,
                                                             unit=_UNIT_WORDS[d.attr.unit]))
-    parts = [d.attr.doc[:1].upper() + d.attr.doc[1:]]
+    # an ASCII first letter is capitalised; a symbol (σ, λ) keeps its case and meaning
+    first = d.attr.doc[:1]
+    parts = [(first.upper() if first.isascii() else first) + d.attr.doc[1:]]
     a = d.attr
     if d.choices is not None:
         parts.append(d.range_text())

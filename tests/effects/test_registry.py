@@ -34,7 +34,7 @@ def test_every_element_has_one_registered_effect_and_vice_versa():
     registry = registered_effects()
     assert registry_problems(registry, m.Effects) == []
     assert set(registry) == {m.Vignetting, m.Defocus, m.Blur, m.MotionBlur, m.SensorNoise,
-                             m.Sensor, m.ExposureVariation, m.Jpeg}
+                             m.Sensor, m.ExposureVariation, m.Jpeg, m.ChromaticAberration}
     for model_class, effect in registry.items():
         assert effect.model is model_class
     # an element left unregistered, or an effect registered for two elements, is named

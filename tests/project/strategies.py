@@ -176,7 +176,10 @@ def effects(draw) -> m.Effects | None:
         motion_blur=draw(st.none() | st.builds(m.MotionBlur, reals(0, 1), reals(0, 100))),
         jpeg=draw(st.none() | st.builds(m.Jpeg, st.integers(1, 100))),
         defocus=draw(st.none() | st.builds(m.Defocus, reals(0.5, 64), reals(0.1, 1e6),
-                                           st.none() | reals(0.1, 1e6))))
+                                           st.none() | reals(0.1, 1e6))),
+        chromatic_aberration=draw(st.none() | st.builds(m.ChromaticAberration,
+                                                        reals(-5000, 5000),
+                                                        reals(-5000, 5000))))
 
 
 @st.composite

@@ -203,5 +203,6 @@ def test_declared_elements_cover_the_world_effects_and_processing():
     names = {c.__name__ for c in ELEMENTS}
     assert {"TimeLine", "SunOverTime", "CloudShadows", "Wind", "Mount", "RollingShutter",
             "TextureVariation", "Vignetting", "Defocus", "SensorNoise", "Sensor", "Blur",
-            "MotionBlur", "Jpeg", "ExposureVariation", "Calibration", "GcpProcessing",
+            "MotionBlur", "Jpeg", "ExposureVariation", "ChromaticAberration", "Calibration",
+            "GcpProcessing",
             "PositionPrior", "Matching"} <= names

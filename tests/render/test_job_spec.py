@@ -95,7 +95,8 @@ def full_job() -> RenderJob:
         defocus=m.Defocus(2.8, 25.0, object_distance_m=30.0),
         exposure_variation=m.ExposureVariation(exposure_sigma_ev=0.2,
                                                white_balance_sigma_k=300.0,
-                                               reference_k=6000.0, seed=5))
+                                               reference_k=6000.0, seed=5),
+        chromatic_aberration=m.ChromaticAberration(red_scale_ppm=120.0, blue_scale_ppm=-80.0))
     step = LightStep(sun_azimuth_deg=135.5, sun_elevation_deg=42.25,
                      objects=(MeshSpec("terrain", "terrain.npz", (lit,)),))
     timed = {"time_s": 12.5, "time_utc": "2026-06-21T09:30:12.500000Z",
