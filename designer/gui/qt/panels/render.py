@@ -207,7 +207,9 @@ class RenderPanel(Panel):
             total = derived.render_estimate_s(self.project, stations.render_costs, preset)
             lines.append(f"{preset}: {spp} samples, {duration(total / max(1, n))}/image, "
                          f"{duration(total)} for {n}")
-        self.cost.setText("\n".join(lines) + f"\n({estimate_basis(load_speed())})")
+        # the records of this project's kind of image (the first image's), as the figures
+        speed = load_speed(stations.render_costs[0] if n else None)
+        self.cost.setText("\n".join(lines) + f"\n({estimate_basis(speed)})")
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
