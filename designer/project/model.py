@@ -501,25 +501,38 @@ class Scene:
 
 
 # ---------------------------------------------------------------------- cameras
+#: a distortion coefficient's range in the file (the schema's Coefficient)
+COEFFICIENT_RANGE = (-1000.0, 1000.0)
+
+
 @dataclass(frozen=True)
 class BrownConradyDistortion:
     """OpenCV's (k1, k2, k3, p1, p2) on normalised computer-vision coordinates."""
 
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    p1: float = 0.0
-    p2: float = 0.0
+    k1: float = attr(0.0, doc="radial coefficient of r^2", range=COEFFICIENT_RANGE,
+                     decimals=6, step=0.001)
+    k2: float = attr(0.0, doc="radial coefficient of r^4", range=COEFFICIENT_RANGE,
+                     decimals=6, step=0.001)
+    k3: float = attr(0.0, doc="radial coefficient of r^6", range=COEFFICIENT_RANGE,
+                     decimals=6, step=0.001)
+    p1: float = attr(0.0, doc="tangential coefficient", range=COEFFICIENT_RANGE,
+                     decimals=6, step=0.001)
+    p2: float = attr(0.0, doc="tangential coefficient", range=COEFFICIENT_RANGE,
+                     decimals=6, step=0.001)
 
 
 @dataclass(frozen=True)
 class FisheyeEquidistantDistortion:
     """OpenCV's equidistant fisheye (k1..k4 on θ)."""
 
-    k1: float = 0.0
-    k2: float = 0.0
-    k3: float = 0.0
-    k4: float = 0.0
+    k1: float = attr(0.0, doc="coefficient of θ^2", range=COEFFICIENT_RANGE, decimals=6,
+                     step=0.001)
+    k2: float = attr(0.0, doc="coefficient of θ^4", range=COEFFICIENT_RANGE, decimals=6,
+                     step=0.001)
+    k3: float = attr(0.0, doc="coefficient of θ^6", range=COEFFICIENT_RANGE, decimals=6,
+                     step=0.001)
+    k4: float = attr(0.0, doc="coefficient of θ^8", range=COEFFICIENT_RANGE, decimals=6,
+                     step=0.001)
 
 
 #: the order the rows of a rolling-shutter sensor are read in

@@ -36,3 +36,12 @@ def test_sensor_width_over_the_files_limit_is_refused_in_the_field(qtbot, window
     assert focal.maximum() == 1000
     _type(qtbot, w, box, "36")
     assert w.document.project.cameras[0].sensor_width_mm == 36.0
+
+
+def test_distortion_fields_take_the_files_limits(qtbot, window):
+    """A coefficient the file accepts (-1000 to 1000, the schema's Coefficient) fits its
+    field: none is cut to a narrower range of the panel's own."""
+    w = window
+    panel = w.panels["Camera"]
+    for name, box in panel.coeffs.items():
+        assert (box.minimum(), box.maximum()) == (-1000, 1000), name
