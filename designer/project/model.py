@@ -599,15 +599,17 @@ class RollingShutter:
 @dataclass(frozen=True)
 class Camera:
     """Interior orientation in photogrammetric terms (mm, px); see core.interior.
-    ``rolling_shutter`` None (or a readout of 0): a global shutter."""
+    ``rolling_shutter`` None (or a readout of 0): a global shutter. The ranges are the
+    file's (the schema's Millimetres and PixelCount): what a field accepts, the file
+    check accepts."""
 
     id: str
     focal_length_mm: float = attr(doc="principal distance of the lens", unit="mm",
-                                  range=(0, None), low_open=True, label="focal length",
+                                  range=(0, 1000), low_open=True, label="focal length",
                                   decimals=4, step=0.1)
-    sensor_width_mm: float = attr(doc="sensor width", unit="mm", range=(0, None),
+    sensor_width_mm: float = attr(doc="sensor width", unit="mm", range=(0, 1000),
                                   low_open=True, label="sensor width", decimals=4, step=0.1)
-    sensor_height_mm: float = attr(doc="sensor height", unit="mm", range=(0, None),
+    sensor_height_mm: float = attr(doc="sensor height", unit="mm", range=(0, 1000),
                                    low_open=True, label="sensor height", decimals=6,
                                    step=0.1)
     image_width_px: int = attr(doc="image width", unit="px", range=(1, 100000),
@@ -615,10 +617,10 @@ class Camera:
     image_height_px: int = attr(doc="image height", unit="px", range=(1, 100000),
                                 label="image height")
     principal_point_x_mm: float = attr(0.0, doc="principal point offset from the sensor "
-                                       "centre, x right", unit="mm", range=(-100, 100),
+                                       "centre, x right", unit="mm", range=(-1000, 1000),
                                        label="principal point x", decimals=4, step=0.01)
     principal_point_y_mm: float = attr(0.0, doc="principal point offset from the sensor "
-                                       "centre, y up", unit="mm", range=(-100, 100),
+                                       "centre, y up", unit="mm", range=(-1000, 1000),
                                        label="principal point y", decimals=4, step=0.01)
     pixel_aspect: float | None = None
     distortion: BrownConradyDistortion | FisheyeEquidistantDistortion | None = None

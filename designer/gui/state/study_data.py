@@ -114,6 +114,9 @@ class PlanCost:
     reconstruct_s: float
     #: runs that would fail, told before the study runs (:func:`plan_warnings`)
     warnings: tuple[str, ...] = ()
+    #: the render coefficients the estimate's text names: those of the first render's
+    #: kind of image (``render_cost.RenderSpeed``; None without a render)
+    basis_speed: object = None
 
     @property
     def total_s(self) -> float:
@@ -132,8 +135,8 @@ def _render_key(project) -> str:
 def plan_cost(plan, heightfield, speed=None) -> PlanCost:
     """Counts and estimated seconds (one worker) of a planned study
     (:func:`designer.study.design.plan_study`); ``heightfield``: the base terrain's;
-    ``speed``: the render coefficients (default: this machine's,
-    :func:`designer.survey.render_cost.load_speed`)."""
+    ``speed``: the render coefficients of every image (default: this machine's for each
+    kind of image, its own records, :func:`designer.survey.render_cost.load_speed`)."""
     from designer.project.interiors import interior_from_camera
     from designer.survey.project_poses import project_images, project_stations
     from designer.survey.render_cost import (
@@ -144,8 +147,7 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
     )
     from designer.survey.surroundings import rendered_terrain
 
-    speed = speed or load_speed()
-
+    basis = speed
     renders: dict[str, tuple[int, float]] = {}
     render_s = 0.0
     processings: dict[str, int] = {}
@@ -164,6 +166,8 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
                 project, heightfield, images).heightfield)
             render_s += estimate_render_s(costs, render_workers(project, len(costs)),
                                           speed=speed)
+            if basis is None and costs:
+                basis = load_speed(costs[0])
         proc_key = repr(replace(project, name="", description=None))
         if proc_key not in processings:
             n_images, per_image_s = renders[key]
@@ -173,7 +177,8 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
             features_done.add(features_key)
             reconstruct_s += n_images * per_image_s * (1.0 - shared)
     return PlanCost(plan.n_variants, len(plan.runs), len(renders), len(processings),
-                    sum(n for n, _ in renders.values()), render_s, reconstruct_s)
+                    sum(n for n, _ in renders.values()), render_s, reconstruct_s,
+                    basis_speed=basis)
 
 
 #: control GCPs a georeferencing on GCPs needs (designer.sfm.process_free)

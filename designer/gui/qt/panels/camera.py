@@ -12,7 +12,6 @@ from designer.gui.qt.widgets import (
     INVALID_STYLE,
     combo,
     declared_field,
-    dspin,
     form,
     model_getter,
     readout,
@@ -83,7 +82,9 @@ class CameraPanel(Panel):
         f.addRow("model", self.model)
         self.coeffs: dict[str, object] = {}
         for name in BROWN + ("k4",):
-            box = dspin(-10, 10, 6, 0.001)
+            # the file's limits (k4 is the fisheye's; the others are declared alike)
+            box = declared_field(m.FisheyeEquidistantDistortion if name == "k4"
+                                 else m.BrownConradyDistortion, name)
             self.bindings.bind(box, (
                 model_getter(f"{CAM}.distortion.{name}"),
                 lambda p, v, n=name: edits.replace_path(p, f"{CAM}.distortion.{n}", v)),

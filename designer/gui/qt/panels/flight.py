@@ -306,7 +306,7 @@ class FlightPanel(Panel):
             self.time_label.setText(
                 f"≈ {duration(total)} to render ({duration(per)} per image at "
                 f"{self.project.render.effective_samples} samples; "
-                f"{estimate_basis(load_speed())})")
+                f"{estimate_basis(load_speed(stations.render_costs[0]))})")
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""

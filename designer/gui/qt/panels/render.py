@@ -3,7 +3,7 @@ and thumbnails. Rendering runs in ``designer render`` processes: the window neve
 
 from __future__ import annotations
 
-import time
+from dataclasses import fields
 from pathlib import Path
 
 import shiboken6
@@ -32,6 +32,8 @@ from designer.gui.qt.widgets import combo, form, format_number, ispin, readout
 from designer.gui.state import derived
 from designer.gui.state.wording import count, duration, estimate_basis
 from designer.project import model as m
+from designer.render.pipeline import ImagesKept, continue_hint
+from designer.render.timing import RenderTimes
 from designer.survey.render_cost import load_speed
 
 THUMB_PX = 120
@@ -39,6 +41,20 @@ THUMB_PX = 120
 SAVE_FIRST = "save the project (without problems) before rendering"
 #: decimals of the resolution scale field
 SCALE_DECIMALS = 3
+#: how the cancel text names the resume box and the action that continues
+RESUME_OPTION = "'resume' ticked"
+RERUN = "start the render"
+
+
+def _from_event(cls, event: dict | None):
+    """The dataclass ``cls`` from the fields an event carries (None without the event or
+    when a field is missing)."""
+    if event is None:
+        return None
+    try:
+        return cls(**{f.name: event[f.name] for f in fields(cls)})
+    except KeyError:
+        return None
 
 
 def _part_pixels(sizes: list[tuple[str, int]], scale: float) -> tuple[str, int, float] | None:
@@ -191,7 +207,9 @@ class RenderPanel(Panel):
             total = derived.render_estimate_s(self.project, stations.render_costs, preset)
             lines.append(f"{preset}: {spp} samples, {duration(total / max(1, n))}/image, "
                          f"{duration(total)} for {n}")
-        self.cost.setText("\n".join(lines) + f"\n({estimate_basis(load_speed())})")
+        # the records of this project's kind of image (the first image's), as the figures
+        speed = load_speed(stations.render_costs[0] if n else None)
+        self.cost.setText("\n".join(lines) + f"\n({estimate_basis(speed)})")
 
     def show_render_state(self, state) -> None:
         """The render folder against the project (``output_state.RenderState`` or None):
@@ -235,7 +253,9 @@ class RenderPanel(Panel):
             self._thumb_shape(thumb_size(*derived.rendered_size_px(
                 self.sync.stations.interior, self.project.render.resolution_scale)))
         self.log.clear()
-        self._t0 = time.perf_counter()
+        # the command's own account of the run: what a stop kept, how long it took
+        self.interrupted: dict | None = None
+        self.finished_event: dict | None = None
         # re-rendering what changed is a resume: up-to-date images are kept
         resume = self.resume.isChecked() or self.out_of_date.stale
         argv = RenderProcess.command(project_path, self.out_dir, resume=resume)
@@ -298,6 +318,10 @@ class RenderPanel(Panel):
             self.state.setText(self._count_text())
         elif kind == "retry":
             self.log.appendPlainText(f"retrying frames {event.get('frames')}")
+        elif kind == "interrupted":
+            self.interrupted = event
+        elif kind == "finished":
+            self.finished_event = event
 
     @property
     def n_rendered(self) -> int:
@@ -358,26 +382,37 @@ class RenderPanel(Panel):
     def _finished(self, code: int, stderr_tail: str) -> None:
         self.start_button.setEnabled(True)
         self.cancel_button.setEnabled(False)
-        seconds = time.perf_counter() - getattr(self, "_t0", time.perf_counter())
         n = self.n_rendered
-        per = f" ({duration(seconds / n)} per image)" if n else ""
         kept = f", {len(self.skipped)} complete before (kept)" if self.skipped else ""
         if n:  # the render refined this machine's speed: every estimate uses it now
             self._cost()
             self.sync.stations_changed.emit()
         if code == 0:
-            self.state.setText(f"done: {count(n, 'image')} rendered in {duration(seconds)}"
-                               f"{per}{kept} into "
+            # the command's timing, the same seconds its last line in the log gives
+            times = _from_event(RenderTimes, getattr(self, "finished_event", None))
+            took = f" {times.text()}" if times is not None else ""
+            self.state.setText(f"done: {count(n, 'image')} rendered{took}{kept} into "
                                f"{self.out_dir / 'images'}; ground truth in "
                                f"{self.out_dir / 'ground-truth'}; README.txt says which "
                                "file each program takes")
         elif code == 130 or self.process.cancelled:
-            self.state.setText(f"cancelled after {count(n, 'image')}{per}{kept}; tick 'resume' to "
-                               "continue later")
+            self.state.setText(self._cancel_text(n))
         else:
             lines = [line for line in stderr_tail.splitlines() if line.strip()]
             why = lines[-1].strip() if lines else "it gave no reason; the log below has its output"
             self.state.setText(f"render failed (exit {code}): {why}")
+
+    def _cancel_text(self, n: int) -> str:
+        """What a stopped render kept (the command counts it against the project: up to
+        date, out of date, not rendered) and how to continue, given the resume box."""
+        resume = self.resume.isChecked()
+        images = _from_event(ImagesKept, getattr(self, "interrupted", None))
+        if images is not None:
+            return "cancelled: " + images.text(resume, resume_option=RESUME_OPTION,
+                                               rerun=RERUN)
+        # stopped before the command could count (e.g. while the scene was prepared)
+        return (f"cancelled after {count(n, 'image')}; "
+                + continue_hint(resume, resume_option=RESUME_OPTION, rerun=RERUN))
 
     def open_image(self, item) -> None:
         """The full image with the GCP observations drawn on it, in a window."""

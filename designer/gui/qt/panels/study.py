@@ -280,9 +280,9 @@ class StudyPanel(StudyFiles, Panel):
         path = self._path_for_check()
         # an opened study not changed since: check the file itself (its own positions)
         from_file = self._opened_text == text and self.study_path is not None
-        speed = self._check_speed = load_speed()
+        # each kind of image with its own records (the cost says which it names)
         self.sync.tasks.submit("study-check", check_study, None if from_file else text,
-                               str(path), path, speed, on_done=self._checked,
+                               str(path), path, None, on_done=self._checked,
                                on_error=self._check_failed)
 
     def _checked(self, result) -> None:
@@ -298,7 +298,7 @@ class StudyPanel(StudyFiles, Panel):
             f"(render {duration_text(c.render_s)}, reconstruct {duration_text(c.reconstruct_s)})"
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else "")
-            + f"<br>render time: {estimate_basis(self._check_speed)}")
+            + f"<br>render time: {estimate_basis(c.basis_speed or load_speed())}")
         self.errors.hide()
         self.warnings.setText("\n".join(f"⚠ {line}" for line in c.warnings))
         self.warnings.setVisible(bool(c.warnings))
