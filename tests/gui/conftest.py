@@ -73,3 +73,19 @@ def window(qtbot, settings, tmp_path, monkeypatch):
     wait_idle(qtbot, w)
     yield w
     w.close()
+
+
+@pytest.fixture
+def saved_project(qtbot, window, tmp_path):
+    """The window with a small flight saved as small.xml (the Render panel tests)."""
+    from designer.gui.state import edits
+    from tests.gui.helpers import problems, wait_idle
+
+    w = window
+    project = edits.ensure_flight_plan(w.document.project)
+    project = edits.set_flight(project, area=((-20.0, -20.0), (20.0, -20.0), (20.0, 20.0),
+                                              (-20.0, 20.0)), altitude_agl_m=60.0)
+    w.editor.edit(project, "small flight")
+    wait_idle(qtbot, w)
+    assert w.file_actions.save_to(tmp_path / "small.xml"), problems(w)
+    return w

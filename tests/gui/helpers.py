@@ -5,6 +5,8 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from PySide6.QtCore import Qt
+from PySide6.QtTest import QTest
 
 
 def wait_idle(qtbot, window, timeout_s: float = 60.0) -> None:
@@ -295,3 +297,22 @@ def cloud_with_outlier(w, tmp_path, sigma_m=0.01, n=3000):
     path = tmp_path / "cloud.ply"
     write_xyz_ply(path, xyz)
     return path, xyz
+
+
+def activate(qtbot, w) -> None:
+    """Keyboard focus needs the active window (Xvfb has no window manager to give it)."""
+    w.activateWindow()
+    w.raise_()
+    qtbot.waitUntil(w.isActiveWindow)
+
+
+def type_text(qtbot, w, box, text: str) -> None:
+    """Click into the field, select all, type, Enter."""
+    QTest.mouseClick(w.windowHandle(), Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
+                     box.mapTo(w, box.rect().center()))
+    qtbot.waitUntil(box.hasFocus)
+    box.selectAll()
+    for ch in text:
+        QTest.keyClick(w.windowHandle(), ch)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Return)
+    qtbot.wait(20)

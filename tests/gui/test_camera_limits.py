@@ -9,8 +9,9 @@ from PySide6.QtWidgets import QDoubleSpinBox, QLabel
 
 from designer.project import model as m
 from designer.project.declare import declared_field
+from tests.gui.helpers import activate as _activate
 from tests.gui.helpers import field, wait_idle
-from tests.gui.test_safe_input import _activate, _type
+from tests.gui.helpers import type_text as _type
 
 pytestmark = pytest.mark.gui
 

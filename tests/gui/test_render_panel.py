@@ -21,18 +21,6 @@ pytestmark = pytest.mark.gui
 
 
 
-@pytest.fixture
-def saved_project(qtbot, window, tmp_path):
-    w = window
-    project = edits.ensure_flight_plan(w.document.project)
-    project = edits.set_flight(project, area=((-20.0, -20.0), (20.0, -20.0), (20.0, 20.0),
-                                              (-20.0, 20.0)), altitude_agl_m=60.0)
-    w.editor.edit(project, "small flight")
-    wait_idle(qtbot, w)
-    assert w.file_actions.save_to(tmp_path / "small.xml"), problems(w)
-    return w
-
-
 def _fake(monkeypatch, tmp_path, n: int, delay: float) -> None:
     script = tmp_path / "fake_render.py"
     script.write_text(FAKE_RENDER)

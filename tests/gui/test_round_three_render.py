@@ -16,7 +16,6 @@ from PySide6.QtCore import Qt
 
 from designer.gui.qt.command_process import RenderProcess
 from designer.render.timing import RenderTimes
-from tests.gui.test_render_panel import saved_project  # noqa: F401 (a fixture)
 
 pytestmark = pytest.mark.gui
 
@@ -63,7 +62,7 @@ def _fake(monkeypatch, tmp_path, n: int, delay: float) -> None:
 
 
 def test_cancel_with_resume_ticked_counts_the_images_and_does_not_ask_to_tick_it(
-        qtbot, saved_project, monkeypatch, tmp_path):  # noqa: F811
+        qtbot, saved_project, monkeypatch, tmp_path):
     w = saved_project
     _fake(monkeypatch, tmp_path, n=40, delay=0.3)
     panel = w.panels["Render"]
@@ -81,7 +80,7 @@ def test_cancel_with_resume_ticked_counts_the_images_and_does_not_ask_to_tick_it
     assert text.endswith("start the render again to render only the rest"), text
 
 
-def test_cancel_with_resume_unticked_says_to_tick_it(qtbot, saved_project,  # noqa: F811
+def test_cancel_with_resume_unticked_says_to_tick_it(qtbot, saved_project,
                                                      monkeypatch, tmp_path):
     w = saved_project
     _fake(monkeypatch, tmp_path, n=40, delay=0.3)
@@ -96,7 +95,7 @@ def test_cancel_with_resume_unticked_says_to_tick_it(qtbot, saved_project,  # no
         "start the render with 'resume' ticked to render only the rest"), panel.state.text()
 
 
-def test_done_text_gives_the_commands_timing_as_the_log_does(qtbot, saved_project,  # noqa: F811
+def test_done_text_gives_the_commands_timing_as_the_log_does(qtbot, saved_project,
                                                              monkeypatch, tmp_path):
     w = saved_project
     _fake(monkeypatch, tmp_path, n=3, delay=0.3)

@@ -13,18 +13,13 @@ from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QLabel, QScrollArea
 
 from designer.gui.state import edits
+from tests.gui.helpers import activate as _activate
 from tests.gui.helpers import field, wait_idle
+from tests.gui.helpers import type_text as _type
 
 pytestmark = pytest.mark.gui
 
 FP = "trajectory.flight_plan"
-
-
-def _activate(qtbot, w) -> None:
-    """Keyboard focus needs the active window (Xvfb has no window manager to give it)."""
-    w.activateWindow()
-    w.raise_()
-    qtbot.waitUntil(w.isActiveWindow)
 
 
 def _flight(qtbot, w) -> None:
@@ -42,18 +37,6 @@ def _wheel(qtbot, w, widget, notches: int = -3) -> None:
     for _ in range(abs(notches)):
         QTest.wheelEvent(w.windowHandle(), QPointF(pos), QPoint(0, 120 if notches > 0 else -120))
         qtbot.wait(20)
-
-
-def _type(qtbot, w, box, text: str) -> None:
-    """Click into the field, select all, type, Enter."""
-    QTest.mouseClick(w.windowHandle(), Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
-                     box.mapTo(w, box.rect().center()))
-    qtbot.waitUntil(box.hasFocus)
-    box.selectAll()
-    for ch in text:
-        QTest.keyClick(w.windowHandle(), ch)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Return)
-    qtbot.wait(20)
 
 
 def _scroll_area(widget) -> QScrollArea:
