@@ -39,8 +39,9 @@ from designer.survey.render_cost import load_speed
 THUMB_PX = 120
 #: what the panel says when Render could not save the project
 SAVE_FIRST = "save the project (without problems) before rendering"
-#: decimals of the resolution scale field
-SCALE_DECIMALS = 3
+#: decimals of the resolution scale field: enough for the halvings down to 1/16 (0.0625),
+#: so every scale the panel offers is shown and typed as it is
+SCALE_DECIMALS = 4
 #: how the cancel text names the resume box and the action that continues
 RESUME_OPTION = "'resume' ticked"
 RERUN = "start the render"
