@@ -87,8 +87,8 @@ class InteriorOrientation:
                     f"pixels are not square: sensor {self.sensor_width_mm} x "
                     f"{self.sensor_height_mm} mm over {self.image_width_px} x "
                     f"{self.image_height_px} px gives {pitch_x * 1000:.6g} x "
-                    f"{pitch_y * 1000:.6g} um pixels; make sensor_width/image_width equal "
-                    f"sensor_height/image_height, or state a pixel aspect"
+                    f"{pitch_y * 1000:.6g} µm pixels; make sensor width / image width equal "
+                    f"sensor height / image height, or state a pixel aspect"
                 )
         else:
             aspect = self.pixel_aspect

@@ -74,7 +74,7 @@ PRESETS: tuple[CameraPreset, ...] = (
                  exif_models=("Sequoia",)),
     CameraPreset("gr2", "Ricoh GR II", 18.3, 23.7, 15.7, 4928, 3264,
                  exif_models=("GR II",)),
-    CameraPreset("p1", "DJI Zenmuse P1, 35 mm (4.4 um pixels)", 35.0, 8192 * 0.0044,
+    CameraPreset("p1", "DJI Zenmuse P1, 35 mm (4.4 µm pixels)", 35.0, 8192 * 0.0044,
                  5460 * 0.0044, 8192, 5460,
                  exif_models=("ZenmuseP1",)),
     CameraPreset("m3e", "DJI Mavic 3E wide", 12.29, 17.3, 13.0, 5280, 3956,

@@ -76,7 +76,7 @@ def _pixel_shape(cam: m.Camera) -> list[Issue]:
             return [Issue(cam, "sensor", (
                 f"pixels are not square: sensor {cam.sensor_width_mm:g} x "
                 f"{cam.sensor_height_mm:g} mm over {cam.image_width_px} x "
-                f"{cam.image_height_px} px gives {pitch_x * 1000:.6g} x {pitch_y * 1000:.6g} um "
+                f"{cam.image_height_px} px gives {pitch_x * 1000:.6g} x {pitch_y * 1000:.6g} µm "
                 "pixels; make width-mm / width-px equal height-mm / height-px (e.g. sensor "
                 f"height {cam.sensor_width_mm * cam.image_height_px / cam.image_width_px:.6g} "
                 "mm), or state <pixel-aspect>"), attr="height-mm")]

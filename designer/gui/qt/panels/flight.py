@@ -104,7 +104,7 @@ class FlightPanel(Panel):
         group.addButton(self.by_gsd)
         self.by_altitude.toggled.connect(self._height_mode)
         self.altitude_spin = self.bindings.bind(
-            dspin(0.1, 1e5, 2, 5, "m"), f"{FP}.altitude_agl_m", "Flight height")
+            dspin(0.1, 1e5, 2, 5, "m"), f"{FP}.altitude_agl_m", "Height above ground")
         self.gsd_spin = self.bindings.bind(dspin(0.001, 1000, 3, 0.1, "cm"), (
             model_getter(f"{FP}.gsd_m", lambda v: None if v is None else 100 * v),
             lambda p, v: edits.set_flight(p, gsd_m=v / 100)), "Flight GSD")
@@ -383,7 +383,7 @@ class FlightPanel(Panel):
         else:
             gsd = stations.calc.gsd_m if stations and stations.calc else 0.02
             new = edits.set_flight(self.project, gsd_m=round(gsd, 5), altitude_agl_m=None)
-        self.editor.edit(new, "Flight height by " + ("altitude" if by_altitude else "GSD"))
+        self.editor.edit(new, "Height above ground by " + ("altitude" if by_altitude else "GSD"))
 
     def _noise_toggled(self, on: bool) -> None:
         noise = m.PoseNoise(0.3, 0.3, 0.2, 0.5, 0.5, 1.0) if on else None
