@@ -35,14 +35,20 @@ class Factor:
 
 # ------------------------------------------------------------------ value parsers
 def _float(text: str) -> float:
-    value = float(text)
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError("not a number; write a number such as 0.5") from None
     if value != value or value in (float("inf"), float("-inf")):
         raise ValueError("not a finite number")
     return value
 
 
 def _int(text: str) -> int:
-    return int(text)
+    try:
+        return int(text)
+    except ValueError:
+        raise ValueError("not a whole number; write one such as 3") from None
 
 
 def _bool(text: str) -> bool:

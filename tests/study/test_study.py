@@ -202,6 +202,11 @@ STUDY = """<?xml version="1.0"?>
     ('  <factr name="k1"/>', "4:3", "unknown element <factr>"),
     ('  <factor name="k1"><values>0 0.1</values></factor>\n  <replicates count="2" '
      'vary="weather"/>', "5:", "vary"),
+    # a level that is not a number, in words and not Python's
+    ('  <factor name="jpeg-quality">\n    <values>90 abc</values>\n  </factor>', "5:5",
+     "value 'abc' is not usable: not a whole number; write one such as 3"),
+    ('  <factor name="k1">\n    <values>0 x</values>\n  </factor>', "5:5",
+     "value 'x' is not usable: not a number; write a number such as 0.5"),
 ])
 def test_bad_study_files_are_located_one_line_errors(tmp_path, body, where, message):
     write_template("tiny", tmp_path / "tiny.xml")
