@@ -151,6 +151,16 @@ def test_a_scale_giving_part_pixels_is_refused_and_its_problem_opens_render(
     wait_idle(qtbot, w)
     assert w.document.project.render.resolution_scale == 0.125
     assert not render.input_label.isVisible()
+    # 0.05 gives 273.6 px: 0.0625 (342 × 228 px) is nearer than 0.125, and the field
+    # takes and shows it as it is
+    set_field(qtbot, scale, "0.05")
+    wait_idle(qtbot, w)
+    assert "nearest scale giving whole pixels: 0.0625" in render.input_label.text()
+    set_field(qtbot, scale, "0.0625")
+    wait_idle(qtbot, w)
+    assert w.document.project.render.resolution_scale == 0.0625
+    assert not render.input_label.isVisible()
+    assert scale.text().rstrip("0") == "0.0625", scale.text()
 
     # a project that has such a scale (read from a file): the problem opens Render …
     w.editor.edit(edits.replace_path(w.document.project, "render.resolution_scale", 0.1),
