@@ -44,7 +44,7 @@ def test_results_say_in_a_sentence_why_the_images_are_out_of_date(qtbot, window,
     wait_state(qtbot, w, lambda: results.out_of_date.stale)
     text = results.out_of_date.text()
     assert text.startswith(f"out of date: the rendered images no longer match the project "
-                           f"({n} images out of date: the scene"), text
+                           f"({n} images out of date: the terrain"), text
     assert text.endswith("; render, then reconstruct again"), text
     assert "are (" not in text
     w.undo_stack.undo()
