@@ -70,7 +70,7 @@ def test_an_undone_error_leaves_the_status_bar_but_not_a_later_message(qtbot, wi
     assert w.statusBar().currentMessage() != status, status
     # once more, with a later message about something else: that one stays
     _break_texture(qtbot, w)
-    w.statusBar().showMessage("saved elsewhere", 8000)
+    w.statusBar().showMessage("saved elsewhere")  # no timeout: only a withdrawal could clear it
     _undo(qtbot, w)
     wait_idle(qtbot, w)
     assert not w.sync.errors.get("texture")

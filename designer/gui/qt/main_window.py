@@ -110,6 +110,8 @@ class MainWindow(QMainWindow):
 
         self.document.events.connect("file", self._file_state)
         self.sync.message.connect(lambda text: self.statusBar().showMessage(text, 8000))
+        # an error stays in the status bar while it holds: no timeout
+        self.sync.error_message.connect(lambda text: self.statusBar().showMessage(text))
         self.sync.message_withdrawn.connect(self._withdraw_message)
         self.document.reset(self.document.project, None)
         from PySide6.QtWidgets import QApplication

@@ -50,7 +50,10 @@ class SceneSync(QObject):
     lighting_changed = Signal()
     plan_changed = Signal()
     message = Signal(str)
-    #: a message posted by ``message`` that no longer holds (its error went)
+    #: an error's message: it holds until the error goes (``message_withdrawn``) or a
+    #: later message replaces it
+    error_message = Signal(str)
+    #: a message posted by ``error_message`` that no longer holds (its error went)
     message_withdrawn = Signal(str)
 
     def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
@@ -112,7 +115,7 @@ class SceneSync(QObject):
     def _fail(self, key: str, error: BaseException) -> None:
         self._clear(key)
         self.errors[key] = _message(error)
-        self.message.emit(f"{key}: {self.errors[key]}")
+        self.error_message.emit(f"{key}: {self.errors[key]}")
 
     def _clear(self, key: str) -> None:
         """``key`` works again: its error goes, and so does the message that posted it."""
