@@ -57,7 +57,9 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     text = panel.state.text()
     assert text.startswith(f"done: {n - first} images rendered"), text
     assert f"{first} complete before (kept)" in text
-    per_image = float(re.search(r"\(([\d.]+) s per image\)", text).group(1))
+    match = re.search(r"Cycles ([\d.]+) s per image", text)
+    assert match, text  # the command's own timing, the same line its log ends with
+    per_image = float(match.group(1))
     assert per_image > 0
     assert panel.progress.value() == n == panel.thumbs.count()
     kept = [panel.thumbs.item(i) for i in range(n) if "(kept)" in panel.thumbs.item(i).text()]
