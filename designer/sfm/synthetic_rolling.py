@@ -102,6 +102,15 @@ def rolling_block(spec: BlockSpec = BlockSpec(), seed: int = 0):
             shutters[name] = RollingShutterImage(spec.readout_s, "top-to-bottom",
                                                  k * 1.0 + strip * 10.0)
             k += 1
+    return rec, add_tracks(rec, obs, pts, rng), true_C, shutters
+
+
+def add_tracks(rec, obs: dict, pts: np.ndarray, rng) -> dict:
+    """Every point seen in 3 or more images (``obs``: point index → [(image id, point2D
+    index)]) added to ``rec`` at its true position ``pts`` off by 5 cm (drawn from
+    ``rng``); point id → true position."""
+    import pycolmap
+
     true_pts = {}
     for p, track in obs.items():
         if len(track) < 3:
@@ -110,7 +119,7 @@ def rolling_block(spec: BlockSpec = BlockSpec(), seed: int = 0):
         for image_id, j in track:
             t.add_element(image_id, j)
         true_pts[rec.add_point3D(pts[p] + rng.normal(0, 0.05, 3), t)] = pts[p]
-    return rec, true_pts, true_C, shutters
+    return true_pts
 
 
 def copy_of(rec):

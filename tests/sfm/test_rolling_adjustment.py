@@ -15,6 +15,7 @@ from designer.sfm.rolling_adjustment import (  # noqa: E402
     check_compensation,
     start_velocities,
 )
+from designer.sfm.synthetic_rolling import add_tracks  # noqa: E402
 
 W, H, F = 400, 300, 500.0
 HEIGHT = 40.0
@@ -75,25 +76,11 @@ def synthetic_block(readout_s: float, noise_px: float = 0.2, seed: int = 0):
             image, pycolmap.Rigid3d(pycolmap.Rotation3d(R_cv), -R_cv @ C0))
         for j, p in enumerate(ids):
             obs.setdefault(int(p), []).append((idx + 1, j))
-    true_pts = _add_tracks(rec, obs, pts, rng)
+    true_pts = add_tracks(rec, obs, pts, rng)
     shutters = {n: RollingShutterImage(readout_s, "top-to-bottom", tm)
                 for n, tm in zip(names, times, strict=True)} if readout_s > 0 else {}
     true_C = dict(zip(names, centres, strict=True))
     return rec, true_pts, true_C, shutters
-
-
-def _add_tracks(rec, obs: dict, pts: np.ndarray, rng) -> dict:
-    """Every point seen in 3 or more images (``obs``: point index → [(image id, point2D
-    index)]) added at its true position ``pts`` off by 5 cm; point id → true position."""
-    true_pts = {}
-    for p, track in obs.items():
-        if len(track) < 3:
-            continue
-        t = pycolmap.Track()
-        for image_id, j in track:
-            t.add_element(image_id, j)
-        true_pts[rec.add_point3D(pts[p] + rng.normal(0, 0.05, 3), t)] = pts[p]
-    return true_pts
 
 
 def _point_rmse(rec, true_pts) -> float:
@@ -263,7 +250,7 @@ def synthetic_rig_block(readout_s: float, noise_px: float = 0.2, seed: int = 1):
                 rec.add_image(image)
             rec.register_frame(k + 1)
             k += 1
-    return rec, _add_tracks(rec, obs, pts, rng), true_C, shutters
+    return rec, add_tracks(rec, obs, pts, rng), true_C, shutters
 
 
 def test_a_rig_keeps_its_relative_orientation_while_its_rolling_shutter_is_compensated():
