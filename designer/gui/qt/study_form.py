@@ -77,16 +77,46 @@ def _heightfield(plan):
     return _terrain_cache[key]
 
 
-def check_study(text: str | None, source: str, path: Path, speed=None):
+class OpenProjectInvalid(Exception):
+    """The study's base is the window's project with unsaved changes (or never saved),
+    and it is not valid: its problems at the lines of the project as it would be saved."""
+
+    def __init__(self, error) -> None:
+        super().__init__(str(error))
+        self.lines = ["the study's base is the open project with unsaved changes, and they "
+                      "are not valid (lines of the project file as it would be saved; "
+                      "Problems lists them too):", *error.lines]
+
+
+def check_open_project(project, source: str, base_dir: Path) -> None:
+    """The window's project checked as Save would write it, named ``source`` (its file);
+    :class:`OpenProjectInvalid` when it is not valid."""
+    from designer.project import parse_project, project_to_bytes, semantic_problems
+    from designer.project.problems import ProjectError
+
+    try:
+        parsed, smap = parse_project(project_to_bytes(project), source)
+    except ProjectError as error:
+        raise OpenProjectInvalid(error) from None
+    problems = semantic_problems(parsed, base_dir, smap)
+    if problems:
+        raise OpenProjectInvalid(ProjectError(source, problems))
+
+
+def check_study(text: str | None, source: str, path: Path, speed=None, open_project=None):
     """(plan, cost) of the study ``text`` (None: the file ``path`` as it is on disk), the
     cost with the warnings of runs that would fail; ProjectError lines
-    ``FILE:LINE:COL: <element>: message`` for anything wrong."""
+    ``FILE:LINE:COL: <element>: message`` for anything wrong. ``open_project``: (project,
+    its file's name, its folder) when the study's base is the window's project written
+    into the study (unsaved changes): its problems are told at its own lines first."""
     from dataclasses import replace
 
     from designer.gui.state.study_data import plan_cost, plan_warnings
     from designer.study.design import plan_study
     from designer.study.xml import parse_study, read_study
 
+    if open_project is not None:
+        check_open_project(*open_project)
     study = read_study(path) if text is None else parse_study(text.encode(), source, path)
     plan = plan_study(study)
     cost = plan_cost(plan, _heightfield(plan), speed)

@@ -282,8 +282,18 @@ class StudyPanel(StudyFiles, Panel):
         from_file = self._opened_text == text and self.study_path is not None
         # each kind of image with its own records (the cost says which it names)
         self.sync.tasks.submit("study-check", check_study, None if from_file else text,
-                               str(path), path, None, on_done=self._checked,
-                               on_error=self._check_failed)
+                               str(path), path, None, self._open_project_inline(),
+                               on_done=self._checked, on_error=self._check_failed)
+
+    def _open_project_inline(self):
+        """(project, its file's name, its folder) when the study's base is the window's
+        project written into the study (not saved, or unsaved changes), else None."""
+        doc = self.editor.document
+        if self.base_file is not None or self.inline_base is not None or (
+                doc.path is not None and not doc.dirty):
+            return None
+        source = str(doc.path) if doc.path is not None else "the open project (not saved yet)"
+        return self.project, source, doc.base_dir
 
     def _checked(self, result) -> None:
         self.plan, self.cost = result
