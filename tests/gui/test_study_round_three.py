@@ -53,3 +53,76 @@ def test_levels_that_are_not_numbers_are_refused_in_words(qtbot, window, tmp_pat
     assert "factor render-samples: value 'abc' is not usable: not a whole number; write " \
            "one such as 3" in errors, errors
     assert "invalid literal" not in errors and "base 10" not in errors
+
+
+def _finished_study(folder, name: str, runs: list[str]) -> None:
+    """What ``designer study run -o folder`` leaves when every run is done."""
+    import json
+
+    (folder / "runs").mkdir(parents=True)
+    (folder / "study.json").write_text(json.dumps({"name": name, "runs": runs}))
+    for run in runs:
+        (folder / "runs" / run).mkdir()
+        (folder / "runs" / run / "result.json").write_text(json.dumps(
+            {"run": run, "status": "ok"}))
+    (folder / "results.csv").write_text("run,status\n" + "".join(f"{r},ok\n" for r in runs))
+    (folder / "summary.json").write_text(json.dumps({"study": name, "runs": len(runs)}))
+
+
+def _run_reasons(panel) -> list[str]:
+    """What the run box says, in the lines of text one can see (not the fields' names)."""
+    from PySide6.QtWidgets import QLabel
+
+    return [label.text() for label in panel.run_box.findChildren(QLabel)
+            if label.isVisible() and label.text().strip() and label.wordWrap()]
+
+
+def test_the_study_panel_follows_another_project_and_a_greyed_run_says_why(qtbot, window,
+                                                                          tmp_path):
+    from PySide6.QtCore import Qt
+
+    from tests.gui.helpers import answer_file_dialog
+
+    w = window
+    panel, base = _tiny_base(qtbot, w, tmp_path)
+    box = panel.run_box
+    # no output folder yet: Run is greyed, and says so
+    _add(qtbot, panel, "marking-sigma-px", "2")
+    _checked(qtbot, w, panel)
+    assert not box.run_button.isEnabled()
+    assert any("output folder" in t for t in _run_reasons(panel)), _run_reasons(panel)
+
+    # saved beside the project; its output folder holds the finished study already
+    study = tmp_path / "marks.xml"
+    _finished_study(tmp_path / "marks-study", "marks", ["v000-r00", "v001-r00"])
+    answer_file_dialog(study)
+    qtbot.mouseClick(panel.save_button, Qt.MouseButton.LeftButton)
+    _checked(qtbot, w, panel)
+    assert panel.file_label.text() == f"saved: {study}"
+    assert box.folder.text() == str(tmp_path / "marks-study")
+    assert not box.run_button.isEnabled()
+    reasons = " ".join(_run_reasons(panel))
+    assert "finished study 'marks'" in reasons and "another folder" in reasons, reasons
+
+    # another project opened: the study is on it now, its file and folder are not
+    other = tmp_path / "elsewhere" / "other.xml"
+    other.parent.mkdir()
+    other.write_bytes(base.read_bytes())
+    assert w.open_project(other)
+    wait_idle(qtbot, w)
+    w.docks["Study"].raise_()
+    _checked(qtbot, w, panel)
+    assert panel.file_label.text().startswith("not saved (the study is on the project "
+                                              "just opened"), panel.file_label.text()
+    assert str(other) in panel.base_label.text(), panel.base_label.text()
+    assert panel.study_path is None and box.folder.text() == ""
+    assert not box.run_button.isEnabled()
+    assert any("output folder" in t for t in _run_reasons(panel)), _run_reasons(panel)
+    # a study saved now is on the project opened
+    again = tmp_path / "elsewhere" / "marks.xml"
+    answer_file_dialog(again)
+    qtbot.mouseClick(panel.save_button, Qt.MouseButton.LeftButton)
+    assert 'file="other.xml"' in again.read_text()
+    _checked(qtbot, w, panel)
+    assert box.folder.text() == str(tmp_path / "elsewhere" / "marks-study")
+    assert box.run_button.isEnabled() and not _run_reasons(panel), _run_reasons(panel)

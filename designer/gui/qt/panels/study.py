@@ -191,6 +191,7 @@ class StudyPanel(StudyFiles, Panel):
         self._timer.timeout.connect(self.check_now)
         self.editor.document.events.connect("file", lambda **_: self.changed())
         self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
+        self._project_path = self._open_path()
         self._show_base()
 
     # ------------------------------------------------------------------ the study
@@ -350,11 +351,30 @@ class StudyPanel(StudyFiles, Panel):
             self._show_base()
             self.changed()
 
+    def _open_path(self) -> Path | None:
+        path = self.editor.document.path
+        return path.resolve() if path is not None else None
+
     def _project_replaced(self) -> None:
         """Another project was opened (or a new one made): the results shown were of the
-        project before; the study itself and its output folder stay."""
+        project before. A study on the window's project is on the new one now: the study
+        file and the output folder it had were the old project's, so the study is not
+        saved and has no output folder until it is given one (a study with a base file of
+        its own keeps both)."""
         self.results.clear()
         self.run_box.clear_progress()
+        path = self._open_path()
+        replaced, self._project_path = path != self._project_path, path
+        if not replaced or self.base_file is not None or self.inline_base is not None \
+                or self.run_box.process.running:
+            return
+        if self.study_path is not None:
+            self.file_label.setText(f"not saved (the study is on the project just opened; "
+                                    f"{self.study_path.name} stays on the one before)")
+        self.study_path = self._opened_text = None
+        self.run_box.folder.clear()
+        self._show_base()
+        self.changed()
 
     def refresh(self) -> None:
         pass
