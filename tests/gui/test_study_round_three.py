@@ -126,3 +126,54 @@ def test_the_study_panel_follows_another_project_and_a_greyed_run_says_why(qtbot
     _checked(qtbot, w, panel)
     assert box.folder.text() == str(tmp_path / "elsewhere" / "marks-study")
     assert box.run_button.isEnabled() and not _run_reasons(panel), _run_reasons(panel)
+
+
+def _chart_areas(results, charts_per_report_figure: int) -> list[tuple[float, float]]:
+    """The drawn area (px) of each chart shown: the axes of a chart drawn in the panel,
+    or the share of the picture of a report figure (a factor's figure holds its charts
+    side by side)."""
+    canvas = getattr(results, "canvas", None)
+    if canvas is not None and canvas.isVisible():
+        canvas.figure.canvas.draw()
+        return [tuple(ax.get_window_extent().size) for ax in canvas.figure.axes]
+    picture = results.figure.pixmap()
+    across = charts_per_report_figure if results.figure_choice.currentText().startswith(
+        "factor-") else 1
+    return [(picture.width() / across, picture.height())] * across
+
+
+def test_each_study_chart_reads_at_the_window_size(qtbot, window, tmp_path):
+    from PySide6.QtCore import Qt
+
+    from tests.gui.helpers import answer_file_dialog
+    from tests.gui.study_helpers import finished_study
+
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    out = tmp_path / "tiny-study"
+    metrics = ("check_rmse_z_m", "check_rmse_xy_m", "cloud_nmad_m", "registered")
+    finished_study(tmp_path / "tiny-template.xml", out, metrics)
+    answer_file_dialog(out)
+    qtbot.mouseClick(panel.open_folder_button, Qt.MouseButton.LeftButton)
+    results = panel.results
+    qtbot.waitUntil(lambda: results.figure_choice.count() > 0, timeout=10000)
+    choice = results.figure_choice
+    names = [choice.itemText(k) for k in range(choice.count())]
+    assert "pareto" in names, names
+    choice.setFocus()
+    qtbot.keyClick(choice, Qt.Key.Key_Home)
+    seen = []
+    for k in range(choice.count()):
+        if k:
+            qtbot.keyClick(choice, Qt.Key.Key_Down)
+        qtbot.wait(50)
+        assert choice.currentIndex() == k
+        # the chart fits the panel's width: nothing of it is cut off at the side
+        shown = results.stack.currentWidget() if hasattr(results, "stack") else results.figure
+        assert shown.width() <= panel.width(), (shown.width(), panel.width())
+        for width, height in _chart_areas(results, len(metrics) + 1):
+            seen.append((choice.currentText(), round(width), round(height)))
+    small = [s for s in seen if s[1] < 300 or s[2] < 200]
+    assert not small, small
+    # every metric of every factor, and the cost, has a chart of its own
+    assert len(seen) >= 2 * (len(metrics) + 1)
