@@ -177,3 +177,26 @@ def test_each_study_chart_reads_at_the_window_size(qtbot, window, tmp_path):
     assert not small, small
     # every metric of every factor, and the cost, has a chart of its own
     assert len(seen) >= 2 * (len(metrics) + 1)
+
+
+def test_the_base_a_factor_varies_around_is_said_to_be_the_projects(qtbot, window,
+                                                                    tmp_path):
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    row = _add(qtbot, panel, "jpeg-quality", "80 90")
+    text = _checked(qtbot, w, panel)
+    assert not panel.errors.isVisible(), panel.errors.text()
+    assert "3 variants × 1 replicate = 3 runs" in re.sub("<[^>]+>", "", text), text
+    # where the third run comes from: the base project as it is, which sets no JPEG quality
+    assert "one at a time: the base project as it is (jpeg-quality not set in it) and " \
+           "2 variants" in text, text
+    label = row.findChild(type(panel.plan_label)).text()
+    assert "in the base project: not set" in label, label
+    # a factor the project sets: its value, from the project
+    row = _add(qtbot, panel, "marking-sigma-px", "2")
+    text = _checked(qtbot, w, panel)
+    assert "(jpeg-quality not set in it, marking-sigma-px 0.5)" in text, text
+    assert "in the base project: 0.5" in row.findChild(type(panel.plan_label)).text()
+    panel.design.setCurrentIndex(panel.design.findData("full-factorial"))
+    text = _checked(qtbot, w, panel)
+    assert "full factorial: every combination of the levels" in text, text

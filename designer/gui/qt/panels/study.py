@@ -29,7 +29,13 @@ from PySide6.QtWidgets import (
 from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.panels.study_files import StudyFiles, checked_state, relative
 from designer.gui.qt.panels.study_run import StudyRunBox
-from designer.gui.qt.study_form import LEVELS_HINT, FactorRow, check_study
+from designer.gui.qt.study_form import (
+    LEVELS_HINT,
+    FactorRow,
+    base_value,
+    check_study,
+    design_text,
+)
 from designer.gui.qt.study_results import StudyResults
 from designer.gui.qt.widgets import combo, form, ispin, message_box
 from designer.gui.state.study_data import duration_text
@@ -44,7 +50,7 @@ DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
 UNTITLED = "untitled-study.xml"
 WARNING_STYLE = "color: #b9770e; font-weight: bold"
 #: the height of the plan line, errors and warnings (lines of text; longer ones scroll)
-MESSAGE_LINES = 7
+MESSAGE_LINES = 9
 
 
 class StudyPanel(StudyFiles, Panel):
@@ -200,13 +206,9 @@ class StudyPanel(StudyFiles, Panel):
             self._show_errors([f"factor {name} is in the study already; edit its levels"])
             return None
         factor = FACTORS[name]
-        try:
-            base = factor.get(self.project)
-        except (ValueError, AttributeError, KeyError, IndexError):
-            base = None
-        from designer.study.design import _text
-
-        row = FactorRow(name, factor.stage, factor.doc, _text(base), levels)
+        # the window's project until a check gives the study's base (_checked)
+        row = FactorRow(name, factor.stage, factor.doc, base_value(factor, self.project),
+                        levels)
         row.changed.connect(self.changed)
         row.remove.connect(self.remove_factor)
         self.factor_box.addWidget(row)
@@ -302,7 +304,8 @@ class StudyPanel(StudyFiles, Panel):
         workers = self.run_box.workers.value()
         self.plan_label.setText(
             f"<b>{count(c.variants, 'variant')} × {count(reps, 'replicate')} = "
-            f"{count(c.runs, 'run')}</b><br>{count(c.renders, 'render')} "
+            f"{count(c.runs, 'run')}</b><br>{design_text(self.plan)}<br>"
+            f"{count(c.renders, 'render')} "
             f"(distinct image sets, {count(c.images_rendered, 'image')}), "
             f"{count(c.reconstructions, 'reconstruction')}<br>estimated time: "
             f"{duration_text(c.total_s)} on one worker "
@@ -310,6 +313,9 @@ class StudyPanel(StudyFiles, Panel):
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else "")
             + f"<br>render time: {estimate_basis(c.basis_speed or load_speed())}")
+        for row in self.rows:  # each factor's value in the study's base project
+            if row.name in FACTORS:
+                row.set_base(base_value(FACTORS[row.name], self.plan.base))
         self.errors.hide()
         self.warnings.setText("\n".join(f"⚠ {line}" for line in c.warnings))
         self.warnings.setVisible(bool(c.warnings))
