@@ -65,7 +65,7 @@ class StudyRunBox(QGroupBox):
         self.reason = QLabel("")
         self.reason.setObjectName("study-run-reason")
         self.reason.setWordWrap(True)
-        f.addRow(message_box([self.reason], 2))
+        f.addRow(message_box([self.reason], 3))
         self.progress = QProgressBar()
         self.progress.setFormat("%v / %m runs")
         f.addRow(self.progress)
