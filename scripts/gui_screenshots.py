@@ -215,7 +215,7 @@ def take_study(out: Path) -> list[Path]:
     _until(lambda: panel.plan is not None and not window.tasks.busy, "the study check")
     panel.run_box.run()
     _until(lambda: not panel.run_box.process.running, "the study run")
-    panel.results.select_figure("factor-marking-sigma-px")
+    panel.results.select_figure("marking-sigma-px: check-point RMSE Z (m)")
     app.processEvents()
     wait_idle(window)
     inner = panel.body.parentWidget()

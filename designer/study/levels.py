@@ -27,9 +27,14 @@ def interval95(values: list[float]) -> dict:
 def level_rows(plan, rows: list[dict], factor: str, level: str) -> list[dict]:
     """Rows at ``factor`` = ``level``: one-at-a-time, the others at their base levels;
     full factorial, all of them (the factor's main effect)."""
+    return rows_at_level(plan.study.design, rows, factor, level)
+
+
+def rows_at_level(design: str, rows: list[dict], factor: str, level: str) -> list[dict]:
+    """:func:`level_rows` of a study of ``design`` (one-at-a-time, full-factorial)."""
     key = f"factor:{factor}"
     out = [r for r in rows if str(r.get(key)) == level]
-    if plan.study.design == "one-at-a-time":
+    if design == "one-at-a-time":
         base = {f"factor:{k}": v for k, v in _base_levels(rows).items()}
         out = [r for r in out if all(str(r.get(k)) == str(v) for k, v in base.items()
                                      if k != key)]

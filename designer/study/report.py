@@ -46,6 +46,30 @@ def _save(fig, path: Path) -> None:
         fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
 
 
+def draw_level_chart(ax, factor: str, levels: list[str], stats: list[dict],
+                     points: list[list[float]], title: str, is_cost: bool = False) -> None:
+    """One metric against a factor's levels on ``ax``: the mean and 95 % interval over
+    replicates at each level (``stats``: :func:`interval95`), each run's value in grey
+    (``points``, per level); the cost in red, its axis not narrower than 20 % of its
+    values (costs within a few per cent of each other look that close)."""
+    for k, s in enumerate(stats):
+        if s["mean"] is None:
+            continue
+        ax.errorbar(k, s["mean"], yerr=[[s["mean"] - s["low"]], [s["high"] - s["mean"]]],
+                    fmt="o", color="C3" if is_cost else "C0", capsize=4)
+        ax.plot([k] * len(points[k]), points[k], ".", color="0.6", ms=4)
+    ax.set_xticks(list(range(len(levels))), levels,
+                  rotation=30 if max(map(len, levels), default=0) > 5 else 0)
+    ax.set_xlabel(factor)
+    ax.set_title("\n".join(textwrap.wrap(title, 34)), fontsize=9)
+    ax.grid(alpha=0.3)
+    if is_cost:
+        lo, hi = ax.get_ylim()
+        least = 0.2 * max(abs(lo), abs(hi))
+        if hi - lo < least:
+            ax.set_ylim((lo + hi) / 2 - least / 2, (lo + hi) / 2 + least / 2)
+
+
 def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
     import matplotlib.pyplot as plt
 
@@ -53,27 +77,13 @@ def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
     cost = COSTS[plan.study.cost].column
     panels = list(metrics) + [cost]
     fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels), 3.3), squeeze=False)
-    x = list(range(len(levels)))
     for ax, metric in zip(axes[0], panels, strict=True):
-        stats = [interval95([r.get(metric) for r in level_rows(plan, rows, factor, lv)
-                             if r["status"] == "ok"]) for lv in levels]
-        for k, s in enumerate(stats):
-            if s["mean"] is None:
-                continue
-            ax.errorbar(k, s["mean"], yerr=[[s["mean"] - s["low"]], [s["high"] - s["mean"]]],
-                        fmt="o", color="C0" if metric != cost else "C3", capsize=4)
-            points = [r.get(metric) for r in level_rows(plan, rows, factor, levels[k])
-                      if r["status"] == "ok" and r.get(metric) is not None]
-            ax.plot([k] * len(points), points, ".", color="0.6", ms=4)
-        ax.set_xticks(x, levels, rotation=30 if max(map(len, levels)) > 5 else 0)
-        ax.set_xlabel(factor)
-        ax.set_title("\n".join(textwrap.wrap(label(metric), 34)), fontsize=9)
-        ax.grid(alpha=0.3)
-        if metric == cost:  # costs within a few per cent of each other look that close
-            lo, hi = ax.get_ylim()
-            least = 0.2 * max(abs(lo), abs(hi))
-            if hi - lo < least:
-                ax.set_ylim((lo + hi) / 2 - least / 2, (lo + hi) / 2 + least / 2)
+        ok = [[r for r in level_rows(plan, rows, factor, lv) if r["status"] == "ok"]
+              for lv in levels]
+        draw_level_chart(ax, factor, levels, [interval95([r.get(metric) for r in at])
+                                              for at in ok],
+                         [[r[metric] for r in at if r.get(metric) is not None] for at in ok],
+                         label(metric), is_cost=metric == cost)
     fig.suptitle(f"{factor}: mean and 95 % interval over replicates (grey: each run)",
                  fontsize=10, y=1.04)
     _save(fig, path)

@@ -239,7 +239,9 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     assert {table.item(r, headers.index("status")).text() for r in range(2)} == {"ok"}
     assert float(table.item(0, headers.index("check_rmse_z_m")).text()) > 0
     names = [results.figure_choice.itemText(k) for k in range(results.figure_choice.count())]
-    assert "factor-marking-sigma-px" in names and "pareto" in names
+    # a chart per metric of the factor (drawn in the panel), then the report's figures
+    assert "marking-sigma-px: check-point RMSE Z (m)" in names and "pareto" in names
+    assert "factor-marking-sigma-px" not in names  # the report's row of them: not again
     results.select_figure("pareto")
     assert results.figure_path.name == "pareto.png"
     assert not results.figure.pixmap().isNull() and results.figure.pixmap().width() > 100
@@ -438,4 +440,6 @@ def test_opening_another_project_clears_the_study_results(qtbot, window, tmp_pat
     assert panel.results.table.rowCount() == 0
     assert panel.results.summary.text() == "no study folder open"
     assert panel.results.folder is None and panel.results.figure_choice.count() == 0
-    assert panel.run_box.folder.text() == str(out)  # still the folder to resume
+    # the folder held a study of the project before: resuming it on this one would mix
+    # the two projects' runs in one study
+    assert panel.run_box.folder.text() == ""

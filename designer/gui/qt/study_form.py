@@ -28,9 +28,14 @@ class FactorRow(QWidget):
         self.name = name
         row = QHBoxLayout(self)
         row.setContentsMargins(0, 0, 0, 0)
-        label = QLabel(f"<b>{name}</b><br><small>{stage}; base: {base_value or 'not set'}</small>")
-        label.setToolTip(doc)
-        label.setMinimumWidth(150)
+        self.stage = stage
+        self.label = QLabel()
+        self.label.setToolTip(f"{doc}\nIts value in the base project is the base level: "
+                              "one at a time, the base run keeps it and every other run "
+                              "changes this factor alone")
+        self.label.setMinimumWidth(150)
+        self.set_base(base_value)
+        label = self.label
         self.levels = QLineEdit(levels)
         self.levels.setObjectName(f"levels-{name}")
         self.levels.setPlaceholderText("levels, e.g. 3 4 6 or 20:40:5")
@@ -47,6 +52,12 @@ class FactorRow(QWidget):
         row.addWidget(self.levels, 1)
         row.addWidget(self.count)
         row.addWidget(self.remove_button)
+
+    def set_base(self, base_value: str) -> None:
+        """Show the factor's value in the study's base project ("" when it sets none)."""
+        self.base_value = base_value
+        self.label.setText(f"<b>{self.name}</b><br><small>{self.stage}; in the base "
+                           f"project: {base_value or 'not set'}</small>")
 
     def values(self) -> tuple[str, ...]:
         """The levels; ValueError names the factor and what is wrong."""
@@ -77,16 +88,74 @@ def _heightfield(plan):
     return _terrain_cache[key]
 
 
-def check_study(text: str | None, source: str, path: Path, speed=None):
+class OpenProjectInvalid(Exception):
+    """The study's base is the window's project with unsaved changes (or never saved),
+    and it is not valid: its problems at the lines of the project as it would be saved."""
+
+    def __init__(self, error) -> None:
+        super().__init__(str(error))
+        self.lines = ["the study's base is the open project with unsaved changes, and they "
+                      "are not valid (lines of the project file as it would be saved; "
+                      "Problems lists them too):", *error.lines]
+
+
+def check_open_project(project, source: str, base_dir: Path) -> None:
+    """The window's project checked as Save would write it, named ``source`` (its file);
+    :class:`OpenProjectInvalid` when it is not valid."""
+    from designer.project import parse_project, project_to_bytes, semantic_problems
+    from designer.project.problems import ProjectError
+
+    try:
+        parsed, smap = parse_project(project_to_bytes(project), source)
+    except ProjectError as error:
+        raise OpenProjectInvalid(error) from None
+    problems = semantic_problems(parsed, base_dir, smap)
+    if problems:
+        raise OpenProjectInvalid(ProjectError(source, problems))
+
+
+def design_text(plan) -> str:
+    """What the design makes of the base project, in words: one at a time, the base
+    project as it is (each factor's value in it) and one variant per level; full
+    factorial, every combination."""
+    if plan.study.design != "one-at-a-time":
+        return ("full factorial: every combination of the levels; the rest as in the base "
+                "project")
+    from designer.study.factors import FACTORS
+
+    values = []
+    for f in plan.study.factors:
+        value = base_value(FACTORS[f.name], plan.base)
+        values.append(f"{f.name} {value}" if value else f"{f.name} not set in it")
+    n = plan.n_variants - 1
+    return (f"one at a time: the base project as it is ({', '.join(values)}) and {n} "
+            f"variant{'s' if n != 1 else ''}, each one factor at one of its levels")
+
+
+def base_value(factor, project) -> str:
+    """``factor``'s value in ``project`` as text ("" when the project sets none)."""
+    from designer.study.design import _text
+
+    try:
+        return _text(factor.get(project))
+    except (ValueError, AttributeError, KeyError, IndexError):
+        return ""
+
+
+def check_study(text: str | None, source: str, path: Path, speed=None, open_project=None):
     """(plan, cost) of the study ``text`` (None: the file ``path`` as it is on disk), the
     cost with the warnings of runs that would fail; ProjectError lines
-    ``FILE:LINE:COL: <element>: message`` for anything wrong."""
+    ``FILE:LINE:COL: <element>: message`` for anything wrong. ``open_project``: (project,
+    its file's name, its folder) when the study's base is the window's project written
+    into the study (unsaved changes): its problems are told at its own lines first."""
     from dataclasses import replace
 
     from designer.gui.state.study_data import plan_cost, plan_warnings
     from designer.study.design import plan_study
     from designer.study.xml import parse_study, read_study
 
+    if open_project is not None:
+        check_open_project(*open_project)
     study = read_study(path) if text is None else parse_study(text.encode(), source, path)
     plan = plan_study(study)
     cost = plan_cost(plan, _heightfield(plan), speed)

@@ -337,6 +337,63 @@ def read_folder(path: str | Path, contents: bool = True) -> StudyFolder:
     return folder
 
 
+@dataclass(frozen=True)
+class LevelChart:
+    """One metric of a study against one factor's levels, as the report draws it
+    (:func:`designer.study.report.draw_level_chart`)."""
+
+    factor: str
+    metric: str
+    title: str
+    levels: list[str]
+    stats: list[dict]           # per level: mean, low, high (95 % interval) or None
+    points: list[list[float]]   # per level: each finished run's value
+    is_cost: bool = False
+
+    @property
+    def name(self) -> str:
+        return f"{self.factor}: {self.title}"
+
+
+def _number(value) -> float | None:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return None
+    return number if number == number else None
+
+
+def level_charts(folder: StudyFolder) -> list[LevelChart]:
+    """The charts of a finished study, one per factor and metric (the study's metrics,
+    then its cost), from summary.json and results.csv."""
+    from designer.study.levels import rows_at_level
+    from designer.study.report import label
+
+    summary = folder.summary or {}
+    design = summary.get("design", "one-at-a-time")
+    cost = (summary.get("cost") or {}).get("column")
+    metrics = [*folder.metrics, *([cost] if cost and cost not in folder.metrics else [])]
+    # results.csv holds text: the variant as a number, as the study wrote it (the base
+    # variant, 0, gives the other factors' base levels)
+    table = [{**r, "variant": int(v) if (v := _number(r.get("variant"))) is not None
+              else r.get("variant")} for r in folder.rows]
+    charts = []
+    for factor, info in (summary.get("factors") or {}).items():
+        levels = [str(lv["level"]) for lv in info.get("levels", [])]
+        for metric in metrics:
+            stats = [lv["metrics"].get(metric) or {"mean": None}
+                     for lv in info.get("levels", [])]
+            points = []
+            for level in levels:
+                rows = rows_at_level(design, table, factor, level)
+                values = [_number(r.get(metric)) for r in rows
+                          if str(r.get("status", "")) == "ok"]
+                points.append([v for v in values if v is not None])
+            charts.append(LevelChart(factor, metric, label(metric), levels, stats, points,
+                                     is_cost=metric == cost))
+    return charts
+
+
 def _figures(path: Path) -> list[Path]:
     """The report's figures in the report's order (report.md), then any others."""
     found = sorted((path / "figures").glob("*.png"))

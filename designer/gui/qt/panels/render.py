@@ -186,6 +186,9 @@ class RenderPanel(Panel):
         self.n_frames = 0
         self.out_dir: Path | None = None
         self._watching_problems = False
+        # the folder whose images the thumbnails show (a render's, or one found up to date)
+        self._thumbs_dir: Path | None = None
+        self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
         self.thumbs.itemActivated.connect(self.open_image)
         self.thumbs.itemDoubleClicked.connect(self.open_image)
 
@@ -223,11 +226,41 @@ class RenderPanel(Panel):
         self.out_of_date.show_state(
             None if state.ok else state.text,
             f"the {state.n_images} rendered images are up to date with the project")
+        if state.n_images:
+            self._show_rendered()
         redo = len(state.stale) + len(state.missing)
         self.start_button.setText(f"Re-render {redo} changed image{'s' if redo != 1 else ''}"
                                   if not state.ok and redo else "Render")
         self.start_button.setToolTip("keeps the images that are up to date (resume) and "
                                      "renders the others" if redo else "")
+
+    def _project_replaced(self) -> None:
+        """Another project was opened (or a new one made): the thumbnails were of the one
+        before (a render that runs keeps its own)."""
+        if not self.process.running:
+            self.thumbs.clear()
+            self._thumbs_dir = None
+
+    def _show_rendered(self) -> None:
+        """The thumbnails of the images in the project's output folder, when the list
+        shows no other images of that folder (e.g. a project opened with its render)."""
+        doc = self.editor.document
+        stations = self.sync.stations
+        if doc.path is None or stations is None:
+            return
+        out_dir = (doc.path.parent / self.project.outputs.directory).resolve()
+        if self._thumbs_dir == out_dir and self.thumbs.count():
+            return
+        self.out_dir = out_dir
+        self.image_names = list(stations.image_names)
+        self.thumbs.clear()
+        self._thumbs_dir = out_dir
+        self._thumb_shape(thumb_size(*derived.rendered_size_px(
+            stations.interior, self.project.render.resolution_scale)))
+        for index in range(len(self.image_names)):
+            path = self._image_path(index)
+            if path is not None:
+                self._add_thumbnail(index, path, 0.0, "(rendered before)")
 
     def settings(self):
         window = self.window()
@@ -250,6 +283,7 @@ class RenderPanel(Panel):
         self.progress.setRange(0, max(1, self.n_frames))
         self.progress.setValue(0)
         self.thumbs.clear()
+        self._thumbs_dir = self.out_dir
         if self.sync.stations is not None:  # the rendered images' shape, until one is read
             self._thumb_shape(thumb_size(*derived.rendered_size_px(
                 self.sync.stations.interior, self.project.render.resolution_scale)))
@@ -347,10 +381,11 @@ class RenderPanel(Panel):
         found = sorted(folder.glob(Path(self.image_names[index]).stem + ".*"))
         return str(found[0]) if found else None
 
-    def _add_thumbnail(self, index: int, path: str | None, seconds: float) -> None:
+    def _add_thumbnail(self, index: int, path: str | None, seconds: float,
+                       note: str = "(kept)") -> None:
         name = (Path(self.image_names[index]).stem if index < len(self.image_names)
                 else f"#{index}")
-        label = name + (f"\n{seconds:.1f} s" if seconds else "\n(kept)")
+        label = name + (f"\n{seconds:.1f} s" if seconds else f"\n{note}")
         item = QListWidgetItem(label)
         # the item's size is fixed, not measured: the thumbnail is read in a thread and
         # arrives after the list laid the item out (measured then, the item would be

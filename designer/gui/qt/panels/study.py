@@ -29,7 +29,13 @@ from PySide6.QtWidgets import (
 from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.panels.study_files import StudyFiles, checked_state, relative
 from designer.gui.qt.panels.study_run import StudyRunBox
-from designer.gui.qt.study_form import LEVELS_HINT, FactorRow, check_study
+from designer.gui.qt.study_form import (
+    LEVELS_HINT,
+    FactorRow,
+    base_value,
+    check_study,
+    design_text,
+)
 from designer.gui.qt.study_results import StudyResults
 from designer.gui.qt.widgets import combo, form, ispin, message_box
 from designer.gui.state.study_data import duration_text
@@ -44,7 +50,7 @@ DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
 UNTITLED = "untitled-study.xml"
 WARNING_STYLE = "color: #b9770e; font-weight: bold"
 #: the height of the plan line, errors and warnings (lines of text; longer ones scroll)
-MESSAGE_LINES = 7
+MESSAGE_LINES = 9
 
 
 class StudyPanel(StudyFiles, Panel):
@@ -191,6 +197,7 @@ class StudyPanel(StudyFiles, Panel):
         self._timer.timeout.connect(self.check_now)
         self.editor.document.events.connect("file", lambda **_: self.changed())
         self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
+        self._project_path = self._open_path()
         self._show_base()
 
     # ------------------------------------------------------------------ the study
@@ -199,13 +206,9 @@ class StudyPanel(StudyFiles, Panel):
             self._show_errors([f"factor {name} is in the study already; edit its levels"])
             return None
         factor = FACTORS[name]
-        try:
-            base = factor.get(self.project)
-        except (ValueError, AttributeError, KeyError, IndexError):
-            base = None
-        from designer.study.design import _text
-
-        row = FactorRow(name, factor.stage, factor.doc, _text(base), levels)
+        # the window's project until a check gives the study's base (_checked)
+        row = FactorRow(name, factor.stage, factor.doc, base_value(factor, self.project),
+                        levels)
         row.changed.connect(self.changed)
         row.remove.connect(self.remove_factor)
         self.factor_box.addWidget(row)
@@ -282,8 +285,18 @@ class StudyPanel(StudyFiles, Panel):
         from_file = self._opened_text == text and self.study_path is not None
         # each kind of image with its own records (the cost says which it names)
         self.sync.tasks.submit("study-check", check_study, None if from_file else text,
-                               str(path), path, None, on_done=self._checked,
-                               on_error=self._check_failed)
+                               str(path), path, None, self._open_project_inline(),
+                               on_done=self._checked, on_error=self._check_failed)
+
+    def _open_project_inline(self):
+        """(project, its file's name, its folder) when the study's base is the window's
+        project written into the study (not saved, or unsaved changes), else None."""
+        doc = self.editor.document
+        if self.base_file is not None or self.inline_base is not None or (
+                doc.path is not None and not doc.dirty):
+            return None
+        source = str(doc.path) if doc.path is not None else "the open project (not saved yet)"
+        return self.project, source, doc.base_dir
 
     def _checked(self, result) -> None:
         self.plan, self.cost = result
@@ -291,7 +304,8 @@ class StudyPanel(StudyFiles, Panel):
         workers = self.run_box.workers.value()
         self.plan_label.setText(
             f"<b>{count(c.variants, 'variant')} × {count(reps, 'replicate')} = "
-            f"{count(c.runs, 'run')}</b><br>{count(c.renders, 'render')} "
+            f"{count(c.runs, 'run')}</b><br>{design_text(self.plan)}<br>"
+            f"{count(c.renders, 'render')} "
             f"(distinct image sets, {count(c.images_rendered, 'image')}), "
             f"{count(c.reconstructions, 'reconstruction')}<br>estimated time: "
             f"{duration_text(c.total_s)} on one worker "
@@ -299,6 +313,9 @@ class StudyPanel(StudyFiles, Panel):
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else "")
             + f"<br>render time: {estimate_basis(c.basis_speed or load_speed())}")
+        for row in self.rows:  # each factor's value in the study's base project
+            if row.name in FACTORS:
+                row.set_base(base_value(FACTORS[row.name], self.plan.base))
         self.errors.hide()
         self.warnings.setText("\n".join(f"⚠ {line}" for line in c.warnings))
         self.warnings.setVisible(bool(c.warnings))
@@ -340,11 +357,30 @@ class StudyPanel(StudyFiles, Panel):
             self._show_base()
             self.changed()
 
+    def _open_path(self) -> Path | None:
+        path = self.editor.document.path
+        return path.resolve() if path is not None else None
+
     def _project_replaced(self) -> None:
         """Another project was opened (or a new one made): the results shown were of the
-        project before; the study itself and its output folder stay."""
+        project before. A study on the window's project is on the new one now: the study
+        file and the output folder it had were the old project's, so the study is not
+        saved and has no output folder until it is given one (a study with a base file of
+        its own keeps both)."""
         self.results.clear()
         self.run_box.clear_progress()
+        path = self._open_path()
+        replaced, self._project_path = path != self._project_path, path
+        if not replaced or self.base_file is not None or self.inline_base is not None \
+                or self.run_box.process.running:
+            return
+        if self.study_path is not None:
+            self.file_label.setText(f"not saved (the study is on the project just opened; "
+                                    f"{self.study_path.name} stays on the one before)")
+        self.study_path = self._opened_text = None
+        self.run_box.folder.clear()
+        self._show_base()
+        self.changed()
 
     def refresh(self) -> None:
         pass

@@ -21,7 +21,7 @@ from PySide6.QtWidgets import (
 
 from designer.gui.qt.study_process import StudyProcess, study_command
 from designer.gui.qt.study_results import FAILED_COLOUR
-from designer.gui.qt.widgets import form, ispin
+from designer.gui.qt.widgets import form, ispin, message_box
 from designer.gui.state.study_data import StudyFolder, duration_text, read_folder
 
 #: ``designer study run``'s exit status when it finished and some runs failed (every
@@ -60,6 +60,12 @@ class StudyRunBox(QGroupBox):
         buttons.addWidget(self.run_button)
         buttons.addWidget(self.cancel_button)
         f.addRow(buttons)
+        # why Run is greyed, in words under it (an area of a fixed height: the reason
+        # comes and goes with every check and moves nothing below)
+        self.reason = QLabel("")
+        self.reason.setObjectName("study-run-reason")
+        self.reason.setWordWrap(True)
+        f.addRow(message_box([self.reason], 3))
         self.progress = QProgressBar()
         self.progress.setFormat("%v / %m runs")
         f.addRow(self.progress)
@@ -107,20 +113,26 @@ class StudyRunBox(QGroupBox):
         folder = self.folder_state()
         self._folder_state = folder.state if folder is not None else "empty"
         self.run_button.setText("Resume" if self._folder_state == "partial" else "Run")
-        if not running:
-            tip = ""
-            if self.panel.plan is None:
-                tip = "the study has errors or is being checked"
-            elif folder is None:
-                tip = "choose an output folder"
-            elif self._folder_state == "complete":
-                tip = (f"{folder.path} holds the finished study '{folder.name}'; open it "
-                       "below, or choose another folder")
-            self.run_button.setToolTip(tip)
-            self.run_button.setEnabled(not tip)
-        else:
-            self.run_button.setEnabled(False)
+        tip = "" if running else self.why_not_run(folder)
+        self.run_button.setToolTip(tip)
+        self.run_button.setEnabled(not running and not tip)
+        self.reason.setText(f"Run is greyed: {tip}" if tip else "")
         self.cancel_button.setEnabled(running)
+
+    def why_not_run(self, folder: StudyFolder | None) -> str:
+        """Why Run cannot start now ("" when it can)."""
+        panel = self.panel
+        if panel.plan is None:
+            errors = getattr(panel, "errors", None)
+            if errors is not None and not errors.isHidden():
+                return "the study has errors (listed below); fix them"
+            return "the study is being checked…"
+        if folder is None:
+            return "choose an output folder (a new one, or a study to resume)"
+        if folder.state == "complete":
+            return (f"the output folder holds the finished study '{folder.name}' (Open "
+                    "study folder… shows its results); choose another folder to run again")
+        return ""
 
     # ------------------------------------------------------------------ run
     def run(self) -> None:
