@@ -40,6 +40,34 @@ class OverlayLayers:
         self._meshes["coverage"] = grid
         self.request_render()
 
+    def show_cloud_shadows(self, points_world: np.ndarray | None,
+                           faces: np.ndarray | None = None,
+                           darkening: np.ndarray | None = None) -> None:
+        """The cloud shadows laid over the terrain (None: none): black, each vertex as
+        opaque as the share of light it loses, so the ground under it is drawn that much
+        darker. Pulled towards the camera a little so it is never hidden in the ground
+        it lies on."""
+        if points_world is None or not len(points_world):
+            self.remove_layer("cloud-shadows")
+            self.request_render()
+            return
+        pv = self._pv
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = pv.PolyData(self.local(points_world),
+                           np.column_stack([np.full(len(f), 3), f]).ravel())
+        rgba = np.zeros((len(mesh.points), 4), dtype=np.uint8)
+        rgba[:, 3] = np.round(255 * np.clip(darkening, 0.0, 1.0))
+        mesh.point_data["shadow"] = rgba
+        self.remove_layer("cloud-shadows")
+        self.plotter.add_mesh(mesh, name="cloud-shadows", scalars="shadow", rgba=True,
+                              lighting=False, show_scalar_bar=False, reset_camera=False,
+                              render=False, pickable=False)
+        actor = self.plotter.actors["cloud-shadows"]
+        actor.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-2, -2)
+        actor.SetVisibility(self._visible.get("cloud-shadows", True))
+        self._meshes["cloud-shadows"] = mesh
+        self.request_render()
+
     def show_cloud(self, points_world: np.ndarray, distances_m: np.ndarray,
                    limit_m: float) -> None:
         """A point cloud coloured by signed distance, diverging map centred on 0 (the
