@@ -213,6 +213,14 @@ def problem_text(problem: Problem | str, source: str) -> str:
     return Problem(worded, problem.line, problem.column).format(source)
 
 
+def point_text(xyz) -> str:
+    """A world point as every readout of the window gives it: ``E 511995.497  N
+    5400012.250  H 123.456 m`` (metres to the millimetre, no digit grouping: as typed and
+    as the files write them)."""
+    x, y, z = (float(v) for v in xyz)
+    return f"E {x:.3f}  N {y:.3f}  H {z:.3f} m"
+
+
 def duration(seconds: float) -> str:
     """A time as a person reads it: '0.4 s', '12 s', '3.6 min', '2.4 h'. Short times are
     given in seconds (one decimal below 10 s), never as '0.0 min' or '0 s'."""
