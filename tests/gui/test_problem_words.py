@@ -49,3 +49,24 @@ def test_a_refused_file_names_panel_and_field_as_labelled(qtbot, window, tmp_pat
     rect = w.problems.visualItemRect(w.problems.item(row))
     qtbot.mouseClick(w.problems.viewport(), Qt.MouseButton.LeftButton, pos=rect.center())
     qtbot.waitUntil(lambda: not w.panels["Camera"].visibleRegion().isEmpty(), timeout=3000)
+
+
+def test_every_declared_field_is_placed_in_a_panel():
+    """A range problem of any declared field of the project's elements names a panel
+    (the Problems line's ``Panel › field``), as its element's place in the project says."""
+    from designer.gui.state.field_places import PANEL_KEYWORDS, _classes, panel_for_object
+    from designer.project import model as m
+    from designer.project.declare import declared, element_of
+
+    titles = {title for title, _words in PANEL_KEYWORDS} | {"Moving objects"}
+    unplaced = []
+    for cls in _classes(m.Project):
+        el = element_of(cls)
+        if el is None or not declared(cls) or cls in (m.Origin, m.SceneObject, m.Rig):
+            continue  # the origin, scene objects and rigs have no panel of their own
+        for d in declared(cls):
+            tag = d.xml if d.attr.text else (d.attr.child or el.tag)
+            panel = panel_for_object(object.__new__(cls), tag)
+            if panel not in titles:
+                unplaced.append(f"{cls.__name__}.{d.name}: {panel}")
+    assert not unplaced, unplaced

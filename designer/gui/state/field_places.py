@@ -15,19 +15,22 @@ from designer.project.declare import Declared, declared, element_of
 #: keywords in an element's name → the panel that edits it (the first match wins)
 PANEL_KEYWORDS = (
     ("Processing", ("processing", "calibration", "gcps", "control", "position-prior",
-                    "matching")),
+                    "matching", "sfm")),
     ("Flight", ("flight", "area", "vertex", "overlap", "altitude", "gsd", "pose-noise",
-                "trajectory", "exterior")),
+                "trajectory", "exterior", "time-line", "mount", "grid-angle", "crosshatch",
+                "start-corner", "tilt", "random-seed")),
     ("Camera", ("camera", "sensor", "focal", "distortion", "principal", "image-width",
-                "image-height", "brown", "fisheye")),
+                "image-height", "brown", "fisheye", "rolling-shutter")),
     ("GCPs", ("target", "true", "surveyed", "survey-accuracy", "sigma")),
-    ("Texture", ("texture", "tiling", "image", "procedural-texture")),
+    ("Texture", ("texture", "tiling", "image", "procedural-texture", "orthophoto")),
     ("Lighting", ("lighting", "sun", "sky", "cloud")),
     ("Vegetation", ("vegetation", "plants", "wind")),
     ("Buildings", ("building",)),
     ("Terrain", ("terrain", "extent", "procedural", "dem", "mesh", "flat")),
-    ("Effects", ("effects", "vignetting", "noise", "blur", "jpeg", "motion")),
-    ("Render", ("render", "samples", "pixel-filter", "output", "resolution")),
+    ("Effects", ("effects", "vignetting", "noise", "blur", "jpeg", "motion", "defocus",
+                 "exposure", "chromatic")),
+    ("Render", ("render", "samples", "pixel-filter", "output", "resolution", "preset",
+                "workers")),
 )
 
 #: the camera's values, which its reader places by hand: (element, attribute) inside
@@ -41,6 +44,34 @@ _CAMERA_XML = {
     ("principal-point", "x-mm"): "principal_point_x_mm",
     ("principal-point", "y-mm"): "principal_point_y_mm",
 }
+
+
+#: where a declared element lives in the project (its ``path``) → the panel that edits it
+PATH_PANELS = (
+    ("scene.terrain", "Terrain"), ("scene.texture", "Texture"),
+    ("scene.lighting", "Lighting"), ("scene.vegetation", "Vegetation"),
+    ("scene.targets", "GCPs"), ("effects", "Effects"), ("render", "Render"),
+    ("outputs", "Render"), ("processing", "Processing"), ("trajectory", "Flight"),
+)
+
+
+#: elements that come in lists or alternatives (no ``path``) whose name says too little
+CLASS_PANELS = {m.ProceduralTexture: "Texture", m.ImageTexture: "Texture",
+                m.OrthophotoTexture: "Texture", m.MovingObject: "Moving objects"}
+
+
+def panel_for_object(obj: object, tag: str) -> str | None:
+    """The panel of a model object's element ``<tag>``: by where the element's
+    declaration puts it in the project (the Effects panel's ``<sensor-noise>``, the
+    Texture panel's ``<procedural>``), else by its name."""
+    if type(obj) in CLASS_PANELS:
+        return CLASS_PANELS[type(obj)]
+    el = element_of(type(obj))
+    if el is not None and el.path is not None:
+        for prefix, title in PATH_PANELS:
+            if el.path == prefix or el.path.startswith(prefix + "."):
+                return title
+    return panel_for_tag(tag)
 
 
 def panel_for_tag(tag: str) -> str | None:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import re
 
-from designer.gui.state.field_places import declaration_at, panel_for_element, panel_for_tag
+from designer.gui.state.field_places import declaration_at, panel_for_element, panel_for_object
 from designer.project.declare import Declared, declared
 from designer.project.problems import Issue, Problem
 
@@ -186,7 +186,7 @@ def _panel(issue: Issue) -> str | None:
         return None
     if issue.obj is None:
         return panel_for_element(issue.tag, issue.parent)
-    return panel_for_tag(issue.tag)
+    return panel_for_object(issue.obj, issue.tag)
 
 
 def field_place(issue: Issue) -> str | None:
