@@ -15,8 +15,10 @@ from designer.errors import DesignerError
 @dataclass(frozen=True)
 class Problem:
     """One located problem: ``message`` already starts with ``<element>:``; ``issue``, the
-    semantic :class:`Issue` it was located from (None for a schema or syntax error),
-    carries its structured fields for programs that word it their own way (the GUI)."""
+    semantic :class:`Issue` it was located from, or for a schema error about one value
+    (out of range, not one of the choices) an :class:`Issue` without a model object,
+    carries its structured fields for programs that word it their own way (the GUI);
+    None for a syntax error or any other schema error."""
 
     message: str
     line: int = 1
@@ -61,7 +63,8 @@ class Issue:
     way, so that no one parses the message: ``code``, what kind of problem it is (one of
     :data:`CODES`; "" for one that only its message describes), ``value`` the wrong value
     of ``attr``, ``limits`` the (lowest, highest) it may have (None: unbounded on that
-    side) and ``choices`` the values it may take.
+    side) and ``choices`` the values it may take. An issue found by the schema has no
+    model object (``obj`` None) and names the element around ``tag`` in ``parent``.
     """
 
     obj: object
@@ -73,6 +76,7 @@ class Issue:
     value: object = None
     limits: tuple[float | None, float | None] | None = None
     choices: tuple[str, ...] | None = None
+    parent: str | None = None
 
 
 #: the kinds of problem an :class:`Issue` names in its ``code``

@@ -12,7 +12,7 @@ import re
 
 from lxml import etree
 
-from designer.project.problems import Problem, SourceMap
+from designer.project.problems import Issue, Problem, SourceMap
 from designer.project.schema import NAMESPACE, schema_path
 
 _XS = "{http://www.w3.org/2001/XMLSchema}"
@@ -111,7 +111,39 @@ def translate_xsd_error(entry, root: etree._Element, smap: SourceMap,
     parent = _parent_name(instance)
     line, column = smap.position(entry.line or 1, tag, attr)
     text = _sentence(info, tag, attr, rest, parent, instance)
-    return Problem(f"<{tag}>: {text}", line, column)
+    return Problem(f"<{tag}>: {text}", line, column, _value_issue(tag, attr, rest, parent, text))
+
+
+_BOUNDS = {"minInclusive": 0, "minExclusive": 0, "maxInclusive": 1, "maxExclusive": 1}
+
+
+def _value_issue(tag: str, attr: str | None, rest: str, parent: str | None,
+                 text: str) -> Issue | None:
+    """The structured fields of a schema error about one value: code "range" (the value
+    and the facet's limit) or "choice" (the value and the allowed values); None for any
+    other schema error."""
+    m = re.match(r"\[facet '(\w+)'\] The value '(.*?)'(.*)", rest, re.S)
+    if m is None:
+        return None
+    facet, value, tail = m.groups()
+    if facet == "enumeration":
+        choices = re.search(r"\{(.*)\}", tail)
+        if choices is None:
+            return None
+        allowed = tuple(c.strip().strip("'") for c in choices.group(1).split(","))
+        return Issue(None, tag, text, attr=attr, code="choice", value=value,
+                     choices=allowed, parent=parent)
+    bound = re.search(r"'([^']*)'\)?\.?\s*$", tail)
+    if facet not in _BOUNDS or bound is None:
+        return None
+    try:
+        number, limit = float(value), float(bound.group(1))
+    except ValueError:
+        return None
+    limits: list[float | None] = [None, None]
+    limits[_BOUNDS[facet]] = limit
+    return Issue(None, tag, text, attr=attr, code="range", value=number,
+                 limits=(limits[0], limits[1]), parent=parent)
 
 
 def _instance(root: etree._Element, path: str | None) -> etree._Element | None:

@@ -88,9 +88,9 @@ def test_no_photos_points_to_the_flight_panel():
 @pytest.mark.parametrize(("element", "field_label", "limits"), [
     (m.RollingShutter(readout_s=0.9), "readout 0.9", "from 0 to 0.5 s"),
     (m.Sun(azimuth_deg=400.0, elevation_deg=50.0), "azimuth 400",
-     "at least 0 and below 360 deg"),
+     "at least 0 and below 360 °"),
     (m.Sun(azimuth_deg=10.0, elevation_deg=-5.0), "elevation -5",
-     "greater than 0 and at most 90 deg"),
+     "greater than 0 and at most 90 °"),
 ])
 def test_a_range_reads_with_the_declared_label_and_its_limits(element, field_label, limits):
     (issue,) = element_issues(element)

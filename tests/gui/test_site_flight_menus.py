@@ -242,3 +242,39 @@ def test_site_project_without_orthophoto_speaks_of_the_dem_alone(tmp_path):
     with pytest.raises(DesignerError) as error:
         site_project(dem, None, tmp_path / "site.xml")
     assert "orthophoto" not in str(error.value)
+
+
+def test_import_site_checks_the_orthophoto_before_asking_where_to_save(qtbot, window,
+                                                                       sample_site,
+                                                                       tmp_path):
+    """An orthophoto that cannot make a site with the DEM is refused right after it is
+    chosen: no save dialog follows, its message names it, nothing is written."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog
+
+    w = window
+    bad = tmp_path / "scan.tif"
+    bad.write_text("not a raster\n")
+    answer_file_dialogs([sample_site["dem"], bad])
+    saves: list[str] = []
+
+    def cancel_save_dialogs() -> None:
+        dialog = QApplication.activeModalWidget()
+        if isinstance(dialog, QFileDialog) and dialog.isVisible() \
+                and "save" in dialog.windowTitle():
+            saves.append(dialog.windowTitle())
+            dialog.reject()
+
+    timer = QTimer()
+    timer.setInterval(50)
+    timer.timeout.connect(cancel_save_dialogs)
+    timer.start()
+    try:
+        choose_menu(qtbot, w, "File", "Import site (DEM + orthophoto)…")
+        qtbot.wait(100)
+    finally:
+        timer.stop()
+    assert saves == [], f"asked where to save after the bad orthophoto: {saves}"
+    lines = problems(w)
+    assert len(lines) == 1 and "scan.tif" in lines[0], lines
+    assert not list(tmp_path.glob("*.xml"))

@@ -112,8 +112,11 @@ class ViewInteraction(QObject):
     def _move(self, event) -> bool:
         x, y = self._pos(event)
         ground = self.ground_at(x, y)
-        # () : the cursor is over the view but not over the terrain
-        self.view.ground_hovered.emit(() if ground is None else tuple(ground))
+        # the readout is of the point a click picks: a drawn cloud's point under the
+        # cursor, else the ground; () : the cursor is over the view but not the terrain
+        k = self.view.cloud_point_at(x, y)
+        hovered = ground if k is None else self.view.cloud_point_world(k)
+        self.view.ground_hovered.emit(() if hovered is None else tuple(hovered))
         if self._dragging is not None:
             if ground is not None:
                 self.view.show_polygon("draft", np.array([ground, ground + [0, 0, 0.01]]),

@@ -35,7 +35,7 @@ from designer.gui.qt.scene_view import SceneView
 from designer.gui.qt.site_flight_actions import SiteFlightActions
 from designer.gui.qt.tasks import TaskRunner
 from designer.gui.qt.undo import Editor
-from designer.gui.state import files
+from designer.gui.state import files, wording
 from designer.gui.state.document import ProjectDocument
 
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("buildings", "Buildings"),
@@ -319,8 +319,7 @@ class MainWindow(QMainWindow):
         if len(xyz) == 0:
             self.coords.setText("off the terrain")
             return
-        self.coords.setText(f"E {xyz[0]:,.3f}  N {xyz[1]:,.3f}  H {xyz[2]:.3f} m "
-                            f"(world)".replace(",", " "))
+        self.coords.setText(f"{wording.point_text(xyz)} (world)")
 
     def frame_all(self) -> None:
         """Fit the view to the terrain, the cameras and the GCPs."""

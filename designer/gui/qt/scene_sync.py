@@ -5,8 +5,9 @@ depends on them, in worker threads (:class:`~designer.gui.qt.tasks.TaskRunner`):
 
 terrain → height field, ray caster, display mesh and its light → targets, stations,
 coverage; texture → texture image (1–2 s for a procedural one) and the display UVs;
-lighting → the light on the drawn terrain and objects; objects → the placed meshes, the
-buildings and the plants (also rebuilt on the new terrain);
+lighting → the light on the drawn terrain and objects, the cloud shadows drawn over it;
+objects → the placed meshes, the buildings and the plants (also rebuilt on the new
+terrain);
 cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
 
 Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
@@ -104,6 +105,7 @@ class SceneSync(QObject):
             self.refresh_texture()
         if "lighting" in parts and not parts & TERRAIN_PARTS and self.terrain is not None:
             self.refresh_lighting()
+            self.refresh_cloud_shadows()
         if parts & {"objects", "lighting"}:
             self.refresh_objects()
             if not parts & TERRAIN_PARTS:
@@ -133,6 +135,7 @@ class SceneSync(QObject):
     def _terrain_failed(self, error: BaseException) -> None:
         self.terrain = None
         self.view.remove_layer("terrain")
+        self.view.show_cloud_shadows(None)
         self._fail("terrain", error)
         self.terrain_changed.emit()
         self.refresh_targets()
@@ -161,6 +164,7 @@ class SceneSync(QObject):
                                result.irradiance)
         if first:
             self.view.reset_view()
+        self.refresh_cloud_shadows()
         self.terrain_changed.emit()
         self.refresh_targets()
         self.refresh_stations()
@@ -255,11 +259,12 @@ class SceneSync(QObject):
 
     # ------------------------------------------------------------------ lighting
     def refresh_lighting(self) -> None:
-        """Light the drawn terrain anew (sun, sky) without recomputing the terrain."""
+        """Light the drawn terrain anew (sun, sky, cloud shadows) without recomputing the
+        terrain."""
         terrain = self.terrain
         self.tasks.submit("lighting", derived.display_irradiance,
                           self.document.project.scene.lighting, terrain.display,
-                          terrain.heightfield, terrain.raycaster,
+                          terrain.heightfield, terrain.raycaster, self.document.project,
                           on_done=lambda light: self._lighting_done(terrain, light),
                           on_error=lambda e: self._fail("lighting", e))
 
@@ -270,6 +275,29 @@ class SceneSync(QObject):
         self.terrain = dataclasses.replace(terrain, irradiance=light)
         self.view.set_terrain_irradiance(light)
         self.lighting_changed.emit()
+
+    def refresh_cloud_shadows(self) -> None:
+        """Draw the project's cloud shadows over the terrain anew (none: take them away)."""
+        terrain = self.terrain
+        if terrain is None or self.document.project.scene.lighting.clouds is None:
+            self.tasks.cancel("cloud-shadows")
+            self.view.show_cloud_shadows(None)
+            return
+        self.tasks.submit("cloud-shadows", derived.compute_cloud_preview,
+                          self.document.project, terrain,
+                          on_done=lambda preview: self._cloud_shadows_done(terrain, preview),
+                          on_error=lambda e: self._fail("cloud shadows", e))
+
+    def _cloud_shadows_done(self, terrain: derived.TerrainResult,
+                            preview: derived.CloudPreview | None) -> None:
+        if self.terrain is None or terrain.display is not self.terrain.display:
+            return  # drawn for a terrain since replaced; its own preview follows
+        self._clear("cloud shadows")
+        if preview is None:
+            self.view.show_cloud_shadows(None)
+        else:
+            self.view.show_cloud_shadows(preview.points_world, preview.faces,
+                                         preview.darkening)
 
     # ------------------------------------------------------------------ texture
     def refresh_texture(self) -> None:

@@ -8,8 +8,9 @@ the file the command makes. Errors are the commands' one-line messages, shown in
 Problems panel; nothing is written or changed when there is one.
 
 * Import site asks for the DEM (checked at once: a file that cannot make a site is
-  refused before anything else is asked), then the orthophoto (Cancel: none), then
-  where to save the new project; the project is written and opened.
+  refused before anything else is asked), then the orthophoto (Cancel: none; checked
+  with the DEM at once), then where to save the new project; the project is written
+  and opened.
 * Import flight replaces the open project's exposures by the flown photos (explicit
   exterior orientations, the camera the metadata names) as one undoable step; the 3D
   view draws their frusta and footprints like any other photos. Heights are the
@@ -67,6 +68,8 @@ class SiteFlightActions:
         ortho, _ = QFileDialog.getOpenFileName(
             w, "Import site: the orthophoto (Cancel: none)", str(Path(dem).parent),
             GEOTIFF_FILTER)
+        if ortho and not self.check_site(Path(dem), Path(ortho)):
+            return False
         target, _ = QFileDialog.getSaveFileName(
             w, "Import site: save the new project as", str(Path(dem).with_suffix(".xml")),
             "designer project (*.xml)")
@@ -86,6 +89,20 @@ class SiteFlightActions:
             check_site_dem(dem)
         except (DesignerError, OSError) as error:
             self.window.show_problems([humanize(str(error))], f"Cannot import the site {dem.name}")
+            return False
+        return True
+
+    def check_site(self, dem: Path, orthophoto: Path) -> bool:
+        """The DEM and the chosen orthophoto make a site together (readable, one
+        coordinate system, overlapping); else the error is shown at once (before the
+        save location is asked for) and False."""
+        from designer.survey.site_project import site_project
+
+        try:
+            site_project(dem, orthophoto, dem.with_suffix(".xml"))
+        except (DesignerError, OSError) as error:
+            self.window.show_problems([humanize(str(error))],
+                                      f"Cannot import the site {dem.name}")
             return False
         return True
 

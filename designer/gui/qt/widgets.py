@@ -280,6 +280,20 @@ def combo(items: list[tuple[str, Any]]) -> QComboBox:
     return box
 
 
+class MessageLabel(QLabel):
+    """A message under a field or table: wrapped to the panel's width, its whole text
+    also its tooltip (read in full wherever the label is squeezed)."""
+
+    def __init__(self, style: str = "color: #c0392b") -> None:
+        super().__init__()
+        self.setWordWrap(True)
+        self.setStyleSheet(style)
+
+    def setText(self, text: str) -> None:
+        super().setText(text)
+        self.setToolTip(text)
+
+
 def readout() -> QLabel:
     label = QLabel("–")
     label.setWordWrap(True)

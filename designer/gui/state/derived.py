@@ -21,6 +21,7 @@ from designer.gui.state.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
     StationGeometry,
     TerrainDisplay,
+    grid_faces,
     station_geometry,
     terrain_display,
     vertex_normals,
@@ -109,7 +110,8 @@ def display_irradiance(lighting: m.Lighting, display: TerrainDisplay,
     (:func:`designer.scene.lighting.irradiance`: Lambert sun with cast shadows plus an
     isotropic sky, 1 = flat ground in full sun). Normals of a height field are taken over
     one display cell (the surface as drawn); shadows are cast by the full height field.
-    A mesh terrain gets its vertex normals and no cast shadows."""
+    A mesh terrain gets its vertex normals and no cast shadows. Cloud shadows are drawn
+    over it (:func:`compute_cloud_preview`)."""
     azimuth, elevation = sun_angles_deg(lighting, project)
     sun = sun_direction_world(azimuth, elevation)
     points = display.points_world
@@ -125,6 +127,80 @@ def display_irradiance(lighting: m.Lighting, display: TerrainDisplay,
     else:
         normals = vertex_normals(points, display.faces)
     return irradiance(normals, lit, sun, lighting.sun_strength, lighting.sky_strength)
+
+
+#: cells per side of the grid the cloud shadows are drawn with in the view
+CLOUD_GRID_CELLS = 256
+#: how far above the ground the cloud shadows are drawn (m), as the coverage map
+CLOUD_LIFT_M = 0.05
+
+
+@dataclass(frozen=True, eq=False)
+class CloudPreview:
+    """The cloud shadows as drawn over the terrain: a triangle mesh (``points_world``
+    (N, 3), ``faces`` (M, 3)) laid on the ground and the share of the light each vertex
+    loses (``darkening`` (N,), 0 = none)."""
+
+    points_world: np.ndarray
+    faces: np.ndarray
+    darkening: np.ndarray
+
+
+def compute_cloud_preview(project: m.Project, terrain: TerrainResult,
+                          cells: int = CLOUD_GRID_CELLS) -> CloudPreview | None:
+    """The project's cloud shadows as the render makes them at take-off (the render's
+    pattern, :func:`designer.scene.cloud_shadows.attenuation`, evaluated on a grid of
+    ``cells`` cells per side over the terrain; the time line moves them later): each
+    grid node's loss of light on flat ground by the renderer's light model, the direct
+    sun times ``depth · shadow`` against sun and sky. None without cloud shadows. A
+    height field gets the grid laid on it; a mesh terrain its own vertices."""
+    lighting = project.scene.lighting
+    if lighting.clouds is None:
+        return None
+    hf, display = terrain.heightfield, terrain.display
+    if hf is not None:
+        x0, x1, y0, y1 = hf.extent_m
+        step = max(x1 - x0, y1 - y0) / cells
+        nx = max(2, int(np.ceil((x1 - x0) / step)) + 1)
+        ny = max(2, int(np.ceil((y1 - y0) / step)) + 1)
+        X, Y = np.meshgrid(np.linspace(x0, x1, nx), np.linspace(y0, y1, ny))
+        Z = hf.height_at_clamped(X.ravel(), Y.ravel()) + CLOUD_LIFT_M
+        points = np.column_stack([X.ravel(), Y.ravel(), Z])
+        faces = grid_faces(ny, nx)
+    else:
+        points, faces = display.points_world, display.faces
+    origin = np.array([project.origin.E0, project.origin.N0])
+    factor = cloud_attenuation(lighting.clouds, points[:, :2] - origin, cells)
+    azimuth, elevation = sun_angles_deg(lighting, project)
+    sun = sun_direction_world(azimuth, elevation)
+    up = np.tile([0.0, 0.0, 1.0], (len(points), 1))
+    light = irradiance(up, factor, sun, lighting.sun_strength, lighting.sky_strength)
+    return CloudPreview(points, faces, np.clip(1.0 - light, 0.0, 1.0))
+
+
+def cloud_attenuation(clouds: m.CloudShadows, xy_local: np.ndarray,
+                      cells: int = CLOUD_GRID_CELLS) -> np.ndarray:
+    """The direct sun's factor (N,) at local points (N, 2) (world − origin, m) under the
+    cloud shadows at take-off (``1 − depth · shadow``, the render's own
+    :func:`designer.scene.cloud_shadows.attenuation`), evaluated on a grid of ``cells``
+    cells per side over the points' extent and interpolated bilinearly between its
+    nodes."""
+    from designer.scene.cloud_shadows import attenuation
+
+    xy = np.asarray(xy_local, dtype=float)
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    step = max(float(np.max(hi - lo)) / cells, 1e-3)
+    nx, ny = (int(np.ceil((hi - lo)[k] / step)) + 1 for k in (0, 1))
+    xs, ys = lo[0] + step * np.arange(nx), lo[1] + step * np.arange(ny)
+    grid = attenuation(clouds, xs, ys, 0.0)  # (ny, nx), rows along y
+    u = np.clip((xy[:, 0] - lo[0]) / step, 0, nx - 1)
+    v = np.clip((xy[:, 1] - lo[1]) / step, 0, ny - 1)
+    i0 = np.minimum(u.astype(int), max(nx - 2, 0))
+    j0 = np.minimum(v.astype(int), max(ny - 2, 0))
+    i1, j1 = np.minimum(i0 + 1, nx - 1), np.minimum(j0 + 1, ny - 1)
+    fu, fv = u - i0, v - j0
+    return ((grid[j0, i0] * (1 - fu) + grid[j0, i1] * fu) * (1 - fv)
+            + (grid[j1, i0] * (1 - fu) + grid[j1, i1] * fu) * fv)
 
 
 def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:

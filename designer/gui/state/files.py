@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from designer.atomic import write_bytes_atomic
+from designer.gui.state.field_places import PANEL_KEYWORDS, panel_for_tag
 from designer.gui.state.wording import problem_text
 from designer.project import model as m
 from designer.project import parse_project, project_to_bytes, semantic_problems, template
@@ -142,23 +143,6 @@ def new_from_template(name: str, scratch_root: Path | None = None
     return tpl.project, scratch, tuple(tpl.files)
 
 
-#: keywords in a problem's element name → the panel that edits it
-PANEL_KEYWORDS = (
-    ("Processing", ("processing", "calibration", "gcps", "control", "position-prior",
-                    "matching")),
-    ("Flight", ("flight", "area", "vertex", "overlap", "altitude", "gsd", "pose-noise",
-                "trajectory", "exterior")),
-    ("Camera", ("camera", "sensor", "focal", "distortion", "principal", "image-width",
-                "image-height", "brown", "fisheye")),
-    ("GCPs", ("target", "true", "surveyed", "survey-accuracy", "sigma")),
-    ("Texture", ("texture", "tiling", "image", "procedural-texture")),
-    ("Lighting", ("lighting", "sun", "sky")),
-    ("Terrain", ("terrain", "extent", "procedural", "dem", "mesh", "flat")),
-    ("Effects", ("effects", "vignetting", "noise", "blur", "jpeg", "motion")),
-    ("Render", ("render", "samples", "pixel-filter", "output", "resolution")),
-)
-
-
 #: words in a problem's message that name the panel whatever its element: the camera's
 #: image size times the render's resolution scale is fixed in the Render panel
 MESSAGE_KEYWORDS = (
@@ -167,7 +151,11 @@ MESSAGE_KEYWORDS = (
 
 
 def panel_for_problem(line: str) -> str | None:
-    """The title of the panel where the problem in ``line`` can be fixed."""
+    """The title of the panel where the problem in ``line`` can be fixed: the one it
+    names (``FILE:LINE:COL: Camera › sensor width …``), else the one of its element."""
+    for title, _words in PANEL_KEYWORDS:
+        if f": {title} › " in line or line.startswith(f"{title} › "):
+            return title
     start = line.find("<")
     end = line.find(">", start)
     tag = line[start + 1:end] if start >= 0 else line
@@ -177,10 +165,7 @@ def panel_for_problem(line: str) -> str | None:
             return title
     if tag == "image" and ("width-px" in message or "height-px" in message):
         return "Camera"  # the camera's <image> size, not a texture image
-    for title, words in PANEL_KEYWORDS:
-        if any(w in tag for w in words):
-            return title
-    return None
+    return panel_for_tag(tag)
 
 
 def blank_project() -> m.Project:

@@ -38,6 +38,13 @@ STAGES = (
 COMPARE_STAGE = len(STAGES) - 1
 
 
+def mode_of(out_dir: Path) -> str | None:
+    """The ``--mode`` a reconstruction folder (``reconstruction-MODE``, see
+    :attr:`ReconstructJob.out_dir`) was made with, or None for another folder."""
+    name = Path(out_dir).name
+    return next((mode for _text, mode in MODES if name == f"reconstruction-{mode}"), None)
+
+
 def stage_of_line(line: str) -> int | None:
     """The stage a log line of ``designer reconstruct`` announces, or None."""
     for index, (_title, markers) in enumerate(STAGES):

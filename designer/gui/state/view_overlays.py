@@ -40,6 +40,34 @@ class OverlayLayers:
         self._meshes["coverage"] = grid
         self.request_render()
 
+    def show_cloud_shadows(self, points_world: np.ndarray | None,
+                           faces: np.ndarray | None = None,
+                           darkening: np.ndarray | None = None) -> None:
+        """The cloud shadows laid over the terrain (None: none): black, each vertex as
+        opaque as the share of light it loses, so the ground under it is drawn that much
+        darker. Pulled towards the camera a little so it is never hidden in the ground
+        it lies on."""
+        if points_world is None or not len(points_world):
+            self.remove_layer("cloud-shadows")
+            self.request_render()
+            return
+        pv = self._pv
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = pv.PolyData(self.local(points_world),
+                           np.column_stack([np.full(len(f), 3), f]).ravel())
+        rgba = np.zeros((len(mesh.points), 4), dtype=np.uint8)
+        rgba[:, 3] = np.round(255 * np.clip(darkening, 0.0, 1.0))
+        mesh.point_data["shadow"] = rgba
+        self.remove_layer("cloud-shadows")
+        self.plotter.add_mesh(mesh, name="cloud-shadows", scalars="shadow", rgba=True,
+                              lighting=False, show_scalar_bar=False, reset_camera=False,
+                              render=False, pickable=False)
+        actor = self.plotter.actors["cloud-shadows"]
+        actor.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-2, -2)
+        actor.SetVisibility(self._visible.get("cloud-shadows", True))
+        self._meshes["cloud-shadows"] = mesh
+        self.request_render()
+
     def show_cloud(self, points_world: np.ndarray, distances_m: np.ndarray,
                    limit_m: float) -> None:
         """A point cloud coloured by signed distance, diverging map centred on 0 (the
@@ -55,6 +83,7 @@ class OverlayLayers:
                               render=False, scalar_bar_args={"title": CLOUD_BAR,
                                                              "fmt": "%.1f", **BAR_STYLE})
         self._meshes["cloud"] = cloud
+        self._cloud_world = np.asarray(points_world, dtype=float)
         self._kept["cloud"] = lambda: self.show_cloud(points_world, distances_m, limit_m)
         self.plotter.actors["cloud"].SetVisibility(self._visible.get("cloud", True))
         self.request_render()
@@ -82,18 +111,27 @@ class OverlayLayers:
         m4 = ren.GetActiveCamera().GetCompositeProjectionTransformMatrix(
             w / max(h, 1), -1, 1)
         M = np.array([[m4.GetElement(i, j) for j in range(4)] for i in range(4)])
-        p = np.asarray(mesh.points, dtype=float)
-        clip = np.c_[p, np.ones(len(p))] @ M.T
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ndc = clip[:, :3] / clip[:, 3:4]
-        u = (ndc[:, 0] + 1) / 2 * w
-        v = (1 - ndc[:, 1]) / 2 * h
+        # the points on the screen, kept while neither the camera nor the cloud changes
+        # (the cursor's readout asks at every mouse move)
+        key = (id(mesh), mesh.n_points, w, h, M.tobytes())
+        if getattr(self, "_cloud_screen", (None,))[0] != key:
+            p = np.asarray(mesh.points, dtype=float)
+            clip = np.c_[p, np.ones(len(p))] @ M.T
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ndc = clip[:, :3] / clip[:, 3:4]
+            self._cloud_screen = (key, (ndc[:, 0] + 1) / 2 * w, (1 - ndc[:, 1]) / 2 * h,
+                                  ndc, clip[:, 3])
+        _key, u, v, ndc, depth = self._cloud_screen
         r = np.hypot(u - x_px, v - y_px)
-        near = np.flatnonzero((r <= radius_px) & (clip[:, 3] > 0) & (np.abs(ndc[:, 2]) <= 1))
+        near = np.flatnonzero((r <= radius_px) & (depth > 0) & (np.abs(ndc[:, 2]) <= 1))
         if not near.size:
             return None
         # the nearest on screen; of points drawn on the same pixel, the one in front
         return int(near[np.lexsort((ndc[near, 2], np.round(r[near])))[0]])
+
+    def cloud_point_world(self, index: int) -> np.ndarray:
+        """The world position (3,) of the drawn cloud's point ``index``, as given."""
+        return self._cloud_world[index]
 
     def show_residuals(self, start_world: np.ndarray, end_world: np.ndarray,
                        labels: list[str], title: str, ids: list[str] = ()) -> None:

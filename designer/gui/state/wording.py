@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import re
 
+from designer.gui.state.field_places import declaration_at, panel_for_element, panel_for_object
 from designer.project.declare import Declared, declared
 from designer.project.problems import Issue, Problem
 
@@ -116,7 +117,10 @@ def humanize(message: str) -> str:
 
 
 def _declaration(issue: Issue) -> Declared | None:
-    """The declaration of the attribute an issue is about, from its object's class."""
+    """The declaration of the attribute an issue is about, from its object's class (an
+    issue the schema found, which has no object: from its element and attribute)."""
+    if issue.obj is None:
+        return declaration_at(issue.tag, issue.attr, issue.parent)
     for d in declared(type(issue.obj)):
         if d.xml == issue.attr and d.attr.child == issue.key:
             return d
@@ -129,13 +133,20 @@ def _value_text(value: object) -> str:
     return "not a number" if isinstance(value, float) else f"{value}"
 
 
+def _unit(d: Declared | None) -> str:
+    """`` mm``, `` °``: a declared field's unit as the panel shows it (or "")."""
+    if d is None or not d.attr.unit:
+        return ""
+    return " " + _UNITS.get(d.attr.unit, d.attr.unit)
+
+
 def _range_words(d: Declared | None, limits: tuple[float | None, float | None]) -> str:
     """``from 0 to 0.5 s``, ``greater than 0 m``, ``at most 100 %``: the limits in fixed
     point, open or closed as the declaration says."""
     low, high = limits
     low_open = d is not None and d.attr.low_open
     high_open = d is not None and d.attr.high_open
-    unit = f" {d.attr.unit}" if d is not None and d.attr.unit else ""
+    unit = _unit(d)
     if low is None and high is None:
         return "a finite number"
     if low is not None and high is not None and not (low_open or high_open):
@@ -156,27 +167,58 @@ def issue_text(issue: Issue) -> str:
     direction = DIRECTIONS.get((issue.code, issue.tag))
     if direction is not None:
         return direction.format(obj=issue.obj, value=issue.value)
-    d = _declaration(issue) if issue.attr else None
+    d = _declaration(issue)
     label = d.label if d is not None else (issue.attr or issue.tag).replace("-", " ")
     if issue.code == "range" and issue.limits is not None:
-        return f"{label} {_value_text(issue.value)} must be {_range_words(d, issue.limits)}"
+        # the declared limits are the file's; the schema names only the one passed
+        limits = (d.attr.low, d.attr.high) if d is not None else issue.limits
+        return f"{label} {_value_text(issue.value)} must be {_range_words(d, limits)}"
     if issue.code == "choice" and issue.choices:
         return (f"{label} “{issue.value}” is not one of {', '.join(issue.choices)}; choose "
                 "one of them")
     return humanize(issue.message)
 
 
+def _panel(issue: Issue) -> str | None:
+    """The panel that edits the one declared value an issue is about (a range or a
+    choice), or None."""
+    if issue.code not in ("range", "choice") or _declaration(issue) is None:
+        return None
+    if issue.obj is None:
+        return panel_for_element(issue.tag, issue.parent)
+    return panel_for_object(issue.obj, issue.tag)
+
+
+def field_place(issue: Issue) -> str | None:
+    """``Camera › sensor width``: the panel and the field, as the window labels them, of
+    the value an issue is about (None when it is not one declared value)."""
+    panel = _panel(issue)
+    return None if panel is None else f"{panel} › {_declaration(issue).label}"
+
+
 def problem_text(problem: Problem | str, source: str) -> str:
-    """A problem as a line of the window's Problems list: ``FILE:LINE:COL: <element>:``
-    (the place and element, which pick the panel that fixes it) and, for a validation
-    issue, :func:`issue_text`; a problem without an issue (a schema error, a message) as
-    its text with field names as labelled and numbers in fixed point."""
+    """A problem as a line of the window's Problems list: ``FILE:LINE:COL:`` (the place)
+    and, for a value out of range or not among its choices, the panel and field as the
+    window labels them (``Camera › sensor width 13200 mm must be …``); for another
+    validation issue ``<element>:`` (which picks the panel that fixes it) and
+    :func:`issue_text`; a problem without an issue (a schema error, a message) as its text
+    with field names as labelled and numbers in fixed point."""
     if isinstance(problem, str):
         return humanize(problem)
     if problem.issue is None:
         return humanize(problem.format(source))
-    worded = f"<{problem.issue.tag}>: {issue_text(problem.issue)}"
+    panel = _panel(problem.issue)
+    text = issue_text(problem.issue)  # starts with the field's label
+    worded = f"{panel} › {text}" if panel else f"<{problem.issue.tag}>: {text}"
     return Problem(worded, problem.line, problem.column).format(source)
+
+
+def point_text(xyz) -> str:
+    """A world point as every readout of the window gives it: ``E 511995.497  N
+    5400012.250  H 123.456 m`` (metres to the millimetre, no digit grouping: as typed and
+    as the files write them)."""
+    x, y, z = (float(v) for v in xyz)
+    return f"E {x:.3f}  N {y:.3f}  H {z:.3f} m"
 
 
 def duration(seconds: float) -> str:

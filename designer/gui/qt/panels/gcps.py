@@ -24,7 +24,7 @@ from PySide6.QtWidgets import (
 
 from designer.errors import DesignerError
 from designer.gui.qt.panels.base import Panel
-from designer.gui.qt.widgets import combo, dspin, form, format_number, ispin
+from designer.gui.qt.widgets import MessageLabel, combo, dspin, form, format_number, ispin
 from designer.gui.state import edits, wording
 from designer.project import model as m
 
@@ -81,9 +81,7 @@ class GcpPanel(Panel):
         QShortcut(QKeySequence.StandardKey.Delete, self.table, self.delete_selected)
         # the table's messages under it, in a box of fixed height: a message (or a
         # longer one) shortens the table and does not push the fields below down
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
+        self.error_label = MessageLabel()
         table_box = QWidget()
         v = QVBoxLayout(table_box)
         v.setContentsMargins(0, 0, 0, 0)
@@ -119,9 +117,15 @@ class GcpPanel(Panel):
 
         survey = QGroupBox("simulated survey of the targets")
         f = form(survey)
-        self.simulate = QCheckBox("add survey error to targets without measured positions")
+        # a short check box text and the rest wrapped below it: a check box does not
+        # wrap, and a long one would make the panel wider than its dock (cutting the
+        # messages at its right edge)
+        self.simulate = QCheckBox("add survey error")
         self.simulate.toggled.connect(self._simulate_toggled)
         f.addRow(self.simulate)
+        which = QLabel("to the targets without measured positions")
+        which.setWordWrap(True)
+        f.addRow(which)
         acc = "scene.targets.survey_accuracy"
         for axis in "XYZ":
             f.addRow(f"σ {axis}", self.bindings.bind(dspin(0, 10, 4, 0.005, "m"),

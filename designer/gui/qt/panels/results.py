@@ -31,10 +31,11 @@ from designer.gui.state.reconstruct_job import (
     MODES,
     STAGES,
     ReconstructJob,
+    mode_of,
     processing_text,
     survey_status,
 )
-from designer.gui.state.wording import count
+from designer.gui.state.wording import count, point_text
 
 CMAP = "RdBu_r"
 
@@ -257,7 +258,11 @@ class ResultsPanel(Panel):
         self._compared = found
         dense = self.dense.load(found.parent.parent if found is not None else None)
         if found is None:
-            return
+            return  # the poses chosen stay as they are
+        # the poses selector shows the poses of the reconstruction shown
+        index = self.mode.findData(mode_of(found.parent.parent))
+        if index >= 0:
+            self.mode.setCurrentIndex(index)
         self.show_reconstructed_cloud(dense.cloud_ply if dense is not None else None)
         residuals = found.parent.parent / "gcp_residuals.csv"
         # the GCPs' truth needs the terrain, which is being computed right now
@@ -399,9 +404,8 @@ class ResultsPanel(Panel):
         k = self.sync.view.cloud_point_at(x_px, y_px)
         if k is None:
             return
-        x, y, z = self.result.points_world[k]
-        text = (f"Δ = {_distance_text(self.result.distances_m[k])} at E {x:.3f}  N {y:.3f}  "
-                f"H {z:.3f} m")
+        text = (f"Δ = {_distance_text(self.result.distances_m[k])} at "
+                f"{point_text(self.result.points_world[k])}")
         self.picked.setText(text)
         window = self.window()
         if hasattr(window, "statusBar"):

@@ -1,0 +1,131 @@
+"""Where a project file's element or attribute is edited in the window (Qt-free): the
+panel (:func:`panel_for_tag`) and the declared field (:func:`declaration_at`), so a
+problem found in the file is said as ``Camera › sensor width``, the way the panel labels
+it."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import typing
+
+from designer.project import model as m
+from designer.project.declare import Declared, declared, element_of
+
+#: keywords in an element's name → the panel that edits it (the first match wins)
+PANEL_KEYWORDS = (
+    ("Processing", ("processing", "calibration", "gcps", "control", "position-prior",
+                    "matching", "sfm")),
+    ("Flight", ("flight", "area", "vertex", "overlap", "altitude", "gsd", "pose-noise",
+                "trajectory", "exterior", "time-line", "mount", "grid-angle", "crosshatch",
+                "start-corner", "tilt", "random-seed")),
+    ("Camera", ("camera", "sensor", "focal", "distortion", "principal", "image-width",
+                "image-height", "brown", "fisheye", "rolling-shutter")),
+    ("GCPs", ("target", "true", "surveyed", "survey-accuracy", "sigma")),
+    ("Texture", ("texture", "tiling", "image", "procedural-texture", "orthophoto")),
+    ("Lighting", ("lighting", "sun", "sky", "cloud")),
+    ("Vegetation", ("vegetation", "plants", "wind")),
+    ("Buildings", ("building",)),
+    ("Terrain", ("terrain", "extent", "procedural", "dem", "mesh", "flat")),
+    ("Effects", ("effects", "vignetting", "noise", "blur", "jpeg", "motion", "defocus",
+                 "exposure", "chromatic")),
+    ("Render", ("render", "samples", "pixel-filter", "output", "resolution", "preset",
+                "workers")),
+)
+
+#: the camera's values, which its reader places by hand: (element, attribute) inside
+#: <camera> → the Camera field declared for it
+_CAMERA_XML = {
+    ("focal-length-mm", None): "focal_length_mm",
+    ("sensor", "width-mm"): "sensor_width_mm",
+    ("sensor", "height-mm"): "sensor_height_mm",
+    ("image", "width-px"): "image_width_px",
+    ("image", "height-px"): "image_height_px",
+    ("principal-point", "x-mm"): "principal_point_x_mm",
+    ("principal-point", "y-mm"): "principal_point_y_mm",
+}
+
+
+#: where a declared element lives in the project (its ``path``) → the panel that edits it
+PATH_PANELS = (
+    ("scene.terrain", "Terrain"), ("scene.texture", "Texture"),
+    ("scene.lighting", "Lighting"), ("scene.vegetation", "Vegetation"),
+    ("scene.targets", "GCPs"), ("effects", "Effects"), ("render", "Render"),
+    ("outputs", "Render"), ("processing", "Processing"), ("trajectory", "Flight"),
+)
+
+
+#: elements that come in lists or alternatives (no ``path``) whose name says too little
+CLASS_PANELS = {m.ProceduralTexture: "Texture", m.ImageTexture: "Texture",
+                m.OrthophotoTexture: "Texture", m.MovingObject: "Moving objects"}
+
+
+def panel_for_object(obj: object, tag: str) -> str | None:
+    """The panel of a model object's element ``<tag>``: by where the element's
+    declaration puts it in the project (the Effects panel's ``<sensor-noise>``, the
+    Texture panel's ``<procedural>``), else by its name."""
+    if type(obj) in CLASS_PANELS:
+        return CLASS_PANELS[type(obj)]
+    el = element_of(type(obj))
+    if el is not None and el.path is not None:
+        for prefix, title in PATH_PANELS:
+            if el.path == prefix or el.path.startswith(prefix + "."):
+                return title
+    return panel_for_tag(tag)
+
+
+def panel_for_tag(tag: str) -> str | None:
+    """The title of the panel that edits the element ``<tag>``, or None."""
+    for title, words in PANEL_KEYWORDS:
+        if any(w in tag for w in words):
+            return title
+    return None
+
+
+def panel_for_element(tag: str, parent: str | None) -> str | None:
+    """The panel of ``<tag>`` inside ``<parent>``: the parent's panel first (a
+    ``<procedural>`` inside ``<texture>`` is the Texture panel's), else the element's."""
+    return (panel_for_tag(parent) if parent else None) or panel_for_tag(tag)
+
+
+def _classes(root: type) -> list[type]:
+    """Every dataclass reachable from ``root`` by its fields' type hints (each once)."""
+    seen: list[type] = []
+
+    def visit(hint: object) -> None:
+        if isinstance(hint, type):
+            if hint in seen or not dataclasses.is_dataclass(hint):
+                return
+            seen.append(hint)
+            for inner in typing.get_type_hints(hint).values():
+                visit(inner)
+        else:
+            for arg in typing.get_args(hint):
+                visit(arg)
+
+    visit(root)
+    return seen
+
+
+@functools.cache
+def _index() -> dict[tuple[str, str | None], Declared]:
+    """(element, attribute) → the declared field, for every declared element's
+    attributes (a value given as an element's text: (element, None))."""
+    out: dict[tuple[str, str | None], Declared] = {}
+    for cls in _classes(m.Project):
+        el = element_of(cls)
+        if el is None:
+            continue
+        for d in declared(cls):
+            key = (d.xml, None) if d.attr.text else (d.attr.child or el.tag, d.xml)
+            out.setdefault(key, d)
+    return out
+
+
+def declaration_at(tag: str, attr: str | None, parent: str | None) -> Declared | None:
+    """The declared field a file's ``<tag attr=…>`` (or ``<tag>`` text, ``attr`` None)
+    inside ``<parent>`` holds, or None when none is declared for it."""
+    if parent == "camera" and (tag, attr) in _CAMERA_XML:
+        name = _CAMERA_XML[(tag, attr)]
+        return next(d for d in declared(m.Camera) if d.name == name)
+    return _index().get((tag, attr))

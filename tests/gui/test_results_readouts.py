@@ -1,0 +1,76 @@
+"""The Results panel and the status bar agree: the poses selector shows the poses of the
+reconstruction shown when a project is reopened, and a point picked in a cloud is read
+the same, the same point, in the panel and in the status bar's cursor readout."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtTest import QTest
+
+from designer.evaluate.writers import write_distances_ply
+from designer.gui.state.reconstruct_job import ReconstructJob
+from designer.gui.state.wording import point_text
+from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
+from tests.gui.helpers import (
+    add_hills_and_flight,
+    answer_file_dialog,
+    cloud_with_outlier,
+    open_panel,
+    problems,
+    wait_idle,
+)
+
+pytestmark = pytest.mark.gui
+
+
+def test_a_reopened_free_sfm_reconstruction_shows_free_sfm_poses(qtbot, window, tmp_path):
+    w = window
+    add_hills_and_flight(w)
+    wait_idle(qtbot, w)
+    project_path = tmp_path / "hills.xml"
+    assert w.file_actions.save_to(project_path), problems(w)
+    results = open_panel(w, "Results")
+    assert results.mode.currentData() == "known-poses"  # the default
+    job = ReconstructJob(project_path, results.survey_dir(), "free")
+    hf = w.sync.terrain.heightfield
+    x = np.arange(-20.0, 20.0)
+    xyz = np.column_stack([x, np.zeros(40), hf.height_at(x, np.zeros(40)) + 0.02])
+    job.compare_dir.mkdir(parents=True)
+    write_distances_ply(job.distances_ply, xyz, np.full(40, 0.02))
+    assert w.file_actions.new(None)
+    wait_idle(qtbot, w)
+
+    answer_file_dialog(project_path)  # File → Open with Ctrl+O
+    w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
+    wait_idle(qtbot, w)
+    assert w.document.path == project_path
+    assert results.result is not None and results.result.path == job.distances_ply
+    assert results.mode.currentData() == "free", results.mode.currentText()
+    assert results.mode.currentText().startswith("free SfM")
+
+
+def test_a_picked_point_reads_the_same_in_the_panel_and_the_status_bar(qtbot, window,
+                                                                       tmp_path):
+    w = window
+    add_hills_and_flight(w)
+    wait_idle(qtbot, w)
+    results = open_panel(w, "Results")
+    path, _xyz = cloud_with_outlier(w, tmp_path, n=400)
+    results.open_cloud(path)
+    wait_idle(qtbot, w)
+    cloud_seen_from_above(w)
+    r = results.result
+    k = 17
+    pos = point_on_screen(w, r.points_world[k])
+    # the cursor moved onto the point, then a click on it
+    qtbot.mouseMove(w.view.plotter, pos)
+    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=pos)
+    picked = results.picked.text()
+    said = point_text(r.points_world[k])
+    assert said in picked, (said, picked)
+    qtbot.waitUntil(lambda: w.coords.text() == f"{said} (world)", timeout=3000)
+    assert said in w.statusBar().currentMessage()
