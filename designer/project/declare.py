@@ -112,6 +112,13 @@ class Element:
     first: tuple[str, ...] = ()
 
 
+def group() -> Any:
+    """A dataclass field holding an attribute group: a small declared dataclass (a point's
+    X, Y, Z; three standard deviations) whose attributes sit on the element of the class
+    that holds it, not on an element of their own."""
+    return dataclasses.field(metadata={"group": True})
+
+
 def element(tag: str, *, title: str, path: str | None = None, stage: Stage = "render",
             on: dict[str, Any] | None = None, first: tuple[str, ...] = ()):
     """Class decorator declaring a model class as the element ``<tag>``."""
@@ -242,6 +249,33 @@ def declared(cls: type) -> tuple[Declared, ...]:
     return _CACHE[cls]
 
 
+def groups(cls: type) -> tuple[tuple[str, type], ...]:
+    """(field name, class) of every attribute group ``cls`` holds (:func:`group`)."""
+    if not dataclasses.is_dataclass(cls):
+        return ()
+    return tuple((f.name, field_class(cls, f.name)) for f in dataclasses.fields(cls)
+                 if f.metadata.get("group"))
+
+
+def attributes(cls: type) -> tuple[tuple[str | None, Declared], ...]:
+    """Every declared attribute on the element of ``cls``, in field order: (None, its own
+    declaration) or (the group field, a declaration of the group's class)."""
+    out: list[tuple[str | None, Declared]] = []
+    own = {d.name: d for d in declared(cls)}
+    group_of = dict(groups(cls))
+    for f in dataclasses.fields(cls) if dataclasses.is_dataclass(cls) else ():
+        if f.name in own:
+            out.append((None, own[f.name]))
+        elif f.name in group_of:
+            out += [(f.name, d) for d in declared(group_of[f.name])]
+    return tuple(out)
+
+
+def holder(obj: Any, group_name: str | None) -> Any:
+    """The object that holds an attribute of :func:`attributes`: ``obj`` or its group."""
+    return obj if group_name is None else getattr(obj, group_name)
+
+
 def declared_field(cls: type, name: str) -> Declared:
     """The declaration of field ``name`` of ``cls`` (KeyError if it has none)."""
     for d in declared(cls):
@@ -310,7 +344,7 @@ def attribute_table(cls: type) -> str:
     rows = [f"`<{el.tag}>` — {el.title}" if el else cls.__name__, "",
             "| attribute | unit | range | default | meaning | study factor |",
             "|---|---|---|---|---|---|"]
-    for d in declared(cls):
+    for _, d in attributes(cls):
         value = d.xml_default
         default = "required" if d.required else ("none" if value is None else
                                                   str(value).lower()

@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from designer.project.declare import SEED_RANGE, attr, element
+from designer.project.declare import SEED_RANGE, attr, element, group
 from designer.project.processing import (  # noqa: F401  (part of the model's face)
     POSITION_PRIOR_SIGMAS_M,
     Calibration,
@@ -73,11 +73,12 @@ class Origin:
 
 @dataclass(frozen=True)
 class Point3:
-    """A world point (m): X = Easting, Y = Northing, Z = height."""
+    """A world point (m): X = Easting, Y = Northing, Z = height; an attribute group (the
+    X, Y, Z attributes of the element that holds it)."""
 
-    X: float
-    Y: float
-    Z: float
+    X: float = attr(doc="easting, world frame", unit="m", range=COORDINATE_RANGE, xml="X")
+    Y: float = attr(doc="northing, world frame", unit="m", range=COORDINATE_RANGE, xml="Y")
+    Z: float = attr(doc="height, world frame", unit="m", range=HEIGHT_RANGE, xml="Z")
 
 
 # ---------------------------------------------------------------------- terrain
@@ -245,21 +246,30 @@ class TruePosition:
                            unit="m", range=HEIGHT_RANGE, xml="Z")
 
 
+#: the range of a standard deviation of a measured position (m)
+SIGMA_RANGE = (0, 1e6)
+
+
 @dataclass(frozen=True)
 class Sigma3:
-    """Standard deviations along X, Y, Z (m)."""
+    """Standard deviations along X, Y, Z (m); an attribute group (sigma-X, sigma-Y,
+    sigma-Z)."""
 
-    X: float
-    Y: float
-    Z: float
+    X: float = attr(doc="standard deviation in X (Easting)", unit="m", range=SIGMA_RANGE,
+                    xml="sigma-X")
+    Y: float = attr(doc="standard deviation in Y (Northing)", unit="m", range=SIGMA_RANGE,
+                    xml="sigma-Y")
+    Z: float = attr(doc="standard deviation in Z (height)", unit="m", range=SIGMA_RANGE,
+                    xml="sigma-Z")
 
 
+@element("surveyed", title="surveyed target position")
 @dataclass(frozen=True)
 class SurveyedPosition:
     """Measured target position (world, m) and its standard deviations (m)."""
 
-    position: Point3
-    sigma: Sigma3
+    position: Point3 = group()
+    sigma: Sigma3 = group()
 
 
 @element("target", title="GCP target")
@@ -276,12 +286,14 @@ class Target:
     surveyed: SurveyedPosition | None = None
 
 
+@element("survey-accuracy", title="simulated survey", path="scene.targets.survey_accuracy")
 @dataclass(frozen=True)
 class SurveyAccuracy:
     """Simulated survey of targets without ``surveyed``: σ per axis (m) and a seed."""
 
-    sigma: Sigma3
-    seed: int
+    sigma: Sigma3 = group()
+    seed: int = attr(doc="random seed of the simulated survey errors", range=SEED_RANGE,
+                     draw="survey-error")
 
 
 @dataclass(frozen=True)
@@ -291,15 +303,34 @@ class Targets:
 
 
 # ---------------------------------------------------------------------- objects, light
+#: the range of an ω, φ or κ of a photo or a placed object (deg)
+ANGLE_RANGE = (-360, 360)
+
+
+def _omega(doc: str = "rotation about the world X axis, counter-clockwise positive "
+           "(first factor of R)"):
+    return attr(doc=doc, unit="deg", range=ANGLE_RANGE, xml="omega", label="ω")
+
+
+def _phi(doc: str = "rotation about the once-rotated Y axis (second factor of R)"):
+    return attr(doc=doc, unit="deg", range=ANGLE_RANGE, xml="phi", label="φ")
+
+
+def _kappa(doc: str = "rotation about the twice-rotated Z axis (third factor of R)"):
+    return attr(doc=doc, unit="deg", range=ANGLE_RANGE, xml="kappa", label="κ")
+
+
+@element("placement", title="object placement")
 @dataclass(frozen=True)
 class Placement:
     """Mesh origin at ``position`` (world, m), rotated by ω φ κ (deg), scaled."""
 
-    position: Point3
-    omega_deg: float
-    phi_deg: float
-    kappa_deg: float
-    scale: float = 1.0
+    position: Point3 = group()
+    omega_deg: float = _omega()
+    phi_deg: float = _phi()
+    kappa_deg: float = _kappa()
+    scale: float = attr(1.0, doc="uniform scale factor from mesh units to metres",
+                        range=(0, 1e6), low_open=True)
 
 
 @element("object", title="scene object")
@@ -310,12 +341,15 @@ class SceneObject:
     placement: Placement
 
 
+@element("point", title="path point")
 @dataclass(frozen=True)
 class PathPoint:
     """A point of a moving object's path (world X/Y, m)."""
 
-    X: float
-    Y: float
+    X: float = attr(doc="world X (easting) of the point", unit="m", range=COORDINATE_RANGE,
+                    xml="X")
+    Y: float = attr(doc="world Y (northing) of the point", unit="m", range=COORDINATE_RANGE,
+                    xml="Y")
 
 
 #: built-in moving-object shapes: name → (length, width, height) m (person: a cylinder of

@@ -51,12 +51,13 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     declared ones in declaration order (None left out, and a default that is not to be
     written); an attribute declared on a child element goes on that child (made here,
     the first child), a text value in its own child element, in declaration order."""
-    from designer.project.declare import declared, element_of
+    from designer.project.declare import attributes, element_of
+    from designer.project.declare import holder as holder_of
 
     decl = element_of(type(obj))
     el = etree.SubElement(parent, q(decl.tag), lead or {})
-    for d in sorted(declared(type(obj)), key=lambda d: d.name not in decl.first):
-        value = getattr(obj, d.name)
+    for group, d in sorted(attributes(type(obj)), key=lambda a: a[1].name not in decl.first):
+        value = getattr(holder_of(obj, group), d.name)
         if value is None or (not d.attr.write_default and value == d.default):
             continue
         holder = el
@@ -78,12 +79,6 @@ def _point_attrs(el: etree._Element, X: float, Y: float, Z: float | None) -> Non
     el.set("Y", _num(Y))
     if Z is not None:
         el.set("Z", _num(Z))
-
-
-def _sigma_attrs(el: etree._Element, sigma: m.Sigma3) -> None:
-    el.set("sigma-X", _num(sigma.X))
-    el.set("sigma-Y", _num(sigma.Y))
-    el.set("sigma-Z", _num(sigma.Z))
 
 
 def _opk_attrs(el: etree._Element, omega: float, phi: float, kappa: float) -> None:
@@ -113,28 +108,17 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")
-        acc = scene.targets.survey_accuracy
-        if acc is not None:
-            acc_el = _sub(targets_el, "survey-accuracy")
-            _sigma_attrs(acc_el, acc.sigma)
-            acc_el.set("seed", _num(acc.seed))
+        if scene.targets.survey_accuracy is not None:
+            write_declared(targets_el, scene.targets.survey_accuracy)
         for t in scene.targets.targets:
             t_el = write_declared(targets_el, t)
             write_declared(t_el, t.true)
             if t.surveyed is not None:
-                s_el = _sub(t_el, "surveyed")
-                p = t.surveyed.position
-                _point_attrs(s_el, p.X, p.Y, p.Z)
-                _sigma_attrs(s_el, t.surveyed.sigma)
+                write_declared(t_el, t.surveyed)
     if scene.objects:
         objects_el = _sub(el, "objects")
         for obj in scene.objects:
-            o_el = write_declared(objects_el, obj)
-            pl = obj.placement
-            p_el = _sub(o_el, "placement")
-            _point_attrs(p_el, pl.position.X, pl.position.Y, pl.position.Z)
-            _opk_attrs(p_el, pl.omega_deg, pl.phi_deg, pl.kappa_deg)
-            p_el.set("scale", _num(pl.scale))
+            write_declared(write_declared(objects_el, obj), obj.placement)
     if scene.moving_objects:
         moving_el = _sub(el, "moving-objects")
         for obj in scene.moving_objects:
@@ -148,7 +132,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
             if obj.albedo_rgb != m.MovingObject.albedo_rgb:
                 o_el.set("albedo-rgb", " ".join(_num(v) for v in obj.albedo_rgb))
             for point in obj.path:
-                _point_attrs(_sub(path_el, "point"), point.X, point.Y, None)
+                write_declared(path_el, point)
 
     if scene.buildings:
         _buildings(_sub(el, "buildings"), scene.buildings)

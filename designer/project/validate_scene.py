@@ -14,7 +14,6 @@ from designer.project.checks import (
     is_ok,
     plain_extent,
     plain_m,
-    sigma_issues,
 )
 from designer.project.files import (
     ascii_grid_extent,
@@ -156,10 +155,7 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
 def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
     if targets is None:
         return []
-    out = []
-    if targets.survey_accuracy is not None:
-        acc = targets.survey_accuracy
-        out += sigma_issues(acc.sigma, acc, "survey-accuracy")
+    out = []  # the survey's and the surveyed positions' ranges: validate_declared
     counts = Counter(t.id for t in targets.targets)
     reported = set()
     for t in targets.targets:
@@ -180,9 +176,6 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
                 out.append(Issue(t, "target", f"GCP '{t.id}' has no <surveyed> position and "
                                  "<targets> has no <survey-accuracy> to simulate one; add "
                                  "either"))
-        else:
-            out += finite_issues(t.surveyed.position)
-            out += sigma_issues(t.surveyed.sigma, t.surveyed.sigma, "surveyed")
     return out
 
 
@@ -194,8 +187,6 @@ def _objects(objects: tuple[m.SceneObject, ...], base: Path | None) -> list[Issu
             out.append(Issue(obj, "object", f"object name '{obj.name}' is used "
                              f"{counts[obj.name]} times; give each object its own name",
                              attr="name"))
-        if not (obj.placement.scale > 0):
-            out.append(Issue(obj.placement, "placement", "scale must be > 0", attr="scale"))
         if base is not None:
             out += file_issue(obj, "object", mesh_problem(resolve(base, obj.file)))
     return out

@@ -49,9 +49,12 @@ def read_declared(cls, el: etree._Element, **given):
     """An instance of the declared element class ``cls`` from the attributes of ``el``
     (designer.project.declare) and the texts of its declared text children: absent ones
     take their defaults; ``given`` supplies the fields that are not declared (children)."""
-    from designer.project.declare import declared
+    from designer.project.declare import declared, groups
 
     values = dict(given)
+    for name, group_cls in groups(cls):  # an attribute group's attributes sit on ``el``
+        if name not in values:
+            values[name] = read_declared(group_cls, el)
     for d in declared(cls):
         holder = el if d.attr.child is None else el.find(q(d.attr.child))
         if holder is None:
@@ -182,33 +185,32 @@ class _Reader:
         return texture
 
     def targets(self, el: etree._Element) -> m.Targets:
-        acc_el = el.find(q("survey-accuracy"))
-        accuracy = None
-        if acc_el is not None:
-            sigma = self.note(self._sigma(acc_el), acc_el)
-            accuracy = self.note(m.SurveyAccuracy(sigma, int(acc_el.get("seed"))), acc_el)
-        targets = tuple(self.target(t) for t in el.iterchildren(q("target")))
+        acc_el = el.find(q(element_of(m.SurveyAccuracy).tag))
+        accuracy = None if acc_el is None else self.declared(m.SurveyAccuracy, acc_el)
+        targets = tuple(self.target(t) for t in el.iterchildren(q(element_of(m.Target).tag)))
         return self.note(m.Targets(targets, accuracy), el)
 
-    def _sigma(self, el: etree._Element) -> m.Sigma3:
-        return m.Sigma3(_f(el, "sigma-X"), _f(el, "sigma-Y"), _f(el, "sigma-Z"))
+    def declared(self, cls, el: etree._Element, **given):
+        """:func:`read_declared`, noted at ``el`` together with its attribute groups."""
+        from designer.project.declare import groups
+
+        obj = self.note(read_declared(cls, el, **given), el)
+        for name, _ in groups(cls):
+            self.note(getattr(obj, name), el)
+        return obj
 
     def target(self, el: etree._Element) -> m.Target:
         true_el = el.find(q("true"))
         true = self.note(read_declared(m.TruePosition, true_el), true_el)
-        s_el = el.find(q("surveyed"))
-        surveyed = None
-        if s_el is not None:
-            point = self.note(m.Point3(_f(s_el, "X"), _f(s_el, "Y"), _f(s_el, "Z")), s_el)
-            sigma = self.note(self._sigma(s_el), s_el)
-            surveyed = self.note(m.SurveyedPosition(point, sigma), s_el)
+        s_el = el.find(q(element_of(m.SurveyedPosition).tag))
+        surveyed = None if s_el is None else self.declared(m.SurveyedPosition, s_el)
         target = read_declared(m.Target, el, true=true, surveyed=surveyed)
         return self.note(target, el)
 
     def moving_object(self, el: etree._Element) -> m.MovingObject:
         path_el = el.find(q("path"))
-        points = tuple(self.note(m.PathPoint(_f(p, "X"), _f(p, "Y")), p)
-                       for p in path_el.iterchildren(q("point")))
+        points = tuple(self.declared(m.PathPoint, p)
+                       for p in path_el.iterchildren(q(element_of(m.PathPoint).tag)))
         size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
         albedo = el.get("albedo-rgb")
         obj = read_declared(
@@ -249,10 +251,7 @@ class _Reader:
         return self.note(veg, el)
 
     def scene_object(self, el: etree._Element) -> m.SceneObject:
-        p = el.find(q("placement"))
-        point = self.note(m.Point3(_f(p, "X"), _f(p, "Y"), _f(p, "Z")), p)
-        placement = self.note(m.Placement(point, _f(p, "omega"), _f(p, "phi"), _f(p, "kappa"),
-                                          _f(p, "scale")), p)
+        placement = self.declared(m.Placement, el.find(q(element_of(m.Placement).tag)))
         return self.note(read_declared(m.SceneObject, el, placement=placement), el)
 
     def lighting(self, el: etree._Element) -> m.Lighting:
