@@ -18,6 +18,7 @@ projects are equal when every field is. Construction does not validate; call
 
 from __future__ import annotations
 
+import typing
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -162,16 +163,21 @@ TerrainSource = FlatTerrain | ProceduralTerrain | DemTerrain | MeshTerrain
 #: "auto" continues the terrain as far as the images see (procedural and flat terrain
 #: continue their own heights; a DEM its edge heights, an orthophoto its edge colours);
 #: "none" renders the declared terrain only
-SURROUNDINGS_MODES = ("auto", "none")
+SurroundingsMode = Literal["auto", "none"]
+SURROUNDINGS_MODES: tuple[str, ...] = typing.get_args(SurroundingsMode)
 
 
+@element("terrain", title="terrain")
 @dataclass(frozen=True)
 class Terrain:
     extent: Extent
     source: TerrainSource
-    #: "auto" or "none"; None: the terrain kind's default (auto for flat and procedural
-    #: terrain, none for DEM and mesh files)
-    surroundings: str | None = None
+    #: None: the terrain kind's default (auto for flat and procedural terrain, none for
+    #: DEM and mesh files)
+    surroundings: SurroundingsMode | None = attr(
+        None, doc="auto: continue the terrain as far as the images see; none: render the "
+        "extent only (none given: auto for flat and procedural terrain, none for DEM and "
+        "mesh files)", child="surroundings", xml="mode", label="surroundings")
 
     @property
     def kind(self) -> str:
@@ -219,6 +225,7 @@ class TextureVariation:
     octaves: int = attr(4, doc="noise octaves, each next one half as long", range=(1, 8))
 
 
+@element("texture", title="ground texture")
 @dataclass(frozen=True)
 class Texture:
     """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent (an
@@ -226,9 +233,13 @@ class Texture:
     varied by a non-repeating ``variation`` (tiled textures only)."""
 
     source: ImageTexture | ProceduralTexture | OrthophotoTexture
-    repeat_X: int
-    repeat_Y: int
-    interpolation: Interpolation
+    repeat_X: int = attr(doc="repeats along X (Easting)", range=(1, 10000), child="tiling",
+                         xml="repeat-X", label="repeats X")
+    repeat_Y: int = attr(doc="repeats along Y (Northing)", range=(1, 10000), child="tiling",
+                         xml="repeat-Y", label="repeats Y")
+    interpolation: Interpolation = attr(doc="texture lookup between texels: closest (sharp "
+                                        "texel edges, exact for checkerboards) or linear "
+                                        "(bilinear)")
     variation: TextureVariation | None = None
 
 
@@ -668,20 +679,28 @@ class Camera:
 
 
 # ---------------------------------------------------------------------- trajectory
+@element("photo", title="photo", first=("name", "camera"))
 @dataclass(frozen=True)
 class ExteriorOrientation:
     """One photo: perspective centre (world, m) and ω φ κ (deg)."""
 
-    name: str
-    camera: str
-    X: float
-    Y: float
-    Z: float
-    omega_deg: float
-    phi_deg: float
-    kappa_deg: float
-    #: seconds after take-off on the trajectory's time line (None: flown in order)
-    time_s: float | None = None
+    name: str = attr(doc="image file name, unique in the project, e.g. IMG_0001.png",
+                     xsd="d:Identifier")
+    camera: str = attr(doc="id of the camera that takes this photo, or the name of a rig: "
+                       "then one image per mount, named with the mount's suffix",
+                       xsd="d:Identifier")
+    X: float = attr(doc="easting of the perspective centre, world frame", unit="m",
+                    range=COORDINATE_RANGE, xml="X")
+    Y: float = attr(doc="northing of the perspective centre, world frame", unit="m",
+                    range=COORDINATE_RANGE, xml="Y")
+    Z: float = attr(doc="height of the perspective centre, world frame", unit="m",
+                    range=HEIGHT_RANGE, xml="Z")
+    omega_deg: float = _omega()
+    phi_deg: float = _phi()
+    kappa_deg: float = _kappa()
+    time_s: float | None = attr(None, doc="seconds after takeoff-utc on the time-line when "
+                                "this photo is taken (needs a time-line; none: flown in "
+                                "order at its speed)", unit="s", range=(0, 1e7))
 
 
 @element("pose-noise", title="pose noise", path="trajectory.flight_plan.pose_noise")
@@ -811,6 +830,17 @@ class Rig:
     mounts: tuple[Mount, ...]
 
 
+def _pattern_camera():
+    return attr(doc="id of the camera flown, or the name of a rig (one image per mount at "
+                "each station)", xsd="d:Identifier")
+
+
+def _pattern_prefix():
+    return attr(doc="photos are named prefix + 5-digit number (from 00001, in flight order) "
+                "+ the output format's extension", xsd="d:Identifier")
+
+
+@element("orbit", title="orbit flight")
 @dataclass(frozen=True)
 class OrbitPattern:
     """Stations on a circle around a point of interest ``centre`` (world, m): radius
@@ -820,19 +850,27 @@ class OrbitPattern:
     ``tilt_deg`` from nadir (None: aimed exactly at the centre). ``camera`` is a camera
     id or a rig name; images are named ``image_prefix`` + 5-digit number."""
 
-    camera: str
-    image_prefix: str
-    centre: Point3
-    radius_m: float
-    height_m: float
-    n_stations: int
-    tilt_deg: float | None = None
-    start_azimuth_deg: float = 0.0
+    camera: str = _pattern_camera()
+    image_prefix: str = _pattern_prefix()
+    centre: Point3 = group()
+    radius_m: float = attr(doc="horizontal distance of the stations from the centre",
+                           unit="m", range=(0, 1e6), low_open=True, label="radius")
+    height_m: float = attr(doc="height of the stations above the centre", unit="m",
+                           range=(-1000, 10000), label="height")
+    n_stations: int = attr(doc="number of stations on the circle", range=(1, 10000),
+                           xml="stations", label="stations")
+    tilt_deg: float | None = attr(None, doc="viewing axis from nadir towards the centre (90: "
+                                  "level; none: aimed exactly at the centre)", unit="deg",
+                                  range=(0, 90), label="tilt")
+    start_azimuth_deg: float = attr(0.0, doc="direction of the first station from the "
+                                    "centre, clockwise from grid north", unit="deg",
+                                    range=(-360, 360), label="first station at")
 
 
 FacadeSide = Literal["left", "right"]
 
 
+@element("facade", title="facade flight")
 @dataclass(frozen=True)
 class FacadePattern:
     """Rows of stations along a facade from ``start`` to ``end`` (world X, Y, m), on its
@@ -842,16 +880,21 @@ class FacadePattern:
     ``tilt_deg`` below the horizontal (0: level). ``camera`` is a camera id or a rig
     name; images are named ``image_prefix`` + 5-digit number."""
 
-    camera: str
-    image_prefix: str
+    camera: str = _pattern_camera()
+    image_prefix: str = _pattern_prefix()
     start: tuple[float, float]
     end: tuple[float, float]
-    base_Z: float
-    distance_m: float
+    base_Z: float = attr(doc="world Z of the ground at the facade; the rows' heights are "
+                         "above it", unit="m", range=COORDINATE_RANGE, xml="base-Z")
+    distance_m: float = attr(doc="horizontal distance of the stations from the facade",
+                             unit="m", range=(0, 1e6), low_open=True, label="distance")
     heights_m: tuple[float, ...]
-    spacing_m: float
-    side: FacadeSide = "right"
-    tilt_deg: float = 0.0
+    spacing_m: float = attr(doc="distance between two stations of a row", unit="m",
+                            range=(0, 1e6), low_open=True, label="spacing")
+    side: FacadeSide = attr("right", doc="where the stations stand, seen walking from the "
+                            "first end to the second")
+    tilt_deg: float = attr(0.0, doc="viewing axis below the horizontal (0: level)",
+                           unit="deg", range=(-45, 80), label="tilt")
 
 
 FlightPattern = OrbitPattern | FacadePattern

@@ -74,37 +74,20 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     return el
 
 
-def _point_attrs(el: etree._Element, X: float, Y: float, Z: float | None) -> None:
-    el.set("X", _num(X))
-    el.set("Y", _num(Y))
-    if Z is not None:
-        el.set("Z", _num(Z))
-
-
-def _opk_attrs(el: etree._Element, omega: float, phi: float, kappa: float) -> None:
-    el.set("omega", _num(omega))
-    el.set("phi", _num(phi))
-    el.set("kappa", _num(kappa))
-
-
 def _scene(parent: etree._Element, scene: m.Scene) -> None:
     el = _sub(parent, "scene")
-    terrain = _sub(el, "terrain")
-    e = scene.terrain.extent
-    write_declared(terrain, e)
-    src = scene.terrain.source
-    write_declared(terrain, src)
-    if scene.terrain.surroundings is not None:
-        _sub(terrain, "surroundings", mode=scene.terrain.surroundings)
+    terrain = write_declared(el, scene.terrain)  # <surroundings>, if any, goes last
+    for i, part in enumerate((scene.terrain.extent, scene.terrain.source)):
+        terrain.insert(i, write_declared(terrain, part))
 
     tex = scene.texture
-    tex_el = _sub(el, "texture", interpolation=tex.interpolation)
-    write_declared(tex_el, tex.source)  # an image, a generated pattern or an orthophoto
-    if not isinstance(tex.source, m.OrthophotoTexture):
-        _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
-                                  "repeat-Y": _num(tex.repeat_Y)})
-        if tex.variation is not None:
-            write_declared(tex_el, tex.variation)
+    tex_el = write_declared(el, tex)  # <tiling>; the source goes first
+    # an image, a generated pattern or an orthophoto
+    tex_el.insert(0, write_declared(tex_el, tex.source))
+    if isinstance(tex.source, m.OrthophotoTexture):  # placed by its geotransform
+        tex_el.remove(tex_el.find(q("tiling")))
+    elif tex.variation is not None:
+        write_declared(tex_el, tex.variation)
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")
@@ -182,14 +165,9 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
             write_declared(rig_el, mount)
     if traj.exterior_orientations:
         eo_el = _sub(el, "exterior-orientations")
-        photo_tag = q("photo")
         for eo in traj.exterior_orientations:
             # attribute order as a surveyor reads a pose: name, camera, X Y Z, ω φ κ
-            etree.SubElement(eo_el, photo_tag, {
-                "name": eo.name, "camera": eo.camera, "X": _num(eo.X), "Y": _num(eo.Y),
-                "Z": _num(eo.Z), "omega": _num(eo.omega_deg), "phi": _num(eo.phi_deg),
-                "kappa": _num(eo.kappa_deg),
-                **({} if eo.time_s is None else {"time-s": _num(eo.time_s)})})
+            write_declared(eo_el, eo)
     if traj.flight_plan is not None:
         _flight_plan(el, traj.flight_plan)
     for pattern in traj.patterns:
@@ -200,20 +178,12 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
 
 def _pattern(el: etree._Element, p: m.FlightPattern) -> None:
     if isinstance(p, m.OrbitPattern):
-        attrs = {"camera": p.camera, "image-prefix": p.image_prefix, "X": _num(p.centre.X),
-                 "Y": _num(p.centre.Y), "Z": _num(p.centre.Z), "radius-m": _num(p.radius_m),
-                 "height-m": _num(p.height_m), "stations": _num(p.n_stations)}
-        if p.tilt_deg is not None:
-            attrs["tilt-deg"] = _num(p.tilt_deg)
-        attrs["start-azimuth-deg"] = _num(p.start_azimuth_deg)
-        etree.SubElement(el, q("orbit"), attrs)
+        write_declared(el, p)
         return
-    etree.SubElement(el, q("facade"), {
-        "camera": p.camera, "image-prefix": p.image_prefix, "X1": _num(p.start[0]),
-        "Y1": _num(p.start[1]), "X2": _num(p.end[0]), "Y2": _num(p.end[1]),
-        "base-Z": _num(p.base_Z), "distance-m": _num(p.distance_m),
-        "heights-m": " ".join(_num(h) for h in p.heights_m), "spacing-m": _num(p.spacing_m),
-        "side": p.side, "tilt-deg": _num(p.tilt_deg)})
+    # the facade's ends and its rows' heights: the hand-written part of <facade>
+    write_declared(el, p, {"X1": _num(p.start[0]), "Y1": _num(p.start[1]),
+                           "X2": _num(p.end[0]), "Y2": _num(p.end[1]),
+                           "heights-m": " ".join(_num(h) for h in p.heights_m)})
 
 
 def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
@@ -238,7 +208,7 @@ def _effects(parent: etree._Element, fx: m.Effects) -> None:
             write_declared(el, getattr(fx, f.name))
 
 def _processing(parent: etree._Element, p: m.Processing) -> None:
-    el = _sub(parent, "processing")
+    el = write_declared(parent, p)  # <dense>
     cal = write_declared(el, p.calibration)
     if p.calibration.pre_calibration_error is not None:
         write_declared(cal, p.calibration.pre_calibration_error)
@@ -248,7 +218,6 @@ def _processing(parent: etree._Element, p: m.Processing) -> None:
         write_declared(gcps, c, {"ids": " ".join(c.ids)} if c.ids else None)
     write_declared(el, p.position_prior)
     write_declared(el, p.matching)
-    _sub(el, "dense", mode=p.dense)
     if p.sfm != m.Sfm():  # the default stays implicit: files of before stay the same
         write_declared(el, p.sfm)
 

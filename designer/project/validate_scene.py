@@ -32,6 +32,7 @@ from designer.project.scene_limits import (
     MIN_TEXTURE_TEXELS,
 )
 from designer.project.validate_buildings import building_issues
+from designer.project.validate_declared import element_issues
 
 
 def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
@@ -117,14 +118,7 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
 
 
 def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]:
-    out = []
-    for name, value in (("repeat-X", tex.repeat_X), ("repeat-Y", tex.repeat_Y)):
-        if not 1 <= value <= 10000:
-            out.append(Issue(tex, "tiling", f"{name} = {value!r} must be a whole number from "
-                                            "1 to 10000", attr=name))
-    if tex.interpolation not in ("closest", "linear"):
-        out.append(Issue(tex, "texture", "interpolation must be 'closest' or 'linear'",
-                         attr="interpolation"))
+    out = []  # the repeats' ranges and the interpolation: validate_declared
     src = tex.source
     if isinstance(src, m.OrthophotoTexture):
         if tex.variation is not None:
@@ -135,7 +129,8 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     elif isinstance(src, m.ImageTexture):
         if base is not None:
             out += file_issue(src, "image", image_problem(resolve(base, src.file)))
-    elif out == [] and src.texel_size_m > 0 and extent.width_m > 0 and extent.length_m > 0:
+    elif (not element_issues(tex) and src.texel_size_m > 0 and extent.width_m > 0
+          and extent.length_m > 0):
         # (a texel size of 0 or less: the declared range, validate_declared)
         tile = max(extent.width_m / tex.repeat_X, extent.length_m / tex.repeat_Y)
         texels = tile / src.texel_size_m

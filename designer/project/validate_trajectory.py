@@ -59,13 +59,9 @@ def _photos(project: m.Project) -> list[Issue]:
     out: list[Issue] = []
     counts = Counter(p.name for p in photos)
     reported: set[str] = set()
-    isfinite = math.isfinite
     for p in photos:
-        if not all(isfinite(v) and abs(v) <= 1e8
-                   for v in (p.X, p.Y, p.Z, p.omega_deg, p.phi_deg, p.kappa_deg)):
-            out += [Issue(p, "photo", i.message.replace("-deg", ""), attr=i.attr.split("-")[0])
-                    for i in finite_issues(p)]
-            continue
+        if element_issues(p):
+            continue  # a value out of its declared range (validate_declared names it)
         if counts[p.name] > 1 and p.name not in reported:
             reported.add(p.name)
             out.append(Issue(p, "photo", f"image name '{p.name}' is used by {counts[p.name]} "
@@ -81,9 +77,6 @@ def _photos(project: m.Project) -> list[Issue]:
             out.append(Issue(p, "photo", f"image name '{p.name}' does not match the output "
                              f"format {project.render.output_format}; use {allowed[0]} or "
                              "change <output format>", attr="name"))
-        if not all(-360 <= a <= 360 for a in (p.omega_deg, p.phi_deg, p.kappa_deg)):
-            out.append(Issue(p, "photo", "omega, phi and kappa must be -360 to 360 degrees",
-                             attr="omega"))
     return out
 
 

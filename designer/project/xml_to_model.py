@@ -154,35 +154,24 @@ class _Reader:
         else:
             source = read_declared(m.DemTerrain if kind == "dem" else m.MeshTerrain, src_el)
         self.note(source, src_el)
-        around_el = el.find(q("surroundings"))
-        around = None if around_el is None else around_el.get("mode")
-        terrain = self.note(m.Terrain(extent, source, around), el)
-        if around_el is not None:
-            self.note(terrain, around_el)
-        return terrain
+        return self.declared(m.Terrain, el, extent=extent, source=source)
 
     def texture(self, el: etree._Element) -> m.Texture:
         image_el = el.find(q("image"))
         ortho_el = el.find(q("orthophoto"))
-        if ortho_el is not None:
+        if ortho_el is not None:  # placed by its geotransform: no tiling
             source = self.note(read_declared(m.OrthophotoTexture, ortho_el), ortho_el)
-            texture = m.Texture(source, 1, 1, el.get("interpolation"))
-            return self.note(texture, el)
+            return self.declared(m.Texture, el, source=source, repeat_X=1, repeat_Y=1)
         if image_el is not None:
             source = self.note(read_declared(m.ImageTexture, image_el), image_el)
         else:
             p = el.find(q("procedural"))
             source = self.note(read_declared(m.ProceduralTexture, p), p)
-        tiling = el.find(q("tiling"))
         var_el = el.find(q("variation"))
         variation = None
         if var_el is not None:
             variation = self.note(read_declared(m.TextureVariation, var_el), var_el)
-        texture = m.Texture(source, int(tiling.get("repeat-X")), int(tiling.get("repeat-Y")),
-                            el.get("interpolation"), variation)
-        self.note(texture, el)
-        self.note(texture, tiling)
-        return texture
+        return self.declared(m.Texture, el, source=source, variation=variation)
 
     def targets(self, el: etree._Element) -> m.Targets:
         acc_el = el.find(q(element_of(m.SurveyAccuracy).tag))
@@ -192,11 +181,14 @@ class _Reader:
 
     def declared(self, cls, el: etree._Element, **given):
         """:func:`read_declared`, noted at ``el`` together with its attribute groups."""
-        from designer.project.declare import groups
+        from designer.project.declare import declared, groups
 
         obj = self.note(read_declared(cls, el, **given), el)
         for name, _ in groups(cls):
             self.note(getattr(obj, name), el)
+        for child in {d.attr.child for d in declared(cls)} - {None}:
+            if (child_el := el.find(q(child))) is not None:
+                self.note(obj, child_el)
         return obj
 
     def target(self, el: etree._Element) -> m.Target:
@@ -330,27 +322,15 @@ class _Reader:
         return self.note(read_declared(m.Rig, el, mounts=tuple(mounts)), el)
 
     def pattern(self, el: etree._Element) -> m.FlightPattern:
-        common = (el.get("camera"), el.get("image-prefix"))
-        if etree.QName(el).localname == "orbit":
-            pattern = m.OrbitPattern(
-                *common, m.Point3(_f(el, "X"), _f(el, "Y"), _f(el, "Z")), _f(el, "radius-m"),
-                _f(el, "height-m"), int(el.get("stations")), _opt_f(el, "tilt-deg"),
-                _opt_f(el, "start-azimuth-deg") or 0.0)
-        else:
-            pattern = m.FacadePattern(
-                *common, (_f(el, "X1"), _f(el, "Y1")), (_f(el, "X2"), _f(el, "Y2")),
-                _f(el, "base-Z"), _f(el, "distance-m"), _numbers(el.get("heights-m")),
-                _f(el, "spacing-m"), el.get("side", "right"), _opt_f(el, "tilt-deg") or 0.0)
-        return self.note(pattern, el)
+        if etree.QName(el).localname == element_of(m.OrbitPattern).tag:
+            return self.declared(m.OrbitPattern, el)
+        # the facade's ends and its rows' heights: the hand-written part of <facade>
+        return self.declared(m.FacadePattern, el, start=(_f(el, "X1"), _f(el, "Y1")),
+                             end=(_f(el, "X2"), _f(el, "Y2")),
+                             heights_m=_numbers(el.get("heights-m")))
 
     def photo(self, el: etree._Element) -> m.ExteriorOrientation:
-        get = el.get
-        eo = m.ExteriorOrientation(
-            get("name"), get("camera"), float(get("X")), float(get("Y")), float(get("Z")),
-            float(get("omega")), float(get("phi")), float(get("kappa")),
-            _opt_f(el, "time-s"))
-        self.smap.add(eo, "photo", el.sourceline)
-        return eo
+        return self.declared(m.ExteriorOrientation, el)
 
     def flight_plan(self, el: etree._Element) -> m.FlightPlan:
         area_el = el.find(q("area"))
@@ -423,11 +403,8 @@ class _Reader:
         prior = part("position-prior", m.PositionPrior)
         matching = part("matching", m.Matching)
         sfm = part("sfm", m.Sfm)
-        dense_el = el.find(q("dense"))
-        processing = m.Processing(
-            calibration, gcps, prior, matching,
-            "none" if dense_el is None else dense_el.get("mode", "none"), sfm)
-        return self.note(processing, el)
+        return self.declared(m.Processing, el, calibration=calibration, gcps=gcps,
+                             position_prior=prior, matching=matching, sfm=sfm)
 
 
 def project_from_tree(root: etree._Element, smap: SourceMap) -> m.Project:
