@@ -641,6 +641,7 @@ class RollingShutter:
                                               "read in", label="rows read")
 
 
+@element("camera", title="camera", first=("id", "name"))
 @dataclass(frozen=True)
 class Camera:
     """Interior orientation in photogrammetric terms (mm, px); see core.interior.
@@ -648,28 +649,40 @@ class Camera:
     file's (the schema's Millimetres and PixelCount): what a field accepts, the file
     check accepts."""
 
-    id: str
-    focal_length_mm: float = attr(doc="principal distance of the lens", unit="mm",
-                                  range=(0, 1000), low_open=True, label="focal length",
-                                  decimals=4, step=0.1)
-    sensor_width_mm: float = attr(doc="sensor width", unit="mm", range=(0, 1000),
-                                  low_open=True, label="sensor width", decimals=4, step=0.1)
-    sensor_height_mm: float = attr(doc="sensor height", unit="mm", range=(0, 1000),
-                                   low_open=True, label="sensor height", decimals=6,
+    id: str = attr(doc="the camera's id, named by photos, flight plans and rig mounts",
+                   xsd="d:Identifier")
+    focal_length_mm: float = attr(doc="principal distance (calibrated focal length) of the "
+                                  "lens, not the 35 mm-equivalent", unit="mm",
+                                  range=(0, 1000), low_open=True, text=True,
+                                  label="focal length", decimals=4, step=0.1)
+    sensor_width_mm: float = attr(doc="sensor width along image x (columns)", unit="mm",
+                                  range=(0, 1000), low_open=True, child="sensor",
+                                  xml="width-mm", label="sensor width", decimals=4, step=0.1)
+    sensor_height_mm: float = attr(doc="sensor height along image y (rows)", unit="mm",
+                                   range=(0, 1000), low_open=True, child="sensor",
+                                   xml="height-mm", label="sensor height", decimals=6,
                                    step=0.1)
-    image_width_px: int = attr(doc="image width", unit="px", range=(1, 100000),
-                               label="image width")
-    image_height_px: int = attr(doc="image height", unit="px", range=(1, 100000),
-                                label="image height")
+    image_width_px: int = attr(doc="image width (columns)", unit="px", range=(1, 100000),
+                               child="image", xml="width-px", label="image width")
+    image_height_px: int = attr(doc="image height (rows)", unit="px", range=(1, 100000),
+                                child="image", xml="height-px", label="image height")
     principal_point_x_mm: float = attr(0.0, doc="principal point offset from the sensor "
                                        "centre, x right", unit="mm", range=(-1000, 1000),
-                                       label="principal point x", decimals=4, step=0.01)
+                                       child="principal-point", xml="x-mm",
+                                       write_default=False, label="principal point x",
+                                       decimals=4, step=0.01)
     principal_point_y_mm: float = attr(0.0, doc="principal point offset from the sensor "
                                        "centre, y up", unit="mm", range=(-1000, 1000),
-                                       label="principal point y", decimals=4, step=0.01)
-    pixel_aspect: float | None = None
+                                       child="principal-point", xml="y-mm",
+                                       write_default=False, label="principal point y",
+                                       decimals=4, step=0.01)
+    pixel_aspect: float | None = attr(None, doc="pixel height / pixel width (none: square "
+                                      "pixels, checked against the sensor and image sizes)",
+                                      range=(0, 100), low_open=True, text=True,
+                                      label="pixel aspect", decimals=6, step=0.01)
     distortion: BrownConradyDistortion | FisheyeEquidistantDistortion | None = None
-    name: str | None = None
+    name: str | None = attr(None, doc="make and model, e.g. 'DJI Phantom 4 Pro'", text=True,
+                            xsd="d:Text")
     rolling_shutter: RollingShutter | None = None
 
     @property

@@ -140,17 +140,7 @@ def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
 
 
 def _camera(parent: etree._Element, cam: m.Camera) -> None:
-    el = _sub(parent, "camera", id=cam.id)
-    if cam.name is not None:
-        _sub(el, "name", cam.name)
-    _sub(el, "focal-length-mm", _num(cam.focal_length_mm))
-    _sub(el, "sensor", width_mm=_num(cam.sensor_width_mm), height_mm=_num(cam.sensor_height_mm))
-    _sub(el, "image", width_px=_num(cam.image_width_px), height_px=_num(cam.image_height_px))
-    if cam.principal_point_x_mm != 0 or cam.principal_point_y_mm != 0:
-        _sub(el, "principal-point", x_mm=_num(cam.principal_point_x_mm),
-             y_mm=_num(cam.principal_point_y_mm))
-    if cam.pixel_aspect is not None:
-        _sub(el, "pixel-aspect", _num(cam.pixel_aspect))
+    el = write_declared(parent, cam)
     if cam.distortion is not None:
         write_declared(el, cam.distortion)
     if cam.rolling_shutter is not None:

@@ -260,10 +260,6 @@ class _Reader:
 
     # ----------------------------------------------------------------- cameras
     def camera(self, el: etree._Element) -> m.Camera:
-        sensor = el.find(q("sensor"))
-        image = el.find(q("image"))
-        pp = el.find(q("principal-point"))
-        aspect = _text(el.find(q("pixel-aspect")))
         distortion = None
         bc = el.find(q("brown-conrady"))
         fe = el.find(q("fisheye-equidistant"))
@@ -271,21 +267,9 @@ class _Reader:
             distortion = self.note(read_declared(m.BrownConradyDistortion, bc), bc)
         elif fe is not None:
             distortion = self.note(read_declared(m.FisheyeEquidistantDistortion, fe), fe)
-        camera = m.Camera(
-            id=el.get("id"),
-            name=_text(el.find(q("name"))),
-            focal_length_mm=float(_text(el.find(q("focal-length-mm")))),
-            sensor_width_mm=_f(sensor, "width-mm"),
-            sensor_height_mm=_f(sensor, "height-mm"),
-            image_width_px=int(image.get("width-px")),
-            image_height_px=int(image.get("height-px")),
-            principal_point_x_mm=0.0 if pp is None else _f(pp, "x-mm"),
-            principal_point_y_mm=0.0 if pp is None else _f(pp, "y-mm"),
-            pixel_aspect=None if aspect is None else float(aspect),
-            distortion=distortion,
-            rolling_shutter=self.rolling_shutter(el.find(q("rolling-shutter"))),
-        )
-        self.note(camera, el)
+        camera = self.declared(
+            m.Camera, el, distortion=distortion,
+            rolling_shutter=self.rolling_shutter(el.find(q("rolling-shutter"))))
         self.child_lines(camera, el)
         return camera
 
