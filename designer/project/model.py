@@ -363,6 +363,10 @@ class PathPoint:
                     xml="Y")
 
 
+#: the XML attributes of a moving object's ``size_m`` (length, width, height; m), the
+#: hand-written part of ``<object>`` in ``<moving-objects>``
+MOVING_SIZE_XML = ("length-m", "width-m", "height-m")
+
 #: built-in moving-object shapes: name → (length, width, height) m (person: a cylinder of
 #: diameter width; box: the object's own length-m/width-m/height-m)
 MOVING_SHAPES = {"car": (4.5, 1.8, 1.5), "person": (0.5, 0.5, 1.75), "box": None}

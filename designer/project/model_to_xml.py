@@ -108,7 +108,7 @@ def _scene(parent: etree._Element, scene: m.Scene) -> None:
             o_el = write_declared(moving_el, obj)  # id, shape, file; speed … on <path>
             path_el = o_el.find(q("path"))
             if obj.size_m is not None:
-                for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
+                for name, value in zip(m.MOVING_SIZE_XML, obj.size_m,
                                        strict=True):
                     if value is not None:
                         o_el.set(name, _num(value))

@@ -14,6 +14,7 @@ import math
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.checks import finite_issues
+from designer.project.declare import declared_field
 from designer.project.problems import Issue
 from designer.project.validate_declared import element_issues
 
@@ -63,7 +64,8 @@ def _scaled_size(cam: m.Camera, scale: float) -> list[Issue]:
     if not (isinstance(scale, int | float) and math.isfinite(scale) and 0 < scale <= 1):
         return []  # reported with the render settings
     out = []
-    for attr, size in (("width-px", cam.image_width_px), ("height-px", cam.image_height_px)):
+    for name in ("image_width_px", "image_height_px"):
+        attr, size = declared_field(m.Camera, name).xml, getattr(cam, name)
         scaled = size * scale
         if abs(scaled - round(scaled)) > 1e-6 or round(scaled) < 1:
             out.append(Issue(cam, "image", (

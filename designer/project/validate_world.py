@@ -185,7 +185,7 @@ def _moving_objects(project: m.Project) -> list[Issue]:
             out.append(Issue(obj, "object", f"box '{obj.id}' needs length-m, width-m and "
                              "height-m", attr="length-m"))
         if obj.size_m is not None:
-            for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
+            for name, value in zip(m.MOVING_SIZE_XML, obj.size_m,
                                    strict=True):
                 if value is not None and not (math.isfinite(value) and 0 < value <= 1000):
                     out.append(Issue(obj, "object", f"{name} = {value!r} must be greater "

@@ -203,7 +203,7 @@ class _Reader:
         path_el = el.find(q("path"))
         points = tuple(self.declared(m.PathPoint, p)
                        for p in path_el.iterchildren(q(element_of(m.PathPoint).tag)))
-        size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
+        size = tuple(_opt_f(el, k) for k in m.MOVING_SIZE_XML)
         albedo = el.get("albedo-rgb")
         obj = read_declared(
             m.MovingObject, el, path=points,
