@@ -125,7 +125,7 @@ class ProceduralTerrain:
     seed: int = attr(doc="random seed of the relief", range=SEED_RANGE)
     grid_spacing_m: float = attr(doc="distance between grid nodes; the extent's width and "
                                  "length must be whole multiples of it", unit="m",
-                                 range=(0, 1e6), low_open=True)
+                                 range=(0, 1e6), low_open=True, label="grid spacing")
     roughness: float = attr(doc="0 (rolling hills) to 1 (rugged ground)", range=(0, 1))
     min_height_m: float = attr(doc="lowest terrain height, world Z", unit="m",
                                range=HEIGHT_RANGE)
@@ -206,7 +206,7 @@ class ProceduralTexture:
     pattern: TexturePattern = attr(doc="the generated pattern")
     seed: int = attr(doc="random seed of the pattern", range=SEED_RANGE)
     texel_size_m: float = attr(doc="ground size of one texel", unit="m", range=(0, 1e6),
-                               low_open=True)
+                               low_open=True, label="texel size")
 
 
 @element("variation", title="texture variation", path="scene.texture.variation")
@@ -758,10 +758,11 @@ class FlightPlan:
     altitude_agl_m: float | None = attr(None, doc="flying height above ground level "
                                         "(exactly one of it and gsd-m)", unit="m",
                                         range=(0, 1e6), low_open=True, text=True,
-                                        label="altitude", decimals=2, step=1)
+                                        label="height above ground", decimals=2, step=1)
     gsd_m: float | None = attr(None, doc="ground sample distance of the images at nadir "
                                "(exactly one of it and altitude-agl-m)", unit="m/px",
-                               range=(0, 1e6), low_open=True, text=True, label="GSD",
+                               range=(0, 1e6), low_open=True, text=True,
+                               label="ground sample distance",
                                decimals=4, step=0.001)
     front_overlap_percent: float = attr(80.0, doc="forward overlap of consecutive images",
                                         unit="%", range=(0, 95), text=True,
@@ -773,7 +774,7 @@ class FlightPlan:
                                        decimals=1, step=5)
     grid_angle_deg: float = attr(0.0, doc="direction of the flight lines, clockwise from grid "
                                  "north", unit="deg", range=(0, 180), high_open=True,
-                                 text=True, label="grid angle", decimals=1, step=5)
+                                 text=True, label="line azimuth", decimals=1, step=5)
     crosshatch: bool = attr(False, doc="fly the grid a second time at 90 degrees", text=True,
                             factor="crosshatch")
     orientation: Orientation = attr("landscape", doc="landscape: image top along the flight "
@@ -785,7 +786,7 @@ class FlightPlan:
     #: "mean" | "max" | "min" of the terrain in the area, or a world height Z (m)
     altitude_reference: str | float = "mean"
     tilt_deg: float = attr(0.0, doc="forward camera tilt from nadir", unit="deg",
-                           range=(-80, 80), text=True, factor="tilt-deg", label="tilt",
+                           range=(-80, 80), text=True, factor="tilt-deg", label="forward tilt",
                            decimals=1, step=5)
     pose_noise: PoseNoise | None = None
     random_seed: int = attr(0, doc="seed of the pose noise", range=SEED_RANGE, text=True,
@@ -878,7 +879,7 @@ class OrbitPattern:
                            xml="stations", label="stations")
     tilt_deg: float | None = attr(None, doc="viewing axis from nadir towards the centre (90: "
                                   "level; none: aimed exactly at the centre)", unit="deg",
-                                  range=(0, 90), label="tilt")
+                                  range=(0, 90), label="tilt from nadir")
     start_azimuth_deg: float = attr(0.0, doc="direction of the first station from the "
                                     "centre, clockwise from grid north", unit="deg",
                                     range=(-360, 360), label="first station at")
@@ -911,7 +912,7 @@ class FacadePattern:
     side: FacadeSide = attr("right", doc="where the stations stand, seen walking from the "
                             "first end to the second")
     tilt_deg: float = attr(0.0, doc="viewing axis below the horizontal (0: level)",
-                           unit="deg", range=(-45, 80), label="tilt")
+                           unit="deg", range=(-45, 80), label="tilt below level")
 
 
 FlightPattern = OrbitPattern | FacadePattern

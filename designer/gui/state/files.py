@@ -145,7 +145,7 @@ def new_from_template(name: str, scratch_root: Path | None = None
 #: keywords in a problem's element name → the panel that edits it
 PANEL_KEYWORDS = (
     ("Processing", ("processing", "calibration", "gcps", "control", "position-prior",
-                    "matching")),
+                    "matching", "dense")),
     ("Flight", ("flight", "area", "vertex", "overlap", "altitude", "gsd", "pose-noise",
                 "trajectory", "exterior")),
     ("Camera", ("camera", "sensor", "focal", "distortion", "principal", "image-width",
