@@ -4,7 +4,8 @@ the docs of a project element are derived from.
 A model class declares each attribute once, as a dataclass field made by :func:`attr`
 (its XML name, unit, range, default, one-line doc, GUI label and, if a study may vary
 it, the factor's name), and the class itself with :func:`element` (its XML tag, title
-and where it lives in the project). From that:
+and where it lives in the project); a field made by :func:`group` holds a small declared
+class whose attributes sit on the holder's element (a point's X, Y, Z). From that:
 
 * ``xml_to_model`` / ``model_to_xml`` read and write the element's attributes
   (:func:`designer.project.xml_to_model.read_declared`, ``model_to_xml.write_declared``);

@@ -48,10 +48,9 @@ def world_issues(project: m.Project) -> list[Issue]:
                          attr="time-s", code="needs-time-line"))
     last = None
     for p in timed:
-        if not (math.isfinite(p.time_s) and p.time_s >= 0):
-            out.append(Issue(p, "photo", f"time-s = {p.time_s!r} must be a finite number of "
-                             "seconds >= 0", attr="time-s"))
-        elif last is not None and p.time_s < last.time_s:
+        if not declared_field(m.ExteriorOrientation, "time_s").in_range(p.time_s):
+            continue  # validate_declared names it
+        if last is not None and p.time_s < last.time_s:
             out.append(Issue(p, "photo", f"photo '{p.name}' at time-s {p.time_s:g} s comes "
                              f"before '{last.name}' ({last.time_s:g} s) which is flown first; "
                              "give the photos in the order they are taken", attr="time-s"))
