@@ -143,12 +143,9 @@ def rig_issues(project: m.Project) -> list[Issue]:
                                  f"{suffixes[mount.suffix]} mounts of rig '{rig.name}'; give "
                                  "each mount its own suffix", attr="suffix"))
             angles = (mount.omega_deg, mount.phi_deg, mount.kappa_deg)
-            bad = next((k for k, a in zip(("omega", "phi", "kappa"), angles, strict=True)
-                        if not (math.isfinite(a) and -180 <= a <= 180)), None)
-            if bad is not None:
-                out.append(Issue(mount, "mount", f"{bad} = {getattr(mount, bad + '_deg')!r} "
-                                 "must be from -180 to 180 degrees", attr=bad))
-            elif (tilt := mount_tilt_deg(*angles)) > MAX_MOUNT_TILT_DEG:
+            if element_issues(mount):
+                continue  # an angle out of its declared range (validate_declared names it)
+            if (tilt := mount_tilt_deg(*angles)) > MAX_MOUNT_TILT_DEG:
                 out.append(Issue(mount, "mount", f"mount '{mount.suffix}' of rig '{rig.name}' "
                                  f"looks {tilt:.1f} degrees away from the platform's axis; "
                                  f"keep omega and phi within {MAX_MOUNT_TILT_DEG:g} degrees "
