@@ -18,8 +18,7 @@ EXTENSIONS = {"png": (".png",), "jpeg": (".jpg", ".jpeg"), "tiff": (".tif", ".ti
 TAGS = {
     m.Origin: "origin", m.Extent: "extent", m.FlatTerrain: "flat",
     m.ProceduralTerrain: "procedural", m.ProceduralTexture: "procedural",
-    m.Texture: "tiling", m.Sigma3: "surveyed", m.Point3: "surveyed",
-    m.TruePosition: "true", m.Target: "target", m.Placement: "placement",
+    m.Texture: "tiling", m.TruePosition: "true", m.Target: "target",
     m.Sun: "sun", m.SunPosition: "sun-position", m.Lighting: "lighting",
     m.SunOverTime: "sun-over-time", m.TimeLine: "time-line", m.CloudShadows: "cloud-shadows",
     m.PoseNoise: "pose-noise", m.Vignetting: "vignetting", m.SensorNoise: "sensor-noise",
@@ -71,11 +70,3 @@ def is_ok(value: float | None) -> bool:
 
 def file_issue(obj: object, tag: str, problem: str | None) -> list[Issue]:
     return [] if problem is None else [Issue(obj, tag, problem, attr="file")]
-
-
-def sigma_issues(sigma: m.Sigma3, obj: object, tag: str) -> list[Issue]:
-    """Negative or non-finite standard deviations."""
-    return [Issue(obj, tag, f"sigma-{axis} = {value!r} must be a finite number >= 0 m",
-                  attr=f"sigma-{axis}")
-            for axis, value in (("X", sigma.X), ("Y", sigma.Y), ("Z", sigma.Z))
-            if not (math.isfinite(value) and value >= 0)]

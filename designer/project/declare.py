@@ -4,7 +4,8 @@ the docs of a project element are derived from.
 A model class declares each attribute once, as a dataclass field made by :func:`attr`
 (its XML name, unit, range, default, one-line doc, GUI label and, if a study may vary
 it, the factor's name), and the class itself with :func:`element` (its XML tag, title
-and where it lives in the project). From that:
+and where it lives in the project); a field made by :func:`group` holds a small declared
+class whose attributes sit on the holder's element (a point's X, Y, Z). From that:
 
 * ``xml_to_model`` / ``model_to_xml`` read and write the element's attributes
   (:func:`designer.project.xml_to_model.read_declared`, ``model_to_xml.write_declared``);
@@ -110,6 +111,13 @@ class Element:
     on: tuple[tuple[str, Any], ...] = ()
     #: fields whose attributes are written first (the rest follow in field order)
     first: tuple[str, ...] = ()
+
+
+def group() -> Any:
+    """A dataclass field holding an attribute group: a small declared dataclass (a point's
+    X, Y, Z; three standard deviations) whose attributes sit on the element of the class
+    that holds it, not on an element of their own."""
+    return dataclasses.field(metadata={"group": True})
 
 
 def element(tag: str, *, title: str, path: str | None = None, stage: Stage = "render",
@@ -242,6 +250,33 @@ def declared(cls: type) -> tuple[Declared, ...]:
     return _CACHE[cls]
 
 
+def groups(cls: type) -> tuple[tuple[str, type], ...]:
+    """(field name, class) of every attribute group ``cls`` holds (:func:`group`)."""
+    if not dataclasses.is_dataclass(cls):
+        return ()
+    return tuple((f.name, field_class(cls, f.name)) for f in dataclasses.fields(cls)
+                 if f.metadata.get("group"))
+
+
+def attributes(cls: type) -> tuple[tuple[str | None, Declared], ...]:
+    """Every declared attribute on the element of ``cls``, in field order: (None, its own
+    declaration) or (the group field, a declaration of the group's class)."""
+    out: list[tuple[str | None, Declared]] = []
+    own = {d.name: d for d in declared(cls)}
+    group_of = dict(groups(cls))
+    for f in dataclasses.fields(cls) if dataclasses.is_dataclass(cls) else ():
+        if f.name in own:
+            out.append((None, own[f.name]))
+        elif f.name in group_of:
+            out += [(f.name, d) for d in declared(group_of[f.name])]
+    return tuple(out)
+
+
+def holder(obj: Any, group_name: str | None) -> Any:
+    """The object that holds an attribute of :func:`attributes`: ``obj`` or its group."""
+    return obj if group_name is None else getattr(obj, group_name)
+
+
 def declared_field(cls: type, name: str) -> Declared:
     """The declaration of field ``name`` of ``cls`` (KeyError if it has none)."""
     for d in declared(cls):
@@ -310,7 +345,7 @@ def attribute_table(cls: type) -> str:
     rows = [f"`<{el.tag}>` — {el.title}" if el else cls.__name__, "",
             "| attribute | unit | range | default | meaning | study factor |",
             "|---|---|---|---|---|---|"]
-    for d in declared(cls):
+    for _, d in attributes(cls):
         value = d.xml_default
         default = "required" if d.required else ("none" if value is None else
                                                   str(value).lower()

@@ -18,10 +18,11 @@ projects are equal when every field is. Construction does not validate; call
 
 from __future__ import annotations
 
+import typing
 from dataclasses import dataclass, field
 from typing import Literal
 
-from designer.project.declare import SEED_RANGE, attr, element
+from designer.project.declare import SEED_RANGE, attr, element, group
 from designer.project.processing import (  # noqa: F401  (part of the model's face)
     POSITION_PRIOR_SIGMAS_M,
     Calibration,
@@ -73,11 +74,12 @@ class Origin:
 
 @dataclass(frozen=True)
 class Point3:
-    """A world point (m): X = Easting, Y = Northing, Z = height."""
+    """A world point (m): X = Easting, Y = Northing, Z = height; an attribute group (the
+    X, Y, Z attributes of the element that holds it)."""
 
-    X: float
-    Y: float
-    Z: float
+    X: float = attr(doc="easting, world frame", unit="m", range=COORDINATE_RANGE, xml="X")
+    Y: float = attr(doc="northing, world frame", unit="m", range=COORDINATE_RANGE, xml="Y")
+    Z: float = attr(doc="height, world frame", unit="m", range=HEIGHT_RANGE, xml="Z")
 
 
 # ---------------------------------------------------------------------- terrain
@@ -123,7 +125,7 @@ class ProceduralTerrain:
     seed: int = attr(doc="random seed of the relief", range=SEED_RANGE)
     grid_spacing_m: float = attr(doc="distance between grid nodes; the extent's width and "
                                  "length must be whole multiples of it", unit="m",
-                                 range=(0, 1e6), low_open=True)
+                                 range=(0, 1e6), low_open=True, label="grid spacing")
     roughness: float = attr(doc="0 (rolling hills) to 1 (rugged ground)", range=(0, 1))
     min_height_m: float = attr(doc="lowest terrain height, world Z", unit="m",
                                range=HEIGHT_RANGE)
@@ -161,16 +163,21 @@ TerrainSource = FlatTerrain | ProceduralTerrain | DemTerrain | MeshTerrain
 #: "auto" continues the terrain as far as the images see (procedural and flat terrain
 #: continue their own heights; a DEM its edge heights, an orthophoto its edge colours);
 #: "none" renders the declared terrain only
-SURROUNDINGS_MODES = ("auto", "none")
+SurroundingsMode = Literal["auto", "none"]
+SURROUNDINGS_MODES: tuple[str, ...] = typing.get_args(SurroundingsMode)
 
 
+@element("terrain", title="terrain")
 @dataclass(frozen=True)
 class Terrain:
     extent: Extent
     source: TerrainSource
-    #: "auto" or "none"; None: the terrain kind's default (auto for flat and procedural
-    #: terrain, none for DEM and mesh files)
-    surroundings: str | None = None
+    #: None: the terrain kind's default (auto for flat and procedural terrain, none for
+    #: DEM and mesh files)
+    surroundings: SurroundingsMode | None = attr(
+        None, doc="auto: continue the terrain as far as the images see; none: render the "
+        "extent only (none given: auto for flat and procedural terrain, none for DEM and "
+        "mesh files)", child="surroundings", xml="mode", label="surroundings")
 
     @property
     def kind(self) -> str:
@@ -199,7 +206,7 @@ class ProceduralTexture:
     pattern: TexturePattern = attr(doc="the generated pattern")
     seed: int = attr(doc="random seed of the pattern", range=SEED_RANGE)
     texel_size_m: float = attr(doc="ground size of one texel", unit="m", range=(0, 1e6),
-                               low_open=True)
+                               low_open=True, label="texel size")
 
 
 @element("variation", title="texture variation", path="scene.texture.variation")
@@ -218,6 +225,7 @@ class TextureVariation:
     octaves: int = attr(4, doc="noise octaves, each next one half as long", range=(1, 8))
 
 
+@element("texture", title="ground texture")
 @dataclass(frozen=True)
 class Texture:
     """Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent (an
@@ -225,9 +233,13 @@ class Texture:
     varied by a non-repeating ``variation`` (tiled textures only)."""
 
     source: ImageTexture | ProceduralTexture | OrthophotoTexture
-    repeat_X: int
-    repeat_Y: int
-    interpolation: Interpolation
+    repeat_X: int = attr(doc="repeats along X (Easting)", range=(1, 10000), child="tiling",
+                         xml="repeat-X", label="repeats X")
+    repeat_Y: int = attr(doc="repeats along Y (Northing)", range=(1, 10000), child="tiling",
+                         xml="repeat-Y", label="repeats Y")
+    interpolation: Interpolation = attr(doc="texture lookup between texels: closest (sharp "
+                                        "texel edges, exact for checkerboards) or linear "
+                                        "(bilinear)")
     variation: TextureVariation | None = None
 
 
@@ -245,21 +257,30 @@ class TruePosition:
                            unit="m", range=HEIGHT_RANGE, xml="Z")
 
 
+#: the range of a standard deviation of a measured position (m)
+SIGMA_RANGE = (0, 1e6)
+
+
 @dataclass(frozen=True)
 class Sigma3:
-    """Standard deviations along X, Y, Z (m)."""
+    """Standard deviations along X, Y, Z (m); an attribute group (sigma-X, sigma-Y,
+    sigma-Z)."""
 
-    X: float
-    Y: float
-    Z: float
+    X: float = attr(doc="standard deviation in X (Easting)", unit="m", range=SIGMA_RANGE,
+                    xml="sigma-X")
+    Y: float = attr(doc="standard deviation in Y (Northing)", unit="m", range=SIGMA_RANGE,
+                    xml="sigma-Y")
+    Z: float = attr(doc="standard deviation in Z (height)", unit="m", range=SIGMA_RANGE,
+                    xml="sigma-Z")
 
 
+@element("surveyed", title="surveyed target position")
 @dataclass(frozen=True)
 class SurveyedPosition:
     """Measured target position (world, m) and its standard deviations (m)."""
 
-    position: Point3
-    sigma: Sigma3
+    position: Point3 = group()
+    sigma: Sigma3 = group()
 
 
 @element("target", title="GCP target")
@@ -276,12 +297,14 @@ class Target:
     surveyed: SurveyedPosition | None = None
 
 
+@element("survey-accuracy", title="simulated survey", path="scene.targets.survey_accuracy")
 @dataclass(frozen=True)
 class SurveyAccuracy:
     """Simulated survey of targets without ``surveyed``: σ per axis (m) and a seed."""
 
-    sigma: Sigma3
-    seed: int
+    sigma: Sigma3 = group()
+    seed: int = attr(doc="random seed of the simulated survey errors", range=SEED_RANGE,
+                     draw="survey-error")
 
 
 @dataclass(frozen=True)
@@ -291,15 +314,34 @@ class Targets:
 
 
 # ---------------------------------------------------------------------- objects, light
+#: the range of an ω, φ or κ of a photo or a placed object (deg)
+ANGLE_RANGE = (-360, 360)
+
+
+def _omega(doc: str = "rotation about the world X axis, counter-clockwise positive "
+           "(first factor of R)"):
+    return attr(doc=doc, unit="deg", range=ANGLE_RANGE, xml="omega", label="ω")
+
+
+def _phi(doc: str = "rotation about the once-rotated Y axis (second factor of R)"):
+    return attr(doc=doc, unit="deg", range=ANGLE_RANGE, xml="phi", label="φ")
+
+
+def _kappa(doc: str = "rotation about the twice-rotated Z axis (third factor of R)"):
+    return attr(doc=doc, unit="deg", range=ANGLE_RANGE, xml="kappa", label="κ")
+
+
+@element("placement", title="object placement")
 @dataclass(frozen=True)
 class Placement:
     """Mesh origin at ``position`` (world, m), rotated by ω φ κ (deg), scaled."""
 
-    position: Point3
-    omega_deg: float
-    phi_deg: float
-    kappa_deg: float
-    scale: float = 1.0
+    position: Point3 = group()
+    omega_deg: float = _omega()
+    phi_deg: float = _phi()
+    kappa_deg: float = _kappa()
+    scale: float = attr(1.0, doc="uniform scale factor from mesh units to metres",
+                        range=(0, 1e6), low_open=True)
 
 
 @element("object", title="scene object")
@@ -310,13 +352,20 @@ class SceneObject:
     placement: Placement
 
 
+@element("point", title="path point")
 @dataclass(frozen=True)
 class PathPoint:
     """A point of a moving object's path (world X/Y, m)."""
 
-    X: float
-    Y: float
+    X: float = attr(doc="world X (easting) of the point", unit="m", range=COORDINATE_RANGE,
+                    xml="X")
+    Y: float = attr(doc="world Y (northing) of the point", unit="m", range=COORDINATE_RANGE,
+                    xml="Y")
 
+
+#: the XML attributes of a moving object's ``size_m`` (length, width, height; m), the
+#: hand-written part of ``<object>`` in ``<moving-objects>``
+MOVING_SIZE_XML = ("length-m", "width-m", "height-m")
 
 #: built-in moving-object shapes: name → (length, width, height) m (person: a cylinder of
 #: diameter width; box: the object's own length-m/width-m/height-m)
@@ -596,6 +645,7 @@ class RollingShutter:
                                               "read in", label="rows read")
 
 
+@element("camera", title="camera", first=("id", "name"))
 @dataclass(frozen=True)
 class Camera:
     """Interior orientation in photogrammetric terms (mm, px); see core.interior.
@@ -603,28 +653,40 @@ class Camera:
     file's (the schema's Millimetres and PixelCount): what a field accepts, the file
     check accepts."""
 
-    id: str
-    focal_length_mm: float = attr(doc="principal distance of the lens", unit="mm",
-                                  range=(0, 1000), low_open=True, label="focal length",
-                                  decimals=4, step=0.1)
-    sensor_width_mm: float = attr(doc="sensor width", unit="mm", range=(0, 1000),
-                                  low_open=True, label="sensor width", decimals=4, step=0.1)
-    sensor_height_mm: float = attr(doc="sensor height", unit="mm", range=(0, 1000),
-                                   low_open=True, label="sensor height", decimals=6,
+    id: str = attr(doc="the camera's id, named by photos, flight plans and rig mounts",
+                   xsd="d:Identifier")
+    focal_length_mm: float = attr(doc="principal distance (calibrated focal length) of the "
+                                  "lens, not the 35 mm-equivalent", unit="mm",
+                                  range=(0, 1000), low_open=True, text=True,
+                                  label="focal length", decimals=4, step=0.1)
+    sensor_width_mm: float = attr(doc="sensor width along image x (columns)", unit="mm",
+                                  range=(0, 1000), low_open=True, child="sensor",
+                                  xml="width-mm", label="sensor width", decimals=4, step=0.1)
+    sensor_height_mm: float = attr(doc="sensor height along image y (rows)", unit="mm",
+                                   range=(0, 1000), low_open=True, child="sensor",
+                                   xml="height-mm", label="sensor height", decimals=6,
                                    step=0.1)
-    image_width_px: int = attr(doc="image width", unit="px", range=(1, 100000),
-                               label="image width")
-    image_height_px: int = attr(doc="image height", unit="px", range=(1, 100000),
-                                label="image height")
+    image_width_px: int = attr(doc="image width (columns)", unit="px", range=(1, 100000),
+                               child="image", xml="width-px", label="image width")
+    image_height_px: int = attr(doc="image height (rows)", unit="px", range=(1, 100000),
+                                child="image", xml="height-px", label="image height")
     principal_point_x_mm: float = attr(0.0, doc="principal point offset from the sensor "
                                        "centre, x right", unit="mm", range=(-1000, 1000),
-                                       label="principal point x", decimals=4, step=0.01)
+                                       child="principal-point", xml="x-mm",
+                                       write_default=False, label="principal point x",
+                                       decimals=4, step=0.01)
     principal_point_y_mm: float = attr(0.0, doc="principal point offset from the sensor "
                                        "centre, y up", unit="mm", range=(-1000, 1000),
-                                       label="principal point y", decimals=4, step=0.01)
-    pixel_aspect: float | None = None
+                                       child="principal-point", xml="y-mm",
+                                       write_default=False, label="principal point y",
+                                       decimals=4, step=0.01)
+    pixel_aspect: float | None = attr(None, doc="pixel height / pixel width (none: square "
+                                      "pixels, checked against the sensor and image sizes)",
+                                      range=(0, 100), low_open=True, text=True,
+                                      label="pixel aspect", decimals=6, step=0.01)
     distortion: BrownConradyDistortion | FisheyeEquidistantDistortion | None = None
-    name: str | None = None
+    name: str | None = attr(None, doc="make and model, e.g. 'DJI Phantom 4 Pro'", text=True,
+                            xsd="d:Text")
     rolling_shutter: RollingShutter | None = None
 
     @property
@@ -634,20 +696,28 @@ class Camera:
 
 
 # ---------------------------------------------------------------------- trajectory
+@element("photo", title="photo", first=("name", "camera"))
 @dataclass(frozen=True)
 class ExteriorOrientation:
     """One photo: perspective centre (world, m) and ω φ κ (deg)."""
 
-    name: str
-    camera: str
-    X: float
-    Y: float
-    Z: float
-    omega_deg: float
-    phi_deg: float
-    kappa_deg: float
-    #: seconds after take-off on the trajectory's time line (None: flown in order)
-    time_s: float | None = None
+    name: str = attr(doc="image file name, unique in the project, e.g. IMG_0001.png",
+                     xsd="d:Identifier")
+    camera: str = attr(doc="id of the camera that takes this photo, or the name of a rig: "
+                       "then one image per mount, named with the mount's suffix",
+                       xsd="d:Identifier")
+    X: float = attr(doc="easting of the perspective centre, world frame", unit="m",
+                    range=COORDINATE_RANGE, xml="X")
+    Y: float = attr(doc="northing of the perspective centre, world frame", unit="m",
+                    range=COORDINATE_RANGE, xml="Y")
+    Z: float = attr(doc="height of the perspective centre, world frame", unit="m",
+                    range=HEIGHT_RANGE, xml="Z")
+    omega_deg: float = _omega()
+    phi_deg: float = _phi()
+    kappa_deg: float = _kappa()
+    time_s: float | None = attr(None, doc="seconds after takeoff-utc on the time-line when "
+                                "this photo is taken (needs a time-line; none: flown in "
+                                "order at its speed)", unit="s", range=(0, 1e7))
 
 
 @element("pose-noise", title="pose noise", path="trajectory.flight_plan.pose_noise")
@@ -688,10 +758,11 @@ class FlightPlan:
     altitude_agl_m: float | None = attr(None, doc="flying height above ground level "
                                         "(exactly one of it and gsd-m)", unit="m",
                                         range=(0, 1e6), low_open=True, text=True,
-                                        label="altitude", decimals=2, step=1)
+                                        label="height above ground", decimals=2, step=1)
     gsd_m: float | None = attr(None, doc="ground sample distance of the images at nadir "
                                "(exactly one of it and altitude-agl-m)", unit="m/px",
-                               range=(0, 1e6), low_open=True, text=True, label="GSD",
+                               range=(0, 1e6), low_open=True, text=True,
+                               label="ground sample distance",
                                decimals=4, step=0.001)
     front_overlap_percent: float = attr(80.0, doc="forward overlap of consecutive images",
                                         unit="%", range=(0, 95), text=True,
@@ -703,7 +774,7 @@ class FlightPlan:
                                        decimals=1, step=5)
     grid_angle_deg: float = attr(0.0, doc="direction of the flight lines, clockwise from grid "
                                  "north", unit="deg", range=(0, 180), high_open=True,
-                                 text=True, label="grid angle", decimals=1, step=5)
+                                 text=True, label="line azimuth", decimals=1, step=5)
     crosshatch: bool = attr(False, doc="fly the grid a second time at 90 degrees", text=True,
                             factor="crosshatch")
     orientation: Orientation = attr("landscape", doc="landscape: image top along the flight "
@@ -715,7 +786,7 @@ class FlightPlan:
     #: "mean" | "max" | "min" of the terrain in the area, or a world height Z (m)
     altitude_reference: str | float = "mean"
     tilt_deg: float = attr(0.0, doc="forward camera tilt from nadir", unit="deg",
-                           range=(-80, 80), text=True, factor="tilt-deg", label="tilt",
+                           range=(-80, 80), text=True, factor="tilt-deg", label="forward tilt",
                            decimals=1, step=5)
     pose_noise: PoseNoise | None = None
     random_seed: int = attr(0, doc="seed of the pose noise", range=SEED_RANGE, text=True,
@@ -777,6 +848,17 @@ class Rig:
     mounts: tuple[Mount, ...]
 
 
+def _pattern_camera():
+    return attr(doc="id of the camera flown, or the name of a rig (one image per mount at "
+                "each station)", xsd="d:Identifier")
+
+
+def _pattern_prefix():
+    return attr(doc="photos are named prefix + 5-digit number (from 00001, in flight order) "
+                "+ the output format's extension", xsd="d:Identifier")
+
+
+@element("orbit", title="orbit flight")
 @dataclass(frozen=True)
 class OrbitPattern:
     """Stations on a circle around a point of interest ``centre`` (world, m): radius
@@ -786,19 +868,27 @@ class OrbitPattern:
     ``tilt_deg`` from nadir (None: aimed exactly at the centre). ``camera`` is a camera
     id or a rig name; images are named ``image_prefix`` + 5-digit number."""
 
-    camera: str
-    image_prefix: str
-    centre: Point3
-    radius_m: float
-    height_m: float
-    n_stations: int
-    tilt_deg: float | None = None
-    start_azimuth_deg: float = 0.0
+    camera: str = _pattern_camera()
+    image_prefix: str = _pattern_prefix()
+    centre: Point3 = group()
+    radius_m: float = attr(doc="horizontal distance of the stations from the centre",
+                           unit="m", range=(0, 1e6), low_open=True, label="radius")
+    height_m: float = attr(doc="height of the stations above the centre", unit="m",
+                           range=(-1000, 10000), label="height")
+    n_stations: int = attr(doc="number of stations on the circle", range=(1, 10000),
+                           xml="stations", label="stations")
+    tilt_deg: float | None = attr(None, doc="viewing axis from nadir towards the centre (90: "
+                                  "level; none: aimed exactly at the centre)", unit="deg",
+                                  range=(0, 90), label="tilt from nadir")
+    start_azimuth_deg: float = attr(0.0, doc="direction of the first station from the "
+                                    "centre, clockwise from grid north", unit="deg",
+                                    range=(-360, 360), label="first station at")
 
 
 FacadeSide = Literal["left", "right"]
 
 
+@element("facade", title="facade flight")
 @dataclass(frozen=True)
 class FacadePattern:
     """Rows of stations along a facade from ``start`` to ``end`` (world X, Y, m), on its
@@ -808,16 +898,21 @@ class FacadePattern:
     ``tilt_deg`` below the horizontal (0: level). ``camera`` is a camera id or a rig
     name; images are named ``image_prefix`` + 5-digit number."""
 
-    camera: str
-    image_prefix: str
+    camera: str = _pattern_camera()
+    image_prefix: str = _pattern_prefix()
     start: tuple[float, float]
     end: tuple[float, float]
-    base_Z: float
-    distance_m: float
+    base_Z: float = attr(doc="world Z of the ground at the facade; the rows' heights are "
+                         "above it", unit="m", range=COORDINATE_RANGE, xml="base-Z")
+    distance_m: float = attr(doc="horizontal distance of the stations from the facade",
+                             unit="m", range=(0, 1e6), low_open=True, label="distance")
     heights_m: tuple[float, ...]
-    spacing_m: float
-    side: FacadeSide = "right"
-    tilt_deg: float = 0.0
+    spacing_m: float = attr(doc="distance between two stations of a row", unit="m",
+                            range=(0, 1e6), low_open=True, label="spacing")
+    side: FacadeSide = attr("right", doc="where the stations stand, seen walking from the "
+                            "first end to the second")
+    tilt_deg: float = attr(0.0, doc="viewing axis below the horizontal (0: level)",
+                           unit="deg", range=(-45, 80), label="tilt below level")
 
 
 FlightPattern = OrbitPattern | FacadePattern

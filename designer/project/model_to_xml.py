@@ -51,12 +51,13 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     declared ones in declaration order (None left out, and a default that is not to be
     written); an attribute declared on a child element goes on that child (made here,
     the first child), a text value in its own child element, in declaration order."""
-    from designer.project.declare import declared, element_of
+    from designer.project.declare import attributes, element_of
+    from designer.project.declare import holder as holder_of
 
     decl = element_of(type(obj))
     el = etree.SubElement(parent, q(decl.tag), lead or {})
-    for d in sorted(declared(type(obj)), key=lambda d: d.name not in decl.first):
-        value = getattr(obj, d.name)
+    for group, d in sorted(attributes(type(obj)), key=lambda a: a[1].name not in decl.first):
+        value = getattr(holder_of(obj, group), d.name)
         if value is None or (not d.attr.write_default and value == d.default):
             continue
         holder = el
@@ -73,82 +74,48 @@ def write_declared(parent: etree._Element, obj, lead: dict[str, str] | None = No
     return el
 
 
-def _point_attrs(el: etree._Element, X: float, Y: float, Z: float | None) -> None:
-    el.set("X", _num(X))
-    el.set("Y", _num(Y))
-    if Z is not None:
-        el.set("Z", _num(Z))
-
-
-def _sigma_attrs(el: etree._Element, sigma: m.Sigma3) -> None:
-    el.set("sigma-X", _num(sigma.X))
-    el.set("sigma-Y", _num(sigma.Y))
-    el.set("sigma-Z", _num(sigma.Z))
-
-
-def _opk_attrs(el: etree._Element, omega: float, phi: float, kappa: float) -> None:
-    el.set("omega", _num(omega))
-    el.set("phi", _num(phi))
-    el.set("kappa", _num(kappa))
-
-
 def _scene(parent: etree._Element, scene: m.Scene) -> None:
     el = _sub(parent, "scene")
-    terrain = _sub(el, "terrain")
-    e = scene.terrain.extent
-    write_declared(terrain, e)
-    src = scene.terrain.source
-    write_declared(terrain, src)
-    if scene.terrain.surroundings is not None:
-        _sub(terrain, "surroundings", mode=scene.terrain.surroundings)
+    terrain = write_declared(el, scene.terrain)  # <surroundings>, if any, goes last
+    for i, part in enumerate((scene.terrain.extent, scene.terrain.source)):
+        terrain.insert(i, write_declared(terrain, part))
 
     tex = scene.texture
-    tex_el = _sub(el, "texture", interpolation=tex.interpolation)
-    write_declared(tex_el, tex.source)  # an image, a generated pattern or an orthophoto
-    if not isinstance(tex.source, m.OrthophotoTexture):
-        _sub(tex_el, "tiling", **{"repeat-X": _num(tex.repeat_X),
-                                  "repeat-Y": _num(tex.repeat_Y)})
-        if tex.variation is not None:
-            write_declared(tex_el, tex.variation)
+    tex_el = write_declared(el, tex)  # <tiling>; the source goes first
+    # an image, a generated pattern or an orthophoto
+    tex_el.insert(0, write_declared(tex_el, tex.source))
+    if isinstance(tex.source, m.OrthophotoTexture):  # placed by its geotransform
+        tex_el.remove(tex_el.find(q("tiling")))
+    elif tex.variation is not None:
+        write_declared(tex_el, tex.variation)
 
     if scene.targets is not None:
         targets_el = _sub(el, "targets")
-        acc = scene.targets.survey_accuracy
-        if acc is not None:
-            acc_el = _sub(targets_el, "survey-accuracy")
-            _sigma_attrs(acc_el, acc.sigma)
-            acc_el.set("seed", _num(acc.seed))
+        if scene.targets.survey_accuracy is not None:
+            write_declared(targets_el, scene.targets.survey_accuracy)
         for t in scene.targets.targets:
             t_el = write_declared(targets_el, t)
             write_declared(t_el, t.true)
             if t.surveyed is not None:
-                s_el = _sub(t_el, "surveyed")
-                p = t.surveyed.position
-                _point_attrs(s_el, p.X, p.Y, p.Z)
-                _sigma_attrs(s_el, t.surveyed.sigma)
+                write_declared(t_el, t.surveyed)
     if scene.objects:
         objects_el = _sub(el, "objects")
         for obj in scene.objects:
-            o_el = write_declared(objects_el, obj)
-            pl = obj.placement
-            p_el = _sub(o_el, "placement")
-            _point_attrs(p_el, pl.position.X, pl.position.Y, pl.position.Z)
-            _opk_attrs(p_el, pl.omega_deg, pl.phi_deg, pl.kappa_deg)
-            p_el.set("scale", _num(pl.scale))
+            write_declared(write_declared(objects_el, obj), obj.placement)
     if scene.moving_objects:
         moving_el = _sub(el, "moving-objects")
         for obj in scene.moving_objects:
             o_el = write_declared(moving_el, obj)  # id, shape, file; speed … on <path>
             path_el = o_el.find(q("path"))
             if obj.size_m is not None:
-                for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
+                for name, value in zip(m.MOVING_SIZE_XML, obj.size_m,
                                        strict=True):
                     if value is not None:
                         o_el.set(name, _num(value))
             if obj.albedo_rgb != m.MovingObject.albedo_rgb:
                 o_el.set("albedo-rgb", " ".join(_num(v) for v in obj.albedo_rgb))
             for point in obj.path:
-                _point_attrs(_sub(path_el, "point"), point.X, point.Y, None)
+                write_declared(path_el, point)
 
     if scene.buildings:
         _buildings(_sub(el, "buildings"), scene.buildings)
@@ -173,17 +140,7 @@ def _vegetation(parent: etree._Element, veg: m.Vegetation) -> None:
 
 
 def _camera(parent: etree._Element, cam: m.Camera) -> None:
-    el = _sub(parent, "camera", id=cam.id)
-    if cam.name is not None:
-        _sub(el, "name", cam.name)
-    _sub(el, "focal-length-mm", _num(cam.focal_length_mm))
-    _sub(el, "sensor", width_mm=_num(cam.sensor_width_mm), height_mm=_num(cam.sensor_height_mm))
-    _sub(el, "image", width_px=_num(cam.image_width_px), height_px=_num(cam.image_height_px))
-    if cam.principal_point_x_mm != 0 or cam.principal_point_y_mm != 0:
-        _sub(el, "principal-point", x_mm=_num(cam.principal_point_x_mm),
-             y_mm=_num(cam.principal_point_y_mm))
-    if cam.pixel_aspect is not None:
-        _sub(el, "pixel-aspect", _num(cam.pixel_aspect))
+    el = write_declared(parent, cam)
     if cam.distortion is not None:
         write_declared(el, cam.distortion)
     if cam.rolling_shutter is not None:
@@ -198,14 +155,9 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
             write_declared(rig_el, mount)
     if traj.exterior_orientations:
         eo_el = _sub(el, "exterior-orientations")
-        photo_tag = q("photo")
         for eo in traj.exterior_orientations:
             # attribute order as a surveyor reads a pose: name, camera, X Y Z, ω φ κ
-            etree.SubElement(eo_el, photo_tag, {
-                "name": eo.name, "camera": eo.camera, "X": _num(eo.X), "Y": _num(eo.Y),
-                "Z": _num(eo.Z), "omega": _num(eo.omega_deg), "phi": _num(eo.phi_deg),
-                "kappa": _num(eo.kappa_deg),
-                **({} if eo.time_s is None else {"time-s": _num(eo.time_s)})})
+            write_declared(eo_el, eo)
     if traj.flight_plan is not None:
         _flight_plan(el, traj.flight_plan)
     for pattern in traj.patterns:
@@ -216,20 +168,12 @@ def _trajectory(parent: etree._Element, traj: m.Trajectory) -> None:
 
 def _pattern(el: etree._Element, p: m.FlightPattern) -> None:
     if isinstance(p, m.OrbitPattern):
-        attrs = {"camera": p.camera, "image-prefix": p.image_prefix, "X": _num(p.centre.X),
-                 "Y": _num(p.centre.Y), "Z": _num(p.centre.Z), "radius-m": _num(p.radius_m),
-                 "height-m": _num(p.height_m), "stations": _num(p.n_stations)}
-        if p.tilt_deg is not None:
-            attrs["tilt-deg"] = _num(p.tilt_deg)
-        attrs["start-azimuth-deg"] = _num(p.start_azimuth_deg)
-        etree.SubElement(el, q("orbit"), attrs)
+        write_declared(el, p)
         return
-    etree.SubElement(el, q("facade"), {
-        "camera": p.camera, "image-prefix": p.image_prefix, "X1": _num(p.start[0]),
-        "Y1": _num(p.start[1]), "X2": _num(p.end[0]), "Y2": _num(p.end[1]),
-        "base-Z": _num(p.base_Z), "distance-m": _num(p.distance_m),
-        "heights-m": " ".join(_num(h) for h in p.heights_m), "spacing-m": _num(p.spacing_m),
-        "side": p.side, "tilt-deg": _num(p.tilt_deg)})
+    # the facade's ends and its rows' heights: the hand-written part of <facade>
+    write_declared(el, p, {"X1": _num(p.start[0]), "Y1": _num(p.start[1]),
+                           "X2": _num(p.end[0]), "Y2": _num(p.end[1]),
+                           "heights-m": " ".join(_num(h) for h in p.heights_m)})
 
 
 def _flight_plan(el: etree._Element, fp: m.FlightPlan) -> None:
@@ -254,7 +198,7 @@ def _effects(parent: etree._Element, fx: m.Effects) -> None:
             write_declared(el, getattr(fx, f.name))
 
 def _processing(parent: etree._Element, p: m.Processing) -> None:
-    el = _sub(parent, "processing")
+    el = write_declared(parent, p)  # <dense>
     cal = write_declared(el, p.calibration)
     if p.calibration.pre_calibration_error is not None:
         write_declared(cal, p.calibration.pre_calibration_error)
@@ -264,7 +208,6 @@ def _processing(parent: etree._Element, p: m.Processing) -> None:
         write_declared(gcps, c, {"ids": " ".join(c.ids)} if c.ids else None)
     write_declared(el, p.position_prior)
     write_declared(el, p.matching)
-    _sub(el, "dense", mode=p.dense)
     if p.sfm != m.Sfm():  # the default stays implicit: files of before stay the same
         write_declared(el, p.sfm)
 

@@ -161,6 +161,7 @@ class Sfm:
                           label="SfM mapper")
 
 
+@element("processing", title="processing", path="processing", stage="processing")
 @dataclass(frozen=True)
 class Processing:
     """Photogrammetric processing settings of ``designer reconstruct``."""
@@ -169,7 +170,9 @@ class Processing:
     gcps: GcpProcessing = field(default_factory=GcpProcessing)
     position_prior: PositionPrior = field(default_factory=PositionPrior)
     matching: Matching = field(default_factory=Matching)
-    dense: DenseMode = "none"
+    dense: DenseMode = attr("none", doc="dense matching: none (sparse cloud only), cpu "
+                            "(dense matching on the CPU) or auto (the best available)",
+                            child="dense", xml="mode", label="dense matching")
     sfm: Sfm = field(default_factory=Sfm)
 
 

@@ -16,43 +16,14 @@ from designer.project import model as m
 from designer.project.checks import finite_issues
 from designer.project.declare import declared_field
 from designer.project.problems import Issue
+from designer.project.validate_declared import element_issues
 
 
 def camera_issues(cam: m.Camera, resolution_scale: float = 1.0) -> list[Issue]:
     """Problems of ``cam``; ``resolution_scale`` is render/resolution-scale."""
+    if element_issues(cam):
+        return []  # a value out of its declared range (validate_declared names it)
     out: list[Issue] = []
-    numbers = {
-        ("focal-length-mm", None): cam.focal_length_mm,
-        ("sensor", "width-mm"): cam.sensor_width_mm,
-        ("sensor", "height-mm"): cam.sensor_height_mm,
-        ("principal-point", "x-mm"): cam.principal_point_x_mm,
-        ("principal-point", "y-mm"): cam.principal_point_y_mm,
-    }
-    for (tag, attr), value in numbers.items():
-        if not isinstance(value, int | float) or not math.isfinite(value):
-            out.append(Issue(cam, tag, f"{attr or 'value'} = {value!r} is not a finite "
-                                       "number; give a finite value in mm", attr=attr))
-    if out:
-        return out
-    # the ranges are the camera's declarations (designer.project.model.Camera)
-    focal = declared_field(m.Camera, "focal_length_mm")
-    if not focal.in_range(cam.focal_length_mm):
-        out.append(Issue(cam, "focal-length-mm", f"focal length {cam.focal_length_mm!r} mm "
-                         f"must be {focal.range_text()}; give the lens's principal distance "
-                         "in mm"))
-    for attr, name in (("width-mm", "sensor_width_mm"), ("height-mm", "sensor_height_mm")):
-        d, value = declared_field(m.Camera, name), getattr(cam, name)
-        if not d.in_range(value):
-            out.append(Issue(cam, "sensor", f"{attr} = {value!r} must be {d.range_text()}",
-                             attr=attr))
-    for attr, name in (("width-px", "image_width_px"), ("height-px", "image_height_px")):
-        d, value = declared_field(m.Camera, name), getattr(cam, name)
-        if isinstance(value, bool) or not isinstance(value, int) or not d.in_range(value):
-            out.append(Issue(cam, "image", f"{attr} = {value!r} must be a whole number of "
-                                           f"pixels {d.range_text().removesuffix(' px')}",
-                             attr=attr))
-    if out:
-        return out
     out += _pixel_shape(cam)
     if abs(cam.principal_point_x_mm) >= cam.sensor_width_mm / 2 or \
             abs(cam.principal_point_y_mm) >= cam.sensor_height_mm / 2:
@@ -81,10 +52,7 @@ def _pixel_shape(cam: m.Camera) -> list[Issue]:
                 f"height {cam.sensor_width_mm * cam.image_height_px / cam.image_width_px:.6g} "
                 "mm), or state <pixel-aspect>"), attr="height-mm")]
         return []
-    aspect = cam.pixel_aspect
-    if not (math.isfinite(aspect) and aspect > 0):
-        return [Issue(cam, "pixel-aspect", f"pixel aspect {aspect!r} must be a finite number "
-                                           "greater than 0")]
+    aspect = cam.pixel_aspect  # its range: validate_declared
     if abs(pitch_y / pitch_x - aspect) > SQUARE_PIXEL_RTOL * aspect:
         return [Issue(cam, "pixel-aspect", f"pixel aspect {aspect!r} disagrees with the sensor "
                       f"and image sizes, which give {pitch_y / pitch_x:.9g}; correct one of "
@@ -96,7 +64,8 @@ def _scaled_size(cam: m.Camera, scale: float) -> list[Issue]:
     if not (isinstance(scale, int | float) and math.isfinite(scale) and 0 < scale <= 1):
         return []  # reported with the render settings
     out = []
-    for attr, size in (("width-px", cam.image_width_px), ("height-px", cam.image_height_px)):
+    for name in ("image_width_px", "image_height_px"):
+        attr, size = declared_field(m.Camera, name).xml, getattr(cam, name)
         scaled = size * scale
         if abs(scaled - round(scaled)) > 1e-6 or round(scaled) < 1:
             out.append(Issue(cam, "image", (

@@ -6,7 +6,7 @@ the element's own checks. Each issue carries its structured fields (code "range"
 
 from __future__ import annotations
 
-from designer.project.declare import declared, element_of, walk
+from designer.project.declare import attributes, element_of, holder, walk
 from designer.project.problems import Issue
 
 
@@ -25,8 +25,8 @@ def element_issues(obj) -> list[Issue]:
     if el is None:
         return []
     out = []
-    for d in declared(type(obj)):
-        value = getattr(obj, d.name)
+    for group, d in attributes(type(obj)):
+        value = getattr(holder(obj, group), d.name)
         if d.in_range(value):
             continue
         if d.choices is not None:

@@ -10,16 +10,8 @@ CALIBRATION_MODES = ("fixed", "focal", "focal-principal-point", "radial", "full"
 GCP_MODES = ("none", "similarity", "bundle")
 PRIOR_MODES = ("none", "gnss", "rtk")
 PAIRINGS = ("footprint", "position", "exhaustive")
-DENSE_MODES = ("none", "cpu", "auto")
 #: a similarity (7 parameters) needs three well-spread points
 MIN_SIMILARITY_CONTROL = 3
-
-
-def _choice(obj, tag: str, attr: str, value: str, allowed: tuple[str, ...]) -> list[Issue]:
-    if value in allowed:
-        return []
-    return [Issue(obj, tag, f"{attr} = {value!r} is not one of {', '.join(allowed)}; "
-                            "use one of them", attr=attr)]
 
 
 def processing_issues(project: m.Project) -> list[Issue]:
@@ -28,9 +20,7 @@ def processing_issues(project: m.Project) -> list[Issue]:
     if p is None:
         return []
     # the declared ranges and choices of each part: validate_declared
-    out = _gcp_issues(project, p.gcps)
-    out += _choice(p, "processing", "dense", p.dense, DENSE_MODES)
-    return out
+    return _gcp_issues(project, p.gcps)
 
 
 def _gcp_issues(project: m.Project, g: m.GcpProcessing) -> list[Issue]:

@@ -14,7 +14,6 @@ from designer.project.checks import (
     is_ok,
     plain_extent,
     plain_m,
-    sigma_issues,
 )
 from designer.project.files import (
     ascii_grid_extent,
@@ -33,6 +32,7 @@ from designer.project.scene_limits import (
     MIN_TEXTURE_TEXELS,
 )
 from designer.project.validate_buildings import building_issues
+from designer.project.validate_declared import element_issues
 
 
 def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
@@ -118,14 +118,7 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
 
 
 def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]:
-    out = []
-    for name, value in (("repeat-X", tex.repeat_X), ("repeat-Y", tex.repeat_Y)):
-        if not 1 <= value <= 10000:
-            out.append(Issue(tex, "tiling", f"{name} = {value!r} must be a whole number from "
-                                            "1 to 10000", attr=name))
-    if tex.interpolation not in ("closest", "linear"):
-        out.append(Issue(tex, "texture", "interpolation must be 'closest' or 'linear'",
-                         attr="interpolation"))
+    out = []  # the repeats' ranges and the interpolation: validate_declared
     src = tex.source
     if isinstance(src, m.OrthophotoTexture):
         if tex.variation is not None:
@@ -136,7 +129,8 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     elif isinstance(src, m.ImageTexture):
         if base is not None:
             out += file_issue(src, "image", image_problem(resolve(base, src.file)))
-    elif out == [] and src.texel_size_m > 0 and extent.width_m > 0 and extent.length_m > 0:
+    elif (not element_issues(tex) and src.texel_size_m > 0 and extent.width_m > 0
+          and extent.length_m > 0):
         # (a texel size of 0 or less: the declared range, validate_declared)
         tile = max(extent.width_m / tex.repeat_X, extent.length_m / tex.repeat_Y)
         texels = tile / src.texel_size_m
@@ -156,10 +150,7 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
 def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
     if targets is None:
         return []
-    out = []
-    if targets.survey_accuracy is not None:
-        acc = targets.survey_accuracy
-        out += sigma_issues(acc.sigma, acc, "survey-accuracy")
+    out = []  # the survey's and the surveyed positions' ranges: validate_declared
     counts = Counter(t.id for t in targets.targets)
     reported = set()
     for t in targets.targets:
@@ -180,9 +171,6 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
                 out.append(Issue(t, "target", f"GCP '{t.id}' has no <surveyed> position and "
                                  "<targets> has no <survey-accuracy> to simulate one; add "
                                  "either"))
-        else:
-            out += finite_issues(t.surveyed.position)
-            out += sigma_issues(t.surveyed.sigma, t.surveyed.sigma, "surveyed")
     return out
 
 
@@ -194,8 +182,6 @@ def _objects(objects: tuple[m.SceneObject, ...], base: Path | None) -> list[Issu
             out.append(Issue(obj, "object", f"object name '{obj.name}' is used "
                              f"{counts[obj.name]} times; give each object its own name",
                              attr="name"))
-        if not (obj.placement.scale > 0):
-            out.append(Issue(obj.placement, "placement", "scale must be > 0", attr="scale"))
         if base is not None:
             out += file_issue(obj, "object", mesh_problem(resolve(base, obj.file)))
     return out

@@ -59,13 +59,9 @@ def _photos(project: m.Project) -> list[Issue]:
     out: list[Issue] = []
     counts = Counter(p.name for p in photos)
     reported: set[str] = set()
-    isfinite = math.isfinite
     for p in photos:
-        if not all(isfinite(v) and abs(v) <= 1e8
-                   for v in (p.X, p.Y, p.Z, p.omega_deg, p.phi_deg, p.kappa_deg)):
-            out += [Issue(p, "photo", i.message.replace("-deg", ""), attr=i.attr.split("-")[0])
-                    for i in finite_issues(p)]
-            continue
+        if element_issues(p):
+            continue  # a value out of its declared range (validate_declared names it)
         if counts[p.name] > 1 and p.name not in reported:
             reported.add(p.name)
             out.append(Issue(p, "photo", f"image name '{p.name}' is used by {counts[p.name]} "
@@ -81,9 +77,6 @@ def _photos(project: m.Project) -> list[Issue]:
             out.append(Issue(p, "photo", f"image name '{p.name}' does not match the output "
                              f"format {project.render.output_format}; use {allowed[0]} or "
                              "change <output format>", attr="name"))
-        if not all(-360 <= a <= 360 for a in (p.omega_deg, p.phi_deg, p.kappa_deg)):
-            out.append(Issue(p, "photo", "omega, phi and kappa must be -360 to 360 degrees",
-                             attr="omega"))
     return out
 
 
@@ -150,12 +143,9 @@ def rig_issues(project: m.Project) -> list[Issue]:
                                  f"{suffixes[mount.suffix]} mounts of rig '{rig.name}'; give "
                                  "each mount its own suffix", attr="suffix"))
             angles = (mount.omega_deg, mount.phi_deg, mount.kappa_deg)
-            bad = next((k for k, a in zip(("omega", "phi", "kappa"), angles, strict=True)
-                        if not (math.isfinite(a) and -180 <= a <= 180)), None)
-            if bad is not None:
-                out.append(Issue(mount, "mount", f"{bad} = {getattr(mount, bad + '_deg')!r} "
-                                 "must be from -180 to 180 degrees", attr=bad))
-            elif (tilt := mount_tilt_deg(*angles)) > MAX_MOUNT_TILT_DEG:
+            if element_issues(mount):
+                continue  # an angle out of its declared range (validate_declared names it)
+            if (tilt := mount_tilt_deg(*angles)) > MAX_MOUNT_TILT_DEG:
                 out.append(Issue(mount, "mount", f"mount '{mount.suffix}' of rig '{rig.name}' "
                                  f"looks {tilt:.1f} degrees away from the platform's axis; "
                                  f"keep omega and phi within {MAX_MOUNT_TILT_DEG:g} degrees "

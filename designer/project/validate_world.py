@@ -48,10 +48,9 @@ def world_issues(project: m.Project) -> list[Issue]:
                          attr="time-s", code="needs-time-line"))
     last = None
     for p in timed:
-        if not (math.isfinite(p.time_s) and p.time_s >= 0):
-            out.append(Issue(p, "photo", f"time-s = {p.time_s!r} must be a finite number of "
-                             "seconds >= 0", attr="time-s"))
-        elif last is not None and p.time_s < last.time_s:
+        if not declared_field(m.ExteriorOrientation, "time_s").in_range(p.time_s):
+            continue  # validate_declared names it
+        if last is not None and p.time_s < last.time_s:
             out.append(Issue(p, "photo", f"photo '{p.name}' at time-s {p.time_s:g} s comes "
                              f"before '{last.name}' ({last.time_s:g} s) which is flown first; "
                              "give the photos in the order they are taken", attr="time-s"))
@@ -185,7 +184,7 @@ def _moving_objects(project: m.Project) -> list[Issue]:
             out.append(Issue(obj, "object", f"box '{obj.id}' needs length-m, width-m and "
                              "height-m", attr="length-m"))
         if obj.size_m is not None:
-            for name, value in zip(("length-m", "width-m", "height-m"), obj.size_m,
+            for name, value in zip(m.MOVING_SIZE_XML, obj.size_m,
                                    strict=True):
                 if value is not None and not (math.isfinite(value) and 0 < value <= 1000):
                     out.append(Issue(obj, "object", f"{name} = {value!r} must be greater "

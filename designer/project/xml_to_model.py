@@ -49,9 +49,12 @@ def read_declared(cls, el: etree._Element, **given):
     """An instance of the declared element class ``cls`` from the attributes of ``el``
     (designer.project.declare) and the texts of its declared text children: absent ones
     take their defaults; ``given`` supplies the fields that are not declared (children)."""
-    from designer.project.declare import declared
+    from designer.project.declare import declared, groups
 
     values = dict(given)
+    for name, group_cls in groups(cls):  # an attribute group's attributes sit on ``el``
+        if name not in values:
+            values[name] = read_declared(group_cls, el)
     for d in declared(cls):
         holder = el if d.attr.child is None else el.find(q(d.attr.child))
         if holder is None:
@@ -151,65 +154,56 @@ class _Reader:
         else:
             source = read_declared(m.DemTerrain if kind == "dem" else m.MeshTerrain, src_el)
         self.note(source, src_el)
-        around_el = el.find(q("surroundings"))
-        around = None if around_el is None else around_el.get("mode")
-        terrain = self.note(m.Terrain(extent, source, around), el)
-        if around_el is not None:
-            self.note(terrain, around_el)
-        return terrain
+        return self.declared(m.Terrain, el, extent=extent, source=source)
 
     def texture(self, el: etree._Element) -> m.Texture:
         image_el = el.find(q("image"))
         ortho_el = el.find(q("orthophoto"))
-        if ortho_el is not None:
+        if ortho_el is not None:  # placed by its geotransform: no tiling
             source = self.note(read_declared(m.OrthophotoTexture, ortho_el), ortho_el)
-            texture = m.Texture(source, 1, 1, el.get("interpolation"))
-            return self.note(texture, el)
+            return self.declared(m.Texture, el, source=source, repeat_X=1, repeat_Y=1)
         if image_el is not None:
             source = self.note(read_declared(m.ImageTexture, image_el), image_el)
         else:
             p = el.find(q("procedural"))
             source = self.note(read_declared(m.ProceduralTexture, p), p)
-        tiling = el.find(q("tiling"))
         var_el = el.find(q("variation"))
         variation = None
         if var_el is not None:
             variation = self.note(read_declared(m.TextureVariation, var_el), var_el)
-        texture = m.Texture(source, int(tiling.get("repeat-X")), int(tiling.get("repeat-Y")),
-                            el.get("interpolation"), variation)
-        self.note(texture, el)
-        self.note(texture, tiling)
-        return texture
+        return self.declared(m.Texture, el, source=source, variation=variation)
 
     def targets(self, el: etree._Element) -> m.Targets:
-        acc_el = el.find(q("survey-accuracy"))
-        accuracy = None
-        if acc_el is not None:
-            sigma = self.note(self._sigma(acc_el), acc_el)
-            accuracy = self.note(m.SurveyAccuracy(sigma, int(acc_el.get("seed"))), acc_el)
-        targets = tuple(self.target(t) for t in el.iterchildren(q("target")))
+        acc_el = el.find(q(element_of(m.SurveyAccuracy).tag))
+        accuracy = None if acc_el is None else self.declared(m.SurveyAccuracy, acc_el)
+        targets = tuple(self.target(t) for t in el.iterchildren(q(element_of(m.Target).tag)))
         return self.note(m.Targets(targets, accuracy), el)
 
-    def _sigma(self, el: etree._Element) -> m.Sigma3:
-        return m.Sigma3(_f(el, "sigma-X"), _f(el, "sigma-Y"), _f(el, "sigma-Z"))
+    def declared(self, cls, el: etree._Element, **given):
+        """:func:`read_declared`, noted at ``el`` together with its attribute groups."""
+        from designer.project.declare import declared, groups
+
+        obj = self.note(read_declared(cls, el, **given), el)
+        for name, _ in groups(cls):
+            self.note(getattr(obj, name), el)
+        for child in {d.attr.child for d in declared(cls)} - {None}:
+            if (child_el := el.find(q(child))) is not None:
+                self.note(obj, child_el)
+        return obj
 
     def target(self, el: etree._Element) -> m.Target:
         true_el = el.find(q("true"))
         true = self.note(read_declared(m.TruePosition, true_el), true_el)
-        s_el = el.find(q("surveyed"))
-        surveyed = None
-        if s_el is not None:
-            point = self.note(m.Point3(_f(s_el, "X"), _f(s_el, "Y"), _f(s_el, "Z")), s_el)
-            sigma = self.note(self._sigma(s_el), s_el)
-            surveyed = self.note(m.SurveyedPosition(point, sigma), s_el)
+        s_el = el.find(q(element_of(m.SurveyedPosition).tag))
+        surveyed = None if s_el is None else self.declared(m.SurveyedPosition, s_el)
         target = read_declared(m.Target, el, true=true, surveyed=surveyed)
         return self.note(target, el)
 
     def moving_object(self, el: etree._Element) -> m.MovingObject:
         path_el = el.find(q("path"))
-        points = tuple(self.note(m.PathPoint(_f(p, "X"), _f(p, "Y")), p)
-                       for p in path_el.iterchildren(q("point")))
-        size = tuple(_opt_f(el, k) for k in ("length-m", "width-m", "height-m"))
+        points = tuple(self.declared(m.PathPoint, p)
+                       for p in path_el.iterchildren(q(element_of(m.PathPoint).tag)))
+        size = tuple(_opt_f(el, k) for k in m.MOVING_SIZE_XML)
         albedo = el.get("albedo-rgb")
         obj = read_declared(
             m.MovingObject, el, path=points,
@@ -249,10 +243,7 @@ class _Reader:
         return self.note(veg, el)
 
     def scene_object(self, el: etree._Element) -> m.SceneObject:
-        p = el.find(q("placement"))
-        point = self.note(m.Point3(_f(p, "X"), _f(p, "Y"), _f(p, "Z")), p)
-        placement = self.note(m.Placement(point, _f(p, "omega"), _f(p, "phi"), _f(p, "kappa"),
-                                          _f(p, "scale")), p)
+        placement = self.declared(m.Placement, el.find(q(element_of(m.Placement).tag)))
         return self.note(read_declared(m.SceneObject, el, placement=placement), el)
 
     def lighting(self, el: etree._Element) -> m.Lighting:
@@ -269,10 +260,6 @@ class _Reader:
 
     # ----------------------------------------------------------------- cameras
     def camera(self, el: etree._Element) -> m.Camera:
-        sensor = el.find(q("sensor"))
-        image = el.find(q("image"))
-        pp = el.find(q("principal-point"))
-        aspect = _text(el.find(q("pixel-aspect")))
         distortion = None
         bc = el.find(q("brown-conrady"))
         fe = el.find(q("fisheye-equidistant"))
@@ -280,21 +267,9 @@ class _Reader:
             distortion = self.note(read_declared(m.BrownConradyDistortion, bc), bc)
         elif fe is not None:
             distortion = self.note(read_declared(m.FisheyeEquidistantDistortion, fe), fe)
-        camera = m.Camera(
-            id=el.get("id"),
-            name=_text(el.find(q("name"))),
-            focal_length_mm=float(_text(el.find(q("focal-length-mm")))),
-            sensor_width_mm=_f(sensor, "width-mm"),
-            sensor_height_mm=_f(sensor, "height-mm"),
-            image_width_px=int(image.get("width-px")),
-            image_height_px=int(image.get("height-px")),
-            principal_point_x_mm=0.0 if pp is None else _f(pp, "x-mm"),
-            principal_point_y_mm=0.0 if pp is None else _f(pp, "y-mm"),
-            pixel_aspect=None if aspect is None else float(aspect),
-            distortion=distortion,
-            rolling_shutter=self.rolling_shutter(el.find(q("rolling-shutter"))),
-        )
-        self.note(camera, el)
+        camera = self.declared(
+            m.Camera, el, distortion=distortion,
+            rolling_shutter=self.rolling_shutter(el.find(q("rolling-shutter"))))
         self.child_lines(camera, el)
         return camera
 
@@ -331,27 +306,15 @@ class _Reader:
         return self.note(read_declared(m.Rig, el, mounts=tuple(mounts)), el)
 
     def pattern(self, el: etree._Element) -> m.FlightPattern:
-        common = (el.get("camera"), el.get("image-prefix"))
-        if etree.QName(el).localname == "orbit":
-            pattern = m.OrbitPattern(
-                *common, m.Point3(_f(el, "X"), _f(el, "Y"), _f(el, "Z")), _f(el, "radius-m"),
-                _f(el, "height-m"), int(el.get("stations")), _opt_f(el, "tilt-deg"),
-                _opt_f(el, "start-azimuth-deg") or 0.0)
-        else:
-            pattern = m.FacadePattern(
-                *common, (_f(el, "X1"), _f(el, "Y1")), (_f(el, "X2"), _f(el, "Y2")),
-                _f(el, "base-Z"), _f(el, "distance-m"), _numbers(el.get("heights-m")),
-                _f(el, "spacing-m"), el.get("side", "right"), _opt_f(el, "tilt-deg") or 0.0)
-        return self.note(pattern, el)
+        if etree.QName(el).localname == element_of(m.OrbitPattern).tag:
+            return self.declared(m.OrbitPattern, el)
+        # the facade's ends and its rows' heights: the hand-written part of <facade>
+        return self.declared(m.FacadePattern, el, start=(_f(el, "X1"), _f(el, "Y1")),
+                             end=(_f(el, "X2"), _f(el, "Y2")),
+                             heights_m=_numbers(el.get("heights-m")))
 
     def photo(self, el: etree._Element) -> m.ExteriorOrientation:
-        get = el.get
-        eo = m.ExteriorOrientation(
-            get("name"), get("camera"), float(get("X")), float(get("Y")), float(get("Z")),
-            float(get("omega")), float(get("phi")), float(get("kappa")),
-            _opt_f(el, "time-s"))
-        self.smap.add(eo, "photo", el.sourceline)
-        return eo
+        return self.declared(m.ExteriorOrientation, el)
 
     def flight_plan(self, el: etree._Element) -> m.FlightPlan:
         area_el = el.find(q("area"))
@@ -424,11 +387,8 @@ class _Reader:
         prior = part("position-prior", m.PositionPrior)
         matching = part("matching", m.Matching)
         sfm = part("sfm", m.Sfm)
-        dense_el = el.find(q("dense"))
-        processing = m.Processing(
-            calibration, gcps, prior, matching,
-            "none" if dense_el is None else dense_el.get("mode", "none"), sfm)
-        return self.note(processing, el)
+        return self.declared(m.Processing, el, calibration=calibration, gcps=gcps,
+                             position_prior=prior, matching=matching, sfm=sfm)
 
 
 def project_from_tree(root: etree._Element, smap: SourceMap) -> m.Project:

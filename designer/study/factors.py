@@ -484,10 +484,6 @@ def _without_clouds(p: m.Project) -> m.Project:
 
 
 # ------------------------------------------------------------------ replicate draws
-def _seed_survey(p: m.Project, seed: int) -> m.Project:
-    return _with_survey(p, replace(_survey(p), seed=seed))
-
-
 def _seed_selection(p: m.Project, seed: int) -> m.Project:
     if _control(p).count is None:
         return p  # control chosen by ids: nothing to re-draw
@@ -495,8 +491,6 @@ def _seed_selection(p: m.Project, seed: int) -> m.Project:
 
 
 _HAND_WRITTEN_DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
-    # the survey's seed is not a declared attribute
-    "survey-error": ("the simulated survey of the GCPs", _seed_survey),
     # more than a seed: a drawn selection is a random one
     "gcp-selection": ("which GCPs are control (a control-count drawn at random)",
                       _seed_selection),

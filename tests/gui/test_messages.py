@@ -11,8 +11,9 @@ from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
 from designer.gui.state import edits
-from designer.gui.state.wording import humanize
+from designer.gui.state.wording import FIELD_NAMES, LIBRARY_NAMES, humanize
 from designer.project import model as m
+from designer.project.declare import declared_field
 from tests.gui.helpers import field, ground_pixels, problems, type_cell, wait_idle
 
 pytestmark = pytest.mark.gui
@@ -25,6 +26,20 @@ def test_humanize_names_fields_and_prints_fixed_point():
     assert "terrain width (X)=100" in text and "grid spacing=3.0" in text
     assert "5405950" in text and "e+06" not in text and "123.457" in text
     assert "dem_1.tif" in text  # file names stay as they are
+
+
+def test_field_names_are_the_declarations_labels():
+    """A field's name in a library message is its declaration's label; only the library's
+    own parameters are in the hand-written table."""
+    for cls, name in ((m.Camera, "focal_length_mm"), (m.Sensor, "full_well_e"),
+                      (m.ProceduralTexture, "texel_size_m")):
+        assert name not in LIBRARY_NAMES
+        assert FIELD_NAMES[name] == declared_field(cls, name).label
+    assert humanize("exposure_time_s = 2 is too long") == "exposure time (shutter) = 2 is too long"
+    # labelled differently by two declarations: not named from either
+    assert {declared_field(m.TimeLine, "speed_m_s").label,
+            declared_field(m.MovingObject, "speed_m_s").label} == {"ground speed", "speed"}
+    assert "speed_m_s" not in FIELD_NAMES
 
 
 def test_terrain_error_names_the_field_as_labelled(qtbot, window):

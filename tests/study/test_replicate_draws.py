@@ -58,9 +58,9 @@ def test_draws_are_every_declared_draw_and_the_hand_written_ones():
     declared_draws = {d.attr.draw for cls in declared_elements(m.Project)
                       for d in declared(cls) if d.attr.draw}
     assert {"exposure-variation", "clouds", "marking-error", "position-prior",
-            "pre-calibration", "sensor-noise", "pose-noise"} <= declared_draws
+            "pre-calibration", "sensor-noise", "pose-noise", "survey-error"} <= declared_draws
     assert declared_draws <= set(DRAWS)
-    assert set(DRAWS) - declared_draws == {"survey-error", "gcp-selection"}
+    assert set(DRAWS) - declared_draws == {"gcp-selection"}
 
 
 def test_a_draw_declared_on_two_elements_reseeds_both_and_an_absent_one_is_left_out():
@@ -75,4 +75,17 @@ def test_a_draw_declared_on_two_elements_reseeds_both_and_an_absent_one_is_left_
 def test_the_study_schema_lists_every_draw():
     xsd = etree.parse(str(study_schema_path()))
     enum = xsd.getroot().find(f"{XS}simpleType[@name='Draw']/{XS}restriction")
-    assert sorted(e.get("value") for e in enum) == sorted(DRAWS)
+    assert sorted(e.get("value") for e in enum.iter(f"{XS}enumeration")) == sorted(DRAWS)
+
+
+def test_the_study_schema_draws_are_generated_from_the_declarations():
+    """The committed study XSD's Draw type is what the generator makes of DRAWS, and a
+    draw the XSD lacks or has too many is found."""
+    from designer.study.xsd_gen import generate
+
+    text = study_schema_path().read_text(encoding="utf-8")
+    assert generate(text) == text, ("the study XSD's replicate draws differ from the "
+                                    "declarations: python -m designer.study.xsd_gen")
+    fewer = {name: doc for name, (doc, _) in DRAWS.items() if name != "exposure-variation"}
+    assert generate(text, fewer) != text
+    assert 'value="exposure-variation"' not in generate(text, fewer)

@@ -15,7 +15,7 @@ from designer.project.declare import Declared, declared, element_of
 #: keywords in an element's name → the panel that edits it (the first match wins)
 PANEL_KEYWORDS = (
     ("Processing", ("processing", "calibration", "gcps", "control", "position-prior",
-                    "matching", "sfm")),
+                    "matching", "sfm", "dense")),
     ("Flight", ("flight", "area", "vertex", "overlap", "altitude", "gsd", "pose-noise",
                 "trajectory", "exterior", "time-line", "mount", "grid-angle", "crosshatch",
                 "start-corner", "tilt", "random-seed")),

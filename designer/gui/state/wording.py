@@ -14,33 +14,42 @@ import math
 import re
 
 from designer.gui.state.field_places import declaration_at, panel_for_element, panel_for_object
-from designer.project.declare import Declared, declared
+from designer.project.declare import Declared, attributes, declared_elements
 from designer.project.problems import Issue, Problem
 
-#: library parameter names → what the panels call them
-FIELD_NAMES = {
+#: parameters of the library's plain errors that no declaration labels (or that several
+#: declarations label differently) → what the panels call them
+LIBRARY_NAMES = {
     "size_x_m": "terrain width (X)",
     "size_y_m": "terrain length (Y)",
     "spacing_m": "grid spacing",
-    "grid_spacing_m": "grid spacing",
     "min_spacing_m": "min spacing",
     "margin_m": "margin",
-    "gsd_m": "ground sample distance",
-    "altitude_agl_m": "height above ground",
     "front_overlap": "front overlap",
     "side_overlap": "side overlap",
-    "grid_angle_deg": "line azimuth",
     "tilt_deg": "forward tilt",
     "n_check": "number of check points",
     "cell_m": "coverage grid cell",
-    "focal_length_mm": "focal length",
-    "sensor_width_mm": "sensor width",
-    "sensor_height_mm": "sensor height",
-    "image_width_px": "image width",
-    "image_height_px": "image height",
-    "texel_size_m": "texel size",
     "size_m": "target size",
 }
+
+
+def _declared_labels() -> dict[str, str]:
+    """Field name → its declaration's label, for every declared field that has a label
+    and the same one in every declaration (``focal_length_mm`` → ``focal length``)."""
+    from designer.project import model as m
+
+    labels: dict[str, set[str]] = {}
+    for cls in declared_elements(m.Project):
+        for _, d in attributes(cls):
+            if d.attr.label is not None:
+                labels.setdefault(d.name, set()).add(d.attr.label)
+    return {name: next(iter(found)) for name, found in labels.items() if len(found) == 1}
+
+
+#: parameter and field names → what the panels call them: the declarations' labels, and
+#: the library's own parameters
+FIELD_NAMES = {**_declared_labels(), **LIBRARY_NAMES}
 #: the switch that gives the flight its time line, as the window shows it
 _TIME_LINE_ON = ("switch on the time line in the Flight panel "
                  "(“the photos have times”)")
@@ -121,7 +130,7 @@ def _declaration(issue: Issue) -> Declared | None:
     issue the schema found, which has no object: from its element and attribute)."""
     if issue.obj is None:
         return declaration_at(issue.tag, issue.attr, issue.parent)
-    for d in declared(type(issue.obj)):
+    for _, d in attributes(type(issue.obj)):
         if d.xml == issue.attr and d.attr.child == issue.key:
             return d
     return None
