@@ -24,3 +24,40 @@ def test_a_moving_object_path_point_off_the_terrain_is_named_with_its_fix(tmp_pa
         "object has no ground to stand on; move the point inside the extent (the <path> of "
         "the object in the project file) or enlarge the terrain extent (Terrain panel)"), lines
     assert len(lines) == 2
+
+
+def test_gcps_and_the_flight_area_off_a_terrain_mesh_are_warned_with_the_fix(tmp_path,
+                                                                           capsys):
+    """The survey's terrain as a mesh that holds only the west half of the extent (local
+    X −50..0): the GCPs east of it and the flight area's eastern vertices are named."""
+    import dataclasses
+
+    import numpy as np
+
+    from designer.core.heightfield import Heightfield
+    from designer.project import model as m
+    from designer.project.templates import template
+    from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
+    from tests.synthetic import write_project_file
+
+    p = template("survey").project
+    terrain = dataclasses.replace(p.scene.terrain, source=m.MeshTerrain("ground.ply"))
+    p = dataclasses.replace(p, scene=dataclasses.replace(p.scene, terrain=terrain))
+    path = write_project_file(p, tmp_path)
+    write_mesh_ply(heightfield_to_mesh(Heightfield(-50.0, -50.0, 50.0, 100.0,
+                                                   np.zeros((2, 2)))), tmp_path / "ground.ply")
+    capsys.readouterr()
+    assert main(["check", str(path)]) == 0  # warned, not refused
+    lines = capsys.readouterr().err.splitlines()
+    east = [t for t in p.targets if t.true.X > p.origin.E0]
+    assert east
+    gcps = [line for line in lines if line.startswith(f"warning: {path}: <target>: ")]
+    assert len(gcps) == 1, lines
+    assert f"GCP {east[0].id} (X " in gcps[0]
+    assert (") lie outside the terrain mesh ground.ply, which holds ground only over "
+            "X 511950..512000, Y 5405950..5406050: the scene has no ground there; move the "
+            "GCPs onto the terrain (GCPs panel), or use a terrain file that covers them"
+            ) in gcps[0], gcps[0]
+    area = [line for line in lines if line.startswith(f"warning: {path}: <area>: ")]
+    assert len(area) == 1 and "flight area vertex 2 (X 512" in area[0], lines
+    assert "draw the flight area over the terrain (Flight panel)" in area[0]
