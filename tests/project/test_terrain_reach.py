@@ -29,20 +29,23 @@ def test_a_moving_object_path_point_off_the_terrain_is_named_with_its_fix(tmp_pa
 def test_gcps_and_the_flight_area_off_a_terrain_mesh_are_warned_with_the_fix(tmp_path,
                                                                            capsys):
     """The survey's terrain as a mesh that holds only the west half of the extent (local
-    X −50..0): the GCPs east of it and the flight area's eastern vertices are named."""
+    X −50..0): the GCPs east of it, a building there and the flight area's eastern
+    vertices are named."""
     import dataclasses
 
     import numpy as np
 
     from designer.core.heightfield import Heightfield
     from designer.project import model as m
-    from designer.project.templates import template
+    from designer.project.templates import _house, template
     from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
     from tests.synthetic import write_project_file
 
     p = template("survey").project
     terrain = dataclasses.replace(p.scene.terrain, source=m.MeshTerrain("ground.ply"))
-    p = dataclasses.replace(p, scene=dataclasses.replace(p.scene, terrain=terrain))
+    shed = _house("shed", p.origin.E0 + 30, p.origin.N0 - 10, 6.0, 4.0, "flat", 3.0)
+    p = dataclasses.replace(p, scene=dataclasses.replace(p.scene, terrain=terrain,
+                                                         buildings=(shed,)))
     path = write_project_file(p, tmp_path)
     write_mesh_ply(heightfield_to_mesh(Heightfield(-50.0, -50.0, 50.0, 100.0,
                                                    np.zeros((2, 2)))), tmp_path / "ground.ply")
@@ -61,3 +64,7 @@ def test_gcps_and_the_flight_area_off_a_terrain_mesh_are_warned_with_the_fix(tmp
     area = [line for line in lines if line.startswith(f"warning: {path}: <area>: ")]
     assert len(area) == 1 and "flight area vertex 2 (X 512" in area[0], lines
     assert "draw the flight area over the terrain (Flight panel)" in area[0]
+    shed_lines = [line for line in lines if line.startswith(f"warning: {path}: <footprint>: ")]
+    assert len(shed_lines) == 1 and "building 'shed' corner 1 (X 512027, Y 5405988)" in \
+        shed_lines[0], lines
+    assert "move the buildings onto the terrain (Buildings panel)" in shed_lines[0]
