@@ -167,3 +167,33 @@ def test_a_range_is_written_back_as_the_range_while_it_still_is_one():
     edited = replace(study, factors=(replace(study.factors[0], values=("0", "0.1")),))
     text = study_to_xml(edited)
     assert "<values>0 0.1</values>" in text and "<range" not in text
+
+
+def test_the_estimate_counts_shared_features_once_when_the_models_differ(tmp_path):
+    """tiny with the mapper varied: the runs share features and matches but each runs its
+    own mapper."""
+    from designer.gui.state import derived
+    from designer.gui.state.study_data import (
+        FEATURE_SHARE,
+        plan_cost,
+        reconstruct_seconds_per_image,
+    )
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_stations
+
+    write_template("tiny", tmp_path / "tiny.xml")
+    path = tmp_path / "calibration.xml"
+    path.write_text(
+        '<study xmlns="urn:designer:project:1" schema-version="1.0" name="c">'
+        '<base-project file="tiny-base.xml"/>'
+        '<factor name="mapper"><values>global</values></factor>'
+        "<design>one-at-a-time</design><metrics>check_rmse_z_m</metrics></study>")
+    plan = plan_study(read_study(path))
+    hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield
+    project = plan.runs[0].project
+    stations, camera_id = project_stations(project, hf)
+    per_run = len(stations) * reconstruct_seconds_per_image(
+        project, interior_from_camera(project.camera(camera_id)))
+    cost = plan_cost(plan, hf)
+    assert (cost.runs, cost.renders, cost.reconstructions) == (2, 1, 2)
+    assert cost.reconstruct_s == pytest.approx(per_run * (1 + (1 - FEATURE_SHARE)))
