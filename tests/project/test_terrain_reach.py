@@ -68,3 +68,35 @@ def test_gcps_and_the_flight_area_off_a_terrain_mesh_are_warned_with_the_fix(tmp
     assert len(shed_lines) == 1 and "building 'shed' corner 1 (X 512027, Y 5405988)" in \
         shed_lines[0], lines
     assert "move the buildings onto the terrain (Buildings panel)" in shed_lines[0]
+
+
+def test_gcps_over_a_dem_s_no_data_are_warned(tmp_path, capsys):
+    """The survey on an ESRI ASCII DEM whose eastern half is no-data: the GCPs there lie
+    inside the declared extent but outside the ground the DEM holds."""
+    import dataclasses
+
+    import numpy as np
+
+    from designer.project import model as m
+    from designer.project.templates import template
+    from tests.synthetic import write_project_file
+
+    p = template("survey").project
+    e = p.scene.terrain.extent
+    z = np.full((21, 21), 100.0)
+    z[:, 11:] = -9999  # east of the extent's middle
+    (tmp_path / "dem.asc").write_text(
+        f"ncols 21\nnrows 21\nxllcorner {e.min_X - 2.5}\nyllcorner {e.min_Y - 2.5}\n"
+        "cellsize 5\nNODATA_value -9999\n"
+        + "\n".join(" ".join(f"{v:g}" for v in row) for row in z) + "\n")
+    terrain = dataclasses.replace(p.scene.terrain, source=m.DemTerrain("dem.asc"))
+    path = write_project_file(
+        dataclasses.replace(p, scene=dataclasses.replace(p.scene, terrain=terrain)), tmp_path)
+    capsys.readouterr()
+    assert main(["check", str(path)]) == 0
+    lines = capsys.readouterr().err.splitlines()
+    gcps = [line for line in lines if line.startswith(f"warning: {path}: <target>: ")]
+    assert len(gcps) == 1, lines
+    assert "GCP GCP03 (X 512038, Y 5405962)" in gcps[0]
+    assert "lie outside the DEM dem.asc, which holds ground only over X 511950..512000" \
+        in gcps[0], gcps[0]
