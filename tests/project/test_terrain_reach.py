@@ -1,6 +1,7 @@
-"""``designer check`` refuses what lies beyond the terrain and would be placed on it
-anyway: a moving object's path point outside the terrain extent (the object would stand
-at the edge's height), naming the object, the point and the fix."""
+"""``designer check`` names what lies beyond the terrain and would be placed on it
+anyway, with the fix: a moving object's path point outside the terrain extent is refused
+(the object would stand at the edge's height); GCPs, buildings and flight-area vertices
+outside the ground a terrain mesh or DEM holds are warned."""
 
 from __future__ import annotations
 
