@@ -50,6 +50,7 @@ def run(args) -> int:
         print(summary_line(path, project))
         _warn_surroundings(path, project, args)
         _warn_hard_cases(path, project, args)
+        _warn_terrain_reach(path, project, args)
     return status
 
 
@@ -80,4 +81,16 @@ def _warn_hard_cases(path: Path, project, args) -> None:
     else:
         warnings = hard_case_warnings(project, path.parent)
     for warning in warnings:
+        print(warning.line(path), file=sys.stderr)
+
+
+def _warn_terrain_reach(path: Path, project, args) -> None:
+    """Warnings (stderr, exit status unchanged) for GCPs, buildings and flight-area
+    vertices outside the ground a DEM or terrain mesh holds
+    (designer.survey.terrain_reach)."""
+    if args.no_files:
+        return
+    from designer.survey.terrain_reach import terrain_reach_warnings
+
+    for warning in terrain_reach_warnings(project, path.parent):
         print(warning.line(path), file=sys.stderr)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from designer.project import model as m
+from designer.project.checks import is_ok, plain_extent, plain_m
 from designer.project.declare import declared_field
 from designer.project.problems import Issue
 from designer.project.utc import EXAMPLE_UTC, parse_utc
@@ -202,7 +203,23 @@ def _moving_objects(project: m.Project) -> list[Issue]:
                  for a, b in zip(obj.path, obj.path[1:], strict=False)) <= 0:
             out.append(Issue(obj, "path", f"the path of '{obj.id}' has no length; give "
                              "points that differ", key="path"))
+        out += _path_off_terrain(obj, project.scene.terrain.extent)
     return out
+
+
+def _path_off_terrain(obj: m.MovingObject, extent: m.Extent) -> list[Issue]:
+    """The first point of ``obj``'s path outside the terrain extent: there the object
+    would stand at the height of the terrain's nearest edge, in the air or in the
+    ground."""
+    for i, p in enumerate(obj.path):
+        if is_ok(p.X) and is_ok(p.Y) and not extent.contains(p.X, p.Y):
+            return [Issue(p, "point", f"moving object '{obj.id}': path point {i + 1} "
+                          f"(X {plain_m(p.X)}, Y {plain_m(p.Y)}) lies outside the terrain "
+                          f"extent ({plain_extent(extent)}), where the object has no ground "
+                          "to stand on; move the point inside the extent (the <path> of "
+                          "the object in the project file) or enlarge the terrain extent "
+                          "(Terrain panel)")]
+    return []
 
 
 #: most plants a project may hold (memory and render time grow with the count)

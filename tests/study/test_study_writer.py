@@ -115,12 +115,13 @@ def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
     assert twice.reconstruct_s == cost.reconstruct_s
 
 
-def test_the_estimate_counts_shared_features_once():
+def test_the_estimate_counts_shared_features_and_models_once():
     """gcp-count: 15 processings of one image set that differ only in the GCPs used —
-    the first extracts and matches, the other 14 reuse its features and matches."""
+    the first extracts, matches and runs the mapper, the other 14 reuse its SfM model
+    (what follows the mapper only)."""
     from designer.gui.state import derived
     from designer.gui.state.study_data import (
-        FEATURE_SHARE,
+        AFTER_SFM_SHARE,
         plan_cost,
         reconstruct_seconds_per_image,
     )
@@ -134,9 +135,9 @@ def test_the_estimate_counts_shared_features_once():
     per_run = len(stations) * reconstruct_seconds_per_image(
         project, interior_from_camera(project.camera(camera_id)))
     cost = plan_cost(plan, hf)
-    assert cost.reconstruct_s == pytest.approx(per_run * (1 + 14 * (1 - FEATURE_SHARE)))
+    assert cost.reconstruct_s == pytest.approx(per_run * (1 + 14 * AFTER_SFM_SHARE))
     # altitude: 4 image sets, each processed twice (the replicates re-draw the marking
-    # error): the second processing of each altitude reuses the first one's features
+    # error): the second processing of each altitude reuses the first one's SfM model
     plan = plan_study(read_study(ROOT / "resources" / "studies" / "altitude.xml"))
     hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield
     per_altitude = {}
@@ -148,7 +149,7 @@ def test_the_estimate_counts_shared_features_once():
     assert len(per_altitude) == 4 and len(plan.runs) == 8
     cost = plan_cost(plan, hf)
     assert cost.reconstruct_s == pytest.approx(
-        sum(per_altitude.values()) * (1 + (1 - FEATURE_SHARE)))
+        sum(per_altitude.values()) * (1 + AFTER_SFM_SHARE))
 
 
 def test_a_range_is_written_back_as_the_range_while_it_still_is_one():
@@ -166,3 +167,33 @@ def test_a_range_is_written_back_as_the_range_while_it_still_is_one():
     edited = replace(study, factors=(replace(study.factors[0], values=("0", "0.1")),))
     text = study_to_xml(edited)
     assert "<values>0 0.1</values>" in text and "<range" not in text
+
+
+def test_the_estimate_counts_shared_features_once_when_the_models_differ(tmp_path):
+    """tiny with the mapper varied: the runs share features and matches but each runs its
+    own mapper."""
+    from designer.gui.state import derived
+    from designer.gui.state.study_data import (
+        FEATURE_SHARE,
+        plan_cost,
+        reconstruct_seconds_per_image,
+    )
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.project_poses import project_stations
+
+    write_template("tiny", tmp_path / "tiny.xml")
+    path = tmp_path / "calibration.xml"
+    path.write_text(
+        '<study xmlns="urn:designer:project:1" schema-version="1.0" name="c">'
+        '<base-project file="tiny-base.xml"/>'
+        '<factor name="mapper"><values>global</values></factor>'
+        "<design>one-at-a-time</design><metrics>check_rmse_z_m</metrics></study>")
+    plan = plan_study(read_study(path))
+    hf = derived.compute_terrain(plan.base, plan.base_dir).heightfield
+    project = plan.runs[0].project
+    stations, camera_id = project_stations(project, hf)
+    per_run = len(stations) * reconstruct_seconds_per_image(
+        project, interior_from_camera(project.camera(camera_id)))
+    cost = plan_cost(plan, hf)
+    assert (cost.runs, cost.renders, cost.reconstructions) == (2, 1, 2)
+    assert cost.reconstruct_s == pytest.approx(per_run * (1 + (1 - FEATURE_SHARE)))

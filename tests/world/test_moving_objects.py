@@ -146,7 +146,9 @@ def test_bad_moving_object_values_are_located_one_line_errors(tmp_path, edit, ne
 
 def test_moving_objects_survive_a_round_trip_through_the_file(tmp_path):
     p = moving_project(TIMES_S)
-    car = m.MovingObject("car", (m.PathPoint(1.0, 2.0), m.PathPoint(3.0, 4.5)), 8.0,
+    E0, N0, _ = ORIGIN  # a path on the terrain
+    car = m.MovingObject("car", (m.PathPoint(E0 + 1.0, N0 + 2.0),
+                                 m.PathPoint(E0 + 3.0, N0 + 4.5)), 8.0,
                          start_s=2.5, loop=True)
     p = replace(p, scene=replace(p.scene, moving_objects=(*p.scene.moving_objects, car)))
     back = load_project(write_project_file(p, tmp_path))

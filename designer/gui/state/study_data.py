@@ -9,9 +9,14 @@ Time estimate (seconds on one worker):
   samples and share on the terrain, the run's workers);
 * reconstruction + comparison: per distinct processing, its images ×
   :func:`reconstruct_seconds_per_image` (grows with the image size, measured); a
-  processing of images whose features and matches an earlier run of the study computed
-  (same images, camera start values and matching settings: the study's feature cache
-  hands them over) pays only the part after matching, 1 − :data:`FEATURE_SHARE`.
+  processing whose SfM model an earlier run of the study found (same images, matching,
+  calibration mode and SfM settings: the runs differ only in what follows the mapper —
+  GCP roles, marking or survey error, GCP mode) pays only :data:`AFTER_SFM_SHARE` of it
+  (georeferencing and the comparison); one whose features and matches an earlier run
+  computed (same images, camera start values and matching settings) pays
+  1 − :data:`FEATURE_SHARE`;
+* each run: :data:`RUN_OVERHEAD_S` of planning (its project, prepared job and ground
+  truth) and of writing its results.
 """
 
 from __future__ import annotations
@@ -22,12 +27,13 @@ import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-#: reconstruction + comparison seconds per image (sparse SfM): A + B × megapixels of the
-#: rendered image, fitted to two measured studies on the same machine — the tiny test
-#: study, 11 s for 18 images of 0.019 MP (0.6 s per image), and the gcp-count example,
-#: 21–54 s for 12 images of 0.31 MP (3.5 s per image; docs/studies.md) —
-RECONSTRUCT_S_A = 0.4
-RECONSTRUCT_S_B_PER_MP = 10.0
+#: reconstruction + comparison seconds per image (sparse SfM, on its own): A + B ×
+#: megapixels of the rendered image, fitted to two measured studies on the shared 2-core
+#: machine — the tiny study (``designer study new --template tiny``): 3.6–5.0 s for 18
+#: images of 0.019 MP (0.2–0.28 s per image), and the gcp-count example: 21 CPU seconds
+#: for 12 images of 0.31 MP (1.75 s per image; docs/studies.md) —
+RECONSTRUCT_S_A = 0.1
+RECONSTRUCT_S_B_PER_MP = 6.0
 #: — up to at most this (the feature count is capped, so larger images cost little more:
 #: ``designer demo`` reconstructed the example's 60 images of 1.25 MP in 418 s, dense
 #: cloud included; docs/benchmarks.md)
@@ -42,6 +48,24 @@ DENSE_FACTOR = 1.3
 #: example survey spent 129.8 s on features and 102.8 s on matching of 418.6 s, 56 %
 #: (dense cloud included; docs/benchmarks.md)
 FEATURE_SHARE = 0.55
+#: the share of a reconstruction + comparison a run pays when it reuses the SfM model
+#: of an earlier run: the tiny study's runs that reused it took 0.64–1.2 s against
+#: 3.6–5.0 s (0.15–0.28), the gcp-count example's 3.2 s against 21 s (0.15)
+AFTER_SFM_SHARE = 0.25
+#: seconds of each run outside its render and reconstruction (the study's planning of
+#: the run: project, prepared render job, ground truth; its results and figures): the
+#: tiny study ran 4 runs in 54 s wall of which the stages took 27 s, and 2 runs in 26 s
+#: of which 12.8 s, 3 runs in 30 s of which 17 s (6.8, 6.7 and 4.3 s per run)
+RUN_OVERHEAD_S = 6.0
+
+
+def _sfm_key(features_key: str, project) -> str:
+    """What a run's SfM model depends on besides its features and matches: the
+    calibration mode and the mapper's settings (as the study's SfM group)."""
+    processing = project.processing
+    if processing is None:
+        return features_key
+    return features_key + repr((processing.calibration.mode, processing.sfm))
 
 
 def _features_key(render_key: str, project) -> str:
@@ -112,6 +136,8 @@ class PlanCost:
     images_rendered: int
     render_s: float
     reconstruct_s: float
+    #: each run's planning and results (:data:`RUN_OVERHEAD_S`)
+    overhead_s: float = 0.0
     #: runs that would fail, told before the study runs (:func:`plan_warnings`)
     warnings: tuple[str, ...] = ()
     #: the render coefficients the estimate's text names: those of the first render's
@@ -120,7 +146,7 @@ class PlanCost:
 
     @property
     def total_s(self) -> float:
-        return self.render_s + self.reconstruct_s
+        return self.render_s + self.reconstruct_s + self.overhead_s
 
 
 def _render_key(project) -> str:
@@ -152,6 +178,7 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
     render_s = 0.0
     processings: dict[str, int] = {}
     features_done: set[str] = set()
+    sfm_done: set[str] = set()
     reconstruct_s = 0.0
     for run in plan.runs:
         project = run.project
@@ -173,12 +200,19 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
             n_images, per_image_s = renders[key]
             processings[proc_key] = n_images
             features_key = _features_key(key, project)
-            shared = FEATURE_SHARE if features_key in features_done else 0.0
+            sfm_key = _sfm_key(features_key, project)
+            if sfm_key in sfm_done:
+                share = AFTER_SFM_SHARE
+            elif features_key in features_done:
+                share = 1.0 - FEATURE_SHARE
+            else:
+                share = 1.0
             features_done.add(features_key)
-            reconstruct_s += n_images * per_image_s * (1.0 - shared)
+            sfm_done.add(sfm_key)
+            reconstruct_s += n_images * per_image_s * share
     return PlanCost(plan.n_variants, len(plan.runs), len(renders), len(processings),
                     sum(n for n, _ in renders.values()), render_s, reconstruct_s,
-                    basis_speed=basis)
+                    overhead_s=len(plan.runs) * RUN_OVERHEAD_S, basis_speed=basis)
 
 
 #: control GCPs a georeferencing on GCPs needs (designer.sfm.process_free)

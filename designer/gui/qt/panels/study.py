@@ -309,7 +309,8 @@ class StudyPanel(StudyFiles, Panel):
             f"(distinct image sets, {count(c.images_rendered, 'image')}), "
             f"{count(c.reconstructions, 'reconstruction')}<br>estimated time: "
             f"{duration_text(c.total_s)} on one worker "
-            f"(render {duration_text(c.render_s)}, reconstruct {duration_text(c.reconstruct_s)})"
+            f"(render {duration_text(c.render_s)}, reconstruct {duration_text(c.reconstruct_s)}, "
+            f"planning and results {duration_text(c.overhead_s)})"
             + (f", ≈ {duration_text(c.total_s / workers)} with {workers}" if workers > 1
                else "")
             + f"<br>render time: {estimate_basis(c.basis_speed or load_speed())}")
