@@ -62,8 +62,10 @@ def test_every_declared_field_is_placed_in_a_panel():
     unplaced = []
     for cls in _classes(m.Project):
         el = element_of(cls)
-        if el is None or not declared(cls) or cls in (m.Origin, m.SceneObject, m.Rig):
-            continue  # the origin, scene objects and rigs have no panel of their own
+        if el is None or not declared(cls) or cls in (m.Origin, m.SceneObject, m.Placement,
+                                                          m.Rig):
+            continue  # the origin, scene objects (and their placement) and rigs have no
+            # panel of their own
         for d in declared(cls):
             tag = d.xml if d.attr.text else (d.attr.child or el.tag)
             panel = panel_for_object(object.__new__(cls), tag)

@@ -36,8 +36,9 @@ def test_a_control_selection_problem_is_worded_as_the_panel_shows_it(control, tm
     text = path.read_text()
     assert CONTROL in text
     path.write_text(text.replace(CONTROL, control))
+    line = text[:text.index(CONTROL)].count("\n") + 1
     assert main(["check", str(path)]) == 2
     lines = capsys.readouterr().err.splitlines()
-    assert lines[0] == f"{path}:103:16: <control>: {CASES[control]}", lines
+    assert lines[0] == f"{path}:{line}:16: <control>: {CASES[control]}", lines
     for xml_term in ("target id", "ids", "count =", "mode=", "<target>", "point(s)"):
         assert xml_term not in lines[0]

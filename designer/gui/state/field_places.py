@@ -33,19 +33,6 @@ PANEL_KEYWORDS = (
                 "workers")),
 )
 
-#: the camera's values, which its reader places by hand: (element, attribute) inside
-#: <camera> → the Camera field declared for it
-_CAMERA_XML = {
-    ("focal-length-mm", None): "focal_length_mm",
-    ("sensor", "width-mm"): "sensor_width_mm",
-    ("sensor", "height-mm"): "sensor_height_mm",
-    ("image", "width-px"): "image_width_px",
-    ("image", "height-px"): "image_height_px",
-    ("principal-point", "x-mm"): "principal_point_x_mm",
-    ("principal-point", "y-mm"): "principal_point_y_mm",
-}
-
-
 #: where a declared element lives in the project (its ``path``) → the panel that edits it
 PATH_PANELS = (
     ("scene.terrain", "Terrain"), ("scene.texture", "Texture"),
@@ -57,7 +44,10 @@ PATH_PANELS = (
 
 #: elements that come in lists or alternatives (no ``path``) whose name says too little
 CLASS_PANELS = {m.ProceduralTexture: "Texture", m.ImageTexture: "Texture",
-                m.OrthophotoTexture: "Texture", m.MovingObject: "Moving objects"}
+                m.OrthophotoTexture: "Texture", m.MovingObject: "Moving objects",
+                m.PathPoint: "Moving objects", m.Terrain: "Terrain", m.Camera: "Camera",
+                m.ExteriorOrientation: "Flight", m.OrbitPattern: "Flight",
+                m.FacadePattern: "Flight"}
 
 
 def panel_for_object(obj: object, tag: str) -> str | None:
@@ -125,7 +115,4 @@ def _index() -> dict[tuple[str, str | None], Declared]:
 def declaration_at(tag: str, attr: str | None, parent: str | None) -> Declared | None:
     """The declared field a file's ``<tag attr=…>`` (or ``<tag>`` text, ``attr`` None)
     inside ``<parent>`` holds, or None when none is declared for it."""
-    if parent == "camera" and (tag, attr) in _CAMERA_XML:
-        name = _CAMERA_XML[(tag, attr)]
-        return next(d for d in declared(m.Camera) if d.name == name)
     return _index().get((tag, attr))

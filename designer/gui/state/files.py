@@ -20,6 +20,7 @@ from designer.gui.state.field_places import PANEL_KEYWORDS, panel_for_tag
 from designer.gui.state.wording import problem_text
 from designer.project import model as m
 from designer.project import parse_project, project_to_bytes, semantic_problems, template
+from designer.project.declare import declared
 from designer.project.files import resolve
 from designer.project.problems import ProjectError
 
@@ -163,7 +164,8 @@ def panel_for_problem(line: str) -> str | None:
     for title, words in MESSAGE_KEYWORDS:
         if any(w in message for w in words):
             return title
-    if tag == "image" and ("width-px" in message or "height-px" in message):
+    if tag == "image" and any(d.xml in message for d in declared(m.Camera)
+                              if d.attr.child == "image"):
         return "Camera"  # the camera's <image> size, not a texture image
     return panel_for_tag(tag)
 
