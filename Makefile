@@ -28,8 +28,10 @@ demo: setup
 lint: setup
 	$(BIN)/ruff check .
 
+# two pytest workers (pytest-xdist), each taking whole test files: a file's module
+# fixtures (a render shared by its tests) are made once
 test: setup lint
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n 2 --dist loadfile
 
 bench: setup
 	$(BIN)/designer bench core
