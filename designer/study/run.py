@@ -324,7 +324,7 @@ def _execute(out: Path, infos: dict[str, dict], finished: set[str], workers: int
     waiting_on_raw_done: set[str] = set()
 
     def submit_processing(h: str) -> None:
-        for rid in by_image[h]:
+        for rid in models_first(by_image[h], infos):
             p = infos[rid]["processing_hash"]
             if rid in finished or p in submitted_proc:
                 continue
@@ -441,3 +441,17 @@ def print_progress(mode: str) -> Progress:
             sys.stderr.flush()
 
     return {"json": as_json, "bar": as_bar}.get(mode, lambda _event: None)
+
+
+def models_first(rids: list[str], infos: dict[str, dict]) -> list[str]:
+    """``rids`` with the first run of each SfM model first, then the second of each, …
+    (otherwise in their order): distinct models (another calibration or mapper) are found
+    side by side by the workers, rather than one worker finding a model while the other
+    waits for the same model for the next run."""
+    nth_in_model: dict[str, int] = {}
+    runs_of: dict[str, int] = {}
+    for rid in rids:
+        model = infos[rid].get("sfm_group") or rid
+        nth_in_model[rid] = runs_of.get(model, 0)
+        runs_of[model] = nth_in_model[rid] + 1
+    return sorted(rids, key=nth_in_model.__getitem__)  # a stable sort
