@@ -66,6 +66,8 @@ def test_the_estimate_of_a_tiny_study_follows_its_measured_stages_and_wall_time(
                f" s, total {cost.total_s:.1f} s; measured render {render_cpu_s:.1f} s CPU, "
                f"{render_s:.1f} s wall, reconstruct + compare {reconstruct_cpu_s:.1f} s CPU, "
                f"{reconstruct_s:.1f} s wall, the study {wall_s:.1f} s wall")
-    assert render_cpu_s / 1.5 <= cost.render_s <= render_s * 1.5, figures
+    # the render's figure is the machine's calibration, made by the probe of a fresh cache
+    # folder: within a factor 2.5 (the probe's machine load is not the study's)
+    assert render_cpu_s / 2.5 <= cost.render_s <= render_s * 2.5, figures
     assert reconstruct_cpu_s / 1.5 <= cost.reconstruct_s <= reconstruct_s * 1.5, figures
     assert wall_s / 2 <= cost.total_s <= wall_s * 2, figures

@@ -64,6 +64,14 @@ def _write_big_cloud(path, vertices, faces, n, dtype, rng):
             out.write(xyz.astype(f"<{dtype}").tobytes())
 
 
+def _own_rss_bytes() -> int:
+    """This process's resident memory now (bytes)."""
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) * 1024
+    return 0
+
+
 def _compare(*args):
     """`designer compare ARGS`: (completed process, wall s, the child's peak RSS bytes).
 
@@ -114,7 +122,11 @@ def test_ten_million_points_at_the_utm_edge_are_compared_in_bounded_memory(terra
     # 19.994 mm, is a point past a crease whose nearest feature is the next face)
     assert abs(d["median"] - OFFSET_M) <= 1e-9 and d["nmad"] <= 1e-9, d
     assert OFFSET_M - 1e-5 <= d["min"] <= d["max"] <= OFFSET_M + 1e-9, d
-    assert 0 < peak <= MAX_RSS_BYTES, f"peak RSS {peak / 1e9:.2f} GB"
+    # a forked child's peak counts the parent's pages it held until exec: a test process
+    # that is itself larger than the bound (other tests before it) bounds nothing
+    parent_rss = _own_rss_bytes()
+    assert 0 < peak <= max(MAX_RSS_BYTES, 1.05 * parent_rss), \
+        f"peak RSS {peak / 1e9:.2f} GB (this test process {parent_rss / 1e9:.2f} GB)"
 
 
 def test_a_float32_cloud_at_the_utm_edge_is_refused_with_the_spacing_and_the_fix(terrain):
