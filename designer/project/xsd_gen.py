@@ -196,34 +196,41 @@ def element_xsd(d: Declared, indent: str) -> str:
     return "\n".join(indent + line for line in lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    from designer.project.schema import schema_path
-
-    parser = argparse.ArgumentParser(
-        prog="python -m designer.project.xsd_gen",
-        description="Rewrite the declared attributes of the project XSD from the model's "
-                    "declarations.")
+def regenerate(argv: list[str] | None, *, prog: str, description: str, default_xsd: Path,
+               generate_xsd, differs: str) -> int:
+    """The command line of an XSD generator: rewrite the XSD (``--xsd``, default
+    ``default_xsd``) with ``generate_xsd(text)``, or with ``--check`` only compare (exit 1
+    naming ``differs``); 2 when the XSD cannot be generated."""
+    parser = argparse.ArgumentParser(prog=prog, description=description)
     parser.add_argument("--check", action="store_true",
-                        help="only compare; exit 1 when the XSD differs from the declarations")
-    parser.add_argument("--xsd", type=Path, default=None, help="the XSD (default: the "
-                        "packaged schema/designer-project-1.0.xsd)")
+                        help=f"only compare; exit 1 when {differs}")
+    parser.add_argument("--xsd", type=Path, default=None,
+                        help=f"the XSD (default: the packaged schema/{default_xsd.name})")
     args = parser.parse_args(argv)
-    path = args.xsd or schema_path()
+    path = args.xsd or default_xsd
     text = path.read_text(encoding="utf-8")
     try:
-        new = generate(text)
+        new = generate_xsd(text)
     except ValueError as error:
         print(f"{path}: {error}", file=sys.stderr)
         return 2
     if new == text:
         return 0
     if args.check:
-        print(f"{path}: the declared attributes differ from the model's declarations; run "
-              "python -m designer.project.xsd_gen", file=sys.stderr)
+        print(f"{path}: {differs}; run python -m {prog.split()[-1]}", file=sys.stderr)
         return 1
     path.write_text(new, encoding="utf-8")
     return 0
 
+
+def main(argv: list[str] | None = None) -> int:
+    from designer.project.schema import schema_path
+
+    return regenerate(argv, prog="python -m designer.project.xsd_gen",
+                      description="Rewrite the declared attributes of the project XSD from "
+                                  "the model's declarations.",
+                      default_xsd=schema_path(), generate_xsd=generate,
+                      differs="the declared attributes differ from the model's declarations")
 
 if __name__ == "__main__":
     sys.exit(main())

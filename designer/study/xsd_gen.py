@@ -15,10 +15,8 @@ file; ``--check`` exits 1 when it differs from DRAWS.
 
 from __future__ import annotations
 
-import argparse
 import re
 import sys
-from pathlib import Path
 from xml.sax.saxutils import escape, quoteattr
 
 _REGION = re.compile(
@@ -54,32 +52,14 @@ def generate(text: str, draws: dict[str, str] | None = None) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from designer.project.xsd_gen import regenerate
     from designer.study.xml import study_schema_path
 
-    parser = argparse.ArgumentParser(
-        prog="python -m designer.study.xsd_gen",
-        description="Rewrite the replicate draws of the study XSD from the declarations.")
-    parser.add_argument("--check", action="store_true",
-                        help="only compare; exit 1 when the XSD differs from the draws")
-    parser.add_argument("--xsd", type=Path, default=None, help="the XSD (default: the "
-                        "packaged schema/designer-study-1.0.xsd)")
-    args = parser.parse_args(argv)
-    path = args.xsd or study_schema_path()
-    text = path.read_text(encoding="utf-8")
-    try:
-        new = generate(text)
-    except ValueError as error:
-        print(f"{path}: {error}", file=sys.stderr)
-        return 2
-    if new == text:
-        return 0
-    if args.check:
-        print(f"{path}: the replicate draws differ from the declarations; run "
-              "python -m designer.study.xsd_gen", file=sys.stderr)
-        return 1
-    path.write_text(new, encoding="utf-8")
-    return 0
-
+    return regenerate(argv, prog="python -m designer.study.xsd_gen",
+                      description="Rewrite the replicate draws of the study XSD from the "
+                                  "declarations.",
+                      default_xsd=study_schema_path(), generate_xsd=generate,
+                      differs="the replicate draws differ from the declarations")
 
 if __name__ == "__main__":
     sys.exit(main())
