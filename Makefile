@@ -29,9 +29,9 @@ lint: setup
 	$(BIN)/ruff check .
 
 # two pytest workers (pytest-xdist), each taking whole test files: a file's module
-# fixtures (a render shared by its tests) are made once
+# fixtures (a render shared by its tests) are made once; the 25 slowest are listed
 test: setup lint
-	$(BIN)/python -m pytest -n 2 --dist loadfile
+	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=25
 
 bench: setup
 	$(BIN)/designer bench core

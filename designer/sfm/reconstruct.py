@@ -553,6 +553,7 @@ def _pairs(kind, names, truth, flight_C, K_size, gcps, offset):
 def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     options = pycolmap.IncrementalPipelineOptions()
     options.num_threads = -1
+    options.random_seed = 0  # RANSAC and the mapper's choices seeded: runs repeat closer
     options.ba_refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
     # Nadir survey images have small baselines: the default 16° initial triangulation
     # angle rejects every pair of a typical 80 % overlap flight.
@@ -570,9 +571,11 @@ def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
 
 def _mapper_refines(calibration: str) -> tuple[bool, bool, bool]:
     """(focal length, principal point, distortion) the mapper's own adjustments refine
-    for the calibration mode: at most focal length and principal point; distortion is
-    estimated in the final adjustment, with exactly the mode's terms."""
-    return calibration != "fixed", calibration not in ("fixed", "focal"), False
+    for the calibration mode: at most the focal length (COLMAP's own default); the
+    principal point and distortion are estimated in the final adjustment, with exactly
+    the mode's terms. A principal point refined while a flat block grows drifts with the
+    few images registered so far, and the next images then fail to register."""
+    return calibration != "fixed", False, False
 
 
 def _global(pycolmap, db_path, image_dir, sparse, calibration: str):

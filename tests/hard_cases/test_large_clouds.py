@@ -7,7 +7,6 @@ in the northing — are refused with the file, the spacing and the fix."""
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 import tempfile
