@@ -71,6 +71,8 @@ class SceneSync(QObject):
         self.vegetation: derived.VegetationResult | None = None
         #: the flight over the real terrain (designer.gui.state.plan_figures), or None
         self.plan = None
+        #: the (terrain, stations) ``plan`` was computed over; None while one is computed
+        self._plan_inputs: tuple | None = None
         self.errors: dict[str, str] = {}
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
@@ -86,6 +88,7 @@ class SceneSync(QObject):
         self.stations = None
         self.coverage = None
         self.plan = None
+        self._plan_inputs = None
         self._tiles = None
         self._area_key = None
 
@@ -350,9 +353,31 @@ class SceneSync(QObject):
             self.view.show_targets([], [], np.zeros((0, 3)))
         else:
             self.view.show_targets(t.ids, t.roles, t.true_xyz, t.plates)
-        self.targets_changed.emit()
-        if self.stations is not None and self.terrain is not None:
+        if self._plan_current():
+            self._count_gcps()
+        elif self.stations is not None and self.terrain is not None:
             self.refresh_plan()
+        self.targets_changed.emit()
+
+    def _plan_current(self) -> bool:
+        """Whether ``plan`` is the analysis of the terrain and stations shown now (none
+        computed for newer ones)."""
+        inputs = self._plan_inputs
+        return (self.plan is not None and inputs is not None
+                and inputs[0] is self.terrain and inputs[1] is self.stations)
+
+    def _count_gcps(self) -> None:
+        """Count the images that see each GCP anew, on this thread: the flight's figures
+        stay, and the GCP table and warnings follow a GCP edit as it is made."""
+        from designer.gui.state.plan_figures import with_targets
+
+        try:
+            self.plan = with_targets(self.plan, self.document.project, self.terrain,
+                                     self.targets)
+        except (DesignerError, ValueError) as error:
+            self._plan_failed(error)
+            return
+        self.plan_changed.emit()
 
     # ------------------------------------------------------------------ stations
     def refresh_stations(self) -> None:
@@ -398,22 +423,26 @@ class SceneSync(QObject):
         from designer.gui.state.plan_figures import compute_plan_figures
 
         terrain, stations = self.terrain, self.stations
+        self._plan_inputs = None
         if terrain is None or stations is None or terrain.heightfield is None:
             self.tasks.cancel("plan")
             self.plan = None
             self.plan_changed.emit()
             return
         self.tasks.submit("plan", compute_plan_figures, self.document.project, terrain,
-                          stations, self.targets, on_done=self._plan_done,
+                          stations, self.targets,
+                          on_done=lambda figures: self._plan_done(figures, terrain, stations),
                           on_error=self._plan_failed)
 
-    def _plan_done(self, figures) -> None:
+    def _plan_done(self, figures, terrain, stations) -> None:
         self._clear("plan")
         self.plan = figures
+        self._plan_inputs = (terrain, stations)
         self.plan_changed.emit()
 
     def _plan_failed(self, error: BaseException) -> None:
         self.plan = None
+        self._plan_inputs = None
         self.errors["plan"] = _message(error)
         self.plan_changed.emit()
 

@@ -8,6 +8,7 @@ the terrain at all. It runs in a worker thread (a few seconds for large flights)
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -114,8 +115,33 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
 
     warn = _warnings({**figures, "surroundings": surroundings_mode(project.scene.terrain)},
                      plan)
+    warn += _gcp_warnings(ids, gcp_images)
     return PlanFigures(**figures, warnings=tuple(warn),
                        gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px)
+
+
+def with_targets(figures: PlanFigures, project: m.Project, terrain, targets_result
+                 ) -> PlanFigures:
+    """``figures`` with the GCP part (ids, images per GCP, where, the warning about GCPs
+    seen by too few images) counted anew for ``project``'s targets, the flight's part
+    kept: a moved, added or deleted GCP changes no image. Tens of milliseconds, so a
+    GCP edit is counted as it is made."""
+    from designer.survey.gcp_sightings import project_gcp_visibility
+    from designer.survey.project_poses import project_images
+
+    hf = terrain.heightfield
+    if targets_result is None or not len(targets_result.ids):
+        ids, index, uv = (), (), ()
+    else:
+        ids = tuple(targets_result.ids)
+        vis = project_gcp_visibility(project, project_images(project, hf),
+                                     targets_result.true_xyz, terrain.raycaster)
+        index, uv = vis.images, vis.uv_px
+    gcp_images = np.array([len(k) for k in index], dtype=int)
+    old = _gcp_warnings(figures.gcp_ids, figures.gcp_images)
+    warn = [w for w in figures.warnings if w not in old] + _gcp_warnings(ids, gcp_images)
+    return dataclasses.replace(figures, gcp_ids=ids, gcp_images=gcp_images,
+                               gcp_image_index=index, gcp_uv_px=uv, warnings=tuple(warn))
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,8 +199,11 @@ def _warnings(f: dict, plan: m.FlightPlan | None) -> list[str]:
     void = void_images(f["image_names"], 1.0 - f["terrain_share"], f["surroundings"])
     if void is not None:
         out.append(void_text(void))
-    few = [g for g, n in zip(f["gcp_ids"], f["gcp_images"], strict=True) if n < MIN_GCP_IMAGES]
-    if few:
-        out.append(f"GCPs seen by fewer than {count(MIN_GCP_IMAGES, 'image')}: "
-                   f"{', '.join(few)}")
     return out
+
+
+def _gcp_warnings(gcp_ids, gcp_images) -> list[str]:
+    few = [g for g, n in zip(gcp_ids, gcp_images, strict=True) if n < MIN_GCP_IMAGES]
+    if not few:
+        return []
+    return [f"GCPs seen by fewer than {count(MIN_GCP_IMAGES, 'image')}: {', '.join(few)}"]
