@@ -4,14 +4,24 @@ reopen."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
+from PySide6.QtWidgets import QPushButton
 
 from designer.gui.qt.panels.gcps import IMAGES_COLUMN
 from designer.gui.state import edits
 from designer.survey.plan_report import plan_project, plan_summary
-from tests.gui.helpers import activate, open_panel, wait_idle
+from tests.gui.helpers import (
+    activate,
+    open_panel,
+    problems,
+    set_field,
+    type_cell,
+    wait_idle,
+)
 
 pytestmark = pytest.mark.gui
 
@@ -99,3 +109,111 @@ def test_a_moved_gcp_shows_its_new_image_count_at_once(qtbot, window):
     assert _images_column(table) == before
     wait_idle(qtbot, w)
     assert _images_column(table) == before
+
+
+def _select_row(qtbot, w, table, row: int) -> None:
+    """Click the row's id cell (the table takes the focus and selects the row)."""
+    rect = table.visualItemRect(table.item(row, 0))
+    QTest.mouseClick(w.windowHandle(), Qt.MouseButton.LeftButton,
+                     Qt.KeyboardModifier.NoModifier, table.viewport().mapTo(w, rect.center()))
+    qtbot.waitUntil(table.hasFocus)
+
+
+def _ids(w) -> tuple[str, ...]:
+    return w.document.project.processing.gcps.control.ids
+
+
+def test_control_ids_follow_a_renamed_or_deleted_gcp(qtbot, window, tmp_path):
+    from designer.project import load_project
+    from designer.project import processing as pr
+
+    w = window
+    activate(qtbot, w)
+    project = edits.ensure_flight_plan(w.document.project)
+    for x in (-10.0, 10.0, 0.0, -5.0):
+        project = edits.add_target(project, x, 5.0)
+    project = dataclasses.replace(project, processing=pr.Processing(gcps=pr.GcpProcessing(
+        mode="bundle", control=pr.ControlSelection(ids=("GCP01", "GCP03")))))
+    w.editor.edit(project, "four GCPs, GCP01 and GCP03 the control points")
+    gcps = open_panel(w, "GCPs")
+    wait_idle(qtbot, w)
+    table = gcps.table
+    ids_field = w.panels["Processing"].ids
+
+    # renamed in the table: the control ids name the new id, and the file is valid
+    type_cell(qtbot, w, table, 2, 0, "GCP09")
+    assert _ids(w) == ("GCP01", "GCP09")
+    assert ids_field.text() == "GCP01, GCP09"
+    assert w.file_actions.save_to(tmp_path / "renamed.xml"), problems(w)
+    assert load_project(tmp_path / "renamed.xml").processing.gcps.control.ids == (
+        "GCP01", "GCP09")
+
+    # deleted with the Delete key: its id goes from the control ids, the file is valid
+    _select_row(qtbot, w, table, 0)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Delete)
+    assert [t.id for t in w.document.project.targets] == ["GCP02", "GCP09", "GCP04"]
+    assert _ids(w) == ("GCP09",)
+    assert ids_field.text() == "GCP09"
+    assert gcps.error_label.text() == ""
+    assert w.file_actions.save_to(tmp_path / "deleted.xml"), problems(w)
+    assert load_project(tmp_path / "deleted.xml").processing.gcps.control.ids == ("GCP09",)
+
+    # the last GCP the control ids name: refused, saying where to choose others
+    before = w.document.project
+    _select_row(qtbot, w, table, 1)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Delete)
+    assert w.document.project == before
+    text = gcps.error_label.text()
+    assert text.startswith("GCP09 not deleted: GCP09 is the only control GCP named in the "
+                           "Processing panel"), text
+    assert "a subset of the targets as control" in text, text
+
+    # a similarity after SfM left with two control GCPs: refused, saying why
+    w.editor.edit(edits.replace_path(
+        w.document.project, "processing.gcps", pr.GcpProcessing(
+            mode="similarity", control=pr.ControlSelection(ids=("GCP02", "GCP09",
+                                                                "GCP04")))),
+        "three control GCPs for a similarity")
+    wait_idle(qtbot, w)
+    before = w.document.project
+    _select_row(qtbot, w, table, 2)
+    gcps.delete_button.click()
+    assert w.document.project == before
+    text = gcps.error_label.text()
+    assert text.startswith("GCP04 not deleted: "), text
+    assert "2 GCPs, but a similarity after SfM needs at least 3" in text, text
+
+    # a control count above the GCPs left: refused as well
+    w.editor.edit(edits.replace_path(
+        w.document.project, "processing.gcps", pr.GcpProcessing(
+            mode="bundle", control=pr.ControlSelection(count=3))), "three control GCPs")
+    wait_idle(qtbot, w)
+    before = w.document.project
+    _select_row(qtbot, w, table, 0)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Delete)
+    assert w.document.project == before
+    assert "control count 3, but the project would have 2 GCPs" in gcps.error_label.text()
+
+    # an automatic layout keeps the control ids its GCPs still have …
+    w.editor.edit(edits.replace_path(
+        w.document.project, "processing.gcps", pr.GcpProcessing(
+            mode="bundle", control=pr.ControlSelection(ids=("GCP02", "GCP09")))),
+        "GCP02 and GCP09 the control points")
+    wait_idle(qtbot, w)
+    set_field(qtbot, gcps.count, "3")
+    set_field(qtbot, gcps.n_check, "1")
+    apply = next(b for b in gcps.findChildren(QPushButton) if b.text() == "Apply layout")
+    qtbot.mouseClick(apply, Qt.MouseButton.LeftButton)
+    assert [t.id for t in w.document.project.targets] == ["GCP01", "GCP02", "GCP03"]
+    assert _ids(w) == ("GCP02",)
+    assert w.file_actions.save_to(tmp_path / "layout.xml"), problems(w)
+    # … and is refused when it has none of them
+    w.editor.edit(edits.replace_path(w.document.project, "processing.gcps.control.ids",
+                                     ("GCP03",)), "GCP03 the control point")
+    wait_idle(qtbot, w)
+    set_field(qtbot, gcps.count, "2")
+    before = w.document.project
+    qtbot.mouseClick(apply, Qt.MouseButton.LeftButton)
+    assert w.document.project == before
+    assert gcps.error_label.text().startswith(
+        "layout not applied: GCP03 is the only control GCP named in the Processing panel")

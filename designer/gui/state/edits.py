@@ -201,8 +201,51 @@ def move_target(project: m.Project, target_id: str, X: float, Y: float) -> m.Pro
 
 
 def delete_targets(project: m.Project, target_ids) -> m.Project:
+    """The project without the targets ``target_ids``, and without their ids in the
+    processing's control selection."""
     gone = set(target_ids)
-    return set_targets(project, tuple(t for t in project.targets if t.id not in gone))
+    return _drop_control_ids(
+        set_targets(project, tuple(t for t in project.targets if t.id not in gone)))
+
+
+def _drop_control_ids(project: m.Project) -> m.Project:
+    """The project without the control selection's ids that name no target."""
+    control = project.processing.gcps.control if project.processing is not None else None
+    known = {t.id for t in project.targets}
+    if control is None or set(control.ids) <= known:
+        return project
+    return replace_path(project, "processing.gcps.control.ids",
+                        tuple(i for i in control.ids if i in known))
+
+
+def deletion_problem(project: m.Project, target_ids) -> str:
+    """Why deleting the targets ``target_ids`` would break the control selection (the
+    file would be refused), in the window's words; "" when it would not."""
+    gone = [t.id for t in project.targets if t.id in set(target_ids)]
+    return control_problem(project, delete_targets(project, target_ids),
+                           f"{', '.join(gone)} not deleted")
+
+
+def control_problem(before: m.Project, after: m.Project, what: str) -> str:
+    """Why ``after`` (``before`` with targets deleted or replaced) breaks the control
+    selection that ``before`` has (the file would be refused): "``what``: why, and
+    where to fix it"; "" when it does not."""
+    from designer.project.validate_processing import processing_issues
+
+    control = before.processing.gcps.control if before.processing is not None else None
+    if control is None:
+        return ""
+    if control.ids and not after.processing.gcps.control.ids:
+        named = (f"{control.ids[0]} is the only control GCP" if len(control.ids) == 1 else
+                 f"{', '.join(control.ids)} are the only control GCPs")
+        return (f"{what}: {named} named in the Processing panel; name others there "
+                "(ground control, by id), or untick “a subset of the targets as control” "
+                "first")
+    old = {i.message for i in processing_issues(before)}
+    new = [i.message for i in processing_issues(after) if i.message not in old]
+    if not new:
+        return ""
+    return f"{what}: {new[0].replace('the project has', 'the project would have')}"
 
 
 def replace_target(project: m.Project, index: int, target: m.Target) -> m.Project:
@@ -213,12 +256,13 @@ def replace_target(project: m.Project, index: int, target: m.Target) -> m.Projec
 
 def layout_targets(project: m.Project, xy: np.ndarray, roles, size_m: float,
                    prefix: str = "GCP") -> m.Project:
-    """Replace every target by targets at ``xy`` (N, 2) with ``roles`` (N,)."""
+    """Replace every target by targets at ``xy`` (N, 2) with ``roles`` (N,); the
+    control selection keeps the ids the new targets still have."""
     targets = tuple(
         m.Target(id=f"{prefix}{k + 1:02d}", role=str(roles[k]), shape="checker",
                  size_m=float(size_m), true=m.TruePosition(_coordinate(x), _coordinate(y)))
         for k, (x, y) in enumerate(np.asarray(xy, dtype=float)))
-    return set_targets(project, targets)
+    return _drop_control_ids(set_targets(project, targets))
 
 
 # ---------------------------------------------------------------------- flight

@@ -67,10 +67,10 @@ class GcpPanel(Panel):
         self.place.setCheckable(True)
         self.place.setToolTip("Click on the terrain to add a GCP; drag a GCP to move it")
         self.place.toggled.connect(self._place_toggled)
-        delete = QPushButton("Delete")
-        delete.clicked.connect(self.delete_selected)
+        self.delete_button = QPushButton("Delete")
+        self.delete_button.clicked.connect(self.delete_selected)
         row.addWidget(self.place)
-        row.addWidget(delete)
+        row.addWidget(self.delete_button)
         layout.addLayout(row)
 
         self.table = QTableWidget(0, len(COLUMNS))
@@ -234,9 +234,13 @@ class GcpPanel(Panel):
     def delete_selected(self) -> None:
         rows = sorted({i.row() for i in self.table.selectedIndexes()})
         ids = [self.project.targets[r].id for r in rows if r < len(self.project.targets)]
-        if ids:
-            self.editor.edit(edits.delete_targets(self.project, ids),
-                             f"Delete {', '.join(ids)}")
+        if not ids:
+            return
+        problem = edits.deletion_problem(self.project, ids)
+        if problem:
+            self.error_label.setText(problem)
+            return
+        self.editor.edit(edits.delete_targets(self.project, ids), f"Delete {', '.join(ids)}")
 
     def _set_role(self, row: int, role: str) -> None:
         t = self.project.targets[row]
@@ -356,6 +360,8 @@ class GcpPanel(Panel):
         except DesignerError as error:
             self.error_label.setText(f"{step}: {error}; not applied")
             return
-        self.error_label.setText("")
-        self.editor.edit(edits.layout_targets(project, xy, roles, self.size.value()),
-                         f"GCP layout: {len(xy)} by {kind}")
+        new = edits.layout_targets(project, xy, roles, self.size.value())
+        problem = edits.control_problem(project, new, "layout not applied")
+        self.error_label.setText(problem)
+        if not problem:
+            self.editor.edit(new, f"GCP layout: {len(xy)} by {kind}")
