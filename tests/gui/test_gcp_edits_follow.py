@@ -217,3 +217,63 @@ def test_control_ids_follow_a_renamed_or_deleted_gcp(qtbot, window, tmp_path):
     assert w.document.project == before
     assert gcps.error_label.text().startswith(
         "layout not applied: GCP03 is the only control GCP named in the Processing panel")
+
+
+def _choose_by_click(qtbot, combo, text: str) -> None:
+    """Open the drop-down with a click, go to the item ``text`` with the arrow keys and
+    press Enter."""
+    qtbot.mouseClick(combo, Qt.MouseButton.LeftButton)
+    view = combo.view()
+    qtbot.waitUntil(view.isVisible)
+    steps = combo.findText(text) - combo.currentIndex()
+    for _ in range(abs(steps)):
+        qtbot.keyClick(view, Qt.Key.Key_Down if steps > 0 else Qt.Key.Key_Up)
+    qtbot.keyClick(view, Qt.Key.Key_Return)
+    qtbot.waitUntil(lambda: not view.isVisible())
+
+
+def test_the_gcp_mode_chosen_is_kept_over_save_and_reopen(qtbot, window, tmp_path):
+    from PySide6.QtWidgets import QComboBox
+
+    from designer.project import load_project
+    from tests.gui.helpers import field, type_text
+
+    w = window
+    activate(qtbot, w)
+    project = edits.ensure_flight_plan(w.document.project)
+    for x in (-10.0, 10.0, 0.0, -5.0):
+        project = edits.add_target(project, x, 5.0)
+    w.editor.edit(project, "four GCPs")
+    panel = open_panel(w, "Processing")
+    wait_idle(qtbot, w)
+    qtbot.mouseClick(panel.enabled, Qt.MouseButton.LeftButton)
+    mode = field(w, QComboBox, "processing.gcps.mode")
+    _choose_by_click(qtbot, mode, "in the bundle adjustment")
+    qtbot.mouseClick(panel.subset, Qt.MouseButton.LeftButton)
+    type_text(qtbot, w, panel.ids, "GCP01, GCP02")
+    gcps = w.document.project.processing.gcps
+    assert (gcps.mode, gcps.control.ids) == ("bundle", ("GCP01", "GCP02"))
+
+    path = tmp_path / "two-control.xml"
+    assert w.file_actions.save_to(path), problems(w)
+    assert load_project(path).processing.gcps.mode == "bundle"
+    assert w.file_actions.new(None)
+    wait_idle(qtbot, w)
+    assert w.file_actions.open(path), problems(w)
+    wait_idle(qtbot, w)
+    gcps = w.document.project.processing.gcps
+    assert (gcps.mode, gcps.control.ids) == ("bundle", ("GCP01", "GCP02"))
+    assert mode.currentText() == "in the bundle adjustment"
+    assert panel.ids.text() == "GCP01, GCP02"
+
+    # a similarity with these two control GCPs is refused where it is chosen, saying why
+    before = w.document.project
+    _choose_by_click(qtbot, mode, "similarity after SfM (7 parameters)")
+    assert w.document.project == before
+    assert mode.currentText() == "in the bundle adjustment"
+    text = panel.input_label.text()
+    assert ("GCP use: a similarity after SfM needs at least 3 control GCPs, and control "
+            "GCPs (GCP01, GCP02) gives 2") in text, text
+    assert "not applied" in text
+    assert w.file_actions.save_to(path), problems(w)
+    assert load_project(path).processing.gcps.mode == "bundle"

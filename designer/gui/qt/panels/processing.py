@@ -112,7 +112,10 @@ class ProcessingPanel(Panel):
 
         gcp = QGroupBox("ground control")
         f = form(gcp)
-        f.addRow("GCPs", b.bind(combo(GCP_MODES), f"{GCP}.mode", "GCP use"))
+        self.mode = b.bind(combo(GCP_MODES), (model_getter(f"{GCP}.mode"), self._checked_mode),
+                           "GCP use")
+        self.mode.setObjectName(f"{GCP}.mode")  # found by its path, as the other fields
+        f.addRow("GCPs", self.mode)
         f.addRow("marking error σ", b.bind(declared_field(m.GcpProcessing, "marking_sigma_px"),
                                            f"{GCP}.marking_sigma_px", "GCP marking error σ"))
         f.addRow("seed", b.bind(_seed(), f"{GCP}.seed", "GCP marking seed"))
@@ -173,6 +176,7 @@ class ProcessingPanel(Panel):
     def refresh(self) -> None:
         super().refresh()
         self._show_ids_verdict("")  # the field shows the project's ids again
+        self._field_verdict(self.mode, "")
         p = self.project.processing
         for box, on in ((self.enabled, p is not None),
                         (self.pre, p is not None and p.calibration.pre_calibration_error
@@ -230,6 +234,27 @@ class ProcessingPanel(Panel):
             return f"control GCPs: {twice[0]} is listed twice; list each once"
         reason = self._control_problem(len(ids), "name")
         return f"control GCPs: {len(ids)} GCPs, but {reason}" if reason else ""
+
+    def _checked_mode(self, project: m.Project, mode: str) -> m.Project:
+        """The project with GCP mode ``mode``, or unchanged (the choice put back, saying
+        why) when it is a similarity and the control selection has too few GCPs."""
+        gcps = project.processing.gcps
+        control = gcps.control
+        n = len(set(control.ids)) if control is not None and control.ids else (
+            control.count or 0 if control is not None else 0)
+        if mode != "similarity" or not 0 < n < MIN_SIMILARITY_CONTROL:
+            self._field_verdict(self.mode, "")
+            return edits.replace_path(project, f"{GCP}.mode", mode)
+        what = (f"control GCPs ({', '.join(control.ids)})" if control.ids else
+                f"control count {control.count}")
+        self._field_verdict(self.mode, (
+            f"GCP use: a similarity after SfM needs at least {MIN_SIMILARITY_CONTROL} control "
+            f"GCPs, and {what} gives {n}; name more below, or keep the GCPs in the bundle "
+            "adjustment; not applied"))
+        blocked = self.mode.blockSignals(True)
+        self.mode.setCurrentIndex(self.mode.findData(gcps.mode))
+        self.mode.blockSignals(blocked)
+        return project
 
     def _checked_ids(self, project: m.Project, text: str) -> m.Project:
         """The project with control ids ``text``, or unchanged (the field red, saying
