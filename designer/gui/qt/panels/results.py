@@ -60,9 +60,7 @@ class ResultsPanel(Panel):
         row.addWidget(open_gcps)
         row.addWidget(clear)
         layout.addLayout(row)
-        self.state = QLabel("reconstruct the rendered survey above, or open the cloud of "
-                            "a reconstruction (designer reconstruct writes cloud.ply and "
-                            "gcp_residuals.csv)")
+        self.state = QLabel("")
         self.state.setWordWrap(True)
         layout.addWidget(self.state)
 
@@ -125,6 +123,8 @@ class ResultsPanel(Panel):
         self._pending_residuals = None
         self.editor.document.events.connect("reset", self._reopened)
         self.sync.terrain_changed.connect(self._terrain_ready)
+        self._missing = ""
+        self._show_missing()
 
     def _build_reconstruct(self, layout) -> None:
         box = QGroupBox("reconstruct the rendered survey")
@@ -192,7 +192,27 @@ class ResultsPanel(Panel):
             return None
         return (path.parent / self.project.outputs.directory).resolve()
 
+    def missing_text(self) -> str:
+        """What the panel shows while it shows no cloud: that there is no reconstruction
+        and what makes one (save, render, Reconstruct)."""
+        folder = self.survey_dir()
+        if folder is None:
+            return ("no reconstruction: save the project, render it (Render panel) and "
+                    "press Reconstruct above; or open the cloud of a reconstruction")
+        n, _text = survey_status(folder)
+        if not n:
+            return (f"no reconstruction: the survey is not rendered yet in {folder}; "
+                    "render it in the Render panel, then press Reconstruct above")
+        return (f"no reconstruction in {folder}: press Reconstruct above to make one from "
+                f"its {count(n, 'rendered image')}")
+
+    def _show_missing(self) -> None:
+        self._missing = self.missing_text()
+        self.state.setText(self._missing)
+
     def survey_readout(self) -> None:
+        if self.state.text() == self._missing:  # no cloud shown: saved or rendered since?
+            self._show_missing()
         folder = self.survey_dir()
         if folder is None:
             self.survey_label.setText("– (save the project and render it first)")
@@ -271,6 +291,7 @@ class ResultsPanel(Panel):
     def show_render_state(self, state) -> None:
         """Out of date when the images changed after the reconstruction shown, or when
         the rendered images no longer match the project."""
+        self.survey_readout()  # the folder was just read: rendered meanwhile?
         stale = None
         if self._compared is not None and self.survey_dir() is not None:
             stale = output_state.reconstruction_state(self.survey_dir(),
@@ -346,6 +367,7 @@ class ResultsPanel(Panel):
     def clear(self) -> None:
         self.sync.view.remove_layer("residuals")
         self.result = None
+        self._show_missing()
         self.picked.setText(PICK_HINT)
         self.range_spin.setEnabled(False)
         self.outlier_table.setRowCount(0)
