@@ -75,3 +75,42 @@ def test_an_undone_error_leaves_the_status_bar_but_not_a_later_message(qtbot, wi
     wait_idle(qtbot, w)
     assert not w.sync.errors.get("texture")
     assert w.statusBar().currentMessage() == "saved elsewhere"
+
+
+def test_a_refused_value_leaves_the_status_bar_when_the_field_is_valid_again(qtbot, window):
+    """A typed value out of range is said in the panel and the status bar; typing a valid
+    one (or an undo putting the project's value back) takes it from both, while a later
+    message about something else stays."""
+    from PySide6.QtWidgets import QLabel
+
+    from designer.gui.state import edits
+    from tests.gui.helpers import activate, type_text
+
+    w = window
+    activate(qtbot, w)
+    w.editor.edit(edits.ensure_flight_plan(w.document.project), "flight")
+    flight = open_panel(w, "Flight")
+    wait_idle(qtbot, w)
+    box = field(w, QDoubleSpinBox, "trajectory.flight_plan.front_overlap_percent")
+    message = flight.findChild(QLabel, "input-errors")
+    type_text(qtbot, w, box, "150")
+    refusal = w.statusBar().currentMessage()
+    assert "150 is out of range" in refusal and message.isVisible(), refusal
+    type_text(qtbot, w, box, "75")
+    assert w.document.project.trajectory.flight_plan.front_overlap_percent == 75.0
+    assert not message.isVisible()
+    assert "out of range" not in w.statusBar().currentMessage(), \
+        w.statusBar().currentMessage()
+    # refused again, then the value put back by an undo
+    type_text(qtbot, w, box, "150")
+    assert "out of range" in w.statusBar().currentMessage()
+    w.undo_action.trigger()
+    assert box.property("invalid") is False and not message.isVisible()
+    assert "out of range" not in w.statusBar().currentMessage(), \
+        w.statusBar().currentMessage()
+    # a later message about something else is not taken away with a refusal
+    type_text(qtbot, w, box, "150")
+    w.statusBar().showMessage("saved elsewhere")
+    type_text(qtbot, w, box, "70")
+    assert not message.isVisible()
+    assert w.statusBar().currentMessage() == "saved elsewhere"

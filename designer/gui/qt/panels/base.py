@@ -44,6 +44,7 @@ class Panel(QWidget):
         outer.addWidget(scroll)
         outer.addWidget(self.input_label)
         self.input_errors: dict[QWidget, str] = {}
+        self._status_refusal = ""  # the refusal this panel last put in the status bar
         self.build(self.body)
         self.body.addStretch(1)
         self.watch_fields()
@@ -68,8 +69,17 @@ class Panel(QWidget):
         self.input_label.setText(text)
         self.input_label.setVisible(bool(text))
         window = self.window()
-        if text and hasattr(window, "statusBar"):
-            window.statusBar().showMessage(text.splitlines()[-1], 8000)
+        if not hasattr(window, "statusBar"):
+            return
+        # a refusal leaves the status bar with the panel's message (a later message
+        # about something else stays)
+        shown = self._status_refusal
+        line = text.splitlines()[-1] if text else ""
+        if shown and shown != line and window.statusBar().currentMessage() == shown:
+            window.statusBar().clearMessage()
+        if line:
+            window.statusBar().showMessage(line, 8000)
+        self._status_refusal = line
 
     @property
     def project(self):
