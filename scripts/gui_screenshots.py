@@ -7,7 +7,9 @@ a virtual X display (Xvfb) when there is none:
 
 * ``gui-window.png`` — the window as it opens;
 * ``gui-panel-<name>.png`` — each panel (its dock), one per panel of the window (the
-  Results panel with the synthetic cloud below in it);
+  Results panel with the synthetic cloud below in it; Buildings, Moving objects and
+  Vegetation with a house, a car (the photos given times) and shrubs added, taken away
+  after the shot);
 * ``gui-coverage.png`` — the 3D view with the coverage heat map (H);
 * ``gui-results-window.png`` — a synthetic cloud coloured by its signed distance to the
   true surface: 300,000 points on the terrain and targets, plus a smooth 3 cm bowl and
@@ -20,10 +22,18 @@ a virtual X display (Xvfb) when there is none:
   edit: what is out of date and the button that re-renders it;
 * ``gui-flight-beyond.png`` — the Flight panel warning about a flight that looks far
   beyond the terrain (the same survey without surroundings, flown at 120 m);
+* ``gui-site-orthophoto.png`` — the sample site (``scripts/make-sample-site.py``) made
+  into a project as File ▸ Import site does, its orthophoto draped in the view;
+* ``gui-import-flight.png`` — the example survey with its first 12 photos imported back
+  from DJI-tagged images (File ▸ Import flight ▸ From a folder of images…);
 * ``gui-study-panel.png`` — the Study panel, whole: a study of the tiny test survey
   (``designer study new --template tiny``'s base: marking error 0.2 / 2 px and sun
   elevation 40°) built in it, run from it (about a minute) and its results shown
   (``--study-only`` takes just this one).
+
+Each window runs with a designer cache folder of its own: the render estimates shown
+are the reference machine's, and the draft render calibrates neither this machine's
+estimates nor the later shots'.
 
 ``designer gui FILE.xml --screenshot OUT.png --panel NAME`` takes one such shot of the
 whole window from the command line.
@@ -33,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import subprocess
 import sys
 import tempfile
@@ -77,12 +88,20 @@ def _synthetic_results(window, folder: Path) -> tuple[Path, Path]:
     return cloud, residuals
 
 
+def _fresh_cache() -> None:
+    """A designer cache folder of its own: the render estimates shown are the reference
+    machine's (the same on every machine), and the draft render calibrates neither this
+    machine's estimates nor a later shot's."""
+    os.environ["DESIGNER_CACHE_DIR"] = tempfile.mkdtemp(prefix="designer-screenshots-cache-")
+
+
 def take(out: Path) -> list[Path]:
     from PySide6.QtCore import QSettings
 
     from designer.gui.app import application, wait_idle
     from designer.gui.qt.main_window import MainWindow
 
+    _fresh_cache()
     work = Path(tempfile.mkdtemp(prefix="designer-screenshots-"))
     project = work / "survey.xml"
     subprocess.run([sys.executable, "-m", "designer", "new", str(project), "--template",
@@ -104,15 +123,28 @@ def take(out: Path) -> list[Path]:
 
     shot("gui-window.png")
     _processing_settings(window)
+    # the panels of things the example has none of: one added (and taken away again)
+    adds = {"Buildings": "add_house", "Moving objects": "add_car"}
     for title, dock in window.docks.items():
-        if title in ("Problems", "Results"):  # Results: below, with a cloud in it
+        # Results: below, with a cloud in it; Study: gui-study-panel.png, with a study
+        if title in ("Problems", "Results", "Study"):
             continue
         dock.show()
         dock.raise_()
         if title == "GCPs":  # show the last columns: surveyed positions, images per GCP
             bar = window.panels["GCPs"].table.horizontalScrollBar()
             bar.setValue(bar.maximum())
+        panel = window.panels.get(title)
+        steps = window.undo_stack.index()
+        if title == "Moving objects":  # they move on the flight's time line
+            window.panels["Flight"].timed.click()
+        if title in adds:
+            getattr(panel, adds[title]).click()
+        elif title == "Vegetation":
+            panel.add_buttons["shrub"].click()
         shot(f"gui-panel-{title.lower().replace(' ', '-')}.png", dock)
+        while window.undo_stack.index() > steps:
+            window.undo_stack.undo()
     window.docks["Terrain"].raise_()
     window.docks["Flight"].raise_()
 
@@ -146,8 +178,11 @@ def take(out: Path) -> list[Path]:
     QTest.keyClicks(box.lineEdit(), "150")
     QTest.keyClick(box.lineEdit(), Qt.Key.Key_Return)
     shot("gui-refused-input.png", window.docks["Flight"])
-    window.undo_stack.undo()  # nothing to undo from the refusal; back to a clean field
-    box.setValue(window.document.project.trajectory.flight_plan.front_overlap_percent)
+    # the project's value typed back: the refusal leaves the panel and the status bar
+    box.selectAll()
+    QTest.keyClicks(box.lineEdit(), "80")
+    QTest.keyClick(box.lineEdit(), Qt.Key.Key_Return)
+    window.view.plotter.setFocus()
 
     # the place-GCPs mode, the cursor over the background
     window.panels["GCPs"].place.setChecked(True)
@@ -169,7 +204,81 @@ def take(out: Path) -> list[Path]:
     _render_then_edit(window, project)
     shot("gui-out-of-date.png", window.docks["Render"])
     window.close_without_prompt()
-    return written + take_study(out)
+    return written + take_site(out) + take_import_flight(out) + take_study(out)
+
+
+def take_site(out: Path) -> list[Path]:
+    """The sample site (scripts/make-sample-site.py's DEM and orthophoto) imported as
+    File → Import site does, the Flight panel in front."""
+    from PySide6.QtCore import QSettings
+
+    from designer.gui.app import application, wait_idle
+    from designer.gui.qt.main_window import MainWindow
+    from designer.scene.sample_site import write_sample_site
+
+    _fresh_cache()
+    work = Path(tempfile.mkdtemp(prefix="designer-screenshots-site-"))
+    files = write_sample_site(work, geographic=False)
+    app = application()
+    window = MainWindow(QSettings(str(work / "settings.ini"), QSettings.Format.IniFormat))
+    window.resize(1600, 1000)
+    window.show()
+    if not window.site_flight_actions.make_site_project(files["dem"], files["orthophoto"],
+                                                        work / "site.xml"):
+        raise SystemExit("cannot make the sample site's project")
+    window.docks["Terrain"].raise_()
+    window.docks["Flight"].raise_()
+    _until(lambda: window.sync.plan is not None and not window.tasks.busy,
+           "the site's flight figures")
+    app.processEvents()
+    wait_idle(window)
+    path = out / "gui-site-orthophoto.png"
+    window.save_screenshot(path)
+    window.close_without_prompt()
+    return [path]
+
+
+def take_import_flight(out: Path) -> list[Path]:
+    """The example survey with its first 12 planned photos imported back as DJI-tagged
+    images (File → Import flight → From a folder of images…)."""
+    import shutil
+
+    from PySide6.QtCore import QSettings
+
+    from designer.gui.app import application, wait_idle
+    from designer.gui.qt.main_window import MainWindow
+
+    sys.path.insert(0, str(ROOT))  # the tests' writer of DJI-tagged images
+    from designer.project import load_project
+    from tests.flight.helpers import true_poses, write_dji_image
+
+    _fresh_cache()
+    work = Path(tempfile.mkdtemp(prefix="designer-screenshots-flown-"))
+    example = ROOT / "resources" / "examples" / "survey"
+    shutil.copytree(example, work / "survey")
+    project = load_project(work / "survey" / "survey.xml")
+    (work / "flown").mkdir()
+    for k, pose in enumerate(true_poses(project, work / "survey")[:12]):
+        write_dji_image(work / "flown" / f"DJI_{k + 1:04d}.JPG", pose, project.crs)
+    app = application()
+    window = MainWindow(QSettings(str(work / "settings.ini"), QSettings.Format.IniFormat))
+    window.resize(1600, 1000)
+    window.show()
+    if not window.open_project(work / "survey" / "survey.xml"):
+        raise SystemExit("cannot open the example survey")
+    wait_idle(window)
+    if not window.site_flight_actions.import_flight(work / "flown"):
+        raise SystemExit("cannot import the flown images")
+    window.docks["Terrain"].raise_()
+    window.docks["Flight"].raise_()
+    _until(lambda: window.sync.plan is not None and not window.tasks.busy,
+           "the imported flight's figures")
+    app.processEvents()
+    wait_idle(window)
+    path = out / "gui-import-flight.png"
+    window.save_screenshot(path)
+    window.close_without_prompt()
+    return [path]
 
 
 def _until(condition, what: str, timeout_s: float = 900.0) -> None:
@@ -193,6 +302,7 @@ def take_study(out: Path) -> list[Path]:
     from designer.gui.qt.main_window import MainWindow
     from designer.study.templates import write_template
 
+    _fresh_cache()
     work = Path(tempfile.mkdtemp(prefix="designer-screenshots-study-"))
     write_template("tiny", work / "tiny.xml")
     app = application()
