@@ -31,7 +31,8 @@ a virtual X display (Xvfb) when there is none:
   elevation 40°) built in it, run from it (about a minute) and its results shown
   (``--study-only`` takes just this one).
 
-Each window runs with a designer cache folder of its own: the render estimates shown
+Pictures over 300 kB are written as 256-colour PNGs. Each window runs with a designer
+cache folder of its own: the render estimates shown
 are the reference machine's, and the draft render calibrates neither this machine's
 estimates nor the later shots'.
 
@@ -390,6 +391,19 @@ def _render_then_edit(window, project: Path, timeout_s: float = 600.0) -> None:
             raise SystemExit("the out-of-date state did not appear")
 
 
+def _compact(path: Path, limit_bytes: int = 300_000) -> None:
+    """Rewrite a picture of more than ``limit_bytes`` as a 256-colour PNG (octree: the
+    small red and blue GCP marks keep their colours), the others optimised losslessly."""
+    from PIL import Image
+
+    image = Image.open(path)
+    image.load()
+    if path.stat().st_size > limit_bytes:
+        image = image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE,
+                                              kmeans=2)
+    image.save(path, "PNG", optimize=True)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "images")
@@ -401,6 +415,7 @@ def main() -> int:
     xvfb = ensure_display()
     try:
         for path in (take_study if args.study_only else take)(args.out):
+            _compact(path)
             print(path)
     finally:
         if xvfb is not None:
