@@ -32,9 +32,8 @@ a virtual X display (Xvfb) when there is none:
   (``--study-only`` takes just this one).
 
 Pictures over 300 kB are written as 256-colour PNGs. Each window runs with a designer
-cache folder of its own: the render estimates shown
-are the reference machine's, and the draft render calibrates neither this machine's
-estimates nor the later shots'.
+cache folder of its own: the render estimates shown are the reference machine's, and the
+draft render calibrates neither this machine's estimates nor the later shots'.
 
 ``designer gui FILE.xml --screenshot OUT.png --panel NAME`` takes one such shot of the
 whole window from the command line.
