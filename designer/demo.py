@@ -162,7 +162,7 @@ def _compare(project_path: Path, recon, plan, out: Path, log) -> dict:
     from designer.evaluate.writers import SCALAR_NAME
 
     d = PlyData.read(str(out / summary["files"]["distances"]))["vertex"][SCALAR_NAME]
-    gsd = float(np.nanmedian(plan.analysis.stations.gsd_centre_m))
+    gsd = plan.analysis.median_gsd_m()
     stats = dict(summary["distances"], abs_median=float(np.nanmedian(np.abs(d))))
     check = gcps["summary"]["check"]
     result = {

@@ -402,6 +402,20 @@ class PlanAnalysis:
     gcps: GcpVisibility | None
     render_time_s: float | None
 
+    def median_gsd_m(self) -> float:
+        """The flight's GSD (m/px) for its footprint and figures in GSD: the median GSD at
+        the image centres of the stations over the area, as ``summary()`` gives it. Centre
+        rays of stations past the terrain's edges can enter the solid ground through its
+        side far below the surface (:mod:`designer.survey.raycast`), so they are left out;
+        without stations over the area, the median of every station's mean GSD (NaN when
+        no image sees the terrain)."""
+        centre = self.stations.gsd_centre_m[self.station_inside_area]
+        centre = centre[np.isfinite(centre)]
+        if centre.size:
+            return float(np.median(centre))
+        mean = self.stations.gsd_mean_m[np.isfinite(self.stations.gsd_mean_m)]
+        return float(np.median(mean)) if mean.size else math.nan
+
     def summary(self) -> dict:
         """Flat dict of headline figures (m, fractions 0–1, seconds).
 

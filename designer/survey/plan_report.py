@@ -91,7 +91,7 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     speed = load_speed(costs[0] if costs else None)
     analysis = replace(analysis, render_time_s=estimate_render_s(
         costs, render_workers(project, n_all)))
-    gsd = float(np.nanmedian(analysis.stations.gsd_centre_m))
+    gsd = analysis.median_gsd_m()
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),
                       carriers, n_all, per_camera, speed.describe(), ground)
