@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import textwrap
 import time
 
 import numpy as np
@@ -316,3 +317,21 @@ def type_text(qtbot, w, box, text: str) -> None:
         QTest.keyClick(w.windowHandle(), ch)
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_Return)
     qtbot.wait(20)
+
+
+#: renders the listed frames as blank pictures of the listed sizes, named as the images
+FAKE_SIZED_RENDER = textwrap.dedent("""
+    import json, sys
+    from pathlib import Path
+    import numpy as np, cv2
+    out, frames = Path(sys.argv[1]), json.loads(Path(sys.argv[2]).read_text())
+    (out / "images").mkdir(parents=True, exist_ok=True)
+    print(json.dumps({"event": "worker_started", "worker": 0, "pid": 1,
+                      "frames": [f["index"] for f in frames]}), flush=True)
+    for f in frames:
+        path = out / "images" / f["name"]
+        cv2.imwrite(str(path), np.full((f["height"], f["width"], 3), 90, np.uint8))
+        print(json.dumps({"event": "frame_done", "index": f["index"], "path": str(path),
+                          "seconds": 0.01}), flush=True)
+    print(json.dumps({"event": "worker_done"}), flush=True)
+""")

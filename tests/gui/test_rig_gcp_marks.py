@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import sys
-import textwrap
 
 import numpy as np
 import pytest
@@ -18,26 +17,10 @@ from designer.core.projection import project_points
 from designer.gui.qt.command_process import RenderProcess
 from designer.project.interiors import render_interior
 from designer.survey.project_poses import project_images
-from tests.gui.helpers import open_panel, problems, wait_idle
+from tests.gui.helpers import FAKE_SIZED_RENDER, open_panel, problems, wait_idle
 
 pytestmark = pytest.mark.gui
 
-#: renders the listed frames as blank pictures of the listed sizes, named as the images
-FAKE_SIZED_RENDER = textwrap.dedent("""
-    import json, sys
-    from pathlib import Path
-    import numpy as np, cv2
-    out, frames = Path(sys.argv[1]), json.loads(Path(sys.argv[2]).read_text())
-    (out / "images").mkdir(parents=True, exist_ok=True)
-    print(json.dumps({"event": "worker_started", "worker": 0, "pid": 1,
-                      "frames": [f["index"] for f in frames]}), flush=True)
-    for f in frames:
-        path = out / "images" / f["name"]
-        cv2.imwrite(str(path), np.full((f["height"], f["width"], 3), 90, np.uint8))
-        print(json.dumps({"event": "frame_done", "index": f["index"], "path": str(path),
-                          "seconds": 0.01}), flush=True)
-    print(json.dumps({"event": "worker_done"}), flush=True)
-""")
 
 
 def _rig_project(qtbot, w, tmp_path):

@@ -458,8 +458,14 @@ class RenderPanel(Panel):
         index = int(item.data(Qt.ItemDataRole.UserRole))
         if not path:
             return
-        plan = self.sync.plan
-        observations = plan.observations(index) if plan is not None else []
+        from designer.gui.state.image_marks import exported_marks
+
+        # the render's own GCP points for this image (buildings, rolling shutter), else
+        # the GCPs projected with the plan's pose of it
+        observations = exported_marks(path)
+        if observations is None:
+            plan = self.sync.plan
+            observations = plan.observations(index) if plan is not None else []
         self.viewer = ImageViewer(path, observations, self)
         self.viewer.show()
 
