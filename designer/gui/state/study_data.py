@@ -28,11 +28,12 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 #: reconstruction + comparison seconds per image (sparse SfM, on its own): A + B ×
-#: megapixels of the rendered image, fitted to two measured studies on the shared 2-core
-#: machine — the tiny study (``designer study new --template tiny``): 3.6–5.0 s for 18
-#: images of 0.019 MP (0.2–0.28 s per image), and the gcp-count example: 21 CPU seconds
-#: for 12 images of 0.31 MP (1.75 s per image; docs/studies.md) —
-RECONSTRUCT_S_A = 0.1
+#: megapixels of the rendered image, fitted to two measured studies on the 2-core
+#: machine — the tiny study (``designer study new --template tiny``): 2.1 s for 18
+#: images of 0.019 MP (0.12 s per image; reconstruct 1.31 s + compare 0.83 s, the
+#: mapper refining the focal length only while it grows), and the gcp-count example: 21
+#: CPU seconds for 12 images of 0.31 MP (1.75 s per image; docs/studies.md) —
+RECONSTRUCT_S_A = 0.01
 RECONSTRUCT_S_B_PER_MP = 6.0
 #: — up to at most this (the feature count is capped, so larger images cost little more:
 #: ``designer demo`` reconstructed the example's 60 images of 1.25 MP in 418 s, dense
