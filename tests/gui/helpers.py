@@ -335,3 +335,24 @@ FAKE_SIZED_RENDER = textwrap.dedent("""
                           "seconds": 0.01}), flush=True)
     print(json.dumps({"event": "worker_done"}), flush=True)
 """)
+
+
+def render_blank_frames(qtbot, window, monkeypatch, tmp_path, frames: list[dict]):
+    """Press Render in the Render panel with the render command replaced by
+    FAKE_SIZED_RENDER for ``frames`` ({"index", "name", "width", "height"} each); wait
+    for it to finish and return the panel."""
+    import json
+    import sys
+
+    from designer.gui.qt.command_process import RenderProcess
+
+    (tmp_path / "frames.json").write_text(json.dumps(frames))
+    script = tmp_path / "fake_render.py"
+    script.write_text(FAKE_SIZED_RENDER)
+    monkeypatch.setattr(RenderProcess, "command", staticmethod(
+        lambda project, out_dir, resume=False, quality=None, workers=None:
+        [sys.executable, str(script), str(out_dir), str(tmp_path / "frames.json")]))
+    panel = open_panel(window, "Render")
+    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=60000)
+    return panel

@@ -5,9 +5,7 @@ single pose projects them; an image newer than the table falls back to the plan.
 
 from __future__ import annotations
 
-import json
 import os
-import sys
 
 import numpy as np
 import pytest
@@ -15,10 +13,9 @@ from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 
 from designer.export.tables import GcpObservation, write_gcp_observations_csv
-from designer.gui.qt.command_process import RenderProcess
 from designer.gui.state.image_marks import exported_marks
 from designer.project.interiors import render_interior
-from tests.gui.helpers import FAKE_SIZED_RENDER, open_panel, problems, wait_idle
+from tests.gui.helpers import problems, render_blank_frames, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -51,16 +48,8 @@ def test_the_viewer_draws_the_exported_gcp_points_of_the_image(qtbot, window, mo
     assert len(planned) >= 2, planned
     W, H = render_interior(project.cameras[0], project.render.resolution_scale).image_size_px
     name = plan.image_names[k]
-    (tmp_path / "frames.json").write_text(json.dumps(
-        [{"index": k, "name": name, "width": int(W), "height": int(H)}]))
-    script = tmp_path / "fake_render.py"
-    script.write_text(FAKE_SIZED_RENDER)
-    monkeypatch.setattr(RenderProcess, "command", staticmethod(
-        lambda project, out_dir, resume=False, quality=None, workers=None:
-        [sys.executable, str(script), str(out_dir), str(tmp_path / "frames.json")]))
-    panel = open_panel(w, "Render")
-    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=60000)
+    panel = render_blank_frames(qtbot, w, monkeypatch, tmp_path,
+                                [{"index": k, "name": name, "width": int(W), "height": int(H)}])
     image = next((tmp_path / "output" / "images").iterdir())
     assert image.name == name
 

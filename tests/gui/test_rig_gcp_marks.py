@@ -5,19 +5,15 @@ rig that sees a GCP."""
 
 from __future__ import annotations
 
-import json
-import sys
-
 import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 
 from designer.core.projection import project_points
-from designer.gui.qt.command_process import RenderProcess
 from designer.project.interiors import render_interior
 from designer.survey.project_poses import project_images
-from tests.gui.helpers import FAKE_SIZED_RENDER, open_panel, problems, wait_idle
+from tests.gui.helpers import open_panel, problems, render_blank_frames, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -52,15 +48,7 @@ def test_oblique_image_marks_are_its_own_projection(qtbot, window, monkeypatch, 
                                project.render.resolution_scale).image_size_px
         frames.append({"index": k, "name": images.stations[k].image_name,
                        "width": int(W), "height": int(H)})
-    (tmp_path / "frames.json").write_text(json.dumps(frames))
-    script = tmp_path / "fake_render.py"
-    script.write_text(FAKE_SIZED_RENDER)
-    monkeypatch.setattr(RenderProcess, "command", staticmethod(
-        lambda project, out_dir, resume=False, quality=None, workers=None:
-        [sys.executable, str(script), str(out_dir), str(tmp_path / "frames.json")]))
-    panel = open_panel(w, "Render")
-    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=60000)
+    panel = render_blank_frames(qtbot, w, monkeypatch, tmp_path, frames)
     assert panel.thumbs.count() == 5
 
     # an oblique image that sees GCPs its station's nadir image does not
