@@ -76,16 +76,18 @@ def test_plan_warns_when_the_tiled_texture_repeats_inside_the_footprint(tmp_path
         return dataclasses.replace(example, scene=dataclasses.replace(example.scene,
                                                                       texture=tex))
 
-    # without the variation the 20 m tiles repeat inside the 71 x 47.5 m footprint
+    # without the variation the 20 m tiles repeat inside the 76.1 x 50.7 m footprint
+    # (at the median GSD of the stations, as `designer plan` prints it)
     (warning,) = _texture_warnings(with_texture(variation=None), tmp_path, capsys)
-    assert warning.startswith("texture repeats every 20 m, shorter than the 47.5 m")
+    assert warning.startswith("texture repeats every 20 m, shorter than the 50.7 m")
     assert "add <variation" in warning
     # one tile over the 100 m terrain: longer than the footprint, no repeat in an image
     assert _texture_warnings(with_texture(variation=None, repeat_X=1, repeat_Y=1),
                              tmp_path, capsys) == []
-    # 50 m tiles: just longer than the 47.5 m short side of the footprint; 33 m shorter
-    assert _texture_warnings(with_texture(variation=None, repeat_X=2, repeat_Y=2),
-                             tmp_path, capsys) == []
+    # 50 m tiles: just shorter than the 50.7 m short side of the footprint
+    (warning,) = _texture_warnings(with_texture(variation=None, repeat_X=2, repeat_Y=2),
+                                   tmp_path, capsys)
+    assert warning.startswith("texture repeats every 50 m, shorter than the 50.7 m")
     (warning,) = _texture_warnings(with_texture(variation=None, repeat_X=3, repeat_Y=3),
                                    tmp_path, capsys)
     assert warning.startswith("texture repeats every 33.3333 m")
