@@ -121,9 +121,11 @@ def _designer_env(tmp: Path) -> dict:
 
 
 def _warmup(env: dict) -> float:
+    """Seconds of the comparison's part of the installation: ``designer warmup`` without
+    its probe render (which calibrates render estimates, not the comparison)."""
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "designer", "warmup"], env=env, check=True,
-                   capture_output=True, timeout=900)
+    subprocess.run([sys.executable, "-m", "designer", "warmup", "--no-probe"], env=env,
+                   check=True, capture_output=True, timeout=900)
     return time.perf_counter() - t0
 
 
@@ -312,7 +314,8 @@ def format_table(rows: list[dict]) -> str:
         lines.append(f"{tool} skipped: {reason}")
     if install is not None:
         lines.append(
-            f"installation (designer warmup, empty matplotlib cache): {install['warmup_s']:.1f} s; "
+            "installation (designer warmup --no-probe, empty matplotlib cache): "
+            f"{install['warmup_s']:.1f} s; "
             f"first designer compare after it {install['first_run_s']:.2f} s, warm "
             f"{install['warm_run_s']:.2f} s: first / warm = "
             f"{install['first_run_s'] / install['warm_run_s']:.2f} ({install['case']})")

@@ -48,7 +48,8 @@ def test_compare_benchmark_table_at_a_small_scale():
     (install,) = by_tool["install"]
     assert install["warmup_s"] > 0 and install["first_run_s"] > 0
     assert install["warm_run_s"] == designer[0]["process_s"]
-    found = re.search(r"installation \(designer warmup, empty matplotlib cache\): ([0-9.]+) s; "
+    found = re.search(r"installation \(designer warmup --no-probe, empty matplotlib cache\): "
+                      r"([0-9.]+) s; "
                       r"first designer compare after it ([0-9.]+) s, warm ([0-9.]+) s: first / "
                       r"warm = ([0-9.]+)", table)
     assert found is not None

@@ -26,6 +26,9 @@ def test_warmup_then_compare_imports_no_numba(tmp_path):
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert "compiled kernels ready" in done.stdout
+    # the probe render measured this machine and stored it for every later estimate
+    assert "render speed measured" in done.stdout
+    assert (Path(os.environ["DESIGNER_CACHE_DIR"]) / "render-speed.json").is_file()
 
     hf, mesh = bench._terrain(24)
     from designer.scene.mesh import write_mesh_ply
