@@ -22,13 +22,13 @@ def _env(tmp_path: Path) -> dict:
 @pytest.mark.slow
 def test_warmup_then_compare_imports_no_numba(tmp_path):
     env = _env(tmp_path)
-    done = subprocess.run([sys.executable, "-m", "designer", "warmup"], env=env,
-                          capture_output=True, text=True, timeout=300)
+    # without the probe render (six example frames): `make setup`, which `make test` runs
+    # first, runs the whole `designer warmup` and stops when its probe fails
+    done = subprocess.run([sys.executable, "-m", "designer", "warmup", "--no-probe"],
+                          env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert "compiled kernels ready" in done.stdout
-    # the probe render measured this machine and stored it for every later estimate
-    assert "render speed measured" in done.stdout
-    assert (Path(os.environ["DESIGNER_CACHE_DIR"]) / "render-speed.json").is_file()
+    assert "render speed measured" not in done.stdout
 
     hf, mesh = bench._terrain(24)
     from designer.scene.mesh import write_mesh_ply
