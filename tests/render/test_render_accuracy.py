@@ -17,9 +17,9 @@ pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
 CASES = {
     "local origin": dict(origin=(0.0, 0.0, 0.0)),
-    "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0)),
-    "principal point offset": dict(origin=(500000.0, 5000000.0, 250.0),
-                                   principal_point_mm=(0.31, -0.17)),
+    # one render for both: a UTM-sized origin and a principal point offset
+    "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0),
+                             principal_point_mm=(0.31, -0.17)),
     # below Blender's 1 mm minimum lens and sensor width: both are scaled, not clamped
     "sub-millimetre sensor": dict(focal_length_mm=0.5, pixel_pitch_mm=0.001),
     # Distorted cameras: rendered as an enlarged pinhole and warped (designer.effects).
