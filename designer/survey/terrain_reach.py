@@ -88,6 +88,12 @@ def terrain_reach_warnings(project: m.Project, base_dir: Path) -> list[HardCaseW
         reach = terrain_file_reach(project, base_dir)
     except DesignerError:
         return []  # an unreadable file is refused by the file checks
+    return reach_warnings(project, reach)
+
+
+def reach_warnings(project: m.Project, reach: Reach | None) -> list[HardCaseWarning]:
+    """:func:`terrain_reach_warnings` over a reach already read (None: no file, no
+    warning); microseconds, so the window asks anew after every edit."""
     if reach is None:
         return []
     off: dict[str, list[str]] = {}

@@ -417,6 +417,16 @@ class SceneSync(QObject):
         self.stations_changed.emit()
         self.refresh_plan()
 
+    def reach_warnings(self) -> list[str]:
+        """GCPs, buildings and flight-area vertices outside the ground the terrain file
+        holds (as ``designer check`` warns), each with its fix; compared with the reach
+        read with the terrain, so asking after every edit costs microseconds."""
+        from designer.survey.terrain_reach import reach_warnings
+
+        reach = self.terrain.reach if self.terrain is not None else None
+        return [f"{w.message}; {w.fix}"
+                for w in reach_warnings(self.document.project, reach)]
+
     # ------------------------------------------------------------------ plan figures
     def refresh_plan(self) -> None:
         """Analyse the flight over the real terrain (as designer plan does), in a thread."""

@@ -40,6 +40,7 @@ from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
 from designer.survey.raycast import TerrainRaycaster
+from designer.survey.terrain_reach import Reach, terrain_file_reach
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,6 +59,10 @@ class TerrainResult:
     tiles: tuple[int, int]
     max_display_nodes: int = MAX_DISPLAY_NODES_PER_SIDE
     irradiance: np.ndarray | None = None
+    #: the box a DEM or terrain mesh holds ground in (None: flat, procedural), read here
+    #: once so that each edit only compares places with it
+    #: (:func:`designer.survey.terrain_reach.reach_warnings`)
+    reach: Reach | None = None
 
 
 def compute_terrain(project: m.Project, base_dir: Path,
@@ -82,7 +87,7 @@ def compute_terrain(project: m.Project, base_dir: Path,
     centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(np.mean(z))])
     light = display_irradiance(project.scene.lighting, display, hf, rc, project=project)
     return TerrainResult(terrain, hf, mesh, rc, display, float(np.mean(z)), centre, n, tiles,
-                         max_display_nodes, light)
+                         max_display_nodes, light, terrain_file_reach(project, base_dir))
 
 
 def sun_angles_deg(lighting: m.Lighting, project: m.Project | None = None

@@ -198,6 +198,9 @@ class FlightPanel(Panel):
         view.interaction.mode_changed.connect(self._mode_changed)
         self.sync.stations_changed.connect(self._readouts)
         self.sync.plan_changed.connect(self._plan_readouts)
+        # what lies off the terrain file's ground moves with the GCPs, buildings and area
+        self.sync.terrain_changed.connect(self._show_warnings)
+        self.sync.targets_changed.connect(self._show_warnings)
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
@@ -316,7 +319,7 @@ class FlightPanel(Panel):
             for label in (self.real_gsd, self.real_images):
                 label.setText("–")
             self.real_overlap.setText(f"not computed: {self._no_plan_reason(error)}")
-            self.warnings_label.setText(error)
+            self._show_warnings()
             return
         scale = self.project.render.resolution_scale
         of = "" if scale == 1.0 else f" (rendered images, scale {scale:g})"
@@ -330,7 +333,22 @@ class FlightPanel(Panel):
         self.real_images.setText(
             f"{f.images_over_area} of {of} look at the area, {f.images_over_terrain} "
             f"at the terrain; area seen {seen}")
-        self.warnings_label.setText("\n".join(f"⚠ {w}" for w in f.warnings))
+        self._show_warnings()
+
+    def _on_project(self, old, new, parts) -> None:
+        super()._on_project(old, new, parts)
+        self._show_warnings()  # a moved building or area vertex may leave the ground
+
+    def _show_warnings(self) -> None:
+        """The places off the terrain file's ground, then the plan's warnings (or why
+        there is no plan)."""
+        f = self.sync.plan
+        lines = [f"⚠ {w}" for w in self.sync.reach_warnings()]
+        if f is not None:
+            lines += [f"⚠ {w}" for w in f.warnings]
+        elif self.sync.errors.get("plan"):
+            lines.append(self.sync.errors["plan"])
+        self.warnings_label.setText("\n".join(lines))
 
     def _no_plan_reason(self, error: str) -> str:
         """Why the flight has no figures over the terrain, in words."""
