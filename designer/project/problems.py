@@ -83,6 +83,8 @@ class Issue:
 CODES = {
     "range": "a declared attribute outside its range (``value``, ``limits``)",
     "choice": "a declared attribute that is none of its choices (``value``, ``choices``)",
+    "type": "a value that is not of its schema type, e.g. not a number (``value``: the "
+            "text as written)",
     "needs-time-line": "the element (``tag``) needs the flight's <time-line>, which the "
                        "trajectory lacks",
     "no-photos": "the trajectory has neither photos nor a flight plan",

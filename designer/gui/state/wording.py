@@ -85,6 +85,7 @@ DIRECTIONS: dict[tuple[str, str], str] = {
 _UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
 _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
 _SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
+_NON_FINITE = {"nan", "inf", "+inf", "-inf", "infinity", "-infinity", "+infinity"}
 _LONG = re.compile(r"(?<![\w.])([-+]?\d+\.\d{4,})\b")
 
 
@@ -139,6 +140,8 @@ def _declaration(issue: Issue) -> Declared | None:
 def _value_text(value: object) -> str:
     if isinstance(value, float) and math.isfinite(value):
         return fixed(value)
+    if isinstance(value, float) and math.isinf(value):
+        return "infinity" if value > 0 else "minus infinity"
     return "not a number" if isinstance(value, float) else f"{value}"
 
 
@@ -171,7 +174,8 @@ def _range_words(d: Declared | None, limits: tuple[float | None, float | None]) 
 def issue_text(issue: Issue) -> str:
     """A validation issue as the window says it, from its structured fields: a range or
     choice with the field as its panel labels it (the declaration's ``label``) and
-    numbers in fixed point; a fix done in a panel (:data:`DIRECTIONS`) as that panel and
+    numbers in fixed point; a value that is not a number with the number the field
+    takes; a fix done in a panel (:data:`DIRECTIONS`) as that panel and
     control; any other issue as its message, numbers in fixed point."""
     direction = DIRECTIONS.get((issue.code, issue.tag))
     if direction is not None:
@@ -182,6 +186,12 @@ def issue_text(issue: Issue) -> str:
         # the declared limits are the file's; the schema names only the one passed
         limits = (d.attr.low, d.attr.high) if d is not None else issue.limits
         return f"{label} {_value_text(issue.value)} must be {_range_words(d, limits)}"
+    if issue.code == "type" and d is not None and d.base in (int, float):
+        number = "a whole number" if d.base is int else "a number"
+        finite = "a finite number" if str(issue.value).strip().lower() in _NON_FINITE \
+            else number
+        return (f"{label} “{issue.value}” is not {finite}; give {number} "
+                f"{_range_words(d, (d.attr.low, d.attr.high))}")
     if issue.code == "choice" and issue.choices:
         return (f"{label} “{issue.value}” is not one of {', '.join(issue.choices)}; choose "
                 "one of them")
@@ -189,9 +199,9 @@ def issue_text(issue: Issue) -> str:
 
 
 def _panel(issue: Issue) -> str | None:
-    """The panel that edits the one declared value an issue is about (a range or a
-    choice), or None."""
-    if issue.code not in ("range", "choice") or _declaration(issue) is None:
+    """The panel that edits the one declared value an issue is about (a range, a choice
+    or a value not of its type), or None."""
+    if issue.code not in ("range", "choice", "type") or _declaration(issue) is None:
         return None
     if issue.obj is None:
         return panel_for_element(issue.tag, issue.parent)
