@@ -75,6 +75,9 @@ class GcpPanel(Panel):
 
         self.table = QTableWidget(0, len(COLUMNS))
         self.table.setHorizontalHeaderLabels(COLUMNS)
+        header = self.table.horizontalHeader()
+        for c in range(len(COLUMNS)):  # each header whole, its margins included
+            header.resizeSection(c, max(header.sectionSize(c), header.sectionSizeHint(c)))
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.table.setMinimumHeight(120)
         self.table.itemChanged.connect(self._cell_edited)
