@@ -161,6 +161,7 @@ class MainWindow(QMainWindow):
         self.stale_watch.is_busy = lambda: render.process.running
         self.stale_watch.render_state.connect(render.show_render_state)
         self.stale_watch.render_state.connect(results.show_render_state)
+        self.stale_watch.folder_changed.connect(render.forget_thumbnails)
         render.process.finished.connect(lambda *_: self.stale_watch.check_now())
         results.run.finished.connect(lambda *_: self.stale_watch.check_now())
 

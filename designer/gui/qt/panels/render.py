@@ -241,6 +241,13 @@ class RenderPanel(Panel):
             self.thumbs.clear()
             self._thumbs_dir = None
 
+    def forget_thumbnails(self) -> None:
+        """The output folder changed on disk (a render by the command): the thumbnails
+        shown from it are read again with its next state (a render that runs here keeps
+        its own)."""
+        if not self.process.running and self._thumbs_dir is not None:
+            self._thumbs_dir = None
+
     def _show_rendered(self) -> None:
         """The thumbnails of the images in the project's output folder, when the list
         shows no other images of that folder (e.g. a project opened with its render)."""
