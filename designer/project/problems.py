@@ -85,6 +85,8 @@ CODES = {
     "choice": "a declared attribute that is none of its choices (``value``, ``choices``)",
     "type": "a value that is not of its schema type, e.g. not a number (``value``: the "
             "text as written)",
+    "pattern": "a text value that does not match its schema pattern, e.g. an id that is "
+               "not a name (``value``: the text as written)",
     "needs-time-line": "the element (``tag``) needs the flight's <time-line>, which the "
                        "trajectory lacks",
     "no-photos": "the trajectory has neither photos nor a flight plan",

@@ -120,9 +120,10 @@ _BOUNDS = {"minInclusive": 0, "minExclusive": 0, "maxInclusive": 1, "maxExclusiv
 def _value_issue(tag: str, attr: str | None, rest: str, parent: str | None,
                  text: str) -> Issue | None:
     """The structured fields of a schema error about one value: code "range" (the value
-    and the facet's limit), "choice" (the value and the allowed values) or "type" (the
-    text as written, not of the value's type: not a number, a fraction for a count);
-    None for any other schema error."""
+    and the facet's limit), "choice" (the value and the allowed values), "type" (the
+    text as written, not of the value's type: not a number, a fraction for a count) or
+    "pattern" (the text as written, e.g. an id that is not a name); None for any other
+    schema error."""
     m = re.match(r"'(.*)' is not a valid value of the (?:local )?atomic type", rest, re.S)
     if m is not None:
         return Issue(None, tag, text, attr=attr, code="type", value=m.group(1),
@@ -131,6 +132,8 @@ def _value_issue(tag: str, attr: str | None, rest: str, parent: str | None,
     if m is None:
         return None
     facet, value, tail = m.groups()
+    if facet == "pattern":
+        return Issue(None, tag, text, attr=attr, code="pattern", value=value, parent=parent)
     if facet == "enumeration":
         choices = re.search(r"\{(.*)\}", tail)
         if choices is None:

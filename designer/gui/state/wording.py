@@ -85,6 +85,8 @@ DIRECTIONS: dict[tuple[str, str], str] = {
 _UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
 _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
 _SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
+#: what an id (the schema's d:Identifier) may be, as the window says it
+_NAME_RULE = "use only letters, digits, _ . + - and begin with a letter or digit"
 _NON_FINITE = {"nan", "inf", "+inf", "-inf", "infinity", "-infinity", "+infinity"}
 _LONG = re.compile(r"(?<![\w.])([-+]?\d+\.\d{4,})\b")
 
@@ -175,8 +177,9 @@ def issue_text(issue: Issue) -> str:
     """A validation issue as the window says it, from its structured fields: a range or
     choice with the field as its panel labels it (the declaration's ``label``) and
     numbers in fixed point; a value that is not a number with the number the field
-    takes; a fix done in a panel (:data:`DIRECTIONS`) as that panel and
-    control; any other issue as its message, numbers in fixed point."""
+    takes, an id that is not a name with the names it takes; a fix done in a panel
+    (:data:`DIRECTIONS`) as that panel and control; any other issue as its message,
+    numbers in fixed point."""
     direction = DIRECTIONS.get((issue.code, issue.tag))
     if direction is not None:
         return direction.format(obj=issue.obj, value=issue.value)
@@ -192,6 +195,10 @@ def issue_text(issue: Issue) -> str:
             else number
         return (f"{label} “{issue.value}” is not {finite}; give {number} "
                 f"{_range_words(d, (d.attr.low, d.attr.high))}")
+    if issue.code == "pattern" and d is not None and d.attr.xsd == "d:Identifier":
+        if not str(issue.value):
+            return f"{label} is empty: give a name ({_NAME_RULE})"
+        return f"{label} “{issue.value}” is not a name: {_NAME_RULE}"
     if issue.code == "choice" and issue.choices:
         return (f"{label} “{issue.value}” is not one of {', '.join(issue.choices)}; choose "
                 "one of them")
@@ -199,9 +206,10 @@ def issue_text(issue: Issue) -> str:
 
 
 def _panel(issue: Issue) -> str | None:
-    """The panel that edits the one declared value an issue is about (a range, a choice
-    or a value not of its type), or None."""
-    if issue.code not in ("range", "choice", "type") or _declaration(issue) is None:
+    """The panel that edits the one declared value an issue is about (a range, a choice,
+    a value not of its type or pattern), or None."""
+    if issue.code not in ("range", "choice", "type", "pattern") or \
+            _declaration(issue) is None:
         return None
     if issue.obj is None:
         return panel_for_element(issue.tag, issue.parent)
