@@ -61,9 +61,13 @@ def _start(*args: str) -> subprocess.Popen:
                             start_new_session=True)
 
 
+#: photos of the slow project: a signal after the first lands with images still to render
+N = 4
+
+
 def _slow_project(tmp_path: Path) -> Path:
-    # ~1 s per image: a signal after the first image always lands mid-job
-    return write_project_file(small_survey(n_photos=8, samples=192, size_px=(320, 240)),
+    # seconds per image: a signal after the first image always lands mid-job
+    return write_project_file(small_survey(n_photos=N, samples=128, size_px=(320, 240)),
                               tmp_path)
 
 
@@ -93,11 +97,11 @@ def test_sigterm_stops_a_render_like_ctrl_c_and_resume_redoes_nothing(tmp_path):
     assert workers and _wait_until(lambda: not any(_alive(p) for p in workers), 10)
     assert _group(proc.pid) == []
     done = sorted(p.name for p in (out / "images").iterdir())
-    assert 1 <= len(done) < 8
+    assert 1 <= len(done) < N
     mtimes = {name: (out / "images" / name).stat().st_mtime_ns for name in done}
     summary = render_project(project, out, workers=1, resume=True)
     assert len(summary.report.skipped) == len(done)
-    assert len(summary.report.rendered) == 8 - len(done)
+    assert len(summary.report.rendered) == N - len(done)
     assert {n: (out / "images" / n).stat().st_mtime_ns for n in done} == mtimes
 
 
@@ -105,7 +109,7 @@ def test_a_killed_render_takes_its_workers_with_it(tmp_path):
     _, _, proc, workers = _render_until_first_image(tmp_path)
     proc.kill()  # SIGKILL: no clean-up runs in the main process
     proc.communicate(timeout=30)
-    # at once: the worker still had ~6 images (~1 s each) to render on its own
+    # at once: the worker still had images (seconds each) to render on its own
     assert workers and _wait_until(lambda: not any(_alive(p) for p in workers), 3), \
         "a render worker outlived its killed parent"
     assert _wait_until(lambda: _group(proc.pid) == [], 10)
@@ -162,15 +166,15 @@ def test_a_bench_cut_short_keeps_its_measured_rows(tmp_path):
 
 
 def test_a_stopped_resume_counts_up_to_date_and_out_of_date_images_apart(tmp_path):
-    """Eight images rendered, then the render settings change and a --resume run is
-    stopped after its first image: one image is up to date, seven are on disk from the
-    old settings; the message says so (not '8 finished images kept') and, --resume being
+    """N images rendered, then the render settings change and a --resume run is
+    stopped after its first image: one image is up to date, the others are on disk from
+    the old settings; the message says so (not 'N finished images kept') and, --resume being
     given already, does not ask for it."""
-    quick = small_survey(n_photos=8, samples=1, size_px=(320, 240))
+    quick = small_survey(n_photos=N, samples=1, size_px=(320, 240))
     project = write_project_file(quick, tmp_path)
     out = tmp_path / "out"
     render_project(project, out, workers=1)
-    project = _slow_project(tmp_path)  # the same survey at 192 samples
+    project = _slow_project(tmp_path)  # the same survey at 128 samples
     proc = _start("render", str(project), "-o", str(out), "--workers", "1", "--resume",
                   "--progress", "json")
     for line in proc.stdout:
@@ -183,13 +187,13 @@ def test_a_stopped_resume_counts_up_to_date_and_out_of_date_images_apart(tmp_pat
     stopped = [e for e in events if e["event"] == "interrupted"]
     assert len(stopped) == 1
     n = stopped[0]["up_to_date"]
-    assert 1 <= n < 8
-    assert stopped[0] == {"event": "interrupted", "total": 8, "up_to_date": n,
-                          "rendered_now": n, "out_of_date": 8 - n, "not_rendered": 0,
+    assert 1 <= n < N
+    assert stopped[0] == {"event": "interrupted", "total": N, "up_to_date": n,
+                          "rendered_now": n, "out_of_date": N - n, "not_rendered": 0,
                           "resume": True}
     last = [x for x in err.splitlines() if x.strip()][-1]
     assert last.startswith("designer: interrupted by SIGTERM: ")
-    assert f"{n} of 8 images up to date ({n} rendered by this run)" in last
-    assert f"{8 - n} out of date" in last
+    assert f"{n} of {N} images up to date ({n} rendered by this run)" in last
+    assert f"{N - n} out of date" in last
     assert "run the same command again" in last and "with --resume" not in last
     assert "finished images kept" not in last

@@ -27,8 +27,8 @@ def complete_images(folder, size=(320, 240)):
 
 
 def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
-    # ~1 s per image, so the Ctrl-C after the first image always lands mid-job
-    project = write_project_file(small_survey(n_photos=8, samples=192, size_px=(320, 240)),
+    # seconds per image, so the Ctrl-C after the first image always lands mid-job
+    project = write_project_file(small_survey(n_photos=4, samples=128, size_px=(320, 240)),
                                  tmp_path)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o", str(out),
@@ -42,7 +42,7 @@ def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
     assert proc.returncode == 130, err
     assert "interrupted" in err and "Traceback" not in err
     done = complete_images(out / "images")
-    assert 1 <= len(done) < 8
+    assert 1 <= len(done) < 4
     # the images folder holds the finished images and nothing else; no partial file stays
     assert sorted(p.name for p in (out / "images").iterdir()) == done
     assert [p.name for p in out.glob(".*")] == [".designer-job"]
@@ -50,8 +50,8 @@ def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
 
     summary = render_project(project, out, workers=1, resume=True)
     assert sorted(summary.report.skipped) == list(range(len(done)))
-    assert len(summary.report.rendered) == 8 - len(done)
-    assert len(complete_images(out / "images")) == 8
+    assert len(summary.report.rendered) == 4 - len(done)
+    assert len(complete_images(out / "images")) == 4
 
 
 def test_a_killed_worker_has_its_frames_retried(tmp_path):
@@ -81,7 +81,7 @@ def test_a_killed_worker_has_its_frames_retried(tmp_path):
 def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
     """Started the way a script's `cmd &` starts it (SIGINT ignored), designer render still
     stops cleanly on SIGINT."""
-    project = write_project_file(small_survey(n_photos=8, samples=192, size_px=(320, 240)),
+    project = write_project_file(small_survey(n_photos=4, samples=128, size_px=(320, 240)),
                                  tmp_path)
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o",
            str(tmp_path / "out"), "--workers", "1", "--progress", "json"]
@@ -93,4 +93,4 @@ def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
             break
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
-    assert 1 <= len(complete_images(tmp_path / "out" / "images")) < 8
+    assert 1 <= len(complete_images(tmp_path / "out" / "images")) < 4
