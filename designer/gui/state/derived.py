@@ -404,7 +404,7 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     R = np.array([s.R_cam_to_world for s in stations])
     line = np.array([s.line_index for s in stations])
     rc = terrain.raycaster if terrain is not None else None
-    geometry = station_geometry(C, R, line, interior, rc.first_hit if rc else None,
+    geometry = station_geometry(C, R, line, interior, rc.surface_hit if rc else None,
                                 terrain.z_mean_m if terrain is not None else 0.0)
     plan = project.trajectory.flight_plan
     calc = None
@@ -446,7 +446,7 @@ def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
         st = [images.stations[i] for i in k]
         mounts.append(station_geometry(
             np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
-            np.array([s.line_index for s in st]), interior, rc.first_hit if rc else None,
+            np.array([s.line_index for s in st]), interior, rc.surface_hit if rc else None,
             terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
     return with_mount_frusta(platform, mounts), len(images.stations)
 
