@@ -126,9 +126,26 @@ def project_surroundings(project: m.Project, base_dir: Path) -> tuple[Growth, He
     return terrain_growth(project, declared, project_images(project, declared)), declared
 
 
+@dataclass(frozen=True, eq=False)
+class GrownTerrain:
+    """The declared terrain grown for a project's images: how far (``growth``) and the
+    height field the renderer draws (``surroundings``). Growing a procedural terrain
+    computes its hills over the whole grown extent, so a caller that needs it twice
+    for the same images (the window's stations and plan figures) passes this on."""
+
+    growth: Growth
+    surroundings: Surroundings
+
+
+def grown_terrain(project: m.Project, declared: Heightfield | None, images) -> GrownTerrain:
+    """``declared`` grown as far as ``images`` see (:func:`terrain_growth`)."""
+    growth = terrain_growth(project, declared, images)
+    return GrownTerrain(growth, grow_terrain(project, declared, growth))
+
+
 def rendered_terrain(project: m.Project, declared: Heightfield, images) -> Surroundings:
     """The height field the renderer draws: ``declared`` grown as far as ``images`` see."""
-    return grow_terrain(project, declared, terrain_growth(project, declared, images))
+    return grown_terrain(project, declared, images).surroundings
 
 
 #: rays along an image's longer side (and in proportion along the shorter) that measure
@@ -232,12 +249,15 @@ class ImageGround:
                             surroundings_mode(project.scene.terrain))
 
 
-def image_ground(project: m.Project, declared: Heightfield, images) -> ImageGround:
+def image_ground(project: m.Project, declared: Heightfield, images,
+                 grown: GrownTerrain | None = None) -> ImageGround:
     """Grow the declared terrain as the renderer does and measure each image's void
     share: the one function behind ``designer plan`` (text and JSON), the window's plan
-    figures and ``designer check``."""
-    growth = terrain_growth(project, declared, images)
-    rendered = grow_terrain(project, declared, growth).heightfield
+    figures and ``designer check``. ``grown``: the terrain already grown for ``images``
+    (:func:`grown_terrain`), when the caller has it."""
+    if grown is None:
+        grown = grown_terrain(project, declared, images)
+    growth, rendered = grown.growth, grown.surroundings.heightfield
     raycaster = TerrainRaycaster(rendered)
     shares = void_shares(project, images, raycaster, growth.horizon)
     return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth,

@@ -40,6 +40,7 @@ from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
 from designer.survey.raycast import TerrainRaycaster
+from designer.survey.surroundings import GrownTerrain
 
 
 @dataclass(frozen=True, eq=False)
@@ -359,6 +360,9 @@ class StationsResult:
     #: every rendered image's name, in render (frame) order: a rig station gives one per
     #: camera, so these are not the stations' names
     image_names: tuple[str, ...] = ()
+    #: the terrain grown for these images (designer.survey.surroundings.GrownTerrain),
+    #: which the plan figures analyse over: grown once per edit
+    grown: GrownTerrain | None = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -418,16 +422,16 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
         geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
     from designer.survey.project_poses import project_images
     from designer.survey.render_cost import project_image_costs
-    from designer.survey.surroundings import rendered_terrain
+    from designer.survey.surroundings import grown_terrain
 
     images = project_images(project, hf)
     # the render draws the terrain with its surroundings: every pixel that sees them costs
-    costs = tuple(project_image_costs(project, images,
-                                      rendered_terrain(project, hf, images).heightfield))
+    grown = grown_terrain(project, hf, images)
+    costs = tuple(project_image_costs(project, images, grown.surroundings.heightfield))
     seconds = render_estimate_s(project, costs)
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations))
+                          tuple(s.image_name for s in images.stations), grown)
 
 
 def _rig_geometry(project: m.Project, hf, platform: StationGeometry,

@@ -95,7 +95,7 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     images = project_images(project, hf)
     # over the rendered terrain (the declared one and its surroundings), as designer plan:
     # past the declared terrain's edge the images see the surroundings, or void
-    ground = image_ground(project, hf, images)
+    ground = image_ground(project, hf, images, stations_result.grown)
     analysis = analyse_plan(stations, interior, ground.rendered, area,
                             raycaster=ground.raycaster)
     s = analysis.summary()
