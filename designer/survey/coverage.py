@@ -26,7 +26,10 @@ Definitions (decisions):
   are multiplied (exact unless a corner of the other image falls in the triangle),
   so the result is not quantised by the grid: on flat ground it equals the requested
   overlap to rounding. Occlusion is ignored here (it is a footprint overlap); grid
-  triangles with a pixel whose ray misses the terrain are left out.
+  triangles with a pixel whose ray misses the terrain's surface are left out (a ray past
+  the edge of a terrain without surroundings sees void, not the solid ground's side:
+  :meth:`TerrainRaycaster.surface_hit`; analyse over the rendered terrain,
+  :func:`designer.survey.surroundings.image_ground`, for the surroundings).
 * **Coverage count** of a ground-grid node = number of images that see it: inside the
   image and not hidden by terrain (:mod:`designer.survey.visibility`). The shares of the
   area seen by at least 2, 3 and 5 images are over the grid nodes inside the area.
@@ -249,7 +252,8 @@ def analyse_stations(
     uv = np.vstack([np.column_stack([U.ravel(), V.ravel()]), [interior.cx_px, interior.cy_px]])
     rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, interior.rays_cv(uv))
     S = uv.shape[0]
-    ground = raycaster.first_hit(np.repeat(C, S, axis=0), rays.reshape(-1, 3)).reshape(M, S, 3)
+    ground = raycaster.surface_hit(np.repeat(C, S, axis=0),
+                                   rays.reshape(-1, 3)).reshape(M, S, 3)
     depth = np.einsum("msi,mi->ms", ground - C[:, None, :], -R[:, :, 2])
     gsd = depth * _pitch_over_f(interior)
     grid_gsd = gsd[:, :-1]
@@ -258,18 +262,10 @@ def analyse_stations(
         gsd_mean = np.nanmean(grid_gsd, axis=1)
         gsd_min, gsd_max = np.nanmin(grid_gsd, axis=1), np.nanmax(grid_gsd, axis=1)
 
-    # Overlap is a property of the images: where a ray misses the terrain (beyond its
-    # edge) the ground is taken to continue as a plane at the terrain's mean height, so
-    # stations near the edge report the overlap they were planned with.
-    samples = ground[:, :-1].copy()  # (M, k², 3)
-    miss = ~np.all(np.isfinite(samples), axis=2)
-    if miss.any():
-        plane_z = float(np.mean(raycaster.heightfield.heights_m))
-        r = rays[:, :-1][miss]
-        c = np.repeat(C[:, None, :], k * k, axis=1)[miss]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (plane_z - c[:, 2]) / r[:, 2]
-        samples[miss] = np.where((t > 0)[:, None], c + t[:, None] * r, np.nan)
+    # Past the terrain's edge a ray sees what the raycaster's terrain holds there: the
+    # surroundings when it is the rendered terrain (designer.survey.surroundings), else
+    # nothing (void: left out of the overlap, never the side of the solid ground).
+    samples = ground[:, :-1]  # (M, k², 3)
     hit = np.all(np.isfinite(samples), axis=2)
     # neighbours are found by where the images look (an oblique camera looks ahead)
     centre_xy = np.where(np.isfinite(ground[:, -1, :2]), ground[:, -1, :2], C[:, :2])
@@ -404,9 +400,7 @@ class PlanAnalysis:
 
     def median_gsd_m(self) -> float:
         """The flight's GSD (m/px) for its footprint and figures in GSD: the median GSD at
-        the image centres of the stations over the area, as ``summary()`` gives it. Centre
-        rays of stations past the terrain's edges can enter the solid ground through its
-        side far below the surface (:mod:`designer.survey.raycast`), so they are left out;
+        the image centres of the stations over the area, as ``summary()`` gives it;
         without stations over the area, the median of every station's mean GSD (NaN when
         no image sees the terrain)."""
         centre = self.stations.gsd_centre_m[self.station_inside_area]

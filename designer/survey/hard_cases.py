@@ -247,7 +247,7 @@ MIN_FRONT_OVERLAP_PERCENT = 50.0
 
 def network_warnings(project: m.Project, n_images: int, line_indices) -> list[HardCaseWarning]:
     """The image network against what SfM needs: ``n_images`` images taken at platform
-    stations on the flight lines ``line_indices`` (−1: an explicit photo)."""
+    stations on the flight lines ``line_indices`` (negative: lines of explicit photos)."""
     out = []
     if n_images < 3:
         out.append(HardCaseWarning(

@@ -28,7 +28,6 @@ from designer.survey.flight import Station
 from designer.survey.gcp_sightings import project_gcp_visibility
 from designer.survey.hard_cases import aliasing_warning, network_warnings
 from designer.survey.project_poses import platform_stations, project_images, project_stations
-from designer.survey.raycast import TerrainRaycaster
 from designer.survey.render_cost import (
     estimate_render_s,
     format_duration,
@@ -80,7 +79,7 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
     plan = project.trajectory.flight_plan
     area = np.array(plan.area) if plan is not None else _extent_polygon(project)
-    rc = TerrainRaycaster(hf)
+    rc = ground.raycaster
     analysis = analyse_plan(stations, interior, hf, area, cell_m=cell_m, raycaster=rc)
     if targets:
         # every image that sees a GCP counts (each camera of a rig), as in the GUI

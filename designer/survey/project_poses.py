@@ -58,6 +58,66 @@ def planning_camera_id(project: m.Project, camera_or_rig: str) -> str:
     return rig.mounts[tilts.index(min(tilts))].camera
 
 
+#: a photo whose heading, or whose step from the previous photo, turns more than this
+#: from its line's starts a new flight line (degrees)
+LINE_TURN_DEG = 30.0
+#: a step longer than this many times its line's median spacing starts a new line
+LINE_JUMP = 2.0
+
+
+def photo_lines(xy_world: np.ndarray, heading_deg: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Flight lines and grids of photos in flight order, as a surveyor reads a pose list.
+
+    xy_world: (M, 2) perspective centres (m); heading_deg: (M,) image-top azimuths
+    (clockwise from north). Consecutive photos form a line while the heading stays
+    within :data:`LINE_TURN_DEG` of the line's first photo's, each step runs within as
+    much of the line's direction (its first to its latest photo) and is at most
+    :data:`LINE_JUMP` times the line's median step; a turn or a jump starts the next line.
+    A line whose direction (either way) turns more than :data:`LINE_TURN_DEG` from the
+    previous line's starts the next grid (a crosshatch). Returns (M,) line and grid
+    indices, both counting from 0 in flight order.
+    """
+    xy = np.asarray(xy_world, dtype=float).reshape(-1, 2)
+    heading = np.asarray(heading_deg, dtype=float).reshape(-1)
+    M = len(xy)
+    line = np.zeros(M, dtype=int)
+    start = 0
+    for k in range(1, M):
+        step = xy[k] - xy[k - 1]
+        new = _turn_deg(heading[k], heading[start]) > LINE_TURN_DEG
+        if k - start >= 2 and np.hypot(*step) > 0:
+            track = xy[k - 1] - xy[start]
+            spacing = np.median(np.hypot(*np.diff(xy[start:k], axis=0).T))
+            new |= (_turn_deg(_azimuth_deg(step), _azimuth_deg(track)) > LINE_TURN_DEG
+                    or np.hypot(*step) > LINE_JUMP * spacing)
+        if new:
+            start = k
+        line[k] = line[k - 1] + int(new)
+    grid = np.zeros(M, dtype=int)
+    axis = None  # the previous line's direction, modulo 180°
+    for L in range(int(line.max(initial=-1)) + 1):
+        mine = np.flatnonzero(line == L)
+        if len(mine) >= 2:
+            a = _azimuth_deg(xy[mine[-1]] - xy[mine[0]]) % 180.0
+            turned = axis is not None and min(_turn_deg(a, axis),
+                                             _turn_deg(a + 180.0, axis)) > LINE_TURN_DEG
+            axis = a
+        else:
+            turned = False
+        grid[mine] = grid[mine[0] - 1] + int(turned) if mine[0] else 0
+    return line, grid
+
+
+def _azimuth_deg(v: np.ndarray) -> float:
+    return math.degrees(math.atan2(v[0], v[1]))
+
+
+def _turn_deg(a: float, b: float) -> float:
+    """The angle (0–180°) between azimuths ``a`` and ``b``."""
+    return abs((a - b + 180.0) % 360.0 - 180.0)
+
+
 def platform_stations(
     project: m.Project, hf: Heightfield | None
 ) -> tuple[list[Station], list[str]]:
@@ -65,11 +125,20 @@ def platform_stations(
     extension = IMAGE_EXTENSIONS[project.render.output_format]
     stations: list[Station] = []
     carriers = []
-    for k, eo in enumerate(project.trajectory.exterior_orientations):
-        R = rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
-                                                          eo.kappa_deg)))
-        heading = math.degrees(math.atan2(R[0, 1], R[1, 1])) % 360.0
-        stations.append(Station(eo.name, np.array([eo.X, eo.Y, eo.Z]), R, -1 - k, 0, heading))
+    eos = project.trajectory.exterior_orientations
+    rotations = [rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
+                                                               eo.kappa_deg))) for eo in eos]
+    headings = np.array([math.degrees(math.atan2(R[0, 1], R[1, 1])) % 360.0
+                         for R in rotations])
+    lines, grids = photo_lines(np.array([[eo.X, eo.Y] for eo in eos]).reshape(-1, 2),
+                               headings)
+    # numbered below the flight plan's lines and grids (0, 1, …): never their neighbours
+    lines -= 1 + lines.max(initial=-1)
+    grids -= 1 + grids.max(initial=-1)
+    for eo, R, heading, line, grid in zip(eos, rotations, headings, lines, grids,
+                                          strict=True):
+        stations.append(Station(eo.name, np.array([eo.X, eo.Y, eo.Z]), R, int(line),
+                                int(grid), float(heading)))
         carriers.append(eo.camera)
     plan = project.trajectory.flight_plan
     if plan is not None:
@@ -110,11 +179,12 @@ def project_stations(
 ) -> tuple[list[Station], str]:
     """All stations of the project in order (explicit ones first) and their camera id.
 
-    Explicit exterior orientations become stations of their own flight line each (they
-    have no planned neighbours). A station flown with a rig is the platform's pose, with
-    the rig's planning camera (:func:`planning_camera_id`); :func:`project_images` gives
-    its images. Without a rig every station must use the same camera; with one the
-    returned camera is the first station's planning camera.
+    Explicit exterior orientations are grouped into flight lines and grids as they were
+    flown (:func:`photo_lines`), numbered below the flight plan's. A station flown with a
+    rig is the platform's pose, with the rig's planning camera
+    (:func:`planning_camera_id`); :func:`project_images` gives its images. Without a rig
+    every station must use the same camera; with one the returned camera is the first
+    station's planning camera.
     """
     stations, carriers = platform_stations(project, hf)
     camera_ids = [planning_camera_id(project, c) for c in carriers]

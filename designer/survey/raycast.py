@@ -82,6 +82,28 @@ class TerrainRaycaster:
         t = self._march(org, d, np.zeros(n), np.full(n, np.inf), tol_m, 0.0, max_iter)
         return org + t[:, None] * d
 
+    def surface_hit(
+        self, origins_world, directions_world, tol_m: float = 1e-3, max_iter: int = 64
+    ) -> np.ndarray:
+        """First intersection (N, 3) of rays with the terrain's surface, NaN rows for
+        misses: :meth:`first_hit` without the solid ground's sides. A ray from outside the
+        grid's extent that enters a side below the surface (on its way down past the edge,
+        possibly a kilometre below) sees no ground there: what is rendered past the edge
+        is the surroundings or nothing, never the side of the height field."""
+        org, d = _rays(origins_world, directions_world)
+        hit = self.first_hit(org, d, tol_m, max_iter)
+        x0, x1, y0, y1 = self._box
+        eps = 1e-6 * max(1.0, abs(x0), abs(x1), abs(y0), abs(y1))
+        outside = (org[:, 0] < x0) | (org[:, 0] > x1) | (org[:, 1] < y0) | (org[:, 1] > y1)
+        with np.errstate(invalid="ignore"):
+            on_side = ((np.abs(hit[:, 0] - x0) < eps) | (np.abs(hit[:, 0] - x1) < eps)
+                       | (np.abs(hit[:, 1] - y0) < eps) | (np.abs(hit[:, 1] - y1) < eps))
+        side = np.flatnonzero(outside & on_side)
+        if side.size:
+            below = hit[side, 2] < self.height(hit[side, 0], hit[side, 1]) - 1e-6
+            hit[side[below]] = np.nan
+        return hit
+
     def occluded(
         self, points_world, cameras_world, tol_m: float = 0.01, max_iter: int = 256
     ) -> np.ndarray:

@@ -28,6 +28,7 @@ from designer.scene.surroundings import (
     growth_step_m,
     surroundings_mode,
 )
+from designer.survey.raycast import TerrainRaycaster
 
 #: the grid spacing flat ground's margin counts in (m)
 FLAT_MARGIN_SPACING_M = 0.5
@@ -125,9 +126,26 @@ def project_surroundings(project: m.Project, base_dir: Path) -> tuple[Growth, He
     return terrain_growth(project, declared, project_images(project, declared)), declared
 
 
+@dataclass(frozen=True, eq=False)
+class GrownTerrain:
+    """The declared terrain grown for a project's images: how far (``growth``) and the
+    height field the renderer draws (``surroundings``). Growing a procedural terrain
+    computes its hills over the whole grown extent, so a caller that needs it twice
+    for the same images (the window's stations and plan figures) passes this on."""
+
+    growth: Growth
+    surroundings: Surroundings
+
+
+def grown_terrain(project: m.Project, declared: Heightfield | None, images) -> GrownTerrain:
+    """``declared`` grown as far as ``images`` see (:func:`terrain_growth`)."""
+    growth = terrain_growth(project, declared, images)
+    return GrownTerrain(growth, grow_terrain(project, declared, growth))
+
+
 def rendered_terrain(project: m.Project, declared: Heightfield, images) -> Surroundings:
     """The height field the renderer draws: ``declared`` grown as far as ``images`` see."""
-    return grow_terrain(project, declared, terrain_growth(project, declared, images))
+    return grown_terrain(project, declared, images).surroundings
 
 
 #: rays along an image's longer side (and in proportion along the shorter) that measure
@@ -165,20 +183,9 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False
         if far_ground:
             continue
         origins = np.repeat(C, len(uv), axis=0)
-        hit = raycaster.first_hit(origins, rays.reshape(-1, 3))
+        # the rendered surface has no sides: a ray entering one below it sees no ground
+        hit = raycaster.surface_hit(origins, rays.reshape(-1, 3))
         ground = np.all(np.isfinite(hit), axis=1)
-        # the raycaster's ground is solid: a ray from outside the terrain that enters its
-        # side below the surface stops there, but the rendered surface has no sides
-        x0, x1, y0, y1 = raycaster.heightfield.extent_m
-        eps = 1e-6 * max(1.0, abs(x0), abs(x1), abs(y0), abs(y1))
-        outside = ((origins[:, 0] < x0) | (origins[:, 0] > x1)
-                   | (origins[:, 1] < y0) | (origins[:, 1] > y1))
-        on_side = ((np.abs(hit[:, 0] - x0) < eps) | (np.abs(hit[:, 0] - x1) < eps)
-                   | (np.abs(hit[:, 1] - y0) < eps) | (np.abs(hit[:, 1] - y1) < eps))
-        side = ground & outside & on_side
-        if side.any():
-            below = hit[side, 2] < raycaster.height(hit[side, 0], hit[side, 1]) - 1e-6
-            ground[np.flatnonzero(side)[below]] = False
         out[k] = 1.0 - ground.reshape(len(k), len(uv)).mean(axis=1)
     return out
 
@@ -228,28 +235,33 @@ def void_warning(names, shares: np.ndarray, surroundings: str) -> str | None:
 
 @dataclass(frozen=True)
 class ImageGround:
-    """Each image's share of pixels that see no ground, over the rendered terrain."""
+    """Each image's share of pixels that see no ground, over the rendered terrain
+    (``rendered``, with its ray caster)."""
 
     names: tuple[str, ...]
     void_share: np.ndarray
     rendered: Heightfield
     growth: Growth
+    raycaster: TerrainRaycaster
 
     def warning(self, project: m.Project) -> str | None:
         return void_warning(self.names, self.void_share,
                             surroundings_mode(project.scene.terrain))
 
 
-def image_ground(project: m.Project, declared: Heightfield, images) -> ImageGround:
+def image_ground(project: m.Project, declared: Heightfield, images,
+                 grown: GrownTerrain | None = None) -> ImageGround:
     """Grow the declared terrain as the renderer does and measure each image's void
     share: the one function behind ``designer plan`` (text and JSON), the window's plan
-    figures and ``designer check``."""
-    from designer.survey.raycast import TerrainRaycaster
-
-    growth = terrain_growth(project, declared, images)
-    rendered = grow_terrain(project, declared, growth).heightfield
-    shares = void_shares(project, images, TerrainRaycaster(rendered), growth.horizon)
-    return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth)
+    figures and ``designer check``. ``grown``: the terrain already grown for ``images``
+    (:func:`grown_terrain`), when the caller has it."""
+    if grown is None:
+        grown = grown_terrain(project, declared, images)
+    growth, rendered = grown.growth, grown.surroundings.heightfield
+    raycaster = TerrainRaycaster(rendered)
+    shares = void_shares(project, images, raycaster, growth.horizon)
+    return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth,
+                       raycaster)
 
 
 def surroundings_warning(project: m.Project, base_dir: Path) -> str | None:

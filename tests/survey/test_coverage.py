@@ -218,3 +218,34 @@ def test_analysis_of_a_utm_sized_plan_equals_its_local_twin():
     assert summary["gcps_in_fewer_than_3_images"] == 0
     assert summary["gcp_views_min"] >= 3
     assert summary["render_time_s"] is None
+
+
+def test_rays_past_the_edge_see_void_not_the_side_of_the_ground():
+    """A line flown along the terrain's east edge, just outside it: rays that pass the
+    edge going down would enter the solid ground's side tens of metres below the surface;
+    they see void, and each station's GSD and front overlap are those of the ground it
+    does see."""
+    hf = hilly_terrain(relief_m=8.0)  # x, y in 0..400 m, ground 92..108 m
+    strip = area.rectangle(380, 100, 460, 300)
+    plan = plan_flight(strip, phantom4(), altitude_agl_m=60.0, front_overlap_fraction=0.8,
+                       side_overlap_fraction=0.7, heightfield=hf, grid_angle_deg=0.0)
+    rc = TerrainRaycaster(hf)
+    st = coverage.analyse_stations(plan.stations, phantom4(), rc)
+    C = plan.C_world
+    past = C[:, 0] > 400.0
+    assert past.sum() >= 5
+    # a station 10 m out sees the ground beside it at 50–70 m: nothing farther
+    near = past & (C[:, 0] < 430.0)
+    assert near.any()
+    depth_max = C[:, 2] - 92.0
+    nominal = plan.calc.gsd_m / plan.calc.altitude_agl_m
+    assert np.all(st.gsd_max_m[near] <= 1.05 * nominal * depth_max[near]), st.gsd_max_m[near]
+    assert np.all(np.isnan(st.centre_ground_xyz[past]))
+    f = st.front_overlap[near]
+    assert np.isfinite(f).sum() >= 3
+    assert np.nanmin(f) == pytest.approx(0.8, abs=0.03)
+    # the raycaster's solid ground still stops the ray at the side (occlusion needs it)
+    c = np.array([[410.0, 200.0, 160.0]])
+    down = np.array([[-0.05, 0.0, -1.0]])
+    assert rc.first_hit(c, down)[0, 2] < 0.0
+    assert np.isnan(rc.surface_hit(c, down)).all()

@@ -40,6 +40,7 @@ from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
 from designer.survey.raycast import TerrainRaycaster
+from designer.survey.surroundings import GrownTerrain
 from designer.survey.terrain_reach import Reach, terrain_file_reach
 
 
@@ -364,6 +365,9 @@ class StationsResult:
     #: every rendered image's name, in render (frame) order: a rig station gives one per
     #: camera, so these are not the stations' names
     image_names: tuple[str, ...] = ()
+    #: the terrain grown for these images (designer.survey.surroundings.GrownTerrain),
+    #: which the plan figures analyse over: grown once per edit
+    grown: GrownTerrain | None = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -409,7 +413,7 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     R = np.array([s.R_cam_to_world for s in stations])
     line = np.array([s.line_index for s in stations])
     rc = terrain.raycaster if terrain is not None else None
-    geometry = station_geometry(C, R, line, interior, rc.first_hit if rc else None,
+    geometry = station_geometry(C, R, line, interior, rc.surface_hit if rc else None,
                                 terrain.z_mean_m if terrain is not None else 0.0)
     plan = project.trajectory.flight_plan
     calc = None
@@ -423,16 +427,16 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
         geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
     from designer.survey.project_poses import project_images
     from designer.survey.render_cost import project_image_costs
-    from designer.survey.surroundings import rendered_terrain
+    from designer.survey.surroundings import grown_terrain
 
     images = project_images(project, hf)
     # the render draws the terrain with its surroundings: every pixel that sees them costs
-    costs = tuple(project_image_costs(project, images,
-                                      rendered_terrain(project, hf, images).heightfield))
+    grown = grown_terrain(project, hf, images)
+    costs = tuple(project_image_costs(project, images, grown.surroundings.heightfield))
     seconds = render_estimate_s(project, costs)
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations))
+                          tuple(s.image_name for s in images.stations), grown)
 
 
 def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
@@ -451,7 +455,7 @@ def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
         st = [images.stations[i] for i in k]
         mounts.append(station_geometry(
             np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
-            np.array([s.line_index for s in st]), interior, rc.first_hit if rc else None,
+            np.array([s.line_index for s in st]), interior, rc.surface_hit if rc else None,
             terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
     return with_mount_frusta(platform, mounts), len(images.stations)
 

@@ -89,12 +89,20 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
                       [e.min_X, e.max_Y]]))
     gcp_xyz = (targets_result.true_xyz if targets_result is not None
                and len(targets_result.ids) else None)
-    analysis = analyse_plan(stations, interior, hf, area, raycaster=terrain.raycaster)
+    from designer.survey.project_poses import project_images
+    from designer.survey.surroundings import image_ground
+
+    images = project_images(project, hf)
+    # over the rendered terrain (the declared one and its surroundings), as designer plan:
+    # past the declared terrain's edge the images see the surroundings, or void
+    ground = image_ground(project, hf, images, stations_result.grown)
+    analysis = analyse_plan(stations, interior, ground.rendered, area,
+                            raycaster=ground.raycaster)
     s = analysis.summary()
-    st = analysis.stations
+    centre = analysis.stations.centre_ground_xyz
     gsd = analysis.coverage.gsd_mean_m
     gsd = gsd[np.isfinite(gsd)]
-    seen = _rendered_images(project, hf, terrain.raycaster, scale, gcp_xyz)
+    seen = _rendered_images(project, images, ground, terrain.raycaster, gcp_xyz)
     share, names = seen.terrain_share, seen.names
     ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
     gcp_images = np.array([len(k) for k in seen.gcp_image_index], dtype=int)
@@ -108,7 +116,8 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         front_overlap_median=s["front_overlap_median"], front_overlap_p05=s["front_overlap_p05"],
         side_overlap_median=s["side_overlap_median"], side_overlap_p05=s["side_overlap_p05"],
         images_over_area=int(s["stations_over_area"]),
-        images_over_terrain=int(np.count_nonzero(np.isfinite(st.centre_ground_xyz[:, 0]))),
+        # the declared terrain, not its surroundings
+        images_over_terrain=int(np.count_nonzero(hf.contains(centre[:, 0], centre[:, 1]))),
         terrain_share=share, image_names=names, gcp_ids=ids, gcp_images=gcp_images,
         area_seen=dict(analysis.coverage.shares))
     from designer.scene.surroundings import surroundings_mode
@@ -154,18 +163,14 @@ class RenderedImages:
     gcp_uv_px: tuple[np.ndarray, ...]          # per GCP: (n, 2) where, px of that image
 
 
-def _rendered_images(project: m.Project, hf, raycaster, scale: float,
+def _rendered_images(project: m.Project, images, ground, raycaster,
                      gcp_xyz: np.ndarray | None) -> RenderedImages:
-    """Every rendered image with its own pose and lens (a rig's obliques look much
-    further than the station's planning camera, and see other GCPs): how much of it
-    shows the terrain and which GCPs it sees unhidden by the terrain, where."""
+    """Every rendered image (``images``, ``project_images``) with its own pose and lens (a
+    rig's obliques look much further than the station's planning camera, and see other
+    GCPs): how much of it shows the rendered terrain (``ground``, ``image_ground``) and
+    which GCPs it sees unhidden by the terrain (``raycaster``), where."""
     from designer.survey.gcp_sightings import project_gcp_visibility
-    from designer.survey.project_poses import project_images
-    from designer.survey.surroundings import image_ground
 
-    images = project_images(project, hf)
-    # over the rendered terrain (the declared one and its surroundings), as designer plan
-    ground = image_ground(project, hf, images)
     share = 1.0 - ground.void_share
     names = ground.names
     if gcp_xyz is None or not len(gcp_xyz):

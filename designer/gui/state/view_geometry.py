@@ -201,7 +201,7 @@ def station_geometry(
     """Frusta, footprints and flight lines of N stations.
 
     ``first_hit(origins, directions) -> (K, 3)`` finds where rays meet the terrain (NaN
-    for a miss, e.g. :meth:`TerrainRaycaster.first_hit`); rays that miss fall back to the
+    for a miss, e.g. :meth:`TerrainRaycaster.surface_hit`); rays that miss fall back to the
     plane Z = ``ground_z_m``; a footprint with a corner above the horizon is left out.
     """
     C = np.asarray(C_world, dtype=float).reshape(-1, 3)
