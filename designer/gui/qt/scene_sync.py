@@ -427,6 +427,16 @@ class SceneSync(QObject):
         return [f"{w.message}; {w.fix}"
                 for w in reach_warnings(self.document.project, reach)]
 
+    def hard_case_warnings(self) -> list[str]:
+        """The cases that degrade results (``designer check``'s hard cases: lenses near
+        their fold, nearly collinear control, the texture against the GSD, thin networks),
+        each with its fix; over the targets drawn and the flight's analysis, so asking
+        after every edit costs well under a millisecond
+        (designer.gui.state.hard_cases)."""
+        from designer.gui.state.hard_cases import hard_case_lines
+
+        return hard_case_lines(self.document.project, self.terrain, self.targets, self.plan)
+
     # ------------------------------------------------------------------ plan figures
     def refresh_plan(self) -> None:
         """Analyse the flight over the real terrain (as designer plan does), in a thread."""

@@ -335,6 +335,8 @@ class TargetsResult:
     roles: list[str]
     true_xyz: np.ndarray
     plates: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+    #: (N, 3) where the survey puts them (true plus the survey's errors), metres
+    surveyed_xyz: np.ndarray
 
 
 def compute_targets(project: m.Project, hf: Heightfield | None) -> TargetsResult:
@@ -342,7 +344,8 @@ def compute_targets(project: m.Project, hf: Heightfield | None) -> TargetsResult
     return TargetsResult(
         [b.target.id for b in built], [b.target.role for b in built],
         np.array([b.true_xyz for b in built]).reshape(-1, 3),
-        [(b.vertices_world, b.faces, b.colors) for b in built])
+        [(b.vertices_world, b.faces, b.colors) for b in built],
+        np.array([b.surveyed_xyz for b in built]).reshape(-1, 3))
 
 
 @dataclass(frozen=True, eq=False)

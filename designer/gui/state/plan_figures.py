@@ -49,6 +49,10 @@ class PlanFigures:
     #: of a rig) and where (px of that image, projected with its own pose and camera)
     gcp_image_index: tuple[np.ndarray, ...] = ()
     gcp_uv_px: tuple[np.ndarray, ...] = ()
+    #: the finest GSD (m/px) of any rendered image, sampled as ``designer check`` does
+    #: (designer.survey.hard_cases.finest_gsd_m): the texture's texel is weighed
+    #: against it as it is edited
+    finest_gsd_m: float = float("nan")
 
     def observations(self, image: int) -> list[tuple[str, float, float]]:
         """(GCP id, u, v) of the GCPs rendered image ``image`` (an index into
@@ -94,7 +98,11 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     st = analysis.stations
     gsd = analysis.coverage.gsd_mean_m
     gsd = gsd[np.isfinite(gsd)]
-    seen = _rendered_images(project, hf, terrain.raycaster, scale, gcp_xyz)
+    from designer.survey.hard_cases import finest_gsd_m, network_warnings
+    from designer.survey.project_poses import project_images
+
+    images = project_images(project, hf)
+    seen = _rendered_images(project, hf, images, terrain.raycaster, gcp_xyz)
     share, names = seen.terrain_share, seen.names
     ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
     gcp_images = np.array([len(k) for k in seen.gcp_image_index], dtype=int)
@@ -115,9 +123,15 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
 
     warn = _warnings({**figures, "surroundings": surroundings_mode(project.scene.terrain)},
                      plan)
+    # the network against what SfM needs, as designer check says it (in the window's words)
+    warn += [f"{w.message}; {w.panel_fix or w.fix}" for w in network_warnings(
+        project, len(images.stations),
+        [images.platform[k].line_index for k in images.station_index])]
     warn += _gcp_warnings(ids, gcp_images)
+    finest = finest_gsd_m(project, hf, images) if len(images.stations) else float("nan")
     return PlanFigures(**figures, warnings=tuple(warn),
-                       gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px)
+                       gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px,
+                       finest_gsd_m=finest)
 
 
 def with_targets(figures: PlanFigures, project: m.Project, terrain, targets_result
@@ -154,16 +168,15 @@ class RenderedImages:
     gcp_uv_px: tuple[np.ndarray, ...]          # per GCP: (n, 2) where, px of that image
 
 
-def _rendered_images(project: m.Project, hf, raycaster, scale: float,
+def _rendered_images(project: m.Project, hf, images, raycaster,
                      gcp_xyz: np.ndarray | None) -> RenderedImages:
-    """Every rendered image with its own pose and lens (a rig's obliques look much
-    further than the station's planning camera, and see other GCPs): how much of it
-    shows the terrain and which GCPs it sees unhidden by the terrain, where."""
+    """Every rendered image (``images``: designer.survey.project_poses.project_images)
+    with its own pose and lens (a rig's obliques look much further than the station's
+    planning camera, and see other GCPs): how much of it shows the terrain and which GCPs
+    it sees unhidden by the terrain, where."""
     from designer.survey.gcp_sightings import project_gcp_visibility
-    from designer.survey.project_poses import project_images
     from designer.survey.surroundings import image_ground
 
-    images = project_images(project, hf)
     # over the rendered terrain (the declared one and its surroundings), as designer plan
     ground = image_ground(project, hf, images)
     share = 1.0 - ground.void_share
