@@ -23,6 +23,7 @@ from designer.gui.state.view_geometry import (
     TerrainDisplay,
     grid_faces,
     station_geometry,
+    surroundings_display,
     terrain_display,
     vertex_normals,
     with_mount_frusta,
@@ -367,6 +368,9 @@ class StationsResult:
     #: every rendered image's name, in render (frame) order: a rig station gives one per
     #: camera, so these are not the stations' names
     image_names: tuple[str, ...] = ()
+    #: the ground the renders include beyond the terrain's extent, as drawn (a coarse
+    #: ring, :func:`designer.gui.state.view_geometry.surroundings_display`); None: none
+    surroundings: TerrainDisplay | None = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -397,9 +401,12 @@ def rendered_gsd_m(gsd_m: float, interior: InteriorOrientation,
 
 
 def compute_stations(project: m.Project, terrain: TerrainResult | None) -> StationsResult:
-    """Stations of the flight plan and explicit photos, drawn over the terrain."""
+    """Stations of the flight plan and explicit photos, drawn over the terrain and the
+    surroundings the renders include (footprints lie on both)."""
     from designer.project.interiors import interior_from_camera
-    from designer.survey.project_poses import project_stations
+    from designer.survey.project_poses import project_images, project_stations
+    from designer.survey.render_cost import project_image_costs
+    from designer.survey.surroundings import rendered_terrain
 
     hf = terrain.heightfield if terrain is not None else None
     stations, camera_id = project_stations(project, hf)
@@ -408,12 +415,16 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     except KeyError:
         raise DesignerError(f"the stations use camera '{camera_id}', which is not defined; "
                             "choose a camera in the Flight panel") from None
+    images = project_images(project, hf)
+    rendered = rendered_terrain(project, hf, images).heightfield
+    grown = hf is not None and rendered is not hf
+    rc = terrain.raycaster if terrain is not None else None
+    first_hit = _ground_hit(rc, _coarse(rendered)) if grown else rc.first_hit if rc else None
+    ground = (first_hit, terrain.z_mean_m if terrain is not None else 0.0)
     C = np.array([s.C_world for s in stations])
     R = np.array([s.R_cam_to_world for s in stations])
     line = np.array([s.line_index for s in stations])
-    rc = terrain.raycaster if terrain is not None else None
-    geometry = station_geometry(C, R, line, interior, rc.first_hit if rc else None,
-                                terrain.z_mean_m if terrain is not None else 0.0)
+    geometry = station_geometry(C, R, line, interior, *ground)
     plan = project.trajectory.flight_plan
     calc = None
     if plan is not None:
@@ -423,30 +434,55 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
                            orientation=plan.orientation)
     n_images = len(stations)
     if project.trajectory.rigs:
-        geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
-    from designer.survey.project_poses import project_images
-    from designer.survey.render_cost import project_image_costs
-    from designer.survey.surroundings import rendered_terrain
-
-    images = project_images(project, hf)
+        geometry, n_images = _rig_geometry(project, images, geometry, *ground)
     # the render draws the terrain with its surroundings: every pixel that sees them costs
-    costs = tuple(project_image_costs(project, images,
-                                      rendered_terrain(project, hf, images).heightfield))
+    costs = tuple(project_image_costs(project, images, rendered))
     seconds = render_estimate_s(project, costs)
+    ring = surroundings_display(rendered, hf.extent_m) if grown else None
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations))
+                          tuple(s.image_name for s in images.stations), ring)
 
 
-def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
-                  terrain: TerrainResult | None) -> tuple[StationGeometry, int]:
-    """Frusta and footprints of every mount of the rigs flown, and the image count of all
-    cameras."""
+#: the surroundings the footprints are cast on keep at most this many nodes per side
+#: (they are pictures; the ring drawn is coarser still)
+MAX_FOOTPRINT_SURROUNDING_NODES = 256
+
+
+def _coarse(hf: Heightfield) -> TerrainRaycaster:
+    """A ray caster over every k-th node of ``hf`` (at most
+    :data:`MAX_FOOTPRINT_SURROUNDING_NODES` per side, the last row and column kept)."""
+    ny, nx = hf.heights_m.shape
+    k = max(1, math.ceil((max(nx, ny) - 1) / (MAX_FOOTPRINT_SURROUNDING_NODES - 1)))
+    rows, cols = range(0, ny + k - 1, k), range(0, nx + k - 1, k)
+    z = hf.heights_m[np.ix_([min(i, ny - 1) for i in rows], [min(j, nx - 1) for j in cols])]
+    return TerrainRaycaster(Heightfield(hf.x0_m, hf.y0_m, hf.dx_m * k, hf.dy_m * k, z))
+
+
+def _ground_hit(declared: TerrainRaycaster, around: TerrainRaycaster):
+    """``first_hit`` on the declared terrain's top surface, and for rays that miss it (or
+    meet only the side of its block) on the surroundings ``around``: footprints on the
+    ground the renders include."""
+    hf = declared.heightfield
+
+    def first_hit(origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
+        hit = declared.first_hit(origins, directions)
+        with np.errstate(invalid="ignore"):
+            top = np.abs(hit[:, 2] - hf.height_at(hit[:, 0], hit[:, 1])) <= 0.05
+        if not top.all():
+            o = np.broadcast_to(origins, hit.shape)[~top]
+            hit[~top] = around.first_hit(o, np.asarray(directions)[~top])
+        return hit
+
+    return first_hit
+
+
+def _rig_geometry(project: m.Project, images, platform: StationGeometry, first_hit,
+                  z_mean_m: float) -> tuple[StationGeometry, int]:
+    """Frusta and footprints of every mount of the rigs flown (``images``: the project's
+    images; footprints on ``first_hit``'s ground), and the image count of all cameras."""
     from designer.project.interiors import interior_from_camera
-    from designer.survey.project_poses import project_images
 
-    images = project_images(project, hf)
-    rc = terrain.raycaster if terrain is not None else None
     mounts = []
     for camera_id in images.camera_order():
         k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
@@ -454,8 +490,8 @@ def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
         st = [images.stations[i] for i in k]
         mounts.append(station_geometry(
             np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
-            np.array([s.line_index for s in st]), interior, rc.first_hit if rc else None,
-            terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
+            np.array([s.line_index for s in st]), interior, first_hit, z_mean_m,
+            glyph_m=platform.glyph_m))
     return with_mount_frusta(platform, mounts), len(images.stations)
 
 
