@@ -83,10 +83,13 @@ class Issue:
 CODES = {
     "range": "a declared attribute outside its range (``value``, ``limits``)",
     "choice": "a declared attribute that is none of its choices (``value``, ``choices``)",
-    "type": "a value that is not of its schema type, e.g. not a number (``value``: the "
-            "text as written)",
+    "type": "a value that is not of its schema type, e.g. not a number, not true or false "
+            "(``value``: the text as written)",
     "pattern": "a text value that does not match its schema pattern, e.g. an id that is "
                "not a name (``value``: the text as written)",
+    "missing-attribute": "a required attribute (``attr``) is not written",
+    "unknown-attribute": "an attribute (``attr``) the element does not take (``choices``: "
+                         "the attributes it takes)",
     "needs-time-line": "the element (``tag``) needs the flight's <time-line>, which the "
                        "trajectory lacks",
     "no-photos": "the trajectory has neither photos nor a flight plan",

@@ -111,19 +111,29 @@ def translate_xsd_error(entry, root: etree._Element, smap: SourceMap,
     parent = _parent_name(instance)
     line, column = smap.position(entry.line or 1, tag, attr)
     text = _sentence(info, tag, attr, rest, parent, instance)
-    return Problem(f"<{tag}>: {text}", line, column, _value_issue(tag, attr, rest, parent, text))
+    return Problem(f"<{tag}>: {text}", line, column,
+                   _value_issue(tag, attr, rest, parent, text, info))
 
 
 _BOUNDS = {"minInclusive": 0, "minExclusive": 0, "maxInclusive": 1, "maxExclusive": 1}
 
 
 def _value_issue(tag: str, attr: str | None, rest: str, parent: str | None,
-                 text: str) -> Issue | None:
+                 text: str, info: SchemaInfo) -> Issue | None:
     """The structured fields of a schema error about one value: code "range" (the value
     and the facet's limit), "choice" (the value and the allowed values), "type" (the
-    text as written, not of the value's type: not a number, a fraction for a count) or
-    "pattern" (the text as written, e.g. an id that is not a name); None for any other
-    schema error."""
+    text as written, not of the value's type: not a number, a fraction for a count, not
+    true or false), "pattern" (the text as written, e.g. an id that is not a name),
+    "missing-attribute" (``attr``: the one missing) or "unknown-attribute" (``attr``: the
+    one written, ``choices``: the element's attributes); None for any other schema
+    error."""
+    m = re.match(r"The attribute '([^']+)' is required but missing", rest)
+    if m is not None:
+        return Issue(None, tag, text, attr=m.group(1), code="missing-attribute",
+                     parent=parent)
+    if attr is not None and re.match(r"The attribute '([^']+)' is not allowed", rest):
+        return Issue(None, tag, text, attr=attr, code="unknown-attribute", value=attr,
+                     choices=tuple(info.attributes.get((parent, tag), ())), parent=parent)
     m = re.match(r"'(.*)' is not a valid value of the (?:local )?atomic type", rest, re.S)
     if m is not None:
         return Issue(None, tag, text, attr=attr, code="type", value=m.group(1),

@@ -43,6 +43,9 @@ class HardCaseWarning:
     element: str  #: the element at fault, e.g. "targets"
     message: str  #: what goes wrong, with its size
     fix: str
+    #: the fix in the window's words (its panels and fields), where ``fix`` names the
+    #: file's elements and attributes; None: ``fix`` reads the same in both
+    panel_fix: str | None = None
 
     def line(self, path: Path | str) -> str:
         """``warning: PATH: <element>: message; fix`` (one line)."""
@@ -93,17 +96,22 @@ def control_warning(targets) -> HardCaseWarning | None:
     """The warning for nearly collinear control (``targets``: designer.scene.build's
     BuiltTarget, their surveyed coordinates)."""
     control = [t for t in targets if t.target.role == "control"]
-    if len(control) < 3:
+    return collinear_control_warning([t.target.id for t in control],
+                                     [t.surveyed_xyz for t in control])
+
+
+def collinear_control_warning(ids, surveyed_xyz_m) -> HardCaseWarning | None:
+    """The warning for nearly collinear control: the control GCPs ``ids`` surveyed at
+    ``surveyed_xyz_m`` (N, 3), metres; None below 3 of them or when they spread enough."""
+    if len(ids) < 3:
         return None
-    xyz = np.array([t.surveyed_xyz for t in control])
-    s = point_spread(xyz)
+    s = point_spread(np.asarray(surveyed_xyz_m, dtype=np.float64))
     if s.condition <= COLLINEAR_WARN_CONDITION:
         return None
-    ids = ", ".join(t.target.id for t in control)
     return HardCaseWarning(
         "targets",
-        f"the {len(control)} control GCPs ({ids}) are nearly collinear: they span a strip "
-        f"{s.width_m:.3g} m wide and {s.length_m:.1f} m long (condition number "
+        f"the {len(ids)} control GCPs ({', '.join(ids)}) are nearly collinear: they span a "
+        f"strip {s.width_m:.3g} m wide and {s.length_m:.1f} m long (condition number "
         f"{s.condition:.3g}); the rotation about that line is fixed only by the strip's "
         f"width, so errors grow with the distance from it",
         "move or add control GCPs off the line, at least a tenth of its length away")
@@ -253,7 +261,8 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
         out.append(HardCaseWarning(
             "trajectory", f"{n_images} image{'s' if n_images != 1 else ''}: structure from "
             "motion needs at least 3 overlapping images (designer reconstruct refuses fewer)",
-            "add photos, or fly a <flight-plan> over the area"))
+            "add photos, or fly a <flight-plan> over the area",
+            "add photos, or draw a flight area in the Flight panel"))
     lines = {int(k) for k in line_indices}
     if n_images >= 3 and len(lines) == 1 and min(lines) >= 0:
         out.append(HardCaseWarning(
@@ -261,14 +270,17 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
             "the block rests on one strip and control along it is nearly collinear (its roll "
             "about the line is weakly determined)",
             "fly a second line (widen the area or raise side-overlap-percent), or place "
-            "control on both sides of the line"))
+            "control on both sides of the line",
+            "fly a second line (widen the area or raise the side overlap in the Flight "
+            "panel), or place control on both sides of the line"))
     plan = project.trajectory.flight_plan
     if plan is not None and plan.front_overlap_percent < MIN_FRONT_OVERLAP_PERCENT:
         out.append(HardCaseWarning(
             "flight-plan", f"front overlap {plan.front_overlap_percent:g} %: consecutive "
             "images share less than half their footprint, so few ground points are seen by "
             "the 3 images a tie point needs",
-            "raise front-overlap-percent to 60 or more"))
+            "raise front-overlap-percent to 60 or more",
+            "raise the front overlap in the Flight panel to 60 % or more"))
     return out
 
 

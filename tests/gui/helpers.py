@@ -356,3 +356,21 @@ def render_blank_frames(qtbot, window, monkeypatch, tmp_path, frames: list[dict]
     qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=60000)
     return panel
+
+
+def choose_entry(qtbot, window, box, text: str) -> None:
+    """Open the combo box ``box`` with the mouse and click the entry ``text`` in its list."""
+    from PySide6.QtWidgets import QApplication
+
+    QTest.mouseClick(window.windowHandle(), Qt.MouseButton.LeftButton,
+                     Qt.KeyboardModifier.NoModifier, box.mapTo(window, box.rect().center()))
+    view = box.view()
+    qtbot.waitUntil(view.isVisible)
+    # the list ignores a release within a double-click interval of its opening (the
+    # release of the click that opened it)
+    qtbot.wait(QApplication.doubleClickInterval() + 50)
+    texts = [box.itemText(i) for i in range(box.count())]
+    index = box.model().index(texts.index(text), 0)
+    qtbot.mouseClick(view.viewport(), Qt.MouseButton.LeftButton,
+                     pos=view.visualRect(index).center())
+    qtbot.waitUntil(lambda: not view.isVisible())

@@ -8,7 +8,8 @@ coverage; texture → texture image (1–2 s for a procedural one) and the displ
 lighting → the light on the drawn terrain and objects, the cloud shadows drawn over it;
 objects → the placed meshes, the buildings and the plants (also rebuilt on the new
 terrain);
-cameras / trajectory / render → stations (frusta, footprints, flight lines, figures).
+cameras / trajectory / render → stations (frusta, footprints, flight lines, figures) and
+the surroundings the renders include (planned from the images).
 
 Panels read the latest results (``terrain``, ``stations``, ``texture_rgb``) and listen to
 the ``*_changed`` signals; errors arrive as messages (a half-typed flight plan is not an
@@ -402,6 +403,9 @@ class SceneSync(QObject):
         self._clear("stations")
         self.stations = result
         self.view.show_stations(result.geometry)
+        ring = result.surroundings
+        self.view.show_surroundings(*((ring.points_world, ring.faces) if ring is not None
+                                      else (None, None)))
         if len(result.C_world) and not self.view.in_view(result.C_world).any():
             # an edit moved every camera out of sight: show them with the terrain
             self.view.frame_all(result.C_world)
@@ -413,6 +417,7 @@ class SceneSync(QObject):
     def _stations_failed(self, error: BaseException) -> None:
         self.stations = None
         self.view.show_stations(None)
+        self.view.show_surroundings(None, None)  # planned from the images: none without
         self.errors["stations"] = _message(error)
         self.stations_changed.emit()
         self.refresh_plan()
@@ -426,6 +431,16 @@ class SceneSync(QObject):
         reach = self.terrain.reach if self.terrain is not None else None
         return [f"{w.message}; {w.fix}"
                 for w in reach_warnings(self.document.project, reach)]
+
+    def hard_case_warnings(self) -> list[str]:
+        """The cases that degrade results (``designer check``'s hard cases: lenses near
+        their fold, nearly collinear control, the texture against the GSD, thin networks),
+        each with its fix; over the targets drawn and the flight's analysis, so asking
+        after every edit costs well under a millisecond
+        (designer.gui.state.hard_cases)."""
+        from designer.gui.state.hard_cases import hard_case_lines
+
+        return hard_case_lines(self.document.project, self.terrain, self.targets, self.plan)
 
     # ------------------------------------------------------------------ plan figures
     def refresh_plan(self) -> None:

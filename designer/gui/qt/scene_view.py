@@ -5,9 +5,9 @@ arrays (world coordinates) per layer and it maps layer names to VTK actors, upda
 an existing actor's data in place where it can. World coordinates are shifted by a
 display offset (the terrain's centre) before they reach VTK, which renders in float32.
 
-Layers: ``terrain``, ``objects``, ``targets`` (markers, checker plates, labels), ``frusta``,
-``footprints``, ``flight``, ``area``, ``coverage``, ``cloud``, plus the interaction
-overlays of :mod:`designer.gui.qt.interaction`.
+Layers: ``terrain``, ``surroundings``, ``objects``, ``targets`` (markers, checker plates,
+labels), ``frusta``, ``footprints``, ``flight``, ``area``, ``coverage``, ``cloud``, plus
+the interaction overlays of :mod:`designer.gui.qt.interaction`.
 """
 
 from __future__ import annotations
@@ -32,6 +32,9 @@ LAYER_STYLE = {
 #: largest texture side sent to the GPU (px); the full image stays in the model's hands
 MAX_DISPLAY_TEXTURE_PX = 2048
 TERRAIN_COLOUR = (0.55, 0.6, 0.45)
+#: the ground beyond the terrain's extent that renders include: lighter and plain, so the
+#: terrain (the area of interest) stands out from it
+SURROUNDINGS_COLOUR = (0.72, 0.75, 0.66)
 OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
 #: the buildings' facades and roofs (about the mean colour of their textures)
 FACADE_COLOUR, ROOF_COLOUR = (0.80, 0.72, 0.60), (0.58, 0.27, 0.17)
@@ -216,6 +219,19 @@ class SceneView(OverlayLayers, QWidget):
         self.set_terrain_irradiance(irradiance)
         if first:
             self.reset_view()
+
+    def show_surroundings(self, points_world: np.ndarray | None,
+                          faces: np.ndarray | None) -> None:
+        """The ground the renders include beyond the terrain (a coarse triangle ring,
+        world m), in one plain colour lit by the view's lights; None: none."""
+        if points_world is None or faces is None or not len(faces):
+            self.remove_layer("surroundings")
+            self.request_render()
+            return
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = self._pv.PolyData(self.local(points_world),
+                                 np.column_stack([np.full(len(f), 3), f]).ravel())
+        self._show("surroundings", mesh, color=SURROUNDINGS_COLOUR, smooth_shading=False)
 
     def set_terrain_irradiance(self, irradiance: np.ndarray | None) -> None:
         """Shade the terrain by a light value per vertex (None: the view's own lights).

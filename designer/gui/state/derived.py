@@ -23,6 +23,7 @@ from designer.gui.state.view_geometry import (
     TerrainDisplay,
     grid_faces,
     station_geometry,
+    surroundings_display,
     terrain_display,
     vertex_normals,
     with_mount_frusta,
@@ -336,6 +337,8 @@ class TargetsResult:
     roles: list[str]
     true_xyz: np.ndarray
     plates: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+    #: (N, 3) where the survey puts them (true plus the survey's errors), metres
+    surveyed_xyz: np.ndarray
 
 
 def compute_targets(project: m.Project, hf: Heightfield | None) -> TargetsResult:
@@ -343,7 +346,8 @@ def compute_targets(project: m.Project, hf: Heightfield | None) -> TargetsResult
     return TargetsResult(
         [b.target.id for b in built], [b.target.role for b in built],
         np.array([b.true_xyz for b in built]).reshape(-1, 3),
-        [(b.vertices_world, b.faces, b.colors) for b in built])
+        [(b.vertices_world, b.faces, b.colors) for b in built],
+        np.array([b.surveyed_xyz for b in built]).reshape(-1, 3))
 
 
 @dataclass(frozen=True, eq=False)
@@ -368,6 +372,9 @@ class StationsResult:
     #: the terrain grown for these images (designer.survey.surroundings.GrownTerrain),
     #: which the plan figures analyse over: grown once per edit
     grown: GrownTerrain | None = None
+    #: the ground the renders include beyond the terrain's extent, as drawn (a coarse
+    #: ring, :func:`designer.gui.state.view_geometry.surroundings_display`); None: none
+    surroundings: TerrainDisplay | None = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -398,9 +405,12 @@ def rendered_gsd_m(gsd_m: float, interior: InteriorOrientation,
 
 
 def compute_stations(project: m.Project, terrain: TerrainResult | None) -> StationsResult:
-    """Stations of the flight plan and explicit photos, drawn over the terrain."""
+    """Stations of the flight plan and explicit photos, drawn over the terrain and the
+    surroundings the renders include (footprints lie on both)."""
     from designer.project.interiors import interior_from_camera
-    from designer.survey.project_poses import project_stations
+    from designer.survey.project_poses import project_images, project_stations
+    from designer.survey.render_cost import project_image_costs
+    from designer.survey.surroundings import grown_terrain
 
     hf = terrain.heightfield if terrain is not None else None
     stations, camera_id = project_stations(project, hf)
@@ -409,12 +419,19 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     except KeyError:
         raise DesignerError(f"the stations use camera '{camera_id}', which is not defined; "
                             "choose a camera in the Flight panel") from None
+    images = project_images(project, hf)
+    # grown once per edit: the plan figures analyse over the same grown terrain
+    grown = grown_terrain(project, hf, images)
+    rendered = grown.surroundings.heightfield
+    surrounded = hf is not None and rendered is not hf
+    rc = terrain.raycaster if terrain is not None else None
+    first_hit = (_ground_hit(rc, _coarse(rendered)) if surrounded
+                 else rc.surface_hit if rc else None)
+    ground = (first_hit, terrain.z_mean_m if terrain is not None else 0.0)
     C = np.array([s.C_world for s in stations])
     R = np.array([s.R_cam_to_world for s in stations])
     line = np.array([s.line_index for s in stations])
-    rc = terrain.raycaster if terrain is not None else None
-    geometry = station_geometry(C, R, line, interior, rc.surface_hit if rc else None,
-                                terrain.z_mean_m if terrain is not None else 0.0)
+    geometry = station_geometry(C, R, line, interior, *ground)
     plan = project.trajectory.flight_plan
     calc = None
     if plan is not None:
@@ -424,30 +441,55 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
                            orientation=plan.orientation)
     n_images = len(stations)
     if project.trajectory.rigs:
-        geometry, n_images = _rig_geometry(project, hf, geometry, terrain)
-    from designer.survey.project_poses import project_images
-    from designer.survey.render_cost import project_image_costs
-    from designer.survey.surroundings import grown_terrain
-
-    images = project_images(project, hf)
+        geometry, n_images = _rig_geometry(project, images, geometry, *ground)
     # the render draws the terrain with its surroundings: every pixel that sees them costs
-    grown = grown_terrain(project, hf, images)
-    costs = tuple(project_image_costs(project, images, grown.surroundings.heightfield))
+    costs = tuple(project_image_costs(project, images, rendered))
     seconds = render_estimate_s(project, costs)
+    ring = surroundings_display(rendered, hf.extent_m) if surrounded else None
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations), grown)
+                          tuple(s.image_name for s in images.stations), grown, ring)
 
 
-def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
-                  terrain: TerrainResult | None) -> tuple[StationGeometry, int]:
-    """Frusta and footprints of every mount of the rigs flown, and the image count of all
-    cameras."""
+#: the surroundings the footprints are cast on keep at most this many nodes per side
+#: (they are pictures; the ring drawn is coarser still)
+MAX_FOOTPRINT_SURROUNDING_NODES = 256
+
+
+def _coarse(hf: Heightfield) -> TerrainRaycaster:
+    """A ray caster over every k-th node of ``hf`` (at most
+    :data:`MAX_FOOTPRINT_SURROUNDING_NODES` per side, the last row and column kept)."""
+    ny, nx = hf.heights_m.shape
+    k = max(1, math.ceil((max(nx, ny) - 1) / (MAX_FOOTPRINT_SURROUNDING_NODES - 1)))
+    rows, cols = range(0, ny + k - 1, k), range(0, nx + k - 1, k)
+    z = hf.heights_m[np.ix_([min(i, ny - 1) for i in rows], [min(j, nx - 1) for j in cols])]
+    return TerrainRaycaster(Heightfield(hf.x0_m, hf.y0_m, hf.dx_m * k, hf.dy_m * k, z))
+
+
+def _ground_hit(declared: TerrainRaycaster, around: TerrainRaycaster):
+    """``first_hit`` on the declared terrain's top surface, and for rays that miss it (or
+    meet only the side of its block) on the surroundings ``around``: footprints on the
+    ground the renders include."""
+    hf = declared.heightfield
+
+    def first_hit(origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
+        hit = declared.first_hit(origins, directions)
+        with np.errstate(invalid="ignore"):
+            top = np.abs(hit[:, 2] - hf.height_at(hit[:, 0], hit[:, 1])) <= 0.05
+        if not top.all():
+            o = np.broadcast_to(origins, hit.shape)[~top]
+            hit[~top] = around.first_hit(o, np.asarray(directions)[~top])
+        return hit
+
+    return first_hit
+
+
+def _rig_geometry(project: m.Project, images, platform: StationGeometry, first_hit,
+                  z_mean_m: float) -> tuple[StationGeometry, int]:
+    """Frusta and footprints of every mount of the rigs flown (``images``: the project's
+    images; footprints on ``first_hit``'s ground), and the image count of all cameras."""
     from designer.project.interiors import interior_from_camera
-    from designer.survey.project_poses import project_images
 
-    images = project_images(project, hf)
-    rc = terrain.raycaster if terrain is not None else None
     mounts = []
     for camera_id in images.camera_order():
         k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
@@ -455,8 +497,8 @@ def _rig_geometry(project: m.Project, hf, platform: StationGeometry,
         st = [images.stations[i] for i in k]
         mounts.append(station_geometry(
             np.array([s.C_world for s in st]), np.array([s.R_cam_to_world for s in st]),
-            np.array([s.line_index for s in st]), interior, rc.surface_hit if rc else None,
-            terrain.z_mean_m if terrain is not None else 0.0, glyph_m=platform.glyph_m))
+            np.array([s.line_index for s in st]), interior, first_hit, z_mean_m,
+            glyph_m=platform.glyph_m))
     return with_mount_frusta(platform, mounts), len(images.stations)
 
 

@@ -49,6 +49,10 @@ class PlanFigures:
     #: of a rig) and where (px of that image, projected with its own pose and camera)
     gcp_image_index: tuple[np.ndarray, ...] = ()
     gcp_uv_px: tuple[np.ndarray, ...] = ()
+    #: the finest GSD (m/px) of any rendered image, sampled as ``designer check`` does
+    #: (designer.survey.hard_cases.finest_gsd_m): the texture's texel is weighed
+    #: against it as it is edited
+    finest_gsd_m: float = float("nan")
 
     def observations(self, image: int) -> list[tuple[str, float, float]]:
         """(GCP id, u, v) of the GCPs rendered image ``image`` (an index into
@@ -102,6 +106,8 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     centre = analysis.stations.centre_ground_xyz
     gsd = analysis.coverage.gsd_mean_m
     gsd = gsd[np.isfinite(gsd)]
+    from designer.survey.hard_cases import finest_gsd_m, network_warnings
+
     seen = _rendered_images(project, images, ground, terrain.raycaster, gcp_xyz)
     share, names = seen.terrain_share, seen.names
     ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
@@ -124,9 +130,15 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
 
     warn = _warnings({**figures, "surroundings": surroundings_mode(project.scene.terrain)},
                      plan)
+    # the network against what SfM needs, as designer check says it (in the window's words)
+    warn += [f"{w.message}; {w.panel_fix or w.fix}" for w in network_warnings(
+        project, len(images.stations),
+        [images.platform[k].line_index for k in images.station_index])]
     warn += _gcp_warnings(ids, gcp_images)
+    finest = finest_gsd_m(project, hf, images) if len(images.stations) else float("nan")
     return PlanFigures(**figures, warnings=tuple(warn),
-                       gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px)
+                       gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px,
+                       finest_gsd_m=finest)
 
 
 def with_targets(figures: PlanFigures, project: m.Project, terrain, targets_result

@@ -107,6 +107,42 @@ def grid_faces(ny: int, nx: int) -> np.ndarray:
     return faces
 
 
+#: the drawn surroundings keep at most this many nodes per side (a plain, coarse ring)
+MAX_SURROUNDING_DISPLAY_NODES = 64
+
+
+def _axis_nodes(g0: float, lo: float, hi: float, g1: float, step: float) -> np.ndarray:
+    """Nodes from g0 to g1 at most ``step`` apart, with ``lo`` and ``hi`` (the terrain's
+    edges) among them, so the ring's inner edge is the terrain's."""
+    parts = [np.linspace(a, b, max(1, math.ceil((b - a) / step - 1e-9)) + 1)
+             for a, b in ((g0, lo), (lo, hi), (hi, g1)) if b - a > 0]
+    return np.unique(np.concatenate(parts))
+
+
+def surroundings_display(rendered: Heightfield, declared_extent_m: tuple[float, ...],
+                         max_nodes_per_side: int = MAX_SURROUNDING_DISPLAY_NODES
+                         ) -> TerrainDisplay | None:
+    """The rendered terrain's part beyond the declared extent (x0, x1, y0, y1), world
+    metres, as a coarse ring of triangles on its heights (about ``max_nodes_per_side``
+    nodes across the whole); None when the rendered terrain is the declared one. ``uv``
+    is all zeros: the ring is drawn in one plain colour."""
+    gx0, gx1, gy0, gy1 = rendered.extent_m
+    x0, x1, y0, y1 = declared_extent_m
+    if gx0 >= x0 and gx1 <= x1 and gy0 >= y0 and gy1 <= y1:
+        return None
+    step = max(gx1 - gx0, gy1 - gy0) / (max_nodes_per_side - 1)
+    xs = _axis_nodes(gx0, max(x0, gx0), min(x1, gx1), gx1, step)
+    ys = _axis_nodes(gy0, max(y0, gy0), min(y1, gy1), gy1, step)
+    X, Y = np.meshgrid(xs, ys)
+    points = np.column_stack([X.ravel(), Y.ravel(),
+                              rendered.height_at_clamped(X, Y).ravel()])
+    faces = grid_faces(len(ys), len(xs))
+    centre = points[faces].mean(axis=1)
+    over = ((centre[:, 0] > x0) & (centre[:, 0] < x1) & (centre[:, 1] > y0)
+            & (centre[:, 1] < y1))
+    return TerrainDisplay(points, faces[~over], np.zeros((len(points), 2)))
+
+
 # ----------------------------------------------------------------------- stations
 @dataclass(frozen=True, eq=False)
 class StationGeometry:

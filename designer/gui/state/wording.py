@@ -87,6 +87,8 @@ _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
 _SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
 #: what an id (the schema's d:Identifier) may be, as the window says it
 _NAME_RULE = "use only letters, digits, _ . + - and begin with a letter or digit"
+#: what a switch (xs:boolean) takes, as the window shows it
+_TRUE_OR_FALSE = "true or false (the box ticked or not)"
 _NON_FINITE = {"nan", "inf", "+inf", "-inf", "infinity", "-infinity", "+infinity"}
 _LONG = re.compile(r"(?<![\w.])([-+]?\d+\.\d{4,})\b")
 
@@ -173,18 +175,59 @@ def _range_words(d: Declared | None, limits: tuple[float | None, float | None]) 
     return " and ".join(words) + unit
 
 
+def _wanted(d: Declared) -> str | None:
+    """What a declared field takes, as the window says it: ``a number greater than 0 and
+    at most 1000 mm``, ``true or false``, ``one of grass, gravel``; None when its
+    declaration says too little."""
+    if d.choices:
+        return f"one of {', '.join(d.choices)}"
+    if d.base in (int, float):
+        number = "a whole number" if d.base is int else "a number"
+        return f"{number} {_range_words(d, (d.attr.low, d.attr.high))}"
+    if d.base is bool:
+        return _TRUE_OR_FALSE
+    if d.attr.xsd == "d:Identifier":
+        return f"a name ({_NAME_RULE})"
+    return None
+
+
+def _unknown_text(issue: Issue) -> str:
+    """An attribute the element does not take, with the settings it does take as their
+    panel labels them (the nearest to what was written first offered)."""
+    import difflib
+
+    def label(name: str) -> str:
+        d = declaration_at(issue.tag, name, issue.parent)
+        return d.label if d is not None else name.replace("-", " ")
+
+    allowed = list(issue.choices or ())
+    close = difflib.get_close_matches(str(issue.value), allowed, n=1)
+    mean = f" (did you mean {label(close[0])}?)" if close else ""
+    here = (f" (the settings here: {', '.join(label(a) for a in allowed)})" if allowed
+            else " (nothing is set here)")
+    return f"unknown setting “{issue.value}”{mean}; remove it{here}"
+
+
 def issue_text(issue: Issue) -> str:
     """A validation issue as the window says it, from its structured fields: a range or
     choice with the field as its panel labels it (the declaration's ``label``) and
     numbers in fixed point; a value that is not a number with the number the field
-    takes, an id that is not a name with the names it takes; a fix done in a panel
-    (:data:`DIRECTIONS`) as that panel and control; any other issue as its message,
-    numbers in fixed point."""
+    takes, not true or false likewise, an id that is not a name with the names it takes;
+    a field missing with what it takes; an unknown attribute with the settings there are;
+    a fix done in a panel (:data:`DIRECTIONS`) as that panel and control; any other issue
+    as its message, numbers in fixed point."""
     direction = DIRECTIONS.get((issue.code, issue.tag))
     if direction is not None:
         return direction.format(obj=issue.obj, value=issue.value)
+    if issue.code == "unknown-attribute":
+        return _unknown_text(issue)
     d = _declaration(issue)
     label = d.label if d is not None else (issue.attr or issue.tag).replace("-", " ")
+    if issue.code == "missing-attribute" and d is not None:
+        wanted = _wanted(d)
+        return f"{label} is missing" + (f"; give {wanted}" if wanted else "")
+    if issue.code == "type" and d is not None and d.base is bool:
+        return f"{label} “{issue.value}” is neither true nor false; give {_TRUE_OR_FALSE}"
     if issue.code == "range" and issue.limits is not None:
         # the declared limits are the file's; the schema names only the one passed
         limits = (d.attr.low, d.attr.high) if d is not None else issue.limits
@@ -207,8 +250,11 @@ def issue_text(issue: Issue) -> str:
 
 def _panel(issue: Issue) -> str | None:
     """The panel that edits the one declared value an issue is about (a range, a choice,
-    a value not of its type or pattern), or None."""
-    if issue.code not in ("range", "choice", "type", "pattern") or \
+    a value not of its type or pattern, a value missing), or that shows the element an
+    unknown attribute was written on; or None."""
+    if issue.code == "unknown-attribute":
+        return panel_for_element(issue.tag, issue.parent)
+    if issue.code not in ("range", "choice", "type", "pattern", "missing-attribute") or \
             _declaration(issue) is None:
         return None
     if issue.obj is None:
@@ -219,8 +265,8 @@ def _panel(issue: Issue) -> str | None:
 def field_place(issue: Issue) -> str | None:
     """``Camera › sensor width``: the panel and the field, as the window labels them, of
     the value an issue is about (None when it is not one declared value)."""
-    panel = _panel(issue)
-    return None if panel is None else f"{panel} › {_declaration(issue).label}"
+    panel, d = _panel(issue), _declaration(issue)
+    return None if panel is None or d is None else f"{panel} › {d.label}"
 
 
 def problem_text(problem: Problem | str, source: str) -> str:

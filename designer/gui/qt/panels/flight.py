@@ -198,7 +198,8 @@ class FlightPanel(Panel):
         view.interaction.mode_changed.connect(self._mode_changed)
         self.sync.stations_changed.connect(self._readouts)
         self.sync.plan_changed.connect(self._plan_readouts)
-        # what lies off the terrain file's ground moves with the GCPs, buildings and area
+        # what lies off the terrain file's ground moves with the GCPs, buildings and area;
+        # the control's spread with the GCPs
         self.sync.terrain_changed.connect(self._show_warnings)
         self.sync.targets_changed.connect(self._show_warnings)
 
@@ -337,13 +338,15 @@ class FlightPanel(Panel):
 
     def _on_project(self, old, new, parts) -> None:
         super()._on_project(old, new, parts)
-        self._show_warnings()  # a moved building or area vertex may leave the ground
+        # a moved building or area vertex may leave the ground; a lens or texel edit
+        # changes the cases that degrade results
+        self._show_warnings()
 
     def _show_warnings(self) -> None:
-        """The places off the terrain file's ground, then the plan's warnings (or why
-        there is no plan)."""
+        """The places off the terrain file's ground, the cases that degrade results,
+        then the plan's warnings (or why there is no plan)."""
         f = self.sync.plan
-        lines = [f"⚠ {w}" for w in self.sync.reach_warnings()]
+        lines = [f"⚠ {w}" for w in self.sync.reach_warnings() + self.sync.hard_case_warnings()]
         if f is not None:
             lines += [f"⚠ {w}" for w in f.warnings]
         elif self.sync.errors.get("plan"):

@@ -1,0 +1,49 @@
+"""``designer check``'s hard-case warnings (designer.survey.hard_cases) over what the
+window has already computed, for the Flight panel (Qt-free).
+
+The lens of each camera is weighed as it is edited (a millisecond, kept per camera); the
+control GCPs' spread is measured on the targets drawn (an SVD of a few points); the
+texture's texel is weighed against the finest GSD the flight's analysis measured in its
+thread (:attr:`designer.gui.state.plan_figures.PlanFigures.finest_gsd_m`), and the
+network's warnings come with that analysis. So asking after every edit costs well under
+a millisecond once the lens is known.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from designer.project import model as m
+from designer.survey.hard_cases import (
+    HardCaseWarning,
+    collinear_control_warning,
+    distortion_warning,
+    texture_warnings,
+)
+
+
+@functools.lru_cache(maxsize=64)
+def _lens_warning(camera: m.Camera, resolution_scale: float) -> HardCaseWarning | None:
+    return distortion_warning(camera, resolution_scale)
+
+
+def hard_case_lines(project: m.Project, terrain, targets, plan) -> list[str]:
+    """The warnings, one line each with its fix in the window's words: the lenses close
+    to their fold, nearly collinear control (``targets``: a
+    designer.gui.state.derived.TargetsResult on the height field of ``terrain``, a
+    TerrainResult), the texture against the finest GSD (``plan``: PlanFigures or None).
+    The network's warnings are in ``plan.warnings``."""
+    out = [w for cam in project.cameras
+           if (w := _lens_warning(cam, project.render.resolution_scale)) is not None]
+    # as designer check: a mesh terrain is not analysed
+    if terrain is not None and terrain.heightfield is not None and targets is not None:
+        control = [k for k, role in enumerate(targets.roles) if role == "control"]
+        w = collinear_control_warning([targets.ids[k] for k in control],
+                                      np.asarray(targets.surveyed_xyz)[control])
+        if w is not None:
+            out.append(w)
+    if plan is not None:
+        out += texture_warnings(project, plan.finest_gsd_m)
+    return [f"{w.message}; {w.panel_fix or w.fix}" for w in out]
