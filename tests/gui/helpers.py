@@ -9,9 +9,17 @@ import numpy as np
 from PySide6.QtCore import Qt
 from PySide6.QtTest import QTest
 
+#: rounds of posted layout requests delivered after the jobs: a label that grows asks its
+#: panel's layout, which asks the scroll area around it to fit the panel anew (one round
+#: each), and so on up the nested layouts
+LAYOUT_ROUNDS = 8
+
 
 def wait_idle(qtbot, window, timeout_s: float = 60.0) -> None:
-    """Wait until the window's background jobs are done and the view has drawn."""
+    """Wait until the window's background jobs are done, the view has drawn and the
+    panels are laid out for what the jobs wrote into them."""
+    from PySide6.QtCore import QCoreApplication, QEvent
+
     deadline = time.monotonic() + timeout_s
     while True:
         qtbot.waitUntil(lambda: not window.tasks.busy, timeout=int(timeout_s * 1000))
@@ -20,6 +28,10 @@ def wait_idle(qtbot, window, timeout_s: float = 60.0) -> None:
             break
         assert time.monotonic() < deadline, "the window kept computing"
     window.view.render_now()
+    # figures arriving just before can leave a scroll area fitting its panel a round
+    # later (meanwhile its fields sit where the old, shorter figures left them)
+    for _ in range(LAYOUT_ROUNDS):
+        QCoreApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest.value)
 
 
 def refused_message(qtbot, window, before, panel) -> str:
