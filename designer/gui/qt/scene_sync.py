@@ -75,6 +75,9 @@ class SceneSync(QObject):
         #: the (terrain, stations) ``plan`` was computed over; None while one is computed
         self._plan_inputs: tuple | None = None
         self.errors: dict[str, str] = {}
+        #: the station (index into ``stations.stations``) whose moment the cloud shadows
+        #: are drawn at; None: the flight's start
+        self.selected_station: int | None = None
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
         self._area_key: tuple | None = None
@@ -288,9 +291,32 @@ class SceneSync(QObject):
             self.view.show_cloud_shadows(None)
             return
         self.tasks.submit("cloud-shadows", derived.compute_cloud_preview,
-                          self.document.project, terrain,
+                          self.document.project, terrain, derived.CLOUD_GRID_CELLS,
+                          self.cloud_time_s(),
                           on_done=lambda preview: self._cloud_shadows_done(terrain, preview),
                           on_error=lambda e: self._fail("cloud shadows", e))
+
+    def cloud_time_s(self) -> float:
+        """Seconds after take-off the cloud shadows are drawn at (the render drifts them
+        with the wind over the flight's time line): the selected station's time, or 0,
+        the flight's start, with no station selected or photos without times."""
+        from designer.survey.timeline import project_station_times
+
+        k, stations = self.selected_station, self.stations
+        if k is None or stations is None or not 0 <= k < len(stations.stations):
+            return 0.0
+        try:
+            times = project_station_times(self.document.project, stations.stations)
+        except DesignerError:
+            return 0.0
+        return 0.0 if times is None else times[k].time_s
+
+    def select_station(self, index: int | None) -> None:
+        """Draw the cloud shadows at station ``index``'s moment (None: the flight's
+        start)."""
+        self.selected_station = index
+        if self.document.project.scene.lighting.clouds is not None:
+            self.refresh_cloud_shadows()
 
     def _cloud_shadows_done(self, terrain: derived.TerrainResult,
                             preview: derived.CloudPreview | None) -> None:
@@ -410,6 +436,8 @@ class SceneSync(QObject):
             # an edit moved every camera out of sight: show them with the terrain
             self.view.frame_all(result.C_world)
         self.stations_changed.emit()
+        if self.selected_station is not None:
+            self.select_station(self.selected_station)  # its moment may have moved
         self.refresh_plan()
         if self.coverage_enabled:
             self.refresh_coverage()

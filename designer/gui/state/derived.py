@@ -154,10 +154,11 @@ class CloudPreview:
 
 
 def compute_cloud_preview(project: m.Project, terrain: TerrainResult,
-                          cells: int = CLOUD_GRID_CELLS) -> CloudPreview | None:
-    """The project's cloud shadows as the render makes them at take-off (the render's
-    pattern, :func:`designer.scene.cloud_shadows.attenuation`, evaluated on a grid of
-    ``cells`` cells per side over the terrain; the time line moves them later): each
+                          cells: int = CLOUD_GRID_CELLS, time_s: float = 0.0
+                          ) -> CloudPreview | None:
+    """The project's cloud shadows as the render makes them ``time_s`` after take-off
+    (the render's pattern, :func:`designer.scene.cloud_shadows.attenuation`, drifted by
+    the wind, evaluated on a grid of ``cells`` cells per side over the terrain): each
     grid node's loss of light on flat ground by the renderer's light model, the direct
     sun times ``depth · shadow`` against sun and sky. None without cloud shadows. A
     height field gets the grid laid on it; a mesh terrain its own vertices."""
@@ -177,7 +178,7 @@ def compute_cloud_preview(project: m.Project, terrain: TerrainResult,
     else:
         points, faces = display.points_world, display.faces
     origin = np.array([project.origin.E0, project.origin.N0])
-    factor = cloud_attenuation(lighting.clouds, points[:, :2] - origin, cells)
+    factor = cloud_attenuation(lighting.clouds, points[:, :2] - origin, cells, time_s)
     azimuth, elevation = sun_angles_deg(lighting, project)
     sun = sun_direction_world(azimuth, elevation)
     up = np.tile([0.0, 0.0, 1.0], (len(points), 1))
@@ -186,9 +187,9 @@ def compute_cloud_preview(project: m.Project, terrain: TerrainResult,
 
 
 def cloud_attenuation(clouds: m.CloudShadows, xy_local: np.ndarray,
-                      cells: int = CLOUD_GRID_CELLS) -> np.ndarray:
+                      cells: int = CLOUD_GRID_CELLS, time_s: float = 0.0) -> np.ndarray:
     """The direct sun's factor (N,) at local points (N, 2) (world − origin, m) under the
-    cloud shadows at take-off (``1 − depth · shadow``, the render's own
+    cloud shadows ``time_s`` after take-off (``1 − depth · shadow``, the render's own
     :func:`designer.scene.cloud_shadows.attenuation`), evaluated on a grid of ``cells``
     cells per side over the points' extent and interpolated bilinearly between its
     nodes."""
@@ -199,7 +200,7 @@ def cloud_attenuation(clouds: m.CloudShadows, xy_local: np.ndarray,
     step = max(float(np.max(hi - lo)) / cells, 1e-3)
     nx, ny = (int(np.ceil((hi - lo)[k] / step)) + 1 for k in (0, 1))
     xs, ys = lo[0] + step * np.arange(nx), lo[1] + step * np.arange(ny)
-    grid = attenuation(clouds, xs, ys, 0.0)  # (ny, nx), rows along y
+    grid = attenuation(clouds, xs, ys, time_s)  # (ny, nx), rows along y
     u = np.clip((xy[:, 0] - lo[0]) / step, 0, nx - 1)
     v = np.clip((xy[:, 1] - lo[1]) / step, 0, ny - 1)
     i0 = np.minimum(u.astype(int), max(nx - 2, 0))

@@ -97,7 +97,16 @@ class LightingPanel(Panel):
         self.clouds_note = QLabel()
         self.clouds_note.setWordWrap(True)
         f.addRow(self.clouds_note)
+        self.cloud_moment = combo([])
+        self.cloud_moment.setObjectName("cloud-moment")
+        self.cloud_moment.setToolTip("the moment of the flight the 3D view draws the cloud "
+                                     "shadows at, on the ground, buildings and objects")
+        self.cloud_moment.currentIndexChanged.connect(
+            lambda _i: self.sync.select_station(self.cloud_moment.currentData()))
+        f.addRow("drawn at", self.cloud_moment)
         layout.addWidget(clouds)
+        self.sync.stations_changed.connect(self._fill_moments)
+        self._fill_moments()
 
         info = form()
         self.sun_label, self.contrast_label = readout(), readout()
@@ -156,6 +165,30 @@ class LightingPanel(Panel):
                 "the light of flat ground in full sun")
         else:
             self.contrast_label.setText("no light at all: raise the sun or sky strength")
+
+    def _fill_moments(self) -> None:
+        """The moments the view can draw the cloud shadows at: the flight's start, then
+        each photo at its time on the time line (none without one: every photo sees
+        them as at take-off)."""
+        from designer.survey.timeline import project_station_times
+
+        stations, times = self.sync.stations, None
+        if stations is not None and stations.stations:
+            try:
+                times = project_station_times(self.project, stations.stations)
+            except DesignerError:
+                times = None
+        box, chosen = self.cloud_moment, self.sync.selected_station
+        blocked = box.blockSignals(True)
+        box.clear()
+        box.addItem("the flight's start", None)
+        for k, t in enumerate(times or ()):
+            box.addItem(f"{t.image_name} ({t.time_s:.0f} s after take-off)", k)
+        index = 0 if chosen is None else box.findData(chosen)
+        box.setCurrentIndex(max(index, 0))
+        box.blockSignals(blocked)
+        if index < 0:
+            self.sync.select_station(None)  # that photo is gone: the flight's start
 
     # ------------------------------------------------------------------ view → model
     def _clouds_toggled(self, on: bool) -> None:
