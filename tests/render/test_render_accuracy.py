@@ -16,8 +16,8 @@ from tests.synthetic import small_survey, write_project_file
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
 CASES = {
-    "local origin": dict(origin=(0.0, 0.0, 0.0)),
-    # one render for both: a UTM-sized origin and a principal point offset
+    # the plain pinhole, with a UTM-sized origin and a principal point offset in one render
+    # (the distorted cases below are at the local origin)
     "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0),
                              principal_point_mm=(0.31, -0.17)),
     # below Blender's 1 mm minimum lens and sensor width: both are scaled, not clamped

@@ -1,8 +1,14 @@
-"""Rendered surveys shared by the SfM tests: rendered once per test session."""
+"""Rendered surveys shared by the SfM tests: rendered once per test run, whichever
+pytest-xdist worker asks first (the others wait for it and read the same folder)."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import fcntl
+import os
+from collections.abc import Callable, Iterator
+from pathlib import Path
 
 import pytest
 
@@ -11,27 +17,51 @@ from designer.render.pipeline import render_project
 from tests.synthetic import small_flight_survey, write_project_file
 
 
+@contextlib.contextmanager
+def _locked(path: Path) -> Iterator[None]:
+    with open(path, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield
+
+
+def _rendered_once(tmp_path_factory, name: str, project: Callable[[], m.Project]) -> Path:
+    """``folder/out`` of ``project()`` rendered into a folder every worker of the run
+    shares (the run's base temporary folder): the first worker to ask renders it under a
+    lock, the others wait and take it (a marker written after the render says it
+    finished; a folder without it is rendered again, resumed)."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent  # the workers' folders sit side by side in the run's folder
+    folder = base / f"shared-{name}"
+    with _locked(base / f"shared-{name}.lock"):
+        if not (folder / "rendered").is_file():
+            folder.mkdir(exist_ok=True)
+            render_project(write_project_file(project(), folder), folder / "out", workers=2,
+                           resume=True)
+            (folder / "rendered").touch()
+    return folder / "out"
+
+
 @pytest.fixture(scope="session")
 def survey(tmp_path_factory):
     """A dozen 640 × 480 nadir images at 30 m (GSD 6 cm) of hilly terrain with 7 GCPs."""
-    folder = tmp_path_factory.mktemp("sfm")
-    project = write_project_file(small_flight_survey(), folder)
-    summary = render_project(project, folder / "out", workers=2)
-    assert len(summary.prepared.poses) <= 12
-    return folder / "out"
+    out = _rendered_once(tmp_path_factory, "sfm", small_flight_survey)
+    assert len(list((out / "images").glob("*.png"))) <= 12
+    return out
 
 
 @pytest.fixture(scope="session")
 def convergent_survey(tmp_path_factory):
     """The same area flown crosshatch with the camera tilted 20°, through a lens with
     barrel distortion (k1 = −0.08, k2 = 0.01): a convergent network for self-calibration."""
-    folder = tmp_path_factory.mktemp("sfm-convergent")
-    project = small_flight_survey(distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
-    plan = dataclasses.replace(project.trajectory.flight_plan, crosshatch=True, tilt_deg=20.0)
-    project = dataclasses.replace(project, trajectory=m.Trajectory(flight_plan=plan))
-    project = dataclasses.replace(project, render=m.Render(preset="draft", workers=2))
-    render_project(write_project_file(project, folder), folder / "out", workers=2)
-    return folder / "out"
+    def build() -> m.Project:
+        project = small_flight_survey(distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
+        plan = dataclasses.replace(project.trajectory.flight_plan, crosshatch=True,
+                                   tilt_deg=20.0)
+        project = dataclasses.replace(project, trajectory=m.Trajectory(flight_plan=plan))
+        return dataclasses.replace(project, render=m.Render(preset="draft", workers=2))
+
+    return _rendered_once(tmp_path_factory, "sfm-convergent", build)
 
 
 @pytest.fixture(scope="session")
@@ -40,6 +70,4 @@ def two_camera_survey(tmp_path_factory):
     6 mm 560 × 420 camera tilted 20° forward, principal point off centre (24 images)."""
     from tests.synthetic import two_camera_survey as build
 
-    folder = tmp_path_factory.mktemp("sfm-rig")
-    render_project(write_project_file(build(), folder), folder / "out", workers=2)
-    return folder / "out"
+    return _rendered_once(tmp_path_factory, "sfm-rig", build)
