@@ -41,7 +41,11 @@ def start_xvfb(screen: str = SCREEN, first: int = 90, tries: int = 50
                                                    signal.SIGTERM))
         for _ in range(100):
             if Path(f"/tmp/.X11-unix/X{number}").exists():
-                return proc, f":{number}"
+                if _lock_owner(number) == proc.pid:
+                    return proc, f":{number}"
+                # another server started on this number at the same moment and holds its
+                # lock: ours gives up; try the next number
+                break
             if proc.poll() is not None:
                 break
             time.sleep(0.05)
@@ -49,6 +53,15 @@ def start_xvfb(screen: str = SCREEN, first: int = 90, tries: int = 50
             proc.terminate()
             proc.wait(5)
     raise XvfbError("could not start Xvfb on any display")
+
+
+def _lock_owner(number: int) -> int | None:
+    """The process id written in display ``number``'s lock file (the X server holding
+    it), or None while there is none to read."""
+    try:
+        return int(Path(f"/tmp/.X{number}-lock").read_text().strip())
+    except (OSError, ValueError):
+        return None
 
 
 def stop_xvfb(proc: subprocess.Popen) -> None:

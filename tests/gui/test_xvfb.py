@@ -52,3 +52,39 @@ def test_a_killed_starter_takes_its_xvfb_with_it_and_the_lock_file_goes():
         finally:
             if starter.poll() is None:
                 starter.kill()
+
+
+def test_starts_at_the_same_moment_get_a_display_each(tmp_path):
+    """Two test workers starting their displays at once: each gets its own server (a start
+    that lost the race for a number must not take the other's display, which would go
+    when the other worker stops it)."""
+    go = tmp_path / "go"
+    code = ("import sys, time\n"
+            "from pathlib import Path\n"
+            "from designer.gui.xvfb import start_xvfb\n"
+            f"while not Path({str(go)!r}).exists():\n"
+            "    time.sleep(0.001)\n"
+            "proc, display = start_xvfb(first=160)\n"
+            "print(proc.pid, display, flush=True)\n"
+            "sys.stdin.read()\n")  # until the test closes its stdin
+    for round_ in range(4):
+        go.unlink(missing_ok=True)
+        starters = [subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, text=True, cwd=ROOT,
+                                     env={**os.environ, "PYTHONPATH": str(ROOT)})
+                    for _ in range(2)]
+        try:
+            time.sleep(1.0)  # both waiting for the word
+            go.touch()
+            got = [tuple(s.stdout.readline().split()) for s in starters]
+            (_, display_a), (_, display_b) = got
+            assert display_a != display_b, f"round {round_}: both on {display_a}"
+            for pid, display in got:
+                assert _alive(int(pid)), f"the server of {display} is gone"
+                lock = Path(f"/tmp/.X{display.lstrip(':')}-lock").read_text()
+                assert int(lock.strip()) == int(pid)
+        finally:
+            for s in starters:
+                s.stdin.close()
+                s.wait(10)
+                s.stdout.close()

@@ -15,6 +15,7 @@ import functools
 
 import numpy as np
 
+from designer.errors import DesignerError
 from designer.project import model as m
 from designer.survey.hard_cases import (
     HardCaseWarning,
@@ -26,7 +27,13 @@ from designer.survey.hard_cases import (
 
 @functools.lru_cache(maxsize=64)
 def _lens_warning(camera: m.Camera, resolution_scale: float) -> HardCaseWarning | None:
-    return distortion_warning(camera, resolution_scale)
+    """The lens warning of ``camera``; None for a camera no interior orientation can
+    describe (pixels not square, a scale giving part pixels): the Camera panel and the
+    Problems list say what is wrong with it, and the lens is weighed once it is fixed."""
+    try:
+        return distortion_warning(camera, resolution_scale)
+    except DesignerError:
+        return None
 
 
 def hard_case_lines(project: m.Project, terrain, targets, plan) -> list[str]:
