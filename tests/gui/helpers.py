@@ -109,6 +109,19 @@ def answer_file_dialog(path, timeout_s: float = 20.0) -> None:
     QTimer.singleShot(50, answer)
 
 
+def open_with_ctrl_o(qtbot, window, path) -> None:
+    """File → Open as a user does it: Ctrl+O in the active window, ``path`` answered in
+    the file dialog; then wait until the window has computed what the file holds."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+
+    answer_file_dialog(path)
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow)
+    QTest.keyClick(window.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
+    wait_idle(qtbot, window)
+
+
 def set_field(qtbot, box, value) -> None:
     """Type a value into a spin box as a person would (select all, type, Enter)."""
     from PySide6.QtCore import Qt

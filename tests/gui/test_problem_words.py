@@ -8,11 +8,10 @@ import re
 
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtTest import QTest
 
 from designer.gui.state import files
 from designer.project import project_to_bytes
-from tests.gui.helpers import answer_file_dialog, problems, wait_idle
+from tests.gui.helpers import open_with_ctrl_o, problems
 
 pytestmark = pytest.mark.gui
 
@@ -26,11 +25,7 @@ def test_a_refused_file_names_panel_and_field_as_labelled(qtbot, window, tmp_pat
     path = tmp_path / "hand-edited.xml"
     path.write_text(text)
 
-    answer_file_dialog(path)
-    w.activateWindow()
-    qtbot.waitUntil(w.isActiveWindow)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
-    wait_idle(qtbot, w)
+    open_with_ctrl_o(qtbot, w, path)
     listed = problems(w)
     assert len(listed) == 3, listed
     joined = "\n".join(listed)

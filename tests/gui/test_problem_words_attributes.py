@@ -5,10 +5,8 @@ field the window labels, never by the XML element and attribute."""
 from __future__ import annotations
 
 import pytest
-from PySide6.QtCore import Qt
-from PySide6.QtTest import QTest
 
-from tests.gui.helpers import answer_file_dialog, problems, wait_idle
+from tests.gui.helpers import open_with_ctrl_o, problems
 
 pytestmark = pytest.mark.gui
 
@@ -25,11 +23,7 @@ def _open_edited(qtbot, w, tmp_path, edits) -> list[str]:
         assert text.count(old) == 1, old
         text = text.replace(old, new)
     path.write_text(text)
-    answer_file_dialog(path)
-    w.activateWindow()
-    qtbot.waitUntil(w.isActiveWindow)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
-    wait_idle(qtbot, w)
+    open_with_ctrl_o(qtbot, w, path)
     listed = problems(w)
     assert listed and all(line.startswith(f"{path}:") for line in listed)  # the place stays
     return listed

@@ -5,10 +5,8 @@ element and attribute."""
 from __future__ import annotations
 
 import pytest
-from PySide6.QtCore import Qt
-from PySide6.QtTest import QTest
 
-from tests.gui.helpers import answer_file_dialog, problems, wait_idle
+from tests.gui.helpers import open_with_ctrl_o, problems
 
 pytestmark = pytest.mark.gui
 
@@ -26,11 +24,7 @@ def test_ids_that_are_not_names_are_worded_as_the_panels_label_them(qtbot, windo
         text = text.replace(old, new)
     path.write_text(text)
 
-    answer_file_dialog(path)
-    w.activateWindow()
-    qtbot.waitUntil(w.isActiveWindow)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
-    wait_idle(qtbot, w)
+    open_with_ctrl_o(qtbot, w, path)
     listed = problems(w)
     assert len(listed) == 2, listed
     joined = "\n".join(listed)

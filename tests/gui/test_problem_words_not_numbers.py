@@ -8,11 +8,10 @@ import re
 
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtTest import QTest
 
 from designer.gui.state import files
 from designer.project import project_to_bytes
-from tests.gui.helpers import answer_file_dialog, problems, wait_idle
+from tests.gui.helpers import open_with_ctrl_o, problems
 
 pytestmark = pytest.mark.gui
 
@@ -31,11 +30,7 @@ def test_values_that_are_not_numbers_are_worded_as_the_panels_label_them(qtbot, 
     path = tmp_path / "hand-edited.xml"
     path.write_text(text)
 
-    answer_file_dialog(path)
-    w.activateWindow()
-    qtbot.waitUntil(w.isActiveWindow)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
-    wait_idle(qtbot, w)
+    open_with_ctrl_o(qtbot, w, path)
     listed = problems(w)
     assert len(listed) == 5, listed
     joined = "\n".join(listed)

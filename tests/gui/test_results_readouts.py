@@ -7,7 +7,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtTest import QTest
 
 from designer.evaluate.writers import write_distances_ply
 from designer.gui.state.reconstruct_job import ReconstructJob
@@ -15,9 +14,9 @@ from designer.gui.state.wording import point_text
 from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
 from tests.gui.helpers import (
     add_hills_and_flight,
-    answer_file_dialog,
     cloud_with_outlier,
     open_panel,
+    open_with_ctrl_o,
     problems,
     wait_idle,
 )
@@ -42,11 +41,7 @@ def test_a_reopened_free_sfm_reconstruction_shows_free_sfm_poses(qtbot, window, 
     assert w.file_actions.new(None)
     wait_idle(qtbot, w)
 
-    answer_file_dialog(project_path)  # File → Open with Ctrl+O
-    w.activateWindow()
-    qtbot.waitUntil(w.isActiveWindow)
-    QTest.keyClick(w.windowHandle(), Qt.Key.Key_O, Qt.KeyboardModifier.ControlModifier)
-    wait_idle(qtbot, w)
+    open_with_ctrl_o(qtbot, w, project_path)
     assert w.document.path == project_path
     assert results.result is not None and results.result.path == job.distances_ply
     assert results.mode.currentData() == "free", results.mode.currentText()
