@@ -9,6 +9,8 @@ flight planner, the coverage analysis — the GUI computes nothing of its own.
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -216,10 +218,37 @@ def retile(result: TerrainResult, tiles: tuple[int, int]) -> TerrainDisplay:
     return terrain_display(result.heightfield, result.mesh, tiles, result.max_display_nodes)
 
 
+#: procedural texture tiles the window keeps (a tile of the blank project's 1 cm grass is
+#: 2000 × 2000 px, 12 MB, and takes ~1 s to synthesise)
+KEPT_TEXTURES = 4
+_kept_textures: OrderedDict[tuple, np.ndarray] = OrderedDict()
+_kept_lock = threading.Lock()
+
+
 def compute_texture(project: m.Project, base_dir: Path) -> np.ndarray:
-    """The texture tile (H, W, 3) uint8, as the renderer will use it."""
-    return _build_texture(project.scene.texture, project.scene.terrain, Path(base_dir),
-                          project.crs)
+    """The texture tile (H, W, 3) uint8, as the renderer will use it.
+
+    A procedural tile is a function of the texture's declaration and the terrain's
+    extent alone, so the last :data:`KEPT_TEXTURES` of them are kept: an undo, a redo
+    or another window of the same project draws its texture without synthesising it
+    again. Image and orthophoto textures are read from their files every time (a file
+    can change under the same name). The array handed out is read-only."""
+    tex, terrain = project.scene.texture, project.scene.terrain
+    if not isinstance(tex.source, m.ProceduralTexture):
+        return _build_texture(tex, terrain, Path(base_dir), project.crs)
+    key = (tex.source, tex.repeat_X, tex.repeat_Y, terrain.extent)
+    with _kept_lock:
+        rgb = _kept_textures.get(key)
+        if rgb is not None:
+            _kept_textures.move_to_end(key)
+            return rgb
+    rgb = _build_texture(tex, terrain, Path(base_dir), project.crs)
+    rgb.flags.writeable = False
+    with _kept_lock:
+        _kept_textures[key] = rgb
+        while len(_kept_textures) > KEPT_TEXTURES:
+            _kept_textures.popitem(last=False)
+    return rgb
 
 
 @dataclass(frozen=True, eq=False)
