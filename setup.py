@@ -1,4 +1,5 @@
-"""The compiled part of designer: the comparison's kernels (designer/evaluate/csrc).
+"""The compiled part of designer: the comparison's kernels (designer/evaluate/csrc) and
+the terrain's ray marching and noise (designer/core/csrc).
 
 Everything else is configured in pyproject.toml. ``pip install -e .`` builds the
 extension beside its sources; it needs a C compiler and the Python headers.
@@ -19,6 +20,12 @@ setup(
                                 "-Wall", "-Wextra", "-Wno-unused-parameter",
                                 "-Wno-missing-field-initializers"],
             extra_link_args=["-pthread"],
+        ),
+        Extension(
+            "designer.core._cterrain",
+            sources=["designer/core/csrc/terrain.c"],
+            extra_compile_args=["-O3", "-std=c11", "-ffp-contract=off", "-fno-math-errno",
+                                "-Wall", "-Wextra", "-Wno-unused-parameter"],
         ),
     ],
 )

@@ -9,23 +9,16 @@ loops on POSIX threads without the GIL.
 from __future__ import annotations
 
 import os
-from functools import cache
 
 import numpy as np
 
+from designer.core.compiled import extension
 from designer.errors import DesignerError
 
 
-@cache
 def ckernels():
     """The extension module; a one-line error saying how to build it when it is missing."""
-    try:
-        from designer.evaluate import _ckernels
-    except ImportError as error:
-        raise DesignerError(
-            f"designer's compiled kernels are missing ({error}): build them with "
-            "`pip install -e .` in the source folder (needs a C compiler)") from None
-    return _ckernels
+    return extension("designer.evaluate._ckernels")
 
 
 def threads() -> int:

@@ -20,6 +20,8 @@ import math
 
 import numpy as np
 
+from designer.core.compiled import cterrain
+
 #: standard deviation of one octave of value noise (uniform lattice values in [-1, 1],
 #: quintic interpolation), measured over 10^6 points
 OCTAVE_RMS = 0.453
@@ -34,38 +36,33 @@ def octave_sum(seed: int, stream: int, wavelength_m: float, octaves: int,
     Octave k has lattice spacing ``wavelength_m / 2^k`` and amplitude ``persistence^k``;
     ``rotate`` turns each octave's lattice by its own random angle. The sum has zero mean.
     """
-    x = np.asarray(x_m, dtype=np.float64)
-    y = np.asarray(y_m, dtype=np.float64)
-    total = np.zeros(np.broadcast(x, y).shape)
+    x, y = np.broadcast_arrays(np.asarray(x_m, dtype=np.float64),
+                               np.asarray(y_m, dtype=np.float64))
+    shape = x.shape
+    keys = np.empty(octaves, dtype=np.uint64)
+    spacing, amplitude = np.empty(octaves), np.empty(octaves)
+    offset, turn = np.zeros((octaves, 2)), np.zeros((octaves, 2))
     power = 0.0
-    one = np.uint64(1)
     for k in range(octaves):
-        spacing = wavelength_m / 2**k
+        spacing[k] = wavelength_m / 2**k
         draw = np.random.default_rng([seed, stream, k])
-        offset = draw.uniform(0.0, spacing, 2)
+        offset[k] = draw.uniform(0.0, spacing[k], 2)
         if rotate:
             angle = draw.uniform(0.0, 2.0 * math.pi)
-            c, s = math.cos(angle), math.sin(angle)
             # a fixed turn of world coordinates: float64 keeps ~1e-9 m at 10^7 m
-            u, v = c * x - s * y, s * x + c * y
-        else:
-            u, v = x, y
-        gx, gy = (u + offset[0]) / spacing, (v + offset[1]) / spacing
-        ix, iy = np.floor(gx), np.floor(gy)
-        fx, fy = _quintic(gx - ix), _quintic(gy - iy)
-        key = _splitmix64(np.uint64(seed) * np.uint64(1 << 8) + np.uint64(16 * stream + k))
-        ix, iy = ix.astype(np.int64).view(np.uint64), iy.astype(np.int64).view(np.uint64)
-
-        def lattice(i, j, key=key):
-            return _unit(_splitmix64(_splitmix64(key + i) + j))
-
-        v00, v10 = lattice(ix, iy), lattice(ix + one, iy)
-        v01, v11 = lattice(ix, iy + one), lattice(ix + one, iy + one)
-        top = v00 + (v10 - v00) * fx
-        bottom = v01 + (v11 - v01) * fx
-        amplitude = persistence**k
-        total += amplitude * (top + (bottom - top) * fy)
-        power += amplitude * amplitude
+            turn[k] = math.cos(angle), math.sin(angle)
+        keys[k] = _splitmix64(np.uint64(seed) * np.uint64(1 << 8) + np.uint64(16 * stream + k))
+        amplitude[k] = persistence**k
+        power += amplitude[k] * amplitude[k]
+    # per point, octave by octave (compiled, designer/core/csrc/terrain.c): (u, v) the point
+    # turned, g = ((u, v) + offset) / spacing, the four lattice values around g (a hash of
+    # the key and the lattice index, uniform in [-1, 1)) blended by the quintic of g's
+    # fraction, times the amplitude
+    total = np.zeros(shape)
+    if total.size:
+        cterrain().octave_sum(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(),
+                              total.size, keys, spacing, offset, turn, amplitude, octaves,
+                              bool(rotate), total.reshape(-1))
     return total, OCTAVE_RMS * math.sqrt(power)
 
 
@@ -76,12 +73,3 @@ def _splitmix64(z):
         z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
         z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
         return z ^ (z >> np.uint64(31))
-
-
-def _unit(h: np.ndarray) -> np.ndarray:
-    """uint64 hash → float64 uniform in [-1, 1)."""
-    return (h >> np.uint64(11)).astype(np.float64) * (2.0 / 2.0**53) - 1.0
-
-
-def _quintic(t: np.ndarray) -> np.ndarray:
-    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0)

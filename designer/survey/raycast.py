@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.core.compiled import cterrain
 from designer.core.heightfield import Heightfield
 
 #: smallest step (in grid cells) of a line-of-sight search close to the surface
@@ -37,7 +38,7 @@ class TerrainRaycaster:
         self.heightfield = heightfield
         z = heightfield.heights_m
         self._ny, self._nx = z.shape
-        self._zf = np.ascontiguousarray(z).ravel()
+        self._zf = np.ascontiguousarray(z, dtype=np.float64).ravel()
         self._x0, self._y0 = float(heightfield.x0_m), float(heightfield.y0_m)
         self._dx, self._dy = float(heightfield.dx_m), float(heightfield.dy_m)
         x0, x1, y0, y1 = heightfield.extent_m
@@ -156,19 +157,20 @@ class TerrainRaycaster:
         t1 = np.where((dz == 0) & (org[:, 2] > zmax), -np.inf, t1)
         rate = -dz + slope * np.hypot(d[:, 0], d[:, 1])
         idx = np.flatnonzero(t0 <= t1)
-        t = t0[idx]
-        for _ in range(max_iter):
-            if idx.size == 0:
-                break
-            p = org[idx] + t[:, None] * d[idx]
-            gap = p[:, 2] - self.height(p[:, 0], p[:, 1])
-            touched = gap <= touch_m
-            hit[live[idx[touched]]] = t[touched]
-            r, end = rate[idx], t1[idx]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                t_next = np.minimum(t + np.maximum(gap / r, min_step_m), end)
-            going = ~touched & (r > 0) & (t < end)
-            idx, t = idx[going], t_next[going]
+        # up to max_iter steps of each ray, compiled (designer/core/csrc/terrain.c): at p =
+        # O + t·d a gap ≤ touch_m is a hit; a ray with rate ≤ 0 or at t1 ends without one;
+        # else t += max(gap / rate, min_step_m), at most to t1
+        t = np.ascontiguousarray(t0[idx])
+        found = np.full(idx.size, np.nan)
+        going = np.zeros(idx.size, dtype=np.uint8)
+        cterrain().march(self._zf, self._nx, self._ny, self._x0, self._y0, self._dx,
+                         self._dy, np.ascontiguousarray(org[idx]),
+                         np.ascontiguousarray(d[idx]), t, np.ascontiguousarray(rate[idx]),
+                         np.ascontiguousarray(t1[idx]), float(touch_m), float(min_step_m),
+                         int(max_iter), found, going)
+        hit[live[idx]] = found
+        going = going.view(bool)
+        idx, t = idx[going], t[going]
         if idx.size:  # rays still grazing the terrain: finish them with the core's marching
             start = org[idx] + t[:, None] * d[idx]
             p = self.heightfield.intersect_rays(start, d[idx], tol_m=max(touch_m, 1e-6))

@@ -56,8 +56,6 @@ import numpy as np
 SPEED_FILE = "render-speed.json"
 #: rays per image side used to measure the terrain fraction (cols × rows)
 FRACTION_GRID = (16, 11)
-#: rays marched together by :func:`terrain_fractions`
-FRACTION_RAYS_PER_MARCH = 100_000
 #: a render of at least this many images replaces the stored coefficients outright
 #: (:func:`refine`)
 FULL_WEIGHT_IMAGES = 8
@@ -339,17 +337,14 @@ def terrain_fractions(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarr
     rays_cam = pixel_rays_world(uv, np.eye(3), interior)  # the same rays in every image
     C = np.asarray(C_world, dtype=float).reshape(n, 3)
     R = np.asarray(R_cam_to_world, dtype=float).reshape(n, 3, 3)
-    out = np.empty(n)
-    # the images' rays marched together, a chunk of images at a time: one march of a few
-    # hundred steps instead of one per image; only hit or miss is used, so the crossing
-    # is refined to a millimetre
-    per_chunk = max(1, FRACTION_RAYS_PER_MARCH // len(uv))
-    for k0 in range(0, n, per_chunk):
-        k1 = min(n, k0 + per_chunk)
-        rays = np.einsum("kij,rj->kri", R[k0:k1], rays_cam).reshape(-1, 3)
-        origins = np.repeat(C[k0:k1], len(uv), axis=0)
-        hits = heightfield.intersect_rays(origins, rays, tol_m=1e-3)
-        out[k0:k1] = np.isfinite(hits[:, 0]).reshape(k1 - k0, len(uv)).mean(axis=1)
+    # every image's rays at once through the compiled ray caster: only hit or miss is
+    # used, so the crossing is found to a millimetre; past the terrain's edge is a miss
+    from designer.survey.raycast import TerrainRaycaster
+
+    rays = np.einsum("kij,rj->kri", R, rays_cam).reshape(-1, 3)
+    hits = TerrainRaycaster(heightfield).surface_hit(np.repeat(C, len(uv), axis=0), rays,
+                                                     tol_m=1e-3)
+    out = np.isfinite(hits[:, 0]).reshape(n, len(uv)).mean(axis=1)
     return out
 
 
