@@ -142,7 +142,9 @@ def finest_gsd_m(project: m.Project, hf, images) -> float:
     if not rays:
         return math.nan
     C = np.concatenate(starts)
-    hits = hf.intersect_rays(C, np.concatenate(rays))  # one call: its set-up is the cost
+    from designer.survey.raycast import TerrainRaycaster
+
+    hits = TerrainRaycaster(hf).surface_hit(C, np.concatenate(rays), tol_m=1e-6)
     depth = np.einsum("ij,ij->i", hits - C, np.concatenate(axes))
     gsd = depth * np.concatenate(pitch_over_f)
     gsd = gsd[np.isfinite(gsd) & (gsd > 0)]
