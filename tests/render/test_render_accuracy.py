@@ -1,109 +1,33 @@
-"""Real Cycles renders: detected GCP target centres against the exported pixel coordinates."""
+"""Real Cycles renders of the pinhole and Brown–Conrady lenses: detected GCP target centres
+against the exported pixel coordinates (cases and checks: tests/render/accuracy.py)."""
 
 from __future__ import annotations
 
-import cv2
-import numpy as np
-import pycolmap
 import pytest
 
-from designer.export.tables import read_gcp_observations_csv, read_gcp_truth_csv
-from designer.project import model as m
-from designer.render.pipeline import render_project
-from tests.render.helpers import detect_centres
-from tests.synthetic import small_survey, write_project_file
+from tests.render.accuracy import (
+    CASES,
+    check_manifest_and_images,
+    check_pycolmap_projects_like_the_odm_gcp_list,
+    check_target_centres,
+    render_case,
+)
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
-CASES = {
-    # the plain pinhole, with a UTM-sized origin and a principal point offset in one render
-    # (the distorted cases below are at the local origin)
-    "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0),
-                             principal_point_mm=(0.31, -0.17)),
-    # below Blender's 1 mm minimum lens and sensor width: both are scaled, not clamped
-    "sub-millimetre sensor": dict(focal_length_mm=0.5, pixel_pitch_mm=0.001),
-    # Distorted cameras: rendered as an enlarged pinhole and warped (designer.effects).
-    "barrel k1=-0.3": dict(focal_length_mm=8.0,
-                           distortion=m.BrownConradyDistortion(k1=-0.3, k2=0.05)),
-    "pincushion k1=+0.2": dict(focal_length_mm=8.0,
-                               distortion=m.BrownConradyDistortion(k1=0.2)),
-    "tangential": dict(focal_length_mm=8.0, principal_point_mm=(0.2, 0.1),
-                       distortion=m.BrownConradyDistortion(k1=-0.1, p1=0.002, p2=-0.0015)),
-    "fisheye 148 deg": dict(focal_length_mm=3.1,
-                            distortion=m.FisheyeEquidistantDistortion(k1=0.01)),
-}
-#: cornerSubPix half-window (px): the fisheye's targets are ~15 px wide, and an 11 x 11
-#: window would reach past them into the grass.
-HALF_WINDOW = {"fisheye 148 deg": 3}
-#: |mean| bound (px) where it is not 0.02: the corner detector's own bias on the curved
-#: checker edges of a strong pincushion lens (0.030 px over 66 centres on the terrain
-#: fixed to the world; the same with and without surroundings; pycolmap's projection of
-#: the same truth agrees with the export to 1e-6 px, test below)
-MEAN_BOUND = {"pincushion k1=+0.2": 0.035}
-#: photos per case where not 16: each 148° fisheye image sees all 9 targets (~50 centres
-#: in 6 photos) and is rendered as a pinhole ~7 times the pixels (designer.effects
-#: .distortion_render), so 16 of them would cost more than all other cases together
-PHOTOS = {"fisheye 148 deg": 6}
 
-
-@pytest.fixture(scope="module", params=list(CASES))
+@pytest.fixture(scope="module", params=[name for name in CASES if name != "fisheye 148 deg"])
 def rendered(request, tmp_path_factory):
-    folder = tmp_path_factory.mktemp(request.param.replace(" ", "-"))
-    # 16 photos give 70-140 target centres: the mean's standard error is then < 0.01 px.
-    project_path = write_project_file(
-        small_survey(n_photos=PHOTOS.get(request.param, 16), **CASES[request.param]), folder)
-    summary = render_project(project_path, folder / "out", workers=1)
-    return request.param, summary
+    return render_case(request.param, tmp_path_factory)
 
 
 def test_target_centres_match_the_exported_pixel_coordinates(rendered):
-    name, summary = rendered
-    obs = read_gcp_observations_csv(summary.ground_truth["gcp_observations"])
-    rng = np.random.default_rng(0)
-    errors = []
-    for image_name in sorted({o.image_name for o in obs}):
-        rows = [o for o in obs if o.image_name == image_name]
-        uv = np.array([o.uv_px for o in rows])
-        W, H = summary.prepared.interior.image_size_px
-        keep = (uv[:, 0] > 12) & (uv[:, 0] < W - 12) & (uv[:, 1] > 12) & (uv[:, 1] < H - 12)
-        gray = cv2.imread(str(summary.images_dir / image_name), cv2.IMREAD_GRAYSCALE)
-        errors.append(detect_centres(gray, uv[keep], rng, HALF_WINDOW.get(name, 5)) - uv[keep])
-    d = np.concatenate(errors)
-    assert len(d) >= 12, f"{name}: only {len(d)} targets seen"
-    mean, rms = d.mean(axis=0), np.sqrt((d ** 2).mean(axis=0))
-    print(f"{name}: {len(d)} target centres, mean {mean} px, RMS {rms} px")
-    assert np.all(np.abs(mean) <= MEAN_BOUND.get(name, 0.02)), f"{name}: mean error {mean} px"
-    assert np.all(rms <= 0.1), f"{name}: RMS error {rms} px"
+    check_target_centres(rendered)
 
 
 def test_pycolmap_projects_gcps_like_the_odm_gcp_list(rendered):
-    _, summary = rendered
-    from designer.export.colmap_read import model_offset_world
-
-    rec = pycolmap.Reconstruction(str(summary.ground_truth["colmap"]))
-    # the model is local: world − the offset written beside it
-    offset = model_offset_world(summary.ground_truth["colmap"])
-    truth = {g.gcp_id: g.true_xyz - offset
-             for g in read_gcp_truth_csv(summary.ground_truth["gcp_truth"])}
-    lines = summary.ground_truth["odm_gcp_list"].read_text().splitlines()[1:]
-    assert lines
-    for line in lines:
-        # gcp_list.txt carries the surveyed coordinates; the pixels are those of the truth.
-        _, _, _, u, v, image_name, gcp_id = line.split()[:7]
-        image = rec.find_image_with_name(image_name)
-        uv = image.project_point(truth[gcp_id])
-        # ODM's pixel origin is the centre of the top-left pixel: 0.5 px from COLMAP's.
-        assert np.allclose(uv, [float(u) + 0.5, float(v) + 0.5], atol=1e-6)
+    check_pycolmap_projects_like_the_odm_gcp_list(rendered)
 
 
 def test_manifest_and_images_are_complete(rendered):
-    import json
-
-    name, summary = rendered
-    manifest = json.loads(summary.manifest.read_text())
-    assert manifest["blender_version"]
-    assert len(manifest["images"]) == manifest["frames_total"] == PHOTOS.get(name, 16)
-    assert all(v["render_seconds"] > 0 for v in manifest["images"].values())
-    # the images folder holds exactly the images; nothing partial stays anywhere
-    assert sorted(p.name for p in summary.images_dir.iterdir()) == sorted(manifest["images"])
-    assert list((summary.out_dir / ".designer-job" / "partial").iterdir()) == []
+    check_manifest_and_images(rendered)
