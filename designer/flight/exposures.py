@@ -1,10 +1,14 @@
 """A project's planned exposures as a drone flies them, and flown points read back.
 
-The exported flight is the project's PLAN: explicit exterior orientations (each its own
-line) followed by the flight plan's stations without pose noise (the noise models what
-the real flight will get wrong, not what it is asked to do). Each exposure carries its
-grid position, WGS 84 latitude/longitude, the ground height below it (from the project's
-terrain) and DJI gimbal angles with yaw from TRUE north (:mod:`designer.flight.gimbal`).
+The exported flight is the project's PLAN: explicit exterior orientations (imported
+photos), in the flight lines they were flown in as the window shows them
+(:func:`designer.survey.project_poses.explicit_stations`), followed by the flight plan's
+stations without pose noise (the noise models what the real flight will get wrong, not
+what it is asked to do). The plan's trigger distance is for the plan's lines; an
+imported photo is taken at its own waypoint (:attr:`Exposure.planned` is False). Each
+exposure carries its grid position, WGS 84 latitude/longitude, the ground height below
+it (from the project's terrain) and DJI gimbal angles with yaw from TRUE north
+(:mod:`designer.flight.gimbal`).
 
 Heights: the project's Z is written where a format wants an absolute height (QGC AMSL,
 KML ``absolute``, WPML ``WGS84``) plus ``height_offset_m`` (e.g. the geoid undulation
@@ -21,7 +25,6 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.core.rotation import rotation_from_opk
 from designer.errors import DesignerError
 from designer.flight.geodesy import Georef
 from designer.flight.gimbal import gimbal_from_rotation, rotation_from_gimbal, wrap_deg
@@ -29,7 +32,7 @@ from designer.project import model as m
 from designer.project.interiors import interior_from_camera
 from designer.scene.build import build_heightfield
 from designer.survey.flight import camera_calc
-from designer.survey.project_poses import IMAGE_EXTENSIONS, flight_plan_for
+from designer.survey.project_poses import IMAGE_EXTENSIONS, explicit_stations, flight_plan_for
 
 ALTITUDE_MODES = ("relative", "amsl")
 
@@ -37,7 +40,9 @@ ALTITUDE_MODES = ("relative", "amsl")
 @dataclass(frozen=True)
 class Exposure:
     """One planned photo: grid position (m), WGS 84 position (deg), ground below (m or
-    None without a height-field terrain), gimbal angles (deg, yaw from true north)."""
+    None without a height-field terrain), gimbal angles (deg, yaw from true north);
+    ``planned`` when the flight plan placed it (its line is flown with the plan's
+    trigger distance), False for an explicit exterior orientation."""
 
     name: str
     line: int
@@ -50,6 +55,7 @@ class Exposure:
     yaw_true_deg: float
     pitch_deg: float
     roll_deg: float
+    planned: bool = True
 
 
 @dataclass(frozen=True)
@@ -112,21 +118,18 @@ def flight_spec(
     georef = Georef(project.crs)
     hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
     extension = IMAGE_EXTENSIONS[project.render.output_format]
-    rows: list[tuple[str, int, np.ndarray, np.ndarray]] = []
-    cameras = []
-    for k, eo in enumerate(project.trajectory.exterior_orientations):
-        R = rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
-                                                          eo.kappa_deg)))
-        rows.append((eo.name, k, np.array([eo.X, eo.Y, eo.Z]), R))
-        cameras.append(eo.camera)
+    rows: list[tuple[str, int, np.ndarray, np.ndarray, bool]] = [
+        (s.image_name, s.line_index, s.C_world, s.R_cam_to_world, False)
+        for s in explicit_stations(project)]
+    cameras = [eo.camera for eo in project.trajectory.exterior_orientations]
     plan = project.trajectory.flight_plan
     trigger = None
     terrain_following = False
     if plan is not None:
         interior = interior_from_camera(project.camera(plan.camera))
         planned = flight_plan_for(plan, interior, hf, extension)
-        first = len(rows)
-        rows += [(s.image_name, first + s.line_index, s.C_world, s.R_cam_to_world)
+        first = 1 + max((r[1] for r in rows), default=-1)
+        rows += [(s.image_name, first + s.line_index, s.C_world, s.R_cam_to_world, True)
                  for s in planned.stations]
         cameras += [plan.camera] * len(planned.stations)
         trigger = camera_calc(
@@ -146,12 +149,12 @@ def flight_spec(
     north = georef.true_north_azimuth_deg(C[:, 0], C[:, 1])
     ground = hf.height_at_clamped(C[:, 0], C[:, 1]) if hf is not None else None
     exposures = []
-    for k, (name, line, c, R) in enumerate(rows):
+    for k, (name, line, c, R, is_planned) in enumerate(rows):
         yaw_grid, pitch, roll = gimbal_from_rotation(R)
         exposures.append(Exposure(
             name, line, float(c[0]), float(c[1]), float(c[2]), float(lon[k]), float(lat[k]),
             None if ground is None else float(ground[k]), wrap_deg(yaw_grid - north[k]),
-            pitch, roll))
+            pitch, roll, is_planned))
     if takeoff_height_m is None:
         if ground is None:
             raise DesignerError("the terrain is a mesh, so the take-off height is unknown; "

@@ -27,8 +27,10 @@ radius, yaw [deg, true north], latitude, longitude, altitude), MAV_CMD_DO_MOUNT_
 before a waypoint whose gimbal attitude changes, MAV_CMD_DO_SET_CAM_TRIGG_DIST (206;
 distance [m], shutter, trigger once immediately = 1) after the first waypoint of a line
 and with distance 0 after its last, and MAV_CMD_IMAGE_START_CAPTURE (2000; id,
-interval 0, total images 1) after a lone waypoint. The waypoints are the exposures
-themselves, one trigger distance apart along a line, so the trigger fires on them.
+interval 0, total images 1) after a lone waypoint and after each imported photo's
+(explicit exterior orientations need not be evenly spaced). The waypoints are the
+exposures themselves, one trigger distance apart along a planned line, so the trigger
+fires on them.
 
 Frames: 3 = MAV_FRAME_GLOBAL_RELATIVE_ALT (altitude above the take-off point, the
 ``relative`` choice) and 0 = MAV_FRAME_GLOBAL (AMSL, the ``amsl`` choice). A plan that
@@ -81,7 +83,7 @@ def plan_document(spec: FlightSpec) -> dict:
                 add(DO_MOUNT_CONTROL, [e.pitch_deg, e.roll_deg, 0.0, 0, 0, 0, 2])
             add(NAV_WAYPOINT, [0, 0, 0, e.yaw_true_deg, e.lat_deg, e.lon_deg,
                                *_altitude(spec, e)[:1]], **_altitude_fields(spec, e))
-            if len(line) == 1 or spec.trigger_distance_m is None:
+            if len(line) == 1 or spec.trigger_distance_m is None or not e.planned:
                 add(IMAGE_START_CAPTURE, [0, 0, 1, 0, 0, 0, 0])
             elif k == 0:
                 add(DO_SET_CAM_TRIGG_DIST, [spec.trigger_distance_m, 0, 1, 0, 0, 0, 0])

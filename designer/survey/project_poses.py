@@ -8,7 +8,7 @@ the XML as explicit exterior orientations for readers that want them spelled out
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -118,13 +118,10 @@ def _turn_deg(a: float, b: float) -> float:
     return abs((a - b + 180.0) % 360.0 - 180.0)
 
 
-def platform_stations(
-    project: m.Project, hf: Heightfield | None
-) -> tuple[list[Station], list[str]]:
-    """The stations in order (explicit ones first) and the camera or rig of each."""
-    extension = IMAGE_EXTENSIONS[project.render.output_format]
-    stations: list[Station] = []
-    carriers = []
+def explicit_stations(project: m.Project) -> list[Station]:
+    """The project's explicit exterior orientations as stations, in order, grouped into
+    the flight lines and grids they were flown in (:func:`photo_lines`, both numbered
+    from 0); each station's flight azimuth is its image-top azimuth (deg from grid north)."""
     eos = project.trajectory.exterior_orientations
     rotations = [rotation_from_opk(*(math.radians(a) for a in (eo.omega_deg, eo.phi_deg,
                                                                eo.kappa_deg))) for eo in eos]
@@ -132,14 +129,25 @@ def platform_stations(
                          for R in rotations])
     lines, grids = photo_lines(np.array([[eo.X, eo.Y] for eo in eos]).reshape(-1, 2),
                                headings)
+    return [Station(eo.name, np.array([eo.X, eo.Y, eo.Z]), R, int(line), int(grid),
+                    float(heading))
+            for eo, R, heading, line, grid in zip(eos, rotations, headings, lines, grids,
+                                                  strict=True)]
+
+
+def platform_stations(
+    project: m.Project, hf: Heightfield | None
+) -> tuple[list[Station], list[str]]:
+    """The stations in order (explicit ones first) and the camera or rig of each."""
+    extension = IMAGE_EXTENSIONS[project.render.output_format]
+    explicit = explicit_stations(project)
     # numbered below the flight plan's lines and grids (0, 1, …): never their neighbours
-    lines -= 1 + lines.max(initial=-1)
-    grids -= 1 + grids.max(initial=-1)
-    for eo, R, heading, line, grid in zip(eos, rotations, headings, lines, grids,
-                                          strict=True):
-        stations.append(Station(eo.name, np.array([eo.X, eo.Y, eo.Z]), R, int(line),
-                                int(grid), float(heading)))
-        carriers.append(eo.camera)
+    lines = 1 + max((s.line_index for s in explicit), default=-1)
+    grids = 1 + max((s.grid_index for s in explicit), default=-1)
+    stations: list[Station] = [
+        replace(s, line_index=s.line_index - lines,
+                            grid_index=s.grid_index - grids) for s in explicit]
+    carriers = [eo.camera for eo in project.trajectory.exterior_orientations]
     plan = project.trajectory.flight_plan
     if plan is not None:
         # Flight planning uses the full-size camera: overlaps do not depend on scaling.

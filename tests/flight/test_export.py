@@ -19,10 +19,12 @@ from designer.flight.kml import read_kml
 from designer.flight.qgc import read_plan
 from designer.flight.wpml import read_wpml
 from designer.project import load_project
+from designer.project import model as m
 from designer.project.interiors import interior_from_camera
 from designer.scene.build import build_heightfield
 from designer.survey.project_poses import flight_plan_for
 from tests.flight.helpers import EXAMPLE, rotation_error_deg, shifted
+from tests.synthetic import small_survey, write_project_file
 
 READERS = {"qgc": read_plan, "kml": read_kml, "wpml": read_wpml}
 SUFFIX = {"qgc": ".plan", "kml": ".kmz", "wpml": ".kmz"}
@@ -322,3 +324,64 @@ def test_wpml_height_modes_and_their_fields(tmp_path, example, mode):
         assert len(template.findall(f".//kml:Placemark/wpml:{field}", ns)) == \
             len(spec.exposures), field
     assert len(way.findall(".//kml:Placemark/wpml:executeHeight", ns)) == len(spec.exposures)
+
+
+def photos_in_lines(camera_id: str, E0: float, N0: float, Z: float, prefix: str = "IMG_"):
+    """Twelve imported photos flown in three serpentine lines of four (north, south,
+    north; 10 m apart, photos 6 m apart along a line), as a pose list."""
+    photos = []
+    for line, x in enumerate((-10.0, 0.0, 10.0)):
+        north = line % 2 == 0
+        ys = (-9.0, -3.0, 3.0, 9.0) if north else (9.0, 3.0, -3.0, -9.0)
+        photos += [m.ExteriorOrientation(f"{prefix}{4 * line + k:03d}.png", camera_id,
+                                         E0 + x, N0 + y, Z, 0.0, 0.0, 0.0 if north else 180.0)
+                   for k, y in enumerate(ys)]
+    return tuple(photos)
+
+
+def kml_lines(path: Path) -> list[list[str]]:
+    """The photo names along each LineString of a KML, by the photos' coordinates."""
+    K = "{http://www.opengis.net/kml/2.2}"
+    root = etree.parse(str(path)).getroot()
+    folders = {f.findtext(K + "name"): f for f in root.iter(K + "Folder")}
+    at = {pm.findtext(f"{K}Point/{K}coordinates"): pm.findtext(K + "name")
+          for pm in folders["Photos"].iter(K + "Placemark")}
+    return [[at[c] for c in pm.findtext(f".//{K}coordinates").split()]
+            for pm in folders["Flight lines"].iter(K + "Placemark")]
+
+
+def test_imported_photos_are_exported_in_the_lines_they_were_flown(tmp_path, capsys):
+    project = small_survey(origin=(500000.0, 5000000.0, 250.0))
+    project = dataclasses.replace(project, trajectory=m.Trajectory(
+        exterior_orientations=photos_in_lines("cam", 500000.0, 5000000.0, 280.0)))
+    path = write_project_file(project, tmp_path / "photos")
+    out = tmp_path / "photos.kml"
+    assert main(["export-flight", str(path), "--format", "kml", "-o", str(out)]) == 0
+    assert "12 photos on 3 lines" in capsys.readouterr().out
+    names = [f"IMG_{k:03d}.png" for k in range(12)]
+    assert kml_lines(out) == [names[0:4], names[4:8], names[8:12]]
+    # QGC: each imported photo is taken at its own waypoint (no trigger distance: the
+    # photos need not be evenly spaced), all of them read back in order
+    plan = tmp_path / "photos.plan"
+    assert main(["export-flight", str(path), "--format", "qgc", "-o", str(plan)]) == 0
+    assert "12 photos on 3 lines" in capsys.readouterr().out
+    commands = [i["command"] for i in json.loads(plan.read_text())["mission"]["items"]]
+    assert commands.count(2000) == 12 and 206 not in commands
+    assert len(read_plan(plan)) == 12
+
+
+def test_imported_lines_before_a_plan_keep_the_camera_at_their_photos(tmp_path, example):
+    E0, N0 = 512000.0, 5406000.0
+    project = dataclasses.replace(example, trajectory=dataclasses.replace(
+        example.trajectory, exterior_orientations=photos_in_lines("p4p", E0, N0, 60.0)))
+    stations, _ = planned(example, EXAMPLE.parent)
+    out = tmp_path / "mixed.plan"
+    spec = export_flight(project, EXAMPLE.parent, "qgc", out)
+    planned_lines = len({s.line_index for s in stations})
+    assert len(spec.lines) == 3 + planned_lines
+    assert [[e.name for e in line] for line in spec.lines[:3]] == [
+        [f"IMG_{k:03d}.png" for k in range(4 * n, 4 * n + 4)] for n in range(3)]
+    commands = [i["command"] for i in json.loads(out.read_text())["mission"]["items"]]
+    # the trigger distance is the plan's: it runs on the plan's lines only
+    assert commands.count(206) == 2 * planned_lines and commands.count(2000) == 12
+    assert len(read_plan(out)) == 12 + len(stations)
