@@ -287,7 +287,12 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
 
 
 def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarning]:
-    """Every warning of this module for ``project`` (files relative to ``base_dir``)."""
+    """Every warning of this module for ``project`` (files relative to ``base_dir``).
+
+    On a terrain mesh the lenses and the control's spread (its surveyed coordinates) are
+    weighed as on a height field; the network and the texture against the finest GSD
+    are not: the GSD is measured by casting rays on a height field, and the network's
+    warnings come with that analysis (as in the window's Flight panel)."""
     from designer.scene.build import build_heightfield, build_targets
     from designer.survey.project_poses import project_images
 
@@ -295,14 +300,17 @@ def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarni
            if (w := distortion_warning(cam, project.render.resolution_scale)) is not None]
     try:
         hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
-        if hf is None:  # a mesh terrain is not analysed
-            return out
         warning = control_warning(build_targets(project, hf))
-        images = project_images(project, hf)
-    except DesignerError:  # the flight cannot be planned: check says why elsewhere
+    except DesignerError:  # the terrain or targets cannot be built: check says why elsewhere
         return out
     if warning is not None:
         out.append(warning)
+    if hf is None:
+        return out
+    try:
+        images = project_images(project, hf)
+    except DesignerError:  # the flight cannot be planned: check says why elsewhere
+        return out
     out += network_warnings(project, len(images.stations),
                             [images.platform[k].line_index for k in images.station_index])
     if len(images.stations):

@@ -45,3 +45,26 @@ def test_nearly_collinear_control_is_warned_until_a_gcp_leaves_the_line(qtbot, w
     open_panel(w, "Flight")
     assert "nearly collinear" not in label.text(), label.text()
     assert "texture texels (2.0 cm)" in label.text()
+
+
+def test_nearly_collinear_control_on_a_terrain_mesh_is_warned(qtbot, window, tmp_path):
+    """The control's surveyed coordinates need no height field: on a terrain mesh the
+    Flight panel warns of nearly collinear control as designer check does."""
+    from designer.survey.hard_cases import collinear_control_warning
+    from tests.hard_cases import scenes
+
+    w = window
+    p = scenes.surveyed_at_true(scenes.collinear_control(0.0))
+    path = scenes.on_a_terrain_mesh(p, tmp_path)
+    answer_file_dialog(path)
+    choose_menu(qtbot, w, "File", "Open…")
+    wait_idle(qtbot, w)
+    assert w.document.path == path
+    assert w.document.project.scene.terrain.kind == "mesh"
+    label = open_panel(w, "Flight").findChild(QLabel, "plan-warnings")
+    qtbot.waitUntil(lambda: "nearly collinear" in label.text(), timeout=10000)
+    surveyed = [t.surveyed.position for t in p.targets[:5]]
+    warning = collinear_control_warning([t.id for t in p.targets[:5]],
+                                        [(s.X, s.Y, s.Z) for s in surveyed])
+    assert f"⚠ {warning.message}; {warning.panel_fix or warning.fix}" in label.text()
+    assert label.isVisible()

@@ -4,6 +4,9 @@ survey made tiny (320 × 240 px, ≤ 16 samples) and pushed into one hard case e
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
 
 from designer.project import model as m
 from tests.synthetic import small_survey
@@ -136,3 +139,33 @@ def flat_tiny() -> m.Project:
     E0, N0, H0 = project.origin.E0, project.origin.N0, project.origin.H0
     terrain = m.Terrain(m.Extent(E0 - 30, N0 - 30, E0 + 30, N0 + 30), m.FlatTerrain(H0))
     return replace(project, scene=replace(project.scene, terrain=terrain))
+
+
+def surveyed_at_true(project: m.Project) -> m.Project:
+    """``project`` with each target surveyed exactly (σ 0) at its true X, Y and the
+    origin's height: the control's surveyed coordinates do not depend on the terrain."""
+    H0 = project.origin.H0
+    targets = tuple(replace(t, surveyed=m.SurveyedPosition(
+        m.Point3(t.true.X, t.true.Y, H0), m.Sigma3(0.0, 0.0, 0.0))) for t in project.targets)
+    return replace(project, scene=replace(project.scene, targets=replace(
+        project.scene.targets, targets=targets)))
+
+
+def on_a_terrain_mesh(project: m.Project, folder: Path) -> Path:
+    """``project`` on a flat terrain mesh (``folder/ground.ply``, at the origin's height
+    over the terrain's extent), its targets placed at that height (a mesh drapes none):
+    written to ``folder/project.xml``, whose path is returned."""
+    from designer.core.heightfield import Heightfield
+    from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
+    from tests.synthetic import write_project_file
+
+    E0, N0, H0 = project.origin.E0, project.origin.N0, project.origin.H0
+    e = project.scene.terrain.extent
+    targets = tuple(replace(t, true=replace(t.true, Z=H0)) for t in project.targets)
+    scene = replace(project.scene, targets=replace(project.scene.targets, targets=targets),
+                    terrain=replace(project.scene.terrain, source=m.MeshTerrain("ground.ply")))
+    path = write_project_file(replace(project, scene=scene), folder)
+    write_mesh_ply(heightfield_to_mesh(Heightfield(
+        e.min_X - E0, e.min_Y - N0, e.max_X - e.min_X, e.max_Y - e.min_Y, np.zeros((2, 2)))),
+        folder / "ground.ply")
+    return path

@@ -17,7 +17,12 @@ from designer.cli.main import main
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.survey.hard_cases import collinear_problem, distortion_warning, point_spread
+from designer.survey.hard_cases import (
+    collinear_control_warning,
+    collinear_problem,
+    distortion_warning,
+    point_spread,
+)
 from tests.hard_cases import scenes
 from tests.synthetic import model_camera, write_project_file
 
@@ -46,6 +51,36 @@ def test_check_warns_when_control_is_nearly_collinear(tmp_path, capsys, width_m,
             line).groups())
         assert 2 * width_m <= width <= 2 * width_m + 0.3 and length == 20.0
         assert condition > 10
+
+
+def test_collinear_control_on_a_terrain_mesh_is_warned_as_on_a_height_field(tmp_path,
+                                                                          capsys):
+    """The control's surveyed coordinates need no height field: ``designer check`` and
+    the Flight panel's warnings (designer.gui.state.hard_cases) warn of nearly collinear
+    control on a terrain mesh in the words they use on a height field."""
+    from designer.gui.state.derived import compute_targets, compute_terrain
+    from designer.gui.state.hard_cases import hard_case_lines
+    from designer.project import load_project
+
+    project = scenes.surveyed_at_true(scenes.collinear_control(0.5))
+    on_field = [e for e in _check(tmp_path / "field", project, capsys) if "<targets>:" in e]
+    assert len(on_field) == 1 and "nearly collinear" in on_field[0], on_field
+    message = on_field[0].split("<targets>: ", 1)[1]
+    mesh_path = scenes.on_a_terrain_mesh(project, tmp_path / "mesh")
+    assert main(["check", str(mesh_path)]) == 0
+    on_mesh = [e for e in capsys.readouterr().err.splitlines() if "<targets>:" in e]
+    assert on_mesh == [f"warning: {mesh_path}: <targets>: {message}"]
+
+    mesh_project = load_project(mesh_path)
+    terrain = compute_terrain(mesh_project, mesh_path.parent)
+    assert terrain.heightfield is None and terrain.mesh is not None
+    lines = hard_case_lines(mesh_project, compute_targets(mesh_project, terrain.heightfield),
+                            None)
+    surveyed = [t.surveyed.position for t in project.targets[:5]]
+    warning = collinear_control_warning(["G0", "G1", "G2", "G3", "G4"],
+                                        [(p.X, p.Y, p.Z) for p in surveyed])
+    assert lines == [f"{warning.message}; {warning.panel_fix or warning.fix}"]
+    assert message == f"{warning.message}; {warning.fix}"
 
 
 def test_point_spread_at_utm_size():

@@ -36,16 +36,17 @@ def _lens_warning(camera: m.Camera, resolution_scale: float) -> HardCaseWarning 
         return None
 
 
-def hard_case_lines(project: m.Project, terrain, targets, plan) -> list[str]:
+def hard_case_lines(project: m.Project, targets, plan) -> list[str]:
     """The warnings, one line each with its fix in the window's words: the lenses close
     to their fold, nearly collinear control (``targets``: a
-    designer.gui.state.derived.TargetsResult on the height field of ``terrain``, a
-    TerrainResult), the texture against the finest GSD (``plan``: PlanFigures or None).
-    The network's warnings are in ``plan.warnings``."""
+    designer.gui.state.derived.TargetsResult, their surveyed coordinates, on any terrain:
+    a height field or a mesh), the texture against the finest GSD (``plan``: PlanFigures
+    or None). The network's warnings are in ``plan.warnings``. As ``designer check``:
+    the texture and the network are weighed by the flight's analysis, which casts rays
+    on a height field, so on a terrain mesh (``plan`` None) they are not warned of."""
     out = [w for cam in project.cameras
            if (w := _lens_warning(cam, project.render.resolution_scale)) is not None]
-    # as designer check: a mesh terrain is not analysed
-    if terrain is not None and terrain.heightfield is not None and targets is not None:
+    if targets is not None:
         control = [k for k, role in enumerate(targets.roles) if role == "control"]
         w = collinear_control_warning([targets.ids[k] for k in control],
                                       np.asarray(targets.surveyed_xyz)[control])
