@@ -289,10 +289,9 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
 def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarning]:
     """Every warning of this module for ``project`` (files relative to ``base_dir``).
 
-    On a terrain mesh the lenses and the control's spread (its surveyed coordinates) are
-    weighed as on a height field; the network and the texture against the finest GSD
-    are not: the GSD is measured by casting rays on a height field, and the network's
-    warnings come with that analysis (as in the window's Flight panel)."""
+    On a terrain mesh the lenses, the control's spread (its surveyed coordinates) and the
+    network (its images and lines) are weighed as on a height field; the texture against
+    the finest GSD is not: the GSD is measured by casting rays on a height field."""
     from designer.scene.build import build_heightfield, build_targets
     from designer.survey.project_poses import project_images
 
@@ -305,14 +304,12 @@ def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarni
         return out
     if warning is not None:
         out.append(warning)
-    if hf is None:
-        return out
     try:
         images = project_images(project, hf)
     except DesignerError:  # the flight cannot be planned: check says why elsewhere
         return out
     out += network_warnings(project, len(images.stations),
                             [images.platform[k].line_index for k in images.station_index])
-    if len(images.stations):
+    if hf is not None and len(images.stations):
         out += texture_warnings(project, finest_gsd_m(project, hf, images))
     return out

@@ -47,14 +47,21 @@ def test_nearly_collinear_control_is_warned_until_a_gcp_leaves_the_line(qtbot, w
     assert "texture texels (2.0 cm)" in label.text()
 
 
-def test_nearly_collinear_control_on_a_terrain_mesh_is_warned(qtbot, window, tmp_path):
-    """The control's surveyed coordinates need no height field: on a terrain mesh the
-    Flight panel warns of nearly collinear control as designer check does."""
-    from designer.survey.hard_cases import collinear_control_warning
+def test_collinear_control_and_a_thin_network_on_a_terrain_mesh_are_warned(
+        qtbot, window, tmp_path):
+    """The control's surveyed coordinates and the count of images need no height field:
+    on a terrain mesh the Flight panel warns of nearly collinear control and of two
+    photos as designer check does."""
+    from dataclasses import replace
+
+    from designer.project import model as m
+    from designer.survey.hard_cases import collinear_control_warning, network_warnings
     from tests.hard_cases import scenes
 
     w = window
     p = scenes.surveyed_at_true(scenes.collinear_control(0.0))
+    p = replace(p, trajectory=m.Trajectory(
+        exterior_orientations=p.trajectory.exterior_orientations[:2]))
     path = scenes.on_a_terrain_mesh(p, tmp_path)
     answer_file_dialog(path)
     choose_menu(qtbot, w, "File", "Open…")
@@ -67,4 +74,7 @@ def test_nearly_collinear_control_on_a_terrain_mesh_is_warned(qtbot, window, tmp
     warning = collinear_control_warning([t.id for t in p.targets[:5]],
                                         [(s.X, s.Y, s.Z) for s in surveyed])
     assert f"⚠ {warning.message}; {warning.panel_fix or warning.fix}" in label.text()
+    (thin,) = network_warnings(p, 2, [-1, -1])
+    assert thin.message.startswith("2 images: structure from motion needs at least 3")
+    assert f"⚠ {thin.message}; {thin.panel_fix}" in label.text(), label.text()
     assert label.isVisible()

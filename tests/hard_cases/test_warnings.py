@@ -247,6 +247,35 @@ def test_check_and_plan_warn_of_a_network_too_thin_for_sfm(tmp_path, capsys, kin
         assert f"  warning: {expected.split('>: ', 1)[1]}" in out, out
 
 
+def test_a_thin_network_on_a_terrain_mesh_is_warned_as_on_a_height_field(tmp_path,
+                                                                          capsys):
+    """Counting images and lines needs no height field: two photos over a terrain mesh
+    are warned of by designer check and by the Flight panel (before any analysis over
+    the terrain, which a mesh does not have) in the words used on a height field."""
+    from designer.gui.state.derived import compute_stations, compute_targets, compute_terrain
+    from designer.gui.state.hard_cases import hard_case_lines
+    from designer.project import load_project
+
+    project = scenes.surveyed_at_true(scenes.tiny_survey(n_photos=2))
+    on_field = [e.split(">: ", 1)[1] for e in _check(tmp_path / "field", project, capsys)
+                if "<trajectory>:" in e]
+    assert len(on_field) == 1 and on_field[0].startswith(THIN["zero overlap"][0][14:])
+    mesh_path = scenes.on_a_terrain_mesh(project, tmp_path / "mesh")
+    assert main(["check", str(mesh_path)]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert [e for e in err if "<trajectory>:" in e] == [
+        f"warning: {mesh_path}: <trajectory>: {on_field[0]}"], err
+    assert not [e for e in err if "<texture>:" in e], err  # the GSD needs a height field
+
+    mesh_project = load_project(mesh_path)
+    terrain = compute_terrain(mesh_project, mesh_path.parent)
+    lines = hard_case_lines(mesh_project, compute_targets(mesh_project, None), None,
+                            compute_stations(mesh_project, terrain))
+    (panel,) = [x for x in lines if "2 images" in x]
+    message = on_field[0].split("; ", 1)[0]
+    assert panel.startswith(f"{message}; ") and "Flight panel" in panel, lines
+
+
 def test_a_thick_network_has_no_network_warning(tmp_path, capsys):
     err = _check(tmp_path, scenes.tiny_survey(n_photos=6), capsys)
     assert not [e for e in err if "<trajectory>" in e or "<flight-plan>" in e], err

@@ -468,7 +468,8 @@ class SceneSync(QObject):
         (designer.gui.state.hard_cases)."""
         from designer.gui.state.hard_cases import hard_case_lines
 
-        return hard_case_lines(self.document.project, self.targets, self.plan)
+        return hard_case_lines(self.document.project, self.targets, self.plan,
+                               self.stations)
 
     # ------------------------------------------------------------------ plan figures
     def refresh_plan(self) -> None:

@@ -5,8 +5,9 @@ The lens of each camera is weighed as it is edited (a millisecond, kept per came
 control GCPs' spread is measured on the targets drawn (an SVD of a few points); the
 texture's texel is weighed against the finest GSD the flight's analysis measured in its
 thread (:attr:`designer.gui.state.plan_figures.PlanFigures.finest_gsd_m`), and the
-network's warnings come with that analysis. So asking after every edit costs well under
-a millisecond once the lens is known.
+network's warnings come with that analysis (without one, on a terrain mesh, they are
+weighed on the stations drawn: a count of images and lines). So asking after every edit
+costs well under a millisecond once the lens is known.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from designer.survey.hard_cases import (
     HardCaseWarning,
     collinear_control_warning,
     distortion_warning,
+    network_warnings,
     texture_warnings,
 )
 
@@ -36,14 +38,16 @@ def _lens_warning(camera: m.Camera, resolution_scale: float) -> HardCaseWarning 
         return None
 
 
-def hard_case_lines(project: m.Project, targets, plan) -> list[str]:
+def hard_case_lines(project: m.Project, targets, plan, stations=None) -> list[str]:
     """The warnings, one line each with its fix in the window's words: the lenses close
     to their fold, nearly collinear control (``targets``: a
     designer.gui.state.derived.TargetsResult, their surveyed coordinates, on any terrain:
     a height field or a mesh), the texture against the finest GSD (``plan``: PlanFigures
-    or None). The network's warnings are in ``plan.warnings``. As ``designer check``:
-    the texture and the network are weighed by the flight's analysis, which casts rays
-    on a height field, so on a terrain mesh (``plan`` None) they are not warned of."""
+    or None). The network's warnings are in ``plan.warnings``; without a plan (a terrain
+    mesh, or before the analysis) they are weighed on ``stations`` (a StationsResult or
+    None: its images and lines). As ``designer check``: the texture needs the finest GSD,
+    which the flight's analysis measures by casting rays on a height field, so on a
+    terrain mesh it is not warned of."""
     out = [w for cam in project.cameras
            if (w := _lens_warning(cam, project.render.resolution_scale)) is not None]
     if targets is not None:
@@ -54,4 +58,7 @@ def hard_case_lines(project: m.Project, targets, plan) -> list[str]:
             out.append(w)
     if plan is not None:
         out += texture_warnings(project, plan.finest_gsd_m)
+    elif stations is not None:
+        out += network_warnings(project, len(stations.image_names),
+                                [s.line_index for s in stations.stations])
     return [f"{w.message}; {w.panel_fix or w.fix}" for w in out]
