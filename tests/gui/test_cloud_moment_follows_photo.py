@@ -105,7 +105,8 @@ def test_clicking_a_thumbnail_draws_the_shadows_at_its_photo(qtbot, window, monk
     assert w.file_actions.save_to(tmp_path / "cloudy.xml"), problems(w)
     stations = w.sync.stations
     n = len(stations.stations)
-    chosen = (n // 3, n - 2)
+    lone, pixel = _lone_station(w, range(n // 4, n // 2))
+    chosen = (lone, n - 2)
     frames = [{"index": k, "name": stations.image_names[k], "width": 60, "height": 40}
               for k in chosen]
     panel = render_blank_frames(qtbot, w, monkeypatch, tmp_path, frames)
@@ -127,3 +128,11 @@ def test_clicking_a_thumbnail_draws_the_shadows_at_its_photo(qtbot, window, monk
         np.testing.assert_allclose(_drawn(w), _expected(w, _time_s(w, k)), atol=1)
     box = w.panels["Lighting"].cloud_moment
     assert stations.image_names[chosen[-1]] in box.currentText()
+
+    # the other way: the station clicked in the view makes its thumbnail the current one
+    assert panel.thumbs.currentItem().data(Qt.ItemDataRole.UserRole) == chosen[-1]
+    qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=pixel)
+    wait_idle(qtbot, w)
+    assert w.sync.selected_photo == lone
+    assert panel.thumbs.currentItem().data(Qt.ItemDataRole.UserRole) == lone
+    np.testing.assert_allclose(_drawn(w), _expected(w, _time_s(w, lone)), atol=1)

@@ -193,6 +193,7 @@ class RenderPanel(Panel):
         self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
         self.thumbs.itemActivated.connect(self.open_image)
         self.thumbs.itemClicked.connect(self._select_photo)
+        self.sync.photo_selected.connect(self._show_selected_photo)
         self.thumbs.itemDoubleClicked.connect(self.open_image)
 
     def _select_photo(self, item: QListWidgetItem) -> None:
@@ -206,6 +207,19 @@ class RenderPanel(Panel):
                                    "it is now (rendered before it changed)")
             return
         self.sync.select_photo(k)
+
+    def _show_selected_photo(self, station: int | None) -> None:
+        """The selected photo's thumbnail (the first of a rig station's) made current
+        and scrolled to; none selected, or not among the thumbnails: none current."""
+        for i in range(self.thumbs.count()):
+            item = self.thumbs.item(i)
+            index = item.data(Qt.ItemDataRole.UserRole)
+            if (station is not None and index < len(self.image_names)
+                    and self.sync.photo_of_image(self.image_names[index]) == station):
+                self.thumbs.setCurrentItem(item)
+                self.thumbs.scrollToItem(item)
+                return
+        self.thumbs.setCurrentItem(None)
 
     def _scale_problem(self, scale: float) -> str:
         return scale_problem(self.project.cameras, scale)
