@@ -183,6 +183,12 @@ class FlightPanel(Panel):
         figures = QWidget()
         layout = QVBoxLayout(figures)
         layout.setContentsMargins(6, 6, 6, 6)
+        # the warnings first: what to fix is seen without scrolling the pane
+        self.warnings_label = QLabel()
+        self.warnings_label.setObjectName("plan-warnings")
+        self.warnings_label.setWordWrap(True)
+        self.warnings_label.setStyleSheet("color: #b9770e; font-weight: bold")
+        layout.addWidget(self.warnings_label)
         info = QGroupBox("what this flight delivers")
         f = form(info)
         self.images_label = readout()
@@ -203,11 +209,6 @@ class FlightPanel(Panel):
         f.addRow("GSD", self.real_gsd)
         f.addRow("achieved overlap", self.real_overlap)
         f.addRow("images", self.real_images)
-        self.warnings_label = QLabel()
-        self.warnings_label.setObjectName("plan-warnings")
-        self.warnings_label.setWordWrap(True)
-        self.warnings_label.setStyleSheet("color: #b9770e; font-weight: bold")
-        f.addRow(self.warnings_label)
         layout.addWidget(real)
         layout.addStretch(1)
         return figures
@@ -361,6 +362,7 @@ class FlightPanel(Panel):
         elif self.sync.errors.get("plan"):
             lines.append(self.sync.errors["plan"])
         self.warnings_label.setText("\n".join(lines))
+        self.warnings_label.setVisible(bool(lines))
 
     def _no_plan_reason(self, error: str) -> str:
         """Why the flight has no figures over the terrain, in words."""

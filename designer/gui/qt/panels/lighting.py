@@ -138,6 +138,7 @@ class LightingPanel(Panel):
         blocked = self.cloudy.blockSignals(True)
         self.cloudy.setChecked(clouds is not None)
         self.cloudy.blockSignals(blocked)
+        self.cloud_moment.setEnabled(clouds is not None)
         self.clouds_note.setText(
             "" if clouds is None else
             "they drift with each photo's time" if self.project.trajectory.time_line else
