@@ -6,21 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from designer.gui.state import derived, edits, files
+from designer.gui.state import derived, edits
 from designer.project import model as m
-
-#: 3.125 m/s east: 1 s of wind is 8 steps of the 100 m / 256 preview grid
-CLOUDS = m.CloudShadows(cover=0.5, size_m=20.0, softness_m=1.0, depth=0.8,
-                        wind_speed_m_s=3.125, wind_direction_deg=90.0, seed=4)
-HUT = m.Building("hut", footprint=tuple(m.PathPoint(X, Y) for X, Y in (
-    (-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0))), eave_height_m=3.0)
-
-
-def cloudy_hut() -> m.Project:
-    """The blank project (flat 100 × 100 m, origin 0) with cloud shadows and a 4 × 4 m
-    flat-roofed hut at its centre."""
-    p = edits.replace_path(files.blank_project(), "scene.lighting.clouds", CLOUDS)
-    return edits.replace_path(p, "scene.buildings", (HUT,))
+from tests.gui.cloud_shadow_helpers import cloudy_hut
 
 
 def test_the_shadows_drift_by_the_wind_between_two_moments(tmp_path):
@@ -38,8 +26,9 @@ def test_the_shadows_drift_by_the_wind_between_two_moments(tmp_path):
 
 @pytest.mark.gui
 def test_the_view_draws_the_shadows_at_the_chosen_photo(qtbot, window, tmp_path):
-    """The Lighting panel's "drawn at": the flight's start, then a photo chosen with the
-    keyboard; the view's shadows are the render's at its time."""
+    """The Lighting panel's "drawn at": the selected photo (none: the flight's start),
+    then a photo chosen with the keyboard; the view's shadows are the render's at its
+    time."""
     from PySide6.QtCore import Qt
     from PySide6.QtWidgets import QComboBox, QScrollArea
 
@@ -62,17 +51,18 @@ def test_the_view_draws_the_shadows_at_the_chosen_photo(qtbot, window, tmp_path)
 
     panel = open_panel(w, "Lighting")
     box = panel.findChild(QComboBox, "cloud-moment")
-    assert box.currentText() == "the flight's start"
-    assert box.count() == 1 + len(w.sync.stations.stations)
+    assert box.currentText() == "the selected photo (none yet: the flight's start)"
+    assert box.itemText(1) == "the flight's start"
+    assert box.count() == 2 + len(w.sync.stations.stations)
     start_shadow = expected(0.0)
     np.testing.assert_allclose(drawn(), start_shadow, atol=1)
 
     panel.findChild(QScrollArea).ensureWidgetVisible(box)
     box.setFocus()
-    for _ in range(20):
+    for _ in range(21):
         qtbot.keyClick(box, Qt.Key.Key_Down)
     wait_idle(qtbot, w)
-    assert w.sync.selected_station == 19
+    assert w.sync.cloud_moment == w.sync.cloud_station == 19
     t = w.sync.cloud_time_s()
     assert t > 30 and f"({t:.0f} s after take-off)" in box.currentText()
     late_shadow = expected(t)

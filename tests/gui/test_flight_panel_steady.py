@@ -5,10 +5,10 @@ the table's rows do (from 1)."""
 from __future__ import annotations
 
 import pytest
-from PySide6.QtCore import QPoint
+from PySide6.QtCore import QCoreApplication, QEvent, QPoint
 
 from designer.gui.state import edits
-from tests.gui.helpers import wait_idle
+from tests.gui.helpers import LAYOUT_ROUNDS, wait_idle
 
 pytestmark = pytest.mark.gui
 
@@ -54,3 +54,26 @@ def test_a_crossing_area_names_its_vertices_as_the_table_rows():
     text = str(error.value)
     assert "vertex 1 to vertex 2" in text and "vertex 3 to vertex 4" in text
     assert "edge 3-0" not in text
+
+
+def test_the_fields_stay_put_when_the_figures_of_a_new_flight_arrive(qtbot, window):
+    """The figures (GSD, overlaps, estimates) are computed in worker threads after a
+    template opens; arriving, they must not push the fields below them down under a
+    mouse that is about to click one."""
+    w = window
+    w.docks["Flight"].raise_()
+    assert w.file_actions.new("survey")
+    flight = w.panels["Flight"]
+    fields = (flight.camera, flight.altitude_spin, flight.noisy, flight.timed)
+    # laid out for the new project (the event loop does it before the user can click)
+    # while the figures are still being computed
+    for _ in range(LAYOUT_ROUNDS):
+        QCoreApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest.value)
+    assert flight.real_gsd.text() == "–"
+    before = [f.mapTo(w, QPoint(0, 0)) for f in fields]
+    wait_idle(qtbot, w)
+    assert " to " in flight.real_gsd.text() and flight.images_label.text() == "60"
+    assert [f.mapTo(w, QPoint(0, 0)) for f in fields] == before
+    # the figures are on screen beside the fields, not scrolled away below them
+    for label in (flight.images_label, flight.real_gsd):
+        assert label.visibleRegion().boundingRect().height() >= label.height() - 1

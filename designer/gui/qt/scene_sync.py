@@ -24,6 +24,7 @@ import numpy as np
 from PySide6.QtCore import QObject, Signal
 
 from designer.errors import DesignerError
+from designer.gui.qt.photo_selection import FOLLOW_SELECTION, PhotoSelection
 from designer.gui.qt.tasks import TaskRunner
 from designer.gui.state import derived
 from designer.gui.state.document import ProjectDocument
@@ -43,7 +44,7 @@ def _message(error: BaseException) -> str:
     return f"{type(error).__name__}: {humanize(str(error))}"
 
 
-class SceneSync(QObject):
+class SceneSync(PhotoSelection, QObject):
     terrain_changed = Signal()
     texture_changed = Signal()
     targets_changed = Signal()
@@ -57,6 +58,9 @@ class SceneSync(QObject):
     error_message = Signal(str)
     #: a message posted by ``error_message`` that no longer holds (its error went)
     message_withdrawn = Signal(str)
+    #: a photo was selected (its station's index) or none is (None):
+    #: designer.gui.qt.photo_selection
+    photo_selected = Signal(object)
 
     def __init__(self, document: ProjectDocument, view, tasks: TaskRunner) -> None:
         super().__init__(view)
@@ -75,15 +79,13 @@ class SceneSync(QObject):
         #: the (terrain, stations) ``plan`` was computed over; None while one is computed
         self._plan_inputs: tuple | None = None
         self.errors: dict[str, str] = {}
-        #: the station (index into ``stations.stations``) whose moment the cloud shadows
-        #: are drawn at; None: the flight's start
-        self.selected_station: int | None = None
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
         self._area_key: tuple | None = None
         document.events.connect("project", self._on_project)
         document.events.connect("reset", self._on_reset)
         view.interaction.ground_picker = self._pick_ground
+        self._init_photo_selection()
 
     # ------------------------------------------------------------------ events
     def _on_reset(self, project) -> None:
@@ -95,6 +97,10 @@ class SceneSync(QObject):
         self._plan_inputs = None
         self._tiles = None
         self._area_key = None
+        self.selected_photo = None  # of the project before
+        self.cloud_moment = FOLLOW_SELECTION
+        self.view.show_selected_station(None)
+        self.photo_selected.emit(None)
 
     def _on_project(self, old, new, parts) -> None:
         if parts & TERRAIN_PARTS or self.terrain is None:
@@ -296,28 +302,6 @@ class SceneSync(QObject):
                           on_done=lambda preview: self._cloud_shadows_done(terrain, preview),
                           on_error=lambda e: self._fail("cloud shadows", e))
 
-    def cloud_time_s(self) -> float:
-        """Seconds after take-off the cloud shadows are drawn at (the render drifts them
-        with the wind over the flight's time line): the selected station's time, or 0,
-        the flight's start, with no station selected or photos without times."""
-        from designer.survey.timeline import project_station_times
-
-        k, stations = self.selected_station, self.stations
-        if k is None or stations is None or not 0 <= k < len(stations.stations):
-            return 0.0
-        try:
-            times = project_station_times(self.document.project, stations.stations)
-        except DesignerError:
-            return 0.0
-        return 0.0 if times is None else times[k].time_s
-
-    def select_station(self, index: int | None) -> None:
-        """Draw the cloud shadows at station ``index``'s moment (None: the flight's
-        start)."""
-        self.selected_station = index
-        if self.document.project.scene.lighting.clouds is not None:
-            self.refresh_cloud_shadows()
-
     def _cloud_shadows_done(self, terrain: derived.TerrainResult,
                             preview: derived.CloudPreview | None) -> None:
         if self.terrain is None or terrain.display is not self.terrain.display:
@@ -436,8 +420,7 @@ class SceneSync(QObject):
             # an edit moved every camera out of sight: show them with the terrain
             self.view.frame_all(result.C_world)
         self.stations_changed.emit()
-        if self.selected_station is not None:
-            self.select_station(self.selected_station)  # its moment may have moved
+        self._stations_replaced()
         self.refresh_plan()
         if self.coverage_enabled:
             self.refresh_coverage()
@@ -447,6 +430,7 @@ class SceneSync(QObject):
         self.view.show_stations(None)
         self.view.show_surroundings(None, None)  # planned from the images: none without
         self.errors["stations"] = _message(error)
+        self.view.show_selected_station(None)
         self.stations_changed.emit()
         self.refresh_plan()
 

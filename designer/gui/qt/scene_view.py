@@ -417,6 +417,7 @@ class SceneView(OverlayLayers, QWidget):
                    **LAYER_STYLE["footprints"])
         self._show("flight", self._lines(geometry.flight_points, geometry.flight_lines),
                    **LAYER_STYLE["flight"])
+        self.plotter.reset_camera_clipping_range()  # the nearest stations not cut off
 
     def show_polygon(self, name: str, xyz_world: np.ndarray | None, closed: bool = True) -> None:
         """A polyline (the survey area, the area being drawn)."""

@@ -191,8 +191,9 @@ class OverlayLayers:
         self.plotter.reset_camera_clipping_range()
         self.request_render()
 
-    def in_view(self, points_world: np.ndarray) -> np.ndarray:
-        """(N,) True where a point projects inside the view, in front of the camera."""
+    def _ndc(self, points_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Normalised device coordinates (N, 3) of world points and their clip w (N,):
+        positive in front of the camera."""
         p = np.asarray(points_world, dtype=float).reshape(-1, 3) - self.offset
         w, h = self.plotter.width(), self.plotter.height()
         m4 = self.plotter.renderer.GetActiveCamera().GetCompositeProjectionTransformMatrix(
@@ -200,8 +201,43 @@ class OverlayLayers:
         M = np.array([[m4.GetElement(i, j) for j in range(4)] for i in range(4)])
         clip = np.c_[p, np.ones(len(p))] @ M.T
         with np.errstate(divide="ignore", invalid="ignore"):
-            ndc = clip[:, :3] / clip[:, 3:4]
-        return (clip[:, 3] > 0) & np.all(np.abs(ndc[:, :2]) <= 1, axis=1)
+            return clip[:, :3] / clip[:, 3:4], clip[:, 3]
+
+    def in_view(self, points_world: np.ndarray) -> np.ndarray:
+        """(N,) True where a point projects inside the view, in front of the camera."""
+        ndc, depth = self._ndc(points_world)
+        return (depth > 0) & np.all(np.abs(ndc[:, :2]) <= 1, axis=1)
+
+    def point_near(self, points_world: np.ndarray, x_px: float, y_px: float,
+                   radius_px: float) -> int | None:
+        """Index of the world point drawn nearest a widget pixel (y down), within
+        ``radius_px`` and in front of the camera, or None; of points drawn on the same
+        pixel, the one nearer the camera."""
+        ndc, depth = self._ndc(points_world)
+        w, h = self.plotter.width(), self.plotter.height()
+        r = np.hypot((ndc[:, 0] + 1) / 2 * w - x_px, (1 - ndc[:, 1]) / 2 * h - y_px)
+        # in front of the camera; not tested against the clipping range, which the
+        # renderer fits to the drawn layers only at the next frame
+        near = np.flatnonzero((r <= radius_px) & (depth > 0))
+        if not near.size:
+            return None
+        return int(near[np.lexsort((depth[near], np.round(r[near])))[0]])
+
+    def show_selected_station(self, C_world: np.ndarray | None, name: str = "") -> None:
+        """The selected photo's camera station: a white dot on its perspective centre,
+        labelled with the image's name (None: no photo selected)."""
+        self.remove_layer("selected-station")
+        if C_world is not None:
+            points = self.local(C_world)
+            self.plotter.add_point_labels(
+                points, [name], name="selected-station", font_size=14, point_size=14,
+                point_color="white", render_points_as_spheres=True, shape_opacity=0.55,
+                text_color="white", always_visible=True, render=False, reset_camera=False)
+            self._meshes["selected-station"] = self._pv.PolyData(points)
+            # the camera's near and far planes fitted to what is drawn now: a station
+            # above the view's clipping range would not show its mark
+            self.plotter.reset_camera_clipping_range()
+        self.request_render()
 
     def cloud_lookup_table(self):
         actor = self.plotter.actors.get("cloud")

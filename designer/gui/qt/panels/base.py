@@ -6,7 +6,7 @@ import os
 from pathlib import Path
 
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QLabel, QScrollArea, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QLabel, QScrollArea, QSplitter, QVBoxLayout, QWidget
 
 from designer.gui.qt.widgets import Bindings, CheckedDoubleSpin, CheckedSpin
 
@@ -38,15 +38,19 @@ class Panel(QWidget):
         self.input_label.setWordWrap(True)
         self.input_label.setStyleSheet(ERROR_STYLE)
         self.input_label.hide()
-        # below the fields: appearing, the message shortens the panel's scrolled part
-        # from its bottom and moves no field (above them, it pushed them down under the
-        # mouse)
-        outer.addWidget(scroll)
-        outer.addWidget(self.input_label)
         self.input_errors: dict[QWidget, str] = {}
         self._status_refusal = ""  # the refusal this panel last put in the status bar
         self.build(self.body)
         self.body.addStretch(1)
+        figures = self.build_figures()
+        if figures is None:
+            outer.addWidget(scroll)
+        else:
+            outer.addWidget(_fields_over_figures(scroll, figures))
+        # below the fields: appearing, the message shortens the panel's scrolled part
+        # from its bottom and moves no field (above them, it pushed them down under the
+        # mouse)
+        outer.addWidget(self.input_label)
         self.watch_fields()
         editor.document.events.connect("project", self._on_project)
         self.refresh()
@@ -88,6 +92,12 @@ class Panel(QWidget):
     def build(self, layout: QVBoxLayout) -> None:
         raise NotImplementedError
 
+    def build_figures(self) -> QWidget | None:
+        """What the panel computes from its fields (figures that arrive from worker
+        threads and grow and shrink), shown in a pane of its own below the fields so
+        that no field moves when they change; None: the panel has none."""
+        return None
+
     def _on_project(self, old, new, parts) -> None:
         if parts & self.parts:
             self.refresh()
@@ -102,3 +112,22 @@ class Panel(QWidget):
             return Path(os.path.relpath(path, base)).as_posix()
         except ValueError:
             return str(path)
+
+
+def _fields_over_figures(fields: QScrollArea, figures: QWidget) -> QSplitter:
+    """The fields' scroll area above a scroll area of the figures, split by a handle the
+    user can drag. Each pane keeps its height whatever its content: figures that arrive
+    or grow scroll in their pane and push no field down."""
+    pane = QScrollArea()
+    pane.setObjectName("figures")
+    pane.setWidgetResizable(True)
+    pane.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+    pane.setWidget(figures)
+    split = QSplitter(Qt.Orientation.Vertical)
+    split.setChildrenCollapsible(False)
+    split.addWidget(fields)
+    split.addWidget(pane)
+    # the fields take what the figures leave; the figures start with about 2/5
+    split.setStretchFactor(0, 3)
+    split.setStretchFactor(1, 2)
+    return split

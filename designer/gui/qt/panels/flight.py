@@ -16,6 +16,8 @@ from PySide6.QtWidgets import (
     QRadioButton,
     QTableWidget,
     QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
 )
 
 from designer.gui.qt.panels.base import Panel
@@ -41,8 +43,8 @@ class FlightPanel(Panel):
             "Add flight plan"))
         layout.addWidget(self.create)
 
-        # the area first: the figures and warnings below it grow and shrink as the
-        # flight changes, and must not move the table under the mouse
+        # the figures and warnings that grow and shrink as the flight changes are in a
+        # pane of their own below the fields (build_figures): they move no field
         area = QGroupBox("area (world X, Y; m)")
         box = form(area)
         row = QHBoxLayout()
@@ -58,39 +60,11 @@ class FlightPanel(Panel):
         box.addRow(row)
         self.area_table = QTableWidget(0, 2)
         self.area_table.setHorizontalHeaderLabels(["X", "Y"])
-        self.area_table.setMinimumHeight(130)
+        self.area_table.setMinimumHeight(160)  # four rows whole: a square area
         self.area_table.setMaximumHeight(170)
         self.area_table.itemChanged.connect(self._area_typed)
         box.addRow(self.area_table)
         layout.addWidget(area)
-
-        info = QGroupBox("what this flight delivers")
-        f = form(info)
-        self.images_label = readout()
-        self.images_label.setStyleSheet("font-weight: bold")
-        self.calc_label, self.time_label = readout(), readout()
-        f.addRow("images", self.images_label)
-        f.addRow("grid", self.calc_label)
-        f.addRow("render time", self.time_label)
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
-        f.addRow(self.error_label)
-        layout.addWidget(info)
-
-        real = QGroupBox("over the real terrain (as designer plan measures it)")
-        f = form(real)
-        self.real_gsd, self.real_overlap, self.real_images = readout(), readout(), readout()
-        f.addRow("GSD", self.real_gsd)
-        f.addRow("achieved overlap", self.real_overlap)
-        f.addRow("images", self.real_images)
-        self.warnings_label = QLabel()
-        self.warnings_label.setObjectName("plan-warnings")
-        self.warnings_label.setWordWrap(True)
-        self.warnings_label.setStyleSheet("color: #b9770e; font-weight: bold")
-        f.addRow(self.warnings_label)
-        layout.addWidget(real)
-
 
         grid = QGroupBox("grid")
         f = form(grid)
@@ -202,6 +176,42 @@ class FlightPanel(Panel):
         # the control's spread with the GCPs
         self.sync.terrain_changed.connect(self._show_warnings)
         self.sync.targets_changed.connect(self._show_warnings)
+
+    def build_figures(self) -> QWidget:
+        """The flight's figures (image count, GSD, footprint, render time; the GSD and
+        overlaps over the real terrain) and its warnings, below the fields."""
+        figures = QWidget()
+        layout = QVBoxLayout(figures)
+        layout.setContentsMargins(6, 6, 6, 6)
+        # the warnings first: what to fix is seen without scrolling the pane
+        self.warnings_label = QLabel()
+        self.warnings_label.setObjectName("plan-warnings")
+        self.warnings_label.setWordWrap(True)
+        self.warnings_label.setStyleSheet("color: #b9770e; font-weight: bold")
+        layout.addWidget(self.warnings_label)
+        info = QGroupBox("what this flight delivers")
+        f = form(info)
+        self.images_label = readout()
+        self.images_label.setStyleSheet("font-weight: bold")
+        self.calc_label, self.time_label = readout(), readout()
+        f.addRow("images", self.images_label)
+        f.addRow("grid", self.calc_label)
+        f.addRow("render time", self.time_label)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #c0392b")
+        f.addRow(self.error_label)
+        layout.addWidget(info)
+
+        real = QGroupBox("over the real terrain (as designer plan measures it)")
+        f = form(real)
+        self.real_gsd, self.real_overlap, self.real_images = readout(), readout(), readout()
+        f.addRow("GSD", self.real_gsd)
+        f.addRow("achieved overlap", self.real_overlap)
+        f.addRow("images", self.real_images)
+        layout.addWidget(real)
+        layout.addStretch(1)
+        return figures
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
@@ -352,6 +362,7 @@ class FlightPanel(Panel):
         elif self.sync.errors.get("plan"):
             lines.append(self.sync.errors["plan"])
         self.warnings_label.setText("\n".join(lines))
+        self.warnings_label.setVisible(bool(lines))
 
     def _no_plan_reason(self, error: str) -> str:
         """Why the flight has no figures over the terrain, in words."""

@@ -11,6 +11,7 @@ from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
 
 from designer.errors import DesignerError
 from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.photo_selection import FOLLOW_SELECTION
 from designer.gui.qt.widgets import combo, declared_field, dspin, form, readout
 from designer.gui.state import derived, edits
 from designer.project import model as m
@@ -99,13 +100,18 @@ class LightingPanel(Panel):
         f.addRow(self.clouds_note)
         self.cloud_moment = combo([])
         self.cloud_moment.setObjectName("cloud-moment")
-        self.cloud_moment.setToolTip("the moment of the flight the 3D view draws the cloud "
-                                     "shadows at, on the ground, buildings and objects")
+        self.cloud_moment.setToolTip(
+            "the moment of the flight the 3D view draws the cloud shadows at, on the ground, "
+            "buildings and objects: by default the selected photo's (click a camera station "
+            "in the view or a thumbnail in the Render panel; none selected: the flight's "
+            "start); the flight's start or a photo chosen here stays, whatever photo is "
+            "selected, until “the selected photo” is chosen again")
         self.cloud_moment.currentIndexChanged.connect(
-            lambda _i: self.sync.select_station(self.cloud_moment.currentData()))
+            lambda _i: self.sync.set_cloud_moment(self.cloud_moment.currentData()))
         f.addRow("drawn at", self.cloud_moment)
         layout.addWidget(clouds)
         self.sync.stations_changed.connect(self._fill_moments)
+        self.sync.photo_selected.connect(lambda _k: self._name_selected_photo())
         self._fill_moments()
 
         info = form()
@@ -132,6 +138,7 @@ class LightingPanel(Panel):
         blocked = self.cloudy.blockSignals(True)
         self.cloudy.setChecked(clouds is not None)
         self.cloudy.blockSignals(blocked)
+        self.cloud_moment.setEnabled(clouds is not None)
         self.clouds_note.setText(
             "" if clouds is None else
             "they drift with each photo's time" if self.project.trajectory.time_line else
@@ -167,28 +174,35 @@ class LightingPanel(Panel):
             self.contrast_label.setText("no light at all: raise the sun or sky strength")
 
     def _fill_moments(self) -> None:
-        """The moments the view can draw the cloud shadows at: the flight's start, then
-        each photo at its time on the time line (none without one: every photo sees
-        them as at take-off)."""
-        from designer.survey.timeline import project_station_times
-
-        stations, times = self.sync.stations, None
-        if stations is not None and stations.stations:
-            try:
-                times = project_station_times(self.project, stations.stations)
-            except DesignerError:
-                times = None
-        box, chosen = self.cloud_moment, self.sync.selected_station
+        """The moments the view can draw the cloud shadows at: the selected photo's, the
+        flight's start, then each photo at its time on the time line (none without one:
+        every photo sees them as at take-off)."""
+        times = self.sync.station_times()
+        box, chosen = self.cloud_moment, self.sync.cloud_moment
         blocked = box.blockSignals(True)
         box.clear()
+        box.addItem("", FOLLOW_SELECTION)
         box.addItem("the flight's start", None)
         for k, t in enumerate(times or ()):
             box.addItem(f"{t.image_name} ({t.time_s:.0f} s after take-off)", k)
-        index = 0 if chosen is None else box.findData(chosen)
+        index = box.findData(chosen) if chosen is not None else 1
         box.setCurrentIndex(max(index, 0))
         box.blockSignals(blocked)
+        self._name_selected_photo()
         if index < 0:
-            self.sync.select_station(None)  # that photo is gone: the flight's start
+            self.sync.set_cloud_moment(FOLLOW_SELECTION)  # that photo is gone
+
+    def _name_selected_photo(self) -> None:
+        """The first entry of "drawn at" names the selected photo and its moment."""
+        k, stations = self.sync.selected_photo, self.sync.stations
+        if k is None or stations is None or k >= len(stations.stations):
+            text = "the selected photo (none yet: the flight's start)"
+        else:
+            times = self.sync.station_times()
+            when = ("no time line: as at take-off" if times is None else
+                    f"{times[k].time_s:.0f} s")
+            text = f"the selected photo: {stations.stations[k].image_name} ({when})"
+        self.cloud_moment.setItemText(0, text)
 
     # ------------------------------------------------------------------ view → model
     def _clouds_toggled(self, on: bool) -> None:

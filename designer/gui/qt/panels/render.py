@@ -167,7 +167,9 @@ class RenderPanel(Panel):
         self.thumbs.setUniformItemSizes(True)
         self.thumbs.setGridSize(thumb_item(self.thumbs.iconSize()))
         self.thumbs.setWordWrap(True)
-        self.thumbs.setToolTip("double-click an image to open it with the GCPs it sees")
+        self.thumbs.setToolTip("click an image to select its photo (its station marked in "
+                               "the 3D view, the cloud shadows drawn at its moment); "
+                               "double-click it to open it with the GCPs it sees")
         layout.addWidget(self.thumbs)
         self.log = QPlainTextEdit()
         self.log.setReadOnly(True)
@@ -190,7 +192,34 @@ class RenderPanel(Panel):
         self._thumbs_dir: Path | None = None
         self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
         self.thumbs.itemActivated.connect(self.open_image)
+        self.thumbs.itemClicked.connect(self._select_photo)
+        self.sync.photo_selected.connect(self._show_selected_photo)
         self.thumbs.itemDoubleClicked.connect(self.open_image)
+
+    def _select_photo(self, item: QListWidgetItem) -> None:
+        """A thumbnail clicked selects the photo of its image (designer.gui.qt.
+        photo_selection); an image the current stations no longer have selects none."""
+        index = item.data(Qt.ItemDataRole.UserRole)
+        name = self.image_names[index] if index < len(self.image_names) else None
+        k = self.sync.photo_of_image(name) if name is not None else None
+        if k is None:
+            self.sync.message.emit(f"{name or 'this image'}: not a photo of the flight as "
+                                   "it is now (rendered before it changed)")
+            return
+        self.sync.select_photo(k)
+
+    def _show_selected_photo(self, station: int | None) -> None:
+        """The selected photo's thumbnail (the first of a rig station's) made current
+        and scrolled to; none selected, or not among the thumbnails: none current."""
+        for i in range(self.thumbs.count()):
+            item = self.thumbs.item(i)
+            index = item.data(Qt.ItemDataRole.UserRole)
+            if (station is not None and index < len(self.image_names)
+                    and self.sync.photo_of_image(self.image_names[index]) == station):
+                self.thumbs.setCurrentItem(item)
+                self.thumbs.scrollToItem(item)
+                return
+        self.thumbs.setCurrentItem(None)
 
     def _scale_problem(self, scale: float) -> str:
         return scale_problem(self.project.cameras, scale)
