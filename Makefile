@@ -29,11 +29,9 @@ lint: setup
 	$(BIN)/ruff check .
 
 # two pytest workers (pytest-xdist), each taking whole test files: a file's module
-# fixtures (a render shared by its tests) are made once; the files start longest first
-# (tests/durations.json, kept in that order by --no-loadscope-reorder); the 25 slowest
-# tests are listed
+# fixtures (a render shared by its tests) are made once; the 25 slowest are listed
 test: setup lint
-	$(BIN)/python -m pytest -n 2 --dist loadfile --no-loadscope-reorder --durations=25
+	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=25
 
 bench: setup
 	$(BIN)/designer bench core

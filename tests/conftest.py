@@ -1,9 +1,7 @@
-"""Test-wide settings (hypothesis runs derandomised in CI so a run is repeatable), the
-order the test files run in, and the fixtures of the synthetic scenes."""
+"""Test-wide settings (hypothesis runs derandomised in CI so a run is repeatable) and the
+fixtures of the synthetic scenes."""
 
-import json
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,18 +12,6 @@ from tests import synthetic
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
 settings.register_profile("dev", database=None, print_blob=True)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
-
-#: seconds each test file took in a measured run (scripts/test-durations.py)
-DURATIONS = Path(__file__).with_name("durations.json")
-
-
-def pytest_collection_modifyitems(session, config, items):
-    """The files that took longest first, each file's tests in their own order: with
-    ``make test``'s two workers taking whole files in this order (``--dist loadfile
-    --no-loadscope-reorder``), the run does not end with one worker running a long file
-    while the other has nothing left. Files not in tests/durations.json come last."""
-    seconds = json.loads(DURATIONS.read_text()) if DURATIONS.is_file() else {}
-    items.sort(key=lambda item: -seconds.get(item.nodeid.split("::", 1)[0], 0.0))
 
 
 @pytest.fixture(autouse=True)

@@ -8,24 +8,23 @@ about a millisecond: nothing is compiled or cached at run time.
 
 from __future__ import annotations
 
-import importlib
 from functools import cache
 
 from designer.errors import DesignerError
 
 
+def missing(error: ImportError) -> DesignerError:
+    """The one-line error for a compiled module that is not built, saying how to build it."""
+    return DesignerError(
+        f"designer's compiled kernels are missing ({error}): build them with "
+        "`pip install -e .` in the source folder (needs a C compiler)")
+
+
 @cache
-def extension(name: str):
-    """The extension module ``name`` (``"designer.core._cterrain"``, …); a one-line error
-    saying how to build it when it is missing."""
-    try:
-        return importlib.import_module(name)
-    except ImportError as error:
-        raise DesignerError(
-            f"designer's compiled kernels are missing ({error}): build them with "
-            "`pip install -e .` in the source folder (needs a C compiler)") from None
-
-
 def cterrain():
     """``designer.core._cterrain``: the terrain's ray marching and value noise."""
-    return extension("designer.core._cterrain")
+    try:
+        from designer.core import _cterrain
+    except ImportError as error:
+        raise missing(error) from None
+    return _cterrain

@@ -9,16 +9,22 @@ loops on POSIX threads without the GIL.
 from __future__ import annotations
 
 import os
+from functools import cache
 
 import numpy as np
 
-from designer.core.compiled import extension
+from designer.core.compiled import missing
 from designer.errors import DesignerError
 
 
+@cache
 def ckernels():
     """The extension module; a one-line error saying how to build it when it is missing."""
-    return extension("designer.evaluate._ckernels")
+    try:
+        from designer.evaluate import _ckernels
+    except ImportError as error:
+        raise missing(error) from None
+    return _ckernels
 
 
 def threads() -> int:
