@@ -160,14 +160,13 @@ class TerrainRaycaster:
         # up to max_iter steps of each ray, compiled (designer/core/csrc/terrain.c): at p =
         # O + t·d a gap ≤ touch_m is a hit; a ray with rate ≤ 0 or at t1 ends without one;
         # else t += max(gap / rate, min_step_m), at most to t1
-        t = np.ascontiguousarray(t0[idx])
+        # (indexing by idx gives new C-contiguous float64 arrays, as the kernel takes them)
+        t = t0[idx]
         found = np.full(idx.size, np.nan)
         going = np.zeros(idx.size, dtype=np.uint8)
         cterrain().march(self._zf, self._nx, self._ny, self._x0, self._y0, self._dx,
-                         self._dy, np.ascontiguousarray(org[idx]),
-                         np.ascontiguousarray(d[idx]), t, np.ascontiguousarray(rate[idx]),
-                         np.ascontiguousarray(t1[idx]), float(touch_m), float(min_step_m),
-                         int(max_iter), found, going)
+                         self._dy, org[idx], d[idx], t, rate[idx], t1[idx], float(touch_m),
+                         float(min_step_m), int(max_iter), found, going)
         hit[live[idx]] = found
         going = going.view(bool)
         idx, t = idx[going], t[going]
