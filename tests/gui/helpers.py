@@ -384,7 +384,8 @@ def render_blank_frames(qtbot, window, monkeypatch, tmp_path, frames: list[dict]
 
 
 def choose_entry(qtbot, window, box, text: str) -> None:
-    """Open the combo box ``box`` with the mouse and click the entry ``text`` in its list."""
+    """Open the combo box ``box`` with the mouse and click the entry ``text`` in its list
+    (scrolled to first, as a wheel would, when the list is longer than its popup)."""
     from PySide6.QtWidgets import QApplication
 
     QTest.mouseClick(window.windowHandle(), Qt.MouseButton.LeftButton,
@@ -396,6 +397,7 @@ def choose_entry(qtbot, window, box, text: str) -> None:
     qtbot.wait(QApplication.doubleClickInterval() + 50)
     texts = [box.itemText(i) for i in range(box.count())]
     index = box.model().index(texts.index(text), 0)
+    view.scrollTo(index)
     qtbot.mouseClick(view.viewport(), Qt.MouseButton.LeftButton,
                      pos=view.visualRect(index).center())
     qtbot.waitUntil(lambda: not view.isVisible())

@@ -136,3 +136,52 @@ def test_clicking_a_thumbnail_draws_the_shadows_at_its_photo(qtbot, window, monk
     assert w.sync.selected_photo == lone
     assert panel.thumbs.currentItem().data(Qt.ItemDataRole.UserRole) == lone
     np.testing.assert_allclose(_drawn(w), _expected(w, _time_s(w, lone)), atol=1)
+
+
+def test_a_photo_chosen_in_drawn_at_is_selected_everywhere(qtbot, window, monkeypatch,
+                                                           tmp_path):
+    """A photo chosen in the Lighting panel's "drawn at" is the selected photo: its
+    station marked in the 3D view, its thumbnail the current one, named in the status
+    bar; the list keeps the photo chosen (it does not go back to "the selected photo")."""
+    w = window
+    _cloudy_flight(qtbot, w)
+    assert w.file_actions.save_to(tmp_path / "cloudy.xml"), problems(w)
+    stations = w.sync.stations
+    n = len(stations.stations)
+    chosen, other = 2, n - 2
+    frames = [{"index": k, "name": stations.image_names[k], "width": 60, "height": 40}
+              for k in (chosen, other)]
+    render = render_blank_frames(qtbot, w, monkeypatch, tmp_path, frames)
+    wait_idle(qtbot, w)
+    assert w.sync.selected_photo is None
+    assert render.thumbs.currentItem() is None
+
+    box = open_panel(w, "Lighting").cloud_moment
+    name = stations.image_names[chosen]
+    entry = f"{name} ({_time_s(w, chosen):.0f} s after take-off)"
+    choose_entry(qtbot, w, box, entry)
+    wait_idle(qtbot, w)
+    assert w.sync.selected_photo == chosen
+    np.testing.assert_allclose(
+        w.view.layer_data("selected-station").points,
+        w.view.local(stations.C_world[chosen]), atol=1e-3)
+    assert render.thumbs.currentItem().data(Qt.ItemDataRole.UserRole) == chosen
+    assert name in w.statusBar().currentMessage()
+    assert box.currentText() == entry
+    assert w.sync.cloud_moment == chosen
+    np.testing.assert_allclose(_drawn(w), _expected(w, _time_s(w, chosen)), atol=1)
+
+    # another photo chosen there moves the selection with it
+    entry = f"{stations.image_names[other]} ({_time_s(w, other):.0f} s after take-off)"
+    choose_entry(qtbot, w, box, entry)
+    wait_idle(qtbot, w)
+    assert w.sync.selected_photo == other
+    assert render.thumbs.currentItem().data(Qt.ItemDataRole.UserRole) == other
+    assert box.currentText() == entry
+    np.testing.assert_allclose(_drawn(w), _expected(w, _time_s(w, other)), atol=1)
+
+    # the flight's start chosen keeps the selected photo
+    choose_entry(qtbot, w, box, "the flight's start")
+    wait_idle(qtbot, w)
+    assert w.sync.selected_photo == other
+    np.testing.assert_allclose(_drawn(w), _expected(w, 0.0), atol=1)

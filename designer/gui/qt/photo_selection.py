@@ -5,7 +5,8 @@ the Render panel; the view marks its station and the status bar names it. The cl
 shadows drift with the wind over the flight's time line, so the view draws them at one
 moment, the Lighting panel's "drawn at": by default the selected photo's (the flight's
 start while none is selected), or a moment the user chose there — the flight's start or
-one photo — which then stays whatever photo is selected.
+one photo — which then stays whatever photo is selected. A photo chosen there is selected
+too, as if its station had been clicked.
 
 Mixed into :class:`~designer.gui.qt.scene_sync.SceneSync`, which holds the stations, the
 view and the ``photo_selected`` and ``message`` signals.
@@ -63,10 +64,13 @@ class PhotoSelection:
 
     def set_cloud_moment(self, moment: int | str | None) -> None:
         """Draw the cloud shadows at ``moment``: FOLLOW_SELECTION, None (the flight's
-        start) or a station index."""
+        start) or a station index, whose photo is then selected as well (the moment
+        stays that station's, not the selection's)."""
         self.cloud_moment = moment
         if self.document.project.scene.lighting.clouds is not None:
             self.refresh_cloud_shadows()
+        if isinstance(moment, int) and moment != self.selected_photo:
+            self.select_photo(moment)
 
     def select_photo(self, index: int | None) -> None:
         """Select station ``index``'s photo (None: none): marked in the view, named in
@@ -90,7 +94,7 @@ class PhotoSelection:
         times = self.station_times()
         when = "" if times is None else f", {times[index].time_s:.0f} s after take-off"
         clouds = (self.document.project.scene.lighting.clouds is not None
-                  and self.cloud_moment == FOLLOW_SELECTION)
+                  and self.cloud_station == index)
         return (f"photo {name} selected (station {index + 1} of "
                 f"{len(self.stations.stations)}{when})"
                 + ("; the cloud shadows are drawn at its moment" if clouds else ""))

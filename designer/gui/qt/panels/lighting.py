@@ -105,7 +105,8 @@ class LightingPanel(Panel):
             "buildings and objects: by default the selected photo's (click a camera station "
             "in the view or a thumbnail in the Render panel; none selected: the flight's "
             "start); the flight's start or a photo chosen here stays, whatever photo is "
-            "selected, until “the selected photo” is chosen again")
+            "selected, until “the selected photo” is chosen again; a photo chosen here is "
+            "selected too")
         self.cloud_moment.currentIndexChanged.connect(
             lambda _i: self.sync.set_cloud_moment(self.cloud_moment.currentData()))
         f.addRow("drawn at", self.cloud_moment)
