@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 
@@ -12,7 +13,10 @@ def register(subparsers) -> None:
         description=(
             "Plan the project's flight over its real terrain and report the image count, GSD, "
             "footprint, achieved overlaps (measured by projecting real footprints), coverage, "
-            "the images that see each GCP unoccluded, and the estimated render time."),
+            "the images that see each GCP unoccluded, and the estimated render time, with "
+            "warnings (nearly collinear control and a network too thin for SfM as "
+            "'designer check' words them). A terrain mesh cannot be analysed: only those "
+            "two warnings are printed before the refusal."),
     )
     parser.add_argument("project", type=Path, help="project XML file")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
@@ -31,6 +35,8 @@ def run(args) -> int:
 
     from designer.errors import DesignerError
     from designer.project import load_project, write_project
+    from designer.project import model as m
+    from designer.survey.hard_cases import control_and_network_warnings
     from designer.survey.plan_report import (
         format_plan,
         plan_project,
@@ -41,6 +47,10 @@ def run(args) -> int:
     if args.cell_m is not None and not args.cell_m > 0:
         raise DesignerError(f"--cell-m {args.cell_m}: give a cell size > 0 m")
     project = load_project(args.project)
+    if isinstance(project.scene.terrain.source, m.MeshTerrain):
+        # the analysis below refuses a mesh; the warnings that need no height field first
+        for warning in control_and_network_warnings(project, args.project.parent):
+            print(warning.line(args.project), file=sys.stderr)
     result = plan_project(project, args.project.parent, cell_m=args.cell_m)
     if args.json:
         print(json.dumps(plan_summary(result), indent=1))

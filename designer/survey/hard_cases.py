@@ -13,8 +13,11 @@ exact line — are refused where they are read or used).
 * a lens whose image corners come close to the radius where its radial map stops being
   monotonic: undistortion magnifies pixel errors there;
 * networks too thin for structure from motion: fewer than 3 images, every image on one
-  flight line, a front overlap under half the footprint (:func:`network_warnings`,
-  printed by ``designer plan`` too).
+  flight line, a front overlap under half the footprint (:func:`network_warnings`).
+
+``designer plan`` prints the collinear control and the network's warnings too
+(:func:`control_and_network_warnings`; over a terrain mesh, which it cannot analyse,
+before it refuses).
 """
 
 from __future__ import annotations
@@ -286,30 +289,61 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
     return out
 
 
+def control_and_network_warnings(project: m.Project, base_dir: Path
+                                 ) -> list[HardCaseWarning]:
+    """The warnings of this module that need no height field, in :func:`hard_case_warnings`'
+    words: nearly collinear control (its surveyed coordinates) and a network too thin for
+    SfM (its images and lines), on a terrain mesh as on a height field."""
+    from designer.scene.build import build_heightfield
+    from designer.survey.project_poses import project_images
+
+    try:
+        hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
+    except DesignerError:  # the terrain cannot be built: check says why elsewhere
+        return []
+    try:
+        images = project_images(project, hf)
+    except DesignerError:  # the flight cannot be planned: check says why elsewhere
+        images = None
+    return _control_and_network(project, hf, images)
+
+
+def _control_and_network(project: m.Project, hf, images) -> list[HardCaseWarning]:
+    """Collinear control over ``hf`` (None: a terrain mesh) and the network of
+    ``images`` (project_images; None: none planned)."""
+    from designer.scene.build import build_targets
+
+    try:
+        warning = control_warning(build_targets(project, hf))
+    except DesignerError:  # the targets cannot be built: check says why elsewhere
+        return []
+    out = [warning] if warning is not None else []
+    if images is not None:
+        out += network_warnings(project, len(images.stations),
+                                [images.platform[k].line_index for k in images.station_index])
+    return out
+
+
 def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarning]:
     """Every warning of this module for ``project`` (files relative to ``base_dir``).
 
     On a terrain mesh the lenses, the control's spread (its surveyed coordinates) and the
     network (its images and lines) are weighed as on a height field; the texture against
     the finest GSD is not: the GSD is measured by casting rays on a height field."""
-    from designer.scene.build import build_heightfield, build_targets
+    from designer.scene.build import build_heightfield
     from designer.survey.project_poses import project_images
 
     out = [w for cam in project.cameras
            if (w := distortion_warning(cam, project.render.resolution_scale)) is not None]
     try:
         hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
-        warning = control_warning(build_targets(project, hf))
-    except DesignerError:  # the terrain or targets cannot be built: check says why elsewhere
+    except DesignerError:  # the terrain cannot be built: check says why elsewhere
         return out
-    if warning is not None:
-        out.append(warning)
     try:
         images = project_images(project, hf)
     except DesignerError:  # the flight cannot be planned: check says why elsewhere
-        return out
-    out += network_warnings(project, len(images.stations),
-                            [images.platform[k].line_index for k in images.station_index])
-    if hf is not None and len(images.stations):
+        images = None
+    out += _control_and_network(project, hf, images)
+    if hf is not None and images is not None and len(images.stations):
         out += texture_warnings(project, finest_gsd_m(project, hf, images))
     return out

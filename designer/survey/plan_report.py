@@ -26,7 +26,7 @@ from designer.scene.surroundings import surroundings_mode
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
 from designer.survey.gcp_sightings import project_gcp_visibility
-from designer.survey.hard_cases import aliasing_warning, network_warnings
+from designer.survey.hard_cases import aliasing_warning, control_warning, network_warnings
 from designer.survey.project_poses import platform_stations, project_images, project_stations
 from designer.survey.render_cost import (
     estimate_render_s,
@@ -216,6 +216,9 @@ def plan_warnings(result: PlanResult, figures: dict) -> list[str]:
                if result.analysis.gcps.counts[k] < 3]
         if few:
             warnings.append(f"GCPs seen by fewer than 3 images: {', '.join(few)}")
+    control = control_warning(result.targets)
+    if control is not None:  # in designer check's words
+        warnings.append(f"{control.message}; {control.fix}")
     if result.stations:  # a result for the texture only has none
         n = result.n_images_all_cameras or len(result.stations)
         warnings += [f"{w.message}; {w.fix}" for w in network_warnings(
