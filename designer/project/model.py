@@ -128,9 +128,9 @@ class ProceduralTerrain:
                                  range=(0, 1e6), low_open=True, label="grid spacing")
     roughness: float = attr(doc="0 (rolling hills) to 1 (rugged ground)", range=(0, 1))
     min_height_m: float = attr(doc="lowest terrain height, world Z", unit="m",
-                               range=HEIGHT_RANGE)
+                               range=HEIGHT_RANGE, label="lowest")
     max_height_m: float = attr(doc="highest terrain height, world Z (at least "
-                               "min-height-m)", unit="m", range=HEIGHT_RANGE)
+                               "min-height-m)", unit="m", range=HEIGHT_RANGE, label="highest")
     hill_size_m: float = attr(100.0, doc="wavelength of the largest hills", unit="m",
                               range=(0, 1e6), low_open=True)
 

@@ -94,6 +94,23 @@ CODES = {
                        "trajectory lacks",
     "no-photos": "the trajectory has neither photos nor a flight plan",
     "surroundings-need-height-field": "surroundings mode auto over a mesh terrain",
+    "shape-or-mesh": "a moving object or a plant group with both or neither of a built-in "
+                     "shape or kind (``attr``) and a mesh file",
+    "needs-ridge": "a pitched roof (``value``: its shape) without a ridge height",
+    "scale-not-whole": "the camera's image size (``attr``) times the render's resolution "
+                       "scale (``value``) is not a whole number of pixels",
+    "outside-extent": "a place outside the terrain extent (``value``: what it is, as "
+                      "\"GCP 'A'\" or \"vertex 2 of the survey area\", then its X and Y)",
+    "order": "a lower bound (``attr``, its name beginning with min-) not below its upper "
+             "bound (the same name with max-; ``value``: the two values)",
+    "grid-cells": "a terrain side that is not a whole number of grid cells (``value``: "
+                  "the side's name, its length and the grid spacing, m)",
+    "grid-nodes": "a terrain grid of too many nodes (``value``: the spacing, width and "
+                  "length, m; ``limits``: the most nodes)",
+    "texels": "a texture tile of too many or too few texels per side (``value``: the "
+              "tile's side and the texel, m, and the texels; ``limits``: the fewest and most)",
+    "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
+              "read)",
 }
 
 

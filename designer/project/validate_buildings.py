@@ -73,7 +73,7 @@ def _mesh_building(b: m.Building, extent: m.Extent, base: Path | None) -> list[I
         out.append(Issue(b, "building", f"building '{b.id}' at X {plain_m(p.X)}, Y {plain_m(p.Y)} "
                          f"lies outside the terrain extent ({plain_extent(extent)}); move it "
                          "inside or enlarge <extent>",
-                         attr="X"))
+                         attr="X", code="outside-extent", value=(f"building '{b.id}'", p.X, p.Y)))
     if base is not None:
         out += file_issue(b, "building", mesh_problem(resolve(base, b.file)))
     return out
@@ -83,7 +83,8 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
     out = []
     if b.roof not in m.ROOF_SHAPES:
         out.append(Issue(b, "building", f"unknown roof {b.roof!r}; use one of "
-                         f"{', '.join(m.ROOF_SHAPES)}", attr="roof"))
+                         f"{', '.join(m.ROOF_SHAPES)}", attr="roof", code="choice",
+                         value=b.roof, choices=m.ROOF_SHAPES))
     pitched = b.roof in ("gable", "hip")
     if b.roof == "flat":
         for attr, value in (("ridge-height-m", b.ridge_height_m),
@@ -95,7 +96,8 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
         r = b.ridge_height_m
         if r is None:
             out.append(Issue(b, "building", f"a {b.roof} roof needs ridge-height-m (m above the "
-                             "base, above eave-height-m)", attr="ridge-height-m"))
+                             "base, above eave-height-m)", attr="ridge-height-m",
+                             code="needs-ridge", value=b.roof))
         elif declared_field(m.Building, "ridge_height_m").in_range(r) and r <= b.eave_height_m:
             out.append(Issue(b, "building", f"ridge-height-m = {r!r} must be above "
                              f"eave-height-m ({b.eave_height_m:g} m) and at most "
@@ -116,8 +118,8 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
 
 def _footprint_issue(b: m.Building, xy: list[tuple[float, float]],
                      extent: m.Extent) -> Issue | None:
-    def issue(text: str) -> Issue:
-        return Issue(b, "footprint", f"building '{b.id}': {text}", key="footprint")
+    def issue(text: str, **fields) -> Issue:
+        return Issue(b, "footprint", f"building '{b.id}': {text}", key="footprint", **fields)
 
     if len(xy) < 3:
         return issue(f"the footprint has {len(xy)} vertex(es); give at least three X Y pairs")
@@ -141,7 +143,8 @@ def _footprint_issue(b: m.Building, xy: list[tuple[float, float]],
         if not extent.contains(x, y):
             return issue(f"vertex {i + 1} (X {plain_m(x)}, Y {plain_m(y)}) lies outside the "
                          f"terrain extent ({plain_extent(extent)}); move it inside or "
-                         "enlarge <extent>")
+                         "enlarge <extent>", code="outside-extent",
+                         value=(f"vertex {i + 1} of building '{b.id}'", x, y))
     return None
 
 

@@ -71,7 +71,8 @@ def _scaled_size(cam: m.Camera, scale: float) -> list[Issue]:
             out.append(Issue(cam, "image", (
                 f"{attr} {size} x resolution-scale {scale:g} = {scaled:g} px is not a whole "
                 "number of pixels; choose a scale that divides the image size (e.g. 0.5 or "
-                "0.25) so the rendered pixels keep the camera's geometry"), attr=attr))
+                "0.25) so the rendered pixels keep the camera's geometry"), attr=attr,
+                key="image", code="scale-not-whole", value=scale))
     return out
 
 

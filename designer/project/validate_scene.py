@@ -55,10 +55,12 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
     e, src = terrain.extent, terrain.source
     if is_ok(e.min_X) and is_ok(e.max_X) and not e.min_X < e.max_X:
         out.append(Issue(e, "extent", f"min-X {e.min_X!r} must be less than max-X "
-                                      f"{e.max_X!r}; swap or correct them", attr="min-X"))
+                                      f"{e.max_X!r}; swap or correct them", attr="min-X",
+                         code="order", value=(e.min_X, e.max_X)))
     if is_ok(e.min_Y) and is_ok(e.max_Y) and not e.min_Y < e.max_Y:
         out.append(Issue(e, "extent", f"min-Y {e.min_Y!r} must be less than max-Y "
-                                      f"{e.max_Y!r}; swap or correct them", attr="min-Y"))
+                                      f"{e.max_Y!r}; swap or correct them", attr="min-Y",
+                         code="order", value=(e.min_Y, e.max_Y)))
     if terrain.surroundings == "auto" and isinstance(src, m.MeshTerrain):
         out.append(Issue(terrain, "surroundings", "mode=\"auto\" continues a height-field "
                          "terrain (flat, procedural or DEM); a mesh terrain cannot be "
@@ -68,7 +70,8 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
         if src.min_height_m > src.max_height_m:
             out.append(Issue(src, "procedural", f"min-height-m {src.min_height_m!r} is above "
                              f"max-height-m {src.max_height_m!r}; swap them",
-                             attr="min-height-m"))
+                             attr="min-height-m", code="order",
+                             value=(src.min_height_m, src.max_height_m)))
         out += _grid(src, e)
     elif isinstance(src, m.DemTerrain) and base is not None:
         path = resolve(base, src.file)
@@ -101,19 +104,24 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
     if not math.isfinite(cells) or cells > MAX_TERRAIN_NODES:
         return [Issue(src, "procedural", f"a {spacing:g} m grid over {plain_m(e.width_m)} x "
                       f"{plain_m(e.length_m)} m has more than {MAX_TERRAIN_NODES:.3g} nodes; use a "
-                      "coarser grid-spacing-m or a smaller extent", attr="grid-spacing-m")]
+                      "coarser grid-spacing-m or a smaller extent", attr="grid-spacing-m",
+                      code="grid-nodes", value=(spacing, e.width_m, e.length_m),
+                      limits=(None, MAX_TERRAIN_NODES))]
     for name, size in (("width", e.width_m), ("length", e.length_m)):
         n = round(size / spacing)
         if n < 1 or abs(n * spacing - size) > GRID_TOL * size:
             out.append(Issue(src, "procedural", f"the extent's {name} {plain_m(size)} m is "
                              f"not a whole number of {spacing:g} m grid cells; choose a "
-                             "grid-spacing-m that divides the extent", attr="grid-spacing-m"))
+                             "grid-spacing-m that divides the extent", attr="grid-spacing-m",
+                             code="grid-cells", value=(name, size, spacing)))
     nodes = (e.width_m / spacing + 1) * (e.length_m / spacing + 1)
     if not out and nodes > MAX_TERRAIN_NODES:
         out.append(Issue(src, "procedural", f"a {spacing:g} m grid over {plain_m(e.width_m)} x "
                          f"{plain_m(e.length_m)} m has {nodes:.3g} nodes, more than "
                          f"{MAX_TERRAIN_NODES:.3g}; use a coarser grid-spacing-m",
-                         attr="grid-spacing-m"))
+                         attr="grid-spacing-m", code="grid-nodes",
+                         value=(spacing, e.width_m, e.length_m),
+                         limits=(None, MAX_TERRAIN_NODES)))
     return out
 
 
@@ -138,12 +146,16 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
             out.append(Issue(src, "procedural", f"a {plain_m(tile)} m tile of "
                              f"{src.texel_size_m:g} m texels needs {texels:.0f} texels per side, "
                              f"more than {MAX_TEXTURE_TEXELS}; increase texel-size-m or repeat-X/Y",
-                             attr="texel-size-m"))
+                             attr="texel-size-m", code="texels",
+                             value=(tile, src.texel_size_m, texels),
+                             limits=(MIN_TEXTURE_TEXELS, MAX_TEXTURE_TEXELS)))
         elif texels < MIN_TEXTURE_TEXELS:
             out.append(Issue(src, "procedural", f"a {plain_m(tile)} m tile of "
                              f"{src.texel_size_m:g} m texels has only {texels:.3g} texels per "
                              f"side, fewer than {MIN_TEXTURE_TEXELS}; make texel-size-m smaller",
-                             attr="texel-size-m"))
+                             attr="texel-size-m", code="texels",
+                             value=(tile, src.texel_size_m, texels),
+                             limits=(MIN_TEXTURE_TEXELS, MAX_TEXTURE_TEXELS)))
     return out
 
 
@@ -165,7 +177,8 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
                              f"{plain_m(t.true.Y)} lies outside the terrain extent "
                              f"({plain_extent(extent)}); move it "
                              "inside or enlarge <extent>",
-                             attr="X"))
+                             attr="X", code="outside-extent",
+                             value=(f"GCP '{t.id}'", t.true.X, t.true.Y)))
         if t.surveyed is None:
             if targets.survey_accuracy is None:
                 out.append(Issue(t, "target", f"GCP '{t.id}' has no <surveyed> position and "

@@ -67,8 +67,7 @@ def _photos(project: m.Project) -> list[Issue]:
             out.append(Issue(p, "photo", f"image name '{p.name}' is used by {counts[p.name]} "
                                          "photos; give each photo its own name", attr="name"))
         if p.camera not in camera_ids:
-            message = _unknown_camera(p.camera, camera_ids, bool(project.trajectory.rigs))
-            out.append(Issue(p, "photo", message, attr="camera"))
+            out.append(_unknown_camera(p, "photo", camera_ids, bool(project.trajectory.rigs)))
         if ground is not None and p.Z <= ground:
             out.append(Issue(p, "photo", f"photo '{p.name}' at Z {p.Z:g} m is not above the "
                              f"terrain (lowest ground {ground:g} m); raise Z", attr="Z"))
@@ -80,10 +79,14 @@ def _photos(project: m.Project) -> list[Issue]:
     return out
 
 
-def _unknown_camera(camera: str, camera_ids: set[str], rigs: bool = False) -> str:
+def _unknown_camera(obj, tag: str, camera_ids: set[str], rigs: bool = False) -> Issue:
+    """The issue of ``obj``'s ``<tag camera>`` naming no camera (or rig) of the project:
+    code "choice", the ids it may name as its choices."""
     known = ", ".join(sorted(camera_ids)) or "none"
     what = "a <camera> or <rig>" if rigs else "a <camera>"
-    return f"camera '{camera}' is not defined; use the id of {what} ({known})"
+    return Issue(obj, tag, f"camera '{obj.camera}' is not defined; use the id of {what} "
+                 f"({known})", attr="camera", code="choice", value=obj.camera,
+                 choices=tuple(sorted(camera_ids)))
 
 
 #: largest angle (deg) between a mount's viewing axis and the platform's: beyond it the
@@ -99,9 +102,7 @@ def pattern_issues(project: m.Project) -> list[Issue]:
     for p in project.trajectory.patterns:
         tag = "orbit" if isinstance(p, m.OrbitPattern) else "facade"
         if p.camera not in camera_ids:
-            out.append(Issue(p, tag, _unknown_camera(p.camera, camera_ids,
-                                                     bool(project.trajectory.rigs)),
-                             attr="camera"))
+            out.append(_unknown_camera(p, tag, camera_ids, bool(project.trajectory.rigs)))
         if isinstance(p, m.FacadePattern):
             length = math.dist(p.start, p.end)
             if not length > 0:
@@ -137,7 +138,8 @@ def rig_issues(project: m.Project) -> list[Issue]:
                 known = ", ".join(sorted(camera_ids)) or "none"
                 out.append(Issue(mount, "mount", f"camera '{mount.camera}' of rig '{rig.name}' "
                                  f"is not defined; use the id of a <camera> ({known})",
-                                 attr="camera"))
+                                 attr="camera", code="choice", value=mount.camera,
+                                 choices=tuple(sorted(camera_ids))))
             if suffixes[mount.suffix] > 1:
                 out.append(Issue(mount, "mount", f"suffix '{mount.suffix}' is used by "
                                  f"{suffixes[mount.suffix]} mounts of rig '{rig.name}'; give "
@@ -157,9 +159,8 @@ def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     out = finite_issues(fp)
     camera_ids = {c.id for c in project.cameras} | {r.name for r in project.trajectory.rigs}
     if fp.camera not in camera_ids:
-        out.append(Issue(fp, "flight-plan", _unknown_camera(fp.camera, camera_ids,
-                                                         bool(project.trajectory.rigs)),
-                         attr="camera"))
+        out.append(_unknown_camera(fp, "flight-plan", camera_ids,
+                                   bool(project.trajectory.rigs)))
     out += _area(project, fp)
     # the ranges of altitude, GSD, overlaps, angles and choices are declared
     # (designer.project.validate_declared)
@@ -211,7 +212,8 @@ def _area(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
             out.append(Issue(fp, "vertex", f"vertex {i + 1} (X {plain_m(x)}, Y {plain_m(y)}) lies "
                              f"outside the terrain extent ({plain_extent(extent)}); move it "
                              "inside or enlarge <extent>",
-                             key=f"vertex:{i}", attr="X"))
+                             key=f"vertex:{i}", attr="X", code="outside-extent",
+                             value=(f"vertex {i + 1} of the survey area", x, y)))
     return out
 
 

@@ -176,11 +176,12 @@ def _moving_objects(project: m.Project) -> list[Issue]:
         if (obj.shape is None) == (obj.file is None):
             out.append(Issue(obj, "object", f"moving object '{obj.id}' needs exactly one of "
                              "shape and file; give shape=\"car\", \"person\" or \"box\", "
-                             "or a mesh file", attr="shape"))
+                             "or a mesh file", attr="shape", code="shape-or-mesh"))
         elif obj.shape is not None and obj.shape not in m.MOVING_SHAPES:
             out.append(Issue(obj, "object", f"unknown shape {obj.shape!r}; use one of "
                              f"{', '.join(m.MOVING_SHAPES)} or give a mesh file",
-                             attr="shape"))
+                             attr="shape", code="choice", value=obj.shape,
+                             choices=tuple(m.MOVING_SHAPES)))
         elif obj.shape == "box" and (obj.size_m is None or None in obj.size_m):
             out.append(Issue(obj, "object", f"box '{obj.id}' needs length-m, width-m and "
                              "height-m", attr="length-m"))
@@ -194,7 +195,7 @@ def _moving_objects(project: m.Project) -> list[Issue]:
                 math.isfinite(v) and 0 <= v <= 1 for v in obj.albedo_rgb):
             out.append(Issue(obj, "object", "albedo-rgb must be three numbers from 0 to 1 "
                              "(linear red green blue), e.g. \"0.8 0.1 0.1\"",
-                             attr="albedo-rgb"))
+                             attr="albedo-rgb", code="colour", value=obj.albedo_rgb))
         # speed-m-s and start-s: their declared ranges (validate_declared)
         if len(obj.path) < 2:
             out.append(Issue(obj, "path", f"the path of '{obj.id}' has {len(obj.path)} "
@@ -218,7 +219,9 @@ def _path_off_terrain(obj: m.MovingObject, extent: m.Extent) -> list[Issue]:
                           f"extent ({plain_extent(extent)}), where the object has no ground "
                           "to stand on; move the point inside the extent (the <path> of "
                           "the object in the project file) or enlarge the terrain extent "
-                          "(Terrain panel)")]
+                          "(Terrain panel)", code="outside-extent",
+                          value=(f"path point {i + 1} of moving object '{obj.id}'", p.X,
+                                 p.Y))]
     return []
 
 
@@ -256,10 +259,12 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
         if (g.kind is None) == (g.mesh is None):
             kinds = ", ".join(f'"{k}"' for k in m.PLANT_KINDS)
             out.append(Issue(g, "plants", "<plants> needs exactly one of kind and mesh; give "
-                             f"kind={kinds} or a mesh file", attr="kind"))
+                             f"kind={kinds} or a mesh file", attr="kind",
+                             code="shape-or-mesh"))
         elif g.kind is not None and g.kind not in m.PLANT_KINDS:
             out.append(Issue(g, "plants", f"unknown plant kind {g.kind!r}; use one of "
-                             f"{', '.join(m.PLANT_KINDS)} or give a mesh file", attr="kind"))
+                             f"{', '.join(m.PLANT_KINDS)} or give a mesh file", attr="kind",
+                             code="choice", value=g.kind, choices=tuple(m.PLANT_KINDS)))
         mean_m = g.height_m or m.PLANT_KINDS.get(g.kind, (150.0,))[0]
         if g.height_sd_m <= 150 and not element_issues(g):
             out += _range_issue(g, "plants", "height-sd-m", g.height_sd_m, 0, mean_m,
@@ -268,7 +273,7 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
                 math.isfinite(v) and 0 <= v <= 1 for v in g.albedo_rgb)):
             out.append(Issue(g, "plants", "albedo-rgb must be three numbers from 0 to 1 "
                              "(linear red green blue), e.g. \"0.1 0.3 0.05\"",
-                             attr="albedo-rgb"))
+                             attr="albedo-rgb", code="colour", value=g.albedo_rgb))
         if math.isfinite(g.density_per_m2) and g.density_per_m2 > 0:
             total += g.density_per_m2 * area_m2
     if total > MAX_PLANTS:

@@ -110,15 +110,19 @@ def test_a_choice_reads_with_its_label_and_choices():
     assert all(c in said for c in issue.choices)
 
 
-def test_a_problems_line_keeps_its_place_and_element():
-    """A located problem keeps FILE:LINE:COL and <element> (the element picks the panel
-    the line opens); only the words after it come from the fields."""
+def test_a_problems_line_keeps_its_place_and_names_its_panel():
+    """A located problem keeps FILE:LINE:COL and names the panel of its element, the one
+    a click on the line opens, in place of the element; the words after it come from the
+    fields."""
+    from designer.gui.state.files import panel_for_problem
+
     p = _projects_without_a_time_line()[0]
     smap = SourceMap("")
     (issue,) = [i for i in semantic_issues(p) if i.code == "needs-time-line"]
     line = problem_text(smap.locate(issue), "p.xml")
-    assert line.startswith("p.xml:1:1: <rolling-shutter>: a camera reads its rows out"), line
-    assert "Camera panel" in line
+    assert line.startswith("p.xml:1:1: Camera › a camera reads its rows out"), line
+    assert "Camera panel" in line and "<" not in line
+    assert panel_for_problem(line) == "Camera"
 
 
 def test_the_surroundings_fixes_point_to_the_terrain_panel():

@@ -170,7 +170,8 @@ def test_a_scale_giving_part_pixels_is_refused_and_its_problem_opens_render(
     assert not render.process.running
     assert "save the project" in render.state.text()
     listed = problems(w)
-    assert any("resolution-scale 0.1" in line for line in listed), listed
+    assert any("Render › camera 'p4p': image width 5472 px × resolution scale 0.1 = 547.2 "
+               "px is not a whole number of pixels" in line for line in listed), listed
     open_panel(w, "Lighting")  # the Texture panel is not in front before the click
     open_panel(w, "Camera")
     item = w.problems.item(0)

@@ -30,6 +30,7 @@ def test_opening_a_project_with_a_path_off_the_terrain_lists_it(qtbot, window, t
     assert w.docks["Problems"].isVisible()
     assert len(lines) == 1, lines
     line = lines[0]
-    assert "moving object 'car1': path point 2 (X 512145, Y 5406010) lies outside the " \
-           "terrain extent" in line, line
+    assert "Moving objects › path point 2 of moving object 'car1' at X 512145, Y 5406010 " \
+           "lies outside the terrain extent" in line, line
     assert "move the point inside the extent" in line and "Terrain panel" in line, line
+    assert "<" not in line, line

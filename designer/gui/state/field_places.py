@@ -10,7 +10,7 @@ import functools
 import typing
 
 from designer.project import model as m
-from designer.project.declare import Declared, declared, element_of
+from designer.project.declare import Declared, attributes, declared, element_of
 
 #: keywords in an element's name → the panel that edits it (the first match wins)
 PANEL_KEYWORDS = (
@@ -31,6 +31,7 @@ PANEL_KEYWORDS = (
                  "exposure", "chromatic")),
     ("Render", ("render", "samples", "pixel-filter", "output", "resolution", "preset",
                 "workers")),
+    ("Moving objects", ("moving-objects", "path")),
 )
 
 #: where a declared element lives in the project (its ``path``) → the panel that edits it
@@ -46,6 +47,7 @@ PATH_PANELS = (
 CLASS_PANELS = {m.ProceduralTexture: "Texture", m.ImageTexture: "Texture",
                 m.OrthophotoTexture: "Texture", m.MovingObject: "Moving objects",
                 m.PathPoint: "Moving objects", m.Terrain: "Terrain", m.Camera: "Camera",
+                m.Building: "Buildings",
                 m.ExteriorOrientation: "Flight", m.OrbitPattern: "Flight",
                 m.FacadePattern: "Flight"}
 
@@ -97,18 +99,30 @@ def _classes(root: type) -> list[type]:
     return seen
 
 
+#: attributes the reader maps by hand (no model field declares them on their element) →
+#: the declared field that holds the same kind of value: a vertex of the survey area or
+#: of a building's footprint, and a mesh building's position, are points as a moving
+#: object's path points are
+SAME_AS = {("vertex", "X"): (m.PathPoint, "X"), ("vertex", "Y"): (m.PathPoint, "Y"),
+           ("building", "X"): (m.PathPoint, "X"), ("building", "Y"): (m.PathPoint, "Y")}
+
+
 @functools.cache
 def _index() -> dict[tuple[str, str | None], Declared]:
     """(element, attribute) → the declared field, for every declared element's
-    attributes (a value given as an element's text: (element, None))."""
+    attributes, those of its attribute groups (a point's X, Y, Z) included (a value
+    given as an element's text: (element, None)), and the hand-mapped ones of
+    :data:`SAME_AS`."""
     out: dict[tuple[str, str | None], Declared] = {}
     for cls in _classes(m.Project):
         el = element_of(cls)
         if el is None:
             continue
-        for d in declared(cls):
+        for _group, d in attributes(cls):
             key = (d.xml, None) if d.attr.text else (d.attr.child or el.tag, d.xml)
             out.setdefault(key, d)
+    for key, (cls, name) in SAME_AS.items():
+        out.setdefault(key, next(d for d in declared(cls) if d.name == name))
     return out
 
 
@@ -116,3 +130,28 @@ def declaration_at(tag: str, attr: str | None, parent: str | None) -> Declared |
     """The declared field a file's ``<tag attr=…>`` (or ``<tag>`` text, ``attr`` None)
     inside ``<parent>`` holds, or None when none is declared for it."""
     return _index().get((tag, attr))
+
+
+def element_title(tag: str, parent: str | None, obj: object = None) -> str | None:
+    """What the window calls the element ``<tag>`` (inside ``<parent>``) where no panel
+    edits it: its declaration's title (``project origin``, ``object placement``); of two
+    elements of one name, the one a field named as ``parent`` holds (``<object>`` in
+    ``<objects>``: a scene object). None for an element declared nowhere."""
+    if obj is not None and element_of(type(obj)) is not None:
+        return element_of(type(obj)).title
+    found = [c for c in _classes(m.Project)
+             if element_of(c) is not None and element_of(c).tag == tag]
+    if len(found) > 1 and parent is not None:
+        holders = [c for c in found if any(
+            f.name == parent.replace("-", "_") and c in _classes_of_hint(hint)
+            for holder in _classes(m.Project) if dataclasses.is_dataclass(holder)
+            for f in dataclasses.fields(holder)
+            for hint in (typing.get_type_hints(holder)[f.name],))]
+        found = holders or found
+    return element_of(found[0]).title if found else None
+
+
+def _classes_of_hint(hint: object) -> list[type]:
+    if isinstance(hint, type):
+        return [hint]
+    return [c for arg in typing.get_args(hint) for c in _classes_of_hint(arg)]

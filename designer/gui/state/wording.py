@@ -12,8 +12,15 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
-from designer.gui.state.field_places import declaration_at, panel_for_element, panel_for_object
+from designer.gui.state.field_places import (
+    declaration_at,
+    element_title,
+    panel_for_element,
+    panel_for_object,
+)
+from designer.project import model as m
 from designer.project.declare import Declared, attributes, declared_elements
 from designer.project.problems import Issue, Problem
 
@@ -53,6 +60,14 @@ FIELD_NAMES = {**_declared_labels(), **LIBRARY_NAMES}
 #: the switch that gives the flight its time line, as the window shows it
 _TIME_LINE_ON = ("switch on the time line in the Flight panel "
                  "(“the photos have times”)")
+
+
+def _either(names) -> str:
+    """``car, person or box``."""
+    names = [n.replace("-", " ") for n in names]
+    return ", ".join(names[:-1]) + f" or {names[-1]}" if len(names) > 1 else names[0]
+
+
 #: (issue code, element) → what the window says for a validation issue whose fix, in the
 #: project file's terms, is an element to add: the panel and control that do it. Filled
 #: in from the issue's fields: {obj} the model object, {value} the attribute's value.
@@ -77,11 +92,28 @@ DIRECTIONS: dict[tuple[str, str], str] = {
         f"{_TIME_LINE_ON}",
     ("no-photos", "trajectory"):
         "no photos: add a grid flight in the Flight panel, or import a flight (File menu)",
+    ("shape-or-mesh", "object"):
+        f"moving object '{{obj.id}}' needs either a shape ({_either(m.MOVING_SHAPES)}) or a "
+        "mesh file, not both; choose one in the Moving objects panel",
+    ("shape-or-mesh", "plants"):
+        f"a plant group needs either a kind ({_either(m.PLANT_KINDS)}) or a mesh file, "
+        "not both; choose one in the Vegetation panel",
+    ("needs-ridge", "building"):
+        "a {value} roof needs a ridge height; set the ridge above the walls in the "
+        "Buildings panel",
+    ("colour", "object"):
+        "moving object '{obj.id}': its colour must be three numbers from 0 to 1 (linear "
+        "red, green, blue), e.g. 0.8 0.1 0.1",
+    ("colour", "plants"):
+        "a plant group's colour must be three numbers from 0 to 1 (linear red, green, "
+        "blue), e.g. 0.1 0.3 0.05",
     ("surroundings-need-height-field", "surroundings"):
         "surroundings “auto” continue a height-field terrain (flat, procedural or DEM); a "
         "mesh terrain cannot be continued: choose surroundings “none” in the Terrain "
         "panel, or import the terrain as a DEM",
 }
+#: issue codes whose fix is done in another panel than the one of their element
+CODE_PANELS = {"scale-not-whole": "Render"}
 _UNITS = {"m": "m", "mm": "mm", "px": "px", "deg": "°", "percent": "%"}
 _IDENT = re.compile(r"(?<![\w./\\-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\-])")
 _SCI = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?[eE][-+]?\d+\b")
@@ -223,8 +255,46 @@ def issue_text(issue: Issue) -> str:
         return _unknown_text(issue)
     d = _declaration(issue)
     label = d.label if d is not None else (issue.attr or issue.tag).replace("-", " ")
-    if issue.code == "missing-attribute" and d is not None:
-        wanted = _wanted(d)
+    if issue.code == "outside-extent":
+        what, x, y = issue.value
+        where = f"{what} at X {fixed(x)}, Y {fixed(y)} lies outside the terrain extent"
+        if isinstance(issue.obj, m.PathPoint):  # paths are edited in the project file
+            return (f"{where}, where the object has no ground to stand on; move the point "
+                    "inside the extent in the project file, or enlarge the terrain in the "
+                    "Terrain panel")
+        return f"{where}; move it inside, or enlarge the terrain in the Terrain panel"
+    if issue.code == "order" and issue.attr and issue.attr.startswith("min-"):
+        upper = _declaration(replace(issue, attr="max-" + issue.attr[4:]))
+        low, high = issue.value
+        other = upper.label if upper is not None else "the upper bound"
+        return (f"{label} {fixed(low)} must be below {other} {fixed(high)}{_unit(d)}; swap or "
+                "correct them")
+    if issue.code == "grid-cells":
+        side, size, spacing = issue.value
+        return (f"the terrain's {side} {fixed(size)} m is not a whole number of "
+                f"{fixed(spacing)} m grid cells; choose a {label} that divides it")
+    if issue.code == "grid-nodes":
+        spacing, width, length = issue.value
+        return (f"a {fixed(spacing)} m grid over {fixed(width)} × {fixed(length)} m has more "
+                f"than {issue.limits[1]:,.0f} nodes; choose a coarser {label} or a smaller "
+                "terrain")
+    if issue.code == "texels":
+        tile, texel, texels = issue.value
+        fewest, most = issue.limits
+        if texels > most:
+            return (f"a {fixed(tile)} m tile of {fixed(texel)} m texels needs {texels:,.0f} "
+                    f"texels per side, more than {most:,.0f}; choose a larger {label} or "
+                    "more tiling repeats")
+        return (f"a {fixed(tile)} m tile of {fixed(texel)} m texels has only {fixed(texels)} "
+                f"texels per side, fewer than {fewest:,.0f}; choose a smaller {label}")
+    if issue.code == "scale-not-whole" and d is not None:
+        size = getattr(issue.obj, d.name)
+        return (f"camera '{issue.obj.id}': {d.label} {size} px × resolution scale "
+                f"{fixed(issue.value)} = {fixed(size * issue.value)} px is not a whole number "
+                "of pixels; choose a resolution scale that divides the image size (e.g. 0.5 "
+                "or 0.25) in the Render panel")
+    if issue.code == "missing-attribute":
+        wanted = _wanted(d) if d is not None else None
         return f"{label} is missing" + (f"; give {wanted}" if wanted else "")
     if issue.code == "type" and d is not None and d.base is bool:
         return f"{label} “{issue.value}” is neither true nor false; give {_TRUE_OR_FALSE}"
@@ -238,6 +308,9 @@ def issue_text(issue: Issue) -> str:
             else number
         return (f"{label} “{issue.value}” is not {finite}; give {number} "
                 f"{_range_words(d, (d.attr.low, d.attr.high))}")
+    if issue.code == "type" and d is not None and d.attr.xsd == "xs:dateTime":
+        return (f"{label} “{issue.value}” is not a date and time; write it as ISO 8601 "
+                "with a time zone, e.g. 2024-06-21T10:30:00+02:00")
     if issue.code == "pattern" and d is not None and d.attr.xsd == "d:Identifier":
         if not str(issue.value):
             return f"{label} is empty: give a name ({_NAME_RULE})"
@@ -249,17 +322,20 @@ def issue_text(issue: Issue) -> str:
 
 
 def _panel(issue: Issue) -> str | None:
-    """The panel that edits the one declared value an issue is about (a range, a choice,
-    a value not of its type or pattern, a value missing), or that shows the element an
-    unknown attribute was written on; or None."""
-    if issue.code == "unknown-attribute":
-        return panel_for_element(issue.tag, issue.parent)
-    if issue.code not in ("range", "choice", "type", "pattern", "missing-attribute") or \
-            _declaration(issue) is None:
-        return None
+    """The panel that edits the element an issue is about (its model object's, or for
+    an issue the schema found, its element's inside its parent; :data:`CODE_PANELS`
+    where the fix is done elsewhere), or None."""
+    if issue.code in CODE_PANELS:
+        return CODE_PANELS[issue.code]
     if issue.obj is None:
         return panel_for_element(issue.tag, issue.parent)
     return panel_for_object(issue.obj, issue.tag)
+
+
+def _place(issue: Issue) -> str | None:
+    """Where the window puts what an issue is about: its panel, or where no panel edits
+    it the element's title (``project origin``, ``object placement``)."""
+    return _panel(issue) or element_title(issue.tag, issue.parent, issue.obj)
 
 
 def field_place(issue: Issue) -> str | None:
@@ -273,16 +349,16 @@ def problem_text(problem: Problem | str, source: str) -> str:
     """A problem as a line of the window's Problems list: ``FILE:LINE:COL:`` (the place)
     and, for a value out of range or not among its choices, the panel and field as the
     window labels them (``Camera › sensor width 13200 mm must be …``); for another
-    validation issue ``<element>:`` (which picks the panel that fixes it) and
-    :func:`issue_text`; a problem without an issue (a schema error, a message) as its text
-    with field names as labelled and numbers in fixed point."""
+    validation issue the panel that fixes it (or the element's title where no panel
+    edits it) and :func:`issue_text`; a problem without an issue (a schema error, a
+    message) as its text with field names as labelled and numbers in fixed point."""
     if isinstance(problem, str):
         return humanize(problem)
     if problem.issue is None:
         return humanize(problem.format(source))
-    panel = _panel(problem.issue)
-    text = issue_text(problem.issue)  # starts with the field's label
-    worded = f"{panel} › {text}" if panel else f"<{problem.issue.tag}>: {text}"
+    place = _place(problem.issue)
+    text = issue_text(problem.issue)  # a value's starts with the field's label
+    worded = f"{place} › {text}" if place else text
     return Problem(worded, problem.line, problem.column).format(source)
 
 

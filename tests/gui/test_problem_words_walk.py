@@ -1,0 +1,81 @@
+"""Every value the file check refuses, in every element the templates hold, is listed in
+the Problems list in the window's words: no ``<element>`` and no ``attribute="…"`` or
+``attribute =`` of the file, also for the attributes the reader maps by hand (a GCP's
+surveyed position, an object's placement, the survey area's vertices …).
+
+The walk writes each template with one attribute of one element changed to a bad value
+(not a number, far out of range) or left out, opens it as File → Open does
+(designer.gui.state.wording.problem_text over the schema's and the semantic checks'
+problems) and reads the lines about that attribute."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+
+import pytest
+from lxml import etree
+
+from designer.cli.main import main
+from designer.gui.state.wording import problem_text
+from designer.project import semantic_problems
+from designer.project.load import read_project_file
+from designer.project.problems import ProjectError
+
+TEMPLATES = ("survey", "survey-structures", "survey-dynamic", "validation-cube", "texture")
+BAD_VALUES = ("abc", "-1e20", "1e20", "0", "-1", "100000", None)  # None: left out
+#: an element of the file (``<sensor``) or an attribute with its value (``width-mm="``,
+#: ``k1=-1``, ``width-mm = 13200``), or the schema's own words
+XML_WORDS = re.compile(r"<[A-Za-z][\w.-]*|[A-Za-z][\w-]*\s?=\s?[\"'\w-]|expected:")
+
+
+def _lines_about(path, tag: str, attr: str) -> list[str]:
+    """The Problems list's lines (after their place) about ``<tag attr>``."""
+    try:
+        project, smap = read_project_file(path)
+        found = semantic_problems(project, path.parent, smap)
+    except ProjectError as error:
+        found = error.problems
+    return [problem_text(p, str(path)).split(": ", 1)[1] for p in found
+            if p.issue is not None and p.issue.tag == tag and p.issue.attr == attr]
+
+
+def _walk(template: str, tmp_path) -> tuple[int, list[str]]:
+    folder = tmp_path / template
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["new", str(folder / "p.xml"), "--template", template]) == 0
+    text = (folder / "p.xml").read_bytes()
+    tree = etree.fromstring(text).getroottree()
+    seen, worded, xml = set(), 0, []
+    for el in tree.iter():
+        if not isinstance(el.tag, str):
+            continue
+        tag = etree.QName(el).localname
+        parent = el.getparent()
+        where = (None if parent is None else etree.QName(parent).localname, tag)
+        for attr in el.attrib:
+            if (*where, attr) in seen:
+                continue
+            seen.add((*where, attr))
+            for bad in BAD_VALUES:
+                copy = etree.fromstring(text)
+                target = copy.getroottree().xpath(tree.getpath(el))[0]
+                if bad is None:
+                    del target.attrib[attr]
+                else:
+                    target.set(attr, bad)
+                path = folder / "bad.xml"
+                path.write_bytes(etree.tostring(copy))
+                for line in _lines_about(path, tag, attr):
+                    worded += 1
+                    if XML_WORDS.search(line) or ("-" in attr and attr in line):
+                        xml.append(f"{template}: <{tag} {attr}={bad!r}>: {line}")
+    return worded, xml
+
+
+@pytest.mark.parametrize("template", TEMPLATES)
+def test_refused_values_are_listed_in_the_windows_words(template, tmp_path):
+    worded, xml = _walk(template, tmp_path)
+    assert worded > 20  # the walk reached the checks
+    assert not xml, "\n".join(xml)
