@@ -109,6 +109,13 @@ CODES = {
                   "length, m; ``limits``: the most nodes)",
     "texels": "a texture tile of too many or too few texels per side (``value``: the "
               "tile's side and the texel, m, and the texels; ``limits``: the fewest and most)",
+    "flat-roof-ridge": "a ridge (``attr``) given to a flat roof",
+    "pixels-not-square": "sensor and image sizes whose pixels are not square, without a "
+                         "pixel aspect",
+    "too-many-plants": "vegetation whose densities give too many plants (``value``: about "
+                       "how many; ``limits``: the most)",
+    "lens-folds": "a lens distortion that folds inside the image (its element's object: "
+                  "the camera)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }

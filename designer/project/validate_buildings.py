@@ -91,7 +91,8 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
                             ("ridge-direction-deg", b.ridge_direction_deg)):
             if value is not None:
                 out.append(Issue(b, "building", f"a flat roof has no ridge; remove {attr} or "
-                                 "give roof=\"gable\" or \"hip\"", attr=attr))
+                                 "give roof=\"gable\" or \"hip\"", attr=attr,
+                                 code="flat-roof-ridge"))
     elif pitched:
         r = b.ridge_height_m
         if r is None:

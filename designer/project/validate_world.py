@@ -279,5 +279,6 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
     if total > MAX_PLANTS:
         out.append(Issue(veg, "vegetation", f"the densities give about {total:.3g} plants on "
                          f"the {area_m2:.3g} m² terrain, more than {MAX_PLANTS:,}; lower "
-                         "density-per-m2"))
+                         "density-per-m2", code="too-many-plants", value=total,
+                         limits=(None, MAX_PLANTS)))
     return out  # the wind's ranges: validate_declared

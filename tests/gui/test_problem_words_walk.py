@@ -6,7 +6,8 @@ surveyed position, an object's placement, the survey area's vertices …).
 The walk writes each template with one attribute of one element changed to a bad value
 (not a number, far out of range) or left out, opens it as File → Open does
 (designer.gui.state.wording.problem_text over the schema's and the semantic checks'
-problems) and reads the lines about that attribute."""
+problems) and reads every line, those about that attribute and those its value set off
+elsewhere (a GCP off the terrain, a grid that no longer divides the extent)."""
 
 from __future__ import annotations
 
@@ -30,15 +31,17 @@ BAD_VALUES = ("abc", "-1e20", "1e20", "0", "-1", "100000", None)  # None: left o
 XML_WORDS = re.compile(r"<[A-Za-z][\w.-]*|[A-Za-z][\w-]*\s?=\s?[\"'\w-]|expected:")
 
 
-def _lines_about(path, tag: str, attr: str) -> list[str]:
-    """The Problems list's lines (after their place) about ``<tag attr>``."""
+def _listed(path) -> list[tuple[object, str]]:
+    """The Problems list's lines (after their place) for the file ``path``, with the
+    issue each is worded from; problems without one (the file is no designer project, or
+    of another schema version: nothing a panel sets) left out."""
     try:
         project, smap = read_project_file(path)
         found = semantic_problems(project, path.parent, smap)
     except ProjectError as error:
         found = error.problems
-    return [problem_text(p, str(path)).split(": ", 1)[1] for p in found
-            if p.issue is not None and p.issue.tag == tag and p.issue.attr == attr]
+    return [(p.issue, problem_text(p, str(path)).split(": ", 1)[1]) for p in found
+            if p.issue is not None]
 
 
 def _walk(template: str, tmp_path) -> tuple[int, list[str]]:
@@ -67,8 +70,8 @@ def _walk(template: str, tmp_path) -> tuple[int, list[str]]:
                     target.set(attr, bad)
                 path = folder / "bad.xml"
                 path.write_bytes(etree.tostring(copy))
-                for line in _lines_about(path, tag, attr):
-                    worded += 1
+                for issue, line in _listed(path):
+                    worded += issue.tag == tag and issue.attr == attr
                     if XML_WORDS.search(line) or ("-" in attr and attr in line):
                         xml.append(f"{template}: <{tag} {attr}={bad!r}>: {line}")
     return worded, xml
@@ -77,5 +80,5 @@ def _walk(template: str, tmp_path) -> tuple[int, list[str]]:
 @pytest.mark.parametrize("template", TEMPLATES)
 def test_refused_values_are_listed_in_the_windows_words(template, tmp_path):
     worded, xml = _walk(template, tmp_path)
-    assert worded > 20  # the walk reached the checks
+    assert worded > 20  # the walk reached the checks of the attributes it changed
     assert not xml, "\n".join(xml)

@@ -21,7 +21,7 @@ from designer.gui.state.field_places import (
     panel_for_object,
 )
 from designer.project import model as m
-from designer.project.declare import Declared, attributes, declared_elements
+from designer.project.declare import Declared, attributes, declared, declared_elements
 from designer.project.problems import Issue, Problem
 
 #: parameters of the library's plain errors that no declaration labels (or that several
@@ -223,6 +223,35 @@ def _wanted(d: Declared) -> str | None:
     return None
 
 
+def _labelled(cls: type, name: str) -> str:
+    return next(d.label for d in declared(cls) if d.name == name)
+
+
+def _not_square_text(cam: m.Camera) -> str:
+    """Pixels that are not square, with the camera's sizes as the Camera panel labels
+    them and the sensor height that makes them square."""
+    W, H = cam.image_width_px, cam.image_height_px
+    pitch_x, pitch_y = cam.sensor_width_mm / W, cam.sensor_height_mm / H
+    sw, sh = _labelled(m.Camera, "sensor_width_mm"), _labelled(m.Camera, "sensor_height_mm")
+    iw, ih = _labelled(m.Camera, "image_width_px"), _labelled(m.Camera, "image_height_px")
+    return (f"pixels are not square: a {fixed(cam.sensor_width_mm)} × "
+            f"{fixed(cam.sensor_height_mm)} mm sensor over {W} × {H} px gives "
+            f"{fixed(pitch_x * 1000, 4)} × {fixed(pitch_y * 1000, 4)} µm pixels; make "
+            f"{sw} / {iw} equal {sh} / {ih} (e.g. {sh} "
+            f"{fixed(cam.sensor_width_mm * H / W, 4)} mm), or give a pixel aspect")
+
+
+def _folds_text(cam: m.Camera) -> str:
+    """A lens distortion that folds inside the image, with its coefficients as the Camera
+    panel labels them."""
+    dist = cam.distortion
+    given = ", ".join(f"{d.label} {fixed(getattr(dist, d.name), 6)}" for d in declared(type(dist))
+                      if isinstance(getattr(dist, d.name), float) and getattr(dist, d.name))
+    return (f"camera '{cam.id}': the lens distortion ({given}) folds inside the image: "
+            "pixels near its corners have no one undistorted ray; reduce the coefficients "
+            "in the Camera panel, or the image size or field of view")
+
+
 def _unknown_text(issue: Issue) -> str:
     """An attribute the element does not take, with the settings it does take as their
     panel labels them (the nearest to what was written first offered)."""
@@ -287,6 +316,17 @@ def issue_text(issue: Issue) -> str:
                     "more tiling repeats")
         return (f"a {fixed(tile)} m tile of {fixed(texel)} m texels has only {fixed(texels)} "
                 f"texels per side, fewer than {fewest:,.0f}; choose a smaller {label}")
+    if issue.code == "flat-roof-ridge":
+        return (f"a flat roof has no {label}; clear it, or choose a gable or hip roof in the "
+                "Buildings panel")
+    if issue.code == "pixels-not-square":
+        return _not_square_text(issue.obj)
+    if issue.code == "too-many-plants":
+        return (f"the plant groups' densities give about {issue.value:,.0f} plants on the "
+                f"terrain, more than {issue.limits[1]:,.0f}; lower their density in the "
+                "Vegetation panel")
+    if issue.code == "lens-folds":
+        return _folds_text(issue.obj)
     if issue.code == "scale-not-whole" and d is not None:
         size = getattr(issue.obj, d.name)
         return (f"camera '{issue.obj.id}': {d.label} {size} px × resolution scale "
