@@ -72,3 +72,24 @@ def test_unknown_attributes_are_worded_as_the_panels_label_them(qtbot, window, t
                  "Effects › unknown setting “falloff” (did you mean corner fall-off (ρ²)?); "
                  "remove it (the settings here: "):
         assert any(want in line for line in listed), (want, listed)
+
+
+def test_hand_mapped_attributes_and_places_off_the_terrain_are_worded_as_labelled(
+        qtbot, window, tmp_path):
+    """A σ of the simulated survey (an attribute group no element declares on its own)
+    that is not a number, and a survey-area vertex off the terrain (a check across
+    fields), listed with the labels and panels of the window."""
+    listed = _open_edited(qtbot, window, tmp_path, [
+        ('sigma-X="0.01"', 'sigma-X="1 cm"'),
+        ('<vertex X="511965.0" Y="5405965.0"/>', '<vertex X="0" Y="5405965.0"/>')])
+    _no_xml(listed, "sigma-X", "survey-accuracy", "vertex>", "extent>")
+    assert any("GCPs › sigma X “1 cm” is not a number; give a number from 0 to 1000000 m"
+               in line for line in listed), listed
+    # the schema refuses the file first; with the σ mended, the vertex is listed
+    (tmp_path / "mended").mkdir()
+    listed = _open_edited(qtbot, window, tmp_path / "mended", [
+        ('<vertex X="511965.0" Y="5405965.0"/>', '<vertex X="0" Y="5405965.0"/>')])
+    _no_xml(listed, "vertex>", "extent>")
+    assert any("Flight › vertex 1 of the survey area at X 0, Y 5405965 lies outside the "
+               "terrain extent; move it inside, or enlarge the terrain in the Terrain panel"
+               in line for line in listed), listed
