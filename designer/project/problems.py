@@ -116,6 +116,17 @@ CODES = {
                        "how many; ``limits``: the most)",
     "lens-folds": "a lens distortion that folds inside the image (its element's object: "
                   "the camera)",
+    "within": "a value (``value``) outside limits other fields set (``limits``, open or "
+              "closed as the attribute's declaration says)",
+    "sun-below-horizon": "a sun computed for a moment and place where it is below the "
+                         "horizon (``value``: its elevation, deg)",
+    "ridge-direction": "a ridge direction (``value``) along no side of the footprint, or "
+                       "along the shorter side of a hip roof (``choices``: the directions it "
+                       "may take, deg)",
+    "pitched-roof-shape": "a gable or hip roof on a footprint that is not a rectangle",
+    "no-survey": "a GCP with neither a surveyed position nor a simulated survey",
+    "variation-on-orthophoto": "a texture variation on an orthophoto, which does not repeat",
+    "no-plants": "vegetation without a plant group",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }

@@ -102,7 +102,9 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
         elif declared_field(m.Building, "ridge_height_m").in_range(r) and r <= b.eave_height_m:
             out.append(Issue(b, "building", f"ridge-height-m = {r!r} must be above "
                              f"eave-height-m ({b.eave_height_m:g} m) and at most "
-                             f"{MAX_BUILDING_HEIGHT_M:g} m", attr="ridge-height-m"))
+                             f"{MAX_BUILDING_HEIGHT_M:g} m", attr="ridge-height-m",
+                             code="within", value=r,
+                             limits=(b.eave_height_m, MAX_BUILDING_HEIGHT_M)))
     xy = [(p.X, p.Y) for p in b.footprint]
     fp = _footprint_issue(b, xy, extent)
     if fp is not None:
@@ -157,7 +159,7 @@ def _rectangle(b: m.Building, xy: list[tuple[float, float]]) -> list[Issue]:
         return [Issue(b, "footprint", f"building '{b.id}': a {b.roof} roof is built on a "
                       f"rectangular footprint (four corners within {RECTANGLE_TOL_DEG:g} deg of "
                       f"a right angle); this one {shape}: use roof=\"flat\" or a rectangle",
-                      key="footprint")]
+                      key="footprint", code="pitched-roof-shape")]
     if b.ridge_direction_deg is None:
         return []
     if not math.isfinite(b.ridge_direction_deg):
@@ -170,9 +172,11 @@ def _rectangle(b: m.Building, xy: list[tuple[float, float]]) -> list[Issue]:
         return [Issue(b, "building", f"ridge-direction-deg = {b.ridge_direction_deg:g} runs "
                       f"along no side of the footprint (sides at {sides[0]:.1f} and "
                       f"{sides[1]:.1f} deg); give one of those or leave it out",
-                      attr="ridge-direction-deg")]
+                      attr="ridge-direction-deg", code="ridge-direction",
+                      value=b.ridge_direction_deg, choices=(f"{sides[0]:.1f}", f"{sides[1]:.1f}"))]
     if b.roof == "hip" and lengths[k] < lengths[(k + 1) % 4] * (1 - 1e-9):
         return [Issue(b, "building", f"a hip roof's ridge runs along the longer side "
                       f"({sides[(k + 1) % 4]:.1f} deg); change ridge-direction-deg or leave "
-                      "it out", attr="ridge-direction-deg")]
+                      "it out", attr="ridge-direction-deg", code="ridge-direction",
+                      value=b.ridge_direction_deg, choices=(f"{sides[(k + 1) % 4]:.1f}",))]
     return []

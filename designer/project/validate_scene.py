@@ -131,7 +131,8 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     if isinstance(src, m.OrthophotoTexture):
         if tex.variation is not None:
             out.append(Issue(tex.variation, "variation", "an orthophoto does not repeat: the "
-                             "variation applies to tiled textures only; remove <variation>"))
+                             "variation applies to tiled textures only; remove <variation>",
+                             code="variation-on-orthophoto"))
         if base is not None:
             out += file_issue(src, "orthophoto", orthophoto_problem(resolve(base, src.file)))
     elif isinstance(src, m.ImageTexture):
@@ -183,7 +184,7 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
             if targets.survey_accuracy is None:
                 out.append(Issue(t, "target", f"GCP '{t.id}' has no <surveyed> position and "
                                  "<targets> has no <survey-accuracy> to simulate one; add "
-                                 "either"))
+                                 "either", code="no-survey"))
     return out
 
 
@@ -234,4 +235,4 @@ def _sun_below_horizon(sun: m.SunPosition, moment: datetime) -> list[Issue]:
     return [Issue(sun, "sun-position", f"the sun is {abs(height_deg):.1f}° below the horizon at "
                   f"{sun.date_time} ({sun.latitude_deg}°, {sun.longitude_deg}°); give a "
                   "moment in daylight, or a <sun> with elevation-deg above 0",
-                  attr="date-time")]
+                  attr="date-time", code="sun-below-horizon", value=height_deg)]

@@ -241,7 +241,8 @@ def _range_issue(obj, tag: str, attr: str, value, lo: float, hi: float, unit: st
     else:
         low = f"greater than {lo:g}" if low_open else f"at least {lo:g}"
         text = f"{low} and " + (f"below {hi:g}" if high_open else f"at most {hi:g}")
-    return [Issue(obj, tag, f"{attr} = {value!r} must be {text}{unit}", attr=attr)]
+    return [Issue(obj, tag, f"{attr} = {value!r} must be {text}{unit}", attr=attr,
+                  code="within", value=value, limits=(lo, hi))]
 
 
 def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
@@ -251,7 +252,7 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
     out: list[Issue] = []
     if not veg.plants:
         out.append(Issue(veg, "vegetation", "<vegetation> has no <plants>; add one, e.g. "
-                         "<plants kind=\"shrub\" density-per-m2=\"0.1\"/>"))
+                         "<plants kind=\"shrub\" density-per-m2=\"0.1\"/>", code="no-plants"))
     ext = project.scene.terrain.extent
     area_m2 = max(ext.max_X - ext.min_X, 0.0) * max(ext.max_Y - ext.min_Y, 0.0)
     total = 0.0

@@ -25,7 +25,7 @@ from designer.project.load import read_project_file
 from designer.project.problems import ProjectError
 
 TEMPLATES = ("survey", "survey-structures", "survey-dynamic", "validation-cube", "texture")
-BAD_VALUES = ("abc", "-1e20", "1e20", "0", "-1", "100000", None)  # None: left out
+BAD_VALUES = ("abc", "-1e20", "1e20", "0", "-1", "1", "45", "100000", None)  # None: left out
 #: an element of the file (``<sensor``) or an attribute with its value (``width-mm="``,
 #: ``k1=-1``, ``width-mm = 13200``), or the schema's own words
 XML_WORDS = re.compile(r"<[A-Za-z][\w.-]*|[A-Za-z][\w-]*\s?=\s?[\"'\w-]|expected:")

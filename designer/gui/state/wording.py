@@ -101,6 +101,19 @@ DIRECTIONS: dict[tuple[str, str], str] = {
     ("needs-ridge", "building"):
         "a {value} roof needs a ridge height; set the ridge above the walls in the "
         "Buildings panel",
+    ("pitched-roof-shape", "footprint"):
+        "building '{obj.id}': a {obj.roof} roof is built on a rectangular footprint (four "
+        "corners at right angles), which this one is not; choose a flat roof in the "
+        "Buildings panel",
+    ("no-survey", "target"):
+        "GCP '{obj.id}' has no surveyed position and no survey is simulated for it; tick "
+        "“add survey error” in the GCPs panel",
+    ("variation-on-orthophoto", "variation"):
+        "an orthophoto does not repeat: the texture variation applies to tiled textures "
+        "only; untick “non-repeating variation” in the Texture panel",
+    ("no-plants", "vegetation"):
+        "the vegetation has no plant group; add grass, shrubs or trees in the Vegetation "
+        "panel, or untick “plants on the terrain”",
     ("colour", "object"):
         "moving object '{obj.id}': its colour must be three numbers from 0 to 1 (linear "
         "red, green, blue), e.g. 0.8 0.1 0.1",
@@ -316,6 +329,16 @@ def issue_text(issue: Issue) -> str:
                     "more tiling repeats")
         return (f"a {fixed(tile)} m tile of {fixed(texel)} m texels has only {fixed(texels)} "
                 f"texels per side, fewer than {fewest:,.0f}; choose a smaller {label}")
+    if issue.code == "within" and issue.limits is not None:
+        return f"{label} {_value_text(issue.value)} must be {_range_words(d, issue.limits)}"
+    if issue.code == "sun-below-horizon":
+        return (f"the sun is {fixed(abs(issue.value), 1)}° below the horizon at that moment "
+                "and place; choose a moment in daylight, or give the sun by its direction, "
+                "in the Lighting panel")
+    if issue.code == "ridge-direction":
+        return (f"{label} {fixed(issue.value, 1)}° runs along no side the roof can take "
+                f"({' or '.join(issue.choices)}°); give one of those in the project file, or "
+                "leave it out")
     if issue.code == "flat-roof-ridge":
         return (f"a flat roof has no {label}; clear it, or choose a gable or hip roof in the "
                 "Buildings panel")
