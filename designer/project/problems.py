@@ -127,6 +127,13 @@ CODES = {
     "no-survey": "a GCP with neither a surveyed position nor a simulated survey",
     "variation-on-orthophoto": "a texture variation on an orthophoto, which does not repeat",
     "no-plants": "vegetation without a plant group",
+    "dem-coverage": "a DEM that does not cover the terrain extent (``value``: the X and Y "
+                    "it covers, min-X max-X min-Y max-Y)",
+    "readout-not-shorter": "a rolling shutter's readout not shorter than the trigger "
+                           "interval (``value``: the camera id, the readout and the interval, "
+                           "s)",
+    "distortion-and-rolling-shutter": "a camera with a lens distortion and a rolling "
+                                      "shutter (``value``: its id)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }

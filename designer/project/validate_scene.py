@@ -85,7 +85,8 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
                 out.append(Issue(src, "dem", f"the DEM covers X {plain_m(x0)}..{plain_m(x1)}, Y "
                                  f"{plain_m(y0)}..{plain_m(y1)}"
                                  f", not the whole terrain extent; shrink <extent> or use a "
-                                 "larger DEM", attr="file"))
+                                 "larger DEM", attr="file", code="dem-coverage",
+                                 value=(x0, x1, y0, y1)))
     elif isinstance(src, m.MeshTerrain) and base is not None:
         out += file_issue(src, "mesh", mesh_problem(resolve(base, src.file)))
     return out

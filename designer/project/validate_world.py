@@ -123,12 +123,15 @@ def _rolling_shutters(project: m.Project) -> list[Issue]:
             out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}': readout-s {readout:g} "
                              "s is not shorter than the time line's trigger-interval-s "
                              f"{tl.trigger_interval_s:g} s; a frame must be read before the "
-                             "next is taken: shorten the readout", attr="readout-s"))
+                             "next is taken: shorten the readout", attr="readout-s",
+                             code="readout-not-shorter",
+                             value=(cam.id, readout, tl.trigger_interval_s)))
         if cam.distortion is not None:
             out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}' has lens distortion "
                              "and a rolling shutter, which designer does not render exactly; "
                              "remove the distortion element or set readout-s 0",
-                             attr="readout-s"))
+                             attr="readout-s", code="distortion-and-rolling-shutter",
+                             value=cam.id))
     return out
 
 

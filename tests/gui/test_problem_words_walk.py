@@ -25,7 +25,9 @@ from designer.project.load import read_project_file
 from designer.project.problems import ProjectError
 
 TEMPLATES = ("survey", "survey-structures", "survey-dynamic", "validation-cube", "texture")
-BAD_VALUES = ("abc", "-1e20", "1e20", "0", "-1", "1", "45", "100000", None)  # None: left out
+#: not a number, far out of range, inside the declared range but against other fields,
+#: not finite, and None: the attribute left out
+BAD_VALUES = ("abc", "-1e20", "1e20", "0", "-1", "1", "45", "100000", "NaN", "INF", None)
 #: an element of the file (``<sensor``) or an attribute with its value (``width-mm="``,
 #: ``k1=-1``, ``width-mm = 13200``), or the schema's own words
 XML_WORDS = re.compile(r"<[A-Za-z][\w.-]*|[A-Za-z][\w-]*\s?=\s?[\"'\w-]|expected:")
@@ -82,3 +84,34 @@ def test_refused_values_are_listed_in_the_windows_words(template, tmp_path):
     worded, xml = _walk(template, tmp_path)
     assert worded > 20  # the walk reached the checks of the attributes it changed
     assert not xml, "\n".join(xml)
+
+
+def test_a_readout_against_the_trigger_interval_and_a_distorted_rolling_shutter(tmp_path):
+    """Two checks across elements no single value of the walk sets off: a rolling
+    shutter's readout not shorter than the time line's trigger interval, and a rolling
+    shutter behind a distorting lens."""
+    import dataclasses
+
+    from designer.project import model as m
+    from designer.project.problems import SourceMap
+
+    folder = tmp_path / "p"
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["new", str(folder / "p.xml"), "--template", "survey-structures"]) == 0
+    project, _ = read_project_file(folder / "p.xml")
+    camera = dataclasses.replace(project.cameras[0],
+                                 rolling_shutter=m.RollingShutter(readout_s=0.5),
+                                 distortion=m.BrownConradyDistortion(k1=-0.01))
+    time_line = dataclasses.replace(project.trajectory.time_line, trigger_interval_s=0.4)
+    project = dataclasses.replace(
+        project, cameras=(camera, *project.cameras[1:]),
+        trajectory=dataclasses.replace(project.trajectory, time_line=time_line))
+    lines = [problem_text(p, "p.xml").split(": ", 1)[1]
+             for p in semantic_problems(project, folder, SourceMap(""))]
+    assert lines == [
+        f"Camera › camera '{camera.id}': the readout 0.5 s is not shorter than the trigger "
+        "interval 0.4 s; a frame must be read before the next is taken: shorten the readout "
+        "in the Camera panel",
+        f"Camera › camera '{camera.id}' has a lens distortion and a rolling shutter, which "
+        "designer does not render exactly; set the distortion to none or the readout to 0 s "
+        "in the Camera panel"], lines

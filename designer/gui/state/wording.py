@@ -114,6 +114,10 @@ DIRECTIONS: dict[tuple[str, str], str] = {
     ("no-plants", "vegetation"):
         "the vegetation has no plant group; add grass, shrubs or trees in the Vegetation "
         "panel, or untick “plants on the terrain”",
+    ("distortion-and-rolling-shutter", "rolling-shutter"):
+        "camera '{value}' has a lens distortion and a rolling shutter, which designer does "
+        "not render exactly; set the distortion to none or the readout to 0 s in the Camera "
+        "panel",
     ("colour", "object"):
         "moving object '{obj.id}': its colour must be three numbers from 0 to 1 (linear "
         "red, green, blue), e.g. 0.8 0.1 0.1",
@@ -339,6 +343,17 @@ def issue_text(issue: Issue) -> str:
         return (f"{label} {fixed(issue.value, 1)}° runs along no side the roof can take "
                 f"({' or '.join(issue.choices)}°); give one of those in the project file, or "
                 "leave it out")
+    if issue.code == "dem-coverage":
+        x0, x1, y0, y1 = issue.value
+        return (f"the DEM covers X {fixed(x0)} to {fixed(x1)}, Y {fixed(y0)} to {fixed(y1)}, "
+                "not the whole terrain extent; shrink the terrain in the Terrain panel, or "
+                "use a larger DEM")
+    if issue.code == "readout-not-shorter":
+        camera, readout, interval = issue.value
+        return (f"camera '{camera}': the {label} {fixed(readout)} s is not shorter than the "
+                f"{_labelled(m.TimeLine, 'trigger_interval_s')} {fixed(interval)} s; a "
+                "frame must be read before the next is taken: shorten the readout in the "
+                "Camera panel")
     if issue.code == "flat-roof-ridge":
         return (f"a flat roof has no {label}; clear it, or choose a gable or hip roof in the "
                 "Buildings panel")
