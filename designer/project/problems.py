@@ -134,6 +134,8 @@ CODES = {
                            "s)",
     "distortion-and-rolling-shutter": "a camera with a lens distortion and a rolling "
                                       "shutter (``value``: its id)",
+    "name-vs-format": "a photo's name whose extension is not the output format's "
+                      "(``value``: the format; ``choices``: its extensions)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }

@@ -75,7 +75,8 @@ def _photos(project: m.Project) -> list[Issue]:
         if suffix and allowed and suffix.group(0).lower() not in allowed:
             out.append(Issue(p, "photo", f"image name '{p.name}' does not match the output "
                              f"format {project.render.output_format}; use {allowed[0]} or "
-                             "change <output format>", attr="name"))
+                             "change <output format>", attr="name", code="name-vs-format",
+                             value=project.render.output_format, choices=allowed))
     return out
 
 

@@ -115,3 +115,26 @@ def test_a_readout_against_the_trigger_interval_and_a_distorted_rolling_shutter(
         f"Camera › camera '{camera.id}' has a lens distortion and a rolling shutter, which "
         "designer does not render exactly; set the distortion to none or the readout to 0 s "
         "in the Camera panel"], lines
+
+
+def test_photos_named_for_another_format_than_the_renders(tmp_path):
+    """The Render panel's format changed under photos named .png (the validation cube's):
+    each photo listed as not named for the format, without the file's <output format>."""
+    import dataclasses
+
+    from designer.project.problems import SourceMap
+
+    folder = tmp_path / "p"
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["new", str(folder / "p.xml"), "--template", "validation-cube"]) == 0
+    project, _ = read_project_file(folder / "p.xml")
+    photo = project.trajectory.exterior_orientations[0]
+    assert photo.name.endswith(".png")
+    project = dataclasses.replace(project, render=dataclasses.replace(
+        project.render, output_format="jpeg"))
+    lines = [problem_text(p, "p.xml").split(": ", 1)[1]
+             for p in semantic_problems(project, folder, SourceMap(""))]
+    assert lines[0] == (f"Flight › photo '{photo.name}' is not named as a jpeg image; choose "
+                        "the format its name says in the Render panel, or name it with .jpg "
+                        "or .jpeg"), lines
+    assert not any(XML_WORDS.search(line) for line in lines), lines

@@ -354,6 +354,10 @@ def issue_text(issue: Issue) -> str:
                 f"{_labelled(m.TimeLine, 'trigger_interval_s')} {fixed(interval)} s; a "
                 "frame must be read before the next is taken: shorten the readout in the "
                 "Camera panel")
+    if issue.code == "name-vs-format":
+        return (f"photo '{issue.obj.name}' is not named as a {issue.value} image; choose the "
+                f"format its name says in the Render panel, or name it with "
+                f"{' or '.join(issue.choices)}")
     if issue.code == "flat-roof-ridge":
         return (f"a flat roof has no {label}; clear it, or choose a gable or hip roof in the "
                 "Buildings panel")
