@@ -14,7 +14,7 @@ system:
 	@bash scripts/install-system-packages.sh
 
 # the compiled kernels are rebuilt by pip install when their sources change
-$(STAMP): pyproject.toml setup.py $(wildcard designer/evaluate/csrc/*.[ch] designer/core/csrc/*.c)
+$(STAMP): pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate/csrc/*.[ch] designer/core/csrc/*.c)
 	@command -v $(PYTHON) >/dev/null || { echo "error: $(PYTHON) not found; install Python 3.11 (the bpy wheels exist only for 3.11)"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip

@@ -16,22 +16,7 @@
 #include <math.h>
 #include <stdint.h>
 
-static int sized(const Py_buffer *b, Py_ssize_t count, Py_ssize_t size, const char *name)
-{
-    if (b->len != count * size) {
-        PyErr_Format(PyExc_ValueError, "%s: %zd bytes, expected %zd", name, b->len,
-                     count * size);
-        return 0;
-    }
-    return 1;
-}
-
-static void release(Py_buffer *views, int n)
-{
-    for (int k = 0; k < n; k++)
-        if (views[k].obj != NULL)
-            PyBuffer_Release(&views[k]);
-}
+#include "buffers.h"
 
 /* ------------------------------------------------------------------------- march */
 typedef struct {
@@ -213,6 +198,7 @@ static PyMethodDef methods[] = {
 static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "_cterrain",
     "The terrain's compiled loops (see designer/core/csrc/terrain.c).", -1, methods,
+    NULL, NULL, NULL, NULL,
 };
 
 PyMODINIT_FUNC PyInit__cterrain(void) { return PyModule_Create(&module); }

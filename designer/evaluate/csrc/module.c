@@ -9,25 +9,8 @@
 
 #include <stdlib.h>
 
+#include "buffers.h"
 #include "kernels.h"
-
-/* the buffer holds exactly `count` items of `size` bytes */
-static int sized(const Py_buffer *b, Py_ssize_t count, Py_ssize_t size, const char *name)
-{
-    if (b->len != count * size) {
-        PyErr_Format(PyExc_ValueError, "%s: %zd bytes, expected %zd", name, b->len,
-                     count * size);
-        return 0;
-    }
-    return 1;
-}
-
-static void release(Py_buffer *views, int n)
-{
-    for (int k = 0; k < n; k++)
-        if (views[k].obj != NULL)
-            PyBuffer_Release(&views[k]);
-}
 
 #define D sizeof(double)
 #define I sizeof(int64_t)
