@@ -298,9 +298,10 @@ def format_plan(result: PlanResult, source: str) -> str:
         lines.append(f"  warning: {warning}")
     if s.get("render_time_s") is not None:
         n_all = result.n_images_all_cameras or s["n_images"]
+        workers = render_workers(result.project, n_all)
         lines.append(f"  estimated render time: {format_duration(s['render_time_s'])} for "
                      f"{n_all} images at {result.project.render.effective_samples} samples "
-                     f"per pixel with {render_workers(result.project, n_all)} worker(s) on "
+                     f"per pixel with {workers} worker{'s' if workers != 1 else ''} on "
                      f"{os.cpu_count()} cores ({result.render_speed})")
     return "\n".join(lines)
 

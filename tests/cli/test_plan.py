@@ -1,6 +1,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import cv2
 import numpy as np
@@ -146,3 +147,15 @@ def test_plan_counts_every_image_of_a_rig_that_sees_a_gcp(tmp_path, capsys):
         assert sum(expected.values()) > 0, name
         assert said == expected, name
         assert figures["gcp_views_min"] == min(expected.values()), name
+
+
+def test_the_estimate_counts_its_workers_in_words(tmp_path, capsys):
+    """'with 1 worker', 'with 2 workers': the report's estimate line, as a reader says it."""
+    text = Path(EXAMPLE).read_text()
+    for workers, words in ((1, "with 1 worker on"), (2, "with 2 workers on")):
+        path = tmp_path / f"w{workers}.xml"
+        path.write_text(text.replace("<workers>1</workers>", f"<workers>{workers}</workers>"))
+        assert main(["plan", str(path)]) == 0
+        line = next(x for x in capsys.readouterr().out.splitlines()
+                    if "estimated render time" in x)
+        assert words in line and "(s)" not in line, line
