@@ -120,11 +120,12 @@ def collinear_control_warning(ids, surveyed_xyz_m) -> HardCaseWarning | None:
         "move or add control GCPs off the line, at least a tenth of its length away")
 
 
-def finest_gsd_m(project: m.Project, hf, images) -> float:
+def finest_gsd_m(project: m.Project, hf, images, raycaster=None) -> float:
     """The finest GSD (m/px) any image of ``images`` (designer.survey.project_poses) has
     on the height field ``hf``, sampled at a 3 × 3 grid of pixels per image: the slant
     distance along the optical axis × pixel pitch / focal length. NaN if no ray meets it.
-    """
+    ``raycaster``: a :class:`designer.survey.raycast.TerrainRaycaster` over ``hf`` the
+    caller holds already (else one is built)."""
     from designer.core.projection import ground_sample_distance_m, pixel_rays_world
     from designer.errors import NotInvertibleError
     from designer.project.interiors import render_interior
@@ -147,7 +148,8 @@ def finest_gsd_m(project: m.Project, hf, images) -> float:
     C = np.concatenate(starts)
     from designer.survey.raycast import TerrainRaycaster
 
-    hits = TerrainRaycaster(hf).surface_hit(C, np.concatenate(rays), tol_m=1e-6)
+    rc = raycaster if raycaster is not None else TerrainRaycaster(hf)
+    hits = rc.surface_hit(C, np.concatenate(rays), tol_m=1e-6)
     depth = np.einsum("ij,ij->i", hits - C, np.concatenate(axes))
     gsd = depth * np.concatenate(pitch_over_f)
     gsd = gsd[np.isfinite(gsd) & (gsd > 0)]

@@ -135,7 +135,8 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         project, len(images.stations),
         [images.platform[k].line_index for k in images.station_index])]
     warn += _gcp_warnings(ids, gcp_images)
-    finest = finest_gsd_m(project, hf, images) if len(images.stations) else float("nan")
+    finest = (finest_gsd_m(project, hf, images, terrain.raycaster) if len(images.stations)
+              else float("nan"))
     return PlanFigures(**figures, warnings=tuple(warn),
                        gcp_image_index=seen.gcp_image_index, gcp_uv_px=seen.gcp_uv_px,
                        finest_gsd_m=finest)
