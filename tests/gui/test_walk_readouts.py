@@ -1,0 +1,47 @@
+"""Readouts that must follow the project as a new user changes it with the mouse and the
+keyboard: the Flight panel's grid figures after a flight is imported, the Processing
+panel's greyed fields while the project has no processing settings of its own."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtTest import QTest
+
+from tests.flight.helpers import EXAMPLE
+from tests.gui.flight_helpers import _flown_images
+from tests.gui.helpers import answer_file_dialogs, choose_menu, open_panel, problems, wait_idle
+
+pytestmark = pytest.mark.gui
+
+
+def test_the_grid_figures_go_when_an_imported_flight_replaces_the_grid(qtbot, window,
+                                                                     tmp_path):
+    from designer.gui.qt.panels.flight import NO_GRID
+
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    flight = open_panel(w, "Flight")
+    assert "lines 22.5 m apart" in flight.calc_label.text()
+    _flown_images(tmp_path / "flown", 4)
+
+    answer_file_dialogs([tmp_path / "flown"])
+    choose_menu(qtbot, w, "File", "Import flight", "From a folder of images…")
+    wait_idle(qtbot, w)
+    assert problems(w) == []
+    assert w.document.project.trajectory.flight_plan is None
+    assert flight.images_label.text() == "4"
+    # no grid any more: the grid's spacing and trigger distance are not described
+    assert flight.calc_label.text() == NO_GRID
+
+    # undo (Ctrl+Z) brings the grid and its figures back
+    w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow)
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    wait_idle(qtbot, w)
+    assert "lines 22.5 m apart" in flight.calc_label.text()
