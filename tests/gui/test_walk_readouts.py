@@ -7,7 +7,7 @@ from __future__ import annotations
 import shutil
 
 import pytest
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
 
 from tests.flight.helpers import EXAMPLE
@@ -45,3 +45,30 @@ def test_the_grid_figures_go_when_an_imported_flight_replaces_the_grid(qtbot, wi
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     wait_idle(qtbot, w)
     assert "lines 22.5 m apart" in flight.calc_label.text()
+
+
+def test_greyed_processing_fields_show_the_defaults_the_reconstruction_uses(qtbot, window):
+    from PySide6.QtWidgets import QComboBox, QSpinBox
+
+    from designer.project import model as m
+    from tests.gui.helpers import field
+
+    w = window
+    panel = open_panel(w, "Processing")
+    wait_idle(qtbot, w)
+    assert w.document.project.processing is None
+    defaults = m.Processing()
+    features = field(w, QSpinBox, "processing.matching.max_features")
+    mode = field(w, QComboBox, "processing.gcps.mode")
+    shown = (features.value(), mode.currentData())
+    # greyed, and showing what designer reconstruct uses without <processing>
+    assert not features.isEnabled() and not mode.isEnabled()
+    assert shown == (defaults.matching.max_features, defaults.gcps.mode)
+
+    # the check box (a real click) adds exactly those settings: nothing shown changes
+    box = panel.enabled
+    QTest.mouseClick(box, Qt.MouseButton.LeftButton, pos=QPoint(8, box.height() // 2))
+    wait_idle(qtbot, w)
+    assert w.document.project.processing == defaults
+    assert features.isEnabled()
+    assert (features.value(), mode.currentData()) == shown
