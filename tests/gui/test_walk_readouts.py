@@ -1,6 +1,7 @@
 """Readouts that must follow the project as a new user changes it with the mouse and the
 keyboard: the Flight panel's grid figures after a flight is imported, the Processing
-panel's greyed fields while the project has no processing settings of its own."""
+panel's greyed fields while the project has no processing settings of its own, a GCP
+cell typed back to the project's value."""
 
 from __future__ import annotations
 
@@ -72,3 +73,30 @@ def test_greyed_processing_fields_show_the_defaults_the_reconstruction_uses(qtbo
     assert w.document.project.processing == defaults
     assert features.isEnabled()
     assert (features.value(), mode.currentData()) == shown
+
+
+def test_a_gcp_cell_typed_back_to_its_value_reads_like_the_others(qtbot, window):
+    from PySide6.QtGui import QBrush
+
+    from designer.gui.qt.widgets import format_number as num
+    from tests.gui.helpers import activate, type_cell
+
+    w = window
+    activate(qtbot, w)
+    assert w.file_actions.new("survey")
+    wait_idle(qtbot, w)
+    panel = open_panel(w, "GCPs")
+    table = panel.table
+    x = w.document.project.targets[0].true.X
+    before, steps = w.document.project, w.undo_stack.count()
+
+    type_cell(qtbot, w, table, 0, 2, "abc")  # refused: red, said
+    assert table.item(0, 2).background() != QBrush()
+    assert "not applied" in panel.error_label.text()
+
+    type_cell(qtbot, w, table, 0, 2, num(x, 0))  # the project's value, typed without decimals
+    wait_idle(qtbot, w)
+    assert w.document.project == before and w.undo_stack.count() == steps
+    assert table.item(0, 2).text() == f"{x:.3f}"  # as every other coordinate is shown
+    assert table.item(0, 2).background() == QBrush()
+    assert panel.error_label.text() == ""
