@@ -53,3 +53,30 @@ def test_esc_in_a_refused_field_puts_the_value_back(qtbot, window):
     _esc(qtbot, w)
     assert w.view.interaction.mode == "navigate"
     assert w.document.project == before
+
+
+def test_render_waits_while_a_field_holds_what_it_refused(qtbot, saved_project,
+                                                         monkeypatch, tmp_path):
+    from designer.gui.qt.command_process import RenderProcess
+
+    w = saved_project
+    started = []
+    monkeypatch.setattr(RenderProcess, "start", lambda self, *a, **k: started.append(a))
+    activate(qtbot, w)
+    panel = open_panel(w, "Render")
+    scale = field(panel, QDoubleSpinBox, "render.resolution_scale")
+    kept = scale.lineEdit().text()
+    type_text(qtbot, w, scale, "0.01")  # no whole number of pixels: refused
+    assert scale.property("invalid")
+
+    QTest.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    assert started == []  # nothing renders with the project's other value unsaid
+    said = panel.state.text()
+    assert said.startswith("not rendered: a field refused what was typed: resolution "
+                           "scale 0.01"), said
+    assert said.endswith(f"(Esc: back to {kept})"), said
+
+    scale.setFocus()
+    _esc(qtbot, w)
+    QTest.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    assert len(started) == 1

@@ -306,6 +306,11 @@ class RenderPanel(Panel):
     def start(self) -> None:
         doc = self.editor.document
         window = self.window()
+        refused = _refused_field(window)
+        if refused:
+            # the project still has the field's old value: a render would quietly use it
+            self.state.setText(f"not rendered: a field refused what was typed: {refused}")
+            return
         if doc.dirty or doc.path is None:
             if not hasattr(window, "file_actions") or not window.file_actions.save():
                 self._refuse_start()
@@ -510,3 +515,12 @@ class RenderPanel(Panel):
             self.process.cancel()
             if not self.process.process.waitForFinished(15000):
                 self.process.kill()
+
+
+def _refused_field(window) -> str:
+    """The first refusal a panel of ``window`` shows for a field ("" when none does);
+    it names the field and the way back (Esc)."""
+    for panel in getattr(window, "panels", {}).values():
+        for message in getattr(panel, "input_errors", {}).values():
+            return message
+    return ""
