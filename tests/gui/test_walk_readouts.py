@@ -100,3 +100,55 @@ def test_a_gcp_cell_typed_back_to_its_value_reads_like_the_others(qtbot, window)
     assert table.item(0, 2).text() == f"{x:.3f}"  # as every other coordinate is shown
     assert table.item(0, 2).background() == QBrush()
     assert panel.error_label.text() == ""
+
+
+def test_a_cloud_says_which_truth_it_is_measured_against(qtbot, window, tmp_path):
+    from PySide6.QtWidgets import QPushButton
+
+    from tests.gui.helpers import activate, answer_file_dialog, type_text
+
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    activate(qtbot, w)
+    type_text(qtbot, w, open_panel(w, "Flight").altitude_spin, "60")  # unsaved changes
+    wait_idle(qtbot, w)
+    path = _cloud_on_the_terrain(w, tmp_path, 400)
+    results = open_panel(w, "Results")
+    button = next(b for b in results.findChildren(QPushButton)
+                  if b.text() == "Open point cloud…")
+
+    answer_file_dialog(path)
+    qtbot.mouseClick(button, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    assert results.result is not None, results.state.text()
+    # the project has a file, but the truth is the terrain in the window, without plates
+    assert ("400 points against the terrain as edited (unsaved changes: the GCP plates "
+            "left out)") in results.state.text(), results.state.text()
+
+    QTest.keyClick(w.windowHandle(), Qt.Key.Key_S, Qt.KeyboardModifier.ControlModifier)
+    wait_idle(qtbot, w)
+    assert not w.document.dirty
+    answer_file_dialog(path)
+    qtbot.mouseClick(button, Qt.MouseButton.LeftButton)
+    wait_idle(qtbot, w)
+    qtbot.waitUntil(lambda: "survey.xml" in results.state.text(), timeout=60000)
+    assert "400 points against terrain and targets of survey.xml" in results.state.text()
+
+
+def _cloud_on_the_terrain(w, tmp_path, n: int):
+    """``n`` points 1 cm (σ) about the open terrain, in world coordinates (seeded)."""
+    import numpy as np
+
+    from tests.gui.helpers import write_xyz_ply
+
+    e = w.document.project.scene.terrain.extent
+    rng = np.random.default_rng(3)
+    x = rng.uniform(e.min_X + 10, e.max_X - 10, n)
+    y = rng.uniform(e.min_Y + 10, e.max_Y - 10, n)
+    z = w.sync.terrain.heightfield.height_at(x, y) + rng.normal(0.0, 0.01, n)
+    path = tmp_path / "cloud.ply"
+    write_xyz_ply(path, np.column_stack([x, y, z]))
+    return path
