@@ -56,3 +56,24 @@ def test_the_base_line_follows_a_save(qtbot, window, tmp_path):
     wait_idle(qtbot, w)
     assert problems(w) == [] and not w.document.dirty
     assert panel.base_label.text() == f"the open project: {base}"
+
+
+def test_the_open_projects_problems_are_worded_as_the_problems_list_words_them(
+        qtbot, window, tmp_path):
+    w = window
+    base = tmp_path / "base" / "survey.xml"
+    shutil.copytree(EXAMPLE.parent, base.parent)
+    assert w.open_project(base)
+    wait_idle(qtbot, w)
+    moving = open_panel(w, "Moving objects")
+    qtbot.mouseClick(moving.add_car, Qt.MouseButton.LeftButton)  # no time line: not valid
+    wait_idle(qtbot, w)
+    assert w.document.dirty
+    panel = open_panel(w, "Study")
+    _add(qtbot, panel, "marking-sigma-px", "0.2 2")
+    _checked(qtbot, w, panel)
+    errors = panel.errors.text()
+    assert "unsaved changes" in errors.splitlines()[0], errors
+    assert ("moving object 'car1' is posed at each photo's time, but the flight has no time "
+            "line; switch on the time line in the Flight panel") in errors, errors
+    assert "<time-line>" not in errors and "<moving-objects>" not in errors, errors
