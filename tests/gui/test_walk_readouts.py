@@ -152,3 +152,28 @@ def _cloud_on_the_terrain(w, tmp_path, n: int):
     path = tmp_path / "cloud.ply"
     write_xyz_ply(path, np.column_stack([x, y, z]))
     return path
+
+
+def test_greyed_cloud_fields_show_what_switching_the_clouds_on_gives(qtbot, window):
+    from PySide6.QtWidgets import QDoubleSpinBox
+
+    from designer.gui.qt.panels.lighting import DEFAULT_CLOUDS
+    from tests.gui.helpers import field
+
+    w = window
+    assert w.file_actions.new("survey")
+    wait_idle(qtbot, w)
+    panel = open_panel(w, "Lighting")
+    assert w.document.project.scene.lighting.clouds is None
+    boxes = {name: field(w, QDoubleSpinBox, f"scene.lighting.clouds.{name}")
+             for name in ("cover", "size_m", "softness_m", "depth", "wind_speed_m_s")}
+    shown = {name: box.value() for name, box in boxes.items()}
+    assert not any(box.isEnabled() for box in boxes.values())
+    assert shown == {name: getattr(DEFAULT_CLOUDS, name) for name in boxes}
+
+    box = panel.cloudy  # the check box, clicked: the clouds the fields showed
+    QTest.mouseClick(box, Qt.MouseButton.LeftButton, pos=QPoint(8, box.height() // 2))
+    wait_idle(qtbot, w)
+    assert w.document.project.scene.lighting.clouds == DEFAULT_CLOUDS
+    assert all(box.isEnabled() for box in boxes.values())
+    assert {name: box.value() for name, box in boxes.items()} == shown

@@ -293,7 +293,22 @@ def declared_field(cls: type, name: str) -> QWidget:
     if a.special is not None and hasattr(box, "setSpecialValueText"):
         box.setSpecialValueText(a.special)
     box.setToolTip(f"{a.doc} ({d.range_text()})" if d.base is not str else a.doc)
+    box.switched_on_value = _switched_on_value(cls, name, d)
     return box
+
+
+def _switched_on_value(cls: type, name: str, d) -> Any:
+    """What the field holds once its element is switched on (the declaration's "on"
+    values, else its default); None when the declaration gives none. Shown, greyed,
+    while the element is absent, instead of whatever the field held (or its minimum)."""
+    from dataclasses import MISSING
+
+    from designer.project.declare import switched_on
+
+    try:
+        return getattr(switched_on(cls), name)
+    except (TypeError, ValueError):  # a class with required fields of its own
+        return None if d.default is MISSING else d.default
 
 
 def combo(items: list[tuple[str, Any]]) -> QComboBox:
@@ -397,6 +412,11 @@ class Bindings:
                 value = get(project)
             except AbsentElement:
                 widget.setEnabled(False)
+                shown = getattr(widget, "switched_on_value", None)
+                if shown is not None:  # greyed, what switching the element on gives
+                    blocked = widget.blockSignals(True)
+                    _set_value(widget, shown)
+                    widget.blockSignals(blocked)
                 continue
             widget.setEnabled(value is not None or isinstance(widget, QComboBox))
             blocked = widget.blockSignals(True)
