@@ -488,6 +488,8 @@ class RenderPanel(Panel):
             return "cancelled: " + images.text(resume, resume_option=RESUME_OPTION,
                                                rerun=RERUN)
         # stopped before the command could count (e.g. while the scene was prepared)
+        if n == 0:  # nothing finished: there is no "rest", the whole render is to do
+            return "cancelled before this run finished an image; start the render again"
         return (f"cancelled after {count(n, 'image')}; "
                 + continue_hint(resume, resume_option=RESUME_OPTION, rerun=RERUN))
 
