@@ -254,7 +254,8 @@ class RenderPanel(Panel):
             return
         self.out_of_date.show_state(
             None if state.ok else state.text,
-            f"the {state.n_images} rendered images are up to date with the project")
+            f"the {state.n_images} rendered images are up to date with the project",
+            says_it=bool(state.stale))  # "12 images out of date: …", said once
         if state.n_images:
             self._show_rendered()
         redo = len(state.stale) + len(state.missing)
