@@ -143,6 +143,8 @@ def take(out: Path) -> list[Path]:
         elif title == "Vegetation":
             panel.add_buttons["shrub"].click()
         shot(f"gui-panel-{title.lower().replace(' ', '-')}.png", dock)
+        if title == "GCPs":  # the later window shots show the ids and roles again
+            bar.setValue(0)
         while window.undo_stack.index() > steps:
             window.undo_stack.undo()
     window.docks["Terrain"].raise_()
@@ -152,6 +154,9 @@ def take(out: Path) -> list[Path]:
     shot("gui-coverage.png", window.view)
     window.coverage_action.setChecked(False)
 
+    # saved, the cloud is measured against the file's terrain and GCP plates, as
+    # designer compare measures it
+    window.file_actions.save()
     cloud, residuals = _synthetic_results(window, work)
     for layer in ("frusta", "footprints", "flight"):
         window.view.set_layer_visible(layer, False)

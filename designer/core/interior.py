@@ -88,7 +88,9 @@ class InteriorOrientation:
                     f"{self.sensor_height_mm} mm over {self.image_width_px} x "
                     f"{self.image_height_px} px gives {pitch_x * 1000:.6g} x "
                     f"{pitch_y * 1000:.6g} µm pixels; make sensor width / image width equal "
-                    f"sensor height / image height, or state a pixel aspect"
+                    f"sensor height / image height (e.g. sensor height "
+                    f"{self.sensor_width_mm * self.image_height_px / self.image_width_px:.6g} "
+                    f"mm), or state a pixel aspect"
                 )
         else:
             aspect = self.pixel_aspect

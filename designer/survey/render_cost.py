@@ -100,7 +100,8 @@ class RenderSpeed:
             return ("uncalibrated (reference figures; 'designer warmup' or a first render "
                     "measures this machine)")
         what = "probe render" if self.source == "probe" else "render"
-        return f"this machine, {what} of {self.images} image(s) on {self.measured}"
+        images = f"{self.images} image{'' if self.images == 1 else 's'}"
+        return f"this machine, {what} of {images} on {self.measured}"
 
 
 #: Fitted to the example survey on the reference machine (2 cores, Blender 5.0.1, the

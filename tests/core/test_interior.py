@@ -53,6 +53,9 @@ def test_field_of_view_of_a_fisheye_exceeds_what_a_pinhole_can_see():
         (dict(image_width_px=0), "positive whole number"),
         (dict(image_height_px=3648.5), "positive whole number"),
         (dict(sensor_height_mm=9.0), "pixels are not square"),
+        # the way to square pixels, in the camera's numbers
+        (dict(sensor_height_mm=9.0), r"equal sensor height / image height \(e\.g\. sensor "
+                                     r"height 8\.8 mm\)"),
         (dict(sensor_height_mm=9.0, pixel_aspect=1.0), "disagrees"),
         (dict(pixel_aspect=-1.0), "pixel_aspect"),
     ],

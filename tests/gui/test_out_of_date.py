@@ -42,8 +42,8 @@ def test_terrain_edit_marks_render_and_results_out_of_date(qtbot, window, tmp_pa
     assert w.document.project.scene.terrain.source.height_m == 1.5
     wait_state(qtbot, w, lambda: render.out_of_date.stale)
     text = render.out_of_date.text()
-    assert text == (f"out of date: {n} images out of date: the terrain, the pose; ground "
-                    "truth out of date (the project changed since it was written)"), text
+    assert text == (f"{n} images out of date: the terrain, the pose; ground truth out of "
+                    "date (the project changed since it was written)"), text
     assert render.start_button.text() == f"Re-render {n} changed images"
     assert results.out_of_date.stale
     assert "the rendered images no longer match the project (" in results.out_of_date.text()

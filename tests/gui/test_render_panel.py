@@ -57,6 +57,23 @@ def test_cancel_stops_the_render_cleanly(qtbot, saved_project, monkeypatch, tmp_
     assert panel.state.text().startswith("cancelled after")
 
 
+def test_a_cancel_before_the_first_image_has_no_rest_to_render(qtbot, saved_project,
+                                                             monkeypatch, tmp_path):
+    w = saved_project
+    _fake(monkeypatch, tmp_path, n=5, delay=30.0)  # the first image takes 30 s
+    panel = w.panels["Render"]
+    w.docks["Render"].raise_()
+    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: panel.cancel_button.isEnabled(), timeout=20000)
+    qtbot.wait(1000)  # the worker has started
+    qtbot.mouseClick(panel.cancel_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=20000)
+    assert panel.frames_done == {}
+    # no "render only the rest" when there is no rest: nothing was rendered
+    assert panel.state.text() == ("cancelled before this run finished an image; start the "
+                                  "render again")
+
+
 def test_render_needs_a_valid_saved_project(qtbot, window, monkeypatch, tmp_path):
     w = window  # a blank project: no flight, so saving reports problems
     from PySide6.QtWidgets import QFileDialog

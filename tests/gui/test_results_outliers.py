@@ -45,6 +45,8 @@ def test_one_outlier_does_not_sway_the_summary(qtbot, window, tmp_path):
     assert "RMSE, all points" in rows  # still there, but after the robust figures
     # the outlier is listed with its distance and place
     assert results.outlier_table.rowCount() == 1
+    assert results.state.text().endswith("; 1 outlier"), results.state.text()
+    assert results.outlier_label.text() == "1 outlier:"
     assert results.outlier_table.item(0, 0).text().startswith("-1")
     assert float(results.outlier_table.item(0, 1).text()) == pytest.approx(xyz[123, 0])
     # colours and histogram: a range of centimetres, the outlier counted as clipped

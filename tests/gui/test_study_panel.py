@@ -14,6 +14,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QPixmap
 from PySide6.QtWidgets import QLabel
 
+from designer.gui.qt.panels.study import NO_FACTOR
 from designer.study.xml import read_study
 from tests.gui.helpers import answer_file_dialog, set_field, wait_idle
 from tests.gui.study_helpers import _add, _checked, _tiny_base
@@ -37,7 +38,7 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     w = window
     panel, _ = _tiny_base(qtbot, w, tmp_path)
     text = _checked(qtbot, w, panel)
-    assert "the design is empty" in panel.errors.text()
+    assert panel.errors.text() == NO_FACTOR  # said in the panel's words
     assert not panel.run_box.run_button.isEnabled()
 
     # a processing-only factor: base 0.5 px plus two levels, all on one render

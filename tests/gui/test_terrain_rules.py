@@ -98,7 +98,7 @@ def test_an_extent_that_makes_no_texture_is_refused_where_it_is_typed(qtbot, win
             "(220 × 20 m: the extent 1100 × 100 m over repeat X 5, repeat Y 5) 8800 × 800 "
             "texels, more than 8192; raise the texel size or repeat X/Y in the Texture panel "
             "first") in message, message
-    assert message.endswith("not applied"), message
+    assert message.endswith(f"; not applied (Esc: back to {num(e.max_X)} m)"), message
     assert "texel-size-m" not in message and " px" not in message, message
 
 

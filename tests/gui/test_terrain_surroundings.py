@@ -147,14 +147,18 @@ def test_surroundings_and_hill_size_are_edited_saved_and_reopened(qtbot, window,
     assert around.currentText() == "auto (default)"
 
 
+#: the way back a refusal names: the template's hill size
+BACK = " (Esc: back to 100 m)"
+
+
 @pytest.mark.parametrize("typed, message", [
-    ("0", f"Terrain hill size: 0 is out of range; {ALLOWED}; not applied"),
-    ("-50", f"Terrain hill size: -50 is out of range; {ALLOWED}; not applied"),
+    ("0", f"Terrain hill size: 0 is out of range; {ALLOWED}; not applied{BACK}"),
+    ("-50", f"Terrain hill size: -50 is out of range; {ALLOWED}; not applied{BACK}"),
     # the field keeps 3 decimals: this would be stored as 0
     ("0.0004", f"Terrain hill size: 0.0004 rounds to 0 in this field; {ALLOWED}; "
-               "not applied"),
+               f"not applied{BACK}"),
     # the text quoted as the field shows it, with its unit
-    ("big", f"Terrain hill size: “big m” is not a number ({ALLOWED}); not applied"),
+    ("big", f"Terrain hill size: “big m” is not a number ({ALLOWED}); not applied{BACK}"),
 ])
 def test_a_bad_hill_size_is_refused_where_it_is_typed(qtbot, window, typed, message):
     w = window

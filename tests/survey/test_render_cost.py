@@ -135,3 +135,10 @@ def test_an_estimate_uses_its_own_kind_and_one_slow_render_moves_no_median(tmp_p
     assert rc.load_speed(town).terrain_cpu_s_per_mp_sample == pytest.approx(0.9)
     other = rc.ImageCost(5.0, 64, 0.5, scene="terrain+plants", effects="blur")
     assert rc.load_speed(other).calibrated
+
+
+def test_the_description_counts_its_images_in_words():
+    one = replace(TRUE, source="render", images=1, measured="2026-11-29 19:35")
+    assert one.describe() == "this machine, render of 1 image on 2026-11-29 19:35"
+    many = replace(one, source="probe", images=30)
+    assert many.describe() == "this machine, probe render of 30 images on 2026-11-29 19:35"

@@ -93,10 +93,16 @@ class OpenProjectInvalid(Exception):
     and it is not valid: its problems at the lines of the project as it would be saved."""
 
     def __init__(self, error) -> None:
+        from designer.gui.state.wording import problem_text
+
         super().__init__(str(error))
+        # worded as the Problems list words them (the panel and control that fix each)
+        problems = getattr(error, "problems", None)
+        lines = ([problem_text(p, error.source) for p in problems] if problems
+                 else list(error.lines))
         self.lines = ["the study's base is the open project with unsaved changes, and they "
                       "are not valid (lines of the project file as it would be saved; "
-                      "Problems lists them too):", *error.lines]
+                      "Problems lists them too):", *lines]
 
 
 def check_open_project(project, source: str, base_dir: Path) -> None:

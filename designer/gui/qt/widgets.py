@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, Qt
 from PySide6.QtGui import QValidator
 from PySide6.QtWidgets import (
     QAbstractSpinBox,
@@ -129,11 +129,33 @@ class _Checked:
     def fixup(self, text: str) -> str:
         return text
 
+    def shown_value(self) -> str:
+        """The project's value as the field shows it (``0.25``, ``10 m``)."""
+        if self.specialValueText() and self.value() == self.minimum():
+            return self.specialValueText()
+        return f"{self.prefix()}{self.textFromValue(self.value())}{self.suffix()}".strip()
+
+    def event(self, event) -> bool:
+        # Esc in a refused field is the field's (it puts the value back), not the
+        # window's shortcut (back to navigating the view)
+        if (event.type() == QEvent.Type.ShortcutOverride and self.error
+                and event.key() == Qt.Key.Key_Escape):
+            event.accept()
+            return True
+        return super().event(event)
+
     def keyPressEvent(self, event) -> None:
         if event.key() in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
             if self._refuse():
                 event.accept()
                 return
+        if event.key() == Qt.Key.Key_Escape and self.error:
+            # nothing typed was applied: the project's value is still the field's value
+            self.lineEdit().setText(self.shown_value())
+            self.lineEdit().selectAll()
+            self._set_error("")
+            event.accept()
+            return
         super().keyPressEvent(event)
 
     def focusOutEvent(self, event) -> None:
@@ -159,8 +181,12 @@ class _Checked:
 
     def _refuse(self) -> bool:
         message = self.problem(self.lineEdit().text())
-        self._set_error(message)
+        self._set_error(self._way_back(message))
         return bool(message)
+
+    def _way_back(self, message: str) -> str:
+        """A refusal with the key that undoes the typing (the value stays the project's)."""
+        return f"{message} (Esc: back to {self.shown_value()})" if message else ""
 
     def _set_error(self, message: str) -> None:
         if message == self.error:
@@ -267,7 +293,22 @@ def declared_field(cls: type, name: str) -> QWidget:
     if a.special is not None and hasattr(box, "setSpecialValueText"):
         box.setSpecialValueText(a.special)
     box.setToolTip(f"{a.doc} ({d.range_text()})" if d.base is not str else a.doc)
+    box.switched_on_value = _switched_on_value(cls, name, d)
     return box
+
+
+def _switched_on_value(cls: type, name: str, d) -> Any:
+    """What the field holds once its element is switched on (the declaration's "on"
+    values, else its default); None when the declaration gives none. Shown, greyed,
+    while the element is absent, instead of whatever the field held (or its minimum)."""
+    from dataclasses import MISSING
+
+    from designer.project.declare import switched_on
+
+    try:
+        return getattr(switched_on(cls), name)
+    except (TypeError, ValueError):  # a class with required fields of its own
+        return None if d.default is MISSING else d.default
 
 
 def combo(items: list[tuple[str, Any]]) -> QComboBox:
@@ -371,6 +412,11 @@ class Bindings:
                 value = get(project)
             except AbsentElement:
                 widget.setEnabled(False)
+                shown = getattr(widget, "switched_on_value", None)
+                if shown is not None:  # greyed, what switching the element on gives
+                    blocked = widget.blockSignals(True)
+                    _set_value(widget, shown)
+                    widget.blockSignals(blocked)
                 continue
             widget.setEnabled(value is not None or isinstance(widget, QComboBox))
             blocked = widget.blockSignals(True)

@@ -170,7 +170,9 @@ def truth_mesh(project_path: Path | None, dirty: bool, heightfield=None, mesh=No
         mesh = heightfield_to_mesh(heightfield)
     if mesh is None:
         raise DesignerError("no terrain to compare the cloud with")
-    return (mesh.vertices_world, mesh.faces), "the terrain of the unsaved project"
+    what = ("the terrain as edited (unsaved changes: the GCP plates left out)"
+            if project_path is not None else "the terrain of the unsaved project")
+    return (mesh.vertices_world, mesh.faces), what
 
 
 def evaluate_cloud(path: Path, project_path: Path | None, dirty: bool, heightfield=None,

@@ -32,6 +32,11 @@ MOUNT_COLUMNS = (("rig", "rig"), ("camera", "camera"), ("suffix", "suffix"),
                  ("ω °", "omega_deg"), ("φ °", "phi_deg"), ("κ °", "kappa_deg"))
 
 
+#: the "grid" readout of a flight of photos listed one by one
+NO_GRID = ("none: the photos are listed one by one (imported or explicit); “Add a grid "
+           "flight over the terrain” plans one")
+
+
 class FlightPanel(Panel):
     title = "Flight"
     parts = frozenset({"trajectory", "cameras", "render"})
@@ -310,6 +315,8 @@ class FlightPanel(Panel):
                 f"camera's {ii.image_width_px} × {ii.image_height_px} px{rendered}; "
                 f"footprint {c.footprint_across_m:.1f} × {c.footprint_along_m:.1f} m; lines "
                 f"{c.line_spacing_m:.1f} m apart, a photo every {c.trigger_distance_m:.1f} m")
+        else:  # photos listed one by one (imported or written so): no grid to describe
+            self.calc_label.setText(NO_GRID)
         if stations.render_costs:
             from designer.gui.state.wording import duration, estimate_basis
             from designer.survey.render_cost import load_speed

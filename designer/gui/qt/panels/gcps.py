@@ -166,14 +166,7 @@ class GcpPanel(Panel):
             self.table.setRowCount(len(project.targets))
             for r, t in enumerate(project.targets):
                 z = t.true.Z
-                cells = [t.id, None, f"{t.true.X:.3f}", f"{t.true.Y:.3f}",
-                         "" if z is None else f"{z:.3f}", f"{t.size_m:g}"]
-                if t.surveyed is not None:
-                    p = t.surveyed.position
-                    cells += [f"{p.X:.3f}", f"{p.Y:.3f}", f"{p.Z:.3f}"]
-                else:
-                    cells += ["", "", ""]
-                for c, text in enumerate(cells):
+                for c, text in enumerate(_cells(t)):
                     if c == 1:
                         self._role_box(r, t.role)
                         continue
@@ -300,6 +293,15 @@ class GcpPanel(Panel):
                 self._cell_errors.pop((t.id, k), None)
         self._show_cell_errors()
         project = edits.replace_target(self.project, r, new)
+        if project == self.project:
+            # the project's value typed again (after a refusal, or as "511962"): no edit,
+            # and the cell shows it as the others are shown, no longer red
+            self.table.blockSignals(True)
+            item.setText(_cells(t)[c])
+            item.setData(Qt.ItemDataRole.BackgroundRole, None)
+            item.setToolTip("")
+            self.table.blockSignals(False)
+            return
         if new.id != t.id:  # the control selection follows a renamed GCP
             project = edits.rename_target_references(project, t.id, new.id)
         self.editor.edit(project, f"Edit {t.id}")
@@ -368,3 +370,14 @@ class GcpPanel(Panel):
         self.error_label.setText(problem)
         if not problem:
             self.editor.edit(new, f"GCP layout: {len(xy)} by {kind}")
+
+
+def _cells(t: m.Target) -> list[str | None]:
+    """A GCP's row as the table shows it (the role, a drop-down list, is None)."""
+    z = t.true.Z
+    cells = [t.id, None, f"{t.true.X:.3f}", f"{t.true.Y:.3f}",
+             "" if z is None else f"{z:.3f}", f"{t.size_m:g}"]
+    if t.surveyed is not None:
+        p = t.surveyed.position
+        return cells + [f"{p.X:.3f}", f"{p.Y:.3f}", f"{p.Z:.3f}"]
+    return cells + ["", "", ""]

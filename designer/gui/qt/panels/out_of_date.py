@@ -20,12 +20,13 @@ class OutOfDate(QLabel):
         self.stale = False
         self.hide()
 
-    def show_state(self, stale: str | None, fresh: str = "") -> None:
+    def show_state(self, stale: str | None, fresh: str = "", says_it: bool = False) -> None:
         """``stale``: why it is out of date (None or "": it is not); ``fresh``: the text
-        when up to date ("" hides the line)."""
+        when up to date ("" hides the line); ``says_it``: ``stale`` begins by saying what
+        is out of date ("12 images out of date: …"), so no "out of date:" goes before it."""
         self.stale = bool(stale)
         if stale:
-            self.setText(f"out of date: {stale}")
+            self.setText(stale if says_it else f"out of date: {stale}")
             self.setStyleSheet(STALE_STYLE)
         else:
             self.setText(fresh)

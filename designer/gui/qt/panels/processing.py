@@ -174,10 +174,13 @@ class ProcessingPanel(Panel):
         self.groups = (cal, gcp, prior, match, dense)
 
     def refresh(self) -> None:
-        super().refresh()
+        p = self.project.processing
+        # without <processing> the greyed fields show what designer reconstruct then uses
+        # (its defaults), not whatever the fields held last
+        self.bindings.refresh(self.project if p is not None else dataclasses.replace(
+            self.project, processing=m.Processing()))
         self._show_ids_verdict("")  # the field shows the project's ids again
         self._field_verdict(self.mode, "")
-        p = self.project.processing
         for box, on in ((self.enabled, p is not None),
                         (self.pre, p is not None and p.calibration.pre_calibration_error
                          is not None),

@@ -254,7 +254,8 @@ class RenderPanel(Panel):
             return
         self.out_of_date.show_state(
             None if state.ok else state.text,
-            f"the {state.n_images} rendered images are up to date with the project")
+            f"the {state.n_images} rendered images are up to date with the project",
+            says_it=bool(state.stale))  # "12 images out of date: …", said once
         if state.n_images:
             self._show_rendered()
         redo = len(state.stale) + len(state.missing)
@@ -306,6 +307,11 @@ class RenderPanel(Panel):
     def start(self) -> None:
         doc = self.editor.document
         window = self.window()
+        refused = _refused_field(window)
+        if refused:
+            # the project still has the field's old value: a render would quietly use it
+            self.state.setText(f"not rendered: a field refused what was typed: {refused}")
+            return
         if doc.dirty or doc.path is None:
             if not hasattr(window, "file_actions") or not window.file_actions.save():
                 self._refuse_start()
@@ -483,6 +489,8 @@ class RenderPanel(Panel):
             return "cancelled: " + images.text(resume, resume_option=RESUME_OPTION,
                                                rerun=RERUN)
         # stopped before the command could count (e.g. while the scene was prepared)
+        if n == 0:  # nothing finished: there is no "rest", the whole render is to do
+            return "cancelled before this run finished an image; start the render again"
         return (f"cancelled after {count(n, 'image')}; "
                 + continue_hint(resume, resume_option=RESUME_OPTION, rerun=RERUN))
 
@@ -510,3 +518,12 @@ class RenderPanel(Panel):
             self.process.cancel()
             if not self.process.process.waitForFinished(15000):
                 self.process.kill()
+
+
+def _refused_field(window) -> str:
+    """The first refusal a panel of ``window`` shows for a field ("" when none does);
+    it names the field and the way back (Esc)."""
+    for panel in getattr(window, "panels", {}).values():
+        for message in getattr(panel, "input_errors", {}).values():
+            return message
+    return ""

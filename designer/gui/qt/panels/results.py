@@ -388,7 +388,7 @@ class ResultsPanel(Panel):
         self.sync.view.show_cloud(result.points_world, result.distances_m, result.limit_m)
         n_out = result.n_outliers
         self.state.setText(f"{result.name}: {len(result.points_world):,} points against "
-                           f"{result.reference or 'the truth'}; {n_out:,} outlier(s)")
+                           f"{result.reference or 'the truth'}; {_outliers(n_out)}")
         rows = result.rows()
         self.stats.setRowCount(len(rows))
         for r, (k, v) in enumerate(rows):
@@ -397,7 +397,7 @@ class ResultsPanel(Panel):
         listed = result.outliers()
         self.outlier_label.setText(
             "no outliers" if not n_out else
-            f"{n_out:,} outlier(s)" + (f", the {len(listed)} largest:" if n_out > len(listed)
+            _outliers(n_out) + (f", the {len(listed)} largest:" if n_out > len(listed)
                                        else ":"))
         self.outlier_table.setRowCount(len(listed))
         for r, k in enumerate(listed):
@@ -481,3 +481,8 @@ class ResultsPanel(Panel):
 def _distance_text(d: float) -> str:
     """A signed distance in mm below 10 m, else in m (fixed point)."""
     return f"{1000 * d:+.1f} mm" if abs(d) < 10 else f"{d:+.3f} m"
+
+
+def _outliers(n: int) -> str:
+    """``1 outlier``, ``1,234 outliers``."""
+    return f"{n:,} outlier{'' if n == 1 else 's'}"

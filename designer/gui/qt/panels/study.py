@@ -53,6 +53,10 @@ WARNING_STYLE = "color: #b9770e; font-weight: bold"
 MESSAGE_LINES = 9
 
 
+#: why a study without factors cannot run, and what adds one
+NO_FACTOR = ("no factor yet: choose what the study varies in the list under “factors” "
+             "and press Add, then type its levels")
+
 class StudyPanel(StudyFiles, Panel):
     title = "Study"
 
@@ -195,7 +199,7 @@ class StudyPanel(StudyFiles, Panel):
         self._timer.setSingleShot(True)
         self._timer.setInterval(250)
         self._timer.timeout.connect(self.check_now)
-        self.editor.document.events.connect("file", lambda **_: self.changed())
+        self.editor.document.events.connect("file", lambda **_: self._file_changed())
         self.editor.document.events.connect("reset", lambda **_: self._project_replaced())
         self._project_path = self._open_path()
         self._show_base()
@@ -275,6 +279,9 @@ class StudyPanel(StudyFiles, Panel):
             self._check_when_shown = True
             return
         self._check_when_shown = False
+        if not self.rows:  # said in the panel's words, not the study file's
+            self._show_errors([NO_FACTOR])
+            return
         try:
             text = self.study_text()
         except ValueError as error:
@@ -357,6 +364,12 @@ class StudyPanel(StudyFiles, Panel):
         if self.base_file is None and self.inline_base is None:
             self._show_base()
             self.changed()
+
+    def _file_changed(self) -> None:
+        """Saved (or saved as): the base's words follow (no unsaved changes any more)."""
+        if self.base_file is None and self.inline_base is None:
+            self._show_base()
+        self.changed()
 
     def _open_path(self) -> Path | None:
         path = self.editor.document.path
