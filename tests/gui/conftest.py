@@ -41,12 +41,20 @@ def qapp_args(x_display):
 
 @pytest.fixture(autouse=True)
 def _collect_on_the_main_thread():
-    """After each test (and after pytest-qt closed its widgets), collect the garbage on
-    the main thread: a closed window's VTK plotter freed by a collection that a later
-    test's worker thread happens to trigger would touch OpenGL from that thread while
-    the main thread draws, and both would wait for ever."""
-    yield
-    gc.collect()
+    """No automatic garbage collection during a GUI test; after it (and after pytest-qt
+    closed its widgets) one collection on the main thread. An automatic collection runs
+    in whichever thread happens to allocate: in a background task's thread it would free
+    a closed window's VTK plotter, whose OpenGL objects' deletion waits for VTK's
+    collector while the main thread, drawing, holds that collector and waits for the GIL
+    the task thread holds — both would wait for ever (seen under load: a worker stuck in
+    ``BasePlotter.__del__`` from ``designer-gui_1`` while the main thread sat in
+    ``_cb_make_current``)."""
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.collect()
+        gc.enable()
 
 
 @pytest.fixture

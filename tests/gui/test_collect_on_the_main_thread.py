@@ -1,0 +1,32 @@
+"""Cyclic garbage made during a GUI test is collected on the main thread, never by an
+automatic collection in a background thread (tests/gui/conftest.py)."""
+
+from __future__ import annotations
+
+import gc
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+
+def test_garbage_made_in_a_worker_thread_is_collected_on_the_main_thread():
+    finalized: list[bool] = []
+
+    class Cycle:
+        def __init__(self) -> None:
+            self.me = self
+
+        def __del__(self) -> None:
+            finalized.append(threading.current_thread() is threading.main_thread())
+
+    def work() -> int:
+        Cycle()
+        # far past the first generation's threshold: an automatic collection, if on,
+        # runs here, in this thread
+        junk = [[] for _ in range(50 * gc.get_threshold()[0])]
+        return len(junk)
+
+    with ThreadPoolExecutor(1) as pool:
+        assert pool.submit(work).result() > 0
+    assert finalized == []  # nothing collected in the worker
+    gc.collect()
+    assert finalized == [True]
