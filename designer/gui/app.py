@@ -49,7 +49,10 @@ def run(project: Path | None = None, screenshot: Path | None = None,
     xvfb = ensure_display() if screenshot is not None else None
     try:
         app = application()
+        from designer.gui.qt.main_thread_gc import MainThreadCollector
         from designer.gui.qt.main_window import MainWindow
+
+        MainThreadCollector(app)  # garbage collected on this thread only
 
         window = MainWindow()
         if project is not None and not window.open_project(Path(project)):
