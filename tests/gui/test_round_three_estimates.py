@@ -32,7 +32,7 @@ def test_each_panel_names_the_records_of_the_projects_kind_of_image(qtbot, windo
     # this project's kind measured first, another kind since (the latest record)
     (cache_dir() / SPEED_FILE).write_text(json.dumps({"records": [
         _record(own, 7, "2026-01-01"), _record(other, 50, "2026-02-02")]}))
-    names = "render of 7 image(s) on 2026-01-01"
+    names = "render of 7 images on 2026-01-01"
 
     flight = open_panel(w, "Flight")
     w.sync.stations_changed.emit()

@@ -35,7 +35,8 @@ def test_an_invalid_open_project_is_reported_at_its_own_file_and_line(qtbot, win
     assert panel.errors.isVisible() and not panel.run_box.run_button.isEnabled()
     assert "untitled-study.xml" not in errors, errors
     assert "unsaved changes" in errors.splitlines()[0], errors
-    m = re.search(rf"^{re.escape(str(base))}:(\d+):(\d+): <true>: GCP .* lies outside the "
+    # in the Problems list's words: led by the panel that fixes it, not by <true>
+    m = re.search(rf"^{re.escape(str(base))}:(\d+):(\d+): GCPs › GCP .* lies outside the "
                   "terrain extent", errors, re.M)
     assert m, errors
     # the line of the project as it would be saved, where that GCP's <true> is
