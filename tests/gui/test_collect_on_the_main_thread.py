@@ -8,8 +8,9 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 
 
-def test_garbage_made_in_a_worker_thread_is_collected_on_the_main_thread():
-    finalized: list[bool] = []
+def _cycle(finalized: list[bool]) -> type:
+    """A class whose instances refer to themselves (only the cyclic collector frees
+    them) and append to ``finalized`` whether they were freed on the main thread."""
 
     class Cycle:
         def __init__(self) -> None:
@@ -17,6 +18,13 @@ def test_garbage_made_in_a_worker_thread_is_collected_on_the_main_thread():
 
         def __del__(self) -> None:
             finalized.append(threading.current_thread() is threading.main_thread())
+
+    return Cycle
+
+
+def test_garbage_made_in_a_worker_thread_is_collected_on_the_main_thread():
+    finalized: list[bool] = []
+    Cycle = _cycle(finalized)
 
     def work() -> int:
         Cycle()
@@ -39,13 +47,7 @@ def test_the_windows_collector_keeps_collection_on_the_gui_thread(qtbot):
     from designer.gui.qt.main_thread_gc import MainThreadCollector
 
     finalized: list[bool] = []
-
-    class Cycle:
-        def __init__(self) -> None:
-            self.me = self
-
-        def __del__(self) -> None:
-            finalized.append(threading.current_thread() is threading.main_thread())
+    Cycle = _cycle(finalized)
 
     def work() -> list:
         Cycle()
