@@ -18,6 +18,7 @@ level on every wall and tile rows run along every eave.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import cv2
@@ -97,12 +98,19 @@ def light_groups(light: np.ndarray, roof: np.ndarray
 
 def buildings_object(buildings: list[BuildingMesh], origin: np.ndarray, job_dir: Path,
                      sun_azimuth_deg: float, sun_elevation_deg: float, sun_strength: float,
-                     sky_strength: float, file_name: str = "buildings.npz") -> MeshSpec:
-    """The buildings as one mesh lit for this sun, written beside job.json."""
+                     sky_strength: float, file_name: str = "buildings.npz",
+                     sun_share: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+                     ) -> MeshSpec:
+    """The buildings as one mesh lit for this sun, written beside job.json; with
+    ``sun_share`` (the direct sun's factor at world x, y: cloud shadows) each face's
+    direct sun is scaled by it at the face's centre."""
     arrays = render_arrays(buildings, origin)
     sun = sun_direction_world(sun_azimuth_deg, sun_elevation_deg)
-    light = irradiance(arrays["normal"], np.ones(len(arrays["normal"])), sun, sun_strength,
-                       sky_strength)
+    lit = np.ones(len(arrays["normal"]))
+    if sun_share is not None:
+        centre = arrays["vertices_local"][arrays["faces"]].mean(axis=1) + origin
+        lit = sun_share(centre[:, 0], centre[:, 1])
+    light = irradiance(arrays["normal"], lit, sun, sun_strength, sky_strength)
     index, materials = light_groups(light, arrays["roof"])
     save_npz(Path(job_dir) / file_name, vertices_local=arrays["vertices_local"],
              faces=arrays["faces"], uv=arrays["uv"], material_index=index)

@@ -9,6 +9,7 @@ step is its own sun: frames taken at the same moment share one.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
@@ -58,9 +59,12 @@ class ObjectLighting:
         #: the terrain's materials (two for a detail and a coarse bake, by face)
         self.terrain_materials = (terrain_material if isinstance(terrain_material, tuple)
                                   else (terrain_material,))
-        #: per sun: its targets and scene objects; its (light map, direct part)
-        self._others: dict[tuple[float, float], list[MeshSpec]] = {}
+        #: per sun (and cloud moment): its targets and scene objects; per sun: its
+        #: (light map, direct part)
+        self._others: dict[tuple, list[MeshSpec]] = {}
         self._bakes: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
+        #: the clouds' factor on the direct sun over the last light map's texels
+        self._clouds_now: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         #: the buildings standing on the terrain (built on first use)
         self._buildings: list | None = None
 
@@ -86,14 +90,16 @@ class ObjectLighting:
                 time_s: float | None = None) -> list[MeshSpec]:
         """Terrain (with a light map baked for this sun), targets and scene objects;
         files are named with ``tag`` (''  for the one sun of a static scene). With
-        cloud shadows, the light map's direct sun is dimmed by the clouds at ``time_s``
-        (s after take-off; None: at take-off)."""
+        cloud shadows, the direct sun on the terrain's light map, the targets, the scene
+        objects and the buildings is dimmed by the clouds at ``time_s`` (s after take-off;
+        None: at take-off), each point as the ground under it."""
         scene = self.scene
         materials = self.terrain_materials
         clouds = self.project.scene.lighting.clouds
+        cloudy = clouds is not None and scene.heightfield is not None
         if scene.heightfield is not None:
             size = self.lightmap_size_px()
-            if clouds is None:
+            if not cloudy:
                 light = bake_lightmap(scene.heightfield, azimuth_deg, elevation_deg,
                                       scene.sun_strength, scene.sky_strength, size_px=size)
             else:
@@ -105,13 +111,18 @@ class ObjectLighting:
                               for mat in materials)
         objects = [MeshSpec("terrain", "terrain.npz", materials)]
         cache = self._others
-        if (azimuth_deg, elevation_deg) in cache:  # same sun, other clouds
-            return objects + cache[(azimuth_deg, elevation_deg)]
+        key = (azimuth_deg, elevation_deg, (time_s or 0.0) if cloudy else None)
+        if key in cache:  # same sun (and clouds), other light map
+            return objects + cache[key]
+        sun_share = self._sun_share if cloudy else None
         others = []
         if scene.targets:
-            others.append(_targets_object(scene, self.origin, self.job_dir,
-                                          azimuth_deg, elevation_deg))
-        placed = build_objects(self.project, self.base_dir, azimuth_deg, elevation_deg)
+            # targets lit per cloud moment differ in material indices: a file per step
+            others.append(_targets_object(scene, self.origin, self.job_dir, azimuth_deg,
+                                          elevation_deg, sun_share,
+                                          f"targets{tag}.npz" if cloudy else "targets.npz"))
+        placed = build_objects(self.project, self.base_dir, azimuth_deg, elevation_deg,
+                               sun_share)
         if not placed.is_empty:
             others.append(_scene_objects(placed, self.origin, self.job_dir,
                                          f"objects{tag}.npz"))
@@ -120,13 +131,15 @@ class ObjectLighting:
 
             others.append(buildings_object(self.buildings, self.origin, self.job_dir,
                                            azimuth_deg, elevation_deg, scene.sun_strength,
-                                           scene.sky_strength, f"buildings{tag}.npz"))
-        cache[(azimuth_deg, elevation_deg)] = others
+                                           scene.sky_strength, f"buildings{tag}.npz",
+                                           sun_share))
+        cache[key] = others
         return objects + others
 
     def _cloudy_light(self, azimuth_deg: float, elevation_deg: float,
                       size: tuple[int, int], time_s: float) -> np.ndarray:
-        """The light map with the direct sun dimmed by the cloud shadows at ``time_s``."""
+        """The light map with the direct sun dimmed by the cloud shadows at ``time_s``;
+        the clouds' factor on the direct sun is kept for :meth:`_sun_share`."""
         from designer.scene.cloud_shadows import attenuation
 
         bakes = self._bakes
@@ -140,7 +153,14 @@ class ObjectLighting:
         xs, ys = lightmap_texel_centres(self.scene.heightfield, size)
         a = attenuation(self.project.scene.lighting.clouds, xs - self.origin[0],
                         ys - self.origin[1], time_s)
+        self._clouds_now = (xs, ys, a)
         return (light - direct * (1.0 - a)).astype(np.float32)
+
+    def _sun_share(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """The clouds' factor on the direct sun at world points (x_m, y_m), as the light
+        map just baked has it (bilinear between its texel centres, edge texels beyond)."""
+        xs, ys, a = self._clouds_now
+        return sample_grid(xs, ys, a, x_m, y_m)
 
     def steps(self, suns: list[tuple[float, float]], times_s: list[float] | None = None
               ) -> tuple[tuple[LightStep, ...], list[int]]:
@@ -158,8 +178,13 @@ class ObjectLighting:
 
 
 def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,
-                    azimuth_deg: float, elevation_deg: float) -> MeshSpec:
-    """All GCP targets as one mesh: material 0 white, 1 black, shaded like the ground."""
+                    azimuth_deg: float, elevation_deg: float,
+                    sun_share: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+                    file_name: str = "targets.npz") -> MeshSpec:
+    """All GCP targets as one mesh, shaded like the ground: without clouds materials 0
+    white and 1 black, with one light for all (targets share open ground); with cloud
+    shadows (``sun_share``: the direct sun's factor at world x, y) each target is lit as
+    the ground under it, materials 2k white and 2k + 1 black for its light level k."""
     vertices, faces, material_index, light = [], [], [], []
     sun = sun_direction_world(azimuth_deg, elevation_deg)
     offset = 0
@@ -171,21 +196,48 @@ def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,
         if scene.heightfield is not None and sun[2] > 0:
             hit = scene.heightfield.intersect_rays(t.true_xyz[None] + 0.01 * normal, sun[None])
             lit = 0.0 if np.isfinite(hit[0, 0]) else 1.0
+        if sun_share is not None:
+            lit *= float(sun_share(t.true_xyz[None, 0], t.true_xyz[None, 1])[0])
         e = float(irradiance(normal[None], np.array([lit]), sun,
                              scene.sun_strength, scene.sky_strength)[0])
         vertices.append(t.vertices_world - origin)
         faces.append(t.faces + offset)
         white = t.colors[:, 0] > 127
         material_index.append(np.where(white, 0, 1))
-        light.append(e)
+        light.append(np.full(len(t.faces), e))
         offset += len(t.vertices_world)
-    # One light value for all targets keeps two materials; targets share open ground.
-    e = float(np.median(light))
-    save_npz(job_dir / "targets.npz", vertices_local=np.concatenate(vertices),
-              faces=np.concatenate(faces), material_index=np.concatenate(material_index))
-    return MeshSpec("gcp_targets", "targets.npz",
-                    (MaterialSpec(color=(TARGET_WHITE * e,) * 3),
-                     MaterialSpec(color=(TARGET_BLACK * e,) * 3)))
+    if sun_share is None:
+        # One light value for all targets keeps two materials; targets share open ground.
+        levels = np.array([float(np.median([e[0] for e in light]))])
+        level = np.zeros(sum(len(e) for e in light), np.int64)
+    else:
+        levels, level = np.unique(np.round(np.concatenate(light), 12), return_inverse=True)
+    save_npz(job_dir / file_name, vertices_local=np.concatenate(vertices),
+             faces=np.concatenate(faces),
+             material_index=2 * level.ravel() + np.concatenate(material_index))
+    return MeshSpec("gcp_targets", file_name, tuple(
+        MaterialSpec(color=(reflectance * float(e),) * 3)
+        for e in levels for reflectance in (TARGET_WHITE, TARGET_BLACK)))
+
+
+def sample_grid(xs: np.ndarray, ys: np.ndarray, values: np.ndarray, x_m, y_m) -> np.ndarray:
+    """``values`` (H, W) given at the grid ``xs`` (W,) × ``ys`` (H,) (equal steps, either
+    direction), interpolated bilinearly at the points (x_m, y_m); points beyond the grid
+    take its edge."""
+    def index(grid: np.ndarray, v) -> tuple[np.ndarray, np.ndarray]:
+        if len(grid) < 2:
+            return np.zeros(np.shape(v), np.int64), np.zeros(np.shape(v))
+        u = np.clip((np.asarray(v, np.float64) - grid[0]) / (grid[1] - grid[0]),
+                    0.0, len(grid) - 1.0)
+        i = np.minimum(np.floor(u).astype(np.int64), len(grid) - 2)
+        return i, u - i
+
+    i, fx = index(xs, x_m)
+    j, fy = index(ys, y_m)
+    i1 = np.minimum(i + 1, len(xs) - 1)
+    j1 = np.minimum(j + 1, len(ys) - 1)
+    return ((values[j, i] * (1 - fx) + values[j, i1] * fx) * (1 - fy)
+            + (values[j1, i] * (1 - fx) + values[j1, i1] * fx) * fy)
 
 
 def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path,

@@ -9,6 +9,7 @@ renderer draws the objects as emission with that light, like the baked terrain.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -72,8 +73,12 @@ def place_objects(project: m.Project, base_dir: Path
 
 
 def build_objects(project: m.Project, base_dir: Path, sun_azimuth_deg: float,
-                  sun_elevation_deg: float) -> PlacedObjects:
-    """``place_objects``, and each face's light from the project's sun and sky."""
+                  sun_elevation_deg: float,
+                  sun_share: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+                  ) -> PlacedObjects:
+    """``place_objects``, and each face's light from the project's sun and sky; with
+    ``sun_share`` (the direct sun's factor at world x, y: cloud shadows) each face's
+    direct sun is scaled by it at the face's centre."""
     names, v, f, owner = place_objects(project, base_dir)
     if not names:
         return PlacedObjects([], v, f, np.zeros(0), owner)
@@ -82,6 +87,10 @@ def build_objects(project: m.Project, base_dir: Path, sun_azimuth_deg: float,
     normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
     lighting = project.scene.lighting
     sun = sun_direction_world(sun_azimuth_deg, sun_elevation_deg)
-    light = irradiance(normals, np.ones(len(f)), sun, lighting.sun_strength,
+    lit = np.ones(len(f))
+    if sun_share is not None:
+        centre = v[f].mean(axis=1)
+        lit = sun_share(centre[:, 0], centre[:, 1])
+    light = irradiance(normals, lit, sun, lighting.sun_strength,
                        lighting.sky_strength)
     return PlacedObjects(names, v, f, light, owner)

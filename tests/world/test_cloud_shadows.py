@@ -111,3 +111,88 @@ def test_without_a_time_line_the_clouds_stay_as_at_takeoff(tmp_path):
     drifting = prepare_job(_cloudy(replace(CLOUDS, size_m=8.0)), tmp_path, tmp_path / "d").job
     assert len(drifting.light_steps) == 2
     assert [f.light_step for f in drifting.frames] == [0, 1]
+
+
+def _cloudy_buildings(clouds: m.CloudShadows, times_s: tuple[float, ...] | None) -> m.Project:
+    from tests.world.building_helpers import building_project
+    from tests.world.helpers import TAKEOFF
+
+    p = building_project()
+    trajectory = p.trajectory
+    if times_s is not None:
+        photos = tuple(replace(e, time_s=t) for e, t in
+                       zip(p.trajectory.exterior_orientations, times_s, strict=True))
+        trajectory = m.Trajectory(photos, None, m.TimeLine(TAKEOFF, 5.0, 8.0))
+    lighting = replace(p.scene.lighting, clouds=clouds)
+    return replace(p, trajectory=trajectory, scene=replace(p.scene, lighting=lighting))
+
+
+def _light_of(objects, name: str) -> list[float]:
+    (spec,) = [o for o in objects if o.name == name]
+    return [mat.strength if mat.texture else mat.color[0] for mat in spec.materials]
+
+
+def test_under_a_full_cover_buildings_and_targets_lose_the_depth_share_of_the_sun(tmp_path):
+    """Cloud shadows dim what stands on the ground as they dim the ground: a roof and a
+    target under a cloud get ``1 − depth`` of the direct sun, a clear sky all of it."""
+    from designer.render.job import prepare_job
+    from designer.render.job_light import TARGET_WHITE
+    from designer.scene.lighting import irradiance, sun_direction_world
+
+    overcast = replace(CLOUDS, cover=1.0, depth=0.6)
+    lights = {}
+    for name, clouds in (("clear", None), ("overcast", overcast)):
+        job = prepare_job(_cloudy_buildings(clouds, None), tmp_path, tmp_path / name).job
+        lights[name] = job.objects
+    p = _cloudy_buildings(None, None)
+    lighting = p.scene.lighting
+    sun = sun_direction_world(lighting.sun.azimuth_deg, lighting.sun.elevation_deg)
+    up = np.array([[0.0, 0.0, 1.0]])
+    dimmed = irradiance(up, np.array([0.4]), sun, lighting.sun_strength,
+                        lighting.sky_strength)[0]
+    clear, overcast = _light_of(lights["clear"], "buildings"), _light_of(
+        lights["overcast"], "buildings")
+    assert min(abs(e - 1.0) for e in clear) < 1e-12  # the level roofs, in the sun
+    assert min(abs(e - dimmed) for e in overcast) < 1e-6  # ... (float32 cloud mask)
+    assert max(overcast) < 0.8 * max(clear)  # every face in the cloud's shadow
+    # the targets (on gently sloping ground) lose the same share as a level roof
+    white_clear = max(_light_of(lights["clear"], "gcp_targets"))
+    assert white_clear == pytest.approx(TARGET_WHITE, rel=0.01)
+    assert max(_light_of(lights["overcast"], "gcp_targets")) / white_clear == pytest.approx(
+        dimmed, rel=0.01)
+
+
+def test_drifting_clouds_light_each_photos_buildings_as_the_ground_under_them(tmp_path):
+    """With a time line each photo's buildings, targets and objects are lit by the clouds
+    of its moment: a level roof's light is the direct sun dimmed by the clouds' factor at
+    the roof's centre, evaluated independently from the cloud field."""
+    from designer.render.job import prepare_job
+    from designer.scene.lighting import irradiance, sun_direction_world
+
+    clouds = replace(CLOUDS, cover=0.5, size_m=6.0, softness_m=0.5, depth=0.8,
+                     wind_speed_m_s=3.0, wind_direction_deg=90.0, seed=0)
+    p = _cloudy_buildings(clouds, (0.0, 2.0))
+    prepared = prepare_job(p, tmp_path, tmp_path / "job")
+    job = prepared.job
+    assert [f.light_step for f in job.frames] == [0, 1]
+    lighting = p.scene.lighting
+    sun = sun_direction_world(lighting.sun.azimuth_deg, lighting.sun.elevation_deg)
+    # the tower's flat roof: 4.5..5.5 m east, -1..1 m north of the origin, 15 m high
+    x, y = np.array([5.0 - 0.01, 5.0 + 0.01]), np.array([0.01, -0.01])
+    roof_lights = []
+    for step, t in zip(job.light_steps, (0.0, 2.0), strict=True):
+        (spec,) = [o for o in step.objects if o.name == "buildings"]
+        data = np.load(tmp_path / "job" / ".designer-job" / spec.mesh)
+        corners = data["vertices_local"][data["faces"]]
+        on_tower = ((np.abs(corners[:, :, 0].mean(1) - 5.0) < 0.5)
+                    & (np.abs(corners[:, :, 1].mean(1)) < 1.0)
+                    & (corners[:, :, 2].min(1) > corners[:, :, 2].max() - 1e-6))
+        levels = set(data["material_index"][on_tower])
+        a = attenuation(clouds, x, y, t).mean()
+        expected = irradiance(np.array([[0.0, 0.0, 1.0]]), np.array([a]), sun,
+                              lighting.sun_strength, lighting.sky_strength)[0]
+        got = [spec.materials[i].strength for i in levels]
+        assert max(abs(g - expected) for g in got) < 0.02, (t, got, expected)
+        roof_lights.append(float(np.mean(got)))
+    # seed 0: the tower is under a cloud at take-off, in the sun 2 s later
+    assert roof_lights[1] - roof_lights[0] > 0.3, roof_lights
