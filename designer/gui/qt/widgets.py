@@ -84,10 +84,13 @@ class _Checked:
         """The accepted range as the user reads it (``0 to 99 %``)."""
         digits = 0 if self._integer else self.decimals()
         unit = self.suffix().strip()
-        low = format_number(self.minimum(), digits)
+        def text(value: float) -> str:  # a whole number's thousands grouped for reading
+            return (f"{int(value):,}".replace(",", "\u202f") if self._integer
+                    else format_number(value, digits))
+
+        low = text(self.minimum())
         low = f"more than {low} up" if self.low_open else low
-        return (f"{low} to {format_number(self.maximum(), digits)}"
-                + (f" {unit}" if unit else ""))
+        return f"{low} to {text(self.maximum())}" + (f" {unit}" if unit else "")
 
     def in_range(self, value: float) -> bool:
         low_ok = value > self.minimum() if self.low_open else value >= self.minimum()

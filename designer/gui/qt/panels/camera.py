@@ -44,6 +44,16 @@ def camera_id_problem(project: m.Project, new_id: str, index: int = 0) -> str:
     return ""
 
 
+def _pixel_aspect():
+    """The pixel aspect (pixel height / width; the file's limits); its lowest step, 0,
+    shows "square (from the sizes)": the file states none, the sensor and image sizes
+    must then give square pixels."""
+    box = declared_field(m.Camera, "pixel_aspect")
+    box.setMinimum(0.0)
+    box.setSpecialValueText("square (from the sizes)")
+    return box
+
+
 class CameraPanel(Panel):
     title = "Camera"
     parts = frozenset({"cameras", "trajectory"})
@@ -72,6 +82,12 @@ class CameraPanel(Panel):
             label = declared(m.Camera, field).label
             f.addRow(label, self.bindings.bind(declared_field(m.Camera, field), f"{CAM}.{field}",
                                                f"Camera {label}"))
+        aspect = self.bindings.bind(_pixel_aspect(), (
+            model_getter(f"{CAM}.pixel_aspect", lambda v: v or 0.0),
+            lambda p, v: edits.replace_path(p, f"{CAM}.pixel_aspect", v or None)),
+            "Camera pixel aspect")
+        aspect.setObjectName(f"{CAM}.pixel_aspect")
+        f.addRow(declared(m.Camera, "pixel_aspect").label, aspect)
         layout.addWidget(io)
 
         dist = QGroupBox("lens distortion (OpenCV's meaning and order)")
