@@ -107,3 +107,42 @@ def test_done_text_gives_the_commands_timing_as_the_log_does(qtbot, saved_projec
     assert log_lines, panel.log.toPlainText()
     text = panel.state.text()
     assert text.startswith(f"done: 3 images rendered {timing}"), text
+
+
+FIRST_SLOW = textwrap.dedent("""
+    import json, sys, time
+    from pathlib import Path
+    out = Path(sys.argv[1])
+    (out / "images").mkdir(parents=True, exist_ok=True)
+    print(json.dumps({"event": "worker_started", "worker": 0, "pid": 1,
+                      "frames": [0, 1, 2]}), flush=True)
+    for order, seconds in enumerate((6.0, 0.5, 0.7)):
+        path = out / "images" / f"IMG_{order + 1:05d}.png"
+        path.write_bytes(b"")
+        print(json.dumps({"event": "frame_done", "index": order, "order": order,
+                          "path": str(path), "seconds": seconds}), flush=True)
+    time.sleep(3.0)  # the panel shows the count until the command ends
+""")
+
+
+def test_a_workers_first_image_is_labelled_and_left_out_of_the_speed(
+        qtbot, saved_project, monkeypatch, tmp_path):
+    """The first image of a worker also waits for Cycles to build the scene: its
+    thumbnail says so and the measured speed is that of the images after it."""
+    w = saved_project
+    script = tmp_path / "first_slow.py"
+    script.write_text(FIRST_SLOW)
+    monkeypatch.setattr(RenderProcess, "command", staticmethod(
+        lambda project, out_dir, resume=False, quality=None, workers=None:
+        [sys.executable, str(script), str(out_dir)]))
+    panel = w.panels["Render"]
+    qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: len(panel.frames_done) == 3 and "measured" in panel.state.text(),
+                    timeout=20000)
+    assert "0.6 s per image measured after each worker's first" in panel.state.text(), (
+        panel.state.text())
+    captions = [panel.thumbs.item(k).text() for k in range(3)]
+    assert captions[0].endswith("6.0 s with set-up"), captions
+    assert captions[1].endswith("0.5 s") and captions[2].endswith("0.7 s"), captions
+    assert "Cycles building the scene" in panel.thumbs.item(0).toolTip()
+    qtbot.waitUntil(lambda: panel.start_button.isEnabled(), timeout=20000)

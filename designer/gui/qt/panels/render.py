@@ -184,6 +184,8 @@ class RenderPanel(Panel):
         self.sync.stations_changed.connect(self._cost)
         self.frames_done: dict[int, float] = {}
         self.skipped: set[int] = set()
+        #: images each the first a worker rendered (their time includes Cycles' set-up)
+        self.first_of_worker: set[int] = set()
         self.image_names: list[str] = []
         self.n_frames = 0
         self.out_dir: Path | None = None
@@ -320,6 +322,7 @@ class RenderPanel(Panel):
         self.out_dir = (project_path.parent / self.project.outputs.directory).resolve()
         self.frames_done = {}
         self.skipped: set[int] = set()
+        self.first_of_worker = set()
         self.n_frames = self.sync.stations.n_images if self.sync.stations else 0
         self.image_names = list(self.sync.stations.image_names) if self.sync.stations else []
         self.progress.setRange(0, max(1, self.n_frames))
@@ -389,6 +392,8 @@ class RenderPanel(Panel):
                 self._add_thumbnail(index, self._image_path(index), 0.0)
             else:
                 self.frames_done[index] = float(event.get("seconds", 0.0))
+                if event.get("order") == 0:
+                    self.first_of_worker.add(index)
                 self._add_thumbnail(index, event.get("path") or self._image_path(index),
                                     self.frames_done[index])
             self.progress.setValue(len(self.frames_done))
@@ -407,9 +412,15 @@ class RenderPanel(Panel):
     def _count_text(self) -> str:
         """Images done of the total, those kept from before, the measured speed."""
         rendered = [s for i, s in self.frames_done.items() if i not in self.skipped]
+        later = [s for i, s in self.frames_done.items()
+                 if i not in self.skipped and i not in self.first_of_worker]
         kept = f" ({len(self.skipped)} complete before, kept)" if self.skipped else ""
-        speed = (f"{duration(sum(rendered) / len(rendered))} per image measured" if rendered
-                 else "no image rendered yet")
+        # a worker's first image also waits for Cycles to build its copy of the scene:
+        # the speed is measured on the images after it once there are any
+        speed = (f"{duration(sum(later) / len(later))} per image measured after each "
+                 "worker's first" if later else
+                 f"{duration(sum(rendered) / len(rendered))} per image measured (with "
+                 "Cycles' set-up)" if rendered else "no image rendered yet")
         return f"{len(self.frames_done)} / {count(self.n_frames, 'image')}{kept}; {speed}"
 
     def _image_path(self, index: int) -> str | None:
@@ -427,7 +438,9 @@ class RenderPanel(Panel):
                        note: str = "(kept)") -> None:
         name = (Path(self.image_names[index]).stem if index < len(self.image_names)
                 else f"#{index}")
-        label = name + (f"\n{seconds:.1f} s" if seconds else f"\n{note}")
+        first = index in self.first_of_worker
+        label = name + (f"\n{seconds:.1f} s" + (" with set-up" if first else "")
+                        if seconds else f"\n{note}")
         item = QListWidgetItem(label)
         # the item's size is fixed, not measured: the thumbnail is read in a thread and
         # arrives after the list laid the item out (measured then, the item would be
@@ -435,7 +448,9 @@ class RenderPanel(Panel):
         item.setSizeHint(self.thumbs.gridSize())
         item.setData(Qt.ItemDataRole.UserRole, index)
         item.setData(Qt.ItemDataRole.UserRole + 1, path)
-        item.setToolTip(path or "")
+        item.setToolTip((path or "") + (
+            "\nthe first image of its worker: its time includes Cycles building the scene"
+            if first else ""))
         self.thumbs.addItem(item)
         if path is None:
             return
