@@ -18,19 +18,19 @@ from tests.render.helpers import detect_centres
 from tests.synthetic import small_survey, write_project_file
 
 CASES = {
-    # the plain pinhole, with a UTM-sized origin and a principal point offset in one render
+    # the plain pinhole with a UTM-sized origin, a principal point offset and a lens and
+    # sensor below Blender's 1 mm minimum (both are scaled, not clamped) in one render
     # (the distorted cases below are at the local origin)
-    "UTM-sized origin": dict(origin=(500000.0, 5000000.0, 250.0),
-                             principal_point_mm=(0.31, -0.17)),
-    # below Blender's 1 mm minimum lens and sensor width: both are scaled, not clamped
-    "sub-millimetre sensor": dict(focal_length_mm=0.5, pixel_pitch_mm=0.001),
+    "UTM-sized origin, sub-millimetre sensor": dict(
+        origin=(500000.0, 5000000.0, 250.0), principal_point_mm=(0.031, -0.017),
+        focal_length_mm=0.5, pixel_pitch_mm=0.001),
     # Distorted cameras: rendered as an enlarged pinhole and warped (designer.effects).
-    "barrel k1=-0.3": dict(focal_length_mm=8.0,
-                           distortion=m.BrownConradyDistortion(k1=-0.3, k2=0.05)),
+    # Radial barrel and tangential terms with a principal point offset in one render
+    "barrel and tangential": dict(
+        focal_length_mm=8.0, principal_point_mm=(0.2, 0.1),
+        distortion=m.BrownConradyDistortion(k1=-0.3, k2=0.05, p1=0.002, p2=-0.0015)),
     "pincushion k1=+0.2": dict(focal_length_mm=8.0,
                                distortion=m.BrownConradyDistortion(k1=0.2)),
-    "tangential": dict(focal_length_mm=8.0, principal_point_mm=(0.2, 0.1),
-                       distortion=m.BrownConradyDistortion(k1=-0.1, p1=0.002, p2=-0.0015)),
     "fisheye 148 deg": dict(focal_length_mm=3.1,
                             distortion=m.FisheyeEquidistantDistortion(k1=0.01)),
 }
