@@ -7,6 +7,7 @@ to Blender is local — world minus the project origin — because Blender store
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -14,6 +15,7 @@ import cv2
 import numpy as np
 
 from designer import __version__
+from designer.atomic import write_text_atomic
 from designer.core.interior import InteriorOrientation
 from designer.core.layout import IMAGES_DIR, JOB_DIR
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
@@ -52,7 +54,7 @@ from designer.render.terrain_bake import (
     sample_light_rect,
     two_level_bake,
 )
-from designer.render.texture_bake import bake_varied_texture, can_bake
+from designer.render.texture_bake import bake_size_px, bake_varied_texture, can_bake
 from designer.scene.build import BuiltScene, build_scene
 from designer.scene.texture_variation import GAIN_ENCODING
 from designer.survey.project_poses import project_images
@@ -194,8 +196,9 @@ def prepare_job(
     if (bake_texture and scene.variation is not None
             and can_bake(scene.texture_rgb.shape, scene.texture_tiles)):
         # the blend of the three lookups baked into one image: one lookup per sample
-        baked = bake_varied_texture(scene.texture_rgb, scene.texture_tiles, scene.variation,
-                                    scene.interpolation)
+        # (baked when written, unless the job folder holds it from the same inputs)
+        baked = VariedBake(scene.texture_rgb, scene.texture_tiles, scene.variation,
+                           scene.interpolation)
         terrain_material = MaterialSpec(texture=bake_file(BAKED_TEXTURE, baked.shape),
                                         uv_tiles=(1.0, 1.0),
                                         interpolation="Linear", extension="EXTEND",
@@ -348,29 +351,76 @@ def prepare_job(
                        cameras=cameras)
 
 
-def _write_bake(baked: np.ndarray, objects: list, job_dir: Path, lit: bool) -> list:
+class VariedBake:
+    """The varied texture's bake (:func:`bake_varied_texture`), computed when first
+    asked for; ``key`` digests everything it depends on (the inputs and the code)."""
+
+    def __init__(self, texture_rgb: np.ndarray, tiles, variation, interpolation: str) -> None:
+        self.args = (texture_rgb, tiles, variation, interpolation)
+        W, H = bake_size_px(texture_rgb.shape, tiles)
+        self.shape = (H, W, 3)
+        self._image: np.ndarray | None = None
+        h = hashlib.sha256()
+        for part in (texture_rgb, variation.shading, variation.warp):
+            a = np.ascontiguousarray(part)
+            h.update(f"{a.dtype}{a.shape}".encode() + a.tobytes())
+        h.update(repr((tuple(float(t) for t in tiles), float(variation.warp_bound_uv),
+                       interpolation)).encode())
+        for module in ("texture_bake.py", "_bake_kernel.py", "job.py"):
+            h.update((Path(__file__).parent / module).read_bytes())
+        self.key = h.hexdigest()
+
+    @property
+    def image(self) -> np.ndarray:
+        if self._image is None:
+            self._image = bake_varied_texture(*self.args)
+        return self._image
+
+
+def _kept(path: Path, key: str) -> bool:
+    """True if ``path`` was written from inputs of digest ``key`` (its ``.key`` file)."""
+    key_path = path.with_name(path.name + ".key")
+    return path.is_file() and key_path.is_file() and key_path.read_text() == key
+
+
+def _write_keyed(path: Path, image: np.ndarray, key: str) -> None:
+    """Write a bake (BGR) and then its key: a bake without its key is written again."""
+    key_path = path.with_name(path.name + ".key")
+    key_path.unlink(missing_ok=True)
+    write_png(path, image, fast=True)
+    write_text_atomic(key_path, key)
+
+
+def _write_bake(bake: VariedBake, objects: list, job_dir: Path, lit: bool) -> list:
     """Write the baked varied texture; with ``lit`` (one sun for every frame) the
     terrain's light map is multiplied in, so Cycles makes one texture lookup per sample
     instead of two. The light map is sampled at the bake's texel centres as the renderer
-    samples it (bilinear, edge texels extended over the same UV square)."""
+    samples it (bilinear, edge texels extended over the same UV square). A file the job
+    folder holds from the same inputs (the bake's key, and the light map's bytes) is kept:
+    a resumed render does not bake again."""
     terrain = next((o for o in objects if o.name == "terrain"), None)
     material = terrain.materials[0] if terrain is not None else None
     if not lit or material is None or material.lightmap is None:
-        write_png(job_dir / bake_file(BAKED_TEXTURE, baked.shape),
-                  cv2.cvtColor(baked, cv2.COLOR_RGB2BGR), fast=True)
+        path = job_dir / bake_file(BAKED_TEXTURE, bake.shape)
+        if not _kept(path, bake.key):
+            _write_keyed(path, cv2.cvtColor(bake.image, cv2.COLOR_RGB2BGR), bake.key)
         return objects
-    light = cv2.imread(str(job_dir / material.lightmap), cv2.IMREAD_UNCHANGED)
-    H, W = baked.shape[:2]
-    # cv2's linear resize samples the source at (x + 0.5) · scale − 0.5, edges replicated:
-    # Blender's texel-centre convention with EXTEND
-    light = cv2.resize(light.astype(np.float32) / np.float32(65535.0), (W, H),
-                       interpolation=cv2.INTER_LINEAR)
-    lit_image = np.empty_like(baked)
-    for r in range(0, H, 256):  # in bands of rows: the float copy of a large bake stays small
-        product = baked[r:r + 256].astype(np.float32) * light[r:r + 256, :, None]
-        lit_image[r:r + 256] = np.clip(np.rint(product), 0, 65535)
-    lit_file = bake_file(BAKED_LIT_TEXTURE, lit_image.shape)
-    write_png(job_dir / lit_file, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR), fast=True)
+    light_bytes = (job_dir / material.lightmap).read_bytes()
+    lit_file = bake_file(BAKED_LIT_TEXTURE, bake.shape)
+    key = hashlib.sha256(bake.key.encode() + light_bytes).hexdigest()
+    if not _kept(job_dir / lit_file, key):
+        baked = bake.image
+        light = cv2.imdecode(np.frombuffer(light_bytes, np.uint8), cv2.IMREAD_UNCHANGED)
+        H, W = baked.shape[:2]
+        # cv2's linear resize samples the source at (x + 0.5) · scale − 0.5, edges
+        # replicated: Blender's texel-centre convention with EXTEND
+        light = cv2.resize(light.astype(np.float32) / np.float32(65535.0), (W, H),
+                           interpolation=cv2.INTER_LINEAR)
+        lit_image = np.empty_like(baked)
+        for r in range(0, H, 256):  # bands of rows: the float copy of a large bake stays small
+            product = baked[r:r + 256].astype(np.float32) * light[r:r + 256, :, None]
+            lit_image[r:r + 256] = np.clip(np.rint(product), 0, 65535)
+        _write_keyed(job_dir / lit_file, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR), key)
     folded = replace(material, texture=lit_file, lightmap=None)
     return [replace(o, materials=(folded, *o.materials[1:])) if o is terrain else o
             for o in objects]

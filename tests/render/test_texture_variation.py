@@ -177,3 +177,34 @@ def test_a_detail_and_a_coarse_bake_render_what_one_bake_renders(tmp_path, monke
     # the western half of the picture sees the declared terrain: the same detail bake
     west = slice(None), slice(0, one.shape[1] // 2)
     assert np.mean(np.abs(one[west] - two[west])) < 1.0
+
+
+def test_a_second_preparation_keeps_the_bake_of_the_same_inputs(tmp_path, monkeypatch):
+    """A resumed render prepares its job again: the bake the job folder holds from the
+    same inputs (texture, variation, light map) is kept, not baked again; a changed
+    variation is baked anew."""
+    from designer.render import job as job_module
+    from designer.render.job import prepare_job
+
+    calls = []
+    real = job_module.bake_varied_texture
+    monkeypatch.setattr(job_module, "bake_varied_texture",
+                        lambda *a: calls.append(1) or real(*a))
+    variation = m.TextureVariation(1, 20.0, 0.3)
+    project = nadir_project(variation)
+    out = tmp_path / "out"
+    prepare_job(project, tmp_path, out)
+    lit = out / ".designer-job" / BAKED_LIT_TEXTURE
+    first = lit.read_bytes()
+    assert calls == [1]
+    lit.touch()
+    stamp = lit.stat().st_mtime_ns
+    prepare_job(project, tmp_path, out)
+    assert calls == [1] and lit.stat().st_mtime_ns == stamp  # kept as it was
+    other = nadir_project(dataclasses.replace(variation, strength=0.4))
+    prepare_job(other, tmp_path, out)
+    assert calls == [1, 1] and lit.read_bytes() != first
+    # a bake whose key file went missing (a run stopped between the two) is made again
+    (out / ".designer-job" / (BAKED_LIT_TEXTURE + ".key")).unlink()
+    prepare_job(other, tmp_path, out)
+    assert calls == [1, 1, 1]
