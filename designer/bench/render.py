@@ -164,8 +164,11 @@ DEMO_FRAMES = 12
 
 def demo_frames(n_images: int, scale: float) -> list[int]:
     """``DEMO_FRAMES`` × scale frames spread evenly over a flight of ``n_images``: edge
-    and centre frames (an image partly off the terrain renders faster) in their share."""
-    n = max(2, min(n_images, round(DEMO_FRAMES * scale)))
+    and centre frames (an image partly off the terrain renders faster) in their share;
+    at least one (the first)."""
+    n = max(1, min(n_images, round(DEMO_FRAMES * scale)))
+    if n == 1:
+        return [0]
     return sorted({round(float(k)) for k in np.linspace(0, n_images - 1, n)})
 
 

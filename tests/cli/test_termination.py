@@ -147,9 +147,10 @@ def test_a_stopped_study_leaves_no_process(tmp_path, how):
 
 def test_a_bench_cut_short_keeps_its_measured_rows(tmp_path):
     env = {**os.environ, "TMPDIR": str(tmp_path)}
+    # --scale 0.05: one frame per row (the first row is all the test waits for)
     proc = subprocess.Popen(
         [sys.executable, "-m", "designer", "bench", "render", "--repeats", "1",
-         "--scale", "0.17"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+         "--scale", "0.05"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         text=True, start_new_session=True, env=env)
     first = ""
     for line in proc.stderr:  # the measured rows come on stderr as they finish
