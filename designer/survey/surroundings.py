@@ -11,6 +11,7 @@ and sets ``horizon``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -155,13 +156,14 @@ VOID_SAMPLES = 64
 VOID_WARN = 0.01
 
 
-def void_shares(project: m.Project, images, raycaster, far_ground: bool = False
-                ) -> np.ndarray:
+def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
+                check: Callable[[], None] | None = None) -> np.ndarray:
     """(M,) share of each image's pixels (a grid of pixel-centre rays) whose ray meets no
     terrain of ``raycaster`` (a :class:`~designer.survey.raycast.TerrainRaycaster` over
     the rendered terrain): what renders as background. With ``far_ground`` (the
     renderer's ring of ground to the horizon, and a sky) no ray sees the background: one
-    pointing down meets the far ground, one pointing up the sky."""
+    pointing down meets the far ground, one pointing up the sky. ``check`` is called
+    between groups of :data:`VOID_CHUNK` images (it may raise to stop the work)."""
     from designer.core.rotation import R_CV_FROM_PHOTO
 
     out = np.zeros(len(images.stations))
@@ -182,12 +184,20 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False
         rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)
         if far_ground:
             continue
-        origins = np.repeat(C, len(uv), axis=0)
-        # the rendered surface has no sides: a ray entering one below it sees no ground
-        hit = raycaster.surface_hit(origins, rays.reshape(-1, 3))
-        ground = np.all(np.isfinite(hit), axis=1)
-        out[k] = 1.0 - ground.reshape(len(k), len(uv)).mean(axis=1)
+        for a in range(0, len(k), VOID_CHUNK):
+            if check is not None:
+                check()
+            part = slice(a, a + VOID_CHUNK)
+            origins = np.repeat(C[part], len(uv), axis=0)
+            # the rendered surface has no sides: a ray entering one below it sees no ground
+            hit = raycaster.surface_hit(origins, rays[part].reshape(-1, 3))
+            ground = np.all(np.isfinite(hit), axis=1)
+            out[k[part]] = 1.0 - ground.reshape(-1, len(uv)).mean(axis=1)
     return out
+
+
+#: images whose void rays are cast together (between two calls of ``check``)
+VOID_CHUNK = 64
 
 
 @dataclass(frozen=True)
@@ -250,16 +260,18 @@ class ImageGround:
 
 
 def image_ground(project: m.Project, declared: Heightfield, images,
-                 grown: GrownTerrain | None = None) -> ImageGround:
+                 grown: GrownTerrain | None = None,
+                 check: Callable[[], None] | None = None) -> ImageGround:
     """Grow the declared terrain as the renderer does and measure each image's void
     share: the one function behind ``designer plan`` (text and JSON), the window's plan
     figures and ``designer check``. ``grown``: the terrain already grown for ``images``
-    (:func:`grown_terrain`), when the caller has it."""
+    (:func:`grown_terrain`), when the caller has it; ``check``: called between parts of
+    the work (it may raise to stop it)."""
     if grown is None:
         grown = grown_terrain(project, declared, images)
     growth, rendered = grown.growth, grown.surroundings.heightfield
     raycaster = TerrainRaycaster(rendered)
-    shares = void_shares(project, images, raycaster, growth.horizon)
+    shares = void_shares(project, images, raycaster, growth.horizon, check)
     return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth,
                        raycaster)
 

@@ -2,7 +2,9 @@
 
 Each job has a ``key`` (``"terrain"``, ``"stations"``, …). Submitting a job for a key
 supersedes the earlier one: its result, when it arrives, is dropped, so the view only
-ever shows the answer to the latest edit. numpy, VTK-free geometry and the survey code
+ever shows the answer to the latest edit; a superseded job still waiting for a thread
+is not run, and a running one stops at its next :func:`designer.gui.state.job_control
+.check`. numpy, VTK-free geometry and the survey code
 release the GIL for their heavy loops, so the window stays responsive.
 """
 
@@ -13,6 +15,8 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
 from PySide6.QtCore import QObject, Signal, Slot
+
+from designer.gui.state import job_control
 
 
 class TaskRunner(QObject):
@@ -47,8 +51,16 @@ class TaskRunner(QObject):
             self.busy_changed.emit(True)
 
         def work():
+            if self._generation.get(key) != generation:
+                # superseded while it waited for a thread: not run at all, so a burst of
+                # edits does not queue obsolete work in front of the latest
+                self._finished.emit(key, generation, None, None)
+                return
             try:
-                result, error = fn(*args), None
+                with job_control.job(lambda: self._generation.get(key) != generation):
+                    result, error = fn(*args), None
+            except job_control.Superseded:  # stopped at a check: its result is dropped
+                result, error = None, None
             except Exception as exc:  # handed to the UI thread
                 result, error = None, exc
                 error.__traceback_text__ = traceback.format_exc()

@@ -74,6 +74,7 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
                          ) -> PlanFigures:
     """Analyse the stations over the terrain (a height field); see the module doc."""
     from designer.errors import DesignerError
+    from designer.gui.state.job_control import check
     from designer.survey.coverage import analyse_plan
 
     hf = terrain.heightfield if terrain is not None else None
@@ -99,9 +100,13 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     images = project_images(project, hf)
     # over the rendered terrain (the declared one and its surroundings), as designer plan:
     # past the declared terrain's edge the images see the surroundings, or void
-    ground = image_ground(project, hf, images, stations_result.grown)
+    # a newer edit stops this analysis between its stages (job_control)
+    check()
+    ground = image_ground(project, hf, images, stations_result.grown, check=check)
+    check()
     analysis = analyse_plan(stations, interior, ground.rendered, area,
                             raycaster=ground.raycaster)
+    check()
     s = analysis.summary()
     centre = analysis.stations.centre_ground_xyz
     gsd = analysis.coverage.gsd_mean_m
@@ -109,6 +114,7 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     from designer.survey.hard_cases import finest_gsd_m, network_warnings
 
     seen = _rendered_images(project, images, ground, terrain.raycaster, gcp_xyz)
+    check()
     share, names = seen.terrain_share, seen.names
     ids = tuple(targets_result.ids) if gcp_xyz is not None else ()
     gcp_images = np.array([len(k) for k in seen.gcp_image_index], dtype=int)
@@ -135,6 +141,7 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
         project, len(images.stations),
         [images.platform[k].line_index for k in images.station_index])]
     warn += _gcp_warnings(ids, gcp_images)
+    check()
     finest = (finest_gsd_m(project, hf, images, terrain.raycaster) if len(images.stations)
               else float("nan"))
     return PlanFigures(**figures, warnings=tuple(warn),
