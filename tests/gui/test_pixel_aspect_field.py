@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QSpinBox
 
-from tests.gui.helpers import activate, field, problems, wait_idle
+from tests.gui.helpers import activate, field, open_panel, problems, wait_idle
 from tests.gui.helpers import type_text as _type
 
 pytestmark = pytest.mark.gui
@@ -15,11 +15,17 @@ pytestmark = pytest.mark.gui
 CAM = "cameras[0]"
 
 
+def _camera_panel(qtbot, w):
+    """The Camera panel raised in the active window."""
+    activate(qtbot, w)
+    panel = open_panel(w, "Camera")
+    wait_idle(qtbot, w)
+    return panel
+
+
 def test_a_non_square_sensor_is_mended_with_the_pixel_aspect_field(qtbot, window):
     w = window
-    activate(qtbot, w)
-    w.docks["Camera"].raise_()
-    wait_idle(qtbot, w)
+    said = _camera_panel(qtbot, w).error_label
     aspect = field(w, QDoubleSpinBox, f"{CAM}.pixel_aspect")
     assert w.document.project.cameras[0].pixel_aspect is None
     assert aspect.text() == "square (from the sizes)"
@@ -28,7 +34,6 @@ def test_a_non_square_sensor_is_mended_with_the_pixel_aspect_field(qtbot, window
     taller = cam.sensor_width_mm * cam.image_height_px / cam.image_width_px * 1.1
     _type(qtbot, w, field(w, QDoubleSpinBox, f"{CAM}.sensor_height_mm"), f"{taller:.4f}")
     wait_idle(qtbot, w)
-    said = w.panels["Camera"].error_label
     assert "pixels are not square" in said.text() and "pixel aspect" in said.text()
     _type(qtbot, w, aspect, "1.1")
     wait_idle(qtbot, w)
@@ -43,14 +48,12 @@ def test_a_non_square_sensor_is_mended_with_the_pixel_aspect_field(qtbot, window
 
 def test_whole_number_limits_read_with_grouped_thousands(qtbot, window):
     w = window
-    activate(qtbot, w)
-    w.docks["Camera"].raise_()
-    wait_idle(qtbot, w)
+    panel = _camera_panel(qtbot, w)
     width = field(w, QSpinBox, f"{CAM}.image_width_px")
     before = w.document.project.cameras[0].image_width_px
     _type(qtbot, w, width, "999999")
     wait_idle(qtbot, w)
-    message = w.panels["Camera"].findChild(QLabel, "input-errors").text()
+    message = panel.findChild(QLabel, "input-errors").text()
     assert "allowed: 1 to 100\u202f000 px" in message, message
     assert w.document.project.cameras[0].image_width_px == before
     seed = field(w, QSpinBox, "scene.terrain.source.seed")  # greyed on the flat terrain
