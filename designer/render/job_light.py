@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.core.heightfield import Heightfield
 from designer.project import model as m
 from designer.render.job_files import save_npz, write_png
 from designer.render.job_spec import LightStep, MaterialSpec, MeshSpec
@@ -63,8 +64,9 @@ class ObjectLighting:
         #: (light map, direct part)
         self._others: dict[tuple, list[MeshSpec]] = {}
         self._bakes: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
-        #: the clouds' factor on the direct sun over the last light map's texels
-        self._clouds_now: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        #: the clouds' factor on the direct sun at the last light map's texel centres, as
+        #: a regular grid (Heightfield: bilinear between nodes, edges held beyond)
+        self._clouds_now: Heightfield | None = None
         #: the buildings standing on the terrain (built on first use)
         self._buildings: list | None = None
 
@@ -153,14 +155,15 @@ class ObjectLighting:
         xs, ys = lightmap_texel_centres(self.scene.heightfield, size)
         a = attenuation(self.project.scene.lighting.clouds, xs - self.origin[0],
                         ys - self.origin[1], time_s)
-        self._clouds_now = (xs, ys, a)
+        # rows north to south in the light map, south to north in the grid
+        self._clouds_now = Heightfield(float(xs[0]), float(ys[-1]), float(xs[1] - xs[0]),
+                                       float(ys[0] - ys[1]), a[::-1])
         return (light - direct * (1.0 - a)).astype(np.float32)
 
     def _sun_share(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
         """The clouds' factor on the direct sun at world points (x_m, y_m), as the light
         map just baked has it (bilinear between its texel centres, edge texels beyond)."""
-        xs, ys, a = self._clouds_now
-        return sample_grid(xs, ys, a, x_m, y_m)
+        return self._clouds_now.height_at_clamped(x_m, y_m)
 
     def steps(self, suns: list[tuple[float, float]], times_s: list[float] | None = None
               ) -> tuple[tuple[LightStep, ...], list[int]]:
@@ -218,26 +221,6 @@ def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,
     return MeshSpec("gcp_targets", file_name, tuple(
         MaterialSpec(color=(reflectance * float(e),) * 3)
         for e in levels for reflectance in (TARGET_WHITE, TARGET_BLACK)))
-
-
-def sample_grid(xs: np.ndarray, ys: np.ndarray, values: np.ndarray, x_m, y_m) -> np.ndarray:
-    """``values`` (H, W) given at the grid ``xs`` (W,) × ``ys`` (H,) (equal steps, either
-    direction), interpolated bilinearly at the points (x_m, y_m); points beyond the grid
-    take its edge."""
-    def index(grid: np.ndarray, v) -> tuple[np.ndarray, np.ndarray]:
-        if len(grid) < 2:
-            return np.zeros(np.shape(v), np.int64), np.zeros(np.shape(v))
-        u = np.clip((np.asarray(v, np.float64) - grid[0]) / (grid[1] - grid[0]),
-                    0.0, len(grid) - 1.0)
-        i = np.minimum(np.floor(u).astype(np.int64), len(grid) - 2)
-        return i, u - i
-
-    i, fx = index(xs, x_m)
-    j, fy = index(ys, y_m)
-    i1 = np.minimum(i + 1, len(xs) - 1)
-    j1 = np.minimum(j + 1, len(ys) - 1)
-    return ((values[j, i] * (1 - fx) + values[j, i1] * fx) * (1 - fy)
-            + (values[j1, i] * (1 - fx) + values[j1, i1] * fx) * fy)
 
 
 def _scene_objects(placed: PlacedObjects, origin: np.ndarray, job_dir: Path,
