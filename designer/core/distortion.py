@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from functools import lru_cache
 from typing import TypeAlias
 
 import numpy as np
@@ -57,11 +58,13 @@ def _horner(s: np.ndarray, coeffs: tuple[float, ...]) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=256)
 def _first_positive_root(coeffs: tuple[float, ...]) -> float:
     """Smallest real s > 0 with 1 + c1·s + c2·s² + … = 0 (``coeffs`` lowest first), else inf.
 
     Solved as the largest root t = 1/s of the monic t^n + c1·t^(n-1) + … + cn, which stays
-    well scaled however small the high-order coefficients are.
+    well scaled however small the high-order coefficients are. Remembered per
+    coefficients: a survey's every image inverts the same lens (a plan's ~100 calls).
     """
     roots = np.roots(np.array(coeffs, dtype=float) / coeffs[0])
     real = roots.real[(np.abs(roots.imag) <= 1e-9 * np.abs(roots)) & (roots.real > 0)]

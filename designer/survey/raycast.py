@@ -22,6 +22,8 @@ finished by :meth:`Heightfield.intersect_rays` (half-cell marching).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from designer.core.compiled import cterrain
@@ -51,8 +53,9 @@ class TerrainRaycaster:
         ey = np.abs(np.diff(z, axis=0)) / self._dy
         cell_slope = np.hypot(np.maximum(ex[:-1], ex[1:]), np.maximum(ey[:, :-1], ey[:, 1:]))
         self._block = int(block_cells)
-        self._max_table = _range_max_table(_block_reduce(cell_max, self._block, -np.inf))
-        self._slope_table = _range_max_table(_block_reduce(cell_slope, self._block, 0.0))
+        top = _range_max_table(_block_reduce(cell_max, self._block, -np.inf))
+        slope = _range_max_table(_block_reduce(cell_slope, self._block, 0.0))
+        self._tables = _flat_tables(top, slope)
 
     # ------------------------------------------------------------------ queries
     def height(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
@@ -141,72 +144,33 @@ class TerrainRaycaster:
         ``touch_m = 0`` that minimum lets a sight line pass over a grazing point instead
         of creeping towards it.
         """
-        t0, t1 = self._clip(org, d, t0.copy(), t1.copy())
+        # compiled (designer/core/csrc/terrain.c), ray by ray: [t0, t1] narrowed to where
+        # the ray is over the grid and not above its highest point; the terrain's highest
+        # point and steepest slope over that stretch (range maxima of the block tables)
+        # narrow it further and give the rate; then up to max_iter steps: at p = O + t·d a
+        # gap ≤ touch_m is a hit; a ray with rate ≤ 0 or at t1 ends without one; else
+        # t += max(gap / rate, min_step_m), at most to t1
+        org = np.ascontiguousarray(org, dtype=np.float64)
+        d = np.ascontiguousarray(d, dtype=np.float64)
+        t = np.array(t0, dtype=np.float64)
+        t1 = np.array(t1, dtype=np.float64)
         hit = np.full(len(org), np.nan)
-        live = np.flatnonzero(t0 <= t1)
-        if live.size == 0:
-            return hit
-        org, d, t0, t1 = org[live], d[live], t0[live], t1[live]
-        # the terrain's highest point and steepest slope over each ray's stretch
-        zmax, slope = self._bounds_along(org, d, t0, t1)
-        dz = d[:, 2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t_top = (zmax - org[:, 2]) / dz
-        t0 = np.where(dz < 0, np.maximum(t0, t_top), t0)
-        t1 = np.where(dz > 0, np.minimum(t1, t_top), t1)
-        t1 = np.where((dz == 0) & (org[:, 2] > zmax), -np.inf, t1)
-        rate = -dz + slope * np.hypot(d[:, 0], d[:, 1])
-        idx = np.flatnonzero(t0 <= t1)
-        # up to max_iter steps of each ray, compiled (designer/core/csrc/terrain.c): at p =
-        # O + t·d a gap ≤ touch_m is a hit; a ray with rate ≤ 0 or at t1 ends without one;
-        # else t += max(gap / rate, min_step_m), at most to t1
-        # (indexing by idx gives new C-contiguous float64 arrays, as the kernel takes them)
-        t = t0[idx]
-        found = np.full(idx.size, np.nan)
-        going = np.zeros(idx.size, dtype=np.uint8)
-        cterrain().march(self._zf, self._nx, self._ny, self._x0, self._y0, self._dx,
-                         self._dy, org[idx], d[idx], t, rate[idx], t1[idx], float(touch_m),
-                         float(min_step_m), int(max_iter), found, going)
-        hit[live[idx]] = found
-        going = going.view(bool)
-        idx, t = idx[going], t[going]
+        going = np.zeros(len(org), dtype=np.uint8)
+        tb = self._tables
+        x0, x1, y0, y1 = self._box
+        cterrain().cast(self._zf, self._nx, self._ny, self._x0, self._y0, self._dx, self._dy,
+                        tb.top, tb.slope, tb.offset, tb.ncols, self._block, tb.nkx, tb.nky,
+                        tb.top.size, x0, x1, y0, y1, self.z_max_m, org, d, t, t1,
+                        float(touch_m), float(min_step_m), int(max_iter), hit, going)
+        idx = np.flatnonzero(going)
         if idx.size:  # rays still grazing the terrain: finish them with the core's marching
+            t = t[idx]
             start = org[idx] + t[:, None] * d[idx]
             p = self.heightfield.intersect_rays(start, d[idx], tol_m=max(touch_m, 1e-6))
             along = np.einsum("ij,ij->i", p - start, d[idx])
             ok = np.isfinite(along) & (t + along <= t1[idx])
-            hit[live[idx[ok]]] = (t + along)[ok]
+            hit[idx[ok]] = (t + along)[ok]
         return hit
-
-    def _clip(self, org, d, t0, t1):
-        """Narrow [t0, t1] to where the ray is over the grid and not above its highest
-        point (below the lowest point is inside the solid ground, so it stays)."""
-        x0, x1, y0, y1 = self._box
-        for axis, lo, hi in ((0, x0, x1), (1, y0, y1), (2, -np.inf, self.z_max_m)):
-            o, v = org[:, axis], d[:, axis]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ta, tb = (lo - o) / v, (hi - o) / v
-            flat = v == 0
-            inside = (o >= lo) & (o <= hi)
-            t0 = np.where(flat, np.where(inside, t0, np.inf), np.maximum(t0, np.minimum(ta, tb)))
-            t1 = np.where(flat, np.where(inside, t1, -np.inf),
-                          np.minimum(t1, np.maximum(ta, tb)))
-        return t0, t1
-
-    def _bounds_along(self, org, d, t0, t1):
-        """Highest terrain and steepest slope over the box spanned by the ray's stretch."""
-        a = org + t0[:, None] * d
-        # t1 is infinite only for a vertical ray, whose X and Y never change
-        b = org + np.where(np.isfinite(t1), t1, t0)[:, None] * d
-        lo, hi = np.minimum(a, b), np.maximum(a, b)
-        B = self._block
-        pad_x, pad_y = 1e-6 * self._dx, 1e-6 * self._dy  # a stretch ending on a cell edge
-        j0 = _cell(lo[:, 0] - pad_x, self._x0, self._dx, self._nx) // B
-        j1 = _cell(hi[:, 0] + pad_x, self._x0, self._dx, self._nx) // B
-        i0 = _cell(lo[:, 1] - pad_y, self._y0, self._dy, self._ny) // B
-        i1 = _cell(hi[:, 1] + pad_y, self._y0, self._dy, self._ny) // B
-        return (_range_max(self._max_table, i0, i1, j0, j1),
-                _range_max(self._slope_table, i0, i1, j0, j1))
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -215,10 +179,6 @@ def _rays(origins, directions):
     d = np.asarray(directions, dtype=float).reshape(-1, 3)
     org, d = np.broadcast_arrays(org, d)
     return org.copy(), d / np.linalg.norm(d, axis=1, keepdims=True)
-
-
-def _cell(x, x0, dx, n):
-    return np.clip(np.floor((x - x0) / dx), 0, n - 2).astype(np.intp)
 
 
 def _block_reduce(a: np.ndarray, B: int, fill: float) -> np.ndarray:
@@ -248,20 +208,26 @@ def _range_max_table(a: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
     return tables
 
 
-def _floor_log2(n: np.ndarray) -> np.ndarray:
-    return np.frexp(n.astype(float))[1] - 1
+@dataclass(frozen=True)
+class _Tables:
+    """Both sparse tables of block maxima (:func:`_range_max_table`), each level after
+    the other in one array, as the compiled ray cast reads them: level (kx, ky) starts at
+    ``offset[kx * nky + ky]`` and has ``ncols[kx]`` columns."""
+
+    top: np.ndarray
+    slope: np.ndarray
+    offset: np.ndarray
+    ncols: np.ndarray
+    nkx: int
+    nky: int
 
 
-def _range_max(tables, i0, i1, j0, j1) -> np.ndarray:
-    """Max over the inclusive block ranges [i0, i1] × [j0, j1] (arrays of equal length)."""
-    ky, kx = _floor_log2(i1 - i0 + 1), _floor_log2(j1 - j0 + 1)
-    key = kx * 64 + ky
-    out = np.empty(len(i0))
-    for k in np.flatnonzero(np.bincount(key)):  # the few distinct keys, without a sort
-        sel = key == k
-        kx_, ky_ = divmod(int(k), 64)
-        T = tables[(kx_, ky_)]
-        a, b = i0[sel], i1[sel] - (1 << ky_) + 1
-        c, e = j0[sel], j1[sel] - (1 << kx_) + 1
-        out[sel] = np.maximum(np.maximum(T[a, c], T[a, e]), np.maximum(T[b, c], T[b, e]))
-    return out
+def _flat_tables(top: dict, slope: dict) -> _Tables:
+    nkx = 1 + max(kx for kx, _ in top)
+    nky = 1 + max(ky for _, ky in top)
+    keys = [(kx, ky) for kx in range(nkx) for ky in range(nky)]
+    sizes = [top[k].size for k in keys]
+    offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+    ncols = np.array([top[(kx, 0)].shape[1] for kx in range(nkx)], dtype=np.int64)
+    return _Tables(np.concatenate([top[k].ravel() for k in keys]),
+                   np.concatenate([slope[k].ravel() for k in keys]), offset, ncols, nkx, nky)

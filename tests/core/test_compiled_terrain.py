@@ -55,6 +55,73 @@ def numpy_octave_sum(seed, stream, wavelength_m, octaves, x, y, persistence, rot
     return total
 
 
+def numpy_clip(rc, org, d, t0, t1):
+    """[t0, t1] narrowed to where the ray is over the grid and not above its top."""
+    x0, x1, y0, y1 = rc._box
+    for axis, lo, hi in ((0, x0, x1), (1, y0, y1), (2, -np.inf, rc.z_max_m)):
+        o, v = org[:, axis], d[:, axis]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ta, tb = (lo - o) / v, (hi - o) / v
+        flat = v == 0
+        inside = (o >= lo) & (o <= hi)
+        t0 = np.where(flat, np.where(inside, t0, np.inf), np.maximum(t0, np.minimum(ta, tb)))
+        t1 = np.where(flat, np.where(inside, t1, -np.inf), np.minimum(t1, np.maximum(ta, tb)))
+    return t0, t1
+
+
+def numpy_range_max(tables, i0, i1, j0, j1):
+    ky = np.frexp((i1 - i0 + 1).astype(float))[1] - 1
+    kx = np.frexp((j1 - j0 + 1).astype(float))[1] - 1
+    out = np.empty(len(i0))
+    for r in range(len(i0)):
+        T = tables[(int(kx[r]), int(ky[r]))]
+        a, b = i0[r], i1[r] - (1 << int(ky[r])) + 1
+        c, e = j0[r], j1[r] - (1 << int(kx[r])) + 1
+        out[r] = max(max(T[a, c], T[a, e]), max(T[b, c], T[b, e]))
+    return out
+
+
+def numpy_bounds(rc, tables, org, d, t0, t1):
+    """The highest terrain and steepest slope over the box each ray's stretch spans."""
+    a = org + t0[:, None] * d
+    b = org + np.where(np.isfinite(t1), t1, t0)[:, None] * d
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+
+    def cell(x, x0, dx, n):
+        return np.clip(np.floor((x - x0) / dx), 0, n - 2).astype(np.intp) // rc._block
+
+    pad_x, pad_y = 1e-6 * rc._dx, 1e-6 * rc._dy
+    i0, i1 = cell(lo[:, 1] - pad_y, rc._y0, rc._dy, rc._ny), cell(hi[:, 1] + pad_y, rc._y0,
+                                                                   rc._dy, rc._ny)
+    j0, j1 = cell(lo[:, 0] - pad_x, rc._x0, rc._dx, rc._nx), cell(hi[:, 0] + pad_x, rc._x0,
+                                                                   rc._dx, rc._nx)
+    return (numpy_range_max(tables[0], i0, i1, j0, j1),
+            numpy_range_max(tables[1], i0, i1, j0, j1))
+
+
+def numpy_cast(rc, tables, org, d, t0, t1, touch_m, min_step_m, max_iter):
+    """(hit, t of the rays still going, their indices): the compiled cast's steps in
+    numpy — clipped, bounded, narrowed below the highest terrain, then marched."""
+    t0, t1 = numpy_clip(rc, org, d, t0.copy(), t1.copy())
+    live = np.flatnonzero(t0 <= t1)
+    zmax, slope = numpy_bounds(rc, tables, org[live], d[live], t0[live], t1[live])
+    dz, oz = d[live, 2], org[live, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_top = (zmax - oz) / dz
+    a = np.where(dz < 0, np.maximum(t0[live], t_top), t0[live])
+    b = np.where(dz > 0, np.minimum(t1[live], t_top), t1[live])
+    b = np.where((dz == 0) & (oz > zmax), -np.inf, b)
+    rate = np.zeros(len(org))
+    rate[live] = -dz + slope * np.hypot(d[live, 0], d[live, 1])
+    t0[live], t1[live] = a, b
+    marched = live[a <= b]
+    hit = np.full(len(org), np.nan)
+    h, t, idx = numpy_march(rc, org[marched], d[marched], t0[marched], rate[marched],
+                            t1[marched], touch_m, min_step_m, max_iter)
+    hit[marched] = h
+    return hit, t, marched[idx]
+
+
 def numpy_march(rc, org, d, t, rate, t1, touch_m, min_step_m, max_iter):
     """(hit, t of the rays still going, their indices) after max_iter steps."""
     hit = np.full(len(org), np.nan)
@@ -101,42 +168,59 @@ def test_octave_sum_broadcasts_a_grid_and_keeps_its_shape():
 
 @pytest.mark.parametrize("touch_m,min_step_m,max_iter", [(1e-3, 0.0, 64), (0.0, 0.02, 256),
                                                          (1e-3, 0.0, 3)])
-def test_the_march_is_the_numpy_steps_to_the_bit(touch_m, min_step_m, max_iter):
+def test_the_cast_is_the_numpy_steps_to_the_bit(touch_m, min_step_m, max_iter):
+    from designer.survey.raycast import _block_reduce, _range_max_table
+
     rng = np.random.default_rng(8)
     ny, nx = 61, 83
     z = rng.normal(100.0, 3.0, (ny, nx)).cumsum(axis=1) * 0.05 + 100.0
     hf = Heightfield(5.0e5, 5.2e6, 0.5, 0.5, z)
     rc = TerrainRaycaster(hf)
+    # the oracle's tables, built as the ray caster builds them
+    cell_max = np.maximum(np.maximum(z[:-1, :-1], z[:-1, 1:]),
+                          np.maximum(z[1:, :-1], z[1:, 1:]))
+    ex, ey = np.abs(np.diff(z, axis=1)) / 0.5, np.abs(np.diff(z, axis=0)) / 0.5
+    cell_slope = np.hypot(np.maximum(ex[:-1], ex[1:]), np.maximum(ey[:, :-1], ey[:, 1:]))
+    tables = (_range_max_table(_block_reduce(cell_max, 8, -np.inf)),
+              _range_max_table(_block_reduce(cell_slope, 8, 0.0)))
     n = 4000
-    org = np.column_stack([rng.uniform(5.0e5, 5.0e5 + 41, n),
-                           rng.uniform(5.2e6, 5.2e6 + 30, n), rng.uniform(150, 200, n)])
+    # origins over, beside and below the grid, UTM-sized
+    org = np.column_stack([rng.uniform(5.0e5 - 20, 5.0e5 + 61, n),
+                           rng.uniform(5.2e6 - 20, 5.2e6 + 50, n), rng.uniform(90, 200, n)])
     d = rng.normal(size=(n, 3))
-    d[:, 2] = -np.abs(d[:, 2]) * rng.uniform(0.05, 2.0, n)  # grazing to steep
-    d[::17, 2] = 0.0  # level rays: rate 0 ends them
+    d[: n // 2, 2] = -np.abs(d[: n // 2, 2]) * rng.uniform(0.05, 2.0, n // 2)  # grazing to steep
+    d[::17, 2] = 0.0  # level rays
+    d[5::31] = (0.0, 0.0, -1.0)  # vertical rays, down and up
+    d[6::62] = (0.0, 0.0, 1.0)
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    t0 = np.zeros(n)
+    t0 = np.where(rng.random(n) < 0.1, rng.uniform(0, 5, n), 0.0)
     t1 = np.where(rng.random(n) < 0.2, rng.uniform(1, 60, n), np.inf)
-    rate = -d[:, 2] + 2.5 * np.hypot(d[:, 0], d[:, 1])
-    hit, t_left, idx_left = numpy_march(rc, org, d, t0.copy(), rate, t1, touch_m,
-                                        min_step_m, max_iter)
+    hit, t_left, idx_left = numpy_cast(rc, tables, org, d, t0, t1, touch_m, min_step_m,
+                                       max_iter)
     from designer.core.compiled import cterrain
 
-    t = t0.copy()
+    t, end = t0.copy(), t1.copy()
     found = np.full(n, np.nan)
     going = np.zeros(n, dtype=np.uint8)
-    cterrain().march(rc._zf, rc._nx, rc._ny, rc._x0, rc._y0, rc._dx, rc._dy, org, d, t,
-                     rate, t1, touch_m, min_step_m, max_iter, found, going)
+    tb = rc._tables
+    x0, x1, y0, y1 = rc._box
+    cterrain().cast(rc._zf, rc._nx, rc._ny, rc._x0, rc._y0, rc._dx, rc._dy, tb.top, tb.slope,
+                    tb.offset, tb.ncols, rc._block, tb.nkx, tb.nky, tb.top.size, x0, x1, y0, y1,
+                    rc.z_max_m, org, d, t, end, touch_m, min_step_m, max_iter, found, going)
     np.testing.assert_array_equal(found, hit)
     np.testing.assert_array_equal(np.flatnonzero(going), idx_left)
     np.testing.assert_array_equal(t[going.view(bool)], t_left)
-    assert np.isfinite(hit).sum() > n // 4  # the rays do meet the terrain
+    assert np.isfinite(hit).sum() > n // 5  # the rays do meet the terrain
+    assert np.isnan(hit).sum() > n // 5  # and many miss it
 
 
-def test_the_march_refuses_arrays_of_the_wrong_size():
+def test_the_cast_refuses_arrays_of_the_wrong_size():
     from designer.core.compiled import cterrain
 
     z = np.zeros((4, 4))
+    one = np.zeros(1)
     with pytest.raises(ValueError, match="origins"):
-        cterrain().march(z, 4, 4, 0.0, 0.0, 1.0, 1.0, np.zeros(5), np.zeros(6), np.zeros(2),
-                         np.zeros(2), np.zeros(2), 0.0, 0.0, 8, np.zeros(2),
-                         np.zeros(2, dtype=np.uint8))
+        cterrain().cast(z, 4, 4, 0.0, 0.0, 1.0, 1.0, one, one, np.zeros(1, dtype=np.int64),
+                        np.zeros(1, dtype=np.int64), 8, 1, 1, 1, 0.0, 3.0, 0.0, 3.0, 0.0,
+                        np.zeros(5), np.zeros(6), np.zeros(2), np.zeros(2), 0.0, 0.0, 8,
+                        np.zeros(2), np.zeros(2, dtype=np.uint8))

@@ -1,7 +1,9 @@
-/* designer.core._cterrain: the terrain's two hot loops, compiled.
+/* designer.core._cterrain: the terrain's hot loops, compiled.
  *
- * - march: the sphere-tracing steps of designer.survey.raycast.TerrainRaycaster._march
- *   over a height field's bilinear surface;
+ * - cast: designer.survey.raycast.TerrainRaycaster._march up to its last fallback: each
+ *   ray's stretch clipped to the grid's box, the highest terrain and steepest slope over
+ *   it (range maxima of per-block maxima), and the sphere-tracing steps over the height
+ *   field's bilinear surface;
  * - octave_sum: the value-noise octaves of designer.scene.world_noise.octave_sum.
  *
  * Each computes, ray by ray and point by point, the same IEEE operations in the same
@@ -18,12 +20,23 @@
 
 #include "buffers.h"
 
-/* ------------------------------------------------------------------------- march */
+/* ------------------------------------------------------------------------- cast */
 typedef struct {
     const double *z; /* heights, row-major (ny, nx) */
     Py_ssize_t nx, ny;
     double x0, y0, dx, dy;
 } grid_t;
+
+/* The sparse tables of per-block maxima: level (kx, ky) holds, for block (i, j), the
+ * maximum over blocks [i, i + 2^ky) x [j, j + 2^kx); stored one after the other, row-major,
+ * level (kx, ky) at offset[kx * nky + ky] with ncols[kx] columns. Two tables of the same
+ * layout: the highest terrain and the steepest slope. */
+typedef struct {
+    const double *top, *slope;
+    const int64_t *offset, *ncols;
+    Py_ssize_t nky;
+    Py_ssize_t block, nx, ny; /* block size in cells; the grid's nodes */
+} blocks_t;
 
 static inline double clamp(double a, double lo, double hi)
 {
@@ -31,6 +44,10 @@ static inline double clamp(double a, double lo, double hi)
     a = a < lo ? lo : a;
     return a > hi ? hi : a;
 }
+
+/* np.maximum and np.minimum: NaN if either is NaN */
+static inline double nmax(double a, double b) { return isnan(a) || isnan(b) ? NAN : (a > b ? a : b); }
+static inline double nmin(double a, double b) { return isnan(a) || isnan(b) ? NAN : (a < b ? a : b); }
 
 /* TerrainRaycaster.height: bilinear height at (x, y), clamped to the grid */
 static inline double height(const grid_t *g, double x, double y)
@@ -50,16 +67,90 @@ static inline double height(const grid_t *g, double x, double y)
     return lower + ty * (z10 + tx * (z11 - z10) - lower);
 }
 
-/* Up to max_iter steps of each ray from t[r]: hit[r] = t where the gap first is
- * <= touch (left as the caller set it, NaN, otherwise); going[r] = 1 with t[r] its
- * parameter when the ray still goes after max_iter steps. */
-static void march(const grid_t *g, const double *org, const double *d, double *t,
-                  const double *rate, const double *t1, Py_ssize_t n, double touch,
-                  double min_step, long max_iter, double *hit, uint8_t *going)
+/* raycast._cell: the grid cell column (or row) of x, clamped to [0, n - 2] */
+static inline Py_ssize_t cell(double x, double x0, double dx, Py_ssize_t n)
 {
+    return (Py_ssize_t)clamp(floor((x - x0) / dx), 0.0, (double)(n - 2));
+}
+
+static inline int floor_log2(Py_ssize_t n)
+{
+    int k = 0;
+    while (n > 1) {
+        n >>= 1;
+        k++;
+    }
+    return k;
+}
+
+/* raycast._range_max over the inclusive block ranges [i0, i1] x [j0, j1] of both tables */
+static inline void range_max(const blocks_t *b, Py_ssize_t i0, Py_ssize_t i1, Py_ssize_t j0,
+                             Py_ssize_t j1, double *top, double *slope)
+{
+    int ky = floor_log2(i1 - i0 + 1), kx = floor_log2(j1 - j0 + 1);
+    int64_t base = b->offset[kx * b->nky + ky], w = b->ncols[kx];
+    Py_ssize_t i2 = i1 - ((Py_ssize_t)1 << ky) + 1, j2 = j1 - ((Py_ssize_t)1 << kx) + 1;
+    int64_t ac = base + i0 * w + j0, ae = base + i0 * w + j2;
+    int64_t bc = base + i2 * w + j0, be = base + i2 * w + j2;
+    *top = nmax(nmax(b->top[ac], b->top[ae]), nmax(b->top[bc], b->top[be]));
+    *slope = nmax(nmax(b->slope[ac], b->slope[ae]), nmax(b->slope[bc], b->slope[be]));
+}
+
+/* Each ray r (origin org[r], unit direction d[r]) over [t[r], t1[r]]: clipped to the box
+ * (x0, x1, y0, y1) and below z_top (TerrainRaycaster._clip); where something is left, the
+ * highest terrain and steepest slope over the box its stretch spans (_bounds_along) narrow
+ * it to where it is not above that terrain and give its rate; then up to max_iter steps
+ * from t[r]: hit[r] = t where the gap first is <= touch (left as the caller set it, NaN,
+ * otherwise); going[r] = 1 with t[r] its parameter when the ray still goes after
+ * max_iter steps (t1[r] is then its stretch's end). */
+static void cast(const grid_t *g, const blocks_t *b, const double box[4], double z_top,
+                 const double *org, const double *d, double *t, double *t1, Py_ssize_t n,
+                 double touch, double min_step, long max_iter, double *hit, uint8_t *going)
+{
+    const double lo_axis[3] = {box[0], box[2], -INFINITY};
+    const double hi_axis[3] = {box[1], box[3], z_top};
+    const double pad_x = 1e-6 * g->dx, pad_y = 1e-6 * g->dy;
     for (Py_ssize_t r = 0; r < n; r++) {
         const double *o = org + 3 * r, *v = d + 3 * r;
-        double tr = t[r], rr = rate[r], end = t1[r];
+        double t0 = t[r], end = t1[r];
+        going[r] = 0;
+        for (int axis = 0; axis < 3; axis++) {
+            double lo = lo_axis[axis], hi = hi_axis[axis], oa = o[axis], va = v[axis];
+            if (va == 0) {
+                int inside = oa >= lo && oa <= hi;
+                t0 = inside ? t0 : INFINITY;
+                end = inside ? end : -INFINITY;
+            } else {
+                double ta = (lo - oa) / va, tb = (hi - oa) / va;
+                t0 = nmax(t0, nmin(ta, tb));
+                end = nmin(end, nmax(ta, tb));
+            }
+        }
+        if (!(t0 <= end))
+            continue;
+        /* the terrain's highest point and steepest slope over the ray's stretch */
+        double tb = isfinite(end) ? end : t0;
+        double ax = o[0] + t0 * v[0], ay = o[1] + t0 * v[1];
+        double bx = o[0] + tb * v[0], by = o[1] + tb * v[1];
+        double lox = nmin(ax, bx), hix = nmax(ax, bx), loy = nmin(ay, by), hiy = nmax(ay, by);
+        Py_ssize_t j0 = cell(lox - pad_x, g->x0, g->dx, g->nx) / b->block;
+        Py_ssize_t j1 = cell(hix + pad_x, g->x0, g->dx, g->nx) / b->block;
+        Py_ssize_t i0 = cell(loy - pad_y, g->y0, g->dy, g->ny) / b->block;
+        Py_ssize_t i1 = cell(hiy + pad_y, g->y0, g->dy, g->ny) / b->block;
+        double zmax, slope;
+        range_max(b, i0, i1, j0, j1, &zmax, &slope);
+        double dz = v[2];
+        double t_top = (zmax - o[2]) / dz;
+        if (dz < 0)
+            t0 = nmax(t0, t_top);
+        if (dz > 0)
+            end = nmin(end, t_top);
+        if (dz == 0 && o[2] > zmax)
+            end = -INFINITY;
+        double rate = -dz + slope * hypot(v[0], v[1]);
+        if (!(t0 <= end))
+            continue;
+        double tr = t0;
         int live = 1;
         for (long it = 0; it < max_iter && live; it++) {
             double px = o[0] + tr * v[0], py = o[1] + tr * v[1], pz = o[2] + tr * v[2];
@@ -69,47 +160,56 @@ static void march(const grid_t *g, const double *org, const double *d, double *t
                 live = 0;
                 break;
             }
-            if (!(rr > 0) || !(tr < end)) {
+            if (!(rate > 0) || !(tr < end)) {
                 live = 0;
                 break;
             }
-            double step = gap / rr;
+            double step = gap / rate;
             step = step > min_step ? step : min_step;
             double next = tr + step;
             tr = next < end ? next : end;
         }
         going[r] = (uint8_t)live;
         t[r] = tr;
+        t1[r] = end;
     }
 }
 
-static PyObject *py_march(PyObject *self, PyObject *args)
+static PyObject *py_cast(PyObject *self, PyObject *args)
 {
-    Py_buffer v[8] = {{0}};
-    Py_ssize_t n, nx, ny;
-    double x0, y0, dx, dy, touch, min_step;
+    Py_buffer v[11] = {{0}};
+    Py_ssize_t n, nx, ny, block, nkx, nky, table_size;
+    double x0, y0, dx, dy, bx0, bx1, by0, by1, z_top, touch, min_step;
     long max_iter;
-    if (!PyArg_ParseTuple(args, "y*nndddd" "y*y*w*y*y*ddlw*w*", &v[0], &nx, &ny, &x0, &y0,
-                          &dx, &dy, &v[1], &v[2], &v[3], &v[4], &v[5], &touch, &min_step,
-                          &max_iter, &v[6], &v[7]))
+    if (!PyArg_ParseTuple(args, "y*nndddd" "y*y*y*y*nnnndddd" "d" "y*y*w*w*ddlw*w*", &v[0],
+                          &nx, &ny, &x0, &y0, &dx, &dy, &v[1], &v[2], &v[3], &v[4], &block,
+                          &nkx, &nky, &table_size, &bx0, &bx1, &by0, &by1, &z_top, &v[5],
+                          &v[6], &v[7], &v[8], &touch, &min_step, &max_iter, &v[9], &v[10]))
         return NULL;
     PyObject *result = NULL;
-    n = v[3].len / (Py_ssize_t)sizeof(double);
-    if (nx >= 2 && ny >= 2 && sized(&v[0], nx * ny, sizeof(double), "heights")
-        && sized(&v[1], 3 * n, sizeof(double), "origins")
-        && sized(&v[2], 3 * n, sizeof(double), "directions")
-        && sized(&v[4], n, sizeof(double), "rate") && sized(&v[5], n, sizeof(double), "t1")
-        && sized(&v[6], n, sizeof(double), "hit") && sized(&v[7], n, 1, "going")) {
+    n = v[7].len / (Py_ssize_t)sizeof(double);
+    if (nx >= 2 && ny >= 2 && block >= 1 && nkx >= 1 && nky >= 1
+        && sized(&v[0], nx * ny, sizeof(double), "heights")
+        && sized(&v[1], table_size, sizeof(double), "top")
+        && sized(&v[2], table_size, sizeof(double), "slope")
+        && sized(&v[3], nkx * nky, sizeof(int64_t), "offset")
+        && sized(&v[4], nkx, sizeof(int64_t), "ncols")
+        && sized(&v[5], 3 * n, sizeof(double), "origins")
+        && sized(&v[6], 3 * n, sizeof(double), "directions")
+        && sized(&v[8], n, sizeof(double), "t1")
+        && sized(&v[9], n, sizeof(double), "hit") && sized(&v[10], n, 1, "going")) {
         grid_t g = {v[0].buf, nx, ny, x0, y0, dx, dy};
+        blocks_t b = {v[1].buf, v[2].buf, v[3].buf, v[4].buf, nky, block, nx, ny};
+        const double box[4] = {bx0, bx1, by0, by1};
         Py_BEGIN_ALLOW_THREADS
-        march(&g, v[1].buf, v[2].buf, v[3].buf, v[4].buf, v[5].buf, n, touch, min_step,
-              max_iter, v[6].buf, v[7].buf);
+        cast(&g, &b, box, z_top, v[5].buf, v[6].buf, v[7].buf, v[8].buf, n, touch, min_step,
+             max_iter, v[9].buf, v[10].buf);
         Py_END_ALLOW_THREADS
         result = Py_NewRef(Py_None);
     } else if (!PyErr_Occurred()) {
         PyErr_SetString(PyExc_ValueError, "heights: a grid needs at least 2 x 2 nodes");
     }
-    release(v, 8);
+    release(v, 11);
     return result;
 }
 
@@ -185,10 +285,11 @@ static PyObject *py_octave_sum(PyObject *self, PyObject *args)
 }
 
 static PyMethodDef methods[] = {
-    {"march", py_march, METH_VARARGS,
-     "march(heights f8 (ny,nx), nx, ny, x0, y0, dx, dy, origins f8 (n,3), directions f8 "
-     "(n,3), t f8 (n,) in/out, rate f8 (n,), t1 f8 (n,), touch_m, min_step_m, max_iter, "
-     "hit f8 (n,) out, going u1 (n,) out)"},
+    {"cast", py_cast, METH_VARARGS,
+     "cast(heights f8 (ny,nx), nx, ny, x0, y0, dx, dy, top f8, slope f8, offset i8 (kx*ky,), "
+     "ncols i8 (kx,), block, kx, ky, table_size, box_x0, box_x1, box_y0, box_y1, z_top, "
+     "origins f8 (n,3), directions f8 (n,3), t f8 (n,) in/out, t1 f8 (n,) in/out, touch_m, "
+     "min_step_m, max_iter, hit f8 (n,) out, going u1 (n,) out)"},
     {"octave_sum", py_octave_sum, METH_VARARGS,
      "octave_sum(x f8 (n,), y f8 (n,), n, keys u8 (k,), spacing f8 (k,), offset f8 (k,2), "
      "turn f8 (k,2), amplitude f8 (k,), k, rotate, total f8 (n,) in/out)"},
