@@ -115,6 +115,31 @@ class TerrainRaycaster:
             hit[side[below]] = np.nan
         return hit
 
+    def sees_surface(self, origins_world, directions_world) -> np.ndarray:
+        """(N,) True where the ray meets the terrain's surface: where :meth:`surface_hit`
+        finds a point, without finding it for most rays. A ray going down that is over
+        the grid where it comes down to the terrain's highest point (or at its origin,
+        when that is lower) and where it reaches the lowest point passes between them
+        over the grid, from above the surface (or from inside the solid ground, which
+        counts as a hit at the origin) to below it: it meets the surface there. Only the
+        other rays are cast."""
+        org, d = _rays(origins_world, directions_world)
+        oz, dz = org[:, 2], d[:, 2]
+        x0, x1, y0, y1 = self._box
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_top = np.where(oz > self.z_max_m, (self.z_max_m - oz) / dz, 0.0)
+            t_low = (self.z_min_m - oz) / dz
+            a = org[:, :2] + t_top[:, None] * d[:, :2]
+            b = org[:, :2] + t_low[:, None] * d[:, :2]
+            over = ((a[:, 0] >= x0) & (a[:, 0] <= x1) & (a[:, 1] >= y0) & (a[:, 1] <= y1)
+                    & (b[:, 0] >= x0) & (b[:, 0] <= x1) & (b[:, 1] >= y0) & (b[:, 1] <= y1))
+        sure = (dz < 0) & np.isfinite(t_low) & (t_low >= t_top) & over
+        out = sure.copy()
+        rest = np.flatnonzero(~sure)
+        if rest.size:
+            out[rest] = np.isfinite(self.surface_hit(org[rest], d[rest])).all(axis=1)
+        return out
+
     def occluded(
         self, points_world, cameras_world, tol_m: float = 0.01, max_iter: int = MAX_STEPS
     ) -> np.ndarray:

@@ -338,15 +338,13 @@ def terrain_fractions(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarr
     rays_cam = pixel_rays_world(uv, np.eye(3), interior)  # the same rays in every image
     C = np.asarray(C_world, dtype=float).reshape(n, 3)
     R = np.asarray(R_cam_to_world, dtype=float).reshape(n, 3, 3)
-    # every image's rays at once through the compiled ray caster: only hit or miss is
-    # used, so the crossing is found to a millimetre; past the terrain's edge is a miss
+    # every image's rays at once: only hit or miss is used (past the terrain's edge is a
+    # miss), which the ray caster decides without casting most of them
     from designer.survey.raycast import TerrainRaycaster
 
     rays = np.einsum("kij,rj->kri", R, rays_cam).reshape(-1, 3)
-    hits = TerrainRaycaster(heightfield).surface_hit(np.repeat(C, len(uv), axis=0), rays,
-                                                     tol_m=1e-3)
-    out = np.isfinite(hits[:, 0]).reshape(n, len(uv)).mean(axis=1)
-    return out
+    seen = TerrainRaycaster(heightfield).sees_surface(np.repeat(C, len(uv), axis=0), rays)
+    return seen.reshape(n, len(uv)).mean(axis=1)
 
 
 def refine(stored: RenderSpeed, measured: RenderSpeed) -> RenderSpeed:

@@ -190,8 +190,7 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
             part = slice(a, a + VOID_CHUNK)
             origins = np.repeat(C[part], len(uv), axis=0)
             # the rendered surface has no sides: a ray entering one below it sees no ground
-            hit = raycaster.surface_hit(origins, rays[part].reshape(-1, 3))
-            ground = np.all(np.isfinite(hit), axis=1)
+            ground = raycaster.sees_surface(origins, rays[part].reshape(-1, 3))
             out[k[part]] = 1.0 - ground.reshape(-1, len(uv)).mean(axis=1)
     return out
 

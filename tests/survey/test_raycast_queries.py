@@ -1,6 +1,8 @@
-"""Rays that graze hills: the ray caster's first hit is the first crossing along the ray
-(dense sampling is the oracle), not a later one past a crest half-cell marching steps
-over (designer.survey.raycast.MAX_STEPS)."""
+"""The ray caster's answers against oracles: rays that graze hills hit the first crossing
+along the ray (dense sampling is the oracle), not a later one past a crest half-cell
+marching steps over (designer.survey.raycast.MAX_STEPS); whether a ray sees the surface
+is what its cast surface hit says, for rays down, up, level, from over, beside, below
+and under the grid."""
 
 from __future__ import annotations
 
@@ -67,3 +69,25 @@ def test_a_grazing_ray_hits_the_first_crest_it_meets(max_iter):
         # the budget of 64 steps leaves the creeping rays to half-cell marching, which
         # steps over crests: this is what the large budget is for (the test can fail)
         assert late.any()
+
+
+def test_sees_surface_is_whether_the_surface_hit_is_found():
+    hf = _hills()
+    rc = TerrainRaycaster(hf)
+    rng = np.random.default_rng(9)
+    n = 20000
+    x0, x1, y0, y1 = hf.extent_m
+    x, y = rng.uniform(x0 - 150, x1 + 150, n), rng.uniform(y0 - 150, y1 + 150, n)
+    ground = hf.height_at_clamped(x, y)
+    # above the hills, between them, just above and below the ground
+    z = np.concatenate([ground[: n // 2] + rng.uniform(0.5, 400, n // 2),
+                        ground[n // 2:] + rng.uniform(-20, 3, n - n // 2)])
+    org = np.column_stack([x, y, z])
+    d = rng.normal(size=(n, 3))
+    d[: n // 2, 2] = -np.abs(d[: n // 2, 2])
+    d[::13, 2] = 0.0  # level
+    d[7::29] = (0.0, 0.0, -1.0)  # straight down
+    seen = rc.sees_surface(org, d)
+    cast = np.isfinite(rc.surface_hit(org, d)).all(axis=1)
+    np.testing.assert_array_equal(seen, cast)
+    assert 0.2 < seen.mean() < 0.8  # both answers are common
