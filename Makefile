@@ -5,10 +5,15 @@ PYTHON ?= python3.11
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+PROBED := $(VENV)/.probed
 
-.PHONY: setup system demo test lint bench clean
+.PHONY: setup install system demo test lint bench clean
 
-setup: system $(STAMP)
+# everything: the packages, the compiled kernels and the probe render
+setup: system $(PROBED)
+
+# the packages and the compiled kernels, without the probe render
+install: system $(STAMP)
 
 system:
 	@bash scripts/install-system-packages.sh
@@ -19,18 +24,25 @@ $(STAMP): pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[all]"
-	$(BIN)/designer warmup
+	$(BIN)/designer warmup --no-probe
 	touch $(STAMP)
+
+# the probe render: this machine's render speed, which every render-time estimate uses
+# (the demo's among them); the tests each keep their own empty render-speed cache
+# (tests/conftest.py), so make test does without it
+$(PROBED): $(STAMP)
+	$(BIN)/designer warmup
+	touch $(PROBED)
 
 demo: setup
 	$(BIN)/designer demo -o demo-output
 
-lint: setup
+lint: install
 	$(BIN)/ruff check .
 
 # two pytest workers (pytest-xdist), each taking whole test files: a file's module
 # fixtures (a render shared by its tests) are made once; the 25 slowest are listed
-test: setup lint
+test: install lint
 	$(BIN)/python -m pytest -n 2 --dist loadfile --durations=25
 
 bench: setup

@@ -22,8 +22,8 @@ def _env(tmp_path: Path) -> dict:
 @pytest.mark.slow
 def test_warmup_then_compare_imports_no_numba(tmp_path):
     env = _env(tmp_path)
-    # without the probe render (six example frames): `make setup`, which `make test` runs
-    # first, runs the whole `designer warmup` and stops when its probe fails
+    # without the probe render (six example frames), as `make install` (which `make test`
+    # runs first) runs it; `make setup` (`make demo`'s) runs the whole `designer warmup`
     done = subprocess.run([sys.executable, "-m", "designer", "warmup", "--no-probe"],
                           env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
