@@ -205,6 +205,17 @@ class TerrainRaycaster:
         return hit
 
 
+def raycaster_of(heightfield: Heightfield) -> TerrainRaycaster:
+    """The ray caster of ``heightfield`` (default blocks), made once per height field
+    object and kept on it: the window's stations, render estimate and plan figures cast
+    over the same grown terrain after each edit."""
+    rc = vars(heightfield).get("_raycaster")
+    if rc is None:
+        rc = TerrainRaycaster(heightfield)
+        object.__setattr__(heightfield, "_raycaster", rc)  # a cache, not a field
+    return rc
+
+
 # ----------------------------------------------------------------------------- helpers
 def _rays(origins, directions):
     org = np.asarray(origins, dtype=float).reshape(-1, 3)

@@ -29,7 +29,7 @@ from designer.scene.surroundings import (
     growth_step_m,
     surroundings_mode,
 )
-from designer.survey.raycast import TerrainRaycaster
+from designer.survey.raycast import TerrainRaycaster, raycaster_of
 
 #: the grid spacing flat ground's margin counts in (m)
 FLAT_MARGIN_SPACING_M = 0.5
@@ -269,7 +269,7 @@ def image_ground(project: m.Project, declared: Heightfield, images,
     if grown is None:
         grown = grown_terrain(project, declared, images)
     growth, rendered = grown.growth, grown.surroundings.heightfield
-    raycaster = TerrainRaycaster(rendered)
+    raycaster = raycaster_of(rendered)
     shares = void_shares(project, images, raycaster, growth.horizon, check)
     return ImageGround(tuple(s.image_name for s in images.stations), shares, rendered, growth,
                        raycaster)

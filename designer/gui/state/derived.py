@@ -42,7 +42,7 @@ from designer.scene.lighting import (
 from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
-from designer.survey.raycast import TerrainRaycaster
+from designer.survey.raycast import TerrainRaycaster, raycaster_of
 from designer.survey.surroundings import GrownTerrain
 from designer.survey.terrain_reach import Reach, terrain_file_reach
 
@@ -85,7 +85,7 @@ def compute_terrain(project: m.Project, base_dir: Path,
     else:
         z = hf.heights_m
         n = z.size
-        rc = TerrainRaycaster(hf)
+        rc = raycaster_of(hf)
     display = terrain_display(hf, mesh, tiles, max_display_nodes)
     lo, hi = display.points_world.min(axis=0), display.points_world.max(axis=0)
     centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(np.mean(z))])
