@@ -42,8 +42,8 @@ HALF_WINDOW = {"fisheye 148 deg": 3}
 #: samples ~3.5 s of CPU; a 148° fisheye frame, rendered as a pinhole of ~6 times the
 #: pixels by designer.effects.distortion_render, ~20 s), so each photo sees as many
 #: targets as fit (TARGET_GRID_M): 97-112 centres in the Brown cases' 6 photos, 147 in the
-#: wide pinhole's 4 and in the fisheye's 3 (the mean's standard error < 0.01 px)
-PHOTOS = {"UTM-sized origin, sub-millimetre sensor": 4, "fisheye 148 deg": 3}
+#: wide pinhole's 4, 98 in the fisheye's 2 (the mean's standard error < 0.01 px)
+PHOTOS = {"UTM-sized origin, sub-millimetre sensor": 4, "fisheye 148 deg": 2}
 N_PHOTOS = 6
 #: the targets' east and north offsets from the origin (m): a 7 x 7 grid 5 m apart over
 #: the 40 m terrain (small_survey's 9 targets 10 m apart among them), 1.5 m checkers
