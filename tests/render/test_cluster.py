@@ -48,14 +48,15 @@ def test_blender_dies_with_the_dask_worker_that_started_it(tmp_path):
     from designer.render.job import prepare_job
 
     # slow frames (a minute each): a worker on its own would render on for a minute before
-    # its next progress line hit the closed pipe
+    # its next progress line hit the closed pipe; one Cycles thread (render_batch's
+    # threads) burns one core, not all, while the test waits
     path = write_project_file(small_survey(n_photos=2, samples=4096, size_px=(640, 480)),
                               tmp_path)
     prepared = prepare_job(load_project(path), path.parent, tmp_path / "out")
     root = Path(__file__).resolve().parents[2]
     task = subprocess.Popen(
         [sys.executable, "-c", "import sys; from designer.render.cluster import "
-         "render_batch; render_batch(sys.argv[1], [0, 1])",
+         "render_batch; render_batch(sys.argv[1], [0, 1], 1)",
          str(prepared.job_path)], cwd=root, env={**os.environ, "PYTHONPATH": str(root)})
     try:
         blender = None

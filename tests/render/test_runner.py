@@ -11,6 +11,8 @@ import sys
 import cv2
 import pytest
 
+from designer.project import load_project
+from designer.render.job import prepare_job
 from designer.render.pipeline import render_project
 from designer.render.runner import render_frames
 from tests.synthetic import small_survey, write_project_file
@@ -27,8 +29,9 @@ def complete_images(folder, size=(320, 240)):
 
 
 def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
-    # seconds per image, so the Ctrl-C after the first image always lands mid-job
-    project = write_project_file(small_survey(n_photos=4, samples=128, size_px=(320, 240)),
+    # ~1 s of CPU per image (32 samples), hundreds of times the Ctrl-C's way from the first
+    # image's progress line to the worker, so it always lands mid-job
+    project = write_project_file(small_survey(n_photos=4, samples=32, size_px=(320, 240)),
                                  tmp_path)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o", str(out),
@@ -56,10 +59,8 @@ def test_ctrl_c_leaves_only_complete_images_and_resume_finishes(tmp_path):
 
 def test_a_killed_worker_has_its_frames_retried(tmp_path):
     project = write_project_file(small_survey(n_photos=4, samples=64, size_px=(320, 240)), tmp_path)
-    summary = render_project(project, tmp_path / "out", workers=1, frames="0")
-    job = summary.prepared.job_path
-    for image in (tmp_path / "out" / "images").glob("IMG_*.png"):
-        image.unlink()
+    # the job prepared as a render prepares it (no frame rendered before the one under test)
+    job = prepare_job(load_project(project), project.parent, tmp_path / "out").job_path
     events = []
 
     def kill_first_worker(event):
@@ -81,7 +82,7 @@ def test_a_killed_worker_has_its_frames_retried(tmp_path):
 def test_ctrl_c_works_even_when_started_ignoring_it(tmp_path):
     """Started the way a script's `cmd &` starts it (SIGINT ignored), designer render still
     stops cleanly on SIGINT."""
-    project = write_project_file(small_survey(n_photos=4, samples=128, size_px=(320, 240)),
+    project = write_project_file(small_survey(n_photos=4, samples=32, size_px=(320, 240)),
                                  tmp_path)
     cmd = [sys.executable, "-m", "designer", "render", str(project), "-o",
            str(tmp_path / "out"), "--workers", "1", "--progress", "json"]

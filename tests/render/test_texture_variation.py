@@ -49,16 +49,30 @@ def large_scale_change(grey: np.ndarray) -> float:
     return float(np.sqrt(np.mean(diff**2)) / smooth.mean())
 
 
+#: the variation of the rendered tests
+VARIATION = m.TextureVariation(seed=5, scale_m=20.0, strength=0.5)
+
+
+def _render_grey(project: m.Project, folder):
+    """(summary, its IMG_000.png in grey levels) of ``project`` rendered in ``folder``."""
+    path = write_project_file(project, folder)
+    summary = render_project(path, folder / "out", workers=1)
+    img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
+    return summary, img.astype(np.float64)
+
+
+@pytest.fixture(scope="module")
+def varied(tmp_path_factory):
+    """The nadir photo over the ground with VARIATION, baked as the renderer chooses (one
+    render for the two tests that need it)."""
+    return _render_grey(nadir_project(VARIATION), tmp_path_factory.mktemp("varied"))
+
+
 @pytest.mark.blender
 @pytest.mark.slow
-def test_variation_breaks_the_tile_repeat_on_a_render(tmp_path):
-    grey = {}
-    for name, variation in (("plain", None),
-                            ("varied", m.TextureVariation(seed=5, scale_m=20.0, strength=0.5))):
-        path = write_project_file(nadir_project(variation), tmp_path / name)
-        summary = render_project(path, tmp_path / name / "out", workers=1)
-        img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
-        grey[name] = img.astype(np.float64)
+def test_variation_breaks_the_tile_repeat_on_a_render(tmp_path, varied):
+    grey = {"plain": _render_grey(nadir_project(None), tmp_path / "plain")[1],
+            "varied": varied[1]}
     plain, varied = tile_correlation(grey["plain"]), tile_correlation(grey["varied"])
     # the plain tiled ground is the same one tile on; the varied one is not
     assert plain > 0.8
@@ -113,23 +127,21 @@ def test_variation_is_part_of_the_scene_hash(tmp_path):
 
 @pytest.mark.blender
 @pytest.mark.slow
-def test_the_baked_texture_renders_what_the_node_graph_renders(tmp_path, monkeypatch):
+def test_the_baked_texture_renders_what_the_node_graph_renders(tmp_path, monkeypatch,
+                                                                varied):
     """The bake (one lookup per sample) against the blend evaluated by Cycles' nodes
     (five lookups per sample, what the renderer does where a bake is too large)."""
     import designer.render.texture_bake as texture_bake
 
-    variation = m.TextureVariation(seed=5, scale_m=20.0, strength=0.5)
-    grey = {}
-    for name, limit in (("baked", texture_bake.MAX_BAKE_PX), ("nodes", 0)):
-        monkeypatch.setattr(texture_bake, "MAX_BAKE_PX", limit)
-        path = write_project_file(nadir_project(variation), tmp_path / name)
-        summary = render_project(path, tmp_path / name / "out", workers=1)
+    # the bake: the module's render (MAX_BAKE_PX as it is); the nodes: no bake allowed
+    monkeypatch.setattr(texture_bake, "MAX_BAKE_PX", 0)
+    renders = {"baked": varied, "nodes": _render_grey(nadir_project(VARIATION),
+                                                       tmp_path / "nodes")}
+    for name, (summary, _) in renders.items():
         material = next(o for o in summary.prepared.job.objects
                         if o.name == "terrain").materials[0]
         assert (material.texture in (BAKED_TEXTURE, BAKED_LIT_TEXTURE)) == (name == "baked")
-        img = cv2.imread(str(summary.images_dir / "IMG_000.png"), cv2.IMREAD_GRAYSCALE)
-        grey[name] = img.astype(np.float64)
-    baked, nodes = grey["baked"], grey["nodes"]
+    baked, nodes = renders["baked"][1], renders["nodes"][1]
     assert np.corrcoef(baked.ravel(), nodes.ravel())[0, 1] > 0.99
     assert abs(baked.mean() - nodes.mean()) < 0.01 * nodes.mean()
     # codes of 255: the bake's interpolation of the warped lookup softens single texels

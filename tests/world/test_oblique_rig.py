@@ -284,8 +284,12 @@ def test_a_rig_with_lens_distortion_and_effects_warps_each_camera_by_its_own_len
     project = replace(project, cameras=tuple(
         replace(c, distortion=distorted.get(c.id)) for c in project.cameras),
         effects=m.Effects(vignetting=m.Vignetting(corner_falloff=0.2)))
+    # only the distorted cameras' images are measured: only they are rendered (the job,
+    # its warps and the ground truth are the whole rig's)
+    frames = ",".join(str(k) for k, cam_id in enumerate(project_images(project, None)
+                                                        .camera_ids) if cam_id in distorted)
     summary = render_project(write_project_file(project, tmp_path), tmp_path / "out",
-                             workers=1)
+                             workers=1, frames=frames)
     job = RenderJob.read(summary.prepared.job_path)
     assert sorted(c for c, w in job.effects.cameras.items() if w.warp) == sorted(distorted)
     _, by_camera = _observations_by_camera(summary)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+import shutil
 from dataclasses import replace
 from pathlib import Path
 
@@ -132,14 +133,16 @@ def test_a_frame_of_a_light_step_equals_a_render_under_its_sun_fixed(rendered, t
     assert np.array_equal(a, b)
 
 
-def test_resume_renders_again_the_images_whose_time_changed(tmp_path):
-    project = _block_project(tmp_path, (0.0, 4 * 3600.0))
-    path = write_project_file(project, tmp_path)
-    render_project(path, tmp_path / "out")
+def test_resume_renders_again_the_images_whose_time_changed(rendered, tmp_path):
+    # a copy of the module's rendered folder (its project, DEM and output), resumed with
+    # the second photo's time changed
+    folder = tmp_path / "block"
+    shutil.copytree(rendered[0], folder)
+    project = _block_project(folder, (0.0, 4 * 3600.0))
     later = replace(project, trajectory=replace(project.trajectory, exterior_orientations=(
         project.trajectory.exterior_orientations[0],
         replace(project.trajectory.exterior_orientations[1], time_s=5 * 3600.0))))
-    summary = render_project(write_project_file(later, tmp_path), tmp_path / "out", resume=True)
+    summary = render_project(write_project_file(later, folder), folder / "out", resume=True)
     assert summary.report.skipped == [0]
     assert set(summary.stale) == {1} and "scene" in summary.stale[1]
 
