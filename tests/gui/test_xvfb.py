@@ -62,19 +62,21 @@ def test_starts_at_the_same_moment_get_a_display_each(tmp_path):
     code = ("import sys, time\n"
             "from pathlib import Path\n"
             "from designer.gui.xvfb import start_xvfb\n"
+            "print('ready', flush=True)\n"
             f"while not Path({str(go)!r}).exists():\n"
             "    time.sleep(0.001)\n"
             "proc, display = start_xvfb(first=160)\n"
             "print(proc.pid, display, flush=True)\n"
             "sys.stdin.read()\n")  # until the test closes its stdin
-    for round_ in range(4):
+    for round_ in range(2):  # each round races (Xvfb settles a tie on one number in ~5 s)
         go.unlink(missing_ok=True)
         starters = [subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
                                      stdout=subprocess.PIPE, text=True, cwd=ROOT,
                                      env={**os.environ, "PYTHONPATH": str(ROOT)})
                     for _ in range(2)]
         try:
-            time.sleep(1.0)  # both waiting for the word
+            # both waiting for the word
+            assert [s.stdout.readline().strip() for s in starters] == ["ready", "ready"]
             go.touch()
             got = [tuple(s.stdout.readline().split()) for s in starters]
             (_, display_a), (_, display_b) = got
