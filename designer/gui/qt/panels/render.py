@@ -77,9 +77,15 @@ def scale_problem(cameras, scale: float) -> str:
     if bad is None:
         return ""
     name, size, scaled = bad
+    import numpy as np
+
     step = 10 ** -SCALE_DECIMALS
-    valid = [k * step for k in range(1, 10 ** SCALE_DECIMALS + 1)
-             if _part_pixels(sizes, k * step) is None]
+    # every scale of the field at once, as _part_pixels judges one
+    scales = np.arange(1, 10 ** SCALE_DECIMALS + 1) * step
+    scaled_all = scales[:, None] * np.array([n for _, n in sizes], dtype=float)[None, :]
+    whole = np.round(scaled_all)
+    ok = ((np.abs(scaled_all - whole) <= 1e-6) & (whole >= 1)).all(axis=1)
+    valid = [float(v) for v in scales[ok]]
     nearest = min(valid, key=lambda v: (abs(v - scale), -v)) if valid else None
     hint = (f"; nearest scale giving whole pixels: {format_number(nearest, SCALE_DECIMALS)}"
             if nearest is not None else "")
