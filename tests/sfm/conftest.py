@@ -24,14 +24,20 @@ def _locked(path: Path) -> Iterator[None]:
         yield
 
 
+def _run_folder(tmp_path_factory) -> Path:
+    """The run's base temporary folder, the same for every xdist worker of the run."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent  # the workers' folders sit side by side in the run's folder
+    return base
+
+
 def _rendered_once(tmp_path_factory, name: str, project: Callable[[], m.Project]) -> Path:
     """``folder/out`` of ``project()`` rendered into a folder every worker of the run
     shares (the run's base temporary folder): the first worker to ask renders it under a
     lock, the others wait and take it (a marker written after the render says it
     finished; a folder without it is rendered again, resumed)."""
-    base = tmp_path_factory.getbasetemp()
-    if os.environ.get("PYTEST_XDIST_WORKER"):
-        base = base.parent  # the workers' folders sit side by side in the run's folder
+    base = _run_folder(tmp_path_factory)
     folder = base / f"shared-{name}"
     with _locked(base / f"shared-{name}.lock"):
         if not (folder / "rendered").is_file():
@@ -48,6 +54,19 @@ def survey(tmp_path_factory):
     out = _rendered_once(tmp_path_factory, "sfm", small_flight_survey)
     assert len(list((out / "images").glob("*.png"))) <= 12
     return out
+
+
+@pytest.fixture(scope="session")
+def survey_cache(tmp_path_factory):
+    """A feature cache (designer.sfm.feature_cache) every worker of the run shares, for
+    the reconstructions of ``survey`` with its default settings (test_reconstruct.py,
+    test_dense.py, test_reconstruct_dense.py): the features and matches of the known
+    poses, and the features, matches and SfM model of a free run, are computed once per
+    run by whichever test asks first (the cache locks a key while it is computed) and
+    taken by the others. test_feature_cache.py shows a taken model gives the result of
+    a run of its own; the tests that check extraction, matching or the cache themselves
+    keep their own."""
+    return _run_folder(tmp_path_factory) / "shared-sfm-feature-cache"
 
 
 @pytest.fixture(scope="session")

@@ -28,14 +28,16 @@ UTM = np.array([512_345.0, 5_406_789.0, 250.0])
 
 
 @pytest.fixture(scope="module")
-def sparse(survey, tmp_path_factory):
+def sparse(survey, survey_cache, tmp_path_factory):
     """The session's rendered survey (``survey``, from conftest.py: a dozen 640 x 480
-    images) triangulated with its known poses, the model shifted into a local frame
-    (world − origin), and the project (for the true mesh)."""
+    images) triangulated with its known poses (features and matches from the run's shared
+    cache), the model shifted into a local frame (world − origin), and the project (for
+    the true mesh)."""
     from designer.sfm.reconstruct import reconstruct
 
     folder = tmp_path_factory.mktemp("dense")
-    reconstruct(survey, folder / "sparse", mode="known-poses", log=lambda m: None)
+    reconstruct(survey, folder / "sparse", mode="known-poses", log=lambda m: None,
+                feature_cache=survey_cache)
     local = folder / "sparse-local"
     origin = write_local_model(folder / "sparse" / "model", local)
     rec = pycolmap.Reconstruction(str(local))

@@ -19,27 +19,39 @@ def _database_rows(db_path, table: str) -> int:
         return db.execute(f"SELECT COUNT(*) FROM {table}").fetchone()[0]
 
 
+@pytest.fixture(scope="module")
+def first(survey, tmp_path_factory):
+    """A first known-poses reconstruction of ``survey`` into an empty cache: its folder
+    (``cache``, the run in ``a``) and its result. 2048 SIFT features an image: what the
+    cache keeps and reuses, not the tie-point density, is under test."""
+    folder = tmp_path_factory.mktemp("first")
+    result = reconstruct(survey, folder / "a", mode="known-poses", max_features=2048,
+                         feature_cache=folder / "cache")
+    return folder, result
+
+
 def test_a_second_reconstruction_of_the_same_images_reuses_features_and_matches(
-        survey, tmp_path):
-    cache = tmp_path / "cache"
-    first = reconstruct(survey, tmp_path / "a", mode="known-poses", feature_cache=cache)
-    second = reconstruct(survey, tmp_path / "b", mode="known-poses", feature_cache=cache)
+        survey, first, tmp_path):
+    folder, first = first
+    cache = folder / "cache"
+    second = reconstruct(survey, tmp_path / "b", mode="known-poses", max_features=2048,
+                         feature_cache=cache)
     assert first.summary["reused_from_cache"] == {"features": False, "matches": False}
     assert second.summary["reused_from_cache"] == {"features": True, "matches": True}
     # the same database: the same keypoints and verified matches, the same points
     for table in ("keypoints", "two_view_geometries"):
-        assert _database_rows(tmp_path / "a" / "database.db", table) == \
+        assert _database_rows(folder / "a" / "database.db", table) == \
             _database_rows(tmp_path / "b" / "database.db", table) > 0
     assert second.n_points == first.n_points
     assert len(list(cache.glob("features-*/database.db"))) == 1
     assert len(list(cache.glob("matches-*/database.db"))) == 1
 
 
-def test_a_changed_image_misses_the_cache(survey, tmp_path):
+def test_a_changed_image_misses_the_cache(survey, first, tmp_path):
     import cv2
 
-    cache = tmp_path / "cache"
-    reconstruct(survey, tmp_path / "a", mode="known-poses", feature_cache=cache)
+    cache = tmp_path / "cache"  # a copy of the cache the first run filled
+    shutil.copytree(first[0] / "cache", cache)
     changed = tmp_path / "survey"
     shutil.copytree(survey, changed)
     _, _, names = check_survey_folder(changed)
@@ -47,7 +59,8 @@ def test_a_changed_image_misses_the_cache(survey, tmp_path):
     pixels = cv2.imread(str(image), cv2.IMREAD_UNCHANGED)
     pixels[:8, :8] = 255 - pixels[:8, :8]  # another image: other features
     assert cv2.imwrite(str(image), pixels)
-    result = reconstruct(changed, tmp_path / "b", mode="known-poses", feature_cache=cache)
+    result = reconstruct(changed, tmp_path / "b", mode="known-poses", max_features=2048,
+                         feature_cache=cache)
     assert result.summary["reused_from_cache"] == {"features": False, "matches": False}
     assert len(list(cache.glob("features-*/database.db"))) == 2
 

@@ -29,12 +29,25 @@ def settings(features: int = 4096, **kw) -> m.Processing:
 
 
 @pytest.fixture(scope="module")
-def bundle_runs(survey, tmp_path_factory):
-    """GCPs weighted in the adjustment, ideal marking and a 1 px marking error."""
+def cache(tmp_path_factory):
+    """The feature cache of this file's runs of ``survey``: runs that differ only after
+    matching or after SfM (marking error, GCP observations, priors) take the features,
+    matches and mapper's model of the first (test_feature_cache.py shows a shared model
+    gives the result a run of its own gives)."""
+    return tmp_path_factory.mktemp("cache")
+
+
+@pytest.fixture(scope="module")
+def bundle_runs(survey, tmp_path_factory, cache):
+    """GCPs weighted in the adjustment, ideal marking and a 1 px marking error: the same
+    SfM model, adjusted with each."""
     out = tmp_path_factory.mktemp("bundle")
-    return {sigma: reconstruct(survey, out / f"s{sigma}", mode="free", log=lambda _: None,
-                               processing=settings(marking=sigma)).summary
+    runs = {sigma: reconstruct(survey, out / f"s{sigma}", mode="free", log=lambda _: None,
+                               processing=settings(marking=sigma), feature_cache=cache
+                               ).summary
             for sigma in (0.0, 1.0)}
+    assert runs[1.0]["reused_from_cache"]["sfm"]
+    return runs
 
 
 def test_marking_error_shows_in_control_residuals_and_check_errors(bundle_runs):
@@ -54,9 +67,10 @@ def test_marking_error_shows_in_control_residuals_and_check_errors(bundle_runs):
     assert marked["check"]["rmse_xy_m"] < 2 * GSD_M and marked["check"]["rmse_z_m"] < 3 * GSD_M
 
 
-def test_rtk_positions_georeference_without_gcps(survey, tmp_path):
+def test_rtk_positions_georeference_without_gcps(survey, tmp_path, cache):
     s = reconstruct(survey, tmp_path / "rtk", mode="free", log=lambda _: None,
-                    processing=settings(gcps="none", prior="rtk")).summary
+                    processing=settings(gcps="none", prior="rtk"), feature_cache=cache
+                    ).summary
     assert s["similarity"] is None  # no GCP took part
     assert s["check"]["rmse_xyz_m"] < 0.05 and s["control"]["rmse_xyz_m"] < 0.05
     assert s["cameras"]["rmse_z_m"] < 0.05
@@ -128,7 +142,7 @@ def test_all_black_images_are_a_clear_error(survey, tmp_path):
                     processing=settings(gcps="similarity"))
 
 
-def test_gcps_seen_by_fewer_than_two_images_are_reported(survey, tmp_path):
+def test_gcps_seen_by_fewer_than_two_images_are_reported(survey, tmp_path, cache):
     folder = tmp_path / "few"
     shutil.copytree(survey, folder, ignore=shutil.ignore_patterns("reconstruction*"))
     path = folder / "ground-truth" / "gcp_observations.csv"
@@ -143,7 +157,7 @@ def test_gcps_seen_by_fewer_than_two_images_are_reported(survey, tmp_path):
         kept.append(line)
     path.write_text("\n".join(kept) + "\n")
     s = reconstruct(folder, tmp_path / "r", mode="free", log=lambda _: None,
-                    processing=settings(gcps="bundle")).summary
+                    processing=settings(gcps="bundle"), feature_cache=cache).summary
     assert {g["id"]: g["images"] for g in s["gcps_not_triangulated"]} == {"G1": 1, "G6": 1}
     assert {r["id"] for r in s["gcps"]} == {"G0", "G2", "G3", "G4", "G5"}
     assert s["control"]["n"] == 4 and s["check"]["n"] == 1

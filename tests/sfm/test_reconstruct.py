@@ -22,8 +22,11 @@ GSD_M = 0.06  # 30 m flying height, 10 um pixels, 5 mm lens
 
 
 @pytest.mark.parametrize("mode", ["known-poses", "free"])
-def test_reconstruction_registers_every_image_and_meets_the_gcps(survey, tmp_path, mode):
-    result = reconstruct(survey, tmp_path / mode, mode=mode)
+def test_reconstruction_registers_every_image_and_meets_the_gcps(survey, tmp_path, mode,
+                                                                 survey_cache):
+    # the run's shared cache (conftest.py): the global mapper below takes the free run's
+    # features and matches and runs its own SfM (the mapper is part of the model's key)
+    result = reconstruct(survey, tmp_path / mode, mode=mode, feature_cache=survey_cache)
     assert result.n_registered == result.n_images
     assert result.n_points > 1000
     rows = result.summary["gcps"]
@@ -80,12 +83,15 @@ def test_images_without_overlap_are_a_clear_error(survey, tmp_path):
         reconstruct(apart, tmp_path / "r", mode="free")
 
 
-def test_the_global_mapper_registers_every_image_and_meets_the_gcps(survey, tmp_path):
+def test_the_global_mapper_registers_every_image_and_meets_the_gcps(survey, tmp_path,
+                                                                    survey_cache):
     """GLOMAP's global SfM (``--mapper global``, ``<sfm mapper="global"/>``) on the same
     survey: every image, GCPs within the GSD, and the summary says which mapper ran."""
     processing = resolve_processing(survey, mapper="global")
     assert processing.sfm.mapper == "global"
-    result = reconstruct(survey, tmp_path / "global", mode="free", processing=processing)
+    result = reconstruct(survey, tmp_path / "global", mode="free", processing=processing,
+                         feature_cache=survey_cache)
+    assert result.summary["reused_from_cache"]["sfm"] is False  # the global mapper ran
     assert result.n_registered == result.n_images
     assert result.n_points > 1000
     for r in result.summary["gcps"]:

@@ -14,11 +14,14 @@ import rasterio
 pytestmark = [pytest.mark.slow, pytest.mark.blender]
 
 
-def test_dense_products_from_the_command_line(survey, tmp_path):
+def test_dense_products_from_the_command_line(survey, survey_cache, tmp_path):
     out = tmp_path / "rec"
+    # the features, matches and SfM model of the run's other free reconstructions of the
+    # survey (conftest.py), when one came first: the dense stage is under test
     run = subprocess.run([sys.executable, "-m", "designer", "reconstruct", str(survey),
                           "-o", str(out), "--mode", "free", "--gcps", "bundle",
-                          "--dense", "cpu"], capture_output=True, text=True, timeout=900)
+                          "--dense", "cpu", "--feature-cache", str(survey_cache)],
+                         capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr[-2000:]
     assert "dense cloud" in run.stdout and "dome amplitude" in run.stdout
     summary = json.loads((out / "summary.json").read_text())

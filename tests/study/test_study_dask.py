@@ -1,11 +1,16 @@
-"""A study through a real (local) Dask cluster: the same runs, hashes and counts."""
+"""A study through a real (local) Dask cluster: the same runs, hashes and counts.
+
+The cluster is started from the command line (``dask scheduler``, ``dask worker``), as on
+cluster nodes; the study goes through the same ``run_study(scheduler=...)`` a
+``distributed.LocalCluster`` would reach, so one cluster and one tiny study check both
+the counts and the working directories (a LocalCluster renders in
+tests/render/test_cluster.py)."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
-import distributed
 import pytest
 
 from designer.errors import DesignerError
@@ -17,19 +22,6 @@ from designer.study.xml import read_study
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def test_a_study_runs_on_a_dask_cluster(tmp_path, monkeypatch):
-    monkeypatch.setenv("PYTHONPATH", str(ROOT))  # the workers import this designer
-    plan = plan_study(read_study(write_template("tiny", tmp_path / "tiny.xml")[0]))
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        report = run_study(plan, tmp_path / "out", scheduler=cluster.scheduler_address)
-    assert [r["status"] for r in report.rows] == ["ok"] * 4
-    assert (report.counts["renders_this_session"], report.counts["reconstructions_this_session"]
-            ) == (2, 4)
-    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
-    assert (summary["renders"], summary["cache_hits"]) == (2, 2)
 
 
 def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
@@ -77,6 +69,12 @@ def test_command_line_workers_in_other_directories_and_a_relative_output(tmp_pat
         rows = [json.loads(p.read_text()) for p in sorted((client / "S").glob(
             "runs/*/result.json"))]
         assert [r["status"] for r in rows] == ["ok"] * 4
+        # each image set rendered once, each run reconstructed, through the cluster
+        summary = json.loads((client / "S" / "summary.json").read_text())
+        assert (summary["renders_this_session"], summary["reconstructions_this_session"]
+                ) == (2, 4)
+        assert (summary["renders"], summary["cache_hits"]) == (2, 2)
+        assert [r["status"] for r in summary["rows"]] == ["ok"] * 4
         # a render with a relative -o on the same workers: the images of a local render
         remote = subprocess.run([sys.executable, "-m", "designer", "render", "tiny-base.xml",
                                  "-o", "R", "--scheduler", address, "--progress", "none"],
