@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.heightfield import Heightfield
-from designer.core.projection import pixel_rays_world
+from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.project import model as m
 from designer.project.interiors import render_interior
 from designer.scene.surroundings import (
@@ -61,11 +61,13 @@ def border_pixels(interior) -> np.ndarray:
     return np.concatenate([top, right, bottom, left])
 
 
-def _rays(interior, uv: np.ndarray, R: np.ndarray) -> np.ndarray:
+def _rays_cv(interior, uv: np.ndarray) -> np.ndarray:
+    """The CV-frame rays of pixels ``uv``; a distortion that cannot be inverted at the
+    border: its pinhole's."""
     try:
-        return pixel_rays_world(uv, R, interior)
-    except Exception:  # a distortion that cannot be inverted at the border: its pinhole
-        return pixel_rays_world(uv, R, replace(interior, distortion=None))
+        return interior.rays_cv(uv)
+    except Exception:
+        return replace(interior, distortion=None).rays_cv(uv)
 
 
 def ground_reach(project: m.Project, images, ground_low_m: float) -> Reach:
@@ -73,10 +75,11 @@ def ground_reach(project: m.Project, images, ground_low_m: float) -> Reach:
     ground around), capped at the detailed reach."""
     interiors = {c: render_interior(project.camera(c), project.render.resolution_scale)
                  for c in images.camera_order()}
-    uv = {c: border_pixels(i) for c, i in interiors.items()}
+    # each camera's border rays in its own frame, once (pixel_rays_world's steps)
+    rays_cv = {c: _rays_cv(i, border_pixels(i)) for c, i in interiors.items()}
     points, horizon = [], False
     for st, c in zip(images.stations, images.camera_ids, strict=True):
-        d = _rays(interiors[c], uv[c], st.R_cam_to_world)
+        d = rays_cv[c] @ (np.asarray(st.R_cam_to_world, dtype=float) @ R_CV_FROM_PHOTO).T
         C = np.asarray(st.C_world, float)
         height = max(C[2] - ground_low_m, 1.0)
         reach = DETAIL_REACH_HEIGHTS * height
@@ -164,8 +167,6 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
     renderer's ring of ground to the horizon, and a sky) no ray sees the background: one
     pointing down meets the far ground, one pointing up the sky. ``check`` is called
     between groups of :data:`VOID_CHUNK` images (it may raise to stop the work)."""
-    from designer.core.rotation import R_CV_FROM_PHOTO
-
     out = np.zeros(len(images.stations))
     for camera_id in images.camera_order():
         interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
