@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -152,11 +153,15 @@ def grow_terrain(project: m.Project, declared: Heightfield, growth: Growth) -> S
     return Surroundings(hf, growth.steps if tiled else (0, 0, 0, 0), growth.horizon)
 
 
+@lru_cache(maxsize=2)
 def _procedural(src: m.ProceduralTerrain, x0: float, x1: float, y0: float, y1: float
                 ) -> Heightfield:
     """The procedural terrain over the grown extent: on the declared grid's nodes when
     whole tiles are whole spacings, else on the nearest even spacing (same heights at
-    every node, as they are fixed to the world)."""
+    every node, as they are fixed to the world). The last two are kept (read-only): an
+    edit that leaves the growth as it was (a flight height typed in the window, the plan
+    figures after the stations) takes the same height field, and its ray caster
+    (designer.survey.raycast.raycaster_of), without computing the hills again."""
     from designer.scene.terrain import terrain_heights
 
     d = src.grid_spacing_m
@@ -169,7 +174,9 @@ def _procedural(src: m.ProceduralTerrain, x0: float, x1: float, y0: float, y1: f
     z = terrain_heights(x[None, :], y[:, None], d, relief, src.seed,
                         base_height_m=0.5 * (src.max_height_m + src.min_height_m),
                         roughness=src.roughness, hill_size_m=src.hill_size_m)
-    return Heightfield(x0, y0, dx, dy, np.ascontiguousarray(z))
+    z = np.ascontiguousarray(z)
+    z.flags.writeable = False
+    return Heightfield(x0, y0, dx, dy, z)
 
 
 #: how far the far ground reaches from the terrain's centre (m): its edge lies within
