@@ -8,7 +8,8 @@
  *
  * Each computes, ray by ray and point by point, the same IEEE operations in the same
  * order as the numpy code it replaces (compiled without fused multiply-adds), so its
- * results are the numpy code's to the last bit. Arrays come through the buffer protocol
+ * results are the numpy code's to the last bit (tests/core/test_compiled_terrain.py keeps
+ * that numpy code as its oracle). Arrays come through the buffer protocol
  * (C-contiguous, the dtype each docstring names; the Python callers guarantee both) with
  * their element counts given and checked. Outputs are arrays allocated by the caller.
  * The loops run without the GIL. */
@@ -67,7 +68,7 @@ static inline double height(const grid_t *g, double x, double y)
     return lower + ty * (z10 + tx * (z11 - z10) - lower);
 }
 
-/* raycast._cell: the grid cell column (or row) of x, clamped to [0, n - 2] */
+/* the grid cell column (or row) of x, clamped to [0, n - 2] */
 static inline Py_ssize_t cell(double x, double x0, double dx, Py_ssize_t n)
 {
     return (Py_ssize_t)clamp(floor((x - x0) / dx), 0.0, (double)(n - 2));
@@ -83,7 +84,8 @@ static inline int floor_log2(Py_ssize_t n)
     return k;
 }
 
-/* raycast._range_max over the inclusive block ranges [i0, i1] x [j0, j1] of both tables */
+/* the maxima over the inclusive block ranges [i0, i1] x [j0, j1] of both tables: the
+ * largest power-of-two levels that fit, four overlapping looks each */
 static inline void range_max(const blocks_t *b, Py_ssize_t i0, Py_ssize_t i1, Py_ssize_t j0,
                              Py_ssize_t j1, double *top, double *slope)
 {
@@ -97,9 +99,9 @@ static inline void range_max(const blocks_t *b, Py_ssize_t i0, Py_ssize_t i1, Py
 }
 
 /* Each ray r (origin org[r], unit direction d[r]) over [t[r], t1[r]]: clipped to the box
- * (x0, x1, y0, y1) and below z_top (TerrainRaycaster._clip); where something is left, the
- * highest terrain and steepest slope over the box its stretch spans (_bounds_along) narrow
- * it to where it is not above that terrain and give its rate; then up to max_iter steps
+ * (x0, x1, y0, y1) and below z_top; where something is left, the highest terrain and
+ * steepest slope over the box its stretch spans narrow it to where it is not above that
+ * terrain and give its rate; then up to max_iter steps
  * from t[r]: hit[r] = t where the gap first is <= touch (left as the caller set it, NaN,
  * otherwise); going[r] = 1 with t[r] its parameter when the ray still goes after
  * max_iter steps (t1[r] is then its stretch's end). */
