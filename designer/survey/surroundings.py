@@ -168,6 +168,8 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
     pointing down meets the far ground, one pointing up the sky. ``check`` is called
     between groups of :data:`VOID_CHUNK` images (it may raise to stop the work)."""
     out = np.zeros(len(images.stations))
+    if far_ground:
+        return out
     for camera_id in images.camera_order():
         interior = render_interior(project.camera(camera_id), project.render.resolution_scale)
         W, H = interior.image_size_px
@@ -175,16 +177,11 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
         kv = VOID_SAMPLES if H > W else max(2, round(VOID_SAMPLES * H / W))
         U, V = np.meshgrid((np.arange(ku) + 0.5) * W / ku, (np.arange(kv) + 0.5) * H / kv)
         uv = np.column_stack([U.ravel(), V.ravel()])
-        try:
-            rays_cv = interior.rays_cv(uv)
-        except Exception:  # distortion not invertible to the border: its pinhole
-            rays_cv = replace(interior, distortion=None).rays_cv(uv)
+        rays_cv = _rays_cv(interior, uv)
         k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
         C = np.array([images.stations[i].C_world for i in k], float).reshape(-1, 3)
         R = np.array([images.stations[i].R_cam_to_world for i in k]).reshape(-1, 3, 3)
         rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)
-        if far_ground:
-            continue
         for a in range(0, len(k), VOID_CHUNK):
             if check is not None:
                 check()
