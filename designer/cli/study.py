@@ -105,8 +105,11 @@ def run_run(args) -> int:
           f"cache hits {c['cache_hits']}, failed {c['failed']}; this session rendered "
           f"{c['renders_this_session']} and reconstructed {c['reconstructions_this_session']}"
           f"; {report.seconds:.0f} s")
-    print(f"wrote {args.output / 'results.csv'}, {args.output / 'summary.json'}, "
-          f"{args.output / 'report.html'}")
+    written = ["results.csv", "summary.json"] + \
+        (["report.html"] if (args.output / "report.html").is_file() else [])
+    print("wrote " + ", ".join(str(args.output / name) for name in written))
+    for problem in report.report_problems:  # the runs are what the exit status says
+        print(f"designer: {problem}", file=sys.stderr)
     failed = [(run.run_id, row["status"]) for run, row in zip(plan.runs, report.rows,
                                                                strict=True)
               if row["status"] != "ok"]

@@ -19,6 +19,7 @@ from designer.atomic import atomic_path
 from designer.study.cost import COSTS, Cost
 from designer.study.front import VariantPoint, front, front_rule, variant_points
 from designer.study.labels import short_labels, variant_labels
+from designer.study.levels import bar_lengths
 
 #: more variants than this are numbered in the figure, with a key beside it
 MAX_DIRECT_LABELS = 10
@@ -52,19 +53,32 @@ def analyse(plan, rows: list[dict], metric: str) -> dict:
 
 
 def write_figure(analysis: dict, metric_label: str, path: Path) -> None:
+    """The figure of :func:`analyse`'s ``analysis`` as a PNG at ``path``."""
     import matplotlib.pyplot as plt
+
+    numbered = len(analysis["points"]) > MAX_DIRECT_LABELS
+    fig, ax = plt.subplots(figsize=(11.5 if numbered else 8.5, 5.8))
+    try:
+        _draw(fig, ax, analysis, metric_label, numbered)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
+    finally:
+        plt.close(fig)
+
+
+def _draw(fig, ax, analysis: dict, metric_label: str, numbered: bool) -> None:
+    """The figure of :func:`write_figure` on ``fig`` and ``ax``."""
     from matplotlib.lines import Line2D
 
     cost, points, on_front = analysis["cost"], analysis["points"], analysis["front"]
-    numbered = len(points) > MAX_DIRECT_LABELS
-    fig, ax = plt.subplots(figsize=(11.5 if numbered else 8.5, 5.8))
     x_of = _dodged(points, ax)
     for p in points:
         colour = FRONT_COLOUR if p in on_front else "C0"
         x = x_of[p.variant]
-        xerr = [[p.cost.mean - p.cost.low], [p.cost.high - p.cost.mean]] \
-            if p.cost.varies else None
-        yerr = [[p.error.mean - p.error.low], [p.error.high - p.error.mean]]
+        left, right = bar_lengths(p.cost.mean, p.cost.low, p.cost.high)
+        below, above = bar_lengths(p.error.mean, p.error.low, p.error.high)
+        xerr = [[left], [right]] if p.cost.varies else None
+        yerr = [[below], [above]]
         ax.errorbar(x, p.error.mean, xerr=xerr, yerr=yerr, fmt="o", ms=6, color=colour,
                     ecolor=colour, elinewidth=1.2, capsize=4, zorder=3)
         runs = [(c, e) for v, c, e in analysis["runs"] if v == p.variant]
@@ -107,9 +121,6 @@ def write_figure(analysis: dict, metric_label: str, path: Path) -> None:
                                     for n in notes),
              fontsize=8, ha="left", va="bottom", color="0.25")
     fig.subplots_adjust(bottom=0.1 + 0.035 * len(notes))
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
-    plt.close(fig)
 
 
 def _apart(on_front: list[VariantPoint]) -> bool:
@@ -219,9 +230,11 @@ def _overlap(a, b) -> float:
     return w * h if w > 0 and h > 0 else 0.0
 
 
-def markdown(analysis: dict, metric_label: str, rows: list[dict]) -> list[str]:
-    """The report's section: the figure, the rule, and a table of every variant in the
-    surveyor's units with its place on the front."""
+def markdown(analysis: dict, metric_label: str, rows: list[dict],
+             figure_note: str | None = None) -> list[str]:
+    """The report's section: the figure (or ``figure_note`` in its place: why it is not
+    drawn), the rule, and a table of every variant in the surveyor's units with its place
+    on the front."""
     cost, on_front = analysis["cost"], analysis["front"]
     by_variant: dict[int, list[dict]] = {}
     for r in rows:
@@ -231,7 +244,7 @@ def markdown(analysis: dict, metric_label: str, rows: list[dict]) -> list[str]:
     md = ["## Accuracy against cost", "",
           f"Cost: **{cost.label}** (`<cost>{cost.name}</cost>`, column `{cost.column}`). "
           f"{rule[0].upper()}{rule[1:]}.", "",
-          "![accuracy against cost](figures/pareto.png)", "",
+          figure_note or "![accuracy against cost](figures/pareto.png)", "",
           f"| variant | runs | {metric_label}: mean [range] | flight min | images | GCPs "
           "(control) | processing CPU s | wall s | front |", "|---" * 9 + "|"]
     for p in sorted(analysis["points"], key=lambda q: (q.cost.mean, q.error.mean)):

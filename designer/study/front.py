@@ -19,10 +19,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from designer.study.levels import mean_within
+
 
 @dataclass(frozen=True)
 class Spread:
-    """Mean, smallest and largest of a variant's replicates."""
+    """Mean, smallest and largest of a variant's replicates (the mean between them: equal
+    replicates give their value three times)."""
 
     mean: float
     low: float
@@ -33,7 +36,7 @@ class Spread:
         xs = [float(v) for v in values if v is not None and math.isfinite(float(v))]
         if not xs:
             return None
-        return cls(sum(xs) / len(xs), min(xs), max(xs))
+        return cls(mean_within(xs), min(xs), max(xs))
 
     @property
     def varies(self) -> bool:

@@ -1,27 +1,48 @@
 """A study's runs by factor level: which runs sit at a level (:func:`level_rows`), the
 factor's levels in order (:func:`factor_levels`), and the mean of a metric over them with
-its 95 % interval (:func:`interval95`). Used by the tables (:mod:`.results`) and the
-report (:mod:`.report`)."""
+its 95 % interval (:func:`interval95`), and the lengths of an interval's bar either side
+of its mean (:func:`bar_lengths`). Used by the tables (:mod:`.results`), the report
+(:mod:`.report`) and its accuracy-against-cost figure (:mod:`.cost_figure`)."""
 
 from __future__ import annotations
 
 import math
 
 
+def mean_within(xs: list[float]) -> float:
+    """The mean of ``xs`` (not empty), never outside their smallest and largest value: a
+    float sum can put the mean of equal values a rounding beside them (five times 0.87
+    averages 0.8699999999999999), and an interval from their range would miss it."""
+    return min(max(sum(xs) / len(xs), min(xs)), max(xs))
+
+
 def interval95(values: list[float]) -> dict:
-    """Mean and 95 % confidence interval of the mean (Student t) of finite values."""
+    """Mean and 95 % confidence interval of the mean (Student t) of finite values; equal
+    values give that value as mean and both ends."""
     xs = [float(v) for v in values if v is not None and math.isfinite(float(v))]
     if not xs:
         return {"n": 0, "mean": None, "low": None, "high": None}
     n = len(xs)
-    mean = sum(xs) / n
-    if n == 1:
-        return {"n": 1, "mean": mean, "low": mean, "high": mean}
+    mean = mean_within(xs)
+    if n == 1 or min(xs) == max(xs):
+        return {"n": n, "mean": mean, "low": mean, "high": mean}
     from scipy import stats
 
     sd = math.sqrt(sum((x - mean) ** 2 for x in xs) / (n - 1))
     half = float(stats.t.ppf(0.975, n - 1)) * sd / math.sqrt(n)
     return {"n": n, "mean": mean, "low": mean - half, "high": mean + half}
+
+
+def bar_lengths(mean: float, low: float | None, high: float | None) -> tuple[float, float]:
+    """The lengths of an interval's error bar below and above ``mean`` (matplotlib's
+    ``yerr``), never negative: an interval that misses its mean by a rounding (a
+    summary.json of an earlier version) is drawn from the mean; a missing or non-finite
+    end gives no bar on its side."""
+    def length(d):
+        return d if d is not None and math.isfinite(d) and d > 0 else 0.0
+
+    return (length(None if low is None else mean - low),
+            length(None if high is None else high - mean))
 
 
 def level_rows(plan, rows: list[dict], factor: str, level: str) -> list[dict]:

@@ -7,6 +7,10 @@ the variants that differ beyond the replicate spread (:mod:`designer.study.cost_
 error maps (cloud − true surface) of the extreme levels side by side; which factors
 matter: a least-squares model of each metric on all factors with its ANOVA table
 (:mod:`designer.study.stats`).
+
+Each figure is drawn on its own: one that cannot be drawn leaves a line in its place
+(which figure, why) and in the problems :func:`write_report` returns, and the rest of
+the report is written; so does the ANOVA table.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from pathlib import Path
 from designer.atomic import atomic_path, write_text_atomic
 from designer.study import cost_figure
 from designer.study.cost import COSTS, accuracy_metric
-from designer.study.levels import factor_levels, interval95, level_rows
+from designer.study.levels import bar_lengths, factor_levels, interval95, level_rows
 from designer.study.stats import factor_effects
 
 _LABELS = {
@@ -53,9 +57,10 @@ def draw_level_chart(ax, factor: str, levels: list[str], stats: list[dict],
     (``points``, per level); the cost in red, its axis not narrower than 20 % of its
     values (costs within a few per cent of each other look that close)."""
     for k, s in enumerate(stats):
-        if s["mean"] is None:
+        if s.get("mean") is None:
             continue
-        ax.errorbar(k, s["mean"], yerr=[[s["mean"] - s["low"]], [s["high"] - s["mean"]]],
+        below, above = bar_lengths(s["mean"], s.get("low"), s.get("high"))
+        ax.errorbar(k, s["mean"], yerr=[[below], [above]],
                     fmt="o", color="C3" if is_cost else "C0", capsize=4)
         ax.plot([k] * len(points[k]), points[k], ".", color="0.6", ms=4)
     ax.set_xticks(list(range(len(levels))), levels,
@@ -77,17 +82,20 @@ def _factor_figure(plan, rows, factor: str, metrics, path: Path) -> None:
     cost = COSTS[plan.study.cost].column
     panels = list(metrics) + [cost]
     fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels), 3.3), squeeze=False)
-    for ax, metric in zip(axes[0], panels, strict=True):
-        ok = [[r for r in level_rows(plan, rows, factor, lv) if r["status"] == "ok"]
-              for lv in levels]
-        draw_level_chart(ax, factor, levels, [interval95([r.get(metric) for r in at])
-                                              for at in ok],
-                         [[r[metric] for r in at if r.get(metric) is not None] for at in ok],
-                         label(metric), is_cost=metric == cost)
-    fig.suptitle(f"{factor}: mean and 95 % interval over replicates (grey: each run)",
-                 fontsize=10, y=1.04)
-    _save(fig, path)
-    plt.close(fig)
+    try:
+        for ax, metric in zip(axes[0], panels, strict=True):
+            ok = [[r for r in level_rows(plan, rows, factor, lv) if r["status"] == "ok"]
+                  for lv in levels]
+            draw_level_chart(ax, factor, levels, [interval95([r.get(metric) for r in at])
+                                                  for at in ok],
+                             [[r[metric] for r in at if r.get(metric) is not None]
+                              for at in ok],
+                             label(metric), is_cost=metric == cost)
+        fig.suptitle(f"{factor}: mean and 95 % interval over replicates (grey: each run)",
+                     fontsize=10, y=1.04)
+        _save(fig, path)
+    finally:
+        plt.close(fig)
 
 
 def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
@@ -119,6 +127,18 @@ def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
     y0 = min(b.bottom for _g, b, _r in grids)
     y1 = max(b.top for _g, b, _r in grids)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True)
+    try:
+        _draw_maps(fig, axes, factor, chosen, grids, vmax, (x0, x1, y0, y1))
+        _save(fig, path)
+    finally:
+        plt.close(fig)
+    return True
+
+
+def _draw_maps(fig, axes, factor: str, chosen, grids, vmax: float, extent) -> None:
+    """The two levels' maps on ``axes``, on one colour scale (±``vmax``) and one extent
+    (x0, x1, y0, y1), with their colour bar."""
+    x0, x1, y0, y1 = extent
     for ax, (level, r), (values, b, cell) in zip(axes, chosen, grids, strict=True):
         image = ax.imshow(values, extent=(b.left - x0, b.right - x0, b.bottom - y0, b.top - y0),
                           cmap="RdBu_r", vmin=-vmax, vmax=vmax, interpolation="nearest")
@@ -133,9 +153,6 @@ def _maps_figure(plan, rows, factor: str, path: Path) -> bool:
                  label="signed distance (m): + above the true surface")
     fig.suptitle("cloud − true surface, lowest and highest level (one colour scale; "
                  "grey: no points)", fontsize=10)
-    _save(fig, path)
-    plt.close(fig)
-    return True
 
 
 def _fmt(v) -> str:
@@ -146,12 +163,35 @@ def _fmt(v) -> str:
     return str(v)
 
 
+def one_line(error: BaseException, width: int = 200) -> str:
+    """An exception as one line: its type and its message's words, at most ``width``
+    characters."""
+    text = f"{type(error).__name__}: {' '.join(str(error).split())}".rstrip(": ")
+    return text if len(text) <= width else text[:width - 1] + "…"
+
+
+def _figure(draw, path: Path, what: str, problems: list[str]) -> bool:
+    """Draw one figure of the report (``draw(path)``); whether it was drawn. A figure that
+    cannot be drawn adds one line to ``problems`` (which figure, why) and leaves no file
+    (nor one of an earlier report): the rest of the report does not depend on it."""
+    try:
+        return draw(path) is not False
+    except Exception as error:  # any failure of one figure: the others stand
+        path.unlink(missing_ok=True)
+        problems.append(f"figure figures/{path.name} ({what}) not drawn: {one_line(error)}")
+        return False
+
+
 def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
+    """report.md and report.html, figures in ``out/figures``; their paths and
+    ``problems``: one line per figure or table that could not be made (each also written
+    in its place in the report)."""
     import matplotlib
 
     matplotlib.use("Agg")
     figures = out / "figures"
     figures.mkdir(exist_ok=True)
+    problems: list[str] = []
     metrics = list(plan.study.metrics)
     accuracy = accuracy_metric(metrics)
     cost = COSTS[plan.study.cost]
@@ -166,11 +206,12 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
            f"{summary['failed']}; wall time {summary.get('wall_s', 0):.0f} s.", ""]
     for f in plan.study.factors:
         name = f"factor-{f.name}.png"
-        _factor_figure(plan, rows, f.name, metrics, figures / name)
+        drawn = _figure(lambda path, f=f: _factor_figure(plan, rows, f.name, metrics, path),
+                        figures / name, f"metrics against {f.name}", problems)
         md += [f"## Factor {f.name} ({summary['factors'][f.name]['stage']})", ""]
         if f.description:
             md += [f.description, ""]
-        md += [f"![{f.name}](figures/{name})", "",
+        md += [f"![{f.name}](figures/{name})" if drawn else _capital(problems[-1]), "",
                "| level | runs | failed | " + " | ".join(label(m) for m in metrics)
                + f" | {cost.label} |",
                "|---" * (len(metrics) + 4) + "|"]
@@ -184,23 +225,18 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
                       + " | ".join(cells) + " |")
         md.append("")
         maps = f"maps-{f.name}.png"
-        if _maps_figure(plan, rows, f.name, figures / maps):
+        before = len(problems)
+        if _figure(lambda path, f=f: _maps_figure(plan, rows, f.name, path), figures / maps,
+                   f"error maps of {f.name}", problems):
             md += [f"![error maps of {f.name}](figures/{maps})", ""]
+        elif len(problems) > before:
+            md += [_capital(problems[-1]), ""]
     analysis = cost_figure.analyse(plan, rows, accuracy)
-    cost_figure.write_figure(analysis, label(accuracy), figures / "pareto.png")
-    md += cost_figure.markdown(analysis, label(accuracy), rows)
-    md += ["## Which factors matter", "",
-           "Least squares of each metric on all factors (categorical; statsmodels), type II "
-           "ANOVA: F, p and partial η² per factor; for a numeric factor, the metric's slope "
-           "per unit of it with its 95 % interval.", "",
-           "| factor | metric | levels | runs | df | F | p | partial η² | slope per unit "
-           "[95 %] |", "|---" * 9 + "|"]
-    for a in factor_effects([f.name for f in plan.study.factors], rows, metrics):
-        slope = "–" if a["slope"] is None else \
-            f"{a['slope']:.4g} [{a['slope_low']:.4g}, {a['slope_high']:.4g}]"
-        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {a['runs']} | "
-                  f"{_fmt(a['df'])} | {_fmt(a['F'])} | {_fmt(a['p'])} | {_fmt(a['eta2'])} | "
-                  f"{slope} |")
+    drawn = _figure(lambda path: cost_figure.write_figure(analysis, label(accuracy), path),
+                    figures / "pareto.png", "accuracy against cost", problems)
+    md += cost_figure.markdown(analysis, label(accuracy), rows,
+                               figure_note=None if drawn else _capital(problems[-1]))
+    md += _effects_section(plan, rows, metrics, problems)
     failed = [r for r in rows if r["status"] != "ok"]
     if failed:
         md += ["", "## Failed runs", ""] + [f"- {r['run']}: {r['status']}" for r in failed]
@@ -208,7 +244,36 @@ def write_report(plan, rows: list[dict], summary: dict, out: Path) -> dict:
     text = "\n".join(md)
     write_text_atomic(out / "report.md", text)
     write_text_atomic(out / "report.html", _html(text, plan.study.name))
-    return {"markdown": out / "report.md", "html": out / "report.html"}
+    return {"markdown": out / "report.md", "html": out / "report.html", "problems": problems}
+
+
+def _capital(line: str) -> str:
+    """A problem line as a sentence of the report."""
+    return line[:1].upper() + line[1:].rstrip(".") + "."
+
+
+def _effects_section(plan, rows: list[dict], metrics: list[str],
+                     problems: list[str]) -> list[str]:
+    """The section "Which factors matter": the ANOVA table of :func:`factor_effects`, or
+    one line saying why it could not be computed (also added to ``problems``)."""
+    md = ["## Which factors matter", "",
+           "Least squares of each metric on all factors (categorical; statsmodels), type II "
+           "ANOVA: F, p and partial η² per factor; for a numeric factor, the metric's slope "
+           "per unit of it with its 95 % interval.", "",
+           "| factor | metric | levels | runs | df | F | p | partial η² | slope per unit "
+           "[95 %] |", "|---" * 9 + "|"]
+    try:
+        effects = factor_effects([f.name for f in plan.study.factors], rows, metrics)
+    except Exception as error:  # a model the data cannot fit: the rest of the report stands
+        problems.append(f"table 'which factors matter' not computed: {one_line(error)}")
+        return md[:-2] + [_capital(problems[-1])]
+    for a in effects:
+        slope = "–" if a["slope"] is None else \
+            f"{a['slope']:.4g} [{a['slope_low']:.4g}, {a['slope_high']:.4g}]"
+        md.append(f"| {a['factor']} | {a['metric']} | {a['levels']} | {a['runs']} | "
+                  f"{_fmt(a['df'])} | {_fmt(a['F'])} | {_fmt(a['p'])} | {_fmt(a['eta2'])} | "
+                  f"{slope} |")
+    return md
 
 
 def _html(markdown: str, title: str) -> str:

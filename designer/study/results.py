@@ -161,8 +161,11 @@ def _stage(name: str) -> str:
     return FACTORS[name].stage
 
 
-def write_results(plan, report) -> dict:
-    """results.csv (+ .parquet), summary.json, report.html and report.md in the folder."""
+def write_results(plan, report) -> list[str]:
+    """results.csv (+ .parquet), summary.json, report.html and report.md in the folder;
+    what of the report could not be made, one line each (empty when all of it is
+    written). The report never fails the results: they are written before it, and a
+    report that cannot be written is one of those lines."""
     out = Path(report.out_dir)
     rows = [complete_row(r) for r in add_reused_cpu([dict(r) for r in report.rows],
                                                     recorded_step_cpu(out / STEP_CPU_DIR))]
@@ -171,10 +174,16 @@ def write_results(plan, report) -> dict:
     summary = summarise(plan, rows, report.counts)
     summary["wall_s"] = report.seconds
     write_text_atomic(out / "summary.json", json.dumps(summary, indent=1) + "\n")
-    from designer.study.report import write_report
+    from designer.study.report import one_line, write_report
 
-    write_report(plan, rows, summary, out)
-    return summary
+    try:
+        problems = write_report(plan, rows, summary, out)["problems"]
+    except Exception as error:  # a bug in the report: the finished runs stand
+        for stale in ("report.md", "report.html"):  # an earlier session's, not these runs'
+            (out / stale).unlink(missing_ok=True)
+        return [f"report: report.md and report.html not written: {one_line(error)}; "
+                "results.csv and summary.json are"]
+    return [f"report: {p}; the rest of the report is written" for p in problems]
 
 
 def _parquet(rows: list[dict], path: Path) -> None:

@@ -45,6 +45,8 @@ class StudyRunReport:
     rows: list[dict]
     counts: dict = field(default_factory=dict)
     seconds: float = 0.0
+    #: what of the report could not be made (a figure, a table), one line each
+    report_problems: list[str] = field(default_factory=list)
 
 
 def _stop_signals() -> set:
@@ -242,7 +244,7 @@ def run_study(plan: Plan, out_dir: Path, *, workers: int = 1, scheduler: str | N
     counts.update({"variants": plan.n_variants, "runs": len(rows),
                    "failed": sum(r["status"] != "ok" for r in rows)})
     report = StudyRunReport(out, rows, counts, time.perf_counter() - t0)
-    write_results(plan, report)
+    report.report_problems = write_results(plan, report)
     return report
 
 
