@@ -22,6 +22,7 @@ BENCHMARKS = {
     "study": "designer.bench.study",
     "reconstruct": "designer.bench.reconstruct",
     "rolling-adjustment": "designer.bench.rolling_adjustment",
+    "doming": "designer.bench.doming",
 }
 
 

@@ -105,5 +105,6 @@ def run(args) -> int:
         dome = dense.get("dome_amplitude_m")
         print(f"dense cloud {out / 'dense.ply'} ({dense['points']} points, {dense['matcher']}); "
               f"DoD {out / 'dod.tif'}; dome amplitude "
-              + (f"{dome:+.3f} m" if dome is not None else "none"))
+              + (f"{dome:+.3f} m over {dense.get('dome_area', 'the whole DoD')}"
+                 if dome is not None else "none"))
     return 0

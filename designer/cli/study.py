@@ -15,8 +15,8 @@ from pathlib import Path
 #: result is written; bad input is 2, an interruption 130)
 RUNS_FAILED_EXIT = 3
 
-TEMPLATES = ("gcp-count", "flight-geometry", "altitude", "rig-obliques", "rolling-shutter",
-             "example-processing", "tiny")
+TEMPLATES = ("gcp-count", "flight-geometry", "doming", "altitude", "rig-obliques",
+             "rolling-shutter", "example-processing", "tiny")
 
 
 def register(subparsers) -> None:

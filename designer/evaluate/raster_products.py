@@ -101,9 +101,10 @@ def _limit(dod: Raster) -> float:
 
 
 def write_dod_png(path, dod: Raster, dome: DomeFit | None = None, stats: dict | None = None,
-                  gsd_m: float | None = None) -> Path:
+                  gsd_m: float | None = None, dome_area_world=None) -> Path:
     """DoD map: diverging colours symmetric about 0 (±98 % quantile of |DoD|), colour
-    bar, the statistics and the dome amplitude in the title."""
+    bar, the statistics and the dome amplitude in the title; ``dome_area_world``: the
+    polygon the dome was fitted over, outlined."""
     limit = _limit(dod)
     fig = _figure()
     ax = fig.add_subplot()
@@ -119,6 +120,10 @@ def write_dod_png(path, dod: Raster, dome: DomeFit | None = None, stats: dict | 
     if dome is not None:
         gsd = f" = {dome.amplitude_gsd:+.2f} GSD" if dome.amplitude_gsd is not None else ""
         title += f", {dome.kind} {dome.amplitude_m:+.4f} m{gsd}"
+        if dome_area_world is not None:
+            title += " over the survey area (outlined)"
+            ring = np.vstack([dome_area_world, dome_area_world[:1]])
+            ax.plot(ring[:, 0], ring[:, 1], "-", color="k", lw=0.8)
     ax.set_title(title, fontsize=10)
     ax.set_xlabel("easting (m)")
     ax.set_ylabel("northing (m)")
@@ -158,14 +163,75 @@ def write_dod_profile_png(path, dod: Raster, dome: DomeFit | None = None) -> Pat
     return _save(fig, path)
 
 
+#: fewest DoD cells inside the survey area for the dome to be fitted there
+MIN_DOME_CELLS = 36
+
+
+def _cells_inside(grid, polygon_world: np.ndarray) -> np.ndarray:
+    """(rows, cols) mask of the cells of ``grid`` whose centre lies in the polygon."""
+    from designer.scene.buildings import points_in_polygon
+
+    x, y = grid.centres_local()
+    X, Y = np.meshgrid(x, y)
+    origin = polygon_world[0]
+    return points_in_polygon(X + (grid.x_min - origin[0]), Y + (grid.y_max - origin[1]),
+                             polygon_world - origin)
+
+
+def _dome_dict(dome) -> dict:
+    return {"kind": dome.kind, "amplitude_m": dome.amplitude_m,
+            "amplitude_gsd": dome.amplitude_gsd, "peak_world": list(dome.peak_world),
+            "rms_residual_m": dome.rms_residual_m, "cells": dome.n_cells}
+
+
+def dome_over_area(dod: Raster, gsd_m: float | None, survey_area_world=None):
+    """(dome fit, the area it covers: "the survey area" or "the whole DoD") of ``dod``:
+    over the cells inside ``survey_area_world`` ((K, 2) world polygon) when there are
+    at least :data:`MIN_DOME_CELLS` of them, else over every valid cell."""
+    if survey_area_world is not None:
+        inside = _cells_inside(dod.grid, np.asarray(survey_area_world, float)) & dod.valid
+        if int(inside.sum()) >= MIN_DOME_CELLS:
+            return (fit_dome(Raster(np.where(inside, dod.values, np.nan), dod.grid), gsd_m),
+                    "the survey area")
+    return fit_dome(dod, gsd_m), "the whole DoD"
+
+
+def cloud_dome(points_world, true_mesh, cell_m: float, gsd_m: float | None = None,
+               survey_area_world=None) -> dict:
+    """The dome of a cloud (N, 3 world) against the true mesh, as
+    :func:`write_raster_products` fits it, without writing files: a median DSM of
+    ``cell_m`` cells minus the true surface, fitted over the survey area."""
+    from designer.evaluate.distance import _mesh_arrays
+
+    vertices, faces = _mesh_arrays(true_mesh)
+    points = np.asarray(points_world, dtype=np.float64)
+    lo = np.maximum(points[:, :2].min(axis=0), vertices[:, :2].min(axis=0))
+    hi = np.minimum(points[:, :2].max(axis=0), vertices[:, :2].max(axis=0))
+    if not (hi > lo).all():
+        raise DesignerError("dome: the cloud and the true mesh do not overlap in plan")
+    dsm = dsm_from_points(points, cell_m, (lo[0], lo[1], hi[0], hi[1]))
+    dod = dem_of_difference(dsm, surface_raster(vertices, faces, dsm.grid))
+    dome, area = dome_over_area(dod, gsd_m, survey_area_world)
+    return {**_dome_dict(dome), "area": area, "cell_m": float(cell_m)}
+
+
 def write_raster_products(out_dir, cloud_points_world, true_mesh, crs, cell_m: float,
-                          gsd_m: float | None = None) -> dict:
+                          gsd_m: float | None = None, survey_area_world=None) -> dict:
     """Grid the cloud (N, 3) world into a median DSM, rasterise the true mesh
     ((vertices, faces), a ReferenceMesh or a TerrainMesh) on the same grid and write
     dsm.tif, surface.tif, dod.tif, dod.png and dod_profile.png into ``out_dir``.
 
     The grid covers the part of the cloud's extent inside the mesh's. Returns the
-    summary: DoD statistics, dome amplitude (m and GSD), grid and file names."""
+    summary: DoD statistics, dome amplitude (m and GSD), grid and file names.
+
+    The dome is fitted over ``survey_area_world`` ((K, 2) world polygon: the area the
+    flight was planned over) when it is given and holds at least
+    :data:`MIN_DOME_CELLS` DoD cells, else over the whole DoD; ``dome_whole_dod`` is
+    the fit over the whole DoD either way. A peak-to-edge amplitude grows with the
+    square of the area fitted, and a cloud reaches as far beyond the survey area as the
+    images look — farther for tilted images —, with the few, narrow-baseline views of
+    the block's edge there: over the survey area, flights of different geometry are
+    measured on the same ground (docs/processing.md, "Doming: measured")."""
     from designer.evaluate.distance import _mesh_arrays
 
     vertices, faces = _mesh_arrays(true_mesh)
@@ -182,7 +248,8 @@ def write_raster_products(out_dir, cloud_points_world, true_mesh, crs, cell_m: f
     dsm = dsm_from_points(points, cell_m, (lo[0], lo[1], hi[0], hi[1]))
     surface = surface_raster(vertices, faces, dsm.grid)
     dod = dem_of_difference(dsm, surface)
-    dome = fit_dome(dod, gsd_m)
+    whole = fit_dome(dod, gsd_m)
+    dome, area_name = dome_over_area(dod, gsd_m, survey_area_world)
     stats = dod_statistics(dod, surface)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -193,14 +260,15 @@ def write_raster_products(out_dir, cloud_points_world, true_mesh, crs, cell_m: f
                   description="true surface: highest mesh triangle at the cell centre")
     write_geotiff(out / files["dod"], dod, crs, dtype="float32",
                   description="DoD: DSM minus true surface")
-    write_dod_png(out / files["dod_png"], dod, dome, stats, gsd_m)
+    write_dod_png(out / files["dod_png"], dod, dome, stats, gsd_m,
+                  np.asarray(survey_area_world, float) if area_name == "the survey area"
+                  else None)
     write_dod_profile_png(out / files["dod_profile"], dod, dome)
     g = dsm.grid
     return {
         "cell_m": g.cell_m, "rows": g.rows, "cols": g.cols, "x_min": g.x_min, "y_max": g.y_max,
         "dsm_statistic": "median", "gsd_m": gsd_m, "dod": stats,
-        "dome": {"kind": dome.kind, "amplitude_m": dome.amplitude_m,
-                 "amplitude_gsd": dome.amplitude_gsd, "peak_world": list(dome.peak_world),
-                 "rms_residual_m": dome.rms_residual_m},
+        "dome": {**_dome_dict(dome), "area": area_name},
+        "dome_whole_dod": _dome_dict(whole),
         "files": files,
     }

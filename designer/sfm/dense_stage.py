@@ -50,6 +50,7 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
     from designer.evaluate.compare import reference_mesh
     from designer.evaluate.raster_products import write_raster_products
     from designer.project import load_project
+    from designer.sfm.dome import survey_area_world
 
     project = load_project(project_path)
     truth = reference_mesh(project_path)
@@ -67,7 +68,8 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
     write_las(out / "dense.laz", cloud, epsg_of(project.crs), origin)
     t = time.perf_counter()
     cell_m = DSM_CELL_GSD * gsd_m
-    rasters = write_raster_products(out, cloud.points_world, truth, project.crs, cell_m, gsd_m)
+    rasters = write_raster_products(out, cloud.points_world, truth, project.crs, cell_m, gsd_m,
+                                    survey_area_world=survey_area_world(project))
     seconds["rasters_s"] = time.perf_counter() - t
     return {"status": "ok", "matcher": cloud.matcher, "points": len(cloud),
             "max_image_size_px": max_image_size_px, "dsm_cell_m": cell_m,
@@ -75,4 +77,7 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
             "dome_amplitude_m": rasters["dome"]["amplitude_m"],
             "dome_amplitude_gsd": rasters["dome"]["amplitude_gsd"],
             "dome_kind": rasters["dome"]["kind"],
+            "dome_area": rasters["dome"]["area"],
+            "dome_whole_dod_m": rasters["dome_whole_dod"]["amplitude_m"],
+            "dome_whole_dod_gsd": rasters["dome_whole_dod"]["amplitude_gsd"],
             "rasters": rasters, **seconds}

@@ -376,12 +376,15 @@ def reconstruct(
         "similarity": sim_info, "gcps": rows, "timings": timings, "stage_seconds": timings,
         "dense": {"mode": p.dense, "status": "off", "dome_amplitude_m": None},
     }
+    from designer.sfm.settings import project_of_survey
+
+    truth_project = project_path or project_of_survey(survey)
+    gsd_m = _gsd_m(truth, true_camera, offset, rec)
+    summary["sparse_dome"] = _sparse_dome(rec, truth_project, gsd_m, log)
     if p.dense != "none":
         from designer.sfm.dense_stage import run_dense_stage
-        from designer.sfm.settings import project_of_survey
 
-        gsd_m = _gsd_m(truth, true_camera, offset, rec)
-        dense = run_dense_stage(survey, out, model_dir, project_path or project_of_survey(survey),
+        dense = run_dense_stage(survey, out, model_dir, truth_project,
                                 offset, gsd_m, max_image_size_px=dense_max_image_px, log=log)
         summary["dense"] = {"mode": p.dense, **dense}
         timings["dense_s"] = dense["dense_s"]
@@ -390,6 +393,25 @@ def reconstruct(
     log(f"{len(tied)}/{len(names)} images registered, {rec.num_points3D()} points")
     return ReconstructionResult(out, mode, len(names), len(tied),
                                 rec.num_points3D(), cloud, residuals, summary)
+
+
+def _sparse_dome(rec, project_path: Path | None, gsd_m: float, log) -> dict | None:
+    """The dome of the tie points (world frame) over the survey area
+    (designer.sfm.dome), or None without the project or with too few points."""
+    if project_path is None or not Path(project_path).is_file():
+        return None
+    from designer.sfm.dome import sparse_dome
+
+    points = np.array([pt.xyz for pt in rec.points3D.values()]).reshape(-1, 3)
+    try:
+        dome = sparse_dome(points, project_path, gsd_m)
+    except DesignerError as error:
+        log(f"tie-point dome not measured: {error}")
+        return None
+    if dome is not None:
+        log(f"tie points: {dome['kind']} {dome['amplitude_m']:+.4f} m "
+            f"({dome['amplitude_gsd']:+.2f} GSD) over {dome['area']}")
+    return dome
 
 
 def _pre_error(pre, index: int):
@@ -560,7 +582,7 @@ def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     options.mapper.init_min_tri_angle = 4.0
     options.mapper.init_min_num_inliers = 50
     (options.ba_refine_focal_length, options.ba_refine_principal_point,
-     options.ba_refine_extra_params) = _mapper_refines(calibration)
+     options.ba_refine_extra_params) = mapper_refines(calibration)
     maps = pycolmap.incremental_mapping(db_path, image_dir, sparse, options=options)
     if not maps:
         raise DesignerError(
@@ -569,7 +591,7 @@ def _incremental(pycolmap, db_path, image_dir, sparse, calibration: str):
     return max(maps.values(), key=lambda r: r.num_reg_images())
 
 
-def _mapper_refines(calibration: str) -> tuple[bool, bool, bool]:
+def mapper_refines(calibration: str) -> tuple[bool, bool, bool]:
     """(focal length, principal point, distortion) the mapper's own adjustments refine
     for the calibration mode: at most the focal length (COLMAP's own default); the
     principal point and distortion are estimated in the final adjustment, with exactly
@@ -587,7 +609,7 @@ def _global(pycolmap, db_path, image_dir, sparse, calibration: str):
     options.random_seed = 0  # the same images give the same model
     ba = options.mapper.bundle_adjustment
     ba.refine_focal_length, ba.refine_principal_point, ba.refine_extra_params = \
-        _mapper_refines(calibration)
+        mapper_refines(calibration)
     ba.refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
     maps = pycolmap.global_mapping(db_path, image_dir, sparse, options=options)
     if not maps:

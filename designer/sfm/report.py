@@ -30,6 +30,28 @@ def rmse_stats(rows: list[dict]) -> dict:
             if len(px) else None}
 
 
+def k1_beyond_focal_trade(estimated: np.ndarray, true: np.ndarray,
+                          size_px: tuple[int, int]) -> float:
+    """The radial distortion error that can bend a flat block, as a k1 error: on flat
+    ground under parallel axes, a camera of focal length c·f with radial terms c²·k1,
+    c⁴·k2, c⁶·k3 images the plane exactly as the true camera from c times the height, so
+    that part of a k1 error (the "focal trade") moves the cameras, not the ground. The
+    rest — the estimated radial factor minus the true one scaled to the estimated focal
+    length (c = f_est / f_true), fitted by least squares as δ·ρ² over the normalised
+    radii ρ out to the image corner — is returned as δ (dimensionless, FULL_OPENCV
+    parameters; 0 for a camera that differs from the truth by the trade alone)."""
+    est, tru = np.asarray(estimated, float), np.asarray(true, float)
+    f_est, f_true = 0.5 * (est[0] + est[1]), 0.5 * (tru[0] + tru[1])
+    c = f_est / f_true
+    W, H = size_px
+    rho2 = (np.linspace(0.0, np.hypot(W / 2, H / 2), 64) / f_est) ** 2
+    k_est = est[4] * rho2 + est[5] * rho2 ** 2 + est[8] * rho2 ** 3
+    k_eq = (c ** 2 * tru[4] * rho2 + c ** 4 * tru[5] * rho2 ** 2
+            + c ** 6 * tru[8] * rho2 ** 3)
+    d = k_est - k_eq
+    return float(np.dot(d, rho2) / np.dot(rho2, rho2))
+
+
 def _radial_px(params: np.ndarray, r_px: np.ndarray) -> np.ndarray:
     """Radial displacement (px) at image radius ``r_px`` of FULL_OPENCV parameters."""
     f = 0.5 * (params[0] + params[1])
@@ -53,6 +75,7 @@ def intrinsics_report(estimated: np.ndarray, true: np.ndarray, start: np.ndarray
         "delta_fx_px": float(est[0] - tru[0]), "delta_fy_px": float(est[1] - tru[1]),
         "delta_cx_px": float(est[2] - tru[2]), "delta_cy_px": float(est[3] - tru[3]),
         "delta_k1": float(est[4] - tru[4]), "delta_k2": float(est[5] - tru[5]),
+        "k1_beyond_focal_trade": k1_beyond_focal_trade(est, tru, size_px),
         "delta_k3": float(est[8] - tru[8]), "delta_p1": float(est[6] - tru[6]),
         "delta_p2": float(est[7] - tru[7]),
         "radial_difference_px": {"radius_px": r.tolist(), "difference_px": diff.tolist(),

@@ -36,6 +36,9 @@ _LABELS = {
     "dtm_cloud_rmse_m": "cloud − bare earth RMSE (m)", "registered": "registered images",
     "control_rmse_xyz_m": "control-point RMSE 3D (m)", "focal_error_px": "focal error (px)",
     "k1_error": "k1 error", "dome_amplitude_m": "DoD dome amplitude (m)",
+    "dome_amplitude_gsd": "DoD dome amplitude (GSD)",
+    "sparse_dome_gsd": "tie-point dome amplitude (GSD)",
+    "k1_error_beyond_focal": "k1 error beyond the focal trade",
     "total_s": "seconds per run (on its own)", "render_s": "render seconds",
 }
 _LABELS.update({c.column: c.label for c in COSTS.values()})

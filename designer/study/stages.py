@@ -253,7 +253,11 @@ def _process(survey: Path, project_path: Path, out: Path, feature_cache: Path | 
     intr = s.get("intrinsics") or {}
     row["focal_error_px"] = intr.get("delta_f_px")
     row["k1_error"] = intr.get("delta_k1")
-    row["dome_amplitude_m"] = (s.get("dense") or {}).get("dome_amplitude_m")
+    row["k1_error_beyond_focal"] = intr.get("k1_beyond_focal_trade")
+    dense = s.get("dense") or {}
+    row["dome_amplitude_m"] = dense.get("dome_amplitude_m")
+    row["dome_amplitude_gsd"] = dense.get("dome_amplitude_gsd")
+    row["sparse_dome_gsd"] = (s.get("sparse_dome") or {}).get("amplitude_gsd")
     if rec.n_points >= 10:
         cloud = read_point_cloud(rec.cloud_ply)
         # both surfaces from one build of the terrain

@@ -85,6 +85,25 @@ STUDIES = {
                         '  <replicates count="2" vary="marking-error pre-calibration"/>\n'
                         '  <metrics>dome_amplitude_m check_rmse_z_m cloud_median_m k1_error'
                         '</metrics>\n'),
+    "doming": ("Does a self-calibrated parallel block over flat ground dome, and does a "
+               "convergent flight cure it (James and Robson 2014)? A flat 120 m field flown "
+               "over 60 x 60 m at 30 m (GSD 6 cm) nadir or with the camera tilted 20 deg "
+               "forward (the view alternating with the line direction), self-calibrated "
+               "(radial) from a pre-calibration wrong by 5 px in f and 0.02 in k1, the GCPs "
+               "as a similarity, 4 DN of sensor noise; with the SIFT features of a full "
+               "survey (4096 an image) and of a weak one (512). Each replicate re-draws the "
+               "pre-calibration and the marking error; the dome is measured on the dense "
+               "cloud over the flown area.",
+               '  <factor name="tilt-deg">\n'
+               '    <description>forward camera tilt (0: parallel axes)</description>\n'
+               '    <values>0 20</values>\n  </factor>\n'
+               '  <factor name="max-features">\n'
+               '    <description>SIFT features per image</description>\n'
+               '    <values>512 4096</values>\n  </factor>\n'
+               '  <design>full-factorial</design>\n'
+               '  <replicates count="3" vary="pre-calibration marking-error"/>\n'
+               '  <metrics>dome_amplitude_gsd check_rmse_z_gsd focal_error_px k1_error '
+               'k1_error_beyond_focal</metrics>\n'),
     "altitude": ("Flight altitude (GSD) against accuracy and render time.",
                  '  <factor name="altitude-m">\n'
                  '    <range start="25" stop="40" step="5"/>\n  </factor>\n'
@@ -178,6 +197,8 @@ def template_base(name: str) -> m.Project:
         time_line = m.TimeLine("2026-06-21T09:30:00Z", speed_m_s=8.0, turn_s=5.0)
         return replace(p, cameras=(cam,),
                        trajectory=replace(p.trajectory, time_line=time_line))
+    if name == "doming":
+        return doming_base()
     if name == "flight-geometry":
         p = base_project()
         cam = replace(p.cameras[0], distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
@@ -185,6 +206,32 @@ def template_base(name: str) -> m.Project:
             "fixed", m.PreCalibrationError(focal_px=5.0, k1=0.02, seed=1)), dense="cpu")
         return replace(p, cameras=(cam,), processing=proc)
     return base_project()
+
+
+def doming_base() -> m.Project:
+    """The flight-geometry base over flat ground: a 120 × 120 m field at the origin's
+    height, the GCPs spread twice as wide, a 60 × 60 m flight at front 80 % / side 65 %
+    (75 images nadir, 95 tilted 20° forward), 4 DN of sensor noise, radial
+    self-calibration and the GCPs as a similarity."""
+    p = template_base("flight-geometry")
+    E0, N0, H0 = ORIGIN
+    targets = tuple(replace(t, true=m.TruePosition(E0 + 2.0 * (t.true.X - E0),
+                                                   N0 + 2.0 * (t.true.Y - N0)))
+                    for t in p.targets)
+    scene = replace(p.scene,
+                    terrain=m.Terrain(m.Extent(E0 - 60, N0 - 60, E0 + 60, N0 + 60),
+                                      m.FlatTerrain(H0)),
+                    targets=replace(p.scene.targets, targets=targets))
+    plan = replace(p.trajectory.flight_plan,
+                   area=((E0 - 30, N0 - 30), (E0 + 30, N0 - 30), (E0 + 30, N0 + 30),
+                         (E0 - 30, N0 + 30)),
+                   front_overlap_percent=80.0, side_overlap_percent=65.0)
+    processing = replace(p.processing,
+                         calibration=replace(p.processing.calibration, mode="radial"),
+                         gcps=replace(p.processing.gcps, mode="similarity"))
+    return replace(p, scene=scene, trajectory=m.Trajectory(flight_plan=plan),
+                   processing=processing,
+                   effects=m.Effects(sensor_noise=m.SensorNoise(4.0, seed=1)))
 
 
 def write_template(name: str, path: Path) -> list[Path]:

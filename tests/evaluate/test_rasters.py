@@ -182,3 +182,28 @@ def test_all_nan_dsm_and_empty_clouds_are_clear_errors(tmp_path):
     with pytest.raises(DesignerError, match="EPSG code"):
         write_raster_products(tmp_path / "y", V, (V, F), "no such crs", 0.5)
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+
+
+def test_the_dome_is_fitted_over_the_survey_area_not_the_cloud_beyond_it(tmp_path):
+    """A flat cloud over the flown area whose edge, beyond the area, rises 5 cm — the
+    few, narrow-baseline views at a block's edge, which reach farther for tilted images
+    (docs/processing.md, "Doming: measured"): the dome over the survey area is nil,
+    over the whole DoD it is the edge; a survey area too small to fit falls back."""
+    rng = np.random.default_rng(5)
+    V, F = grid_mesh(tilted, E0, N0, 100.0, 11)
+    xy = rng.uniform([E0 + 2, N0 + 2], [E0 + 98, N0 + 98], size=(200_000, 2))
+    beyond = np.maximum(np.abs(xy - [E0 + 50, N0 + 50]).max(axis=1) - 30.0, 0.0)
+    z = tilted(xy[:, 0], xy[:, 1]) + 0.05 * (beyond / 18.0) ** 2 + rng.normal(0, 0.003, len(xy))
+    area = np.array([[E0 + 20, N0 + 20], [E0 + 80, N0 + 20], [E0 + 80, N0 + 80],
+                     [E0 + 20, N0 + 80]])
+    summary = write_raster_products(tmp_path / "r", np.column_stack([xy, z]), (V, F),
+                                    "EPSG:32632", 1.0, gsd_m=0.06, survey_area_world=area)
+    assert summary["dome"]["area"] == "the survey area"
+    assert abs(summary["dome"]["amplitude_m"]) < 0.003, summary["dome"]
+    assert summary["dome_whole_dod"]["amplitude_m"] < -0.015, summary["dome_whole_dod"]
+    assert summary["dome"]["cells"] == pytest.approx(60 * 60, rel=0.05)
+    tiny = area[:1] + np.array([[0, 0], [3, 0], [3, 3], [0, 3]])
+    fallback = write_raster_products(tmp_path / "s", np.column_stack([xy, z]), (V, F),
+                                     "EPSG:32632", 1.0, gsd_m=0.06, survey_area_world=tiny)
+    assert fallback["dome"]["area"] == "the whole DoD"
+    assert fallback["dome"]["amplitude_m"] == fallback["dome_whole_dod"]["amplitude_m"]
