@@ -25,14 +25,15 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from designer.project.load import load_project
+    from designer.project.load import load_project_located
     from designer.project.problems import ProjectError
     from designer.project.summary import summary_line
 
     status = 0
     for path in args.projects:
         try:
-            project = load_project(path, check_files=not args.no_files)
+            project, smap = load_project_located(path, check_files=not args.no_files)
+            _refuse_low_stations(path, project, smap, args)
         except ProjectError as error:
             for line in error.lines:
                 print(line, file=sys.stderr)
@@ -52,6 +53,20 @@ def run(args) -> int:
         _warn_hard_cases(path, project, args)
         _warn_terrain_reach(path, project, args)
     return status
+
+
+def _refuse_low_stations(path: Path, project, smap, args) -> None:
+    """Raise a ProjectError when camera stations lie under the terrain, a building or a
+    plant (designer.survey.station_clearance): their images and figures are meaningless.
+    Not with --no-files (the terrain may be a file)."""
+    if args.no_files:
+        return
+    from designer.project.problems import ProjectError
+    from designer.survey.station_clearance import clearance_issues
+
+    issues = clearance_issues(project, path.parent)
+    if issues:
+        raise ProjectError(str(path), [smap.locate(i) for i in issues])
 
 
 def _warn_surroundings(path: Path, project, args) -> None:

@@ -136,6 +136,9 @@ CODES = {
                                       "shutter (``value``: its id)",
     "name-vs-format": "a photo's name whose extension is not the output format's "
                       "(``value``: the format; ``choices``: its extensions)",
+    "stations-too-low": "camera stations below, or within the camera's near distance of, "
+                        "the terrain, a building or a plant (``value``: a "
+                        "designer.survey.station_clearance.LowStations)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }

@@ -369,6 +369,8 @@ def issue_text(issue: Issue) -> str:
                 "Vegetation panel")
     if issue.code == "lens-folds":
         return _folds_text(issue.obj)
+    if issue.code == "stations-too-low":
+        return f"{issue.value.sentence()}; {issue.value.panel_fix()}"
     if issue.code == "scale-not-whole" and d is not None:
         size = getattr(issue.obj, d.name)
         return (f"camera '{issue.obj.id}': {d.label} {size} px × resolution scale "
@@ -442,6 +444,14 @@ def problem_text(problem: Problem | str, source: str) -> str:
     text = issue_text(problem.issue)  # a value's starts with the field's label
     worded = f"{place} › {text}" if place else text
     return Problem(worded, problem.line, problem.column).format(source)
+
+
+def issue_line(issue: Issue) -> str:
+    """An issue found in the window's own model (no place in a file): the panel that
+    fixes it and :func:`issue_text` (``Flight › 12 of 60 camera stations …``)."""
+    place = _place(issue)
+    text = issue_text(issue)
+    return f"{place} › {text}" if place else text
 
 
 def point_text(xyz) -> str:
