@@ -88,11 +88,16 @@ def _warn_hard_cases(path: Path, project, args) -> None:
     """Warnings (stderr, exit status unchanged) where the project walks into a case that
     degrades results: nearly collinear control, GSD against texel, a lens close to its
     fold (designer.survey.hard_cases, docs/hard-cases.md)."""
-    from designer.survey.hard_cases import distortion_warning, hard_case_warnings
+    from designer.survey.hard_cases import (
+        distortion_warning,
+        hard_case_warnings,
+        optics_warnings,
+    )
 
-    if args.no_files:  # the terrain may be a file: only the lens is checked
+    if args.no_files:  # the terrain may be a file: only the lens and optics are checked
         warnings = [w for cam in project.cameras
                     if (w := distortion_warning(cam, project.render.resolution_scale))]
+        warnings += optics_warnings(project)
     else:
         warnings = hard_case_warnings(project, path.parent)
     for warning in warnings:
