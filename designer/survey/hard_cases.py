@@ -352,7 +352,7 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
         out.append(HardCaseWarning(
             "trajectory", f"{n_images} image{'s' if n_images != 1 else ''}: structure from "
             "motion needs at least 3 overlapping images (designer reconstruct refuses fewer)",
-            "add photos, or fly a <flight-plan> over the area",
+            "add photos, or fly a flight plan over the area",
             "add photos, or draw a flight area in the Flight panel"))
     lines = {int(k) for k in line_indices}
     if n_images >= 3 and len(lines) == 1 and min(lines) >= 0:

@@ -429,6 +429,22 @@ def field_place(issue: Issue) -> str | None:
     return None if panel is None or d is None else f"{panel} › {d.label}"
 
 
+_TAG = re.compile(r"</?([A-Za-z][\w.-]*)(?:\s[^<>]*)?/?>")
+_ELEMENT = re.compile(r"^((?:[^:]*:){3} )<([A-Za-z][\w.-]*)>: ")
+
+
+def untagged(message: str) -> str:
+    """A schema error about the file's structure (an element unknown, missing, out of
+    order: only a hand-edited file has them) without XML's angle brackets: the element it
+    is about leads as its title, the elements it names are quoted (“camera”)."""
+    def lead(mt) -> str:
+        title = element_title(mt.group(2), None, None) or mt.group(2)
+        return f"{mt.group(1)}{title}: "
+
+    message = _ELEMENT.sub(lead, message, count=1)
+    return _TAG.sub(lambda mt: f"“{mt.group(1)}”", message)
+
+
 def problem_text(problem: Problem | str, source: str) -> str:
     """A problem as a line of the window's Problems list: ``FILE:LINE:COL:`` (the place)
     and, for a value out of range or not among its choices, the panel and field as the
@@ -438,8 +454,10 @@ def problem_text(problem: Problem | str, source: str) -> str:
     message) as its text with field names as labelled and numbers in fixed point."""
     if isinstance(problem, str):
         return humanize(problem)
+    if problem.words is not None:  # the file as a whole: no line, no element
+        return f"{source}: {problem.words}"
     if problem.issue is None:
-        return humanize(problem.format(source))
+        return humanize(untagged(problem.format(source)))
     place = _place(problem.issue)
     text = issue_text(problem.issue)  # a value's starts with the field's label
     worded = f"{place} › {text}" if place else text
