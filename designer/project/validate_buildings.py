@@ -91,7 +91,7 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
                             ("ridge-direction-deg", b.ridge_direction_deg)):
             if value is not None:
                 out.append(Issue(b, "building", f"a flat roof has no ridge; remove {attr} or "
-                                 "give roof=\"gable\" or \"hip\"", attr=attr,
+                                 "choose a gable or hip roof", attr=attr,
                                  code="flat-roof-ridge"))
     elif pitched:
         r = b.ridge_height_m
@@ -158,7 +158,7 @@ def _rectangle(b: m.Building, xy: list[tuple[float, float]]) -> list[Issue]:
                  else f"has a corner {error:.2f} deg off a right angle")
         return [Issue(b, "footprint", f"building '{b.id}': a {b.roof} roof is built on a "
                       f"rectangular footprint (four corners within {RECTANGLE_TOL_DEG:g} deg of "
-                      f"a right angle); this one {shape}: use roof=\"flat\" or a rectangle",
+                      f"a right angle); this one {shape}: choose a flat roof or a rectangle",
                       key="footprint", code="pitched-roof-shape")]
     if b.ridge_direction_deg is None:
         return []

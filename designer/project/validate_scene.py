@@ -62,9 +62,9 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
                                       f"{e.max_Y!r}; swap or correct them", attr="min-Y",
                          code="order", value=(e.min_Y, e.max_Y)))
     if terrain.surroundings == "auto" and isinstance(src, m.MeshTerrain):
-        out.append(Issue(terrain, "surroundings", "mode=\"auto\" continues a height-field "
-                         "terrain (flat, procedural or DEM); a mesh terrain cannot be "
-                         "continued: use mode=\"none\" or a DEM", attr="mode",
+        out.append(Issue(terrain, "surroundings", "surroundings mode auto continues a "
+                         "height-field terrain (flat, procedural or DEM); a mesh terrain "
+                         "cannot be continued: choose mode none or a DEM", attr="mode",
                          code="surroundings-need-height-field", value=terrain.surroundings))
     if isinstance(src, m.ProceduralTerrain):
         if src.min_height_m > src.max_height_m:

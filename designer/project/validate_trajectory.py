@@ -167,7 +167,7 @@ def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     # (designer.project.validate_declared)
     if (fp.altitude_agl_m is None) == (fp.gsd_m is None):
         out.append(Issue(fp, "flight-plan", "give exactly one of the flight height above ground "
-                                              "(altitude-agl-m) and the GSD (gsd-m)"))
+                                              "and the GSD"))
     ref = fp.altitude_reference
     if not (ref in ("mean", "max", "min") if isinstance(ref, str) else is_ok(ref)):
         out.append(Issue(fp, "altitude-reference", f"altitude reference {ref!r} must be mean, "
@@ -178,7 +178,7 @@ def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     if clash is not None:
         out.append(Issue(clash, "photo", f"image name '{clash.name}' clashes with the names "
                          f"the flight plan gives its photos ({fp.image_prefix}0001, ...); "
-                         "rename the photo or change image-prefix", attr="name"))
+                         "rename the photo or change the flight plan's image prefix", attr="name"))
     return out
 
 

@@ -52,7 +52,7 @@ def world_issues(project: m.Project) -> list[Issue]:
         if not declared_field(m.ExteriorOrientation, "time_s").in_range(p.time_s):
             continue  # validate_declared names it
         if last is not None and p.time_s < last.time_s:
-            out.append(Issue(p, "photo", f"photo '{p.name}' at time-s {p.time_s:g} s comes "
+            out.append(Issue(p, "photo", f"photo '{p.name}' at {p.time_s:g} s comes "
                              f"before '{last.name}' ({last.time_s:g} s) which is flown first; "
                              "give the photos in the order they are taken", attr="time-s"))
         else:
@@ -79,8 +79,8 @@ def world_issues(project: m.Project) -> list[Issue]:
 def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
     out = []
     if parse_utc(tl.takeoff_utc) is None:
-        out.append(Issue(tl, "time-line", f"takeoff-utc {tl.takeoff_utc!r} is not an ISO 8601 "
-                         f"moment in UTC; write it with Z, e.g. {EXAMPLE_UTC}",
+        out.append(Issue(tl, "time-line", f"the take-off time {tl.takeoff_utc!r} is not an "
+                         f"ISO 8601 moment in UTC; write it with Z, e.g. {EXAMPLE_UTC}",
                          attr="takeoff-utc"))
     interval = tl.trigger_interval_s
     if interval is None or element_issues(tl):  # ranges: validate_declared
@@ -159,7 +159,7 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
         if not ok:
             out.append(Issue(sun, "sun-over-time", f"the project CRS {project.crs!r} is not a "
                              "projected CRS PROJ knows, so the site's latitude and longitude "
-                             "cannot be found; give latitude-deg and longitude-deg"))
+                             "cannot be found; give the site's latitude and longitude"))
     return out
 
 
@@ -178,8 +178,8 @@ def _moving_objects(project: m.Project) -> list[Issue]:
         seen.add(obj.id)
         if (obj.shape is None) == (obj.file is None):
             out.append(Issue(obj, "object", f"moving object '{obj.id}' needs exactly one of "
-                             "shape and file; give shape=\"car\", \"person\" or \"box\", "
-                             "or a mesh file", attr="shape", code="shape-or-mesh"))
+                             "shape and file; give a shape (car, person or box) or a "
+                             "mesh file", attr="shape", code="shape-or-mesh"))
         elif obj.shape is not None and obj.shape not in m.MOVING_SHAPES:
             out.append(Issue(obj, "object", f"unknown shape {obj.shape!r}; use one of "
                              f"{', '.join(m.MOVING_SHAPES)} or give a mesh file",
@@ -263,7 +263,7 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
         if (g.kind is None) == (g.mesh is None):
             kinds = ", ".join(f'"{k}"' for k in m.PLANT_KINDS)
             out.append(Issue(g, "plants", "a plant group needs exactly one of kind and mesh; give "
-                             f"kind={kinds} or a mesh file", attr="kind",
+                             f"a kind ({kinds}) or a mesh file", attr="kind",
                              code="shape-or-mesh"))
         elif g.kind is not None and g.kind not in m.PLANT_KINDS:
             out.append(Issue(g, "plants", f"unknown plant kind {g.kind!r}; use one of "
