@@ -126,7 +126,7 @@ def _content_problem(data: bytes) -> Problem | None:
         return Problem("<project>: the file is empty; create a project with 'designer new "
                        "FILE --template survey'",
                        words="the file is empty; start a project from a template (File › "
-                             "New from template)")
+                             "New)")
     if data.startswith(_UTF16_BOMS):
         return None  # UTF-16 text is legal XML; the parser reads it
     head = data[:65536]
@@ -175,7 +175,7 @@ def _check_root(root: etree._Element, source: str) -> None:
             f"not '{qname.localname}'; this is not a designer project file", line, 1,
             words=f"this is not a designer project file (it holds a '{qname.localname}', "
                   "not a project); open a project file, or start one from a template (File "
-                  "› New from template)")])
+                  "› New)")])
     ns = qname.namespace
     if ns and ns.startswith(NAMESPACE_PREFIX) and ns != NAMESPACE:
         found = f"schema-version {version}" if version else f"namespace {ns}"
