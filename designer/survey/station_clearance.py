@@ -155,8 +155,13 @@ class LowStations:
             ("terrain",): f"below the terrain or within {near} of it",
             ("buildings",): f"inside buildings or within {near} of their roofs",
             ("vegetation",): f"inside plants or within {near} of their tops",
-        }.get(self.kinds, f"below the terrain, inside buildings or plants, or within {near} "
-                          "of them")
+        }.get(self.kinds)
+        if where is None:
+            inside = [w for k, w in (("buildings", "buildings"), ("vegetation", "plants"))
+                      if k in self.kinds]
+            parts = (["below the terrain"] if "terrain" in self.kinds else []) + (
+                ["inside " + " or ".join(inside)] if inside else [])
+            where = f"{' or '.join(parts)}, or within {near} of them"
         what = ("it" if len(self.kinds) == 1 else
                 {"terrain": "the terrain", "buildings": "a building's roof",
                  "vegetation": "a plant's top"}[self.under])
