@@ -435,13 +435,10 @@ _ELEMENT = re.compile(r"^((?:[^:]*:){3} )<([A-Za-z][\w.-]*)>: ")
 
 def untagged(message: str) -> str:
     """A schema error about the file's structure (an element unknown, missing, out of
-    order: only a hand-edited file has them) without XML's angle brackets: the element it
-    is about leads as its title, the elements it names are quoted (“camera”)."""
-    def lead(mt) -> str:
-        title = element_title(mt.group(2), None, None) or mt.group(2)
-        return f"{mt.group(1)}{title}: "
-
-    message = _ELEMENT.sub(lead, message, count=1)
+    order: only a hand-edited file has them) without XML's angle brackets: the place in
+    the file leads (the sentence names the element), the elements it names are quoted
+    (“camera”)."""
+    message = _ELEMENT.sub(r"\1", message, count=1)
     return _TAG.sub(lambda mt: f"“{mt.group(1)}”", message)
 
 
