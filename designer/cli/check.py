@@ -25,14 +25,15 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from designer.project.load import load_project
+    from designer.project.load import load_project_located
     from designer.project.problems import ProjectError
     from designer.project.summary import summary_line
 
     status = 0
     for path in args.projects:
         try:
-            project = load_project(path, check_files=not args.no_files)
+            project, smap = load_project_located(path, check_files=not args.no_files)
+            _refuse_low_stations(path, project, smap, args)
         except ProjectError as error:
             for line in error.lines:
                 print(line, file=sys.stderr)
@@ -54,6 +55,20 @@ def run(args) -> int:
     return status
 
 
+def _refuse_low_stations(path: Path, project, smap, args) -> None:
+    """Raise a ProjectError when camera stations lie under the terrain, a building or a
+    plant (designer.survey.station_clearance): their images and figures are meaningless.
+    Not with --no-files (the terrain may be a file)."""
+    if args.no_files:
+        return
+    from designer.project.problems import ProjectError
+    from designer.survey.station_clearance import clearance_issues
+
+    issues = clearance_issues(project, path.parent)
+    if issues:
+        raise ProjectError(str(path), [smap.locate(i) for i in issues])
+
+
 def _warn_surroundings(path: Path, project, args) -> None:
     """A warning (stderr, exit status unchanged) when images would see past the terrain."""
     if args.no_files:
@@ -73,11 +88,16 @@ def _warn_hard_cases(path: Path, project, args) -> None:
     """Warnings (stderr, exit status unchanged) where the project walks into a case that
     degrades results: nearly collinear control, GSD against texel, a lens close to its
     fold (designer.survey.hard_cases, docs/hard-cases.md)."""
-    from designer.survey.hard_cases import distortion_warning, hard_case_warnings
+    from designer.survey.hard_cases import (
+        distortion_warning,
+        hard_case_warnings,
+        optics_warnings,
+    )
 
-    if args.no_files:  # the terrain may be a file: only the lens is checked
+    if args.no_files:  # the terrain may be a file: only the lens and optics are checked
         warnings = [w for cam in project.cameras
                     if (w := distortion_warning(cam, project.render.resolution_scale))]
+        warnings += optics_warnings(project)
     else:
         warnings = hard_case_warnings(project, path.parent)
     for warning in warnings:

@@ -16,7 +16,8 @@ def register(subparsers) -> None:
             "the images that see each GCP unoccluded, and the estimated render time, with "
             "warnings (nearly collinear control and a network too thin for SfM as "
             "'designer check' words them). A terrain mesh cannot be analysed: only those "
-            "two warnings are printed before the refusal."),
+            "two warnings are printed before the refusal. Camera stations under the "
+            "terrain, a building or a plant are refused as 'designer check' refuses them."),
     )
     parser.add_argument("project", type=Path, help="project XML file")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
@@ -34,8 +35,9 @@ def run(args) -> int:
     import numpy as np
 
     from designer.errors import DesignerError
-    from designer.project import load_project, write_project
     from designer.project import model as m
+    from designer.project import write_project
+    from designer.project.load import load_project_located
     from designer.survey.hard_cases import control_and_network_warnings
     from designer.survey.plan_report import (
         format_plan,
@@ -46,7 +48,8 @@ def run(args) -> int:
 
     if args.cell_m is not None and not args.cell_m > 0:
         raise DesignerError(f"--cell-m {args.cell_m}: give a cell size > 0 m")
-    project = load_project(args.project)
+    project, smap = load_project_located(args.project)
+    _refuse_low_stations(project, smap, args.project)
     if isinstance(project.scene.terrain.source, m.MeshTerrain):
         # the analysis below refuses a mesh; the warnings that need no height field first
         for warning in control_and_network_warnings(project, args.project.parent):
@@ -75,3 +78,14 @@ def run(args) -> int:
             print(f"wrote {args.write_poses} with {len(result.stations)} explicit poses")
     return 0
 
+
+
+def _refuse_low_stations(project, smap, path: Path) -> None:
+    """Raise a ProjectError, as ``designer check``, when camera stations lie under the
+    terrain, a building or a plant: the figures measured from there mean nothing."""
+    from designer.project.problems import ProjectError
+    from designer.survey.station_clearance import clearance_issues
+
+    issues = clearance_issues(project, path.parent)
+    if issues:
+        raise ProjectError(str(path), [smap.locate(i) for i in issues])

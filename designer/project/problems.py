@@ -24,6 +24,10 @@ class Problem:
     line: int = 1
     column: int = 1
     issue: Issue | None = field(default=None, compare=False, repr=False)
+    #: for a problem of the file as a whole (missing, not XML, not a designer project, of
+    #: another version): what the window says, naming no element of the file and its fix
+    #: in the window's terms; None: the window words it from ``issue`` or ``message``
+    words: str | None = field(default=None, compare=False, repr=False)
 
     def format(self, source: str) -> str:
         """``FILE:LINE:COLUMN: message`` on one line (line breaks in values are escaped)."""
@@ -136,6 +140,9 @@ CODES = {
                                       "shutter (``value``: its id)",
     "name-vs-format": "a photo's name whose extension is not the output format's "
                       "(``value``: the format; ``choices``: its extensions)",
+    "stations-too-low": "camera stations below, or within the camera's near distance of, "
+                        "the terrain, a building or a plant (``value``: a "
+                        "designer.survey.station_clearance.LowStations)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }

@@ -24,6 +24,9 @@ from designer.project.validate_trajectory import (
 )
 from designer.project.validate_world import world_issues
 
+#: the project's text fields, as their problems name them
+_WHAT = {"name": "project's name", "crs": "coordinate reference system (CRS)"}
+
 
 def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> list[Issue]:
     """Every semantic problem of ``project``, in file order as far as possible.
@@ -35,7 +38,7 @@ def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> l
     out: list[Issue] = []
     for tag, text in (("name", project.name), ("crs", project.crs)):
         if not text.strip():
-            out.append(Issue(project, tag, f"<{tag}> is empty; fill it in"))
+            out.append(Issue(project, tag, f"the {_WHAT[tag]} is empty; fill it in"))
     out += finite_issues(project.origin)
     out += scene_issues(project.scene, base)
     out += _cameras(project)
@@ -51,7 +54,7 @@ def semantic_issues(project: m.Project, base_dir: str | Path | None = None) -> l
 def _cameras(project: m.Project) -> list[Issue]:
     out = []
     if not project.cameras:
-        out.append(Issue(project, "cameras", "the project has no camera; add a <camera>"))
+        out.append(Issue(project, "cameras", "the project has no camera; add one"))
     seen: dict[str, int] = {}
     for cam in project.cameras:
         seen[cam.id] = seen.get(cam.id, 0) + 1

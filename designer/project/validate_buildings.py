@@ -54,7 +54,7 @@ def building_issues(scene: m.Scene, base: Path | None) -> list[Issue]:
         seen.add(b.id)
         if bool(b.footprint) == (b.file is not None):
             out.append(Issue(b, "building", f"building '{b.id}' needs exactly one of a "
-                             "<footprint> and a mesh file; give one of them", attr="file"))
+                             "footprint and a mesh file; give one of them", attr="file"))
             continue
         if b.file is not None:
             out += _mesh_building(b, extent, base)
@@ -72,7 +72,7 @@ def _mesh_building(b: m.Building, extent: m.Extent, base: Path | None) -> list[I
     elif not extent.contains(p.X, p.Y):
         out.append(Issue(b, "building", f"building '{b.id}' at X {plain_m(p.X)}, Y {plain_m(p.Y)} "
                          f"lies outside the terrain extent ({plain_extent(extent)}); move it "
-                         "inside or enlarge <extent>",
+                         "inside or enlarge the extent",
                          attr="X", code="outside-extent", value=(f"building '{b.id}'", p.X, p.Y)))
     if base is not None:
         out += file_issue(b, "building", mesh_problem(resolve(base, b.file)))
@@ -91,7 +91,7 @@ def _extruded(b: m.Building, extent: m.Extent, targets: m.Targets | None) -> lis
                             ("ridge-direction-deg", b.ridge_direction_deg)):
             if value is not None:
                 out.append(Issue(b, "building", f"a flat roof has no ridge; remove {attr} or "
-                                 "give roof=\"gable\" or \"hip\"", attr=attr,
+                                 "choose a gable or hip roof", attr=attr,
                                  code="flat-roof-ridge"))
     elif pitched:
         r = b.ridge_height_m
@@ -146,7 +146,7 @@ def _footprint_issue(b: m.Building, xy: list[tuple[float, float]],
         if not extent.contains(x, y):
             return issue(f"vertex {i + 1} (X {plain_m(x)}, Y {plain_m(y)}) lies outside the "
                          f"terrain extent ({plain_extent(extent)}); move it inside or "
-                         "enlarge <extent>", code="outside-extent",
+                         "enlarge the extent", code="outside-extent",
                          value=(f"vertex {i + 1} of building '{b.id}'", x, y))
     return None
 
@@ -158,7 +158,7 @@ def _rectangle(b: m.Building, xy: list[tuple[float, float]]) -> list[Issue]:
                  else f"has a corner {error:.2f} deg off a right angle")
         return [Issue(b, "footprint", f"building '{b.id}': a {b.roof} roof is built on a "
                       f"rectangular footprint (four corners within {RECTANGLE_TOL_DEG:g} deg of "
-                      f"a right angle); this one {shape}: use roof=\"flat\" or a rectangle",
+                      f"a right angle); this one {shape}: choose a flat roof or a rectangle",
                       key="footprint", code="pitched-roof-shape")]
     if b.ridge_direction_deg is None:
         return []

@@ -50,7 +50,7 @@ def _pixel_shape(cam: m.Camera) -> list[Issue]:
                 f"{cam.image_height_px} px gives {pitch_x * 1000:.6g} x {pitch_y * 1000:.6g} µm "
                 "pixels; make width-mm / width-px equal height-mm / height-px (e.g. sensor "
                 f"height {cam.sensor_width_mm * cam.image_height_px / cam.image_width_px:.6g} "
-                "mm), or state <pixel-aspect>"), attr="height-mm", code="pixels-not-square")]
+                "mm), or state the pixel aspect"), attr="height-mm", code="pixels-not-square")]
         return []
     aspect = cam.pixel_aspect  # its range: validate_declared
     if abs(pitch_y / pitch_x - aspect) > SQUARE_PIXEL_RTOL * aspect:

@@ -62,9 +62,9 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
                                       f"{e.max_Y!r}; swap or correct them", attr="min-Y",
                          code="order", value=(e.min_Y, e.max_Y)))
     if terrain.surroundings == "auto" and isinstance(src, m.MeshTerrain):
-        out.append(Issue(terrain, "surroundings", "mode=\"auto\" continues a height-field "
-                         "terrain (flat, procedural or DEM); a mesh terrain cannot be "
-                         "continued: use mode=\"none\" or a DEM", attr="mode",
+        out.append(Issue(terrain, "surroundings", "surroundings mode auto continues a "
+                         "height-field terrain (flat, procedural or DEM); a mesh terrain "
+                         "cannot be continued: choose mode none or a DEM", attr="mode",
                          code="surroundings-need-height-field", value=terrain.surroundings))
     if isinstance(src, m.ProceduralTerrain):
         if src.min_height_m > src.max_height_m:
@@ -84,7 +84,7 @@ def _terrain(terrain: m.Terrain, base: Path | None) -> list[Issue]:
             if not (x0 <= e.min_X and y0 <= e.min_Y and x1 >= e.max_X and y1 >= e.max_Y):
                 out.append(Issue(src, "dem", f"the DEM covers X {plain_m(x0)}..{plain_m(x1)}, Y "
                                  f"{plain_m(y0)}..{plain_m(y1)}"
-                                 f", not the whole terrain extent; shrink <extent> or use a "
+                                 f", not the whole terrain extent; shrink the extent or use a "
                                  "larger DEM", attr="file", code="dem-coverage",
                                  value=(x0, x1, y0, y1)))
     elif isinstance(src, m.MeshTerrain) and base is not None:
@@ -96,7 +96,7 @@ def _grid(src: m.ProceduralTerrain, e: m.Extent) -> list[Issue]:
     """The extent must be a whole number of grid cells, and not too many of them."""
     spacing = src.grid_spacing_m
     if not (is_ok(spacing) and spacing > 0):
-        return [Issue(src, "procedural", "grid-spacing-m must be > 0 m",
+        return [Issue(src, "procedural", "the grid spacing must be greater than 0 m",
                       attr="grid-spacing-m")]
     if not (e.width_m > 0 and e.length_m > 0):
         return []  # reported with the extent
@@ -132,7 +132,7 @@ def _texture(tex: m.Texture, extent: m.Extent, base: Path | None) -> list[Issue]
     if isinstance(src, m.OrthophotoTexture):
         if tex.variation is not None:
             out.append(Issue(tex.variation, "variation", "an orthophoto does not repeat: the "
-                             "variation applies to tiled textures only; remove <variation>",
+                             "variation applies to tiled textures only; remove the variation",
                              code="variation-on-orthophoto"))
         if base is not None:
             out += file_issue(src, "orthophoto", orthophoto_problem(resolve(base, src.file)))
@@ -178,13 +178,13 @@ def _targets(targets: m.Targets | None, extent: m.Extent) -> list[Issue]:
             out.append(Issue(t.true, "true", f"GCP '{t.id}' at X {plain_m(t.true.X)}, Y "
                              f"{plain_m(t.true.Y)} lies outside the terrain extent "
                              f"({plain_extent(extent)}); move it "
-                             "inside or enlarge <extent>",
+                             "inside or enlarge the extent",
                              attr="X", code="outside-extent",
                              value=(f"GCP '{t.id}'", t.true.X, t.true.Y)))
         if t.surveyed is None:
             if targets.survey_accuracy is None:
-                out.append(Issue(t, "target", f"GCP '{t.id}' has no <surveyed> position and "
-                                 "<targets> has no <survey-accuracy> to simulate one; add "
+                out.append(Issue(t, "target", f"GCP '{t.id}' has no surveyed position and "
+                                 "the targets have no survey accuracy to simulate one; add "
                                  "either", code="no-survey"))
     return out
 
@@ -211,12 +211,14 @@ def _lighting(light: m.Lighting) -> list[Issue]:
         moment = datetime.fromisoformat(sun.date_time)
     except ValueError:
         moment = None
-        out.append(Issue(sun, "sun-position", f"date-time '{sun.date_time}' is not an ISO 8601 "
-                         "date and time; write e.g. 2024-06-21T10:30:00+02:00",
+        out.append(Issue(sun, "sun-position", f"the sun's date and time '{sun.date_time}' "
+                         "is not an ISO 8601 date and time; write e.g. "
+                         "2024-06-21T10:30:00+02:00",
                          attr="date-time"))
     if moment is not None and moment.tzinfo is None:
-        out.append(Issue(sun, "sun-position", f"date-time '{sun.date_time}' has no time zone; "
-                         "add one, e.g. +02:00 or Z for UTC", attr="date-time"))
+        out.append(Issue(sun, "sun-position", f"the sun's date and time '{sun.date_time}' "
+                         "has no time zone; add one, e.g. +02:00 or Z for UTC",
+                         attr="date-time"))
     elif moment is not None and -90 <= sun.latitude_deg <= 90 and \
             -180 <= sun.longitude_deg <= 180:  # ranges: validate_declared
         out += _sun_below_horizon(sun, moment)
@@ -235,5 +237,5 @@ def _sun_below_horizon(sun: m.SunPosition, moment: datetime) -> list[Issue]:
         return []
     return [Issue(sun, "sun-position", f"the sun is {abs(height_deg):.1f}° below the horizon at "
                   f"{sun.date_time} ({sun.latitude_deg}°, {sun.longitude_deg}°); give a "
-                  "moment in daylight, or a <sun> with elevation-deg above 0",
+                  "moment in daylight, or give the sun by its direction (elevation above 0)",
                   attr="date-time", code="sun-below-horizon", value=height_deg)]

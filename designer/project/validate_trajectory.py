@@ -31,8 +31,8 @@ def trajectory_issues(project: m.Project) -> list[Issue]:
     traj = project.trajectory
     out: list[Issue] = []
     if not traj.exterior_orientations and traj.flight_plan is None and not traj.patterns:
-        out.append(Issue(traj, "trajectory", "no photos: add <exterior-orientations> with "
-                                             "<photo> elements or a <flight-plan>",
+        out.append(Issue(traj, "trajectory", "no photos: add exterior orientations (photos) "
+                                             "or a flight plan",
                          code="no-photos"))
     out += rig_issues(project)
     out += pattern_issues(project)
@@ -75,7 +75,7 @@ def _photos(project: m.Project) -> list[Issue]:
         if suffix and allowed and suffix.group(0).lower() not in allowed:
             out.append(Issue(p, "photo", f"image name '{p.name}' does not match the output "
                              f"format {project.render.output_format}; use {allowed[0]} or "
-                             "change <output format>", attr="name", code="name-vs-format",
+                             "change the output format", attr="name", code="name-vs-format",
                              value=project.render.output_format, choices=allowed))
     return out
 
@@ -84,7 +84,7 @@ def _unknown_camera(obj, tag: str, camera_ids: set[str], rigs: bool = False) -> 
     """The issue of ``obj``'s ``<tag camera>`` naming no camera (or rig) of the project:
     code "choice", the ids it may name as its choices."""
     known = ", ".join(sorted(camera_ids)) or "none"
-    what = "a <camera> or <rig>" if rigs else "a <camera>"
+    what = "a camera or rig" if rigs else "a camera"
     return Issue(obj, tag, f"camera '{obj.camera}' is not defined; use the id of {what} "
                  f"({known})", attr="camera", code="choice", value=obj.camera,
                  choices=tuple(sorted(camera_ids)))
@@ -110,11 +110,11 @@ def pattern_issues(project: m.Project) -> list[Issue]:
                 out.append(Issue(p, tag, "the facade's two ends (X1, Y1) and (X2, Y2) are the "
                                  "same point; give its ends on the ground", attr="X2"))
             elif length / p.spacing_m * len(p.heights_m) > 100_000:
-                out.append(Issue(p, tag, f"spacing-m {p.spacing_m:g} gives more than 100000 "
+                out.append(Issue(p, tag, f"a spacing of {p.spacing_m:g} m gives more than 100000 "
                                  "stations; increase it", attr="spacing-m"))
             if not all(math.isfinite(h) for h in p.heights_m):
-                out.append(Issue(p, tag, "heights-m must be numbers (m above base-Z), e.g. "
-                                 "\"3 6 9\"", attr="heights-m"))
+                out.append(Issue(p, tag, "the facade's heights must be numbers (m above its "
+                                 "base), e.g. \"3 6 9\"", attr="heights-m"))
     return out
 
 
@@ -132,13 +132,13 @@ def rig_issues(project: m.Project) -> list[Issue]:
             out.append(Issue(rig, "rig", f"rig name '{rig.name}' is used by {names[rig.name]} "
                              "rigs; give each rig its own name", attr="name"))
         if not rig.mounts:
-            out.append(Issue(rig, "rig", f"rig '{rig.name}' has no <mount>; add one per camera"))
+            out.append(Issue(rig, "rig", f"rig '{rig.name}' has no mount; add one per camera"))
         suffixes = Counter(mt.suffix for mt in rig.mounts)
         for mount in rig.mounts:
             if mount.camera not in camera_ids:
                 known = ", ".join(sorted(camera_ids)) or "none"
                 out.append(Issue(mount, "mount", f"camera '{mount.camera}' of rig '{rig.name}' "
-                                 f"is not defined; use the id of a <camera> ({known})",
+                                 f"is not defined; use the id of a camera ({known})",
                                  attr="camera", code="choice", value=mount.camera,
                                  choices=tuple(sorted(camera_ids))))
             if suffixes[mount.suffix] > 1:
@@ -166,7 +166,8 @@ def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     # the ranges of altitude, GSD, overlaps, angles and choices are declared
     # (designer.project.validate_declared)
     if (fp.altitude_agl_m is None) == (fp.gsd_m is None):
-        out.append(Issue(fp, "flight-plan", "give exactly one of <altitude-agl-m> and <gsd-m>"))
+        out.append(Issue(fp, "flight-plan", "give exactly one of the flight height above ground "
+                                              "and the GSD"))
     ref = fp.altitude_reference
     if not (ref in ("mean", "max", "min") if isinstance(ref, str) else is_ok(ref)):
         out.append(Issue(fp, "altitude-reference", f"altitude reference {ref!r} must be mean, "
@@ -177,7 +178,7 @@ def _flight_plan(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
     if clash is not None:
         out.append(Issue(clash, "photo", f"image name '{clash.name}' clashes with the names "
                          f"the flight plan gives its photos ({fp.image_prefix}0001, ...); "
-                         "rename the photo or change image-prefix", attr="name"))
+                         "rename the photo or change the flight plan's image prefix", attr="name"))
     return out
 
 
@@ -212,7 +213,7 @@ def _area(project: m.Project, fp: m.FlightPlan) -> list[Issue]:
         if not extent.contains(x, y):
             out.append(Issue(fp, "vertex", f"vertex {i + 1} (X {plain_m(x)}, Y {plain_m(y)}) lies "
                              f"outside the terrain extent ({plain_extent(extent)}); move it "
-                             "inside or enlarge <extent>",
+                             "inside or enlarge the extent",
                              key=f"vertex:{i}", attr="X", code="outside-extent",
                              value=(f"vertex {i + 1} of the survey area", x, y)))
     return out
@@ -234,9 +235,9 @@ def _vignetting_gain_issues(v) -> list[Issue]:
     g = gains[worst]
     if 0 <= g <= 1 + 1e-12:
         return []
-    return [Issue(v, "vignetting", f"the gain 1 - corner-falloff·ρ² + rho4·ρ⁴ + rho6·ρ⁶ is "
-                  f"{g:.4g} at ρ = {worst / 200:g}; choose coefficients that keep it between "
-                  f"0 and 1 from the centre (ρ = 0) to the corners (ρ = 1)", attr="rho4")]
+    return [Issue(v, "vignetting", "the vignetting gain 1 − falloff·ρ² + ρ⁴ term·ρ⁴ + ρ⁶ "
+                  f"term·ρ⁶ is {g:.4g} at ρ = {worst / 200:g}; choose coefficients that keep it "
+                  f"between 0 and 1 from the centre (ρ = 0) to the corners (ρ = 1)", attr="rho4")]
 
 
 def render_output_issues(project: m.Project) -> list[Issue]:
@@ -265,8 +266,8 @@ def render_output_issues(project: m.Project) -> list[Issue]:
         if problem is not None:
             i = outputs.ground_truth.index("odm")
             out.append(Issue(outputs, "ground-truth", f"the CRS '{project.crs}' cannot head "
-                             f"OpenDroneMap's files: {problem}; start <crs> with a projected "
-                             "'EPSG:<code>' in metres, 'WGS84 UTM <zone><N|S>' or a +proj "
-                             "string, or drop the odm format",
+                             f"OpenDroneMap's files: {problem}; start the CRS with a projected "
+                             "EPSG code in metres (e.g. 'EPSG:32632'), 'WGS84 UTM' and a zone "
+                             "(e.g. 'WGS84 UTM 32N') or a +proj string, or drop the odm format",
                              key=f"ground-truth:{i}", attr="format"))
     return out

@@ -44,15 +44,15 @@ def world_issues(project: m.Project) -> list[Issue]:
         out += _time_line(project, tl)
     timed = [p for p in traj.exterior_orientations if p.time_s is not None]
     if timed and tl is None:
-        out.append(Issue(timed[0], "photo", f"photo '{timed[0].name}' has a time-s but the "
-                         "trajectory has no <time-line>; add one or remove time-s",
+        out.append(Issue(timed[0], "photo", f"photo '{timed[0].name}' has a time but the "
+                         "trajectory has no time line; add one or remove the time",
                          attr="time-s", code="needs-time-line"))
     last = None
     for p in timed:
         if not declared_field(m.ExteriorOrientation, "time_s").in_range(p.time_s):
             continue  # validate_declared names it
         if last is not None and p.time_s < last.time_s:
-            out.append(Issue(p, "photo", f"photo '{p.name}' at time-s {p.time_s:g} s comes "
+            out.append(Issue(p, "photo", f"photo '{p.name}' at {p.time_s:g} s comes "
                              f"before '{last.name}' ({last.time_s:g} s) which is flown first; "
                              "give the photos in the order they are taken", attr="time-s"))
         else:
@@ -67,7 +67,7 @@ def world_issues(project: m.Project) -> list[Issue]:
     elif render.image_metadata == "exif":
         if tl is None:
             out.append(Issue(render, "output", "metadata exif writes each photo's time, but the "
-                             "trajectory has no <time-line>; add one or write metadata none",
+                             "trajectory has no time line; add one or write metadata none",
                              attr="metadata", code="needs-time-line"))
         if render.output_format not in ("jpeg", "tiff"):
             out.append(Issue(render, "output", f"metadata exif is written into JPEG and TIFF "
@@ -79,8 +79,8 @@ def world_issues(project: m.Project) -> list[Issue]:
 def _time_line(project: m.Project, tl: m.TimeLine) -> list[Issue]:
     out = []
     if parse_utc(tl.takeoff_utc) is None:
-        out.append(Issue(tl, "time-line", f"takeoff-utc {tl.takeoff_utc!r} is not an ISO 8601 "
-                         f"moment in UTC; write it with Z, e.g. {EXAMPLE_UTC}",
+        out.append(Issue(tl, "time-line", f"the take-off time {tl.takeoff_utc!r} is not an "
+                         f"ISO 8601 moment in UTC; write it with Z, e.g. {EXAMPLE_UTC}",
                          attr="takeoff-utc"))
     interval = tl.trigger_interval_s
     if interval is None or element_issues(tl):  # ranges: validate_declared
@@ -115,8 +115,8 @@ def _rolling_shutters(project: m.Project) -> list[Issue]:
             continue
         if tl is None:
             out.append(Issue(rs, "rolling-shutter", f"camera '{cam.id}' reads its rows out "
-                             f"over {readout:g} s, but the trajectory has no <time-line> to "
-                             "move the camera along; add a <time-line> to <trajectory> or set "
+                             f"over {readout:g} s, but the trajectory has no time line to "
+                             "move the camera along; add a time line to the trajectory or set "
                              "readout-s 0", attr="readout-s", code="needs-time-line",
                              value=readout))
         elif tl.trigger_interval_s is not None and readout >= tl.trigger_interval_s:
@@ -139,10 +139,10 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
     out = []
     if project.trajectory.time_line is None:
         out.append(Issue(sun, "sun-over-time", "the sun follows each photo's time, but the "
-                         "trajectory has no <time-line>; add one or give the sun as <sun> or "
-                         "<sun-position>", code="needs-time-line"))
+                         "trajectory has no time line; add one or give the sun by its direction "
+                         "or for a moment and place", code="needs-time-line"))
     if (sun.latitude_deg is None) != (sun.longitude_deg is None):
-        out.append(Issue(sun, "sun-over-time", "give both latitude-deg and longitude-deg, or "
+        out.append(Issue(sun, "sun-over-time", "give both the latitude and the longitude, or "
                          "neither (then the project origin is used)",
                          attr="latitude-deg" if sun.latitude_deg is None else "longitude-deg"))
     elif sun.latitude_deg is not None:
@@ -159,7 +159,7 @@ def _sun_over_time(project: m.Project, sun: m.SunOverTime) -> list[Issue]:
         if not ok:
             out.append(Issue(sun, "sun-over-time", f"the project CRS {project.crs!r} is not a "
                              "projected CRS PROJ knows, so the site's latitude and longitude "
-                             "cannot be found; give latitude-deg and longitude-deg"))
+                             "cannot be found; give the site's latitude and longitude"))
     return out
 
 
@@ -170,24 +170,24 @@ def _moving_objects(project: m.Project) -> list[Issue]:
     for obj in project.scene.moving_objects:
         if project.trajectory.time_line is None:
             out.append(Issue(obj, "object", f"moving object '{obj.id}' is posed at each "
-                             "photo's time, but the trajectory has no <time-line>; add one "
-                             "or remove <moving-objects>", code="needs-time-line"))
+                             "photo's time, but the trajectory has no time line; add one "
+                             "or remove the moving objects", code="needs-time-line"))
         if obj.id in seen:
             out.append(Issue(obj, "object", f"moving object id '{obj.id}' is used twice; "
                              "give each object its own id", attr="id"))
         seen.add(obj.id)
         if (obj.shape is None) == (obj.file is None):
             out.append(Issue(obj, "object", f"moving object '{obj.id}' needs exactly one of "
-                             "shape and file; give shape=\"car\", \"person\" or \"box\", "
-                             "or a mesh file", attr="shape", code="shape-or-mesh"))
+                             "shape and file; give a shape (car, person or box) or a "
+                             "mesh file", attr="shape", code="shape-or-mesh"))
         elif obj.shape is not None and obj.shape not in m.MOVING_SHAPES:
             out.append(Issue(obj, "object", f"unknown shape {obj.shape!r}; use one of "
                              f"{', '.join(m.MOVING_SHAPES)} or give a mesh file",
                              attr="shape", code="choice", value=obj.shape,
                              choices=tuple(m.MOVING_SHAPES)))
         elif obj.shape == "box" and (obj.size_m is None or None in obj.size_m):
-            out.append(Issue(obj, "object", f"box '{obj.id}' needs length-m, width-m and "
-                             "height-m", attr="length-m"))
+            out.append(Issue(obj, "object", f"box '{obj.id}' needs a length, a width and a "
+                             "height (m)", attr="length-m"))
         if obj.size_m is not None:
             for name, value in zip(m.MOVING_SIZE_XML, obj.size_m,
                                    strict=True):
@@ -202,7 +202,7 @@ def _moving_objects(project: m.Project) -> list[Issue]:
         # speed-m-s and start-s: their declared ranges (validate_declared)
         if len(obj.path) < 2:
             out.append(Issue(obj, "path", f"the path of '{obj.id}' has {len(obj.path)} "
-                             "point(s); give at least two <point X Y/>", key="path"))
+                             "point(s); give at least two points", key="path"))
         elif sum(math.dist((a.X, a.Y), (b.X, b.Y))
                  for a, b in zip(obj.path, obj.path[1:], strict=False)) <= 0:
             out.append(Issue(obj, "path", f"the path of '{obj.id}' has no length; give "
@@ -220,9 +220,9 @@ def _path_off_terrain(obj: m.MovingObject, extent: m.Extent) -> list[Issue]:
             return [Issue(p, "point", f"moving object '{obj.id}': path point {i + 1} "
                           f"(X {plain_m(p.X)}, Y {plain_m(p.Y)}) lies outside the terrain "
                           f"extent ({plain_extent(extent)}), where the object has no ground "
-                          "to stand on; move the point inside the extent (the <path> of "
-                          "the object in the project file) or enlarge the terrain extent "
-                          "(Terrain panel)", code="outside-extent",
+                          "to stand on; move the point inside the extent (the path of "
+                          "the object in the project file) or enlarge the terrain extent",
+                          code="outside-extent",
                           value=(f"path point {i + 1} of moving object '{obj.id}'", p.X,
                                  p.Y))]
     return []
@@ -254,16 +254,16 @@ def _vegetation(project: m.Project, veg: m.Vegetation) -> list[Issue]:
     count the densities give (docs/world.md, Vegetation and wind)."""
     out: list[Issue] = []
     if not veg.plants:
-        out.append(Issue(veg, "vegetation", "<vegetation> has no <plants>; add one, e.g. "
-                         "<plants kind=\"shrub\" density-per-m2=\"0.1\"/>", code="no-plants"))
+        out.append(Issue(veg, "vegetation", "the vegetation has no plant group; add one, e.g. "
+                         "shrubs at 0.1 per m²", code="no-plants"))
     ext = project.scene.terrain.extent
     area_m2 = max(ext.max_X - ext.min_X, 0.0) * max(ext.max_Y - ext.min_Y, 0.0)
     total = 0.0
     for g in veg.plants:
         if (g.kind is None) == (g.mesh is None):
             kinds = ", ".join(f'"{k}"' for k in m.PLANT_KINDS)
-            out.append(Issue(g, "plants", "<plants> needs exactly one of kind and mesh; give "
-                             f"kind={kinds} or a mesh file", attr="kind",
+            out.append(Issue(g, "plants", "a plant group needs exactly one of kind and mesh; give "
+                             f"a kind ({kinds}) or a mesh file", attr="kind",
                              code="shape-or-mesh"))
         elif g.kind is not None and g.kind not in m.PLANT_KINDS:
             out.append(Issue(g, "plants", f"unknown plant kind {g.kind!r}; use one of "

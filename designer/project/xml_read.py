@@ -53,17 +53,20 @@ def read_xml_file(path: str | os.PathLike, element: str, create_hint: str) -> by
         if not path.is_file():
             raise ProjectError(source, [Problem(
                 f"<{element}>: this is not a regular file; give the path of a {element} XML "
-                "file")])
+                "file", words=f"this is a folder or a device, not a {element} file; choose "
+                f"a {element} file")])
         if size > MAX_PROJECT_BYTES:
             raise ProjectError(source, [_too_big(size, element)])
         return path.read_bytes()
     except FileNotFoundError:
         raise ProjectError(source, [Problem(
-            f"<{element}>: no such file; check the path, or {create_hint}")]) from None
+            f"<{element}>: no such file; check the path, or {create_hint}",
+            words="there is no such file; check its name and folder")]) from None
     except OSError as error:
+        why = error.strerror or error
         raise ProjectError(source, [Problem(
-            f"<{element}>: cannot read the file ({error.strerror or error}); "
-            "check its permissions")]) from None
+            f"<{element}>: cannot read the file ({why}); check its permissions",
+            words=f"the file cannot be read ({why}); check its permissions")]) from None
 
 
 def read_project(path: str | os.PathLike) -> m.Project:
@@ -104,33 +107,39 @@ def parse_tree(data: bytes, source: str) -> tuple[etree._Element, str]:
         column = at - text.rfind("\n", 0, at) if at >= 0 else 1
         raise ProjectError(source, [Problem(
             "<!DOCTYPE>: document type declarations (and entities) are not allowed in "
-            "project files; remove the <!DOCTYPE ...> declaration", line, column)])
+            "project files; remove the DOCTYPE declaration", line, column,
+            words=f"line {line} declares a document type (DOCTYPE), which project files "
+                  "may not have; remove it in a text editor")])
     _check_root(root, source)
     return root, text
 
 
 def _too_big(size: int, element: str = "project") -> Problem:
-    return Problem(
-        f"<{element}>: the file is {size / 1e6:.1f} MB, larger than the "
-        f"{MAX_PROJECT_BYTES / 1e6:.0f} MB limit for {element} files; keep large data "
-        "(DEMs, meshes, textures) in separate files referenced from the project")
+    text = (f"the file is {size / 1e6:.1f} MB, larger than the "
+            f"{MAX_PROJECT_BYTES / 1e6:.0f} MB limit for {element} files; keep large data "
+            "(DEMs, meshes, textures) in separate files referenced from the project")
+    return Problem(f"<{element}>: {text}", words=text)
 
 
 def _content_problem(data: bytes) -> Problem | None:
     if not data.strip():
-        return Problem("<project>: the file is empty; a project is an XML file starting "
-                       "with <project>, create one with 'designer new FILE --template survey'")
+        return Problem("<project>: the file is empty; create a project with 'designer new "
+                       "FILE --template survey'",
+                       words="the file is empty; start a project from a template (File › "
+                             "New)")
     if data.startswith(_UTF16_BOMS):
         return None  # UTF-16 text is legal XML; the parser reads it
     head = data[:65536]
     nul = head.find(b"\x00")
     if nul >= 0:
-        return Problem(f"<project>: binary data (a zero byte at offset {nul}), not an XML "
-                       "project file; check that you gave the right file")
+        text = (f"binary data (a zero byte at offset {nul}), not an XML project file; check "
+                "that you gave the right file")
+        return Problem(f"<project>: {text}", words=text)
     start = head.lstrip(b"\xef\xbb\xbf \t\r\n")[:1]
     if start != b"<":
-        return Problem("<project>: not an XML file (it does not start with '<'); a project "
-                       "file starts with <?xml ...?> or <project>")
+        text = ("not an XML file (it does not start with '<'); check that you gave a designer "
+                "project file")
+        return Problem(f"<project>: {text}", words=text)
     return None
 
 
@@ -140,14 +149,16 @@ def _syntax_problem(error: etree.XMLSyntaxError) -> Problem:
     mismatch = re.match(r"Opening and ending tag mismatch: (\S+) line (\d+) and (\S+)", msg)
     if mismatch:
         opened, opened_line, closed = mismatch.groups()
-        msg = (f"<{opened}> opened on line {opened_line} is closed by </{closed}>; "
-               f"close <{opened}> first")
+        msg = (f"element '{opened}' opened on line {opened_line} is closed as '{closed}'; "
+               f"close '{opened}' first")
     elif msg.startswith("Entity"):
         msg += "; write '&' as &amp; and '<' as &lt; (entities are not supported)"
     else:
         msg += "; fix the XML syntax here (every tag closed, attribute values quoted)"
-    return Problem(f"<xml>: malformed XML: {msg}", max(int(line or 1), 1),
-                   max(int(column or 1), 1))
+    line, column = max(int(line or 1), 1), max(int(column or 1), 1)
+    return Problem(f"<xml>: malformed XML: {msg}", line, column,
+                   words=f"the file is not well-formed XML at line {line}, column {column}: "
+                         f"{msg}; correct it in a text editor")
 
 
 def _check_root(root: etree._Element, source: str) -> None:
@@ -155,32 +166,43 @@ def _check_root(root: etree._Element, source: str) -> None:
     line = root.sourceline or 1
     version = root.get("schema-version")
     supported = ", ".join(SUPPORTED_VERSIONS)
+    newer = ("the file was written for a newer designer (project format {}; this one "
+             f"reads {supported}); open it with a newer designer")
     if qname.localname != "project":
         raise ProjectError(source, [Problem(
-            f"<{qname.localname}>: the root element must be <project "
-            f'xmlns="{NAMESPACE}" schema-version="{SUPPORTED_VERSIONS[-1]}">; '
-            "this is not a designer project file", line, 1)])
+            f"<{qname.localname}>: the root element must be a designer project (element "
+            f"'project' in namespace {NAMESPACE}, schema-version {SUPPORTED_VERSIONS[-1]}), "
+            f"not '{qname.localname}'; this is not a designer project file", line, 1,
+            words=f"this is not a designer project file (it holds a '{qname.localname}', "
+                  "not a project); open a project file, or start one from a template (File "
+                  "› New)")])
     ns = qname.namespace
     if ns and ns.startswith(NAMESPACE_PREFIX) and ns != NAMESPACE:
         found = f"schema-version {version}" if version else f"namespace {ns}"
         raise ProjectError(source, [Problem(
             f"<project>: {found} is not supported; this designer reads schema versions "
             f"{supported} (namespace {NAMESPACE}); use a newer designer for this file",
-            line, 1)])
+            line, 1, words=newer.format(version or ns.rsplit(":", 1)[-1]))])
     if ns != NAMESPACE:
         where = f"namespace '{ns}'" if ns else "no namespace"
         raise ProjectError(source, [Problem(
-            f'<project>: the root element is in {where}; a designer project needs '
-            f'xmlns="{NAMESPACE}" on <project>', line, 1)])
+            f"<project>: the root element is in {where}; a designer project needs the "
+            f"namespace {NAMESPACE} on its root element", line, 1,
+            words="the file is not in designer's project format (its namespace is "
+                  f"{'missing' if not ns else repr(ns)}); open a file saved by designer, or "
+                  f"give its first element the namespace {NAMESPACE} in a text editor")])
     if version is None:
         raise ProjectError(source, [Problem(
-            "<project>: the schema-version attribute is missing; add "
-            f'schema-version="{SUPPORTED_VERSIONS[-1]}" (supported: {supported})', line, 1)])
+            "<project>: the schema-version attribute is missing; give the root element "
+            f"schema-version {SUPPORTED_VERSIONS[-1]} (supported: {supported})", line, 1,
+            words="the file does not say which version of the project format it is "
+                  f"written in; give its first element the schema version "
+                  f"{SUPPORTED_VERSIONS[-1]} in a text editor")])
     if version.strip() not in SUPPORTED_VERSIONS:
         raise ProjectError(source, [Problem(
             f"<project>: schema-version '{version}' is not supported; this designer reads "
             f"schema versions {supported}; use a newer designer for files of a newer "
-            "version", line, 1)])
+            "version", line, 1, words=newer.format(version.strip()))])
 
 
 def _dedupe(problems: list[Problem]) -> list[Problem]:

@@ -13,7 +13,9 @@ exact line — are refused where they are read or used).
 * a lens whose image corners come close to the radius where its radial map stops being
   monotonic: undistortion magnifies pixel errors there;
 * networks too thin for structure from motion: fewer than 3 images, every image on one
-  flight line, a front overlap under half the footprint (:func:`network_warnings`).
+  flight line, a front overlap under half the footprint (:func:`network_warnings`);
+* optics beyond any survey camera: a pinhole lens wider than 120° across, a flight whose
+  GSD is coarser than 1 m (:func:`optics_warnings`).
 
 ``designer plan`` prints the collinear control and the network's warnings too
 (:func:`control_and_network_warnings`; over a terrain mesh, which it cannot analyse,
@@ -255,6 +257,88 @@ def distortion_warning(camera: m.Camera, resolution_scale: float = 1.0
         "corners")
 
 
+#: a pinhole camera wider than this across its image diagonal (deg) is wider than any
+#: survey camera: the widest rectilinear lenses made (12 mm on full frame) see 122°, survey
+#: cameras 60–95° (the Phantom 4 Pro 84°, the GoPro as a pinhole 104°), and at 120° the
+#: ground under the corners is already seen 4× as coarse as under the centre (1/cos² 60°)
+MAX_PINHOLE_FOV_DEG = 120.0
+#: a flight whose GSD at nadir (m) is coarser than this is coarser than any survey flies:
+#: the coarsest mapping flights give 50 cm (designer's own hard cases go there); at 1 m a
+#: GCP target (0.5–1 m across) is a pixel or less and cannot be measured
+MAX_SURVEY_GSD_M = 1.0
+#: what the focal length is, as the fixes say it
+_REAL_FOCAL = "the lens's real focal length in mm, not its 35 mm equivalent"
+
+
+def wide_lens_warning(camera: m.Camera) -> HardCaseWarning | None:
+    """A pinhole camera (no fisheye model) wider than :data:`MAX_PINHOLE_FOV_DEG` across
+    its diagonal, measured through its lens (designer.core.interior.field_of_view_deg, as
+    the window's Camera panel shows it); None for a fisheye or a camera no interior
+    orientation describes (the camera check says why)."""
+    from designer.project.interiors import interior_from_camera
+
+    if isinstance(camera.distortion, m.FisheyeEquidistantDistortion):
+        return None
+    try:
+        h, v, diag = interior_from_camera(camera).field_of_view_deg()
+    except DesignerError:
+        return None
+    if not diag > MAX_PINHOLE_FOV_DEG:
+        return None
+    return HardCaseWarning(
+        "camera",
+        f"camera '{camera.id}': a {camera.focal_length_mm:g} mm lens on a "
+        f"{camera.sensor_width_mm:g} × {camera.sensor_height_mm:g} mm sensor sees "
+        f"{diag:.0f}° across the diagonal ({h:.0f}° × {v:.0f}°), wider than any survey "
+        f"camera's (at most {MAX_PINHOLE_FOV_DEG:g}° for a pinhole lens): the ground under "
+        "the image corners is seen far coarser than under the centre, and a focal length "
+        "in the wrong unit looks like this",
+        f"check the focal length (focal-length-mm: {_REAL_FOCAL})",
+        f"check the focal length in the Camera panel ({_REAL_FOCAL})")
+
+
+def coarse_gsd_warning(project: m.Project) -> HardCaseWarning | None:
+    """The flight plan's GSD at nadir (its camera's full-size images, as the Camera
+    panel's figure) coarser than :data:`MAX_SURVEY_GSD_M`; None without a flight plan or
+    for a camera no interior orientation describes."""
+    from designer.project.interiors import interior_from_camera
+    from designer.survey.flight import camera_calc
+    from designer.survey.project_poses import planning_camera_id
+
+    plan = project.trajectory.flight_plan
+    if plan is None:
+        return None
+    try:
+        camera_id = planning_camera_id(project, plan.camera)
+        calc = camera_calc(interior_from_camera(project.camera(camera_id)),
+                           altitude_agl_m=plan.altitude_agl_m, gsd_m=plan.gsd_m,
+                           front_overlap_fraction=plan.front_overlap_percent / 100,
+                           side_overlap_fraction=plan.side_overlap_percent / 100,
+                           orientation=plan.orientation)
+    except (DesignerError, KeyError, ValueError):
+        return None
+    if not calc.gsd_m > MAX_SURVEY_GSD_M:
+        return None
+    by = ("fly lower (altitude-agl-m)" if plan.gsd_m is None else "choose a finer gsd-m")
+    panel = ("lower the height above ground in the Flight panel" if plan.gsd_m is None
+             else "choose a finer ground sample distance in the Flight panel")
+    return HardCaseWarning(
+        "flight-plan",
+        f"the flight's GSD is {100 * calc.gsd_m:,.0f} cm ({calc.altitude_agl_m:g} m above "
+        f"the ground with camera '{camera_id}'), coarser than any survey flies (at most "
+        f"{100 * MAX_SURVEY_GSD_M:g} cm): a GCP target is smaller than a pixel",
+        f"check the camera's focal length and sensor ({_REAL_FOCAL}), or {by}",
+        f"check the focal length and sensor in the Camera panel ({_REAL_FOCAL}), or {panel}")
+
+
+def optics_warnings(project: m.Project) -> list[HardCaseWarning]:
+    """Cameras wider and a flight coarser than any survey's (:func:`wide_lens_warning`,
+    :func:`coarse_gsd_warning`): from the declarations alone, microseconds."""
+    out = [w for cam in project.cameras if (w := wide_lens_warning(cam)) is not None]
+    gsd = coarse_gsd_warning(project)
+    return out + ([gsd] if gsd is not None else [])
+
+
 #: front overlap (%) below which consecutive images share less than half their footprint:
 #: few ground points are then seen by the 3 images a tie point needs along a line
 MIN_FRONT_OVERLAP_PERCENT = 50.0
@@ -268,7 +352,7 @@ def network_warnings(project: m.Project, n_images: int, line_indices) -> list[Ha
         out.append(HardCaseWarning(
             "trajectory", f"{n_images} image{'s' if n_images != 1 else ''}: structure from "
             "motion needs at least 3 overlapping images (designer reconstruct refuses fewer)",
-            "add photos, or fly a <flight-plan> over the area",
+            "add photos, or fly a flight plan over the area",
             "add photos, or draw a flight area in the Flight panel"))
     lines = {int(k) for k in line_indices}
     if n_images >= 3 and len(lines) == 1 and min(lines) >= 0:
@@ -337,6 +421,7 @@ def hard_case_warnings(project: m.Project, base_dir: Path) -> list[HardCaseWarni
 
     out = [w for cam in project.cameras
            if (w := distortion_warning(cam, project.render.resolution_scale)) is not None]
+    out += optics_warnings(project)
     try:
         hf = build_heightfield(project.scene.terrain, Path(base_dir), project.crs)
     except DesignerError:  # the terrain cannot be built: check says why elsewhere

@@ -241,8 +241,8 @@ def texture_repeat_warning(texture: m.Texture, extent: m.Extent,
     if not (period_m < side_m):
         return None
     return (f"texture repeats every {period_m:g} m, shorter than the {side_m:.1f} m footprint: "
-            "matching may pair images that do not overlap; add <variation seed=\"1\" "
-            f"scale-m=\"{2 * period_m:g}\" strength=\"0.35\"/> to <texture> (docs/world.md)")
+            "matching may pair images that do not overlap; give the texture a variation (e.g. "
+            f"seed 1, scale {2 * period_m:g} m, strength 0.35; docs/world.md)")
 
 
 def format_plan(result: PlanResult, source: str) -> str:

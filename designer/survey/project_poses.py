@@ -201,7 +201,7 @@ def project_stations(
     if len(set(camera_ids)) > 1 and not project.trajectory.rigs:
         raise DesignerError(
             f"stations use several cameras ({', '.join(sorted(set(camera_ids)))}); render one "
-            "camera per project, or mount them on a <rig>")
+            "camera per project, or mount them on a rig")
     _check_unique_names([s.image_name for s in stations])
     return stations, camera_ids[0]
 
@@ -252,7 +252,7 @@ def project_images(project: m.Project, hf: Heightfield | None) -> ProjectImages:
     if len(set(cameras)) > 1 and not project.trajectory.rigs:
         raise DesignerError(
             f"stations use several cameras ({', '.join(sorted(set(cameras)))}); render one "
-            "camera per project, or mount them on a <rig>")
+            "camera per project, or mount them on a rig")
     _check_unique_names([s.image_name for s in stations])
     return ProjectImages(tuple(stations), tuple(cameras), tuple(index), tuple(platform))
 

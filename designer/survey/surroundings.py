@@ -236,7 +236,7 @@ def void_warning(names, shares: np.ndarray, surroundings: str) -> str | None:
     void = void_images(names, shares, surroundings)
     if void is None:
         return None
-    return void.warning("declare <surroundings mode=\"auto\"/> in <terrain> or enlarge the "
+    return void.warning("set the terrain's surroundings mode to auto or enlarge the "
                         "terrain" if void.surroundings == "none" else "enlarge the terrain")
 
 
@@ -310,6 +310,6 @@ def repeat_warning(project: m.Project, growth: Growth) -> str | None:
     period = min(e.width_m / texture.repeat_X, e.length_m / texture.repeat_Y)
     return (f"the surroundings repeat the texture's {period:g} m tile beside the terrain: "
             "images near its edge see copies of the terrain's ground, which feature "
-            "matching pairs; add <variation seed=\"1\" scale-m=\""
-            f"{2 * period:g}\" strength=\"0.35\"/> to <texture> (docs/world.md) or declare "
-            "<surroundings mode=\"none\"/>")
+            "matching pairs; give the texture a variation (e.g. seed 1, scale "
+            f"{2 * period:g} m, strength 0.35; docs/world.md) or set the terrain's "
+            "surroundings mode to none")

@@ -81,7 +81,7 @@ def test_plan_warns_when_the_tiled_texture_repeats_inside_the_footprint(tmp_path
     # (at the median GSD of the stations, as `designer plan` prints it)
     (warning,) = _texture_warnings(with_texture(variation=None), tmp_path, capsys)
     assert warning.startswith("texture repeats every 20 m, shorter than the 50.7 m")
-    assert "add <variation" in warning
+    assert "give the texture a variation" in warning
     # one tile over the 100 m terrain: longer than the footprint, no repeat in an image
     assert _texture_warnings(with_texture(variation=None, repeat_X=1, repeat_Y=1),
                              tmp_path, capsys) == []

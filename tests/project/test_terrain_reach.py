@@ -22,8 +22,8 @@ def test_a_moving_object_path_point_off_the_terrain_is_named_with_its_fix(tmp_pa
     assert lines[0] == (
         f"{path}:59:11: <point>: moving object 'car1': path point 2 (X 512145, Y 5406010) "
         "lies outside the terrain extent (X 511950..512050, Y 5405950..5406050), where the "
-        "object has no ground to stand on; move the point inside the extent (the <path> of "
-        "the object in the project file) or enlarge the terrain extent (Terrain panel)"), lines
+        "object has no ground to stand on; move the point inside the extent (the path of "
+        "the object in the project file) or enlarge the terrain extent"), lines
     assert len(lines) == 2
 
 

@@ -90,7 +90,7 @@ def test_duplicate_and_unknown_photo_references():
     photos[2] = dataclasses.replace(photos[2], camera="other")
     found = messages(dataclasses.replace(p, trajectory=m.Trajectory(tuple(photos))))
     assert any("image name 'PSF_01.png' is used by 2 photos" in f for f in found)
-    assert any("camera 'other' is not defined; use the id of a <camera> (p4p)" in f
+    assert any("camera 'other' is not defined; use the id of a camera (p4p)" in f
                for f in found)
 
 

@@ -1,7 +1,12 @@
 """Geometry checks shared by the survey tests (the scenes are in tests/synthetic.py)."""
 
+import contextlib
+import io
+import re
+
 import numpy as np
 
+from designer.cli.main import main
 from designer.core.heightfield import Heightfield
 
 
@@ -28,3 +33,20 @@ def sight_clearance_deg(P, C, hf: Heightfield, tol_m: float, step_m: float = 0.0
         gap = q[:, 2] - hf.height_at(q[:, 0], q[:, 1])
         out.append(np.degrees(np.nanmin(gap / s)))
     return np.array(out)
+
+
+def survey_flown(tmp_path, altitude_m: float, front: float = 95.0, side: float = 20.0,
+                 name: str = "low.xml"):
+    """The survey template flown ``altitude_m`` above the mean terrain (which reaches
+    9.4 m above its mean) at the given overlaps."""
+    path = tmp_path / "s.xml"
+    if not path.exists():
+        with contextlib.redirect_stdout(io.StringIO()):
+            assert main(["new", str(path), "--template", "survey"]) == 0
+    text = path.read_text()
+    text = re.sub(r"<altitude-agl-m>[^<]*<", f"<altitude-agl-m>{altitude_m}<", text)
+    text = re.sub(r"<front-overlap-percent>[^<]*<", f"<front-overlap-percent>{front}<", text)
+    text = re.sub(r"<side-overlap-percent>[^<]*<", f"<side-overlap-percent>{side}<", text)
+    out = tmp_path / name
+    out.write_text(text)
+    return out

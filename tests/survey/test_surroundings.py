@@ -66,7 +66,7 @@ def test_the_example_sees_ground_in_every_pixel_and_would_not_without_surroundin
     warning = bare.warning(none)
     assert warning.startswith(f"{(bare.void_share > 0.01).sum()} of 60 images see past the "
                               "terrain")
-    assert 'declare <surroundings mode="auto"/>' in warning
+    assert "set the terrain's surroundings mode to auto" in warning
 
 
 def _dem_site(tmp_path: Path, mode: str | None) -> Path:
@@ -96,7 +96,7 @@ def test_check_warns_on_a_dem_site_flown_past_its_edge_without_surroundings(tmp_
     assert bare.returncode == 0, bare.stderr
     (line,) = [ln for ln in bare.stderr.splitlines() if ln.startswith("warning:")]
     assert "<terrain>:" in line and "images see past the terrain" in line
-    assert "DJI_00001.png" in line and 'declare <surroundings mode="auto"/>' in line
+    assert "DJI_00001.png" in line and "set the terrain's surroundings mode to auto" in line
     auto = _designer("check", _dem_site(tmp_path, "auto"))
     assert auto.returncode == 0 and "warning" not in auto.stderr, auto.stderr
 
@@ -127,5 +127,5 @@ def test_surroundings_that_repeat_a_plain_tile_are_warned_about():
         project.scene, texture=dataclasses.replace(project.scene.texture, variation=None)))
     warning = repeat_warning(plain, Growth((1, 1, 1, 1)))
     assert warning.startswith("the surroundings repeat the texture's 20 m tile")
-    assert 'scale-m="40"' in warning and 'mode="none"' in warning
+    assert "scale 40 m" in warning and "surroundings mode to none" in warning
     assert repeat_warning(plain, Growth()) is None  # nothing grown: nothing repeated

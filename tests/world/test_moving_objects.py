@@ -131,14 +131,14 @@ def test_poses_wait_at_the_ends_or_loop():
     (lambda t: t.replace('speed-m-s="1.5"', 'speed-m-s="-2"'), "<path", "speed-m-s"),
     (lambda t: re.sub(r'(<point [^>]*/>)\s*<point [^>]*/>', r"\1", t), "<path", "two"),
     (lambda t: t.replace('shape="box"', 'shape="bus"'), 'shape="bus"', "unknown shape"),
-    (lambda t: t.replace(' length-m="1.0"', ""), "shape=", "length-m"),
+    (lambda t: t.replace(' length-m="1.0"', ""), "shape=", "a length, a width"),
     (lambda t: t.replace('shape="box"', 'file="no_such_car.ply"'), "no_such_car", "no_such_car"),
     (lambda t: t.replace('albedo-rgb="0.9 0.02 0.02"', 'albedo-rgb="red"'), "albedo",
      "albedo-rgb"),
     (lambda t: t.replace('start-s', 'x').replace('<path ', '<path start-s="-1" '), "<path",
      "start-s"),
     (lambda t: re.sub(r"<time-line[^>]*/>", "", t).replace(' time-s="2.0"', "").replace(
-        ' time-s="0.0"', ""), 'shape="box"', "time-line"),
+        ' time-s="0.0"', ""), 'shape="box"', "time line"),
 ])
 def test_bad_moving_object_values_are_located_one_line_errors(tmp_path, edit, needle, words):
     assert_located_error(moving_project(TIMES_S), tmp_path, edit, needle, words)

@@ -114,7 +114,7 @@ def test_a_project_without_a_rig_has_exactly_its_stations_and_no_frame_cameras(t
     (lambda t: t.replace('<rig name="penta"', '<rig name="nadir"'), '<rig name="nadir"',
      "rig name 'nadir' is also a camera id"),
     (lambda t: t.replace('camera="penta"', 'camera="pent"', 1), 'camera="pent"',
-     "use the id of a <camera> or <rig>"),
+     "use the id of a camera or rig"),
 ])
 def test_bad_rigs_are_located_one_line_errors(tmp_path, edit, needle, words):
     assert_located_error(rig_survey(), tmp_path, edit, needle, words)

@@ -33,7 +33,7 @@ def test_the_rolling_shutter_survives_a_round_trip_through_the_file(tmp_path):
 
 
 @pytest.mark.parametrize(("edit", "words"), [
-    (lambda t: re.sub(r"<time-line[^>]*/>", "", t), "add a <time-line> to <trajectory>"),
+    (lambda t: re.sub(r"<time-line[^>]*/>", "", t), "add a time line to the trajectory"),
     (lambda t: t.replace('readout-s="0.03"', 'readout-s="-0.01"'), "readout-s"),
     (lambda t: t.replace('readout-s="0.03"', 'readout-s="0.7"'), "readout-s"),
     (lambda t: t.replace('readout-s="0.03"', 'readout-s="fast"'), "readout-s"),

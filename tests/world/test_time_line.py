@@ -123,7 +123,7 @@ def test_a_trigger_interval_too_long_for_the_overlap_is_refused(tmp_path):
     (lambda p: replace(p, trajectory=replace(p.trajectory, time_line=None)), "sun-over-time"),
     (lambda p: replace(p, render=replace(p.render, image_metadata="exif")), "jpeg or tiff"),
     (lambda p: replace(p, scene=replace(p.scene, lighting=m.Lighting(m.SunOverTime(46.0)))),
-     "both latitude-deg and longitude-deg"),
+     "both the latitude and the longitude"),
 ])
 def test_inconsistent_world_elements_are_clean_errors(tmp_path, change, words):
     lines = _load_error(tmp_path, change(timed_survey()))

@@ -205,6 +205,9 @@ class MainWindow(QMainWindow):
         self._problems_timer.setInterval(300)
         self._problems_timer.timeout.connect(self._recheck_now)
         self.document.events.connect("project", self._recheck_problems)
+        self._file_problems: list[str] = []
+        # camera stations under the ground, judged over what is drawn as it is edited
+        self.sync.problems_changed.connect(self._list_problems)
 
     def _withdraw_message(self, text: str) -> None:
         """An error's message leaves the status bar when the error goes (a later message
@@ -217,11 +220,18 @@ class MainWindow(QMainWindow):
         worded by :mod:`designer.gui.state.wording`; while listed they are checked again
         after every change, so fixed ones (also by an undo) go away."""
         self._problems_project = self.document.project if lines else None
+        self._file_problems = list(lines)
+        self._list_problems()
+        if lines and headline:
+            self.statusBar().showMessage(headline, 10000)
+
+    def _list_problems(self) -> None:
+        """The Problems list: the file's problems (:meth:`show_problems`), then those
+        found over what is drawn (camera stations under the ground)."""
+        lines = self._file_problems + self.sync.station_problems()
         self.problems.clear()
         self.problems.addItems(lines)
         self.docks["Problems"].setVisible(bool(lines))
-        if lines and headline:
-            self.statusBar().showMessage(headline, 10000)
 
     def _recheck_problems(self, **_) -> None:
         if getattr(self, "_problems_project", None) is None:
@@ -238,7 +248,7 @@ class MainWindow(QMainWindow):
         plan = files.plan_save(doc.project, path, doc.base_dir,
                                self.file_actions.scratch_files)
         self.show_problems(plan.problems)
-        if not plan.problems:
+        if not plan.problems and not self.sync.station_problems():
             self.statusBar().showMessage("no problems left", 5000)
 
     def _problem_clicked(self, item) -> None:

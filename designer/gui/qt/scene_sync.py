@@ -36,6 +36,11 @@ GROUND_TOLERANCE_M = 0.05
 STATION_PARTS = {"cameras", "trajectory", "render", "terrain"}
 
 
+#: why the Flight panel has no figures while camera stations are under the ground
+UNDER_THE_GROUND = ("no figures over the terrain: camera stations are under the ground "
+                    "(see Problems)")
+
+
 def _message(error: BaseException) -> str:
     from designer.gui.state.wording import humanize
 
@@ -52,6 +57,8 @@ class SceneSync(PhotoSelection, QObject):
     coverage_changed = Signal()
     lighting_changed = Signal()
     plan_changed = Signal()
+    #: the problems found over what is drawn (camera stations under the ground) changed
+    problems_changed = Signal()
     message = Signal(str)
     #: an error's message: it holds until the error goes (``message_withdrawn``) or a
     #: later message replaces it
@@ -74,6 +81,8 @@ class SceneSync(PhotoSelection, QObject):
         self.objects: derived.ObjectsResult | None = None
         self.buildings: derived.BuildingsResult | None = None
         self.vegetation: derived.VegetationResult | None = None
+        #: camera stations under the ground, over what is drawn (None: none)
+        self.low_stations = None
         #: the flight over the real terrain (designer.gui.state.plan_figures), or None
         self.plan = None
         #: the (terrain, stations) ``plan`` was computed over; None while one is computed
@@ -90,6 +99,9 @@ class SceneSync(PhotoSelection, QObject):
     # ------------------------------------------------------------------ events
     def _on_reset(self, project) -> None:
         self.terrain = None
+        if self.low_stations is not None:
+            self.low_stations = None
+            self.problems_changed.emit()
         self.texture_rgb = None
         self.stations = None
         self.coverage = None
@@ -235,6 +247,7 @@ class SceneSync(PhotoSelection, QObject):
     def _buildings_done(self, result: derived.BuildingsResult | None) -> None:
         self._clear("buildings")
         self.buildings = result
+        self._recheck_clearance()
         if result is None:
             self.view.show_buildings(None)
         else:
@@ -243,6 +256,7 @@ class SceneSync(PhotoSelection, QObject):
 
     def _buildings_failed(self, error: BaseException) -> None:
         self.buildings = None
+        self._recheck_clearance()
         self.view.show_buildings(None)
         self._fail("buildings", error)
 
@@ -260,6 +274,7 @@ class SceneSync(PhotoSelection, QObject):
     def _vegetation_done(self, result: derived.VegetationResult | None) -> None:
         self._clear("vegetation")
         self.vegetation = result
+        self._recheck_clearance()
         if result is None:
             self.view.show_vegetation(None)
         else:
@@ -267,6 +282,7 @@ class SceneSync(PhotoSelection, QObject):
 
     def _vegetation_failed(self, error: BaseException) -> None:
         self.vegetation = None
+        self._recheck_clearance()
         self.view.show_vegetation(None)
         self._fail("vegetation", error)
 
@@ -421,6 +437,7 @@ class SceneSync(PhotoSelection, QObject):
             self.view.frame_all(result.C_world)
         self.stations_changed.emit()
         self._stations_replaced()
+        self._check_clearance()
         self.refresh_plan()
         if self.coverage_enabled:
             self.refresh_coverage()
@@ -432,7 +449,35 @@ class SceneSync(PhotoSelection, QObject):
         self.errors["stations"] = _message(error)
         self.view.show_selected_station(None)
         self.stations_changed.emit()
+        self._check_clearance()
         self.refresh_plan()
+
+    def _check_clearance(self) -> bool:
+        """Judge the stations drawn against the terrain, buildings and plants drawn
+        (designer.gui.state.station_problems, milliseconds); True when whether some are
+        under the ground changed."""
+        from designer.gui.state.station_problems import window_low_stations
+
+        low = window_low_stations(self.document.project, self.terrain, self.stations,
+                                  self.buildings, self.vegetation)
+        if low == self.low_stations:
+            return False
+        flipped = (low is None) != (self.low_stations is None)
+        self.low_stations = low
+        self.problems_changed.emit()
+        return flipped
+
+    def _recheck_clearance(self) -> None:
+        """After the buildings or plants change: the plan is analysed again when the
+        stations went under (or came out of) the ground."""
+        if self._check_clearance():
+            self.refresh_plan()
+
+    def station_problems(self) -> list[str]:
+        """Camera stations under the ground, as lines of the Problems list."""
+        from designer.gui.state.station_problems import station_problem_lines
+
+        return station_problem_lines(self.document.project, self.low_stations)
 
     def reach_warnings(self) -> list[str]:
         """GCPs, buildings and flight-area vertices outside the ground the terrain file
@@ -462,6 +507,16 @@ class SceneSync(PhotoSelection, QObject):
 
         terrain, stations = self.terrain, self.stations
         self._plan_inputs = None
+        if self.low_stations is not None:
+            # figures measured from under the ground mean nothing: the Problems list
+            # says what to fix, the Flight panel why it has no figures
+            self.tasks.cancel("plan")
+            self.plan = None
+            self.errors["plan"] = UNDER_THE_GROUND
+            self.plan_changed.emit()
+            return
+        if self.errors.get("plan") == UNDER_THE_GROUND:
+            self._clear("plan")
         if terrain is None or stations is None or terrain.heightfield is None:
             self.tasks.cancel("plan")
             self.plan = None

@@ -43,6 +43,7 @@ from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
 from designer.survey.raycast import TerrainRaycaster, raycaster_of
+from designer.survey.station_clearance import plant_cylinders
 from designer.survey.surroundings import GrownTerrain
 from designer.survey.terrain_reach import Reach, terrain_file_reach
 
@@ -328,12 +329,15 @@ class VegetationResult:
     """The plants as the renderer places them, standing upright (the wind's sway is not
     drawn): one merged mesh (``vertices_world``, ``faces``), each face's linear albedo
     (M, 3) (foliage in its group's colour, wood in the wood colour) and the number of
-    plants."""
+    plants; ``plants``: each plant's (base_world (P, 3), height_m (P,), crown_m (P,)),
+    which the camera stations are kept clear of
+    (designer.survey.station_clearance.plant_cylinders)."""
 
     vertices_world: np.ndarray
     faces: np.ndarray
     face_albedo: np.ndarray
     n_plants: int
+    plants: tuple | None = None
 
 
 def compute_vegetation(project: m.Project, base_dir: Path, terrain: TerrainResult
@@ -349,7 +353,7 @@ def compute_vegetation(project: m.Project, base_dir: Path, terrain: TerrainResul
     albedo = [np.where(np.tile(s.template.material_index, len(s))[:, None] == 1,
                        np.asarray(WOOD_ALBEDO), np.asarray(s.albedo_rgb)) for s in sets]
     return VegetationResult(v, f, np.vstack(albedo) if albedo else np.zeros((0, 3)),
-                            sum(len(s) for s in sets))
+                            sum(len(s) for s in sets), plant_cylinders(sets))
 
 
 #: the scene's objects as the renderer draws them (designer.scene.objects)

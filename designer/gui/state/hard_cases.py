@@ -20,10 +20,12 @@ from designer.errors import DesignerError
 from designer.project import model as m
 from designer.survey.hard_cases import (
     HardCaseWarning,
+    coarse_gsd_warning,
     collinear_control_warning,
     distortion_warning,
     network_warnings,
     texture_warnings,
+    wide_lens_warning,
 )
 
 
@@ -38,9 +40,16 @@ def _lens_warning(camera: m.Camera, resolution_scale: float) -> HardCaseWarning 
         return None
 
 
+@functools.lru_cache(maxsize=64)
+def _wide_lens(camera: m.Camera) -> HardCaseWarning | None:
+    """A pinhole camera wider than any survey camera (kept per camera, as the lens)."""
+    return wide_lens_warning(camera)
+
+
 def hard_case_lines(project: m.Project, targets, plan, stations=None) -> list[str]:
     """The warnings, one line each with its fix in the window's words: the lenses close
-    to their fold, nearly collinear control (``targets``: a
+    to their fold, pinhole lenses wider and a flight coarser than any survey's, nearly
+    collinear control (``targets``: a
     designer.gui.state.derived.TargetsResult, their surveyed coordinates, on any terrain:
     a height field or a mesh), the texture against the finest GSD (``plan``: PlanFigures
     or None). The network's warnings are in ``plan.warnings``; without a plan (a terrain
@@ -50,6 +59,9 @@ def hard_case_lines(project: m.Project, targets, plan, stations=None) -> list[st
     terrain mesh it is not warned of."""
     out = [w for cam in project.cameras
            if (w := _lens_warning(cam, project.render.resolution_scale)) is not None]
+    out += [w for cam in project.cameras if (w := _wide_lens(cam)) is not None]
+    gsd = coarse_gsd_warning(project)
+    out += [gsd] if gsd is not None else []
     if targets is not None:
         control = [k for k, role in enumerate(targets.roles) if role == "control"]
         w = collinear_control_warning([targets.ids[k] for k in control],

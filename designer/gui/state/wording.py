@@ -369,6 +369,8 @@ def issue_text(issue: Issue) -> str:
                 "Vegetation panel")
     if issue.code == "lens-folds":
         return _folds_text(issue.obj)
+    if issue.code == "stations-too-low":
+        return f"{issue.value.sentence()}; {issue.value.panel_fix()}"
     if issue.code == "scale-not-whole" and d is not None:
         size = getattr(issue.obj, d.name)
         return (f"camera '{issue.obj.id}': {d.label} {size} px × resolution scale "
@@ -427,6 +429,19 @@ def field_place(issue: Issue) -> str | None:
     return None if panel is None or d is None else f"{panel} › {d.label}"
 
 
+_TAG = re.compile(r"</?([A-Za-z][\w.-]*)(?:\s[^<>]*)?/?>")
+_ELEMENT = re.compile(r"^((?:[^:]*:){3} )<([A-Za-z][\w.-]*)>: ")
+
+
+def untagged(message: str) -> str:
+    """A schema error about the file's structure (an element unknown, missing, out of
+    order: only a hand-edited file has them) without XML's angle brackets: the place in
+    the file leads (the sentence names the element), the elements it names are quoted
+    (“camera”)."""
+    message = _ELEMENT.sub(r"\1", message, count=1)
+    return _TAG.sub(lambda mt: f"“{mt.group(1)}”", message)
+
+
 def problem_text(problem: Problem | str, source: str) -> str:
     """A problem as a line of the window's Problems list: ``FILE:LINE:COL:`` (the place)
     and, for a value out of range or not among its choices, the panel and field as the
@@ -436,12 +451,22 @@ def problem_text(problem: Problem | str, source: str) -> str:
     message) as its text with field names as labelled and numbers in fixed point."""
     if isinstance(problem, str):
         return humanize(problem)
+    if problem.words is not None:  # the file as a whole: no line, no element
+        return f"{source}: {problem.words}"
     if problem.issue is None:
-        return humanize(problem.format(source))
+        return humanize(untagged(problem.format(source)))
     place = _place(problem.issue)
     text = issue_text(problem.issue)  # a value's starts with the field's label
     worded = f"{place} › {text}" if place else text
     return Problem(worded, problem.line, problem.column).format(source)
+
+
+def issue_line(issue: Issue) -> str:
+    """An issue found in the window's own model (no place in a file): the panel that
+    fixes it and :func:`issue_text` (``Flight › 12 of 60 camera stations …``)."""
+    place = _place(issue)
+    text = issue_text(issue)
+    return f"{place} › {text}" if place else text
 
 
 def point_text(xyz) -> str:
