@@ -215,11 +215,16 @@ class MainWindow(QMainWindow):
     def show_problems(self, lines: list[str], headline: str = "") -> None:
         """List problems inline (an empty list hides the Problems panel), each line as
         worded by :mod:`designer.gui.state.wording`; while listed they are checked again
-        after every change, so fixed ones (also by an undo) go away."""
+        after every change, so fixed ones (also by an undo) go away. The headline of the
+        problems listed before leaves the status bar with them ("Cannot open root.xml"
+        does not outlast the next file opened)."""
         self._problems_project = self.document.project if lines else None
         self.problems.clear()
         self.problems.addItems(lines)
         self.docks["Problems"].setVisible(bool(lines))
+        if not lines or headline:  # a check again without a headline keeps the old one
+            self._withdraw_message(getattr(self, "_problems_headline", ""))
+            self._problems_headline = headline if lines else ""
         if lines and headline:
             self.statusBar().showMessage(headline, 10000)
 
