@@ -410,13 +410,19 @@ class StationsResult:
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
     """Estimated wall seconds of rendering the images ``costs`` (ImageCost) on this
     machine (:mod:`designer.survey.render_cost`), at the project's samples or a preset's."""
+    return render_estimate(project, costs, preset).total_s
+
+
+def render_estimate(project: m.Project, costs, preset: str | None = None):
+    """:func:`render_estimate_s` with the set-up apart from the images' seconds
+    (a ``render_cost.RenderEstimate``)."""
     from dataclasses import replace as _replace
 
-    from designer.survey.render_cost import estimate_render_s, render_workers
+    from designer.survey.render_cost import estimate_render, render_workers
 
     if preset is not None:
         costs = [_replace(c, samples=m.PRESET_SAMPLES[preset]) for c in costs]
-    return estimate_render_s(costs, render_workers(project, len(costs)))
+    return estimate_render(costs, render_workers(project, len(costs)))
 
 
 def rendered_size_px(interior: InteriorOrientation, resolution_scale: float) -> tuple[int, int]:

@@ -318,16 +318,15 @@ class FlightPanel(Panel):
         else:  # photos listed one by one (imported or written so): no grid to describe
             self.calc_label.setText(NO_GRID)
         if stations.render_costs:
-            from designer.gui.state.wording import duration, estimate_basis
+            from designer.gui.state.render_figures import flight_estimate_line
+            from designer.gui.state.wording import estimate_basis
             from designer.survey.render_cost import load_speed
 
             # this machine's speed as measured now (a render since may have refined it)
-            total = derived.render_estimate_s(self.project, stations.render_costs)
-            per = total / len(stations.render_costs)
-            self.time_label.setText(
-                f"≈ {duration(total)} to render ({duration(per)} per image at "
-                f"{self.project.render.effective_samples} samples; "
-                f"{estimate_basis(load_speed(stations.render_costs[0]))})")
+            self.time_label.setText(flight_estimate_line(
+                derived.render_estimate(self.project, stations.render_costs),
+                self.project.render.effective_samples,
+                estimate_basis(load_speed(stations.render_costs[0]))))
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""
