@@ -23,6 +23,7 @@ from PySide6.QtWidgets import (
 from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
 from designer.gui.state import derived, edits
+from designer.gui.state.switched_on import flight_gsd_cm, switched_on_flight
 from designer.gui.state.wording import count
 from designer.project import model as m
 
@@ -119,6 +120,13 @@ class FlightPanel(Panel):
             "Start corner"))
         f.addRow("image prefix", self.bindings.bind(_line(), f"{FP}.image_prefix",
                                                     "Image prefix"))
+        # greyed while the photos are listed one by one (no plan): the plan editing a
+        # field gives, not the fields' minimum
+        for widget, get in self.bindings.items:
+            if widget.objectName().startswith(f"{FP}."):
+                widget.switched_on_value = (
+                    lambda p, get=get: get(switched_on_flight(p)))
+        self.gsd_spin.switched_on_value = lambda p: flight_gsd_cm(switched_on_flight(p))
         layout.addWidget(grid)
 
         rig = QGroupBox("oblique rig (cameras fired together at each station)")
