@@ -64,6 +64,12 @@ def _extra_panels():
     return out
 
 
+#: the docks' widths at the start (px): the left one fits the GCP table's id, role, images
+#: and true X, Y, Z; the 3D view takes the rest (at 1600 px, about 640)
+LEFT_DOCK_PX = 430
+RIGHT_DOCK_PX = 460
+
+
 class MainWindow(QMainWindow):
     def __init__(self, settings: QSettings | None = None) -> None:
         super().__init__()
@@ -98,8 +104,14 @@ class MainWindow(QMainWindow):
                       "Study"])
         self.docks["Terrain"].raise_()
         self.docks["Flight"].raise_()
-        self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
-                         Qt.Orientation.Horizontal)
+        # tabs along the window's sides: every title whole, however many docks share an
+        # area (below a 380 px dock, seven titles scrolled, one of them cut)
+        from PySide6.QtWidgets import QTabWidget
+
+        self.setTabPosition(Qt.DockWidgetArea.LeftDockWidgetArea, QTabWidget.TabPosition.West)
+        self.setTabPosition(Qt.DockWidgetArea.RightDockWidgetArea, QTabWidget.TabPosition.East)
+        self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]],
+                         [LEFT_DOCK_PX, RIGHT_DOCK_PX], Qt.Orientation.Horizontal)
         self._readable_tabs()
         for dock in self.docks.values():
             dock.dockLocationChanged.connect(self._readable_tabs_later)
