@@ -17,7 +17,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from designer.gui.qt.interaction import ViewInteraction
-from designer.gui.state.view_overlays import CLOUD_BAR, OverlayLayers
+from designer.gui.state.view_overlays import BAR_STYLE, CLOUD_BAR, COVERAGE_BAR, OverlayLayers
 from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
@@ -46,6 +46,14 @@ MODE_TEXT = {
 }
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
+
+#: the panel: its colour, how much it hides of what is drawn behind it, and its margin
+#: around the bar (normalised viewport: the end labels stand out half their width)
+BAR_PANEL_COLOUR = (0.1, 0.11, 0.14)
+BAR_PANEL_OPACITY = 0.85
+BAR_PANEL_MARGIN = (0.05, 0.012)
+#: the height of the bar's title line over the bar (normalised viewport)
+BAR_TITLE_HEIGHT = 0.012
 
 class SceneView(OverlayLayers, QWidget):
     """A QWidget holding the interactor; signals carry world coordinates (m)."""
@@ -141,7 +149,7 @@ class SceneView(OverlayLayers, QWidget):
         if name == "cloud":
             self._remove_scalar_bar(CLOUD_BAR)
         if name == "coverage":
-            self._remove_scalar_bar("images seeing the ground")
+            self._remove_scalar_bar(COVERAGE_BAR)
         if name == "residuals":
             for part in ("residuals:tips", "residuals:labels"):
                 self._meshes.pop(part, None)
@@ -153,9 +161,61 @@ class SceneView(OverlayLayers, QWidget):
                 self._residual_ids = set()
                 self._target_labels()
 
+    def bar_panel(self, title: str) -> None:
+        """Lay the colour bar ``title`` on a dark panel a margin larger than the bar (its
+        end labels stand out half their width), its title on the panel's top line, apart
+        from the tick labels (VTK sets a horizontal bar's title on top of its labels):
+        ``{title}:panel`` and ``{title}:title``, removed with the bar."""
+        import vtk
+
+        bar = self.plotter.scalar_bars[title]
+        bar.SetTitle("")  # drawn by the text actor below
+        x0, y0 = bar.GetPositionCoordinate().GetValue()[:2]
+        w, h = bar.GetPosition2Coordinate().GetValue()[:2]
+        mx, my = BAR_PANEL_MARGIN
+        top = y0 + h + BAR_TITLE_HEIGHT
+        points = vtk.vtkPoints()
+        for x, y in ((x0 - mx, y0 - my), (x0 + w + mx, y0 - my), (x0 + w + mx, top + my),
+                     (x0 - mx, top + my)):
+            points.InsertNextPoint(x, y, 0.0)
+        quad = vtk.vtkCellArray()
+        quad.InsertNextCell(4, [0, 1, 2, 3])
+        rect = vtk.vtkPolyData()
+        rect.SetPoints(points)
+        rect.SetPolys(quad)
+        where = vtk.vtkCoordinate()
+        where.SetCoordinateSystemToNormalizedViewport()
+        mapper = vtk.vtkPolyDataMapper2D()
+        mapper.SetInputData(rect)
+        mapper.SetTransformCoordinate(where)
+        panel = vtk.vtkActor2D()
+        panel.SetMapper(mapper)
+        panel.GetProperty().SetColor(*BAR_PANEL_COLOUR)
+        panel.GetProperty().SetOpacity(BAR_PANEL_OPACITY)
+        self.plotter.add_actor(panel, name=f"{title}:panel", reset_camera=False,
+                               render=False, pickable=False)
+        text = vtk.vtkTextActor()
+        text.SetInput(title)
+        text.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+        text.GetPositionCoordinate().SetValue(x0 + w / 2, top - 0.004)
+        style = text.GetTextProperty()
+        style.SetFontSize(BAR_STYLE["title_font_size"])
+        style.SetColor(1.0, 1.0, 1.0)
+        style.SetJustificationToCentered()
+        style.SetVerticalJustificationToTop()
+        self.plotter.add_actor(text, name=f"{title}:title", reset_camera=False,
+                               render=False, pickable=False)
+        # overlays are drawn in the order they were added: the bar again, over its panel
+        # (through vtkRenderer itself: pyvista's Renderer hides these methods)
+        vtk.vtkRenderer.RemoveViewProp(self.plotter.renderer, bar)
+        vtk.vtkRenderer.AddViewProp(self.plotter.renderer, bar)
+
     def _remove_scalar_bar(self, title: str) -> None:
         if title in self.plotter.scalar_bars:
             self.plotter.remove_scalar_bar(title, render=False)
+        for part in (f"{title}:panel", f"{title}:title"):
+            if part in self.plotter.actors:
+                self.plotter.remove_actor(part, render=False)
 
     def has_layer(self, name: str) -> bool:
         return name in self._meshes
