@@ -39,7 +39,7 @@ from designer.gui.state import files, wording
 from designer.gui.state.document import ProjectDocument
 
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("buildings", "Buildings"),
-          ("vegetation", "Plants"), ("targets", "GCP targets"),
+          ("vegetation", "Plants"), ("movers", "Moving objects"), ("targets", "GCP targets"),
           ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
           ("flight", "Flight lines"),
           ("area", "Survey area"), ("cloud", "Point cloud"), ("residuals", "GCP errors")]

@@ -28,6 +28,7 @@ LAYER_STYLE = {
     "flight": {"color": (0.1, 0.9, 0.9), "line_width": 2.0},
     "area": {"color": (1.0, 0.3, 1.0), "line_width": 3.0},
     "draft": {"color": (1.0, 0.5, 0.0), "line_width": 3.0},
+    "movers:paths": {"color": (0.55, 1.0, 0.2), "line_width": 2.0},  # apart from the rest
 }
 #: largest texture side sent to the GPU (px); the full image stays in the model's hands
 MAX_DISPLAY_TEXTURE_PX = 2048
@@ -459,6 +460,21 @@ class SceneView(OverlayLayers, QWidget):
         from designer.gui.state.view_geometry import flat_lit_rgb
 
         self._show_faces("vegetation", vertices_world, faces, lambda: flat_lit_rgb(face_albedo))
+
+    def show_moving(self, shown) -> None:
+        """The moving objects (a ``moving_view.MovingDisplay``, None: none): each posed at
+        the drawn moment in its albedo lit as flat open ground, as the renderer draws
+        them, and their paths."""
+        from designer.gui.state.view_geometry import flat_lit_rgb
+
+        if shown is None:
+            self._show_faces("movers", None, None, None)
+            self.remove_layer("movers:paths")
+            return
+        self._show_faces("movers", shown.vertices_world, shown.faces,
+                         lambda: flat_lit_rgb(shown.face_albedo))
+        self._show("movers:paths", self._lines(shown.path_points, shown.path_lines),
+                   **LAYER_STYLE["movers:paths"])
 
     def target_positions(self) -> list[tuple[str, np.ndarray]]:
         return [(i, p) for i, p, _ in self._targets]
