@@ -437,9 +437,11 @@ class SceneSync(PhotoSelection, QObject):
         self._clear("stations")
         self.stations = result
         self.view.show_stations(result.geometry)
-        ring = result.surroundings
+        ring, far = result.surroundings, result.far_ground
         self.view.show_surroundings(*((ring.points_world, ring.faces) if ring is not None
                                       else (None, None)))
+        self.view.show_far_ground(*((far.points_world, far.faces) if far is not None
+                                    else (None, None)))
         if len(result.C_world) and not self.view.in_view(result.C_world).any():
             # an edit moved every camera out of sight: show them with the terrain
             self.view.frame_all(result.C_world)
@@ -453,6 +455,7 @@ class SceneSync(PhotoSelection, QObject):
         self.stations = None
         self.view.show_stations(None)
         self.view.show_surroundings(None, None)  # planned from the images: none without
+        self.view.show_far_ground(None, None)
         self.errors["stations"] = _message(error)
         self.view.show_selected_station(None)
         self.stations_changed.emit()

@@ -36,6 +36,10 @@ TERRAIN_COLOUR = (0.55, 0.6, 0.45)
 #: the ground beyond the terrain's extent that renders include: lighter and plain, so the
 #: terrain (the area of interest) stands out from it
 SURROUNDINGS_COLOUR = (0.72, 0.75, 0.66)
+#: beyond them, to the horizon, ground no image sees: darker, so it reads as not rendered
+FAR_GROUND_COLOUR = (0.52, 0.55, 0.48)
+#: its layer (a part of "surroundings": hidden and shown with it)
+FAR_GROUND = "surroundings:far"
 OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
 #: the buildings' facades and roofs (about the mean colour of their textures)
 FACADE_COLOUR, ROOF_COLOUR = (0.80, 0.72, 0.60), (0.58, 0.27, 0.17)
@@ -294,6 +298,20 @@ class SceneView(OverlayLayers, QWidget):
                                  np.column_stack([np.full(len(f), 3), f]).ravel())
         self._show("surroundings", mesh, color=SURROUNDINGS_COLOUR, smooth_shading=False)
 
+    def show_far_ground(self, points_world: np.ndarray | None,
+                        faces: np.ndarray | None) -> None:
+        """Beyond the surroundings, to the horizon, ground no image sees: a plain skirt
+        darker than the surroundings (None: none). Left out of what the top view frames."""
+        if points_world is None or faces is None or not len(faces):
+            self.remove_layer(FAR_GROUND)
+            self.request_render()
+            return
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = self._pv.PolyData(self.local(points_world),
+                                 np.column_stack([np.full(len(f), 3), f]).ravel())
+        self._show(FAR_GROUND, mesh, color=FAR_GROUND_COLOUR, smooth_shading=False,
+                   pickable=False)
+
     def set_terrain_irradiance(self, irradiance: np.ndarray | None) -> None:
         """Shade the terrain by a light value per vertex (None: the view's own lights).
 
@@ -528,7 +546,14 @@ class SceneView(OverlayLayers, QWidget):
         self.request_render()
 
     def view_top(self) -> None:
+        far = self.plotter.actors.get(FAR_GROUND)
+        shown = bool(far.GetVisibility()) if far is not None else False
+        if far is not None:  # framed on what images see, not on the far ground
+            far.SetVisibility(False)
         self.plotter.view_xy()
+        if far is not None:
+            far.SetVisibility(shown)
+            self.plotter.reset_camera_clipping_range()
         self.request_render()
 
     # ------------------------------------------------------------------ output

@@ -23,6 +23,7 @@ from designer.gui.state.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
     StationGeometry,
     TerrainDisplay,
+    far_ground_display,
     grid_faces,
     station_geometry,
     surroundings_display,
@@ -405,6 +406,10 @@ class StationsResult:
     #: the ground the renders include beyond the terrain's extent, as drawn (a coarse
     #: ring, :func:`designer.gui.state.view_geometry.surroundings_display`); None: none
     surroundings: TerrainDisplay | None = None
+    #: beyond it, to the view's horizon, ground no image sees
+    #: (:func:`designer.gui.state.view_geometry.far_ground_display`); None without
+    #: surroundings (the renders then end at the extent, and so does the view)
+    far_ground: TerrainDisplay | None = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -482,9 +487,10 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     costs = tuple(project_image_costs(project, images, rendered))
     seconds = render_estimate_s(project, costs)
     ring = surroundings_display(rendered, hf.extent_m) if surrounded else None
+    far = far_ground_display(rendered) if surrounded else None
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations), grown, ring)
+                          tuple(s.image_name for s in images.stations), grown, ring, far)
 
 
 #: the surroundings the footprints are cast on keep at most this many nodes per side
