@@ -51,4 +51,5 @@ def test_greyed_flight_and_plant_fields_show_what_switching_on_gives(qtbot, wind
     assert density.value() == NEW_DENSITY_PER_M2[FIRST_PLANT_KIND]
     height = field(plants, QDoubleSpinBox, "Plant height")
     assert height.value() == m.PLANT_KINDS[FIRST_PLANT_KIND][0]
+    assert not plants.kind.isEnabled() and plants.kind.currentData() == FIRST_PLANT_KIND
 

@@ -57,6 +57,7 @@ class VegetationPanel(Panel):
         f = form(self.selected)
         self.kind = combo([("grass tufts", "grass-tuft"), ("shrubs", "shrub"),
                            ("trees", "tree")])
+        self.kind.switched_on_value = FIRST_PLANT_KIND  # greyed, as its fields below
         f.addRow("kind", self.bindings.bind(self.kind, self._access("kind"), "Plant kind"))
         # while there is no group, greyed, the group switching plants on gives
         first = new_plant_group(FIRST_PLANT_KIND)
