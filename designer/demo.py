@@ -38,7 +38,7 @@ def run_demo(
     frames: str | None = None,
 ) -> Path:
     """Run the demo into ``output``; returns the path of the report."""
-    from designer.project import load_project, template, write_project
+    from designer.project import load_project
     from designer.render.pipeline import render_project
     from designer.survey.maps import write_coverage_map, write_gsd_map
     from designer.survey.plan_report import format_plan, plan_project, plan_summary
@@ -55,9 +55,7 @@ def run_demo(
         return _Timer(timings, name)
 
     with stage("write the example project"):
-        tpl = template("survey")
-        project_path = output / "survey.xml"
-        write_project(tpl.project, project_path)
+        project_path = write_demo_project(output)
     with stage("check"):
         project = load_project(project_path)
         log(f"{project_path}: valid")
@@ -73,8 +71,8 @@ def run_demo(
         write_gsd_map(output / "plan-gsd.png", plan.analysis.coverage, area=area,
                       stations_xy=xy)
     with stage("render"):
-        summary = render_project(project_path, output / SURVEY_DIR, quality=quality,
-                                 frames=frames, resume=True,
+        summary = render_project(project_path, output / project.outputs.directory,
+                                 quality=quality, frames=frames, resume=True,
                                  progress=_frame_logger(log, len(plan.stations)))
         log(f"{len(summary.report.rendered)} images rendered, "
             f"{len(summary.report.skipped)} already complete")
@@ -105,6 +103,22 @@ def run_demo(
     for name, seconds in timings.items():
         log(f"{name:<28} {seconds:8.1f} s")
     return report
+
+
+def write_demo_project(output: Path) -> Path:
+    """Write the demo's project, the example survey, as ``output``/survey.xml; returns
+    its path. Its output folder is the one the demo renders into (SURVEY_DIR), so the
+    window opening it finds the demo's images, ground truth and render records."""
+    from dataclasses import replace
+
+    from designer.project import template, write_project
+
+    project = template("survey").project
+    project = replace(project, outputs=replace(project.outputs, directory=SURVEY_DIR))
+    project_path = Path(output) / "survey.xml"
+    project_path.parent.mkdir(parents=True, exist_ok=True)
+    write_project(project, project_path)
+    return project_path
 
 
 class _Timer:

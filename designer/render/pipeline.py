@@ -85,10 +85,13 @@ class ImagesKept:
 
     def text(self, resume: bool, *, resume_option: str = "--resume",
              rerun: str = "run the same command") -> str:
-        """One line: the counts, then how to continue. ``resume``: whether the stopped
-        run had resume on (then the same run continues); ``resume_option`` and
-        ``rerun`` name the option and the action in the caller's words (the Render
-        panel: "'resume' ticked", "start the render")."""
+        """One line: the counts, then how to continue (when anything is left).
+        ``resume``: whether the stopped run had resume on (then the same run continues);
+        ``resume_option`` and ``rerun`` name the option and the action in the caller's
+        words (the Render panel: "'resume' ticked", "start the render")."""
+        if self.up_to_date == self.total:  # stopped after the last image: no rest
+            return (f"all {self.total} images up to date ({self.rendered_now} rendered by "
+                    "this run); nothing is left to render")
         parts = [f"{self.up_to_date} of {self.total} images up to date "
                  f"({self.rendered_now} rendered by this run)"]
         if self.out_of_date:

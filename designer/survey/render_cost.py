@@ -239,10 +239,36 @@ def frame_cpu_s(speed: RenderSpeed, image: ImageCost) -> float:
     return image.megapixels * image.samples * per
 
 
+@dataclass(frozen=True)
+class RenderEstimate:
+    """A render's estimated wall seconds in its two parts: the set-up, paid once however
+    many images (preparation, scene, texture bake, Blender's start: ``fixed``), and the
+    images (Cycles and the work outside it)."""
+
+    setup_s: float
+    images_s: float
+    n_images: int
+
+    @property
+    def total_s(self) -> float:
+        return self.setup_s + self.images_s
+
+    @property
+    def per_image_s(self) -> float:
+        """Seconds each further image adds (the set-up left out)."""
+        return self.images_s / max(1, self.n_images)
+
+
 def estimate_render_s(images: Sequence[ImageCost], workers: int, cores: int | None = None,
                       speed: RenderSpeed | None = None) -> float:
     """Wall seconds of the whole render stage (module docstring); without ``speed``, each
     kind of image (:func:`cost_key`) with this machine's coefficients for its kind."""
+    return estimate_render(images, workers, cores, speed).total_s
+
+
+def estimate_render(images: Sequence[ImageCost], workers: int, cores: int | None = None,
+                    speed: RenderSpeed | None = None) -> RenderEstimate:
+    """:func:`estimate_render_s` with the set-up apart from the images' seconds."""
     cores = max(1, cores or os.cpu_count() or 1)
     workers = max(1, min(workers, cores, max(1, len(images))))
     if speed is not None:
@@ -260,7 +286,7 @@ def estimate_render_s(images: Sequence[ImageCost], workers: int, cores: int | No
     cpu = sum(frame_cpu_s(sp, i) for sp, i in zip(speeds, images, strict=True))
     post = sum(i.megapixels * sp.post_s_per_mp for sp, i in zip(speeds, images, strict=True))
     fixed = max((sp.fixed_s for sp in speeds), default=speed.fixed_s if speed else 0.0)
-    return fixed + cpu / cores + post / workers
+    return RenderEstimate(fixed, cpu / cores + post / workers, len(images))
 
 
 def scene_kind(project) -> str:

@@ -57,17 +57,32 @@ def open_panel(window, title: str):
 
 
 def ground_pixels(window, n: int, margin: float = 0.3) -> list[tuple[int, int, np.ndarray]]:
-    """n widget pixels over the terrain (a grid in the middle of the view) and the
-    ground point under each."""
-    plotter = window.view.plotter
-    w, h = plotter.width(), plotter.height()
+    """n widget pixels over the terrain (a grid over the middle of the terrain's extent,
+    ``margin`` of it left on each side, as the view draws it, whatever the view's size and
+    framing) and the ground point under each."""
+    view = window.view
+    plotter = view.plotter
+    ren = plotter.renderer
+    h, dpr = plotter.height(), plotter.devicePixelRatioF()
+    e = window.document.project.scene.terrain.extent
+    z = window.sync.terrain.z_mean_m if window.sync.terrain is not None else 0.0
+    corners = []
+    for fx in (margin, 1 - margin):
+        for fy in (margin, 1 - margin):
+            xyz = np.array([e.min_X + fx * (e.max_X - e.min_X),
+                            e.min_Y + fy * (e.max_Y - e.min_Y), z])
+            ren.SetWorldPoint(*(xyz - view.offset), 1.0)
+            ren.WorldToDisplay()
+            xd, yd, _ = ren.GetDisplayPoint()
+            corners.append((xd / dpr, h - 1 - yd / dpr))
+    xs, ys = zip(*corners, strict=True)
     out = []
     cols = int(np.ceil(np.sqrt(n)))
     rows = int(np.ceil(n / cols))
     for k in range(n):
         i, j = divmod(k, cols)
-        x = int(w * (margin + (1 - 2 * margin) * (j + 0.5) / cols))
-        y = int(h * (0.45 + 0.3 * (i + 0.5) / rows))
+        x = int(min(xs) + (max(xs) - min(xs)) * (j + 0.5) / cols)
+        y = int(min(ys) + (max(ys) - min(ys)) * (i + 0.5) / rows)
         ground = window.view.interaction.ground_at(x, y)
         assert ground is not None, f"no ground under pixel {(x, y)}"
         out.append((x, y, ground))

@@ -72,12 +72,13 @@ def test_resume_counts_thumbnails_and_calibrated_estimate(qtbot, window, tmp_pat
     assert speed.source == "render" and speed.images >= n - first - 1
     from designer.gui.state import derived
 
-    total = derived.render_estimate_s(w.document.project, w.sync.stations.render_costs,
-                                      "draft")
+    estimate = derived.render_estimate(w.document.project, w.sync.stations.render_costs,
+                                       "draft")
     line = next(x for x in panel.cost.text().splitlines() if x.startswith("draft:"))
     from designer.gui.state.wording import duration
 
-    assert f"{duration(total / n)}/image" in line
+    assert (f"{duration(estimate.per_image_s)} per image, {duration(estimate.total_s)} "
+            f"for {n} images") in line
     assert "this machine" in w.panels["Flight"].time_label.text()
 
     # a thumbnail opens the full image with the GCP it sees drawn on it

@@ -75,7 +75,7 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     sun.levels.selectAll()
     qtbot.keyClicks(sun.levels, "40:30:10")
     _checked(qtbot, w, panel)
-    assert "factor sun-elevation-deg: stop 30 is below start 40" in panel.errors.text()
+    assert "factor “sun elevation (°)”: stop 30 is below start 40" in panel.errors.text()
     sun.levels.selectAll()
     qtbot.keyClicks(sun.levels, "30:40:10")
     assert _runs_line(_checked(qtbot, w, panel)) == (5, 2, 10)

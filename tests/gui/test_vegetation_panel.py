@@ -8,7 +8,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
-from designer.gui.qt.panels.vegetation import NEW_DENSITY_PER_M2
+from designer.gui.state.switched_on import NEW_DENSITY_PER_M2
 from designer.project import model as m
 from tests.gui.helpers import field, open_panel, set_field, wait_idle
 

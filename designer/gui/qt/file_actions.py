@@ -152,6 +152,8 @@ class FileActions:
         self.document.reset(project, path)
         self._remember(path)
         self.window.show_problems(problems, f"{path.name} has problems to fix")
+        if not problems:
+            self.window.statusBar().showMessage(f"opened {path.name}", 5000)
         return True
 
     def save(self) -> bool:

@@ -39,7 +39,7 @@ from designer.gui.state import files, wording
 from designer.gui.state.document import ProjectDocument
 
 LAYERS = [("terrain", "Terrain"), ("objects", "Scene objects"), ("buildings", "Buildings"),
-          ("vegetation", "Plants"), ("targets", "GCP targets"),
+          ("vegetation", "Plants"), ("movers", "Moving objects"), ("targets", "GCP targets"),
           ("frusta", "Camera frusta"), ("footprints", "Ground footprints"),
           ("flight", "Flight lines"),
           ("area", "Survey area"), ("cloud", "Point cloud"), ("residuals", "GCP errors")]
@@ -62,6 +62,12 @@ def _extra_panels():
 
     out.append(("right", StudyPanel))
     return out
+
+
+#: the docks' widths at the start (px): the left one fits the GCP table's id, role, images
+#: and true X, Y, Z; the 3D view takes the rest (at 1600 px, about 640)
+LEFT_DOCK_PX = 430
+RIGHT_DOCK_PX = 460
 
 
 class MainWindow(QMainWindow):
@@ -98,8 +104,14 @@ class MainWindow(QMainWindow):
                       "Study"])
         self.docks["Terrain"].raise_()
         self.docks["Flight"].raise_()
-        self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]], [380, 460],
-                         Qt.Orientation.Horizontal)
+        # tabs along the window's sides: every title whole, however many docks share an
+        # area (below a 380 px dock, seven titles scrolled, one of them cut)
+        from PySide6.QtWidgets import QTabWidget
+
+        self.setTabPosition(Qt.DockWidgetArea.LeftDockWidgetArea, QTabWidget.TabPosition.West)
+        self.setTabPosition(Qt.DockWidgetArea.RightDockWidgetArea, QTabWidget.TabPosition.East)
+        self.resizeDocks([self.docks["Terrain"], self.docks["Flight"]],
+                         [LEFT_DOCK_PX, RIGHT_DOCK_PX], Qt.Orientation.Horizontal)
         self._readable_tabs()
         for dock in self.docks.values():
             dock.dockLocationChanged.connect(self._readable_tabs_later)
@@ -218,10 +230,15 @@ class MainWindow(QMainWindow):
     def show_problems(self, lines: list[str], headline: str = "") -> None:
         """List problems inline (an empty list hides the Problems panel), each line as
         worded by :mod:`designer.gui.state.wording`; while listed they are checked again
-        after every change, so fixed ones (also by an undo) go away."""
+        after every change, so fixed ones (also by an undo) go away. The headline of the
+        problems listed before leaves the status bar with them ("Cannot open root.xml"
+        does not outlast the next file opened)."""
         self._problems_project = self.document.project if lines else None
         self._file_problems = list(lines)
         self._list_problems()
+        if not lines or headline:  # a check again without a headline keeps the old one
+            self._withdraw_message(getattr(self, "_problems_headline", ""))
+            self._problems_headline = headline if lines else ""
         if lines and headline:
             self.statusBar().showMessage(headline, 10000)
 

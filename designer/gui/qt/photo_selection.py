@@ -69,6 +69,7 @@ class PhotoSelection:
         self.cloud_moment = moment
         if self.document.project.scene.lighting.clouds is not None:
             self.refresh_cloud_shadows()
+        self.refresh_moving()
         if isinstance(moment, int) and moment != self.selected_photo:
             self.select_photo(moment)
 
@@ -85,9 +86,10 @@ class PhotoSelection:
         self.photo_selected.emit(index)
         if index is not None:
             self.message.emit(self._photo_text(index))
-        if (self.document.project.scene.lighting.clouds is not None
-                and self.cloud_time_s() != before):
-            self.refresh_cloud_shadows()
+        if self.cloud_time_s() != before:
+            if self.document.project.scene.lighting.clouds is not None:
+                self.refresh_cloud_shadows()
+            self.refresh_moving()  # the objects stand where they are at that moment
 
     def _photo_text(self, index: int) -> str:
         name = self.stations.stations[index].image_name
@@ -143,6 +145,7 @@ class PhotoSelection:
             self.selected_photo = None
             self.photo_selected.emit(None)
         self._mark_selected_photo()
-        if (self.cloud_station is not None
-                and self.document.project.scene.lighting.clouds is not None):
-            self.refresh_cloud_shadows()  # its moment may have moved
+        if self.cloud_station is not None:  # its moment may have moved
+            if self.document.project.scene.lighting.clouds is not None:
+                self.refresh_cloud_shadows()
+            self.refresh_moving()

@@ -28,6 +28,7 @@ from designer.gui.qt.photo_selection import FOLLOW_SELECTION, PhotoSelection
 from designer.gui.qt.tasks import TaskRunner
 from designer.gui.state import derived
 from designer.gui.state.document import ProjectDocument
+from designer.gui.state.moving_view import moving_display
 from designer.project import model as m
 
 TERRAIN_PARTS = {"terrain"}
@@ -131,6 +132,8 @@ class SceneSync(PhotoSelection, QObject):
         if "lighting" in parts and not parts & TERRAIN_PARTS and self.terrain is not None:
             self.refresh_lighting()
             self.refresh_cloud_shadows()
+        if parts & {"objects", "trajectory"} and not parts & TERRAIN_PARTS:
+            self.refresh_moving()  # (a new terrain poses them when it is done)
         if parts & {"objects", "lighting"}:
             self.refresh_objects()
             if not parts & TERRAIN_PARTS:
@@ -190,6 +193,7 @@ class SceneSync(PhotoSelection, QObject):
         if first:
             self.view.reset_view()
         self.refresh_cloud_shadows()
+        self.refresh_moving()
         self.terrain_changed.emit()
         self.refresh_targets()
         self.refresh_stations()
@@ -207,6 +211,26 @@ class SceneSync(PhotoSelection, QObject):
         self.view.show_terrain(display.points_world, display.faces, self._uv(display),
                                self.texture_rgb, tex.interpolation == "linear",
                                self.terrain.irradiance)
+
+    # ------------------------------------------------------------------ moving objects
+    def refresh_moving(self) -> None:
+        """Pose the moving objects at the moment the view draws (the cloud shadows'
+        moment: the selected photo's time, else the take-off), in a worker thread."""
+        project = self.document.project
+        if not project.scene.moving_objects:
+            self.tasks.cancel("moving")
+            self.view.show_moving(None)
+            return
+        terrain = self.terrain
+        hf = terrain.heightfield if terrain is not None else None
+        z = terrain.z_mean_m if terrain is not None else 0.0
+        self.tasks.submit("moving", moving_display, project, hf, self.document.base_dir,
+                          self.cloud_time_s(), z, on_done=self._moving_done,
+                          on_error=lambda e: self._fail("moving objects", e))
+
+    def _moving_done(self, shown) -> None:
+        self._clear("moving objects")
+        self.view.show_moving(shown)
 
     # ------------------------------------------------------------------ objects
     def refresh_objects(self) -> None:
@@ -429,9 +453,11 @@ class SceneSync(PhotoSelection, QObject):
         self._clear("stations")
         self.stations = result
         self.view.show_stations(result.geometry)
-        ring = result.surroundings
+        ring, far = result.surroundings, result.far_ground
         self.view.show_surroundings(*((ring.points_world, ring.faces) if ring is not None
                                       else (None, None)))
+        self.view.show_far_ground(*((far.points_world, far.faces) if far is not None
+                                    else (None, None)))
         if len(result.C_world) and not self.view.in_view(result.C_world).any():
             # an edit moved every camera out of sight: show them with the terrain
             self.view.frame_all(result.C_world)
@@ -446,6 +472,7 @@ class SceneSync(PhotoSelection, QObject):
         self.stations = None
         self.view.show_stations(None)
         self.view.show_surroundings(None, None)  # planned from the images: none without
+        self.view.show_far_ground(None, None)
         self.errors["stations"] = _message(error)
         self.view.show_selected_station(None)
         self.stations_changed.emit()

@@ -17,7 +17,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from designer.gui.qt.interaction import ViewInteraction
-from designer.gui.state.view_overlays import CLOUD_BAR, OverlayLayers
+from designer.gui.state.view_overlays import BAR_STYLE, CLOUD_BAR, COVERAGE_BAR, OverlayLayers
 from designer.scene.objects import OBJECT_ALBEDO_RGB
 
 ROLE_COLOURS = {"control": (0.85, 0.1, 0.1), "check": (0.1, 0.35, 0.95)}
@@ -28,6 +28,7 @@ LAYER_STYLE = {
     "flight": {"color": (0.1, 0.9, 0.9), "line_width": 2.0},
     "area": {"color": (1.0, 0.3, 1.0), "line_width": 3.0},
     "draft": {"color": (1.0, 0.5, 0.0), "line_width": 3.0},
+    "movers:paths": {"color": (0.55, 1.0, 0.2), "line_width": 2.0},  # apart from the rest
 }
 #: largest texture side sent to the GPU (px); the full image stays in the model's hands
 MAX_DISPLAY_TEXTURE_PX = 2048
@@ -35,6 +36,10 @@ TERRAIN_COLOUR = (0.55, 0.6, 0.45)
 #: the ground beyond the terrain's extent that renders include: lighter and plain, so the
 #: terrain (the area of interest) stands out from it
 SURROUNDINGS_COLOUR = (0.72, 0.75, 0.66)
+#: beyond them, to the horizon, ground no image sees: darker, so it reads as not rendered
+FAR_GROUND_COLOUR = (0.52, 0.55, 0.48)
+#: its layer (a part of "surroundings": hidden and shown with it)
+FAR_GROUND = "surroundings:far"
 OBJECT_COLOUR = OBJECT_ALBEDO_RGB  # as the renderer draws them
 #: the buildings' facades and roofs (about the mean colour of their textures)
 FACADE_COLOUR, ROOF_COLOUR = (0.80, 0.72, 0.60), (0.58, 0.27, 0.17)
@@ -46,6 +51,14 @@ MODE_TEXT = {
 }
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer")
 
+
+#: the panel: its colour, how much it hides of what is drawn behind it, and its margin
+#: around the bar (normalised viewport: the end labels stand out half their width)
+BAR_PANEL_COLOUR = (0.1, 0.11, 0.14)
+BAR_PANEL_OPACITY = 0.85
+BAR_PANEL_MARGIN = (0.05, 0.012)
+#: the height of the bar's title line over the bar (normalised viewport)
+BAR_TITLE_HEIGHT = 0.012
 
 class SceneView(OverlayLayers, QWidget):
     """A QWidget holding the interactor; signals carry world coordinates (m)."""
@@ -141,7 +154,7 @@ class SceneView(OverlayLayers, QWidget):
         if name == "cloud":
             self._remove_scalar_bar(CLOUD_BAR)
         if name == "coverage":
-            self._remove_scalar_bar("images seeing the ground")
+            self._remove_scalar_bar(COVERAGE_BAR)
         if name == "residuals":
             for part in ("residuals:tips", "residuals:labels"):
                 self._meshes.pop(part, None)
@@ -153,9 +166,61 @@ class SceneView(OverlayLayers, QWidget):
                 self._residual_ids = set()
                 self._target_labels()
 
+    def bar_panel(self, title: str) -> None:
+        """Lay the colour bar ``title`` on a dark panel a margin larger than the bar (its
+        end labels stand out half their width), its title on the panel's top line, apart
+        from the tick labels (VTK sets a horizontal bar's title on top of its labels):
+        ``{title}:panel`` and ``{title}:title``, removed with the bar."""
+        import vtk
+
+        bar = self.plotter.scalar_bars[title]
+        bar.SetTitle("")  # drawn by the text actor below
+        x0, y0 = bar.GetPositionCoordinate().GetValue()[:2]
+        w, h = bar.GetPosition2Coordinate().GetValue()[:2]
+        mx, my = BAR_PANEL_MARGIN
+        top = y0 + h + BAR_TITLE_HEIGHT
+        points = vtk.vtkPoints()
+        for x, y in ((x0 - mx, y0 - my), (x0 + w + mx, y0 - my), (x0 + w + mx, top + my),
+                     (x0 - mx, top + my)):
+            points.InsertNextPoint(x, y, 0.0)
+        quad = vtk.vtkCellArray()
+        quad.InsertNextCell(4, [0, 1, 2, 3])
+        rect = vtk.vtkPolyData()
+        rect.SetPoints(points)
+        rect.SetPolys(quad)
+        where = vtk.vtkCoordinate()
+        where.SetCoordinateSystemToNormalizedViewport()
+        mapper = vtk.vtkPolyDataMapper2D()
+        mapper.SetInputData(rect)
+        mapper.SetTransformCoordinate(where)
+        panel = vtk.vtkActor2D()
+        panel.SetMapper(mapper)
+        panel.GetProperty().SetColor(*BAR_PANEL_COLOUR)
+        panel.GetProperty().SetOpacity(BAR_PANEL_OPACITY)
+        self.plotter.add_actor(panel, name=f"{title}:panel", reset_camera=False,
+                               render=False, pickable=False)
+        text = vtk.vtkTextActor()
+        text.SetInput(title)
+        text.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+        text.GetPositionCoordinate().SetValue(x0 + w / 2, top - 0.004)
+        style = text.GetTextProperty()
+        style.SetFontSize(BAR_STYLE["title_font_size"])
+        style.SetColor(1.0, 1.0, 1.0)
+        style.SetJustificationToCentered()
+        style.SetVerticalJustificationToTop()
+        self.plotter.add_actor(text, name=f"{title}:title", reset_camera=False,
+                               render=False, pickable=False)
+        # overlays are drawn in the order they were added: the bar again, over its panel
+        # (through vtkRenderer itself: pyvista's Renderer hides these methods)
+        vtk.vtkRenderer.RemoveViewProp(self.plotter.renderer, bar)
+        vtk.vtkRenderer.AddViewProp(self.plotter.renderer, bar)
+
     def _remove_scalar_bar(self, title: str) -> None:
         if title in self.plotter.scalar_bars:
             self.plotter.remove_scalar_bar(title, render=False)
+        for part in (f"{title}:panel", f"{title}:title"):
+            if part in self.plotter.actors:
+                self.plotter.remove_actor(part, render=False)
 
     def has_layer(self, name: str) -> bool:
         return name in self._meshes
@@ -232,6 +297,20 @@ class SceneView(OverlayLayers, QWidget):
         mesh = self._pv.PolyData(self.local(points_world),
                                  np.column_stack([np.full(len(f), 3), f]).ravel())
         self._show("surroundings", mesh, color=SURROUNDINGS_COLOUR, smooth_shading=False)
+
+    def show_far_ground(self, points_world: np.ndarray | None,
+                        faces: np.ndarray | None) -> None:
+        """Beyond the surroundings, to the horizon, ground no image sees: a plain skirt
+        darker than the surroundings (None: none). Left out of what the top view frames."""
+        if points_world is None or faces is None or not len(faces):
+            self.remove_layer(FAR_GROUND)
+            self.request_render()
+            return
+        f = np.asarray(faces, dtype=np.int64)
+        mesh = self._pv.PolyData(self.local(points_world),
+                                 np.column_stack([np.full(len(f), 3), f]).ravel())
+        self._show(FAR_GROUND, mesh, color=FAR_GROUND_COLOUR, smooth_shading=False,
+                   pickable=False)
 
     def set_terrain_irradiance(self, irradiance: np.ndarray | None) -> None:
         """Shade the terrain by a light value per vertex (None: the view's own lights).
@@ -400,6 +479,21 @@ class SceneView(OverlayLayers, QWidget):
 
         self._show_faces("vegetation", vertices_world, faces, lambda: flat_lit_rgb(face_albedo))
 
+    def show_moving(self, shown) -> None:
+        """The moving objects (a ``moving_view.MovingDisplay``, None: none): each posed at
+        the drawn moment in its albedo lit as flat open ground, as the renderer draws
+        them, and their paths."""
+        from designer.gui.state.view_geometry import flat_lit_rgb
+
+        if shown is None:
+            self._show_faces("movers", None, None, None)
+            self.remove_layer("movers:paths")
+            return
+        self._show_faces("movers", shown.vertices_world, shown.faces,
+                         lambda: flat_lit_rgb(shown.face_albedo))
+        self._show("movers:paths", self._lines(shown.path_points, shown.path_lines),
+                   **LAYER_STYLE["movers:paths"])
+
     def target_positions(self) -> list[tuple[str, np.ndarray]]:
         return [(i, p) for i, p, _ in self._targets]
 
@@ -452,7 +546,14 @@ class SceneView(OverlayLayers, QWidget):
         self.request_render()
 
     def view_top(self) -> None:
+        far = self.plotter.actors.get(FAR_GROUND)
+        shown = bool(far.GetVisibility()) if far is not None else False
+        if far is not None:  # framed on what images see, not on the far ground
+            far.SetVisibility(False)
         self.plotter.view_xy()
+        if far is not None:
+            far.SetVisibility(shown)
+            self.plotter.reset_camera_clipping_range()
         self.request_render()
 
     # ------------------------------------------------------------------ output

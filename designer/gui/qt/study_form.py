@@ -12,6 +12,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QLineEdit, QToolButton, QWidget
 
 from designer.gui.state.study_data import parse_levels, parse_range
+from designer.gui.state.study_words import factor_words, tip
 
 LEVELS_HINT = "values separated by spaces (3 4 6 8), or a range START:STOP:STEP (20:40:5)"
 
@@ -26,13 +27,14 @@ class FactorRow(QWidget):
                  levels: str = "", parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.name = name
+        self.words = factor_words(name)
         row = QHBoxLayout(self)
         row.setContentsMargins(0, 0, 0, 0)
         self.stage = stage
         self.label = QLabel()
-        self.label.setToolTip(f"{doc}\nIts value in the base project is the base level: "
-                              "one at a time, the base run keeps it and every other run "
-                              "changes this factor alone")
+        self.label.setToolTip(tip(f"{doc}\nIts value in the base project is the base "
+                                  "level: one at a time, the base run keeps it and every "
+                                  "other run changes this factor alone", name))
         self.label.setMinimumWidth(150)
         self.set_base(base_value)
         label = self.label
@@ -46,7 +48,7 @@ class FactorRow(QWidget):
         self.remove_button = QToolButton()
         self.remove_button.setObjectName(f"remove-{name}")
         self.remove_button.setText("✕")
-        self.remove_button.setToolTip(f"remove the factor {name}")
+        self.remove_button.setToolTip(f"remove the factor “{self.words}”")
         self.remove_button.clicked.connect(lambda: self.remove.emit(self))
         row.addWidget(label)
         row.addWidget(self.levels, 1)
@@ -56,7 +58,7 @@ class FactorRow(QWidget):
     def set_base(self, base_value: str) -> None:
         """Show the factor's value in the study's base project ("" when it sets none)."""
         self.base_value = base_value
-        self.label.setText(f"<b>{self.name}</b><br><small>{self.stage}; in the base "
+        self.label.setText(f"<b>{self.words}</b><br><small>{self.stage}; in the base "
                            f"project: {base_value or 'not set'}</small>")
 
     def values(self) -> tuple[str, ...]:
@@ -65,7 +67,7 @@ class FactorRow(QWidget):
             values = parse_levels(self.levels.text())
         except ValueError as error:
             self.count.setText("")
-            raise ValueError(f"factor {self.name}: {error}") from None
+            raise ValueError(f"factor “{self.words}”: {error}") from None
         self.count.setText(f"{len(values)} level{'s' if len(values) != 1 else ''}")
         return values
 

@@ -409,13 +409,16 @@ class Bindings:
         return list(self._items)
 
     def refresh(self, project: m.Project) -> None:
-        """Show the project's values; fields whose parent is absent are disabled."""
+        """Show the project's values; fields whose parent is absent are disabled and show
+        their ``switched_on_value`` (a value, or a function of the project giving it)."""
         for widget, get in self._items:
             try:
                 value = get(project)
             except AbsentElement:
                 widget.setEnabled(False)
                 shown = getattr(widget, "switched_on_value", None)
+                if callable(shown):  # it depends on the project (e.g. its camera)
+                    shown = shown(project)
                 if shown is not None:  # greyed, what switching the element on gives
                     blocked = widget.blockSignals(True)
                     _set_value(widget, shown)

@@ -23,6 +23,7 @@ from designer.gui.state.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
     StationGeometry,
     TerrainDisplay,
+    far_ground_display,
     grid_faces,
     station_geometry,
     surroundings_display,
@@ -409,18 +410,28 @@ class StationsResult:
     #: the ground the renders include beyond the terrain's extent, as drawn (a coarse
     #: ring, :func:`designer.gui.state.view_geometry.surroundings_display`); None: none
     surroundings: TerrainDisplay | None = None
+    #: beyond it, to the view's horizon, ground no image sees
+    #: (:func:`designer.gui.state.view_geometry.far_ground_display`); None without
+    #: surroundings (the renders then end at the extent, and so does the view)
+    far_ground: TerrainDisplay | None = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
     """Estimated wall seconds of rendering the images ``costs`` (ImageCost) on this
     machine (:mod:`designer.survey.render_cost`), at the project's samples or a preset's."""
+    return render_estimate(project, costs, preset).total_s
+
+
+def render_estimate(project: m.Project, costs, preset: str | None = None):
+    """:func:`render_estimate_s` with the set-up apart from the images' seconds
+    (a ``render_cost.RenderEstimate``)."""
     from dataclasses import replace as _replace
 
-    from designer.survey.render_cost import estimate_render_s, render_workers
+    from designer.survey.render_cost import estimate_render, render_workers
 
     if preset is not None:
         costs = [_replace(c, samples=m.PRESET_SAMPLES[preset]) for c in costs]
-    return estimate_render_s(costs, render_workers(project, len(costs)))
+    return estimate_render(costs, render_workers(project, len(costs)))
 
 
 def rendered_size_px(interior: InteriorOrientation, resolution_scale: float) -> tuple[int, int]:
@@ -480,9 +491,10 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     costs = tuple(project_image_costs(project, images, rendered))
     seconds = render_estimate_s(project, costs)
     ring = surroundings_display(rendered, hf.extent_m) if surrounded else None
+    far = far_ground_display(rendered) if surrounded else None
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations), grown, ring)
+                          tuple(s.image_name for s in images.stations), grown, ring, far)
 
 
 #: the surroundings the footprints are cast on keep at most this many nodes per side

@@ -143,6 +143,41 @@ def surroundings_display(rendered: Heightfield, declared_extent_m: tuple[float, 
     return TerrainDisplay(points, faces[~over], np.zeros((len(points), 2)))
 
 
+#: the far ground reaches this many times the rendered terrain's half-size beyond it
+FAR_GROUND_REACH = 1.5
+#: nodes along each side of the rendered terrain's border the far ground starts from
+FAR_GROUND_NODES_PER_SIDE = 16
+
+
+def far_ground_display(rendered: Heightfield,
+                       reach: float = FAR_GROUND_REACH,
+                       nodes_per_side: int = FAR_GROUND_NODES_PER_SIDE) -> TerrainDisplay:
+    """A plain skirt from the border of the rendered terrain (the terrain with its
+    surroundings) outwards, ``reach`` times its half-size further, falling from the
+    border's heights to their median: ground no image sees, drawn so that the view does
+    not end at a ridge against the sky. World metres; ``uv`` all zeros (one colour)."""
+    gx0, gx1, gy0, gy1 = rendered.extent_m
+    t = np.linspace(0.0, 1.0, nodes_per_side, endpoint=False)
+    # the border, anticlockwise from the south-west corner
+    x = np.r_[gx0 + t * (gx1 - gx0), np.full_like(t, gx1), gx1 - t * (gx1 - gx0),
+              np.full_like(t, gx0)]
+    y = np.r_[np.full_like(t, gy0), gy0 + t * (gy1 - gy0), np.full_like(t, gy1),
+              gy1 - t * (gy1 - gy0)]
+    z = np.asarray(rendered.height_at_clamped(x, y), dtype=float).ravel()
+    centre = np.array([(gx0 + gx1) / 2, (gy0 + gy1) / 2])
+    half = np.column_stack([x, y]) - centre
+    # out along each border point's direction from the centre, as far for every point
+    scale = 1.0 + reach * max(gx1 - gx0, gy1 - gy0) / 2 / np.linalg.norm(half, axis=1)
+    outer = centre + half * scale[:, None]
+    n = len(x)
+    points = np.vstack([np.column_stack([x, y, z]),
+                        np.column_stack([outer, np.full(n, float(np.median(z)))])])
+    k = np.arange(n)
+    k1 = (k + 1) % n
+    faces = np.vstack([np.column_stack([k, k1, n + k1]), np.column_stack([k, n + k1, n + k])])
+    return TerrainDisplay(points, faces.astype(np.int64), np.zeros((len(points), 2)))
+
+
 # ----------------------------------------------------------------------- stations
 @dataclass(frozen=True, eq=False)
 class StationGeometry:

@@ -9,14 +9,18 @@ from __future__ import annotations
 
 import numpy as np
 
-#: colour bars: light text with a shadow, readable on the dark background
-BAR_STYLE = {"color": "white", "shadow": True, "title_font_size": 16,
+#: colour bars: white text on a dark panel of their own (``SceneView.bar_panel``),
+#: so they read over the light surroundings as over the dark background, and nothing
+#: drawn in the scene runs through their labels
+BAR_STYLE = {"color": "white", "shadow": False, "title_font_size": 16,
              "label_font_size": 14, "vertical": False, "position_x": 0.3,
-             "position_y": 0.03, "height": 0.07, "width": 0.4}
+             "position_y": 0.03, "height": 0.09, "width": 0.4}
 RESIDUAL_COLOUR = (1.0, 0.85, 0.1)
 #: the cloud's colour bar (and the name of its scalars): in mm, as the histogram and
 #: every distance of the Results panel
 CLOUD_BAR = "signed distance (mm)"
+#: the coverage heat map's colour bar
+COVERAGE_BAR = "images seeing the ground"
 
 
 class OverlayLayers:
@@ -35,8 +39,9 @@ class OverlayLayers:
         self.remove_layer("coverage")
         self.plotter.add_mesh(grid, name="coverage", scalars="images", cmap="viridis",
                               opacity=0.6, reset_camera=False, render=False,
-                              scalar_bar_args={"title": "images seeing the ground",
-                                               **BAR_STYLE, "position_y": 0.12})
+                              scalar_bar_args={"title": COVERAGE_BAR,
+                                               **BAR_STYLE, "position_y": 0.44})
+        self.bar_panel(COVERAGE_BAR)
         self._meshes["coverage"] = grid
         self.request_render()
 
@@ -82,6 +87,7 @@ class OverlayLayers:
                               render_points_as_spheres=False, reset_camera=False,
                               render=False, scalar_bar_args={"title": CLOUD_BAR,
                                                              "fmt": "%.1f", **BAR_STYLE})
+        self.bar_panel(CLOUD_BAR)
         self._meshes["cloud"] = cloud
         self._cloud_world = np.asarray(points_world, dtype=float)
         self._kept["cloud"] = lambda: self.show_cloud(points_world, distances_m, limit_m)

@@ -23,6 +23,7 @@ from PySide6.QtWidgets import (
 from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
 from designer.gui.state import derived, edits
+from designer.gui.state.switched_on import flight_gsd_cm, switched_on_flight
 from designer.gui.state.wording import count
 from designer.project import model as m
 
@@ -119,6 +120,13 @@ class FlightPanel(Panel):
             "Start corner"))
         f.addRow("image prefix", self.bindings.bind(_line(), f"{FP}.image_prefix",
                                                     "Image prefix"))
+        # greyed while the photos are listed one by one (no plan): the plan editing a
+        # field gives, not the fields' minimum
+        for widget, get in self.bindings.items:
+            if widget.objectName().startswith(f"{FP}."):
+                widget.switched_on_value = (
+                    lambda p, get=get: get(switched_on_flight(p)))
+        self.gsd_spin.switched_on_value = lambda p: flight_gsd_cm(switched_on_flight(p))
         layout.addWidget(grid)
 
         rig = QGroupBox("oblique rig (cameras fired together at each station)")
@@ -318,16 +326,15 @@ class FlightPanel(Panel):
         else:  # photos listed one by one (imported or written so): no grid to describe
             self.calc_label.setText(NO_GRID)
         if stations.render_costs:
-            from designer.gui.state.wording import duration, estimate_basis
+            from designer.gui.state.render_figures import flight_estimate_line
+            from designer.gui.state.wording import estimate_basis
             from designer.survey.render_cost import load_speed
 
             # this machine's speed as measured now (a render since may have refined it)
-            total = derived.render_estimate_s(self.project, stations.render_costs)
-            per = total / len(stations.render_costs)
-            self.time_label.setText(
-                f"≈ {duration(total)} to render ({duration(per)} per image at "
-                f"{self.project.render.effective_samples} samples; "
-                f"{estimate_basis(load_speed(stations.render_costs[0]))})")
+            self.time_label.setText(flight_estimate_line(
+                derived.render_estimate(self.project, stations.render_costs),
+                self.project.render.effective_samples,
+                estimate_basis(load_speed(stations.render_costs[0]))))
 
     def _plan_readouts(self) -> None:
         """Figures of the flight over the real terrain and the warnings they raise."""

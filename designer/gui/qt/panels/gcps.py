@@ -28,8 +28,12 @@ from designer.gui.qt.widgets import MessageLabel, combo, dspin, form, format_num
 from designer.gui.state import edits, wording
 from designer.project import model as m
 
-COLUMNS = ["id", "role", "X", "Y", "Z (blank: on ground)", "size m",
-           "surveyed X", "surveyed Y", "surveyed Z", "images"]
+COLUMNS = ["id", "role", "X", "Y", "Z", "size m", "surveyed X", "surveyed Y", "surveyed Z",
+           "images"]
+#: the headers' tooltips
+COLUMN_TIPS = {"Z": "the target's true height; blank: on the ground",
+               "surveyed X": "blank: the simulated survey (σ below) gives it",
+               "images": "images of the flight that see the GCP unoccluded (red below 3)"}
 #: the read-only column: images of the flight that see the GCP (over the real terrain)
 IMAGES_COLUMN = 9
 #: the height of the table with its messages under it (px)
@@ -75,9 +79,15 @@ class GcpPanel(Panel):
 
         self.table = QTableWidget(0, len(COLUMNS))
         self.table.setHorizontalHeaderLabels(COLUMNS)
+        for c, name in enumerate(COLUMNS):
+            tip = COLUMN_TIPS.get(name, COLUMN_TIPS["surveyed X"] if "surveyed" in name
+                                  else "")
+            self.table.horizontalHeaderItem(c).setToolTip(tip)
         header = self.table.horizontalHeader()
-        for c in range(len(COLUMNS)):  # each header whole, its margins included
-            header.resizeSection(c, max(header.sectionSize(c), header.sectionSizeHint(c)))
+        # the images each GCP is seen in beside its role: id, role, images and the true
+        # position show without scrolling; the survey's columns follow
+        header.moveSection(IMAGES_COLUMN, 2)
+        self.table.verticalHeader().hide()  # the id names the row
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.table.setMinimumHeight(120)
         self.table.itemChanged.connect(self._cell_edited)
@@ -180,6 +190,8 @@ class GcpPanel(Panel):
         finally:
             self.table.blockSignals(False)
         self._image_counts()
+        # as narrow as their numbers and headers: the columns a surveyor reads at once fit
+        self.table.resizeColumnsToContents()
         self._cell_errors.clear()  # the table shows the project's values again
         self._show_cell_errors()
         if built is None and project.targets and "targets" in self.sync.errors:

@@ -30,6 +30,7 @@ from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.panels.out_of_date import OutOfDate
 from designer.gui.qt.widgets import combo, form, format_number, ispin, readout
 from designer.gui.state import derived
+from designer.gui.state.render_figures import preset_cost_lines, up_to_date_line
 from designer.gui.state.wording import count, duration, estimate_basis
 from designer.project import model as m
 from designer.render.pipeline import ImagesKept, continue_hint
@@ -242,12 +243,10 @@ class RenderPanel(Panel):
         if stations is None:
             self.cost.setText("– (no stations yet)")
             return
-        lines = []
         n = len(stations.render_costs)
-        for preset, spp in m.PRESET_SAMPLES.items():
-            total = derived.render_estimate_s(self.project, stations.render_costs, preset)
-            lines.append(f"{preset}: {spp} samples, {duration(total / max(1, n))}/image, "
-                         f"{duration(total)} for {n}")
+        lines = preset_cost_lines({
+            preset: (spp, derived.render_estimate(self.project, stations.render_costs, preset))
+            for preset, spp in m.PRESET_SAMPLES.items()})
         # the records of this project's kind of image (the first image's), as the figures
         speed = load_speed(stations.render_costs[0] if n else None)
         self.cost.setText("\n".join(lines) + f"\n({estimate_basis(speed)})")
@@ -262,7 +261,7 @@ class RenderPanel(Panel):
             return
         self.out_of_date.show_state(
             None if state.ok else state.text,
-            f"the {state.n_images} rendered images are up to date with the project",
+            up_to_date_line(state.n_images),
             says_it=bool(state.stale))  # "12 images out of date: …", said once
         if state.n_images:
             self._show_rendered()

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QTimer
+from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import (
     QCheckBox,
     QGridLayout,
@@ -39,6 +39,7 @@ from designer.gui.qt.study_form import (
 from designer.gui.qt.study_results import StudyResults
 from designer.gui.qt.widgets import combo, form, ispin, message_box
 from designer.gui.state.study_data import duration_text
+from designer.gui.state.study_words import draw_words, factor_words, metric_words, tip
 from designer.gui.state.wording import count, estimate_basis
 from designer.study.cost import COSTS
 from designer.study.factors import DRAWS, FACTORS
@@ -98,11 +99,11 @@ class StudyPanel(StudyFiles, Panel):
         factors = QGroupBox("factors")
         v = QVBoxLayout(factors)
         add = QHBoxLayout()
-        self.factor_choice = combo([(f"{f.name} ({f.stage})", f.name)
+        self.factor_choice = combo([(f"{factor_words(f.name)} ({f.stage})", f.name)
                                     for f in FACTORS.values()])
         self.factor_choice.setObjectName("study-factor-choice")
         for k, f in enumerate(FACTORS.values()):
-            self.factor_choice.setItemData(k, f.doc, 3)  # Qt.ToolTipRole
+            self.factor_choice.setItemData(k, tip(f.doc, f.name), 3)  # Qt.ToolTipRole
         self.add_button = QPushButton("Add")
         self.add_button.setObjectName("study-add-factor")
         self.add_button.clicked.connect(lambda: self.add_factor(
@@ -130,30 +131,32 @@ class StudyPanel(StudyFiles, Panel):
         grid = QGridLayout()
         self.vary: dict[str, QCheckBox] = {}
         for k, (name, (doc, _)) in enumerate(DRAWS.items()):
-            box = QCheckBox(name)
-            box.setToolTip(f"re-draw {doc} in every replicate")
+            box = QCheckBox(draw_words(name))
+            box.setToolTip(tip(f"re-draw {doc} in every replicate", name))
             box.toggled.connect(self.changed)
             grid.addWidget(box, k // 2, k % 2)
             self.vary[name] = box
         f.addRow("re-drawn", grid)
         layout.addWidget(design)
 
-        metrics = QGroupBox("metrics (results.csv columns in the report)")
+        metrics = QGroupBox("metrics (each tooltip names its results.csv column)")
         v = QVBoxLayout(metrics)
         from designer.study.results import METRIC_COLUMNS
 
         self.metrics = QListWidget()
         self.metrics.setMaximumHeight(130)
         for name in METRIC_COLUMNS:
-            item = QListWidgetItem(name)
+            item = QListWidgetItem(metric_words(name))
+            item.setData(Qt.ItemDataRole.UserRole, name)
+            item.setToolTip(tip("a column of results.csv in the study's report", name))
             item.setCheckState(checked_state(name in DEFAULT_METRICS))
             self.metrics.addItem(item)
         self.metrics.itemChanged.connect(self.changed)
         v.addWidget(self.metrics)
         f = form()
-        self.cost_axis = combo([(c.name, c.name) for c in COSTS.values()])
+        self.cost_axis = combo([(c.label, c.name) for c in COSTS.values()])
         for k, c in enumerate(COSTS.values()):
-            self.cost_axis.setItemData(k, c.label, 3)  # Qt.ToolTipRole
+            self.cost_axis.setItemData(k, tip(c.label, c.name), 3)  # Qt.ToolTipRole
         self.cost_axis.setObjectName("study-cost")
         self.cost_axis.setToolTip("the cost the report plots accuracy against (<cost> in the "
                              "study file; docs/studies.md)")
@@ -207,7 +210,8 @@ class StudyPanel(StudyFiles, Panel):
     # ------------------------------------------------------------------ the study
     def add_factor(self, name: str, levels: str = "") -> FactorRow | None:
         if name in [r.name for r in self.rows]:
-            self._show_errors([f"factor {name} is in the study already; edit its levels"])
+            self._show_errors([f"factor “{factor_words(name)}” is in the study already; "
+                               "edit its levels"])
             return None
         factor = FACTORS[name]
         # the window's project until a check gives the study's base (_checked)
@@ -260,7 +264,8 @@ class StudyPanel(StudyFiles, Panel):
         path = study_path or self._path_for_check()
         factors = tuple(FactorSpec(r.name, r.values(), range_spec=r.range_spec())
                         for r in self.rows)
-        metrics = tuple(self.metrics.item(k).text() for k in range(self.metrics.count())
+        metrics = tuple(self.metrics.item(k).data(Qt.ItemDataRole.UserRole)
+                        for k in range(self.metrics.count())
                         if self.metrics.item(k).checkState() == checked_state(True))
         return Study(name=self.name.text().strip(), base=self._base(path), factors=factors,
                      design=self.design.currentData(),

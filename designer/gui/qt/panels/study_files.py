@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFileDialog
 
 from designer.gui.state.study_data import range_text
@@ -100,7 +101,8 @@ class StudyFiles:
             box.setChecked(name in study.replicates.vary)
         for k in range(self.metrics.count()):
             item = self.metrics.item(k)
-            item.setCheckState(checked_state(item.text() in study.metrics))
+            item.setCheckState(checked_state(item.data(Qt.ItemDataRole.UserRole)
+                                             in study.metrics))
         self.cost_axis.setCurrentIndex(self.cost_axis.findData(study.cost))
         self.study_path = path
         self.file_label.setText(f"opened: {path}" + (

@@ -13,23 +13,11 @@ from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, form, readout
 from designer.gui.state import edits
 from designer.gui.state.edits import AbsentElement
+from designer.gui.state.switched_on import FIRST_PLANT_KIND, new_plant_group
 from designer.project import model as m
 
 VEGETATION = "scene.vegetation"
 WIND = "scene.vegetation.wind"
-#: the density a new group gets: plants per m²
-NEW_DENSITY_PER_M2 = {"grass-tuft": 2.0, "shrub": 0.05, "tree": 0.005}
-#: a new group's height spread, as a share of its mean height
-NEW_HEIGHT_SD = 0.15
-
-
-def new_group(kind: str) -> m.PlantGroup:
-    """A group of ``kind`` at its default size and density, sizes written out."""
-    height, crown = m.PLANT_KINDS[kind]
-    return m.PlantGroup(NEW_DENSITY_PER_M2[kind], kind, height_m=height,
-                        height_sd_m=round(NEW_HEIGHT_SD * height, 3), crown_m=crown)
-
-
 class VegetationPanel(Panel):
     title = "Vegetation"
     parts = frozenset({"objects", "trajectory", "terrain"})
@@ -69,17 +57,17 @@ class VegetationPanel(Panel):
         f = form(self.selected)
         self.kind = combo([("grass tufts", "grass-tuft"), ("shrubs", "shrub"),
                            ("trees", "tree")])
+        self.kind.switched_on_value = FIRST_PLANT_KIND  # greyed, as its fields below
         f.addRow("kind", self.bindings.bind(self.kind, self._access("kind"), "Plant kind"))
-        f.addRow("density", self.bindings.bind(declared_field(m.PlantGroup, "density_per_m2"),
-                                               self._access("density_per_m2"),
-                                               "Plant density"))
-        f.addRow("height", self.bindings.bind(declared_field(m.PlantGroup, "height_m"),
-                                              self._access("height_m"), "Plant height"))
-        f.addRow("height spread", self.bindings.bind(declared_field(m.PlantGroup, "height_sd_m"),
-                                                     self._access("height_sd_m"),
-                                                     "Plant height spread"))
-        f.addRow("crown", self.bindings.bind(declared_field(m.PlantGroup, "crown_m"),
-                                             self._access("crown_m"), "Plant crown"))
+        # while there is no group, greyed, the group switching plants on gives
+        first = new_plant_group(FIRST_PLANT_KIND)
+        for label, name, undo in (("density", "density_per_m2", "Plant density"),
+                                  ("height", "height_m", "Plant height"),
+                                  ("height spread", "height_sd_m", "Plant height spread"),
+                                  ("crown", "crown_m", "Plant crown")):
+            box = declared_field(m.PlantGroup, name)
+            box.switched_on_value = getattr(first, name)
+            f.addRow(label, self.bindings.bind(box, self._access(name), undo))
         self.count_label = readout()
         f.addRow("plants", self.count_label)
         layout.addWidget(self.selected)
@@ -171,7 +159,7 @@ class VegetationPanel(Panel):
     def _toggled(self, on: bool) -> None:
         if on == (self.project.scene.vegetation is not None):
             return
-        value = m.Vegetation((new_group("shrub"),)) if on else None
+        value = m.Vegetation((new_plant_group(FIRST_PLANT_KIND),)) if on else None
         self.editor.edit(edits.replace_path(self.project, VEGETATION, value),
                          "Vegetation " + ("on" if on else "off"))
 
@@ -185,7 +173,7 @@ class VegetationPanel(Panel):
     def _add(self, kind: str) -> None:
         p = self.project
         veg = p.scene.vegetation or m.Vegetation(())
-        veg = dataclasses.replace(veg, plants=(*veg.plants, new_group(kind)))
+        veg = dataclasses.replace(veg, plants=(*veg.plants, new_plant_group(kind)))
         self.editor.edit(edits.replace_path(p, VEGETATION, veg), f"Add {kind} plants")
         self.chooser.setCurrentIndex(self.chooser.count() - 1)
 

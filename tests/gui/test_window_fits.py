@@ -1,0 +1,49 @@
+"""At the window's default size (1600 × 1000) a surveyor reads without scrolling sideways
+(issue 53, finding 5): every dock tab's title is whole in view (the left group showed
+"Moving objec", its tabs scrolled), and the GCP table shows each target's id, role,
+images and true X, Y, Z (it showed id, role, X and part of Y)."""
+
+from __future__ import annotations
+
+import pytest
+from PySide6.QtWidgets import QTabBar
+
+from designer.project import template, write_project
+from tests.gui.helpers import open_panel, problems, wait_idle
+
+pytestmark = pytest.mark.gui
+
+#: the GCP table's columns (logical indices) a surveyor reads at once
+ESSENTIAL = {"id": 0, "role": 1, "X": 2, "Y": 3, "Z": 4, "images": 9}
+
+
+def test_every_dock_tab_is_whole_in_view(qtbot, window):
+    w = window
+    assert w.size().width() == 1600 and w.size().height() == 1000
+    bars = [bar for bar in w.findChildren(QTabBar)
+            if bar.parent() is w and bar.isVisible() and bar.count() > 1]
+    titles = {bar.tabText(i) for bar in bars for i in range(bar.count())}
+    assert {"Terrain", "Moving objects", "Vegetation", "Camera", "Study"} <= titles, titles
+    for bar in bars:
+        for i in range(bar.count()):
+            rect = bar.tabRect(i)
+            assert bar.rect().contains(rect), (bar.tabText(i), rect, bar.rect())
+
+
+def test_the_gcp_table_shows_id_role_images_and_position_unscrolled(qtbot, window,
+                                                                    tmp_path):
+    w = window
+    path = tmp_path / "survey.xml"
+    write_project(template("survey").project, path)
+    assert w.file_actions.open(path), problems(w)
+    gcps = open_panel(w, "GCPs")
+    wait_idle(qtbot, w)
+    table = gcps.table
+    assert table.rowCount() == 10
+    assert table.horizontalScrollBar().value() == 0
+    header = table.horizontalHeader()
+    width = table.viewport().width()
+    for name, c in ESSENTIAL.items():
+        left = header.sectionViewportPosition(c)
+        right = left + header.sectionSize(c)
+        assert 0 <= left and right <= width, (name, left, right, width)
