@@ -1,7 +1,12 @@
 """The project model: a survey description in photogrammetric terms, Qt-free and bpy-free.
 
 It mirrors ``schema/designer-project-1.0.xsd`` one to one (element ``focal-length-mm``
-is field ``focal_length_mm``). Conventions (docs/conventions.md):
+is field ``focal_length_mm``), and the schema is written from it
+(``python -m designer.project.xsd_gen``): each class's declarations
+(designer.project.declare, .declare_structure) give its element's attributes and
+children, and the first paragraph of its docstring is the element's documentation —
+what ``designer check`` quotes — so it speaks of the file (min-height-m), later
+paragraphs of the code (``min_height_m``). Conventions (docs/conventions.md):
 
 * every coordinate is a **world** coordinate in metres, X = Easting, Y = Northing,
   Z = height; the origin (E0, N0, H0) is only subtracted for Blender;
@@ -136,13 +141,11 @@ class FlatTerrain:
 @element("procedural", title="procedural terrain")
 @dataclass(frozen=True)
 class ProceduralTerrain:
-    """Generated smooth hills (octaves of noise fixed to the world) on a regular
-    grid over the extent; every height lies between min-height-m and max-height-m
-    (world Z, m), a terrain a few hill sizes across reaches about 90 % of that
-    range.
+    """Generated smooth hills (octaves of noise fixed to the world) on a regular grid
+    over the extent; every height lies between min-height-m and max-height-m (world
+    Z, m), a terrain a few hill sizes across reaches about 90 % of that range.
 
-    Smooth hills fixed to the world on a grid (spacing in m), inside min..max (world Z,
-    m); the largest hills are ``hill_size_m`` across (:mod:`designer.scene.terrain`)."""
+    The largest hills are ``hill_size_m`` across (:mod:`designer.scene.terrain`)."""
 
     seed: int = attr(doc="random seed of the relief", range=SEED_RANGE)
     grid_spacing_m: float = attr(doc="distance between grid nodes; the extent's width and "
@@ -265,16 +268,14 @@ class ProceduralTexture:
 @element("variation", title="texture variation", path="scene.texture.variation")
 @dataclass(frozen=True)
 class TextureVariation:
-    """A seeded, non-repeating large-scale variation over the tiled texture, fixed
-    to the ground (world X, Y): the brightness varies by 1 +/- strength and the
-    texture blends with two mirrored, shifted copies of itself, so the ground does
-    not repeat with the tile. Without it the texture repeats exactly every tile (see
+    """A seeded, non-repeating large-scale variation over the tiled texture, fixed to
+    the ground (world X, Y): the brightness varies by 1 +/- strength and the texture
+    blends with two mirrored, shifted copies of itself, so the ground does not repeat
+    with the tile. Without it the texture repeats exactly every tile (see
     docs/world.md).
 
-    Seeded, non-repeating large-scale variation laid over the tiled texture.
-
-    ``scale_m`` is the wavelength of the coarsest of ``octaves`` noise octaves (each next
-    one half as long); ``strength`` (0..1) the brightness swing, 1 ± strength."""
+    ``scale_m`` is the wavelength of the coarsest of ``octaves`` noise octaves (each
+    next one half as long); ``strength`` (0..1) the brightness swing, 1 ± strength."""
 
     seed: int = attr(doc="the variation's random seed", range=SEED_RANGE)
     scale_m: float = attr(doc="wavelength of the coarsest variation, e.g. 2-3 tiles",
@@ -289,13 +290,12 @@ class TextureVariation:
                "size = extent / repeats (m).", False)})
 @dataclass(frozen=True)
 class Texture:
-    """The ground's colour: an image file or a generated pattern, repeated (tiled)
-    over the terrain extent; or a georeferenced orthophoto, placed on the ground by
-    its own geotransform (no tiling).
+    """The ground's colour: an image file or a generated pattern, repeated (tiled) over
+    the terrain extent; or a georeferenced orthophoto, placed on the ground by its
+    own geotransform (no tiling).
 
-    Ground texture repeated ``repeat_X × repeat_Y`` times over the terrain extent (an
-    orthophoto is placed by its geotransform instead, and its repeats are 1), optionally
-    varied by a non-repeating ``variation`` (tiled textures only)."""
+    ``repeat_X × repeat_Y`` repeats over the extent; an orthophoto's repeats are 1, and
+    ``variation`` is for tiled textures only."""
 
     source: ImageTexture | ProceduralTexture | OrthophotoTexture = nested(
         alone=(OrthophotoTexture,))
@@ -580,14 +580,9 @@ class PlantGroup:
 @element("wind", title="wind", path="scene.vegetation.wind")
 @dataclass(frozen=True)
 class Wind:
-    """Each plant turns about its base by amplitude-deg · sin(2π t / gust-period-s +
-    its own phase), leaning towards direction-deg, at each photo's time t on the
-    trajectory's time line; without a time line the plants stand upright.
-
-    Plants sway about their base: ``amplitude_deg`` · sin(2π t / ``gust_period_s`` +
-    a phase per plant), leaning towards ``direction_deg`` (the direction the wind blows
-    to, deg clockwise from grid north). Needs the flight time line; without one the
-    plants stand upright."""
+    """Each plant turns about its base by amplitude-deg · sin(2π t / gust-period-s + its
+    own phase), leaning towards direction-deg, at each photo's time t on the
+    trajectory's time line; without a time line the plants stand upright."""
 
     amplitude_deg: float = attr(5.0, doc="largest lean of a plant from upright", unit="deg",
                                 range=(0, 45), label="sway amplitude", decimals=1,
@@ -604,14 +599,10 @@ class Wind:
 @xml_type(named=True)
 @dataclass(frozen=True)
 class Vegetation:
-    """Plants placed by a seeded Poisson process inside the terrain extent, standing
-    on the terrain (base at the ground height below the plant's centre), kept clear
-    of every GCP target plate; part of the true surface (DSM), not of the bare earth
-    (DTM).
-
-    Plants placed by a seeded Poisson process (``seed``) inside the terrain extent,
-    ``clearance_m`` (m) clear of every GCP target plate, standing on the terrain; an
-    optional wind (docs/world.md, Vegetation and wind)."""
+    """Plants placed by a seeded Poisson process inside the terrain extent, standing on
+    the terrain (base at the ground height below the plant's centre), kept clear of
+    every GCP target plate; part of the true surface (DSM), not of the bare earth
+    (DTM)."""
 
     plants: tuple[PlantGroup, ...]
     seed: int = attr(0, doc="the placement's random seed", range=SEED_RANGE)
@@ -654,11 +645,7 @@ class SunOverTime:
     (which it needs), so shadows move during the flight. The place is the project
     origin converted to latitude and longitude with the CRS, unless both attributes
     are given; the azimuth is turned from true to grid north by the meridian
-    convergence there. The light map is baked for each photo (docs/world.md).
-
-    Sun computed for each image's moment on the trajectory's time line, at a place
-    (deg; ``None``: the project origin converted to latitude/longitude with its CRS).
-    Azimuths are turned from true to grid north by the meridian convergence there."""
+    convergence there. The light map is baked for each photo (docs/world.md)."""
 
     latitude_deg: float | None = attr(None, doc="latitude of the site (none: the origin's)",
                                       unit="deg", range=(-90, 90), label="latitude",
@@ -795,18 +782,16 @@ RollingShutterDirection = Literal["top-to-bottom", "bottom-to-top"]
 @element("rolling-shutter", title="rolling shutter")
 @dataclass(frozen=True)
 class RollingShutter:
-    """A rolling-shutter sensor: the rows are read one after the other over
-    readout-s seconds per frame while the camera moves along the flight's time line
-    (a trajectory time-line is required). The photo's pose and time are those of the
+    """A rolling-shutter sensor: the rows are read one after the other over readout-s
+    seconds per frame while the camera moves along the flight's time line (a
+    trajectory time-line is required). The photo's pose and time are those of the
     first row read; row r counted from it is exposed r / H x readout-s later (H the
     image height, px), the camera moving at the velocity of the leg it flies and
     keeping its attitude. Omitted, or readout-s 0: a global shutter. See
     docs/world.md, "Rolling shutter".
 
-    A rolling-shutter sensor (docs/world.md, "Rolling shutter"): the rows are read one
-    after the other over ``readout_s`` seconds per frame, the first row read at the
-    photo's time; row r (counted from the first row read) at + r / H · readout_s.
-    ``readout_s`` 0 is a global shutter."""
+    Row r (counted from the first row read) is read at the photo's time + r / H ·
+    ``readout_s``; ``readout_s`` 0 is a global shutter."""
 
     readout_s: float = attr(doc="time to read all rows of a frame (0: a global shutter)",
                             unit="s", range=(0, 0.5), label="readout", decimals=4,
@@ -993,17 +978,14 @@ class FlightPlan:
 @xml_type(named=True)
 @dataclass(frozen=True)
 class TimeLine:
-    """The flight's clock: the first photo is taken at takeoff-utc, then the
-    stations (explicit photos, then the flight plan) are flown in order along
-    straight legs at speed-m-s, with turn-s added at each change of flight line.
-    Photos are triggered by distance (at the planned stations); a photo's time-s
-    overrides its computed time. docs/world.md.
+    """The flight's clock: the first photo is taken at takeoff-utc, then the stations
+    (explicit photos, then the flight plan) are flown in order along straight legs at
+    speed-m-s, with turn-s added at each change of flight line. Photos are triggered
+    by distance (at the planned stations); a photo's time-s overrides its computed
+    time. docs/world.md.
 
-    When each photo is taken (designer.survey.timeline): the first photo at
-    ``takeoff_utc`` (ISO 8601, UTC), then the stations in order at ``speed_m_s`` along
-    straight legs, ``turn_s`` more at each change of flight line. Photos are triggered
-    by distance (the planned stations); ``trigger_interval_s`` is the camera's shortest
-    interval between photos (s), checked against the planned spacing."""
+    ``trigger_interval_s`` is the camera's shortest interval between photos (s), checked
+    against the planned spacing (designer.survey.timeline)."""
 
     takeoff_utc: str = attr(doc="moment of the first photo, ISO 8601 UTC",
                             label="take-off (UTC)", xsd="xs:dateTime")
@@ -1048,12 +1030,8 @@ class Rig:
     """Cameras fired together at each station, sharing its perspective centre. The
     station's pose is the platform's; each mount's camera is turned by its omega,
     phi, kappa relative to the platform: R_cam_to_world = R_platform . Rx(omega) .
-    Ry(phi) . Rz(kappa) (omega = phi = kappa = 0: the camera looks where the
-    platform looks, image top forward).
-
-    Several cameras fired together at each station (e.g. nadir + four 45° obliques);
-    a photo or flight plan whose ``camera`` is the rig's ``name`` takes one image per
-    mount. All mounts share the station's perspective centre."""
+    Ry(phi) . Rz(kappa) (omega = phi = kappa = 0: the camera looks where the platform
+    looks, image top forward)."""
 
     name: str = attr(doc="the rig's name, used as the camera of photos and flight plans",
                      xsd="d:Identifier")
@@ -1189,15 +1167,12 @@ class Trajectory:
 @element("vignetting", title="vignetting", path="effects.vignetting", on={"corner_falloff": 0.2})
 @dataclass(frozen=True)
 class Vignetting:
-    """Darkening towards the image corners, fixed to the sensor: gain = [cos^4
-    theta] x (1 - corner-falloff rho^2 + rho4 rho^4 + rho6 rho^6), rho the distance
-    from the principal point on the sensor divided by the distance to the farthest
-    image corner (rho = 1 there), theta the angle of the pixel's ray to the optical
-    axis (from the camera's distortion model). The gain must stay between 0 and 1
-    over the image (checked).
-
-    Gain [cos⁴ θ if natural_cos4] × (1 − corner_falloff ρ² + rho4 ρ⁴ + rho6 ρ⁶), ρ = 1
-    at the farthest image corner (see the schema)."""
+    """Darkening towards the image corners, fixed to the sensor: gain = [cos^4 theta] x
+    (1 - corner-falloff rho^2 + rho4 rho^4 + rho6 rho^6), rho the distance from the
+    principal point on the sensor divided by the distance to the farthest image
+    corner (rho = 1 there), theta the angle of the pixel's ray to the optical axis
+    (from the camera's distortion model). The gain must stay between 0 and 1 over the
+    image (checked)."""
 
     corner_falloff: float = attr(0.0, doc="gain lost at the farthest corner (ρ² term)",
                                  range=(0, 1), label="corner fall-off (ρ²)", step=0.05)
@@ -1245,14 +1220,11 @@ class SensorNoise:
          path="effects.sensor", on={"full_well_e": 20000.0, "read_noise_e": 3.0})
 @dataclass(frozen=True)
 class Sensor:
-    """A physical image sensor, applied in linear light after the optics: photon
-    shot noise (Poisson), dark current, Gaussian read noise and quantisation by the
-    ADC, then re-encoded to sRGB at the output bit depth. White in the render
-    collects exposure-scale x full-well-e electrons. Each image draws its own noise
-    from (seed, image index).
-
-    A physical sensor in linear light: photon shot noise, dark current, read noise and
-    ADC quantisation. White in the render collects ``exposure_scale × full_well_e``."""
+    """A physical image sensor, applied in linear light after the optics: photon shot
+    noise (Poisson), dark current, Gaussian read noise and quantisation by the ADC,
+    then re-encoded to sRGB at the output bit depth. White in the render collects
+    exposure-scale x full-well-e electrons. Each image draws its own noise from
+    (seed, image index)."""
 
     full_well_e: float = attr(doc="electrons a pixel holds", unit="e⁻", range=(1, 1e7),
                               label="full well", decimals=0, step=1000)
@@ -1341,16 +1313,14 @@ class ChromaticAberration:
     """Lateral chromatic aberration (lateral colour): the red and the blue image are
     imaged at a slightly different scale than the green one, radially about the
     principal point. A point of a channel at radius r from the principal point lands
-    at r x (1 + s x 1e-6), s the channel's scale in parts per million; green is
-    exact (its ground truth is the exported one). Resampled with cubic B-splines in
-    linear light, on the output pixels, right after the lens distortion and before
+    at r x (1 + s x 1e-6), s the channel's scale in parts per million; green is exact
+    (its ground truth is the exported one). Resampled with cubic B-splines in linear
+    light, on the output pixels, right after the lens distortion and before
     vignetting, blur and the sensor.
 
-    Lateral chromatic aberration: the red and the blue image at a slightly different
-    scale than the green one, radially about the principal point: a point of a channel at
-    radius r lands at r·(1 + s·10⁻⁶), s its ``*_scale_ppm``. Green stays exact, so the
-    exported ground truth is green's (designer.effects.chromatic). Switched on at 0 ppm,
-    so a study factor varies only the channel it names."""
+    A channel's scale is its ``*_scale_ppm``; green stays exact, so the exported ground
+    truth is green's (designer.effects.chromatic). Switched on at 0 ppm, so a study
+    factor varies only the channel it names."""
 
     red_scale_ppm: float = attr(0.0, doc="radial scale of the red image relative to green "
                                 "(+: farther from the principal point)", unit="ppm",

@@ -35,8 +35,8 @@ class PreCalibrationError:
     normally distributed errors with these standard deviations, drawn from the seed.
     Absent: the starting values are the true ones.
 
-    σ of the errors of the starting (or fixed) interior orientation: focal length and
-    principal point (px, cx and cy each), k1..k3, p1, p2 (dimensionless); seeded."""
+    Units: px for the focal length and the principal point (cx and cy each), none for
+    k1..k3, p1, p2."""
 
     focal_px: float = attr(0.0, doc="σ of the starting focal-length error", unit="px",
                            range=(0, 1e6), factor="pre-calibration-focal-px",

@@ -17,7 +17,8 @@ from designer.project import model as m
 from designer.project.attributes import attribute_tables
 from designer.project.declare import declared, declared_elements, element_of
 from designer.project.schema import schema_path
-from designer.project.xsd_gen import generate, main, number_text
+from designer.project.xsd_gen import generate, main
+from designer.project.xsd_values import number_text
 
 ROOT = Path(__file__).resolve().parents[2]
 XS = "{http://www.w3.org/2001/XMLSchema}"
