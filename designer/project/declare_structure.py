@@ -42,14 +42,24 @@ class ListOf:
 
 @dataclass(frozen=True)
 class OneOf:
-    """A value of one of the XSD types ``members`` or one of the words ``words``."""
+    """A value of one of the XSD types ``members`` or one of the words ``words`` (no
+    members: one of the words)."""
 
     members: tuple[str, ...]
     words: tuple[str, ...]
 
 
-#: an XSD simple type: a name ("d:FiniteDouble"), a list or a union
-SimpleType = str | ListOf | OneOf
+@dataclass(frozen=True)
+class Restricted:
+    """A value of the XSD type ``base`` within ``facets`` ((facet, value), e.g.
+    ("minExclusive", "0"))."""
+
+    base: str
+    facets: tuple[tuple[str, str], ...]
+
+
+#: an XSD simple type: a name ("d:FiniteDouble"), a list, a union or a restriction
+SimpleType = str | ListOf | OneOf | Restricted
 
 
 @dataclass(frozen=True)
@@ -87,6 +97,7 @@ class Nested:
     min_items: int | None = None
     alone: tuple[type, ...] = ()
     member_docs: tuple[tuple[type, str], ...] = ()
+    any_element: bool = False
 
 
 def nested(default: Any = MISSING, *, doc: str | None = None, tag: str | None = None,
@@ -94,7 +105,7 @@ def nested(default: Any = MISSING, *, doc: str | None = None, tag: str | None = 
            item_doc: str | None = None, xsd: SimpleType | None = None,
            item_attrs: tuple[XsdAttr, ...] = (), min_items: int | None = None,
            alone: tuple[type, ...] = (), member_docs: dict[type, str] | None = None,
-           factory: Any = MISSING) -> Any:
+           any_element: bool = False, factory: Any = MISSING) -> Any:
     """A dataclass field holding child elements: ``doc`` documents the element where it is
     used (required for a named type's element, else the class docstring serves), ``tag``
     names it (default: the class's ``@element`` tag, or the field name with ``-``),
@@ -104,12 +115,22 @@ def nested(default: Any = MISSING, *, doc: str | None = None, tag: str | None = 
     makes each item of a tuple of plain values an empty element with these attributes,
     ``min_items`` is the fewest items, and ``alone`` names members of a union that
     replace the whole content of the holding element (an orthophoto: no tiling);
-    ``member_docs`` documents the elements of a union's members of named types."""
+    ``member_docs`` documents the elements of a union's members of named types;
+    ``any_element``: any one element of the namespace, not checked (an inline project)."""
     meta = {"nested": Nested(doc, tag, optional, wrapper, item_doc, xsd, tuple(item_attrs),
-                             min_items, tuple(alone), tuple((member_docs or {}).items()))}
+                             min_items, tuple(alone), tuple((member_docs or {}).items()),
+                             any_element)}
     if factory is not MISSING:
         return dataclasses.field(default_factory=factory, metadata=meta)
     return dataclasses.field(default=default, metadata=meta)
+
+
+def unwritten(default: Any = MISSING, *, factory: Any = MISSING) -> Any:
+    """A dataclass field the file does not hold (where an element was read, the file's
+    own path)."""
+    if factory is not MISSING:
+        return dataclasses.field(default_factory=factory, metadata={"unwritten": True})
+    return dataclasses.field(default=default, metadata={"unwritten": True})
 
 
 def schema_attrs(default: Any = MISSING, *attrs: XsdAttr) -> Any:
@@ -144,24 +165,27 @@ class XmlType:
     content: tuple[Any, ...] | None = None
     all: bool = False
     lead: tuple[str, ...] = ()
+    extra_attrs: tuple[XsdAttr, ...] = ()
 
 
 def xml_type(*, tag: str | None = None, named: bool | str = False,
              holders: dict[str, tuple[str, bool]] | None = None,
              content: tuple[Any, ...] | None = None, all: bool = False,
-             lead: tuple[str, ...] = ()):
+             lead: tuple[str, ...] = (), extra_attrs: tuple[XsdAttr, ...] = ()):
     """Class decorator: ``tag`` (an element no field names: the root), ``named`` (True: a
     named complex type of the class's name, or that name), ``holders`` (child tag →
     (documentation, optional) of each child element holding attributes declared with
     ``child=``), ``content`` (the content's order: field names, holder tags,
     :class:`Choice`, :class:`Seq`, and ``...`` for the rest in the default order),
-    ``all`` (an ``xs:all``: any order) and ``lead`` (fields whose ``schema_attrs`` come
-    before the declared attributes; the others follow them)."""
+    ``all`` (an ``xs:all``: any order), ``lead`` (fields whose ``schema_attrs`` come
+    before the declared attributes; the others follow them) and ``extra_attrs``
+    (attributes the reader checks but the class does not keep, e.g. a schema version;
+    first of all)."""
     def deco(cls):
         type_name = (cls.__name__ if named is True else named) or None
         cls.__xml_type__ = XmlType(tag, type_name,
                                    tuple((t, d, o) for t, (d, o) in (holders or {}).items()),
-                                   content, all, tuple(lead))
+                                   content, all, tuple(lead), tuple(extra_attrs))
         return cls
     return deco
 
@@ -173,6 +197,10 @@ def xml_type_of(cls: type) -> XmlType:
 
 def nested_of(f: dataclasses.Field) -> Nested | None:
     return f.metadata.get("nested")
+
+
+def is_unwritten(f: dataclasses.Field) -> bool:
+    return bool(f.metadata.get("unwritten"))
 
 
 def schema_attrs_of(f: dataclasses.Field) -> tuple[XsdAttr, ...]:

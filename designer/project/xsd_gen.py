@@ -41,9 +41,11 @@ from designer.project.declare_structure import (
     ListOf,
     Nested,
     OneOf,
+    Restricted,
     Seq,
     XsdAttr,
     class_doc,
+    is_unwritten,
     nested_of,
     schema_attrs_of,
     xml_type_of,
@@ -89,6 +91,13 @@ def _simple_type(xsd) -> tuple[str | None, list[str]]:
         return None, ["<xs:simpleType>", "  <xs:restriction>", "    <xs:simpleType>",
                       f'      <xs:list itemType="{xsd.item}"/>', "    </xs:simpleType>",
                       *facets, "  </xs:restriction>", "</xs:simpleType>"]
+    if isinstance(xsd, OneOf) and not xsd.members:
+        return None, _enumeration(xsd.words)
+    if isinstance(xsd, Restricted):
+        return None, ["<xs:simpleType>", f'  <xs:restriction base="{xsd.base}">',
+                      *(f"    <xs:{facet} value={quoteattr(value)}/>"
+                        for facet, value in xsd.facets),
+                      "  </xs:restriction>", "</xs:simpleType>"]
     if isinstance(xsd, OneOf):
         return None, ["<xs:simpleType>",
                       f'  <xs:union memberTypes="{" ".join(xsd.members)}">',
@@ -123,7 +132,8 @@ def _members(hint) -> tuple[bool, list]:
         return [h]
 
     members = union(hint)
-    if len(members) == 1 and typing.get_origin(members[0]) is tuple:
+    if len(members) == 1 and typing.get_origin(members[0]) is tuple \
+            and typing.get_args(members[0])[-1:] == (Ellipsis,):
         return True, union(typing.get_args(members[0])[0])
     return False, members
 
@@ -169,7 +179,10 @@ class _Schema:
                 choices = _literal_choices(hints[f.name])
                 schema_lines[f.name in lead] += [line for a in schema_attrs_of(f)
                                                  for line in _schema_attr(a, choices)]
-        return schema_lines[True] + declared_lines + schema_lines[False]
+        extra = [line for a in xml_type_of(cls).extra_attrs for line in _schema_attr(a)]
+        if child is not None:
+            extra = []
+        return extra + schema_lines[True] + declared_lines + schema_lines[False]
 
     def items(self, cls: type) -> dict[str, tuple]:
         """key → content item of ``cls`` in the default order: field name → ("text",
@@ -187,7 +200,7 @@ class _Schema:
                 elif d.attr.child and d.attr.child not in wrapped and \
                         all(k != d.attr.child for k, _ in out):
                     out.append((d.attr.child, ("holder", d.attr.child)))
-            elif not (f.metadata.get("group") or schema_attrs_of(f)):
+            elif not (f.metadata.get("group") or schema_attrs_of(f) or is_unwritten(f)):
                 out.append((f.name, ("field", f)))
         el = element_of(cls)
         first = el.first if el is not None else ()
@@ -255,6 +268,9 @@ class _Schema:
         has_default = (f.default is not dataclasses.MISSING
                        or f.default_factory is not dataclasses.MISSING)
         optional = n.optional if n.optional is not None else has_default
+        if n.any_element:
+            return [f'<xs:any namespace="##targetNamespace" processContents="skip"'
+                    f'{_occurs(optional)}/>']
         if n.xsd is not None:
             type_name, simple = _simple_type(n.xsd)
             head = f'<xs:element name="{n.tag or f.name.replace("_", "-")}"'
@@ -346,22 +362,27 @@ def generate(root: type | None = None) -> str:
     from designer.project import model as m
     from designer.project.xsd_types import SCHEMA_DOC, SIMPLE_TYPES
 
+    return schema_text(root or m.Project, doc=SCHEMA_DOC, simple_types=SIMPLE_TYPES,
+                       made_by="designer.project.xsd_gen",
+                       source="designer/project/model.py")
+
+
+def schema_text(root: type, *, doc: str, simple_types, made_by: str, source: str) -> str:
+    """An XSD in the project namespace whose root element holds ``root`` (a class with
+    ``xml_type(tag=...)``): the documentation ``doc``, the named simple types
+    ``simple_types`` (:class:`designer.project.xsd_types.NamedSimpleType`), the root
+    element and the named complex types met on the way; ``made_by`` (the generating
+    module) and ``source`` (the model's file) are named in its first comment."""
     schema = _Schema()
-    root = root or m.Project
     root_lines = [f'<xs:element name="{xml_type_of(root).tag}">',
                   *_annotation(class_doc(root)),
                   *_indent(["<xs:complexType>", *_indent(schema.body(root)),
                             "</xs:complexType>"]), "</xs:element>"]
-    simple = []
-    for t in SIMPLE_TYPES:
-        simple += [f'<xs:simpleType name="{t.name}">', *_annotation(t.doc),
-                   f'  <xs:restriction base="{t.base}">',
-                   *(f"    <xs:{facet} value={quoteattr(value)}/>" for facet, value in t.facets),
-                   "  </xs:restriction>", "</xs:simpleType>", ""]
+    simple = [line for t in simple_types for line in [*_named_simple_type(t), ""]]
     named = [line for lines in schema.named.values() for line in [*lines, ""]]
     head = ['<?xml version="1.0" encoding="UTF-8"?>',
-            '<!-- Generated by python -m designer.project.xsd_gen from the model '
-            '(designer/project/model.py): edit the model, not this file. -->',
+            f"<!-- Generated by python -m {made_by} from the model ({source}): edit the "
+            "model, not this file. -->",
             '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"',
             '           xmlns:d="urn:designer:project:1"',
             '           targetNamespace="urn:designer:project:1"',
@@ -369,11 +390,33 @@ def generate(root: type | None = None) -> str:
             '           attributeFormDefault="unqualified"',
             '           version="1.0">', "",
             '  <xs:annotation>', '    <xs:documentation xml:lang="en">',
-            *escape(SCHEMA_DOC).rstrip("\n").split("\n"),
+            *escape(doc).rstrip("\n").split("\n"),
             '    </xs:documentation>', '  </xs:annotation>', ""]
     return "\n".join([*head, *_indent(simple), *_indent(root_lines), "",
                       *_indent(named)]).rstrip() + "\n</xs:schema>\n"
 
+
+def _named_simple_type(t) -> list[str]:
+    """The lines of a :class:`designer.project.xsd_types.NamedSimpleType`: a restriction
+    of its base by its facets (an enumeration value may carry its documentation), or a
+    list of its base's items."""
+    facets = []
+    for facet, value, *value_doc in t.facets:
+        if value_doc:
+            facets.append(f"    <xs:{facet} value={quoteattr(value)}>"
+                          f"{_annotation(value_doc[0])[0].strip()}</xs:{facet}>")
+        else:
+            facets.append(f"    <xs:{facet} value={quoteattr(value)}/>")
+    if isinstance(t.base, ListOf):
+        body = [f'  <xs:list itemType="{t.base.item}"/>']
+        if facets:
+            body = ["  <xs:restriction>", "    <xs:simpleType>",
+                    f'      <xs:list itemType="{t.base.item}"/>', "    </xs:simpleType>",
+                    *facets, "  </xs:restriction>"]
+    else:
+        body = [f'  <xs:restriction base="{t.base}">', *facets, "  </xs:restriction>"]
+    return [f'<xs:simpleType name="{t.name}">', *_annotation(t.doc), *body,
+            "</xs:simpleType>"]
 
 
 def regenerate(argv: list[str] | None, *, prog: str, description: str, default_xsd: Path,

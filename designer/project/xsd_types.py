@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from designer.project.declare_structure import ListOf
+
 SCHEMA_DOC = """\
 designer project, schema version 1.0 (namespace urn:designer:project:1).
 
@@ -49,12 +51,13 @@ Conventions (the same everywhere in designer, see docs/conventions.md):
 @dataclass(frozen=True)
 class NamedSimpleType:
     """A named ``xs:simpleType``: a restriction of ``base`` by ``facets`` ((facet, value),
-    e.g. ("minInclusive", "-1e8"))."""
+    e.g. ("minInclusive", "-1e8"); an enumeration value may add its documentation), or
+    of a list (``base`` a :class:`designer.project.declare_structure.ListOf`)."""
 
     name: str
     doc: str
-    base: str
-    facets: tuple[tuple[str, str], ...]
+    base: str | ListOf
+    facets: tuple[tuple[str, ...], ...]
 
 
 SIMPLE_TYPES = (
