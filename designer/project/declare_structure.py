@@ -12,6 +12,7 @@ rest of a class's XML form, beside the class:
   ``<camera>`` list) or a simple type (a text element, a list held as text);
 * :func:`schema_attrs` declares XML attributes whose value the reader parses by hand
   (a colour triple, a facade's end points): the schema types them, the checks judge them;
+  :func:`unwritten` a field the file does not hold (where an element was read);
 * :func:`xml_type` declares a class's named complex type, the child elements holding
   attributes of the class (``Attr.child``), and where the default order (field order,
   ``Element.first`` first) or an ``xs:sequence`` does not fit: the order of the content,
@@ -19,7 +20,9 @@ rest of a class's XML form, beside the class:
 
 The documentation of an element is the first paragraph of its class's docstring (of a
 named type: the type's; the element that refers to it is documented by its field).
-This module is lxml-free: the model imports it.
+Every field of a class reachable from the root is one of these (or ``attr``/``group``):
+the generator refuses a field it cannot place. The study model (designer.study.spec)
+declares its XML form the same way. This module is lxml-free: the model imports it.
 """
 
 from __future__ import annotations

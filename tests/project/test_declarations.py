@@ -258,3 +258,15 @@ def test_declared_elements_cover_the_world_effects_and_processing():
             "MotionBlur", "Jpeg", "ExposureVariation", "ChromaticAberration", "Calibration",
             "GcpProcessing",
             "PositionPrior", "Matching"} <= names
+
+
+def test_a_field_the_generator_cannot_place_is_refused():
+    """A field that is neither a declared attribute nor a model class nor declared with
+    nested/schema_attrs/unwritten stops the generator, naming it: no element is left out
+    of the schema silently."""
+    from designer.project.declare_structure import xml_type
+
+    Loose = xml_type(tag="loose")(dataclasses.make_dataclass(
+        "Loose", [("weight", float, dataclasses.field(default=1.0))], frozen=True))
+    with pytest.raises(ValueError, match="field weight holds no model class"):
+        generate(Loose)
