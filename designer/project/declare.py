@@ -17,7 +17,7 @@ class whose attributes sit on the holder's element (a point's X, Y, Z). From tha
   line) of every attribute with ``factor=``, and a replicate draw of every seed with
   ``draw=``;
 * :func:`attribute_table` writes the docs' table, :mod:`designer.project.xsd_gen` the
-  XSD's attributes of every declared element.
+  XSD (its elements' structure declared in :mod:`designer.project.declare_structure`).
 
 Rules across fields (e.g. highest > lowest) stay hand-written beside the element's
 checks. This module is lxml-, Qt- and numpy-free: the model imports it.

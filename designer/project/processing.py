@@ -7,10 +7,11 @@ Part of the project model (lxml-free frozen dataclasses); re-exported by
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Literal
 
 from designer.project.declare import SEED_RANGE, attr, element
+from designer.project.declare_structure import ListOf, XsdAttr, nested, schema_attrs, xml_type
 
 CalibrationMode = Literal["fixed", "focal", "focal-principal-point", "radial", "full"]
 GcpMode = Literal["none", "similarity", "bundle"]
@@ -30,8 +31,12 @@ POSITION_PRIOR_SIGMAS_M = {"gnss": (2.5, 5.0), "rtk": (0.02, 0.03)}
          path="processing.calibration.pre_calibration_error", stage="processing")
 @dataclass(frozen=True)
 class PreCalibrationError:
-    """σ of the errors of the starting (or fixed) interior orientation: focal length and
-    principal point (px, cx and cy each), k1..k3, p1, p2 (dimensionless); seeded."""
+    """The starting (or fixed) interior orientation differs from the true camera by
+    normally distributed errors with these standard deviations, drawn from the seed.
+    Absent: the starting values are the true ones.
+
+    Units: px for the focal length and the principal point (cx and cy each), none for
+    k1..k3, p1, p2."""
 
     focal_px: float = attr(0.0, doc="σ of the starting focal-length error", unit="px",
                            range=(0, 1e6), factor="pre-calibration-focal-px",
@@ -57,7 +62,11 @@ class PreCalibrationError:
          stage="processing")
 @dataclass(frozen=True)
 class Calibration:
-    """Which interior parameters the adjustment estimates (``fixed``: none), and whether
+    """Interior orientation in the adjustment: fixed (to the starting values), focal
+    (f), focal-principal-point (f, cx, cy), radial (f, cx, cy, k1, k2, k3) or full
+    (f, cx, cy, k1, k2, k3, p1, p2) self-calibration.
+
+    Which interior parameters the adjustment estimates (``fixed``: none), and whether
     it models the motion of rolling-shutter images during their readout (``compensate``:
     each image's velocity, docs/processing.md § Rolling shutter)."""
 
@@ -70,13 +79,17 @@ class Calibration:
         factor="rolling-shutter-processing", label="rolling shutter", write_default=False)
 
 
+@xml_type(lead=("ids",))
 @element("control", title="control points", path="processing.gcps.control",
          stage="processing")
 @dataclass(frozen=True)
 class ControlSelection:
-    """Control targets by ``ids``, or ``count`` of them spread ``even``ly or at ``random``."""
+    """Which targets are control points (the others are check points): a list of
+    ids, or a count chosen evenly spread over the area or at random (seeded).
+    Absent: each target's role."""
 
-    ids: tuple[str, ...] = ()
+    ids: tuple[str, ...] = schema_attrs(
+        (), XsdAttr("ids", "Space-separated target ids.", ListOf("d:Identifier")))
     count: int | None = attr(None, doc="number of GCPs used as control (the others are check "
                              "points)", range=(1, 10000),
                              label="count")
@@ -89,7 +102,10 @@ class ControlSelection:
 @element("gcps", title="GCPs", path="processing.gcps", stage="processing")
 @dataclass(frozen=True)
 class GcpProcessing:
-    """How control points enter; marking error σ (px per axis, seeded) of every target."""
+    """How ground control points enter the processing: none (not used), similarity
+    (a 7-parameter similarity fitted to the control points after SfM) or bundle
+    (control points marked in the images and weighted by their surveyed sigma in the
+    bundle adjustment). Check points are marked too but never used."""
 
     mode: GcpMode = attr("similarity", doc="how control points enter the adjustment",
                          factor="gcp-mode", label="GCPs enter as")
@@ -106,7 +122,10 @@ class GcpProcessing:
          path="processing.position_prior", stage="processing")
 @dataclass(frozen=True)
 class PositionPrior:
-    """Camera centres measured in flight (true + seeded errors), weighted priors (m)."""
+    """Camera positions measured in flight, used as weighted priors in the
+    adjustment: none, gnss (default sigma 2.5 m horizontal, 5 m vertical) or rtk
+    (0.02 m, 0.03 m). The measured positions are the true centres plus normally
+    distributed errors of these sigmas (seeded)."""
 
     mode: PositionPriorMode = attr("none", doc="camera positions measured in flight",
                                    factor="position-prior", label="camera positions")
@@ -143,6 +162,8 @@ def control_count(selection: ControlSelection | None, targets) -> int:
 @element("matching", title="matching", path="processing.matching", stage="processing")
 @dataclass(frozen=True)
 class Matching:
+    """Features and image pairs."""
+
     max_features: int = attr(8192, doc="SIFT features per image", range=(100, 1_000_000),
                              factor="max-features", label="features per image")
     pairs: Pairing = attr("footprint", doc="which image pairs are matched",
@@ -154,6 +175,8 @@ class Matching:
 @element("sfm", title="structure from motion", path="processing.sfm", stage="processing")
 @dataclass(frozen=True)
 class Sfm:
+    """Structure from motion: which mapper finds the cameras and tie points."""
+
     mapper: Mapper = attr("incremental", doc="how the cameras and tie points are found: "
                           "incremental (COLMAP's, image by image with bundle adjustments "
                           "along the way) or global (GLOMAP's, all rotations, then all "
@@ -162,17 +185,21 @@ class Sfm:
 
 
 @element("processing", title="processing", path="processing", stage="processing")
+@xml_type(named=True, all=True, content=(..., "sfm", "dense"), holders={
+    "dense": ("Dense matching: none, cpu or auto.", True)})
 @dataclass(frozen=True)
 class Processing:
-    """Photogrammetric processing settings of ``designer reconstruct``."""
+    """How the rendered images are processed, as a practitioner sets up Metashape,
+    Pix4D or OpenDroneMap. Every child is optional; an absent child keeps its
+    defaults. Command-line options of 'designer reconstruct' override these values."""
 
-    calibration: Calibration = field(default_factory=Calibration)
-    gcps: GcpProcessing = field(default_factory=GcpProcessing)
-    position_prior: PositionPrior = field(default_factory=PositionPrior)
-    matching: Matching = field(default_factory=Matching)
+    calibration: Calibration = nested(factory=Calibration, optional=True)
+    gcps: GcpProcessing = nested(factory=GcpProcessing, optional=True)
+    position_prior: PositionPrior = nested(factory=PositionPrior, optional=True)
+    matching: Matching = nested(factory=Matching, optional=True)
     dense: DenseMode = attr("none", doc="dense matching: none (sparse cloud only), cpu "
                             "(dense matching on the CPU) or auto (the best available)",
                             child="dense", xml="mode", label="dense matching")
-    sfm: Sfm = field(default_factory=Sfm)
+    sfm: Sfm = nested(factory=Sfm, optional=True)
 
 

@@ -1,11 +1,13 @@
-"""The declarations (designer.project.declare) against what is derived from them or
-stated beside them: the XSD's declared attributes are what the generator makes of the
-declarations (names, types, ranges, defaults, requiredness, documentation), and an
-independent reading of the XSD agrees; docs/attributes.md is current."""
+"""The declarations (designer.project.declare, .declare_structure) against what is
+derived from them or stated beside them: the XSD is what the generator makes of the model
+(elements, named types, attributes: names, types, ranges, defaults, requiredness,
+documentation), with no hand-kept part; an independent reading of the XSD agrees; a new
+element class reaches the XSD without an edit of it; docs/attributes.md is current."""
 
 from __future__ import annotations
 
 import dataclasses
+import typing
 from pathlib import Path
 
 import pytest
@@ -15,7 +17,8 @@ from designer.project import model as m
 from designer.project.attributes import attribute_tables
 from designer.project.declare import declared, declared_elements, element_of
 from designer.project.schema import schema_path
-from designer.project.xsd_gen import expected_regions, generate, number_text, regions
+from designer.project.xsd_gen import generate, main
+from designer.project.xsd_values import number_text
 
 ROOT = Path(__file__).resolve().parents[2]
 XS = "{http://www.w3.org/2001/XMLSchema}"
@@ -137,45 +140,94 @@ def test_the_xsd_agrees_with_the_declaration(cls, xsd):
     assert schema_disagreements(cls, xsd) == []
 
 
-def test_the_xsd_is_generated_from_the_declarations():
-    """Every declared element's attributes in the committed XSD are exactly what the
-    generator makes of the declarations today."""
+def test_the_xsd_is_generated_from_the_model():
+    """The committed XSD is exactly what the generator makes of the model today: no part of
+    it is kept by hand."""
     text = schema_path().read_text(encoding="utf-8")
-    assert generate(text) == text, (
-        "the XSD's declared attributes differ from the declarations: run "
-        "python -m designer.project.xsd_gen")
+    assert generate() == text, (
+        "the XSD differs from the model: run python -m designer.project.xsd_gen")
+    assert "declared" not in "".join(
+        c.text for c in etree.parse(str(schema_path())).iter(etree.Comment))
 
 
-def test_every_declared_element_has_one_region_in_the_xsd():
-    found = regions(schema_path().read_text(encoding="utf-8"))
-    assert len(found) == len(set(found))
-    assert set(found) == expected_regions()
-
-
-def test_a_hand_edited_declared_attribute_is_found_and_regenerated():
-    """The comparison fails for an XSD whose declared part differs from the declaration
-    (a default, a facet, a use, a documentation), and the generator restores it; the
-    hand-written parts around the regions stay as they are."""
+def test_a_hand_edited_xsd_is_found_and_rewritten(tmp_path, capsys):
+    """--check fails on an XSD edited by hand (a default, a documentation, an element's
+    occurrence) and the command writes it back as the model says."""
     text = schema_path().read_text(encoding="utf-8")
-    start = text.index("<!-- declared CloudShadows:")
-    region = text[start:text.index("<!-- end of declared CloudShadows -->")]
     for old, new in (('name="cover" default="0.3"', 'name="cover" default="0.35"'),
-                     ('<xs:maxExclusive value="360"/>', '<xs:maxInclusive value="360"/>'),
-                     ('name="seed" default="0"', 'name="seed" use="required"'),
-                     ("Shadowed fraction", "Shaded fraction")):
-        assert old in region
-        edited = text[:start] + region.replace(old, new, 1) + text[start + len(region):]
-        assert generate(edited) != edited
-        assert generate(edited) == text
-    outside = text.replace("Optional free-text description.", "A free-text description.")
-    assert generate(outside) == outside
+                     ("Optional free-text description.", "A free-text description."),
+                     ('<xs:element name="blur" minOccurs="0">', '<xs:element name="blur">')):
+        assert text.count(old) == 1
+        path = tmp_path / "edited.xsd"
+        path.write_text(text.replace(old, new), encoding="utf-8")
+        assert main(["--check", "--xsd", str(path)]) == 1
+        assert "differs from the model" in capsys.readouterr().err
+        assert main(["--xsd", str(path)]) == 0
+        assert path.read_text(encoding="utf-8") == text
 
 
-def test_a_generated_xsd_lacking_a_region_is_refused():
-    text = schema_path().read_text(encoding="utf-8").replace(
-        "<!-- declared Sfm:", "<!-- Sfm:")
-    with pytest.raises(ValueError, match="no declared region for Sfm"):
-        generate(text)
+def _with_new_effect():
+    """A Project class whose Effects hold one more, made-up effect ``<glow>``: what adding
+    an effect's model class and its field in Effects amounts to for the schema."""
+    from designer.project.declare import attr, element
+    from designer.project.declare_structure import xml_type_of
+
+    @element("glow", title="glow", path="effects.glow")
+    @dataclasses.dataclass(frozen=True)
+    class Glow:
+        """A soft glow around bright areas (made up for this test).
+
+        Developer notes stay out of the schema."""
+
+        radius_px: float = attr(doc="radius of the glow", unit="px", range=(0, 100),
+                                low_open=True)
+        strength: float = attr(0.5, doc="share of the light spread", range=(0, 1))
+
+    def copy(f):
+        return dataclasses.field(default=f.default, default_factory=f.default_factory,
+                                 metadata=f.metadata)
+
+    hints = {cls: typing.get_type_hints(cls) for cls in (m.Effects, m.Project)}
+    effects = dataclasses.make_dataclass(
+        "Effects", [(f.name, hints[m.Effects][f.name], copy(f))
+                    for f in dataclasses.fields(m.Effects)]
+        + [("glow", Glow | None, dataclasses.field(default=None))], frozen=True)
+    effects.__xml_type__ = xml_type_of(m.Effects)
+    effects.__doc__ = m.Effects.__doc__
+    project = dataclasses.make_dataclass(
+        "Project", [(f.name, effects | None if f.name == "effects" else hints[m.Project][f.name],
+                     copy(f)) for f in dataclasses.fields(m.Project)], frozen=True)
+    project.__xml_type__ = xml_type_of(m.Project)
+    project.__doc__ = m.Project.__doc__
+    return project
+
+
+def test_a_new_effect_needs_no_xsd_edit(tmp_path):
+    """A new element class and the field that holds it are all the schema needs: the
+    generated XSD gains its element (documented by the docstring's first paragraph) and
+    attributes (from the declarations) in <effects>, nothing else changes, and a project
+    using it validates against that XSD while a wrong value is refused."""
+    text = schema_path().read_text(encoding="utf-8")
+    new = generate(_with_new_effect())
+    added = [line.strip() for line in new.splitlines() if line not in text.splitlines()]
+    assert added[0] == '<xs:element name="glow" minOccurs="0">'
+    assert any("A soft glow around bright areas (made up for this test)." in a for a in added)
+    assert not any("Developer notes" in a for a in added)
+    assert any('<xs:attribute name="radius-px" use="required">' in a for a in added)
+    assert [line for line in text.splitlines() if line not in new.splitlines()] == []
+    schema = etree.XMLSchema(etree.fromstring(new.encode()))
+    example = etree.parse(str(ROOT / "resources" / "examples" / "survey" / "survey.xml"))
+    ns = "{urn:designer:project:1}"
+    root = example.getroot()
+    effects = root.find(f"{ns}effects")
+    if effects is None:
+        effects = etree.Element(f"{ns}effects")
+        root.find(f"{ns}render").addprevious(effects)
+    glow = etree.SubElement(effects, f"{ns}glow", {"radius-px": "3"})
+    assert schema.validate(example), schema.error_log
+    glow.set("strength", "2")
+    assert not schema.validate(example)
+    assert not etree.XMLSchema(etree.parse(str(schema_path()))).validate(example)
 
 
 def test_a_disagreement_is_found(xsd):
@@ -206,3 +258,15 @@ def test_declared_elements_cover_the_world_effects_and_processing():
             "MotionBlur", "Jpeg", "ExposureVariation", "ChromaticAberration", "Calibration",
             "GcpProcessing",
             "PositionPrior", "Matching"} <= names
+
+
+def test_a_field_the_generator_cannot_place_is_refused():
+    """A field that is neither a declared attribute nor a model class nor declared with
+    nested/schema_attrs/unwritten stops the generator, naming it: no element is left out
+    of the schema silently."""
+    from designer.project.declare_structure import xml_type
+
+    Loose = xml_type(tag="loose")(dataclasses.make_dataclass(
+        "Loose", [("weight", float, dataclasses.field(default=1.0))], frozen=True))
+    with pytest.raises(ValueError, match="field weight holds no model class"):
+        generate(Loose)

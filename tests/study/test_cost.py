@@ -142,7 +142,9 @@ def test_the_schema_lists_every_cost_axis():
     tree = etree.parse(str(study_schema_path()))
     ns = {"xs": "http://www.w3.org/2001/XMLSchema"}
     cost = tree.find(".//xs:element[@name='cost']", ns)
-    values = [e.get("value") for e in cost.iterfind(".//xs:enumeration", ns)]
+    assert cost.get("type") == "d:Cost"  # the named type the generator makes of COSTS
+    cost_type = tree.find("xs:simpleType[@name='Cost']", ns)
+    values = [e.get("value") for e in cost_type.iterfind(".//xs:enumeration", ns)]
     assert values == list(COSTS)
 
 
