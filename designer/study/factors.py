@@ -31,6 +31,8 @@ class Factor:
     parse: Callable[[str], Value]
     get: Callable[[m.Project], Value | None]
     set: Callable[[m.Project, Value], m.Project]
+    #: what a surveyor calls it, from the declaration (its label and unit); None: the doc
+    words: str | None = None
 
 
 # ------------------------------------------------------------------ value parsers
@@ -441,10 +443,13 @@ def _declared_factors() -> list[Factor]:
             else:
                 parse = {float: _float, int: _int, bool: _bool}.get(d.base, str)
                 doc = f"{d.attr.doc} ({d.range_text()})"
+            unit = {"deg": "°"}.get(d.attr.unit or "", d.attr.unit)
+            words = None if not d.attr.label else (
+                f"{d.attr.label} ({unit})" if unit else d.attr.label)
             out.append(Factor(
                 d.attr.factor, doc, el.stage, parse,
                 lambda p, at=el.path, n=d.name: declare.value_at(p, at, n),
-                lambda p, v, at=el.path, n=d.name: declare.with_value(p, at, n, v)))
+                lambda p, v, at=el.path, n=d.name: declare.with_value(p, at, n, v), words))
     return out
 
 

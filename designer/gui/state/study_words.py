@@ -31,7 +31,6 @@ FACTOR_WORDS = {
     "vegetation-density-per-m2": "plant density (per m²)",
     "vegetation-wind-amplitude-deg": "plants swaying in the wind (°)",
     "texture-file": "ground texture image",
-    "texel-size-m": "ground texture texel size (m)",
     "texture-variation-strength": "ground texture variation (0 to 1)",
     "render-preset": "render quality",
     "render-samples": "render samples per pixel",
@@ -43,7 +42,6 @@ FACTOR_WORDS = {
     "front-overlap-percent": "front overlap (%)",
     "side-overlap-percent": "side overlap (%)",
     "crosshatch": "crosshatch (a second grid at 90°)",
-    "tilt-deg": "forward camera tilt (°)",
     "flight-speed-m-s": "flight speed (m/s)",
     "turn-s": "time per turn between lines (s)",
     "jpeg-quality": "JPEG quality",
@@ -86,6 +84,9 @@ _METRIC_WORDS = {
     "images": "images per survey",
     "gsd_m": "GSD (m)",
     "dome_amplitude_m": "dome (bowl) amplitude (m)",
+    "dome_amplitude_gsd": "dome (bowl) amplitude (GSD)",
+    "sparse_dome_gsd": "tie-point dome (bowl) amplitude (GSD)",
+    "k1_error_beyond_focal": "k1 error beyond the focal trade",
     "focal_error_px": "focal length error (px)",
     "k1_error": "k1 error",
     "render_s": "render time (s)",
@@ -110,8 +111,14 @@ _CLOUD = re.compile(r"(dtm_)?cloud_(median|nmad|mean|rmse)_m")
 
 
 def factor_words(name: str) -> str:
-    """'flight height above ground (m)' for ``altitude-m``."""
-    return FACTOR_WORDS[name]
+    """'flight height above ground (m)' for ``altitude-m``; a factor not listed here
+    takes the words its declaration gives (label and unit), else its description."""
+    if name in FACTOR_WORDS:
+        return FACTOR_WORDS[name]
+    from designer.study.factors import FACTORS
+
+    factor = FACTORS[name]
+    return factor.words or factor.doc
 
 
 def draw_words(name: str) -> str:
