@@ -22,8 +22,10 @@ def test_opening_a_good_file_after_a_refused_one_clears_cannot_open(qtbot, windo
     assert not w.file_actions.open(refused)
     assert w.statusBar().currentMessage() == "Cannot open root.xml"
     assert w.file_actions.open(good), problems(w)
+    # read at once: "opened …" is shown for 5 s, and a loaded machine can take longer
+    # than that to finish the opened project's jobs
+    assert w.statusBar().currentMessage() == "opened good.xml"
     wait_idle(qtbot, w)
     status = w.statusBar().currentMessage()
     assert "Cannot open" not in status, status
-    assert status == "opened good.xml", status
     assert not w.docks["Problems"].isVisible()
