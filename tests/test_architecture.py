@@ -66,9 +66,10 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "pyvistaqt": ("gui.qt",),
     "vtk": ("gui.qt",),
     "vtkmodules": ("gui.qt",),
-    # the benchmarks build synthetic blocks as pycolmap reconstructions (bench doming)
-    "pycolmap": ("sfm", "bench.doming"),
-    "pyceres": ("sfm",),
+    # the benchmarks build synthetic blocks as pycolmap reconstructions (bench doming, the
+    # rolling-shutter block) and keep the old per-observation Ceres solver as a reference
+    "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling"),
+    "pyceres": ("sfm", "bench.rolling_reference"),
     "distributed": ("render.cluster", "study.run"),
     "pyexiv2": ("flight.image_meta", "render.exif"),
 }

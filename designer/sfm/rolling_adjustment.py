@@ -19,7 +19,7 @@ arrays and evaluated for all observations at once with analytic Jacobians
 and solved by Ceres's Levenberg–Marquardt with the points eliminated by the Schur
 complement (designer.sfm.schur_lm): 60 images and 110,000 observations in about 2 s of
 CPU where a Ceres problem with a Python cost per observation took 27 s
-(designer.sfm.rolling_reference, kept as the reference; ``designer bench
+(designer.bench.rolling_reference, kept as the reference; ``designer bench
 rolling-adjustment``).
 
 Velocities start from the model's camera centres differenced along the flight's time
@@ -137,7 +137,7 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
     All observations are evaluated at once (designer.sfm.rolling_problem) and solved by
     Levenberg–Marquardt with the points eliminated (designer.sfm.schur_lm); the Ceres
     formulation it replaced, a Python cost per observation, is
-    designer.sfm.rolling_reference."""
+    designer.bench.rolling_reference."""
     from designer.sfm.rolling_problem import RollingProblem
     from designer.sfm.schur_lm import SchurLayout, solve
 

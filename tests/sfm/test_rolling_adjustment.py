@@ -8,6 +8,7 @@ import pytest
 
 pycolmap = pytest.importorskip("pycolmap")
 
+from designer.bench.synthetic_rolling import add_tracks  # noqa: E402
 from designer.errors import DesignerError  # noqa: E402
 from designer.sfm.adjustment import PositionPriors, adjust  # noqa: E402
 from designer.sfm.rolling_adjustment import (  # noqa: E402
@@ -15,7 +16,6 @@ from designer.sfm.rolling_adjustment import (  # noqa: E402
     check_compensation,
     start_velocities,
 )
-from designer.sfm.synthetic_rolling import add_tracks  # noqa: E402
 
 W, H, F = 400, 300, 500.0
 HEIGHT = 40.0
