@@ -608,9 +608,6 @@ LONG_FUNCTIONS: dict[str, str] = {
     "designer/effects/_resample_kernels.py:bspline_coefficients":
         "a numba kernel: the two recursive filter passes share loop variables; split, it "
         "would copy the image between passes",
-    "designer/sfm/rolling_adjustment.py:_rolling_block":
-        "the rolling-shutter problem's arrays (images, stations, cameras, points, priors, "
-        "control) built in one pass over the block; its parts share the index maps",
     "designer/bench/rolling_reference.py:adjust_rolling_ceres":
         "the old solver kept unchanged in what it computes, as the oracle of the "
         "vectorised one (bench rolling-adjustment)",
