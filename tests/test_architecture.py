@@ -611,9 +611,6 @@ LONG_FUNCTIONS: dict[str, str] = {
     "designer/bench/rolling_reference.py:adjust_rolling_ceres":
         "the old solver kept unchanged in what it computes, as the oracle of the "
         "vectorised one (bench rolling-adjustment)",
-    "designer/sfm/dense.py:dense_cloud":
-        "the dense matcher's stages (undistort, stereo, fusion) with their timings and "
-        "bounds inline; to split into the stage functions dense_stage calls",
     "designer/evaluate/compare.py:compare_cloud":
         "cloud-to-mesh distances, their statistics and files in one function; to split "
         "into distances, statistics and writing",
