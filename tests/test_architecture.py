@@ -8,6 +8,9 @@ a package or across packages (:func:`test_no_import_cycle_between_modules` state
 counts as an edge). Run-time part: importing a package face or a data
 type loads none of the heavy modules it must not (:data:`NOT_LOADED_BY`).
 
+Functions stay short: none of the package is over 80 lines but the reasoned few of
+:data:`LONG_FUNCTIONS`, a list that only shrinks.
+
 The test suite has a rule of its own: no file under tests/ imports a test module
 (``test_*``) or a ``conftest``; shared test code lives in helper modules
 (tests/synthetic.py, tests/*/helpers.py, ...) and fixtures reach tests through pytest.
@@ -66,9 +69,10 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "pyvistaqt": ("gui.qt",),
     "vtk": ("gui.qt",),
     "vtkmodules": ("gui.qt",),
-    # the benchmarks build synthetic blocks as pycolmap reconstructions (bench doming)
-    "pycolmap": ("sfm", "bench.doming"),
-    "pyceres": ("sfm",),
+    # the benchmarks build synthetic blocks as pycolmap reconstructions (bench doming, the
+    # rolling-shutter block) and keep the old per-observation Ceres solver as a reference
+    "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling"),
+    "pyceres": ("sfm", "bench.rolling_reference"),
     "distributed": ("render.cluster", "study.run"),
     "pyexiv2": ("flight.image_meta", "render.exif"),
 }
@@ -581,3 +585,107 @@ def test_the_test_import_rule_catches_a_wrong_import(tmp_path, line, found):
     lineno = text.splitlines().index(line) + 1
     expected = [] if found is None else [f"tests/world/test_case.py:{lineno} imports {found}"]
     assert imports_of_test_modules(root) == expected
+
+
+#: the longest a function of the package may be, lines from ``def`` to its last line
+MAX_FUNCTION_LINES = 80
+
+#: functions over :data:`MAX_FUNCTION_LINES` lines, 'path:qualified name' → why it is not
+#: split yet. The list only shrinks: a function split below the limit must leave it (the
+#: test says so), and a new long function is split, not added.
+LONG_FUNCTIONS: dict[str, str] = {
+    # pipelines with one option inline per step; being split into named steps (issue #54)
+    "designer/render/job.py:prepare_job":
+        "the render job's scene, bakes, cameras, effects and files inline; its split into "
+        "named steps is under way in render (issue #54 item 1)",
+    "designer/render/pipeline.py:render_project":
+        "the render's phases (prepare, probe, frames, exports) with resume and progress "
+        "inline; to split as prepare_job is",
+    "designer/study/run.py:_execute":
+        "the study's render and processing tasks scheduled with their caches and progress "
+        "in one loop; its task kinds to become functions of their own",
+    # numerical kernels: one pass over arrays each, written out for numba or for speed
+    "designer/effects/_resample_kernels.py:bspline_coefficients":
+        "a numba kernel: the two recursive filter passes share loop variables; split, it "
+        "would copy the image between passes",
+    "designer/bench/rolling_reference.py:adjust_rolling_ceres":
+        "the old solver kept unchanged in what it computes, as the oracle of the "
+        "vectorised one (bench rolling-adjustment)",
+    "designer/evaluate/compare.py:compare_cloud":
+        "cloud-to-mesh distances, their statistics and files in one function; to split "
+        "into distances, statistics and writing",
+    # text written out line by line: long, but a flat sequence of sections
+    "designer/experiments/projection_report.py:_markdown":
+        "the validation report's sections written one after another (flat text)",
+    "designer/experiments/texture.py:write_texture_report":
+        "the texture validation's report written section after section (flat text)",
+    "designer/render/readme.py:readme_text":
+        "the output folder's README, one paragraph per file kind (flat text)",
+    "designer/gui/state/wording.py:issue_text":
+        "one branch per kind of validation issue; to go with structured errors "
+        "(issue #54 item 4)",
+    "designer/export/dispatch.py:write_all":
+        "one block per export format; to become a registry of exporters",
+    "designer/survey/flight.py:plan_flight":
+        "the flight planner's strips, crosshatch, terrain following and stations in one "
+        "pass; to split by what it plans",
+    # Qt panels: the widgets of one panel laid out in order
+    "designer/gui/qt/panels/flight.py:FlightPanel.build":
+        "the panel's widgets laid out in reading order; shared panel widgets (issue #54 "
+        "item 5) shorten it",
+    "designer/gui/qt/panels/study.py:StudyPanel.build":
+        "the panel's widgets laid out in reading order (as FlightPanel.build)",
+    "designer/gui/qt/panels/processing.py:ProcessingPanel.build":
+        "the panel's widgets laid out in reading order (as FlightPanel.build)",
+    "designer/gui/qt/panels/gcps.py:GcpPanel.build":
+        "the panel's widgets laid out in reading order (as FlightPanel.build)",
+    "designer/gui/qt/panels/lighting.py:LightingPanel.build":
+        "the panel's widgets laid out in reading order (as FlightPanel.build)",
+    "designer/gui/qt/panels/render.py:RenderPanel.build":
+        "the panel's widgets laid out in reading order (as FlightPanel.build)",
+}
+
+
+def function_lengths(root: Path) -> dict[str, int]:
+    """'path:qualified name' → lines (``def`` to the last line, decorators aside) of every
+    function and method of the package under ``root``, nested ones too."""
+    out: dict[str, int] = {}
+
+    def walk(node: ast.AST, path: str, prefix: str) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef):
+                name = prefix + child.name
+                out[f"{path}:{name}"] = child.end_lineno - child.lineno + 1
+                walk(child, path, name + ".")
+            elif isinstance(child, ast.ClassDef):
+                walk(child, path, prefix + child.name + ".")
+            else:
+                walk(child, path, prefix)
+
+    for file in sorted(root.rglob("*.py")):
+        walk(ast.parse(file.read_text(), str(file)), str(file.relative_to(root.parent)), "")
+    return out
+
+
+def test_no_function_is_longer_than_80_lines():
+    """A function reads in one screen: none is over :data:`MAX_FUNCTION_LINES` lines but
+    those of :data:`LONG_FUNCTIONS`, each with why. The list only shrinks: an entry whose
+    function is gone or short now fails too, so that it leaves the list."""
+    lengths = function_lengths(PACKAGE)
+    long = {name for name, n in lengths.items() if n > MAX_FUNCTION_LINES}
+    new = sorted(long - set(LONG_FUNCTIONS))
+    assert not new, "split these into named steps:\n" + "\n".join(
+        f"{name} ({lengths[name]} lines)" for name in new)
+    done = sorted(set(LONG_FUNCTIONS) - long)
+    assert not done, "short or gone now; take them off LONG_FUNCTIONS:\n" + "\n".join(done)
+
+
+def test_the_length_check_measures_nested_functions_and_methods(tmp_path):
+    root = tmp_path / "designer"
+    root.mkdir()
+    body = "".join(f"        x{i} = {i}\n" for i in range(80))
+    (root / "one.py").write_text(f"class A:\n    def build(self):\n        def inner():\n"
+                                 f"            pass\n{body}\n\ndef short():\n    pass\n")
+    lengths = function_lengths(root)
+    assert lengths == {"designer/one.py:A.build": 83, "designer/one.py:A.build.inner": 2,
+                       "designer/one.py:short": 2}

@@ -12,7 +12,7 @@ and the pre-calibration error (σ 5 px in f, 0.02 in k1) and is processed as
 survey:
 
 1. the mapper's structure: a bundle adjustment refining what the incremental mapper
-   refines for the calibration mode (designer.sfm.reconstruct.mapper_refines: the
+   refines for the calibration mode (designer.sfm.mapping.mapper_refines: the
    focal length; the distortion stays at the pre-calibration), so the wrong k1 is
    absorbed by the structure as it is in SfM;
 2. the final adjustment with self-calibration (designer.sfm.adjustment.adjust);
@@ -178,7 +178,7 @@ def mapper_structure(rec, calibration: str) -> None:
     parameters designer's mapper refines for ``calibration``, the gauge on two cameras."""
     import pycolmap
 
-    from designer.sfm.reconstruct import mapper_refines
+    from designer.sfm.mapping import mapper_refines
 
     options = pycolmap.BundleAdjustmentOptions()
     (options.refine_focal_length, options.refine_principal_point,

@@ -2,11 +2,11 @@
 bench rolling-adjustment``).
 
 The same input for both: a synthetic rolling-shutter block the size of the example
-survey's adjustment (designer.sfm.synthetic_rolling.EXAMPLE_SIZE: 60 images of a 5-strip
+survey's adjustment (designer.bench.synthetic_rolling.EXAMPLE_SIZE: 60 images of a 5-strip
 grid, about 17,000 tie points and 114,000 observations, 20 ms readout at 8 m/s), with
 camera-position priors (σ 2 cm / 3 cm) and the true interior orientation (``fixed``).
 Each solver adjusts its own copy of the block: the per-observation Ceres problem
-(designer.sfm.rolling_reference, a Python cost per observation, as designer did before)
+(designer.bench.rolling_reference, a Python cost per observation, as designer did before)
 and the vectorised Schur Levenberg–Marquardt (designer.sfm.rolling_adjustment). Rows:
 wall-clock and CPU seconds of this process (best of the repeats), steps, and the largest
 differences between the two solutions (velocities, points, per-observation errors).
@@ -23,7 +23,7 @@ import numpy as np
 
 
 def _spec(scale: float):
-    from designer.sfm.synthetic_rolling import EXAMPLE_SIZE
+    from designer.bench.synthetic_rolling import EXAMPLE_SIZE
 
     if scale >= 1.0:
         return EXAMPLE_SIZE
@@ -34,10 +34,10 @@ def _spec(scale: float):
 
 def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
     """One row per solver (module docstring), the reference first."""
+    from designer.bench.rolling_reference import adjust_rolling_ceres
+    from designer.bench.synthetic_rolling import block_counts, copy_of, rolling_block
     from designer.sfm.adjustment import MIN_GCP_SIGMA_M, MIN_MARKING_SIGMA_PX, PositionPriors
     from designer.sfm.rolling_adjustment import adjust_rolling
-    from designer.sfm.rolling_reference import adjust_rolling_ceres
-    from designer.sfm.synthetic_rolling import block_counts, copy_of, rolling_block
 
     spec = _spec(scale)
     rec, _, true_C, shutters = rolling_block(spec)

@@ -100,27 +100,9 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
     _check_inputs(pycolmap, image_dir, sparse_model_dir)
     seconds: dict[str, float] = {}
     ws = work / "workspace"
-    settings = {"version": 2, "max_image_size_px": max_image_size_px,
-                "n_neighbours": N_NEIGHBOURS, "model": _model_digest(sparse_model_dir)}
-    stamp = work / "dense.json"
-    resume = stamp.is_file() and json.loads(stamp.read_text()) == settings \
-        and (ws / "sparse").is_dir()
-
     with _stage(seconds, "undistort"):
-        if not resume:
-            stamp.unlink(missing_ok=True)
-            if ws.exists():
-                shutil.rmtree(ws)
-            work.mkdir(parents=True, exist_ok=True)
-            log("dense: undistorting images")
-            undistort = pycolmap.UndistortCameraOptions()
-            if max_image_size_px:
-                undistort.max_image_size = int(max_image_size_px)
-            pycolmap.undistort_images(ws, sparse_model_dir, image_dir, output_type="COLMAP",
-                                      undistort_options=undistort)
-            write_text_atomic(stamp, json.dumps(settings, indent=1))
-        else:
-            log("dense: resuming in the existing workspace")
+        _undistorted_workspace(pycolmap, image_dir, sparse_model_dir, work, max_image_size_px,
+                               log)
 
     with _stage(seconds, "pairs"):
         rec = pycolmap.Reconstruction(str(ws / "sparse"))
@@ -137,21 +119,64 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
         _depth_maps(ws, views, pairs, point_ids, xyz_by_id, log, cancel, threads)
 
     with _stage(seconds, "fusion"):
-        _write_fusion_config(ws, views)
-        options = pycolmap.StereoFusionOptions()
-        options.min_num_pixels = FUSION_MIN_PIXELS
-        options.max_normal_error = FUSION_MAX_NORMAL_ERROR_DEG
-        options.num_threads = FUSION_THREADS
-        if bounds_world is not None:
-            lo, hi = (np.asarray(b, dtype=np.float64).reshape(3) - origin
-                      for b in bounds_world)
-            options.bounding_box = (lo.astype(np.float32), hi.astype(np.float32))
-        fused = work / "fused.ply"
-        fused.unlink(missing_ok=True)
-        log("dense: fusing depth maps (COLMAP stereo_fusion)")
-        pycolmap.stereo_fusion(fused, ws, input_type="geometric", options=options,
-                               output_type="PLY")
-        xyz_local, rgb = _read_fused_ply(fused)
+        xyz_local, rgb = _fuse(pycolmap, work, views, origin, bounds_world, log)
+    _check_fused(xyz_local, work, bounds_world)
+    log(f"dense: {len(xyz_local)} points")
+    points_world = xyz_local.astype(np.float64) + origin
+    return DenseCloud(points_world, rgb, MATCHER, seconds)
+
+
+def _undistorted_workspace(pycolmap, image_dir: Path, sparse_model_dir: Path, work: Path,
+                           max_image_size_px: int | None, log: Callable[[str], None]) -> None:
+    """``work/workspace``: the images undistorted for the model (COLMAP's dense
+    workspace), kept when ``work/dense.json`` says it was made with the same settings
+    and model (a rerun resumes in it), else made anew."""
+    ws = work / "workspace"
+    settings = {"version": 2, "max_image_size_px": max_image_size_px,
+                "n_neighbours": N_NEIGHBOURS, "model": _model_digest(sparse_model_dir)}
+    stamp = work / "dense.json"
+    resume = stamp.is_file() and json.loads(stamp.read_text()) == settings \
+        and (ws / "sparse").is_dir()
+    if resume:
+        log("dense: resuming in the existing workspace")
+        return
+    stamp.unlink(missing_ok=True)
+    if ws.exists():
+        shutil.rmtree(ws)
+    work.mkdir(parents=True, exist_ok=True)
+    log("dense: undistorting images")
+    undistort = pycolmap.UndistortCameraOptions()
+    if max_image_size_px:
+        undistort.max_image_size = int(max_image_size_px)
+    pycolmap.undistort_images(ws, sparse_model_dir, image_dir, output_type="COLMAP",
+                              undistort_options=undistort)
+    write_text_atomic(stamp, json.dumps(settings, indent=1))
+
+
+def _fuse(pycolmap, work: Path, views, origin: np.ndarray, bounds_world,
+          log: Callable[[str], None]) -> tuple[np.ndarray, np.ndarray]:
+    """The depth maps of ``work/workspace`` fused (COLMAP stereo_fusion) into points
+    (local frame, m) and their colours, inside ``bounds_world`` (world) when given."""
+    ws = work / "workspace"
+    _write_fusion_config(ws, views)
+    options = pycolmap.StereoFusionOptions()
+    options.min_num_pixels = FUSION_MIN_PIXELS
+    options.max_normal_error = FUSION_MAX_NORMAL_ERROR_DEG
+    options.num_threads = FUSION_THREADS
+    if bounds_world is not None:
+        lo, hi = (np.asarray(b, dtype=np.float64).reshape(3) - origin
+                  for b in bounds_world)
+        options.bounding_box = (lo.astype(np.float32), hi.astype(np.float32))
+    fused = work / "fused.ply"
+    fused.unlink(missing_ok=True)
+    log("dense: fusing depth maps (COLMAP stereo_fusion)")
+    pycolmap.stereo_fusion(fused, ws, input_type="geometric", options=options,
+                           output_type="PLY")
+    return _read_fused_ply(fused)
+
+
+def _check_fused(xyz_local: np.ndarray, work: Path, bounds_world) -> None:
+    """A fusion that kept no point is a clear error, naming the box when there is one."""
     if len(xyz_local) == 0 and bounds_world is not None:
         lo, hi = (np.asarray(b, dtype=np.float64).reshape(3) for b in bounds_world)
         raise DesignerError(
@@ -161,9 +186,6 @@ def dense_cloud(image_dir: Path, sparse_model_dir: Path, work_dir: Path, *,
         raise DesignerError(
             f"{work}: fusion kept no point: the depth maps of different images do not "
             f"agree (each point needs {FUSION_MIN_PIXELS} overlapping images with texture)")
-    log(f"dense: {len(xyz_local)} points")
-    points_world = xyz_local.astype(np.float64) + origin
-    return DenseCloud(points_world, rgb, MATCHER, seconds)
 
 
 def _check_inputs(pycolmap, image_dir: Path, model_dir: Path) -> None:

@@ -81,3 +81,18 @@ def run_dense_stage(survey: Path, out: Path, model_dir: Path, project_path: Path
             "dome_whole_dod_m": rasters["dome_whole_dod"]["amplitude_m"],
             "dome_whole_dod_gsd": rasters["dome_whole_dod"]["amplitude_gsd"],
             "rasters": rasters, **seconds}
+
+
+def with_dense_stage(summary: dict, survey: Path, out: Path, model_dir: Path,
+                     project_path: Path | None, offset_world: np.ndarray, gsd_m: float, *,
+                     max_image_size_px: int | None = None,
+                     log: Callable[[str], None] = print) -> dict:
+    """``summary`` (of summary.json) with the dense stage run (:func:`run_dense_stage`):
+    its ``dense`` section filled in (the mode kept) and the dense and raster seconds
+    added to its timings."""
+    dense = run_dense_stage(survey, out, model_dir, project_path, offset_world, gsd_m,
+                            max_image_size_px=max_image_size_px, log=log)
+    timings = {**summary["timings"], "dense_s": dense["dense_s"],
+               "rasters_s": dense["rasters_s"]}
+    return {**summary, "dense": {"mode": summary["dense"]["mode"], **dense},
+            "timings": timings, "stage_seconds": timings}

@@ -13,8 +13,12 @@ with the square of the area fitted.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
+
+from designer.errors import DesignerError
 
 #: a sparse DSM cell holds about this many tie points on average
 SPARSE_POINTS_PER_CELL = 4.0
@@ -50,3 +54,22 @@ def sparse_dome(points_world: np.ndarray, project_path, gsd_m: float) -> dict | 
     project = load_project(project_path)
     return cloud_dome(points, reference_mesh(project_path), sparse_cell_m(points[:, :2], gsd_m),
                       gsd_m, survey_area_world(project))
+
+
+def tie_point_dome(rec, project_path: Path | None, gsd_m: float,
+                   log: Callable[[str], None]) -> dict | None:
+    """The dome of the tie points of the world-frame model ``rec`` over the survey area
+    (:func:`sparse_dome`), or None without the project or with too few points; a dome
+    that cannot be measured is logged, not an error."""
+    if project_path is None or not Path(project_path).is_file():
+        return None
+    points = np.array([pt.xyz for pt in rec.points3D.values()]).reshape(-1, 3)
+    try:
+        dome = sparse_dome(points, project_path, gsd_m)
+    except DesignerError as error:
+        log(f"tie-point dome not measured: {error}")
+        return None
+    if dome is not None:
+        log(f"tie points: {dome['kind']} {dome['amplitude_m']:+.4f} m "
+            f"({dome['amplitude_gsd']:+.2f} GSD) over {dome['area']}")
+    return dome

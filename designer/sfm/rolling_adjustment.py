@@ -19,7 +19,7 @@ arrays and evaluated for all observations at once with analytic Jacobians
 and solved by Ceres's Levenberg–Marquardt with the points eliminated by the Schur
 complement (designer.sfm.schur_lm): 60 images and 110,000 observations in about 2 s of
 CPU where a Ceres problem with a Python cost per observation took 27 s
-(designer.sfm.rolling_reference, kept as the reference; ``designer bench
+(designer.bench.rolling_reference, kept as the reference; ``designer bench
 rolling-adjustment``).
 
 Velocities start from the model's camera centres differenced along the flight's time
@@ -137,7 +137,7 @@ def adjust_rolling(rec, variable: tuple[int, ...], shutters: dict[str, RollingSh
     All observations are evaluated at once (designer.sfm.rolling_problem) and solved by
     Levenberg–Marquardt with the points eliminated (designer.sfm.schur_lm); the Ceres
     formulation it replaced, a Python cost per observation, is
-    designer.sfm.rolling_reference."""
+    designer.bench.rolling_reference."""
     from designer.sfm.rolling_problem import RollingProblem
     from designer.sfm.schur_lm import SchurLayout, solve
 
@@ -208,26 +208,59 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
                    min_gcp_sigma_m, fix_gauge) -> _RollingBlock:
     """The problem of :func:`adjust_rolling` as arrays (designer.sfm.rolling_problem):
     the images with a pose and an observation, their stations and cameras, the points."""
-    from designer.core.rotation import rotation_from_quaternion
-    from designer.sfm.block_setup import (
-        posed_images,
-        prior_sigmas_m,
-        station_priors,
-        two_station_gauge,
-    )
-    from designer.sfm.control_costs import control_in_block
-    from designer.sfm.full_opencv import PREFIX_MODELS, full_opencv_params
-    from designer.sfm.observations import tie_observations
-    from designer.sfm.rolling_problem import (
-        POSE_COLS,
-        VEL_COLS,
-        RollingArrays,
-        RollingState,
-    )
+    from designer.sfm.block_setup import posed_images, prior_sigmas_m
+    from designer.sfm.rolling_problem import RollingArrays, RollingState
 
     posed = posed_images(rec)
     starts = start_velocities({n: rec.images[im.image_id].projection_center()
                                for n, im in posed.items()}, shutters)
+    obs = _block_observations(rec, posed, control, sigma_mark_px, min_gcp_sigma_m)
+    o_img, o_pt, o_uv, o_w, X, point_ids, in_block, n_tie_obs = obs
+    n_tie = len(point_ids)
+    used = _used_images(rec, posed, o_img)
+    image_names, o_img, images, frame_ids, camera_ids, image_frame, image_camera = used
+    mount_R, mount_t = _mounts(images)
+    cams = [rec.cameras[cid] for cid in camera_ids]
+    cam = _camera_params(cams)
+    variable = np.array(sorted(variable), np.int64)
+    delay, vel = _delays_and_starts(rec, image_names, images, shutters, starts, o_img, o_uv)
+    R, t = _station_poses(rec, frame_ids)
+    image_cols, vel_image, n = _columns(frame_ids, t, image_names, shutters, cams, variable,
+                                        image_frame, image_camera, fix_gauge)
+    prior_frame, prior_C = _station_prior_rows(priors, frame_ids, posed)
+    prior_sigma = np.tile(prior_sigmas_m(priors), (len(prior_frame), 1)) if priors \
+        is not None else np.zeros((0, 3))
+    vel_sigma = [VELOCITY_PRIOR_SIGMA if np.any(starts[image_names[k]])
+                 else VELOCITY_PRIOR_SIGMA_NO_START for k in vel_image]
+
+    order = np.lexsort((o_pt, o_img))  # by image, then point
+    tie_rows = np.flatnonzero(order < n_tie_obs)  # sorted rows of the tie observations
+    arrays = RollingArrays(
+        obs_image=o_img[order], obs_point=o_pt[order], uv=o_uv[order], weight=o_w[order],
+        delay=delay[order], image_frame=image_frame, image_camera=image_camera,
+        mount_R=mount_R, mount_t=mount_t, variable=variable,
+        control_index=np.arange(n_tie, n_tie + len(in_block), dtype=np.int64),
+        control_xyz=np.array([cp.surveyed_local for cp in in_block]).reshape(-1, 3),
+        control_sigma=np.array([cp.sigma_m for cp in in_block]).reshape(-1, 3),
+        prior_frame=np.array(prior_frame, np.int64), prior_C=np.array(prior_C).reshape(-1, 3),
+        prior_sigma=prior_sigma, vel_image=np.array(vel_image, np.int64),
+        vel_start=vel[vel_image].reshape(-1, 3), vel_sigma=np.array(vel_sigma, float),
+        image_cols=image_cols, n_cam=n)
+    state = RollingState(R=R, t=t, vel=vel, cam=cam, X=X)
+    return _RollingBlock(arrays, state, starts, frame_ids, list(image_names), camera_ids,
+                         point_ids.tolist(), [cp.gcp_id for cp in in_block], tie_rows,
+                         point_ids[o_pt[order][tie_rows]])
+
+
+def _block_observations(rec, posed: dict, control, sigma_mark_px: float,
+                        min_gcp_sigma_m: float):
+    """The observations of the posed images: (image index into ``posed``, point index,
+    uv px, weight 1/px) each, tie points first (weight 1) then the control points' marks;
+    the points' start coordinates (tie points, then control points; local, m); the tie
+    points' ids; the control points in the block; the number of tie observations."""
+    from designer.sfm.control_costs import control_in_block
+    from designer.sfm.observations import tie_observations
+
     names = list(posed)
     # tie observations of the posed images, image by image
     tie = tie_observations(rec)
@@ -250,18 +283,20 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
         o_pt.append(np.full(len(cp.marks), n_tie + k))
         o_uv.append(np.array([uv for _, uv in cp.marks], float))
         o_w.append(np.full(len(cp.marks), 1.0 / sigma_mark_px))
-    o_img = np.concatenate(o_img).astype(np.int64)
-    o_pt = np.concatenate(o_pt).astype(np.int64)
-    o_uv = np.concatenate(o_uv).reshape(-1, 2)
-    o_w = np.concatenate(o_w)
-    X = np.concatenate(X).reshape(-1, 3)
+    return (np.concatenate(o_img).astype(np.int64), np.concatenate(o_pt).astype(np.int64),
+            np.concatenate(o_uv).reshape(-1, 2), np.concatenate(o_w),
+            np.concatenate(X).reshape(-1, 3), point_ids, in_block, n_tie_obs)
 
-    # the images, stations and cameras with an observation, in the reconstruction's order
+
+def _used_images(rec, posed: dict, o_img: np.ndarray):
+    """The images, stations and cameras with an observation, in the reconstruction's
+    order: (image names, ``o_img`` renumbered to them, their pycolmap images, station
+    ids, camera ids, each image's station index and camera index)."""
+    names = list(posed)
     used = np.unique(o_img)
     image_names = [names[k] for k in used]
     renumber = np.full(len(names), -1)
     renumber[used] = np.arange(len(used))
-    o_img = renumber[o_img]
     images = [posed[n] for n in image_names]
     used_frames = {im.frame_id for im in images}
     frame_ids = [f for f in dict.fromkeys(im.frame_id for im in posed.values())
@@ -269,21 +304,38 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
     camera_ids = list(dict.fromkeys(im.camera_id for im in images))
     image_frame = np.array([frame_ids.index(im.frame_id) for im in images])
     image_camera = np.array([camera_ids.index(im.camera_id) for im in images])
+    return (image_names, renumber[o_img], images, frame_ids, camera_ids, image_frame,
+            image_camera)
+
+
+def _mounts(images: list) -> tuple[np.ndarray, np.ndarray]:
+    """Each image's camera-from-rig rotation (K, 3, 3) and translation (K, 3), m; the
+    identity for an image without a rig."""
     mount_R = np.tile(np.eye(3), (len(images), 1, 1))
     mount_t = np.zeros((len(images), 3))
     for k, im in enumerate(images):
         if im.cam_from_rig is not None:
             mount_R[k] = im.cam_from_rig.rotation.matrix()
             mount_t[k] = im.cam_from_rig.translation
-    cams = [rec.cameras[cid] for cid in camera_ids]
+    return mount_R, mount_t
+
+
+def _camera_params(cams: list) -> np.ndarray:
+    """The cameras' FULL_OPENCV parameters (C, 12), or a clear error for a model the
+    compensation does not take."""
+    from designer.sfm.full_opencv import PREFIX_MODELS, full_opencv_params
+
     for camera in cams:
         if camera.model.name not in PREFIX_MODELS:
             raise DesignerError(
                 f"camera model {camera.model.name}: rolling-shutter compensation supports "
                 "pinhole and Brown–Conrady cameras; use a brown-conrady distortion")
-    cam = np.array([full_opencv_params(c.model.name, c.params) for c in cams])
-    variable = np.array(sorted(variable), np.int64)
+    return np.array([full_opencv_params(c.model.name, c.params) for c in cams])
 
+
+def _delays_and_starts(rec, image_names, images, shutters, starts, o_img, o_uv):
+    """Each observation's row delay (s; 0 in a global-shutter image) and each image's
+    start velocity (m/s; 0 without a shutter)."""
     delay = np.zeros(len(o_img))
     vel = np.zeros((len(images), 3))
     for k, (name, im) in enumerate(zip(image_names, images, strict=True)):
@@ -293,15 +345,28 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
             delay[rows] = row_delay_s(o_uv[rows, 1], rec.cameras[im.camera_id].height,
                                       s.readout_s, s.direction)
             vel[k] = starts[name]
+    return delay, vel
+
+
+def _station_poses(rec, frame_ids: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """The stations' rig-from-world rotations (F, 3, 3) and translations (F, 3), m."""
+    from designer.core.rotation import rotation_from_quaternion
 
     R, t = [], []
     for fid in frame_ids:
         pose = np.asarray(rec.frames[fid].rig_from_world.params, float)
         R.append(rotation_from_quaternion(np.roll(pose[:4], 1)))  # x y z w → w x y z
         t.append(pose[4:].copy())
-    R, t = np.array(R), np.array(t)
+    return np.array(R), np.array(t)
 
-    # global camera-side columns: stations (6, less the gauge's), velocities, cameras
+
+def _columns(frame_ids, t, image_names, shutters, cams, variable, image_frame, image_camera,
+             fix_gauge):
+    """The global camera-side columns: stations (6, less the gauge's), velocities,
+    cameras; (each image's columns, the images with a velocity, the number of columns)."""
+    from designer.sfm.block_setup import two_station_gauge
+    from designer.sfm.rolling_problem import POSE_COLS, VEL_COLS
+
     held = set()
     if fix_gauge:
         first, second, k = two_station_gauge(list(range(len(frame_ids))), lambda f: t[f])
@@ -315,7 +380,7 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
             if (f, j) not in held:
                 frame_cols[f, j] = n
                 n += 1
-    vel_cols = np.full((len(images), VEL_COLS), -1)
+    vel_cols = np.full((len(image_names), VEL_COLS), -1)
     vel_image = [k for k, name in enumerate(image_names) if name in shutters]
     for k in vel_image:
         vel_cols[k] = np.arange(n, n + VEL_COLS)
@@ -327,6 +392,12 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
                 cam_cols[c, j] = n
                 n += 1
     image_cols = np.hstack([frame_cols[image_frame], vel_cols, cam_cols[image_camera]])
+    return image_cols, vel_image, n
+
+
+def _station_prior_rows(priors, frame_ids: list[int], posed: dict):
+    """The stations with a position prior and their prior centres (local, m)."""
+    from designer.sfm.block_setup import station_priors
 
     prior_frame, prior_C = [], []
     if priors is not None:
@@ -335,25 +406,4 @@ def _rolling_block(rec, variable, shutters, control, sigma_mark_px, priors,
         for f, C in station_priors(priors, frame_of.get):
             prior_frame.append(f)
             prior_C.append(C)
-    prior_sigma = np.tile(prior_sigmas_m(priors), (len(prior_frame), 1)) if priors \
-        is not None else np.zeros((0, 3))
-    vel_sigma = [VELOCITY_PRIOR_SIGMA if np.any(starts[image_names[k]])
-                 else VELOCITY_PRIOR_SIGMA_NO_START for k in vel_image]
-
-    order = np.lexsort((o_pt, o_img))  # by image, then point
-    tie_rows = np.flatnonzero(order < n_tie_obs)  # sorted rows of the tie observations
-    arrays = RollingArrays(
-        obs_image=o_img[order], obs_point=o_pt[order], uv=o_uv[order], weight=o_w[order],
-        delay=delay[order], image_frame=image_frame, image_camera=image_camera,
-        mount_R=mount_R, mount_t=mount_t, variable=variable,
-        control_index=np.arange(n_tie, n_tie + len(in_block), dtype=np.int64),
-        control_xyz=np.array([cp.surveyed_local for cp in in_block]).reshape(-1, 3),
-        control_sigma=np.array([cp.sigma_m for cp in in_block]).reshape(-1, 3),
-        prior_frame=np.array(prior_frame, np.int64), prior_C=np.array(prior_C).reshape(-1, 3),
-        prior_sigma=prior_sigma, vel_image=np.array(vel_image, np.int64),
-        vel_start=vel[vel_image].reshape(-1, 3), vel_sigma=np.array(vel_sigma, float),
-        image_cols=image_cols, n_cam=n)
-    state = RollingState(R=R, t=t, vel=vel, cam=cam, X=X)
-    return _RollingBlock(arrays, state, starts, frame_ids, image_names, camera_ids,
-                         point_ids.tolist(), [cp.gcp_id for cp in in_block], tie_rows,
-                         point_ids[o_pt[order][tie_rows]])
+    return prior_frame, prior_C

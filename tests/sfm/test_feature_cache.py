@@ -7,7 +7,8 @@ import shutil
 import pytest
 
 from designer.sfm.feature_cache import FeatureCache
-from designer.sfm.reconstruct import check_survey_folder, reconstruct
+from designer.sfm.inputs import check_survey_folder
+from designer.sfm.reconstruct import reconstruct
 
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 

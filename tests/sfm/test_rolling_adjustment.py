@@ -8,6 +8,7 @@ import pytest
 
 pycolmap = pytest.importorskip("pycolmap")
 
+from designer.bench.synthetic_rolling import add_tracks  # noqa: E402
 from designer.errors import DesignerError  # noqa: E402
 from designer.sfm.adjustment import PositionPriors, adjust  # noqa: E402
 from designer.sfm.rolling_adjustment import (  # noqa: E402
@@ -15,7 +16,6 @@ from designer.sfm.rolling_adjustment import (  # noqa: E402
     check_compensation,
     start_velocities,
 )
-from designer.sfm.synthetic_rolling import add_tracks  # noqa: E402
 
 W, H, F = 400, 300, 500.0
 HEIGHT = 40.0
@@ -121,7 +121,7 @@ def test_reprojection_errors_and_outliers_are_judged_with_the_compensation():
     """A fast readout (60 ms at 8 m/s: ~10 px of motion over the image): COLMAP's own
     errors project every row from the first row's pose and call good points outliers;
     the compensated errors are the observation noise, and only they decide."""
-    from designer.sfm.reconstruct import _drop_outliers, _mean_reprojection_error_px
+    from designer.sfm.tie_points import drop_outliers, mean_reprojection_error_px
 
     rec, _, true_C, shutters = synthetic_block(0.06)
     r = adjust(rec, "fixed", priors=_priors(true_C), rolling_shutter=shutters)
@@ -129,13 +129,13 @@ def test_reprojection_errors_and_outliers_are_judged_with_the_compensation():
     assert set(errors) == set(rec.points3D)
     assert sum(len(e) for e in errors.values()) == sum(
         pt.track.length() for pt in rec.points3D.values())
-    compensated = _mean_reprojection_error_px(rec, errors)
-    colmap = _mean_reprojection_error_px(rec, None)
+    compensated = mean_reprojection_error_px(rec, errors)
+    colmap = mean_reprojection_error_px(rec, None)
     assert compensated < 0.35 < 1.0 < colmap  # noise 0.2 px: mean |e| ≈ 0.25 px
     n = rec.num_points3D()
     colmap_copy = pycolmap.Reconstruction(rec)
-    assert _drop_outliers(colmap_copy, 2.0) > 0  # COLMAP's errors would drop good points
-    assert _drop_outliers(rec, 2.0, errors) == 0 and rec.num_points3D() == n
+    assert drop_outliers(colmap_copy, 2.0) > 0  # COLMAP's errors would drop good points
+    assert drop_outliers(rec, 2.0, errors) == 0 and rec.num_points3D() == n
 
 
 def test_compensation_of_a_global_shutter_block_changes_nothing_much():

@@ -1,7 +1,7 @@
 """The vectorised rolling-shutter adjustment (designer.sfm.rolling_adjustment with
 designer.sfm.rolling_problem, designer.sfm.schur_lm, designer.sfm.full_opencv) against
-the per-observation Ceres formulation it replaced (designer.sfm.rolling_reference), on
-synthetic blocks (designer.sfm.synthetic_rolling): the same velocities, points,
+the per-observation Ceres formulation it replaced (designer.bench.rolling_reference), on
+synthetic blocks (designer.bench.synthetic_rolling): the same velocities, points,
 per-observation errors and cameras within stated tolerances, and the same problem size."""
 
 from __future__ import annotations
@@ -13,6 +13,8 @@ import pytest
 
 pycolmap = pytest.importorskip("pycolmap")
 
+from designer.bench.rolling_reference import adjust_rolling_ceres  # noqa: E402
+from designer.bench.synthetic_rolling import BlockSpec, rolling_block  # noqa: E402
 from designer.sfm.adjustment import (  # noqa: E402
     MIN_GCP_SIGMA_M,
     ControlPoint,
@@ -21,9 +23,7 @@ from designer.sfm.adjustment import (  # noqa: E402
 )
 from designer.sfm.full_opencv import full_opencv_params, img_from_cam  # noqa: E402
 from designer.sfm.rolling_adjustment import adjust_rolling  # noqa: E402
-from designer.sfm.rolling_reference import adjust_rolling_ceres  # noqa: E402
 from designer.sfm.settings import VARIABLE_PARAMS  # noqa: E402
-from designer.sfm.synthetic_rolling import BlockSpec, rolling_block  # noqa: E402
 
 #: the two solutions agree to these (both stop at Ceres's function tolerance 1e-9)
 TOL_VELOCITY_M_S = 1e-4

@@ -148,7 +148,7 @@ def processing_text(p) -> str:
 def survey_status(survey_dir: Path) -> tuple[int, str]:
     """(number of rendered images, a line describing the folder) of a render output;
     0 images when the folder cannot be reconstructed yet."""
-    from designer.sfm.reconstruct import check_survey_folder
+    from designer.sfm.inputs import check_survey_folder
 
     try:
         _gt, _images, names = check_survey_folder(Path(survey_dir))
