@@ -1,7 +1,7 @@
 """``designer bench gui --images N``: the window holding a survey of about N images.
 
 The ``survey-block`` template (720 images over 12.25 ha) with its flight area, terrain
-and GCP layout scaled by √(N / 720) (N = 720 is the template itself), written to a file
+and GCP layout scaled to about N images (N = 720 is the template itself), written to a file
 and opened as File → Open opens it. Seconds are wall seconds on this machine; the window
 runs under Xvfb with Mesa llvmpipe (software OpenGL). Issue 53's targets: opening ≤ 10 s,
 edit → frame median ≤ 1.5 s at 700 images and ≤ 3 s at 5,000, no freeze over 5 s, the
@@ -17,6 +17,10 @@ import tempfile
 import time
 from pathlib import Path
 
+#: how the flight area's side (m) grows with √images: the example's grid over a square
+#: of side L takes about (L / s + c)² images, s = √(front × side spacing) = √(10.3 m ×
+#: 23.1 m) with its 50 m height and 80 % / 70 % overlaps (the template: 350 m, 720 images)
+AREA_M_PER_SQRT_IMAGE = 15.4
 #: flight-height edits timed
 EDITS = 5
 #: the template's image count, the size it is scaled from
@@ -29,17 +33,22 @@ FREEZE_S = 5.0
 
 def survey_project(n_images: int):
     """The survey-block template scaled to about ``n_images`` images (its area, terrain
-    and GCP grid grow by √(n / 720); camera, height, overlaps and texture kept)."""
+    and GCP grid grow alike; camera, height, overlaps and texture kept)."""
     from designer.project import model as m
     from designer.project.templates import survey_block
 
     project = survey_block().project
     if n_images == BLOCK_IMAGES:
         return project
-    k = math.sqrt(n_images / BLOCK_IMAGES)
+    from designer.project.templates import BLOCK_AREA_M
+
+    side_m = BLOCK_AREA_M + AREA_M_PER_SQRT_IMAGE * (math.sqrt(n_images)
+                                                     - math.sqrt(BLOCK_IMAGES))
+    k = max(side_m, 20.0) / BLOCK_AREA_M
     E0, N0 = project.origin.E0, project.origin.N0
     plan = project.trajectory.flight_plan
-    area = tuple((E0 + k * (E - E0), N0 + k * (N - N0)) for E, N in plan.area)
+    area = tuple((round(E0 + k * (E - E0), 1), round(N0 + k * (N - N0), 1))
+                 for E, N in plan.area)
     half_area = max(abs(E - E0) for E, _ in area)
     half = round(half_area + 75.0)  # the template's margin: 75 m of terrain past the area
     terrain = dataclasses.replace(project.scene.terrain,
