@@ -367,8 +367,18 @@ def _triangle_shares(margins: np.ndarray) -> np.ndarray:
     the four are multiplied, which is exact wherever at most one border line crosses
     a triangle (only triangles holding a corner of the other image are approximate).
     """
-    a, b, c = _triangles(margins)  # (P, 4, T)
-    return np.prod(_triangle_share(a, b, c), axis=1)
+    P, n_border, k = margins.shape[:3]
+    rows = margins.reshape(P * n_border, k, k)
+    # a border whose samples lie all on one side gives 1 or 0 to every triangle; only
+    # those crossing the grid need the triangles (over a 5,000-image block, most pairs'
+    # borders cross none: this was 20 of the plan figures' 35 s)
+    inside = (rows >= 0).reshape(len(rows), -1)
+    n_tri = 2 * (k - 1) ** 2
+    share = np.repeat(inside.all(axis=1).astype(float)[:, None], n_tri, axis=1)
+    mixed = np.flatnonzero(inside.any(axis=1) & ~inside.all(axis=1))
+    if len(mixed):
+        share[mixed] = _triangle_share(*_triangles(rows[mixed]))
+    return np.prod(share.reshape(P, n_border, n_tri), axis=1)
 
 
 def _triangle_share(p, q, r):
