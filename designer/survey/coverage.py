@@ -383,7 +383,16 @@ def _triangle_shares(margins: np.ndarray) -> np.ndarray:
 
 def _triangle_share(p, q, r):
     """Share of a triangle where the linear interpolant of vertex values is ≥ 0."""
-    n_pos = (p >= 0).astype(int) + (q >= 0) + (r >= 0)
+    n_pos = (p >= 0).astype(np.int8) + (q >= 0) + (r >= 0)
+    out = (n_pos == 3).astype(float)
+    # only a triangle a border crosses has a share between 0 and 1
+    cut = (n_pos == 1) | (n_pos == 2)
+    out[cut] = _cut_share(p[cut], q[cut], r[cut], n_pos[cut])
+    return out
+
+
+def _cut_share(p, q, r, n_pos):
+    """:func:`_triangle_share` of triangles with one or two vertices ≥ 0 (flat arrays)."""
     # the vertex whose sign differs from the other two, and those two
     lone_is_p = (p >= 0) != (q >= 0)
     lone_is_p &= (p >= 0) != (r >= 0)
@@ -393,7 +402,7 @@ def _triangle_share(p, q, r):
     z = np.where(lone_is_p | lone_is_q, r, q)
     with np.errstate(invalid="ignore", divide="ignore"):
         corner = x * x / ((x - y) * (x - z))
-    return np.select([n_pos == 3, n_pos == 0, n_pos == 1], [1.0, 0.0, corner], 1.0 - corner)
+    return np.where(n_pos == 1, corner, 1.0 - corner)
 
 
 # --------------------------------------------------------------------------- summary
