@@ -91,6 +91,30 @@ class _Ticks:
 
 
 def run_survey(n_images: int) -> list[dict]:
+    """The rows of the table (see the module doc). The render-time records are read
+    from a copy taken at the start: a render finishing elsewhere on the machine between
+    the window's estimate and the plan's would otherwise make them differ."""
+    import os
+    import shutil
+
+    from designer.survey.render_cost import cache_dir
+
+    tmp = Path(tempfile.mkdtemp(prefix="designer-bench-gui-"))
+    (tmp / "cache").mkdir()
+    if (cache_dir() / "render-speed.json").is_file():
+        shutil.copy2(cache_dir() / "render-speed.json", tmp / "cache" / "render-speed.json")
+    before = os.environ.get("DESIGNER_CACHE_DIR")
+    os.environ["DESIGNER_CACHE_DIR"] = str(tmp / "cache")
+    try:
+        return _run_survey(n_images, tmp)
+    finally:
+        if before is None:
+            del os.environ["DESIGNER_CACHE_DIR"]
+        else:
+            os.environ["DESIGNER_CACHE_DIR"] = before
+
+
+def _run_survey(n_images: int, tmp: Path) -> list[dict]:
     from PySide6.QtCore import QSettings
 
     from designer.gui.app import application, wait_idle
@@ -98,7 +122,6 @@ def run_survey(n_images: int) -> list[dict]:
     from designer.project import write_project
 
     app = application()
-    tmp = Path(tempfile.mkdtemp(prefix="designer-bench-gui-"))
     path = tmp / "block.xml"
     write_project(survey_project(n_images), path)
     window = MainWindow(QSettings(str(tmp / "settings.ini"), QSettings.Format.IniFormat))
