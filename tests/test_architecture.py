@@ -64,7 +64,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "bpy": ("render.worker",),
     "mathutils": ("render.worker",),
     # Qt and VTK only in the GUI's widgets and its start-up; never in gui.state
-    "PySide6": ("gui.qt", "gui.app", "bench.gui"),
+    "PySide6": ("gui.qt", "gui.app", "bench.gui", "bench.gui_survey"),
     "pyvista": ("gui.qt", "bench"),  # bench compare measures pyvista's distance filter too
     "pyvistaqt": ("gui.qt",),
     "vtk": ("gui.qt",),

@@ -15,6 +15,13 @@ nodes per side with FXAA. Either way the terrain is lit by a colour per vertex (
 project's sun and sky, computed with the terrain in a worker thread), not per pixel.
 The frame time of the full-resolution terrain with FXAA is measured too. ``scale``
 shrinks the area's side by √scale (tests run it small).
+
+``images=N`` (``designer bench gui --images N``) measures a survey instead (issue 53, at
+survey size): the ``survey-block`` template (720 images) with its flight area and terrain
+scaled to about N images, written to a file and opened as File → Open does. Measured: the
+opening (file read to the last background job), the flight-height edit → frame median
+and worst, the longest the event loop went without running (a freeze; none may pass 5 s),
+and whether the window's render estimate and void figures are ``designer plan``'s.
 """
 
 from __future__ import annotations
@@ -51,12 +58,17 @@ def _project(side_m: float):
                      scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan))
 
 
-def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
-    """Time flight-parameter edits → updated frames (``repeats`` is ignored: EDITS edits)."""
+def run(repeats: int = 3, scale: float = 1.0, images: int | None = None) -> list[dict]:
+    """Time flight-parameter edits → updated frames (``repeats`` is ignored: EDITS edits).
+    With ``images``: a survey of about that many images (see the module doc)."""
     from designer.gui.xvfb import ensure_display, stop_xvfb
 
     xvfb = ensure_display()
     try:
+        if images is not None:
+            from designer.bench.gui_survey import run_survey
+
+            return run_survey(images)
         return _run(scale)
     finally:
         if xvfb is not None:
@@ -173,6 +185,10 @@ def _frame_seconds(app, view, n: int = 5) -> float:
 
 
 def format_table(rows: list[dict]) -> str:
+    if rows and "value" in rows[0]:
+        from designer.bench.gui_survey import format_survey_table
+
+        return format_survey_table(rows)
     lines = [f"{'step':<46} {'ms':>8}", "-" * 56]
     for r in rows:
         lines.append(f"{r['step']:<46} {r['ms']:>8.0f}")

@@ -44,6 +44,9 @@ def register(subparsers) -> None:
                         help="study: the study template to run (gcp-count, or "
                              "example-processing: the example-size study, CPU seconds per "
                              "stage and run)")
+    parser.add_argument("--images", type=int, default=None, metavar="N",
+                        help="gui: open a survey of about N images (the survey-block "
+                             "template scaled; 720 is the template itself)")
     parser.add_argument("--variants", action="store_true",
                         help="render: also the rows of the world's elements (sun over time, "
                              "moving objects, buildings, plants, clouds, rig, rolling shutter)")
@@ -92,6 +95,17 @@ def run(args) -> int:
             raise DesignerError(f"--variants: only 'designer bench render' takes it, not "
                                 f"'designer bench {args.name}'")
         options["variants"] = True
+    if args.images is not None:
+        if "images" not in inspect.signature(module.run).parameters:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--images: only 'designer bench gui' takes it, not "
+                                f"'designer bench {args.name}'")
+        if args.images < 1:
+            from designer.errors import DesignerError
+
+            raise DesignerError(f"--images {args.images}: give a number of images >= 1")
+        options["images"] = args.images
     if "on_row" in inspect.signature(module.run).parameters:
         options["on_row"] = _live_rows(module)
     rows = module.run(repeats=args.repeats, scale=args.scale, **options)

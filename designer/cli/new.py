@@ -14,16 +14,18 @@ from pathlib import Path
 
 from designer.errors import DesignerError
 
-TEMPLATES = ("survey", "survey-ideal", "survey-dynamic", "survey-structures", "validation-cube",
-             "psf", "texture")
+TEMPLATES = ("survey", "survey-ideal", "survey-dynamic", "survey-structures", "survey-block",
+             "validation-cube", "psf", "texture")
 
 
 def register(subparsers) -> None:
     parser = subparsers.add_parser(
         "new", help="write an example project from a template, or a project for a real site",
         description="Write a schema-valid project. Templates: survey (the example "
-                    "survey: 100 m hills, 10 GCPs, grid flight), validation-cube (a cube and "
-                    "24 orbit photos), psf (slanted edges for the point spread function), "
+                    "survey: 100 m hills, 10 GCPs, grid flight), survey-block (the example "
+                    "at a real survey's size: 12 ha, about 720 images, 16 control and 9 "
+                    "check GCPs), validation-cube (a cube and 24 orbit photos), psf "
+                    "(slanted edges for the point spread function), "
                     "texture (an image texture tiled over a plane). With --site: a project "
                     "for a real site from a GeoTIFF DEM (any projected CRS in metres, or "
                     "geographic degrees, reprojected to its UTM zone) and a georeferenced "

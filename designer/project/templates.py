@@ -15,7 +15,7 @@ from designer.project import model as m
 from designer.project.assets import cube_obj_bytes, seamless_texture_png
 
 TEMPLATE_NAMES = ("survey", "survey-ideal", "survey-dynamic", "survey-structures",
-                  "validation-cube", "psf", "texture")
+                  "survey-block", "validation-cube", "psf", "texture")
 
 
 @dataclass(frozen=True)
@@ -218,6 +218,59 @@ def survey_structures() -> Template:
                      "(designer compare --surface dtm) or the surface (dsm)."))
     return Template(project)
 
+
+#: the survey-block's flight area (m a side) and its GCP layout: control on a 4 × 4 grid
+#: (16 for about 720 images: 2.2 per 100 images, in the 2–3 per 100 beyond which
+#: Sanz-Ablanedo et al. 2018 find accuracy levels off), its outer ring 10 m inside the
+#: area's edge so every point is seen by several strips; check points on the 3 × 3 grid
+#: between them, where the block is weakest
+BLOCK_AREA_M = 350.0
+BLOCK_CONTROL_OFFSETS_M = (-165.0, -55.0, 55.0, 165.0)
+BLOCK_CHECK_OFFSETS_M = (-110.0, 0.0, 110.0)
+
+
+def survey_block() -> Template:
+    """The example survey at a real survey's size: 500 × 500 m of hills, a 350 × 350 m
+    flight area (12.25 ha, about 720 images with the example's camera, height and
+    overlaps), the same texture, 16 control and 9 check GCPs spread over the block."""
+    import dataclasses
+
+    tpl = survey()
+    p = tpl.project
+    E0, N0 = p.origin.E0, p.origin.N0
+    half_terrain, half_area = 250.0, BLOCK_AREA_M / 2
+    terrain = dataclasses.replace(
+        p.scene.terrain, extent=m.Extent(E0 - half_terrain, N0 - half_terrain,
+                                         E0 + half_terrain, N0 + half_terrain),
+        source=dataclasses.replace(p.scene.terrain.source, hill_size_m=150.0))
+    control = [(E0 + a, N0 + b) for b in BLOCK_CONTROL_OFFSETS_M for a in BLOCK_CONTROL_OFFSETS_M]
+    check = [(E0 + a, N0 + b) for b in BLOCK_CHECK_OFFSETS_M for a in BLOCK_CHECK_OFFSETS_M]
+    targets = tuple(
+        m.Target(id=f"{prefix}{i + 1:02d}", role=role, shape="checker", size_m=0.8,
+                 true=m.TruePosition(E, N))
+        for prefix, role, points in (("GCP", "control", control), ("CHK", "check", check))
+        for i, (E, N) in enumerate(points))
+    scene = dataclasses.replace(
+        p.scene, terrain=terrain,
+        # the example's 20 m tiles, 25 a side over 500 m; the variation's 40 m keeps them
+        # from repeating across the block
+        texture=dataclasses.replace(p.scene.texture, repeat_X=25, repeat_Y=25),
+        targets=dataclasses.replace(p.scene.targets, targets=targets))
+    area = tuple((E0 + a * half_area, N0 + b * half_area)
+                 for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)))
+    plan = dataclasses.replace(p.trajectory.flight_plan, area=area)
+    project = dataclasses.replace(
+        p, name="Survey block: 12 ha, about 720 images", scene=scene,
+        trajectory=dataclasses.replace(p.trajectory, flight_plan=plan),
+        description=("The example survey at a real survey's size: the same camera, height "
+                     "(50 m), overlaps (80 % / 70 %) and texture over a 350 x 350 m flight "
+                     "area (12.25 ha, about 720 images) on 500 x 500 m of hills. 16 control "
+                     "GCPs on a 4 x 4 grid (about 2.2 per 100 images, the density beyond "
+                     "which accuracy levels off, Sanz-Ablanedo et al. 2018) and 9 check "
+                     "points between them. Images render at a quarter of the full size."))
+    return Template(project)
+
+
 def validation_cube() -> Template:
     """A 4 m cube on flat ground seen by 24 oblique photos on a circle: exact geometry."""
     cam = m.Camera(id="a7r4", name="Sony a7R IV, 35 mm lens", focal_length_mm=35.0,
@@ -331,7 +384,7 @@ def texture() -> Template:
 
 
 _BUILDERS = {"survey": survey, "survey-ideal": survey_ideal, "survey-dynamic": survey_dynamic,
-             "survey-structures": survey_structures,
+             "survey-structures": survey_structures, "survey-block": survey_block,
              "validation-cube": validation_cube, "psf": psf, "texture": texture}
 
 

@@ -94,7 +94,12 @@ def contains(area, xy_m) -> np.ndarray:
         with np.errstate(divide="ignore", invalid="ignore"):
             x_cross = a[0] + (y - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
         inside ^= straddles & (x < x_cross)
-    return inside | (distance_to_boundary_m(poly, xy_m) <= 1e-9)
+    # the boundary's distance only where the crossings say outside: over a terrain's
+    # nodes (millions, most inside the area) it was 90 % of the stations job
+    outside = np.flatnonzero(~inside)
+    if len(outside):
+        inside[outside] = distance_to_boundary_m(poly, p[outside] + poly[0]) <= 1e-9
+    return inside
 
 
 def distance_to_boundary_m(area, xy_m) -> np.ndarray:

@@ -128,20 +128,30 @@ def finest_gsd_m(project: m.Project, hf, images, raycaster=None) -> float:
     distance along the optical axis × pixel pitch / focal length. NaN if no ray meets it.
     ``raycaster``: a :class:`designer.survey.raycast.TerrainRaycaster` over ``hf`` the
     caller holds already (else one is built)."""
-    from designer.core.projection import ground_sample_distance_m, pixel_rays_world
+    from designer.core.projection import ground_sample_distance_m
+    from designer.core.rotation import R_CV_FROM_PHOTO
     from designer.errors import NotInvertibleError
     from designer.project.interiors import render_interior
 
     starts, rays, axes, pitch_over_f = [], [], [], []
+    # each camera's rays once (inverting the distortion per image was 5 s of the plan
+    # figures at 5,000 images), turned by each image's rotation as pixel_rays_world does
+    per_camera: dict[str, tuple] = {}
     for station, camera_id in zip(images.stations, images.camera_ids, strict=True):
-        io = render_interior(project.camera(camera_id), project.render.resolution_scale)
-        W, H = io.image_size_px
-        g = np.linspace(0.05, 0.95, 3)
-        uv = np.stack(np.meshgrid(g * W, g * H), axis=-1).reshape(-1, 2)
-        try:
-            rays.append(pixel_rays_world(uv, station.R_cam_to_world, io))
-        except NotInvertibleError:
+        if camera_id not in per_camera:
+            io = render_interior(project.camera(camera_id), project.render.resolution_scale)
+            W, H = io.image_size_px
+            g = np.linspace(0.05, 0.95, 3)
+            uv = np.stack(np.meshgrid(g * W, g * H), axis=-1).reshape(-1, 2)
+            try:
+                per_camera[camera_id] = (io, uv, io.rays_cv(uv))
+            except NotInvertibleError:
+                per_camera[camera_id] = (io, uv, None)
+        io, uv, rays_cv = per_camera[camera_id]
+        if rays_cv is None:
             continue
+        R_world_from_cv = np.asarray(station.R_cam_to_world, dtype=float) @ R_CV_FROM_PHOTO
+        rays.append(rays_cv @ R_world_from_cv.T)
         starts.append(np.repeat(np.asarray(station.C_world, float)[None], len(uv), axis=0))
         axes.append(np.repeat(-np.asarray(station.R_cam_to_world)[None, :, 2], len(uv), 0))
         pitch_over_f.append(np.full(len(uv), float(ground_sample_distance_m(io, 1.0))))

@@ -46,3 +46,20 @@ def test_gui_benchmark_runs_small(tmp_path):
     result = _designer("bench", "gui", "--scale", "0.01", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "edit -> updated frame (median)" in result.stdout
+
+
+def test_gui_benchmark_at_survey_size_runs_small(tmp_path):
+    """``designer bench gui --images N`` (issue 53, at survey size), on a small block: the
+    window's render estimate and void figures are designer plan's."""
+    result = _designer("bench", "gui", "--images", "60", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    out = result.stdout
+    assert "edit -> frame with the new stations (median)" in out
+    assert "no freeze over 5 s (0 here)" in out
+    assert out.count("(equal)") == 2 and "DIFFERENT" not in out, out
+
+
+def test_only_the_gui_benchmark_takes_images(tmp_path):
+    result = _designer("bench", "core", "--images", "60", cwd=tmp_path)
+    assert result.returncode != 0
+    assert "--images: only 'designer bench gui' takes it" in result.stderr

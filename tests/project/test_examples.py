@@ -113,3 +113,38 @@ def test_the_structures_survey_has_buildings_plants_a_rig_and_a_rolling_shutter(
     assert (len(images.stations) - n_orbit) % len(rig.mounts) == 0
     assert len(images.stations) - n_orbit > len(project_images(base, hf).stations)
     assert (p.scene.terrain, p.scene.targets) == (base.scene.terrain, base.scene.targets)
+
+
+def test_the_survey_block_is_a_real_surveys_size_with_practitioners_gcp_density():
+    """Issue 52 item 5: about 12 ha and 700 images with the example's camera, overlaps and
+    texture; 2–3 control GCPs per 100 images (Sanz-Ablanedo et al. 2018) and check points,
+    spread over the block."""
+    from designer.scene.build import build_heightfield
+    from designer.survey.project_poses import project_images
+
+    base, p = template("survey").project, template("survey-block").project
+    plan = p.trajectory.flight_plan
+    xy = np.array(plan.area)
+    area_ha = (np.ptp(xy[:, 0]) * np.ptp(xy[:, 1])) / 1e4
+    assert 11.0 <= area_ha <= 13.0
+    assert p.cameras == base.cameras and p.effects == base.effects and p.render == base.render
+    for name in ("altitude_agl_m", "front_overlap_percent", "side_overlap_percent"):
+        assert getattr(plan, name) == getattr(base.trajectory.flight_plan, name), name
+    assert p.scene.texture.source == base.scene.texture.source
+    assert p.scene.texture.variation == base.scene.texture.variation
+    hf = build_heightfield(p.scene.terrain, EXAMPLES / "survey-block", p.crs)
+    n_images = len(project_images(p, hf).stations)
+    assert 650 <= n_images <= 750, n_images
+    control = [t for t in p.targets if t.role == "control"]
+    check = [t for t in p.targets if t.role == "check"]
+    assert 2.0 <= 100 * len(control) / n_images <= 3.0, (len(control), n_images)
+    assert len(check) >= 5
+    # spread over the block: every quarter of the area holds control and check points
+    E0, N0 = p.origin.E0, p.origin.N0
+    for points in (control, check):
+        quarters = {(t.true.X > E0, t.true.Y > N0) for t in points
+                    if abs(t.true.X - E0) > 1 and abs(t.true.Y - N0) > 1}
+        assert len(quarters) == 4
+        inside = [(xy[:, 0].min() < t.true.X < xy[:, 0].max()
+                   and xy[:, 1].min() < t.true.Y < xy[:, 1].max()) for t in points]
+        assert all(inside)

@@ -288,3 +288,21 @@ def test_pose_noise_keeps_everything_else_and_validates_sigmas():
         apply_pose_noise(plan.stations, 0.1, [-1, 0, 0], seed=1)
     with pytest.raises(ValueError, match="read-only"):
         noisy[0].C_world[0] = 1.0
+
+
+def test_the_kept_reference_height_is_the_terrains_own():
+    """The mean height under the area is kept per height grid and area (an edit of the
+    flight's height plans twice over the same terrain); another grid, or the same grid's
+    heights raised in a new height field, gives its own."""
+    from designer.core.heightfield import Heightfield
+
+    hf = hilly_terrain()
+    x0, x1, y0, y1 = hf.extent_m
+    square = np.array([[x0 + 50, y0 + 50], [x1 - 50, y0 + 50], [x1 - 50, y1 - 50],
+                       [x0 + 50, y1 - 50]])
+    first = plan_flight(square, phantom4(), altitude_agl_m=80, heightfield=hf)
+    again = plan_flight(square, phantom4(), altitude_agl_m=80, heightfield=hf)
+    assert np.array_equal(first.C_world, again.C_world)
+    raised = Heightfield(hf.x0_m, hf.y0_m, hf.dx_m, hf.dy_m, hf.heights_m + 10.0)
+    up = plan_flight(square, phantom4(), altitude_agl_m=80, heightfield=raised)
+    assert np.allclose(up.C_world[:, 2] - 10.0, first.C_world[:, 2])

@@ -21,6 +21,15 @@ def test_area_validation_and_containment():
                                        [-1, 0]])
     assert list(area.contains(poly, pts)) == [True, True, False, True, True, False]
     assert area.as_polygon([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]).shape == (4, 2)
+    # on the boundary counts as inside: every vertex and edge midpoint, at UTM magnitudes
+    edges = np.vstack([poly, (poly + np.roll(poly, -1, axis=0)) / 2])
+    assert area.contains(poly, edges).all()
+    rng = np.random.default_rng(3)
+    xy = ORIGIN_WORLD[:2] + rng.uniform(-20, 320, (5000, 2))
+    far = area.distance_to_boundary_m(poly, xy) > 1e-6
+    crossings = np.array([area.contains(poly, q[None])[0] for q in xy[:200]])
+    assert (area.contains(poly, xy)[:200] == crossings).all()
+    assert area.contains(poly, xy)[~far].all()
     for bad, message in (([[0, 0], [1, 1]], "at least 3"),
                          ([[0, 0], [1, 0], [2, 0]], "zero size"),
                          ([[0, 0], [2, 2], [2, 0], [0, 2]], "edges cross"),

@@ -20,6 +20,7 @@ TEMPLATE_TITLES = {
     "survey-ideal": "Example survey, ideal camera (no distortion, no image effects)",
     "survey-dynamic": "Example survey, changing world (moving sun, clouds, car, person)",
     "survey-structures": "Example survey with structures (buildings, plants, oblique rig)",
+    "survey-block": "Survey block (12 ha, about 720 images, 25 GCPs)",
     "validation-cube": "Validation cube (24 orbit photos)",
     "psf": "PSF (slanted edges)", "texture": "Texture (image texture tiled)"}
 
