@@ -164,6 +164,14 @@ def _run_survey(n_images: int, tmp: Path) -> list[dict]:
     window.close_without_prompt()
     app.processEvents()
 
+    return _rows(path, n, open_s, first_frame_s, frames, figures, ticks, gui_estimate_s,
+                 gui_void)
+
+
+def _rows(path: Path, n: int, open_s: float, first_frame_s: float, frames: list,
+          figures: list, ticks, gui_estimate_s: float, gui_void) -> list[dict]:
+    """The bench's rows from the window's measurements, beside ``designer plan`` of the
+    same file (in this process)."""
     from designer.survey.plan_report import VOID_WARN, plan_project, plan_summary
     from designer.survey.render_cost import format_duration
 
