@@ -29,11 +29,12 @@ from __future__ import annotations
 import numpy as np
 
 from designer.effects.srgb import srgb_to_linear
+from designer.project import scene_limits
 from designer.scene.texture_variation import GAIN_ENCODING, MIRROR_OFFSETS, VariationImages
 
-#: the largest side of a bake (px); beyond it the renderer keeps the node graph (a
-#: 4096² half-float image is 128 MB per render worker)
-MAX_BAKE_PX = 12288
+#: the largest side of a bake (px); beyond it the renderer bakes in tiles
+#: (designer.render.tiled_bake; a 4096² half-float image is 128 MB per render worker)
+MAX_BAKE_PX = scene_limits.MAX_BAKE_PX
 #: entries of the sRGB decode table the bake interpolates
 DECODE_TABLE_SIZE = 1 << 16
 

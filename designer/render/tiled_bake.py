@@ -106,11 +106,13 @@ class TileGrid:
 
 
 def tile_grid(full_px: tuple[int, int], uv: np.ndarray, faces: np.ndarray,
-              core_px: int = TILE_CORE_PX) -> TileGrid:
+              core_px: int | None = None) -> TileGrid:
     """The tiles of a bake of ``full_px`` (W, H) for a mesh of per-vertex ``uv`` (N, 2)
     and ``faces`` (F, k): padded by the widest face (in texels) and two texels, so every
-    face lies within the stored image of the tile its centre is in."""
+    face lies within the stored image of the tile its centre is in; ``core_px`` defaults
+    to TILE_CORE_PX."""
     W, H = full_px
+    core_px = core_px or TILE_CORE_PX
     corners = uv[faces]
     span = np.ptp(corners, axis=1) * np.array([W, H])
     pad = math.ceil(float(span.max(initial=0.0))) + 2
