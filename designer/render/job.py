@@ -216,7 +216,8 @@ def prepare_job(
                             replace(baked_material, texture=BAKED_COARSE_TEXTURE))
     elif bake_texture and needs_tiles(scene):
         # too wide for one bake: tiles of the same bake, each frame loading those it sees
-        tiled = TiledTexture(scene, job_dir, terrain_material.strength)
+        tiled = TiledTexture(scene, job_dir, terrain_material.strength, poses,
+                             [rendered[c][0] for c in images.camera_ids])
         terrain_material = tiled.materials()
     elif scene.variation is not None:
         var = scene.variation
@@ -231,7 +232,7 @@ def prepare_job(
     if two is not None:
         terrain_uv = {"uv_texture": two.inner_uv, "material_index": two.material_index}
     if tiled is not None:
-        terrain_uv = {"material_index": tiled.face_tile}
+        terrain_uv = {"material_index": tiled.face_slot}
     if scene.texture_uv is not None:
         # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
         # edge texels held beyond the image; the light map keeps the terrain's uv.
@@ -286,9 +287,7 @@ def prepare_job(
     if tiled is not None:
         # with a sun over time the light steps' materials keep their light maps
         objects, tiled_spec = tiled.finish(objects, lit=not steps)
-        seen = tiled.frame_tiles([p.C_world for p in poses], [p.R_cam_to_world for p in poses],
-                                 [rendered[c][0] for c in images.camera_ids])
-        for i, tiles in enumerate(seen):
+        for i, tiles in enumerate(tiled.seen):
             contexts[i]["texture_tiles"] = tiles
     if times is not None:
         for i, t in enumerate(times):

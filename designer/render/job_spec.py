@@ -277,6 +277,7 @@ class TiledTextureSpec:
     full_px: tuple[int, int]
     core_px: int
     pad_px: int
+    slots: tuple[int, int]
     digest: str
     coarse: str
     lightmap: str | None = None

@@ -21,6 +21,8 @@ from designer.render.tiled_bake import (
     frame_tiles,
     light_window,
     remove_stale_tiles,
+    slot_of,
+    slot_shape,
     tile_grid,
     tiles_digest,
 )
@@ -45,13 +47,24 @@ class TiledTexture:
     """A tiled bake being prepared: :meth:`materials` for the terrain, then
     :meth:`finish` once the light maps are known."""
 
-    def __init__(self, scene: BuiltScene, job_dir: Path, strength: float) -> None:
+    def __init__(self, scene: BuiltScene, job_dir: Path, strength: float, poses,
+                 interiors) -> None:
+        """``poses``: the images' CameraPose, ``interiors`` their rendered cameras."""
         self.scene = scene
         self.job_dir = Path(job_dir)
         W, H = bake_size_px(scene.texture_rgb.shape, scene.texture_tiles)
         terrain = scene.terrain
         self.grid: TileGrid = tile_grid((W, H), terrain.uv, terrain.faces)
-        self.face_tile = face_tiles(self.grid, terrain.uv, terrain.faces)
+        hf = scene.heightfield
+        #: per image, the tiles it sees
+        self.seen = frame_tiles(self.grid, hf.extent_m, hf,
+                                np.array([p.C_world for p in poses]).reshape(-1, 3),
+                                np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
+                                interiors)
+        self.slots = slot_shape(self.grid, self.seen)
+        #: each terrain face's material: the slot of its tile
+        self.face_slot = slot_of(self.grid, self.slots,
+                                 face_tiles(self.grid, terrain.uv, terrain.faces))
         var = scene.variation
         write_png(self.job_dir / VARIATION, cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
         write_png(self.job_dir / VARIATION_WARP, cv2.cvtColor(var.warp, cv2.COLOR_RGB2BGR))
@@ -62,20 +75,8 @@ class TiledTexture:
                                      strength=strength * GAIN_ENCODING)
 
     def materials(self) -> tuple[MaterialSpec, ...]:
-        """One material per tile (tile k is material k)."""
-        return (self.material,) * self.grid.count
-
-    def arrays(self) -> dict:
-        """The terrain mesh's arrays, each face's material its tile."""
-        t = self.scene.terrain
-        return {"vertices_world": t.vertices_world, "faces": t.faces, "uv": t.uv,
-                "material_index": self.face_tile}
-
-    def frame_tiles(self, C_world, R_cam_to_world, interiors) -> list[tuple]:
-        """Per image, the tiles it sees (interiors: each image's rendered camera)."""
-        hf = self.scene.heightfield
-        return frame_tiles(self.grid, hf.extent_m, hf, np.asarray(C_world),
-                           np.asarray(R_cam_to_world), interiors)
+        """One material per slot (slot s is material s)."""
+        return (self.material,) * (self.slots[0] * self.slots[1])
 
     def finish(self, objects: list, lit: bool) -> tuple[list, TiledTextureSpec]:
         """Write the coarse bake (with the light map folded in when ``lit``: one sun for
@@ -83,7 +84,7 @@ class TiledTexture:
         builds them, and the job's spec of the tiles."""
         scene = self.scene
         terrain = next(o for o in objects if o.name == "terrain")
-        n = self.grid.count
+        n = self.slots[0] * self.slots[1]
         lightmap = terrain.materials[0].lightmap if lit else None
         light = None
         if lightmap is not None:
@@ -101,7 +102,7 @@ class TiledTexture:
             interpolation=scene.interpolation, variation=VARIATION,
             variation_warp=VARIATION_WARP, variation_warp_uv=float(var.warp_bound_uv),
             full_px=self.grid.full_px, core_px=self.grid.core_px, pad_px=self.grid.pad_px,
-            digest=digest, coarse=TILED_COARSE_TEXTURE, lightmap=lightmap)
+            slots=self.slots, digest=digest, coarse=TILED_COARSE_TEXTURE, lightmap=lightmap)
         if lightmap is not None:
             folded = tuple(replace(m, lightmap=None) for m in terrain.materials[:n])
             terrain = replace(terrain, materials=(*folded, *terrain.materials[n:]))

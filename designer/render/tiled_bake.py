@@ -12,11 +12,11 @@ into tiles of :data:`TILE_CORE_PX` a side:
   texels of its neighbours, or the edge texels held past the terrain's edge), so a
   bilinear lookup anywhere in a face assigned to the tile reads the same four texels as
   in the whole bake: no seam in colour or place;
-* each terrain face looks up the tile its centre lies in (one material per tile; the
-  tile's material maps the terrain's UV onto the tile by a scale and an offset);
-* before each frame the worker loads the tiles that frame sees (:func:`frame_tiles`,
-  from rays of its image's border and interior to the ground) and gives every other tile's
-  material the coarse bake over the whole terrain, as ground seen from far;
+* each terrain face looks up the tile its centre lies in, through a material "slot"
+  shared by tiles far apart (:func:`slot_shape`); before each frame the worker gives
+  each slot the tile of it that frame sees (:func:`frame_tiles`, from rays of its
+  image's border and inside to the ground), with the scale and offset that map the
+  terrain's UV onto it, or the coarse bake over the whole terrain where it sees none;
 * a tile is baked by the first worker that needs it (:func:`ensure_tile`) into the job
   folder, its name carrying a digest of everything it depends on.
 
@@ -171,6 +171,26 @@ def _probe_pixels(interior) -> np.ndarray:
     g = (np.arange(INNER_RAYS) + 0.5) / INNER_RAYS
     inner = np.column_stack([np.tile(g * W, INNER_RAYS), np.repeat(g * H, INNER_RAYS)])
     return np.concatenate([border, inner])
+
+
+def slot_shape(grid: TileGrid, seen) -> tuple[int, int]:
+    """(rows, columns) of the material slots: the most tile rows and columns any one
+    frame sees (``seen``: each frame's tiles), so the tiles one frame sees all have slots
+    of their own. Tile (r, c) is shown by slot (r mod rows, c mod columns): Cycles
+    compiles every material's shader whenever one changes, so a few slots cost a few
+    shaders where a material per tile cost hundreds (0.8 s a frame at 1.2 km)."""
+    rows = columns = 1
+    for tiles in seen:
+        if tiles:
+            r, c = np.divmod(np.asarray(tiles), grid.columns)
+            rows, columns = max(rows, int(np.ptp(r)) + 1), max(columns, int(np.ptp(c)) + 1)
+    return min(rows, grid.rows), min(columns, grid.columns)
+
+
+def slot_of(grid: TileGrid, slots: tuple[int, int], tiles) -> np.ndarray:
+    """The slot (material) of each tile: (r mod rows) · columns + (c mod columns)."""
+    r, c = np.divmod(np.asarray(tiles), grid.columns)
+    return ((r % slots[0]) * slots[1] + c % slots[1]).astype(np.int32)
 
 
 def tiles_digest(*parts) -> str:

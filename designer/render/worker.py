@@ -40,7 +40,7 @@ from designer.render.job_spec import (
     RenderJob,
     TiledTextureSpec,
 )
-from designer.render.tiled_bake import TileGrid, ensure_tile, tile_file
+from designer.render.tiled_bake import TileGrid, ensure_tile, slot_of, tile_file
 from designer.render.void_share import VOID_MAP_SUFFIX, void_share_of_map
 from designer.scene.texture_variation import MIRROR_OFFSETS
 
@@ -272,24 +272,29 @@ def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour)
 
 
 def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
-    """Give each tile's material of the terrain its baked tile where ``tiles`` holds it
-    (baking it first if no worker has: designer.render.tiled_bake), else the coarse bake;
-    tiles no material shows any more are freed."""
+    """Give each tile slot's material of the terrain the frame's tile of that slot
+    (baking it first if no worker has: designer.render.tiled_bake), or the coarse bake
+    where the frame sees none; tiles no slot shows any more are freed."""
     mesh = bpy.data.objects["terrain"].data
     grid = TileGrid(tuple(spec.full_px), spec.core_px, spec.pad_px)
-    wanted = set(tiles or ())
-    for k in range(grid.count):
-        material = mesh.materials[spec.first_material + k]
+    rows, columns = spec.slots
+    wanted = dict(zip(slot_of(grid, spec.slots, list(tiles or ())).tolist(), tiles or (),
+                      strict=True))
+    for slot in range(rows * columns):
+        material = mesh.materials[spec.first_material + slot]
         # no light is sampled from the ground (no bounces): without this, every swap of
-        # an image rebuilds Cycles' light tree over the terrain's triangles
-        material.cycles.emission_sampling = "NONE"
+        # an image rebuilds Cycles' light tree over the terrain's triangles (set once:
+        # setting a property tags the material for a new shader, even to its value)
+        if material.cycles.emission_sampling != "NONE":
+            material.cycles.emission_sampling = "NONE"
         nodes = material.node_tree.nodes
         tex, mapping = nodes["texture"], nodes["texture_mapping"]
-        name = tile_file(spec.digest, k)
-        if (k in wanted) == (Path(tex.image.filepath).name == name):
+        k = wanted.get(slot)
+        name = spec.coarse if k is None else tile_file(spec.digest, k)
+        if Path(tex.image.filepath).name == name:
             continue
         old = tex.image
-        if k in wanted:
+        if k is not None:
             tex.image = load_image(str(ensure_tile(spec, k, base)), "Non-Color", half=True)
             scale, offset = grid.uv_transform(k)
         else:

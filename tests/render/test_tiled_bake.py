@@ -18,6 +18,8 @@ from designer.render.tiled_bake import (
     face_tiles,
     frame_tiles,
     light_window,
+    slot_of,
+    slot_shape,
     tile_grid,
 )
 from designer.scene.terrain import heightfield_to_mesh
@@ -99,3 +101,16 @@ def test_a_nadir_frame_loads_the_tiles_under_its_footprint_and_no_other():
     cols = sorted({t % 8 for t in tiles})
     rows = sorted({t // 8 for t in tiles})
     assert cols == [0, 1, 2, 3] and rows == [1, 2, 3]
+
+
+def test_the_tiles_one_frame_sees_have_slots_of_their_own():
+    grid = TileGrid((10000, 8000), core_px=1000, pad_px=4)  # 10 × 8 tiles
+    seen = [grid.tiles_in(0.05, 0.25, 0.6, 0.75), grid.tiles_in(0.5, 0.62, 0.1, 0.3), ()]
+    slots = slot_shape(grid, seen)
+    assert slots == (3, 3)  # at most three rows and three columns in one frame
+    for tiles in seen:
+        assert len(set(slot_of(grid, slots, list(tiles)).tolist())) == len(tiles)
+    everything = slot_of(grid, slots, range(grid.count))
+    assert set(everything.tolist()) == set(range(9))
+    # a frame that sees the whole terrain: a slot per tile
+    assert slot_shape(grid, [tuple(range(grid.count))]) == (8, 10)
