@@ -11,12 +11,11 @@ middle of the flight. Per row: Cycles wall and CPU seconds per image (each worke
 frame, which builds Cycles' scene, left out), the frame set-up per image (the tiles' bake
 and load), the worker's peak memory, and the render-time model's Cycles seconds per image
 for those frames (``designer plan``'s model, this machine's records) with its ratio to the
-measured. Every row renders in its own worker processes, one after the other in one run.
+measured CPU seconds. Every row renders in its own worker processes, one after the other in one run.
 """
 
 from __future__ import annotations
 
-import os
 import tempfile
 import time
 from collections.abc import Callable
@@ -99,22 +98,22 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool) -> dict:
                         np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
                         [prepared.interior_of(p.image_name) for p in poses],
                         prepared.job.render.samples, project, path_name)
-    cores = os.cpu_count() or 1
-    model = [frame_cpu_s(load_speed(c), c) / cores for c in costs]
-    measured = float(np.mean(cycles)) if cycles else float("nan")
+    model = [frame_cpu_s(load_speed(c), c) for c in costs]
+    measured = float(np.mean(cpu)) if cpu else float("nan")
     estimate = float(np.mean(model)) if model else float("nan")
     return {"images": n, "texture": path_name, "frames": len(timed),
-            "prepare_s": prepare_s, "cycles_s": measured,
-            "cycles_cpu_s": float(np.mean(cpu)) if cpu else float("nan"),
+            "prepare_s": prepare_s,
+            "cycles_s": float(np.mean(cycles)) if cycles else float("nan"),
+            "cycles_cpu_s": measured,
             "setup_s": float(np.mean(setup)) if setup else float("nan"),
             "peak_rss_mb": max(report.peak_rss_mb or [float("nan")]),
-            "model_cycles_s": estimate, "model_ratio": estimate / measured}
+            "model_cpu_s": estimate, "model_ratio": estimate / measured}
 
 
 def format_row(r: dict) -> str:
     return (f"{r['terrain_m']:>9.0f} {r['images']:>6} {r['texture']:<10} {r['frames']:>6} "
             f"{r['prepare_s']:>9.1f} {r['cycles_s']:>8.2f} {r['cycles_cpu_s']:>8.2f} "
-            f"{r['setup_s']:>7.2f} {r['peak_rss_mb']:>8.0f} {r['model_cycles_s']:>8.2f} "
+            f"{r['setup_s']:>7.2f} {r['peak_rss_mb']:>8.0f} {r['model_cpu_s']:>8.2f} "
             f"{r['model_ratio']:>7.2f}")
 
 
@@ -137,9 +136,12 @@ def format_table(rows: list[dict]) -> str:
         for r in rows:
             if r is not base:
                 lines.append(f"{r['terrain_m']:.0f} m, {r['texture']}: Cycles "
-                             f"{r['cycles_s'] / base['cycles_s']:.2f}x the example's")
+                             f"{r['cycles_s'] / base['cycles_s']:.2f}x the example's wall "
+                             f"seconds, {r['cycles_cpu_s'] / base['cycles_cpu_s']:.2f}x its "
+                             "CPU seconds")
     lines.append("Cycles s, CPU s, setup s: per image, each worker's first frame left out; "
                  "setup: the frame's set-up (the tiles' bake and load); peak MB: the worker's; "
-                 "model s: the render-time model's Cycles wall seconds for the same images; "
-                 "model/: model s / Cycles s")
+                 "model s: the render-time model's Cycles CPU seconds for the same images "
+                 "(this machine's records; wall = CPU / cores on an idle machine); model/: "
+                 "model s / CPU s")
     return "\n".join(lines)
