@@ -9,13 +9,18 @@ wide for one bake got before the tiled bake) and the bake (one image up to
 ``MAX_BAKE_PX`` a side, tiles beyond) — one worker renders ``FRAMES`` frames in the
 middle of the flight. Per row: Cycles wall and CPU seconds per image (each worker's first
 frame, which builds Cycles' scene, left out), the frame set-up per image (the tiles' bake
-and load), the worker's peak memory, and the render-time model's Cycles seconds per image
-for those frames (``designer plan``'s model, this machine's records) with its ratio to the
-measured CPU seconds. Every row renders in its own worker processes, one after the other in one run.
+and load), the worker's peak memory, and the render-time model's Cycles CPU seconds per
+image for those frames with its ratio to the measured: the model as ``designer plan``
+has it on a machine that has rendered the example and nothing else (a record fitted to
+the example's baked row, in a cache folder of the run's own), so the rows of other
+sizes and paths are estimated through the texture path's priors
+(``designer.survey.render_cost.TEXTURE_PATH_CYCLES``). Every row renders in its own
+worker process, one after the other in one run.
 """
 
 from __future__ import annotations
 
+import os
 import tempfile
 import time
 from collections.abc import Callable
@@ -29,7 +34,14 @@ from designer.project import template, write_project
 from designer.render.job import prepare_job
 from designer.render.runner import render_frames
 from designer.render.speed_record import job_texture_path
-from designer.survey.render_cost import frame_cpu_s, image_costs, load_speed
+from designer.survey.render_cost import (
+    REFERENCE,
+    fit_speed,
+    frame_cpu_s,
+    image_costs,
+    load_speed,
+    save_speed,
+)
 
 #: (terrain side, flight area side) in metres
 SIZES = ((100.0, 70.0), (500.0, 350.0), (1200.0, 1000.0))
@@ -62,24 +74,37 @@ def run(repeats: int = 1, scale: float = 1.0,
     """One row per terrain size and texture path (module docstring); ``scale`` < 1 keeps
     the sizes whose terrain is at most ``scale`` × 1.2 km."""
     rows = []
+    cache = os.environ.get("DESIGNER_CACHE_DIR")
     with tempfile.TemporaryDirectory(prefix="designer-bench-sizes-") as tmp:
         tmp = Path(tmp)
-        for terrain_m, area_m in SIZES:
-            if terrain_m > scale * SIZES[-1][0]:
-                continue
-            project = grown_example(terrain_m, area_m)
-            path = tmp / f"survey-{terrain_m:.0f}.xml"
-            write_project(project, path)
-            for bake in (False, True):
-                row = _row(project, path, tmp / f"{terrain_m:.0f}-{bake}", bake)
+        os.environ["DESIGNER_CACHE_DIR"] = str(tmp / "cache")
+        try:
+            # the example's baked row first: the model's one record
+            order = [(SIZES[0], True), (SIZES[0], False)]
+            order += [(size, bake) for size in SIZES[1:] for bake in (False, True)]
+            for (terrain_m, area_m), bake in order:
+                if terrain_m > scale * SIZES[-1][0]:
+                    continue
+                project = grown_example(terrain_m, area_m)
+                path = tmp / f"survey-{terrain_m:.0f}.xml"
+                write_project(project, path)
+                row = _row(project, path, tmp / f"{terrain_m:.0f}-{bake}", bake,
+                           calibrate=not rows)
                 row["terrain_m"] = terrain_m
                 rows.append(row)
                 if on_row is not None:
                     on_row(row)
+        finally:
+            if cache is None:
+                os.environ.pop("DESIGNER_CACHE_DIR", None)
+            else:
+                os.environ["DESIGNER_CACHE_DIR"] = cache
     return rows
 
 
-def _row(project: m.Project, path: Path, out: Path, bake: bool) -> dict:
+def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool) -> dict:
+    """One row (module docstring); ``calibrate``: first store the model's record fitted
+    to this row's frames."""
     t0 = time.perf_counter()
     prepared = prepare_job(project, path.parent, out, bake_texture=bake)
     prepare_s = time.perf_counter() - t0
@@ -98,6 +123,9 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool) -> dict:
                         np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
                         [prepared.interior_of(p.image_name) for p in poses],
                         prepared.job.render.samples, project, path_name)
+    if calibrate and costs:
+        post = [report.rendered[i] - report.stages[i]["cycles_s"] for i in timed]
+        save_speed(fit_speed(costs, cpu, post, prepare_s, "render", prior=REFERENCE), costs[0])
     model = [frame_cpu_s(load_speed(c), c) for c in costs]
     measured = float(np.mean(cpu)) if cpu else float("nan")
     estimate = float(np.mean(model)) if model else float("nan")
