@@ -46,7 +46,7 @@ from designer.survey.render_cost import (
 #: (terrain side, flight area side) in metres
 SIZES = ((100.0, 70.0), (500.0, 350.0), (1200.0, 1000.0))
 #: frames rendered per row, in the middle of the flight (the first one builds the scene)
-FRAMES = 4
+FRAMES = 6
 #: the example's texture tile (m): kept as the terrain grows
 TILE_M = 20.0
 

@@ -273,8 +273,9 @@ def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour)
 
 def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
     """Give each tile slot's material of the terrain the frame's tile of that slot
-    (baking it first if no worker has: designer.render.tiled_bake), or the coarse bake
-    where the frame sees none; tiles no slot shows any more are freed."""
+    (baking it first if no worker has: designer.render.tiled_bake); a slot the frame sees
+    no tile of keeps what it shows (the coarse bake until it first gets a tile); tiles no
+    slot shows any more are freed."""
     mesh = bpy.data.objects["terrain"].data
     grid = TileGrid(tuple(spec.full_px), spec.core_px, spec.pad_px)
     rows, columns = spec.slots
@@ -290,16 +291,13 @@ def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
         nodes = material.node_tree.nodes
         tex, mapping = nodes["texture"], nodes["texture_mapping"]
         k = wanted.get(slot)
-        name = spec.coarse if k is None else tile_file(spec.digest, k)
-        if Path(tex.image.filepath).name == name:
+        if k is None or Path(tex.image.filepath).name == tile_file(spec.digest, k):
+            # a slot this frame does not see keeps its tile: the next frames along the
+            # line are likely to want it, and every swap costs Cycles a scene update
             continue
         old = tex.image
-        if k is not None:
-            tex.image = load_image(str(ensure_tile(spec, k, base)), "Non-Color", half=True)
-            scale, offset = grid.uv_transform(k)
-        else:
-            tex.image = load_image(str(base / spec.coarse), "Non-Color", half=True)
-            scale, offset = (1.0, 1.0), (0.0, 0.0)
+        tex.image = load_image(str(ensure_tile(spec, k, base)), "Non-Color", half=True)
+        scale, offset = grid.uv_transform(k)
         mapping.inputs["Scale"].default_value = (*scale, 1.0)
         mapping.inputs["Location"].default_value = (*offset, 0.0)
         if old.users == 0:
