@@ -83,7 +83,7 @@ _MATCH = {
 #: coefficients come from renders of that path; until this machine has rendered one, the
 #: other paths' are scaled by these priors (measured on the reference machine, 2026-12-06,
 #: docs/benchmarks.md): the terrain's Cycles cost …
-TEXTURE_PATH_CYCLES = {"baked": 1.0, "tiled": 1.1, "node-graph": 2.5}
+TEXTURE_PATH_CYCLES = {"baked": 1.0, "tiled": 1.25, "node-graph": 2.5}
 #: … and the seconds per image added outside Cycles (the tiles' bake and load)
 TEXTURE_PATH_POST_S = {"baked": 0.0, "tiled": 0.3, "node-graph": 0.0}
 #: a record from before the texture path was filed is of the path most renders took
