@@ -35,12 +35,21 @@ VARIATION = "variation.png"
 VARIATION_WARP = "variation_warp.png"
 
 
+#: a terrain whose faces are wider than this share of a tile is not tiled (a flat
+#: terrain's two triangles would make every tile hold the whole bake): the node graph
+MAX_FACE_SHARE = 0.25
+
+
 def needs_tiles(scene: BuiltScene) -> bool:
-    """True when a varied texture over a height-field terrain is too wide for one bake:
-    the render bakes it in tiles (where it used to keep Cycles' node graph)."""
-    return (scene.variation is not None and scene.heightfield is not None
-            and scene.texture_uv is None
-            and not can_bake(scene.texture_rgb.shape, scene.texture_tiles))
+    """True when a varied texture over a height-field terrain of small faces is too wide
+    for one bake: the render bakes it in tiles (where it used to keep Cycles' node
+    graph)."""
+    if (scene.variation is None or scene.heightfield is None or scene.texture_uv is not None
+            or can_bake(scene.texture_rgb.shape, scene.texture_tiles)):
+        return False
+    W, H = bake_size_px(scene.texture_rgb.shape, scene.texture_tiles)
+    grid = tile_grid((W, H), scene.terrain.uv, scene.terrain.faces)
+    return grid.pad_px <= MAX_FACE_SHARE * grid.core_px
 
 
 class TiledTexture:

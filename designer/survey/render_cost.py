@@ -415,7 +415,8 @@ def texture_path(has_variation: bool, whole_bake_px: tuple[int, int],
     :func:`designer.render.job.prepare_job` chooses: ``whole_bake_px`` and
     ``declared_bake_px`` are the (W, H) of its bake over the rendered and the declared
     terrain; ``grown``: the rendered terrain has surroundings; ``heightfield``: the
-    terrain is a height field (not a mesh)."""
+    terrain is a height field of small faces (not a mesh, nor a flat terrain's two
+    triangles)."""
     from designer.project.scene_limits import MAX_BAKE_PX
 
     def fits(px):
@@ -423,7 +424,7 @@ def texture_path(has_variation: bool, whole_bake_px: tuple[int, int],
 
     if not has_variation or fits(whole_bake_px):
         return "baked"
-    if grown and heightfield and fits(declared_bake_px):
+    if grown and fits(declared_bake_px):
         return "baked"  # a detail bake over the declared terrain, a coarse one beyond
     return "tiled" if heightfield else "node-graph"
 
@@ -453,7 +454,9 @@ def project_texture_path(project, rendered_extent_m, texture_px: tuple[int, int]
     x0, x1, y0, y1 = rendered_extent_m
     whole = (round((x1 - x0) / texel_x), round((y1 - y0) / texel_y))
     grown = whole[0] > declared[0] or whole[1] > declared[1]
-    return texture_path(True, whole, declared, grown, True)
+    # a flat terrain is two triangles, too wide to tile (render.job_tiles.needs_tiles)
+    fine = type(project.scene.terrain.source).__name__ != "FlatTerrain"
+    return texture_path(True, whole, declared, grown, fine)
 
 
 def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
