@@ -13,6 +13,7 @@ BENCHMARKS = {
     "project-io": "designer.bench.project_io",
     "survey": "designer.bench.survey",
     "render": "designer.bench.render",
+    "render-sizes": "designer.bench.render_sizes",
     "sun-steps": "designer.bench.sun_steps",
     "compare": "designer.bench.compare",
     "gui": "designer.bench.gui",

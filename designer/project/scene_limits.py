@@ -17,3 +17,8 @@ VARIATION_MAX_PX = 2048
 MAX_TERRAIN_NODES = 64e6
 #: relative tolerance of "the grid spacing divides the extent into whole cells"
 GRID_TOL = 1e-9
+
+#: the largest side of the varied texture's one bake (px; designer.render.texture_bake):
+#: beyond it the renderer bakes it in tiles (designer.render.tiled_bake) — a 12 288² bake
+#: is 1.2 GB of half floats per render worker
+MAX_BAKE_PX = 12288

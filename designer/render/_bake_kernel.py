@@ -56,18 +56,22 @@ def _decode(value, table):
 
 
 @njit(cache=True, parallel=True)
-def bake(codes, shading, warp, bound_uv, tiles, offsets, closest, table, out):
-    """out (H, W, 3) uint16 ← the blend of the three texture lookups (see the module
-    docstring of designer.render.texture_bake) × 65535."""
-    H, W = out.shape[0], out.shape[1]
+def bake(codes, shading, warp, bound_uv, tiles, offsets, closest, table, full, corner, out):
+    """out (h, w, 3) uint16 ← the blend of the three texture lookups (see the module
+    docstring of designer.render.texture_bake) × 65535, for the window of a bake of
+    ``full`` (H, W) texels whose top left texel is ``corner`` (row, column) of it; rows
+    and columns past the bake's edges repeat its edge texels (Blender's EXTEND)."""
+    H, W = full[0], full[1]
     tx, ty = tiles[0], tiles[1]
-    for i in prange(H):
+    for r in prange(out.shape[0]):
+        i = min(max(r + corner[0], 0), H - 1)
         w = np.empty(3)
         planes = np.empty(3)
         t = np.empty(3)
         colour = np.empty(3)
         v = 1.0 - (i + 0.5) / H
-        for j in range(W):
+        for col in range(out.shape[1]):
+            j = min(max(col + corner[1], 0), W - 1)
             u = (j + 0.5) / W
             _sample(warp, u, v, False, False, w)
             lu = u + (w[0] * (2.0 * bound_uv) - bound_uv)
@@ -86,4 +90,4 @@ def bake(codes, shading, warp, bound_uv, tiles, offsets, closest, table, out):
                     colour[c] = colour[c] * (1.0 - f) + _decode(t[c], table) * f
             for c in range(3):
                 value = colour[c] * planes[0] * 65535.0
-                out[i, j, c] = np.uint16(min(max(math.floor(value + 0.5), 0.0), 65535.0))
+                out[r, col, c] = np.uint16(min(max(math.floor(value + 0.5), 0.0), 65535.0))

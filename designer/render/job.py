@@ -46,6 +46,7 @@ from designer.render.job_spec import (
     RenderJob,
     RenderSpec,
 )
+from designer.render.job_tiles import TiledTexture, needs_tiles
 from designer.render.terrain_bake import (
     FAR_TEXTURE,
     far_ground_arrays,
@@ -192,6 +193,7 @@ def prepare_job(
                                     interpolation=scene.interpolation.capitalize())
     baked = None  # written below, with the light map folded in where the sun is static
     two = None  # a detail and a coarse bake for wide surroundings (render.terrain_bake)
+    tiled = None  # a bake in tiles (render.job_tiles)
     repeat = (project.scene.texture.repeat_X, project.scene.texture.repeat_Y)
     if (bake_texture and scene.variation is not None
             and can_bake(scene.texture_rgb.shape, scene.texture_tiles)):
@@ -212,6 +214,11 @@ def prepare_job(
                                       strength=terrain_material.strength * GAIN_ENCODING)
         terrain_material = (replace(baked_material, uv_map=TEXTURE_UV_MAP),
                             replace(baked_material, texture=BAKED_COARSE_TEXTURE))
+    elif bake_texture and needs_tiles(scene):
+        # too wide for one bake: tiles of the same bake, each frame loading those it sees
+        tiled = TiledTexture(scene, job_dir, terrain_material.strength, poses,
+                             [rendered[c][0] for c in images.camera_ids])
+        terrain_material = tiled.materials()
     elif scene.variation is not None:
         var = scene.variation
         write_png(job_dir / "variation.png", cv2.cvtColor(var.shading, cv2.COLOR_RGB2BGR))
@@ -224,6 +231,8 @@ def prepare_job(
     terrain_uv = {}
     if two is not None:
         terrain_uv = {"uv_texture": two.inner_uv, "material_index": two.material_index}
+    if tiled is not None:
+        terrain_uv = {"material_index": tiled.face_slot}
     if scene.texture_uv is not None:
         # An orthophoto: its own texture coordinates (from its geotransform), no tiling,
         # edge texels held beyond the image; the light map keeps the terrain's uv.
@@ -274,6 +283,12 @@ def prepare_job(
     if two is not None:
         objects = _write_two_bakes(two, scene.heightfield.extent_m, objects, job_dir,
                                    lit=not steps)
+    tiled_spec = None
+    if tiled is not None:
+        # with a sun over time the light steps' materials keep their light maps
+        objects, tiled_spec = tiled.finish(objects, lit=not steps)
+        for i, tiles in enumerate(tiled.seen):
+            contexts[i]["texture_tiles"] = tiles
     if times is not None:
         for i, t in enumerate(times):
             contexts[i].update(time_s=t.time_s, time_utc=iso_utc(t.time_utc),
@@ -332,6 +347,7 @@ def prepare_job(
         moving_objects=moving_specs,
         vegetation=plant_specs,
         wind=wind_spec,
+        tiled_texture=tiled_spec,
         image_metadata=render.image_metadata,
         effects=effects,
         frames=tuple(FrameSpec(index=i, image_name=p.image_name,

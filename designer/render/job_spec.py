@@ -249,11 +249,39 @@ class FrameSpec:
     camera: CameraSpec | None = None
     camera_id: str | None = None
     size_px: tuple[int, int] | None = None
+    #: a tiled texture (RenderJob.tiled_texture): the tiles this frame sees, loaded
+    #: before it renders
+    texture_tiles: tuple[int, ...] | None = None
 
 
 #: FrameSpec fields left out of job.json and of provenance when None, so a job without
 #: them reads and hashes as before they existed
-OPTIONAL_FRAME_FIELDS = ("camera", "camera_id", "size_px")
+OPTIONAL_FRAME_FIELDS = ("camera", "camera_id", "size_px", "texture_tiles")
+
+
+@dataclass(frozen=True)
+class TiledTextureSpec:
+    """A varied ground texture baked in tiles (designer.render.tiled_bake): the inputs of
+    the bake (the detail texture, its repeats and interpolation, the variation images and
+    warp bound, the light map folded in or None), the grid (the whole bake's ``full_px``
+    (W, H), ``core_px`` and ``pad_px``), ``digest`` naming the tiles' files, the terrain
+    materials ``first_material`` … + columns · rows − 1 that show them, and ``coarse``:
+    the bake over the whole terrain those materials show where a frame loads no tile."""
+
+    texture: str
+    uv_tiles: tuple[float, float]
+    interpolation: str
+    variation: str
+    variation_warp: str
+    variation_warp_uv: float
+    full_px: tuple[int, int]
+    core_px: int
+    pad_px: int
+    slots: tuple[int, int]
+    digest: str
+    coarse: str
+    lightmap: str | None = None
+    first_material: int = 0
 
 
 #: the FrameSpec fields of the world over time, left out of provenance when None
@@ -301,6 +329,9 @@ class RenderJob:
     #: ``time_s`` by ``wind`` (upright without a time or wind)
     vegetation: tuple[PlantSetSpec, ...] = ()
     wind: WindSpec | None = None
+    #: a ground texture baked in tiles, loaded per frame (None: none; left out of
+    #: job.json then)
+    tiled_texture: TiledTextureSpec | None = None
     image_names: dict[int, str] = field(init=False, repr=False, compare=False)
     _frames_by_index: dict[int, FrameSpec] = field(init=False, repr=False, compare=False)
 
@@ -324,6 +355,8 @@ class RenderJob:
 
     def to_json(self) -> str:
         data = to_data(self, RenderJob, _TYPES)
+        if data["tiled_texture"] is None:
+            del data["tiled_texture"]
         for frame in data["frames"]:
             for key in OPTIONAL_FRAME_FIELDS:
                 if frame[key] is None:

@@ -207,6 +207,9 @@ def job_provenance(job: RenderJob, job_dir: Path, project=None
     # frame's time, part of its pose)
     plant_chunks = _plant_chunks(job, job_dir)
     scene_chunks += plant_chunks
+    # a tiled texture: its tiles' names digest everything they show
+    tiled = [_canonical(asdict(job.tiled_texture))] if job.tiled_texture is not None else []
+    scene_chunks += tiled
     common["scene"] = _digest(background, *scene_chunks)
     # a sun over time: each light step is the scene (and target lighting) of its frames
     steps = [_objects_chunks(step.objects, job_dir) for step in job.light_steps]
@@ -230,7 +233,7 @@ def job_provenance(job: RenderJob, job_dir: Path, project=None
             step_scene, chunks, _ = steps[frame.light_step]
             parts["scene"] = _digest(background, *step_scene,
                                      *_objects_chunks(job.moving_objects, job_dir)[0],
-                                     *plant_chunks)
+                                     *plant_chunks, *tiled)
         parts["targets"] = _digest(*chunks, _targets_in_view(target_vertices, frame, job))
         if frame.camera is not None:  # a rig: each frame's own camera
             parts["camera"] = _digest(_canonical([asdict(frame.camera),
@@ -345,7 +348,7 @@ def describe_parts(parts: list[str]) -> str:
 
 #: frame fields that are not where the camera is: its camera, size and sun
 _NOT_POSE_FIELDS = ("camera", "camera_id", "size_px", "sun_azimuth_deg",
-                    "sun_elevation_deg", "light_step")
+                    "sun_elevation_deg", "light_step", "texture_tiles")
 
 #: frame fields that only the camera effects or the file's metadata use: a raw render
 #: (Blender's image, before the effects) does not depend on them

@@ -23,6 +23,17 @@ from designer.survey.render_cost import (
 )
 
 
+def job_texture_path(job) -> str:
+    """The path a job's renderer takes for the ground texture (render_cost.texture_path):
+    tiled, node-graph (a material blends the variation itself) or baked."""
+    if job.tiled_texture is not None:
+        return "tiled"
+    terrain = next((o for o in job.objects if o.name == "terrain"), None)
+    if terrain is not None and any(m.variation for m in terrain.materials):
+        return "node-graph"
+    return "baked"
+
+
 def record_render_speed(prepared: PreparedJob, report: RenderReport,
                         prepare_seconds: float, cores: int | None = None,
                         source: str = "render", project=None):
@@ -45,7 +56,7 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
                         np.array([p.C_world for p in poses]).reshape(-1, 3),
                         np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
                         [prepared.interior_of(p.image_name) for p in poses],
-                        prepared.job.render.samples, project)
+                        prepared.job.render.samples, project, job_texture_path(prepared.job))
     all_costs = dict(zip(timed, costs, strict=True))
     images = [all_costs[i] for i in frames]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]

@@ -29,11 +29,12 @@ from __future__ import annotations
 import numpy as np
 
 from designer.effects.srgb import srgb_to_linear
+from designer.project import scene_limits
 from designer.scene.texture_variation import GAIN_ENCODING, MIRROR_OFFSETS, VariationImages
 
-#: the largest side of a bake (px); beyond it the renderer keeps the node graph (a
-#: 4096² half-float image is 128 MB per render worker)
-MAX_BAKE_PX = 12288
+#: the largest side of a bake (px); beyond it the renderer bakes in tiles
+#: (designer.render.tiled_bake; a 4096² half-float image is 128 MB per render worker)
+MAX_BAKE_PX = scene_limits.MAX_BAKE_PX
 #: entries of the sRGB decode table the bake interpolates
 DECODE_TABLE_SIZE = 1 << 16
 
@@ -51,15 +52,18 @@ def can_bake(texture_shape: tuple[int, ...], tiles: tuple[float, float]) -> bool
 
 
 def bake_varied_texture(texture_rgb: np.ndarray, tiles: tuple[float, float],
-                        variation: VariationImages, interpolation: str = "linear"
-                        ) -> np.ndarray:
+                        variation: VariationImages, interpolation: str = "linear",
+                        window: tuple[int, int, int, int] | None = None) -> np.ndarray:
     """The varied texture over the UV square, (H, W, 3) uint16 linear light × 65535,
     divided by ``GAIN_ENCODING`` like the variation image (the material's strength holds
     the factor): row 0 north, column 0 west.
 
     ``texture_rgb``: the detail texture (uint8 sRGB codes, row 0 at the top), tiled
     ``tiles`` times over the square; ``interpolation`` 'linear' or 'closest', as the
-    renderer looks it up.
+    renderer looks it up; ``window`` (row, column, rows, columns): only that window of
+    the bake, its rows and columns past the bake's edges holding the edge texels (one
+    tile of a tiled bake, :mod:`designer.render.tiled_bake`: the same texels as the
+    whole bake's).
     """
     texture = np.asarray(texture_rgb)
     if texture.dtype != np.uint8 or texture.ndim != 3 or texture.shape[2] != 3:
@@ -68,13 +72,14 @@ def bake_varied_texture(texture_rgb: np.ndarray, tiles: tuple[float, float],
     from designer.render._bake_kernel import bake
 
     W, H = bake_size_px(texture.shape, tiles)
-    out = np.empty((H, W, 3), np.uint16)
+    row, col, rows, cols = window if window is not None else (0, 0, H, W)
+    out = np.empty((rows, cols, 3), np.uint16)
     bake(texture.astype(np.float32) / np.float32(255.0),
          variation.shading.astype(np.float32) / np.float32(65535.0),
          variation.warp.astype(np.float32) / np.float32(65535.0),
          float(variation.warp_bound_uv), np.asarray(tiles, np.float64),
          np.asarray(MIRROR_OFFSETS, np.float64), interpolation.lower() == "closest",
-         _decode_table(), out)
+         _decode_table(), np.array([H, W], np.int64), np.array([row, col], np.int64), out)
     return out
 
 

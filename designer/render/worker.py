@@ -38,7 +38,9 @@ from designer.render.job_spec import (
     MeshSpec,
     PlantSetSpec,
     RenderJob,
+    TiledTextureSpec,
 )
+from designer.render.tiled_bake import TileGrid, ensure_tile, slot_of, tile_file
 from designer.render.void_share import VOID_MAP_SUFFIX, void_share_of_map
 from designer.scene.texture_variation import MIRROR_OFFSETS
 
@@ -179,6 +181,8 @@ def emission_material(name: str, spec: MaterialSpec, base: Path) -> bpy.types.Ma
         lookup_uv = _warped_uv(nodes, links, spec, base, uv.outputs["UV"])
     links.new(lookup_uv, mapping.inputs["Vector"])
     tex = nodes.new("ShaderNodeTexImage")
+    # named: a tiled texture's tiles are swapped into these two (show_texture_tiles)
+    tex.name, mapping.name = "texture", "texture_mapping"
     tex.image = load_image(str(base / spec.texture), spec.texture_colorspace,
                            half=spec.texture_colorspace == "Non-Color")
     tex.interpolation = spec.interpolation
@@ -265,6 +269,39 @@ def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour)
         links.new(mapping.outputs["Vector"], copy.inputs["Vector"])
         colour = _mix(nodes, links, "MIX", planes.outputs[weight], colour, copy.outputs["Color"])
     return _mix(nodes, links, "MULTIPLY", 1.0, colour, planes.outputs["Red"])
+
+
+def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
+    """Give each tile slot's material of the terrain the frame's tile of that slot
+    (baking it first if no worker has: designer.render.tiled_bake); a slot the frame sees
+    no tile of keeps what it shows (the coarse bake until it first gets a tile); tiles no
+    slot shows any more are freed."""
+    mesh = bpy.data.objects["terrain"].data
+    grid = TileGrid(tuple(spec.full_px), spec.core_px, spec.pad_px)
+    rows, columns = spec.slots
+    wanted = dict(zip(slot_of(grid, spec.slots, list(tiles or ())).tolist(), tiles or (),
+                      strict=True))
+    for slot in range(rows * columns):
+        material = mesh.materials[spec.first_material + slot]
+        # no light is sampled from the ground (no bounces): without this, every swap of
+        # an image rebuilds Cycles' light tree over the terrain's triangles (set once:
+        # setting a property tags the material for a new shader, even to its value)
+        if material.cycles.emission_sampling != "NONE":
+            material.cycles.emission_sampling = "NONE"
+        nodes = material.node_tree.nodes
+        tex, mapping = nodes["texture"], nodes["texture_mapping"]
+        k = wanted.get(slot)
+        if k is None or Path(tex.image.filepath).name == tile_file(spec.digest, k):
+            # a slot this frame does not see keeps its tile: the next frames along the
+            # line are likely to want it, and every swap costs Cycles a scene update
+            continue
+        old = tex.image
+        tex.image = load_image(str(ensure_tile(spec, k, base)), "Non-Color", half=True)
+        scale, offset = grid.uv_transform(k)
+        mapping.inputs["Scale"].default_value = (*scale, 1.0)
+        mapping.inputs["Location"].default_value = (*offset, 0.0)
+        if old.users == 0:
+            bpy.data.images.remove(old)
 
 
 def set_materials(mesh: bpy.types.Mesh, spec: MeshSpec, base: Path, data=None) -> None:
@@ -620,6 +657,8 @@ def main(argv: list[str] | None = None) -> int:
         frame = frames[index]
         if plants:
             pose_plants(plants, job.wind, frame.time_s)
+        if job.tiled_texture is not None:
+            show_texture_tiles(job.tiled_texture, frame.texture_tiles, base)
         done = render_frame(scene, camera, frame, out_dir, ext, base / PARTIAL_DIR,
                             chains.get(frame.camera_id), exif,
                             setup_s=time.perf_counter() - t_setup, bare=args.bare,

@@ -85,7 +85,7 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
         # every image that sees a GCP counts (each camera of a rig), as in the GUI
         analysis = replace(analysis, gcps=project_gcp_visibility(
             project, images, np.array([t.true_xyz for t in targets]), rc))
-    costs = project_image_costs(project, images, hf)
+    costs = project_image_costs(project, images, hf, _texture_px(project, Path(base_dir)))
     # each kind of image with this machine's figures for its kind
     speed = load_speed(costs[0] if costs else None)
     analysis = replace(analysis, render_time_s=estimate_render_s(
@@ -94,6 +94,21 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     W, H = interior.image_size_px
     return PlanResult(project, tuple(stations), hf, targets, analysis, (W * gsd, H * gsd),
                       carriers, n_all, per_camera, speed.describe(), ground)
+
+
+def _texture_px(project: m.Project, base_dir: Path) -> tuple[int, int] | None:
+    """(W, H) of a tiled image texture (which decides the render's texture path); None
+    for other textures or an unreadable file."""
+    src = project.scene.texture.source
+    if not isinstance(src, m.ImageTexture):
+        return None
+    from designer.scene.texture import load_texture
+
+    try:
+        h, w = load_texture(base_dir / src.file).shape[:2]
+    except DesignerError:
+        return None
+    return w, h
 
 
 def _camera_figures(project: m.Project, images, hf: Heightfield

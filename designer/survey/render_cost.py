@@ -66,10 +66,28 @@ MAX_RECORDS = 300
 #: the coefficient groups and the key fields each is matched on, narrowest first
 _MATCH = {
     ("terrain_cpu_s_per_mp_sample", "background_cpu_s_per_mp_sample"):
-        (("scene", "samples_band", "size_band"), ("scene", "samples_band"), ("scene",)),
-    ("post_s_per_mp",): (("effects", "size_band"), ("effects",)),
-    ("fixed_s",): (("scene", "effects", "samples_band", "size_band"), ("scene", "effects")),
+        (("scene", "texture", "samples_band", "size_band"), ("scene", "texture", "samples_band"),
+         ("scene", "texture"), ("scene", "samples_band", "size_band"),
+         ("scene", "samples_band"), ("scene",)),
+    ("post_s_per_mp",): (("effects", "texture", "size_band"), ("effects", "texture"),
+                         ("effects", "size_band"), ("effects",)),
+    ("fixed_s",): (("scene", "texture", "effects", "samples_band", "size_band"),
+                   ("scene", "effects", "samples_band", "size_band"), ("scene", "effects")),
 }
+#: How the renderer draws the ground texture (designer.render.job takes the same choice,
+#: :func:`texture_path`): "baked" — one image lookup per sample (a plain tiled texture, an
+#: orthophoto, or a varied texture baked whole); "tiled" — a varied texture too wide for
+#: one bake, baked in tiles that each frame loads as it sees them; "node-graph" — the
+#: varied texture blended by Cycles' nodes per sample (five lookups; ``designer bench
+#: render``'s unbaked row, or a mesh terrain too wide for one bake). Each path's
+#: coefficients come from renders of that path; until this machine has rendered one, the
+#: other paths' are scaled by these priors (measured on the reference machine, 2026-12-06,
+#: docs/benchmarks.md): the terrain's Cycles cost …
+TEXTURE_PATH_CYCLES = {"baked": 1.0, "tiled": 1.25, "node-graph": 2.5}
+#: … and the seconds per image added outside Cycles (the tiles' bake and load)
+TEXTURE_PATH_POST_S = {"baked": 0.0, "tiled": 0.3, "node-graph": 0.0}
+#: a record from before the texture path was filed is of the path most renders took
+_DEFAULT_PATH = "baked"
 
 
 @dataclass(frozen=True)
@@ -133,7 +151,7 @@ def _band(value: float) -> int:
 def cost_key(image: ImageCost) -> dict:
     """What drives an image's cost, as a record's key: scene kind, effects, samples and
     size (each a power of two)."""
-    return {"scene": image.scene, "effects": image.effects,
+    return {"scene": image.scene, "effects": image.effects, "texture": image.texture,
             "samples_band": _band(image.samples), "size_band": _band(image.megapixels)}
 
 
@@ -154,7 +172,7 @@ def _read_records() -> list[dict]:
         except (KeyError, TypeError, ValueError):
             continue
         if all(math.isfinite(v) and v >= 0 for v in values):
-            out.append(r)
+            out.append({"texture": _DEFAULT_PATH, **r})
     return out
 
 
@@ -172,9 +190,12 @@ def load_speed(image: ImageCost | None = None) -> RenderSpeed:
     measured (or the file is unreadable)."""
     records = _read_records()
     if not records:
-        return REFERENCE
-    if len(records) == 1:
-        return _speed_of(records[0])
+        if image is None:
+            return REFERENCE
+        reference = {**asdict(REFERENCE), "texture": _DEFAULT_PATH}
+        return replace(REFERENCE, **{name: _as_path(reference, name, image)
+                                     for name in ("terrain_cpu_s_per_mp_sample",
+                                                  "post_s_per_mp")})
     key = cost_key(image) if image is not None else None
     values: dict[str, float] = {}
     used: dict[int, dict] = {}
@@ -188,11 +209,28 @@ def load_speed(image: ImageCost | None = None) -> RenderSpeed:
         for r in chosen:
             used[id(r)] = r
         for name in names:
-            values[name] = float(np.median([float(r[name]) for r in chosen]))
+            values[name] = float(np.median([_as_path(r, name, image) for r in chosen]))
     latest = max(used.values(), key=lambda r: records.index(r))
     return RenderSpeed(**values, source=str(latest.get("source", "render")),
                        measured=str(latest.get("measured", "")),
                        images=sum(int(r.get("images", 0)) for r in used.values()))
+
+
+def _as_path(record: dict, name: str, image: ImageCost | None) -> float:
+    """A record's coefficient ``name`` for an image of ``image``'s texture path: scaled by
+    the paths' priors (TEXTURE_PATH_CYCLES, TEXTURE_PATH_POST_S) when the record was
+    rendered on another path."""
+    value = float(record[name])
+    mine, theirs = (image.texture, record["texture"]) if image is not None else ("", "")
+    if mine == theirs:
+        return value
+    if name == "terrain_cpu_s_per_mp_sample":
+        return value * (TEXTURE_PATH_CYCLES.get(mine, 1.0)
+                        / TEXTURE_PATH_CYCLES.get(theirs, 1.0))
+    if name == "post_s_per_mp":
+        extra = TEXTURE_PATH_POST_S.get(mine, 0.0) - TEXTURE_PATH_POST_S.get(theirs, 0.0)
+        return max(0.0, value + extra / max(image.megapixels, 1e-9))
+    return value
 
 
 def save_speed(speed: RenderSpeed, image: ImageCost | None = None) -> Path:
@@ -230,6 +268,8 @@ class ImageCost:
     scene: str = "terrain"
     #: the camera effects applied ("none", or their names joined by "+": effects_key)
     effects: str = "none"
+    #: how the renderer draws the ground texture (TEXTURE_PATH_CYCLES: texture_path)
+    texture: str = "baked"
 
 
 def frame_cpu_s(speed: RenderSpeed, image: ImageCost) -> float:
@@ -395,16 +435,69 @@ def render_workers(project, n_images: int, cores: int | None = None) -> int:
     return max(1, project.render.workers or default_workers(max(1, n_images), cores))
 
 
+def texture_path(has_variation: bool, whole_bake_px: tuple[int, int],
+                 declared_bake_px: tuple[int, int], grown: bool, heightfield: bool) -> str:
+    """How the renderer draws a ground texture (TEXTURE_PATH_CYCLES), as
+    :func:`designer.render.job.prepare_job` chooses: ``whole_bake_px`` and
+    ``declared_bake_px`` are the (W, H) of its bake over the rendered and the declared
+    terrain; ``grown``: the rendered terrain has surroundings; ``heightfield``: the
+    terrain is a height field of small faces (not a mesh, nor a flat terrain's two
+    triangles)."""
+    from designer.project.scene_limits import MAX_BAKE_PX
+
+    def fits(px):
+        return 0 < px[0] <= MAX_BAKE_PX and 0 < px[1] <= MAX_BAKE_PX
+
+    if not has_variation or fits(whole_bake_px):
+        return "baked"
+    if grown and fits(declared_bake_px):
+        return "baked"  # a detail bake over the declared terrain, a coarse one beyond
+    return "tiled" if heightfield else "node-graph"
+
+
+def project_texture_path(project, rendered_extent_m, texture_px: tuple[int, int] | None = None
+                         ) -> str:
+    """:func:`texture_path` of a project whose rendered terrain spans ``rendered_extent_m``
+    (x0, x1, y0, y1; None: a mesh terrain); ``texture_px`` (W, H) the tiled texture image's
+    size (a procedural texture's is computed from its texel; an image texture of unknown
+    size counts as baked)."""
+    tex = project.scene.texture
+    src = tex.source
+    e = project.scene.terrain.extent
+    if tex.variation is None or type(src).__name__ == "OrthophotoTexture":
+        return "baked"
+    if texture_px is None:
+        texel = getattr(src, "texel_size_m", None)
+        if texel is None:
+            return "baked"
+        texture_px = (round(e.width_m / tex.repeat_X / texel),
+                      round(e.length_m / tex.repeat_Y / texel))
+    texel_x = e.width_m / tex.repeat_X / texture_px[0]
+    texel_y = e.length_m / tex.repeat_Y / texture_px[1]
+    declared = (round(e.width_m / texel_x), round(e.length_m / texel_y))
+    if rendered_extent_m is None:
+        return texture_path(True, declared, declared, False, False)
+    x0, x1, y0, y1 = rendered_extent_m
+    whole = (round((x1 - x0) / texel_x), round((y1 - y0) / texel_y))
+    grown = whole[0] > declared[0] or whole[1] > declared[1]
+    # a flat terrain is two triangles, too wide to tile (render.job_tiles.needs_tiles)
+    fine = type(project.scene.terrain.source).__name__ != "FlatTerrain"
+    return texture_path(True, whole, declared, grown, fine)
+
+
 def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
-                interiors: Sequence, samples: int, project=None) -> list[ImageCost]:
+                interiors: Sequence, samples: int, project=None,
+                texture: str = "baked") -> list[ImageCost]:
     """The model's view of N images: size (megapixels of each image's rendered interior),
     ``samples`` per pixel and the share of its pixels that see the terrain
     (``terrain_fractions``). ``C_world`` (N, 3) m and ``R_cam_to_world`` (N, 3, 3) are the
     images' poses, ``interiors`` their N rendered interior orientations; images sharing
     one interior object are measured together. ``project``: the images' project, whose
-    scene kind and effects file them (:func:`cost_key`)."""
+    scene kind and effects file them (:func:`cost_key`); ``texture`` the renderer's path
+    for the ground texture (:func:`texture_path`)."""
     kind = ({"scene": scene_kind(project), "effects": effects_key(project)}
             if project is not None else {})
+    kind["texture"] = texture
     C_world, R_cam_to_world = np.asarray(C_world, float), np.asarray(R_cam_to_world, float)
     groups: dict[int, list[int]] = {}
     for k, interior in enumerate(interiors):
@@ -420,10 +513,12 @@ def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
     return out
 
 
-def project_image_costs(project, images, heightfield) -> list[ImageCost]:
+def project_image_costs(project, images, heightfield,
+                        texture_px: tuple[int, int] | None = None) -> list[ImageCost]:
     """``image_costs`` of every image of a project (``images``:
     :func:`designer.survey.project_poses.project_images`), all cameras of a rig, at the
-    project's samples per pixel."""
+    project's samples per pixel, over the rendered terrain ``heightfield``;
+    ``texture_px``: an image texture's size (:func:`project_texture_path`)."""
     from designer.project.interiors import render_interior
 
     interiors = {c: render_interior(project.camera(c), project.render.resolution_scale)
@@ -432,7 +527,9 @@ def project_image_costs(project, images, heightfield) -> list[ImageCost]:
     return image_costs(heightfield, np.array([s.C_world for s in st]).reshape(-1, 3),
                        np.array([s.R_cam_to_world for s in st]).reshape(-1, 3, 3),
                        [interiors[c] for c in images.camera_ids],
-                       project.render.effective_samples, project)
+                       project.render.effective_samples, project,
+                       project_texture_path(project, None if heightfield is None
+                                            else heightfield.extent_m, texture_px))
 
 
 def format_duration(seconds: float) -> str:

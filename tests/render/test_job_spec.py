@@ -26,6 +26,7 @@ from designer.render.job_spec import (
     PlantSetSpec,
     RenderJob,
     RenderSpec,
+    TiledTextureSpec,
     WindSpec,
     job_dataclasses,
 )
@@ -115,7 +116,8 @@ def full_job() -> RenderJob:
                       distance_m=80.0, **timed,
                       moving_poses=(("car", 10.0, -4.0, 0.5, 270.0),),
                       shutter_matrices_local=(MATRIX, MATRIX_LATER),
-                      camera=CAMERA, camera_id="nadir", size_px=(64, 48)),
+                      camera=CAMERA, camera_id="nadir", size_px=(64, 48),
+                      texture_tiles=(3, 4, 8)),
             FrameSpec(1, "side_0000.tif", MATRIX_LATER, gsd_m=0.03,
                       flight_direction_uv=(1.0, 0.0), distance_m=95.0, **timed,
                       moving_poses=(("car", 10.5, -4.0, 0.5, 270.0),),
@@ -133,6 +135,12 @@ def full_job() -> RenderJob:
         moving_objects=(MeshSpec("car", "moving_car.npz", (grey,)),),
         vegetation=(PlantSetSpec("hedge", "plant_hedge.npz", "plants_hedge.npz", (lit, grey)),),
         wind=WindSpec(amplitude_deg=3.5, gust_period_s=4.0, direction_deg=225.0),
+        tiled_texture=TiledTextureSpec(
+            texture="texture.png", uv_tiles=(25.0, 25.0), interpolation="closest",
+            variation="variation.png", variation_warp="variation_warp.png",
+            variation_warp_uv=0.004, full_px=(20000, 21600), core_px=2048, pad_px=22,
+            slots=(3, 4), digest="0123abcd", coarse="texture_tiled_coarse.tif",
+            lightmap="lightmap.png", first_material=1),
     )
 
 

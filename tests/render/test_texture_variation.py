@@ -151,6 +151,39 @@ def test_the_baked_texture_renders_what_the_node_graph_renders(tmp_path, monkeyp
     assert baked.std() == pytest.approx(nodes.std(), rel=0.03)
 
 
+@pytest.mark.blender
+@pytest.mark.slow
+def test_tiles_render_what_one_bake_renders_across_their_seams(tmp_path, monkeypatch):
+    """A bake too wide for one image, cut into tiles of 5.12 m (the photo sees a dozen
+    and their seams), each frame loading its own: the same picture as the one bake, so
+    no seam in colour or place. (Gentle relief on a 1 m grid: a tile holds its faces'
+    texels, so the faces must be small beside it.)"""
+    import designer.render.texture_bake as texture_bake
+    import designer.render.tiled_bake as tiled_bake
+
+    p = nadir_project(VARIATION)
+    relief = m.ProceduralTerrain(seed=3, grid_spacing_m=1.0, roughness=0.3,
+                                 min_height_m=-0.5, max_height_m=0.5, hill_size_m=20.0)
+    p = dataclasses.replace(p, scene=dataclasses.replace(
+        p.scene, terrain=m.Terrain(p.scene.terrain.extent, relief)))
+    grey = {}
+    for name, limit in (("one", texture_bake.MAX_BAKE_PX), ("tiled", 0)):
+        monkeypatch.setattr(texture_bake, "MAX_BAKE_PX", limit)
+        monkeypatch.setattr(tiled_bake, "TILE_CORE_PX", 256)
+        summary, grey[name] = _render_grey(p, tmp_path / name)
+    job = summary.prepared.job
+    assert job.tiled_texture is not None
+    (frame,) = job.frames
+    assert len(frame.texture_tiles) >= 9
+    seen = sorted((summary.prepared.job_path.parent).glob("texture_tile_*.tif"))
+    assert len(seen) == len(frame.texture_tiles)  # only the tiles it sees are baked
+    one, tiled = grey["one"], grey["tiled"]
+    # the light map folded in per tile rounds a 16-bit code apart from the one bake's
+    # at most: an 8-bit code here and there
+    assert np.abs(tiled - one).max() <= 1
+    assert np.mean(tiled != one) < 0.01
+
+
 def _edge_project(variation: m.TextureVariation) -> m.Project:
     """Flat ground 40 m wide, one photo from 30 m near its east edge, tilted east: it
     sees about 20 m past the terrain, where the surroundings continue it."""

@@ -142,3 +142,53 @@ def test_the_description_counts_its_images_in_words():
     assert one.describe() == "this machine, render of 1 image on 2026-11-29 19:35"
     many = replace(one, source="probe", images=30)
     assert many.describe() == "this machine, probe render of 30 images on 2026-11-29 19:35"
+
+
+def test_the_texture_path_is_the_renderers_choice():
+    limit = 12288
+    assert rc.texture_path(False, (50000, 50000), (50000, 50000), True, True) == "baked"
+    assert rc.texture_path(True, (limit, limit), (limit, limit), False, True) == "baked"
+    # surroundings too wide, the declared terrain not: a detail and a coarse bake
+    assert rc.texture_path(True, (limit + 1, 100), (limit, 100), True, True) == "baked"
+    assert rc.texture_path(True, (20000, 20000), (20000, 20000), True, True) == "tiled"
+    assert rc.texture_path(True, (20000, 20000), (20000, 20000), False, False) == "node-graph"
+
+
+def test_the_examples_texture_grown_to_500_m_is_tiled():
+    from designer.project.templates import template
+
+    project = template("survey").project
+    assert rc.project_texture_path(project, (-110.0, 110.0, -110.0, 110.0)) == "baked"
+    # 2.5 cm texels: 700 m are 28 000 px, the declared 100 m 4000
+    assert rc.project_texture_path(project, (-350.0, 350.0, -350.0, 350.0)) == "baked"
+    terrain = replace(project.scene.terrain, extent=replace(
+        project.scene.terrain.extent, max_X=project.scene.terrain.extent.min_X + 500.0,
+        max_Y=project.scene.terrain.extent.min_Y + 500.0))
+    texture = replace(project.scene.texture, repeat_X=25, repeat_Y=25)
+    wide = replace(project, scene=replace(project.scene, terrain=terrain, texture=texture))
+    assert rc.project_texture_path(wide, (-270.0, 270.0, -270.0, 270.0)) == "tiled"
+
+
+def test_a_texture_path_never_rendered_is_estimated_from_the_others_by_its_prior(
+        tmp_path, monkeypatch):
+    monkeypatch.setenv("DESIGNER_CACHE_DIR", str(tmp_path))
+    baked = rc.ImageCost(1.25, 16, 1.0, texture="baked")
+    nodes = replace(baked, texture="node-graph")
+    tiled = replace(baked, texture="tiled")
+    rc.save_speed(replace(TRUE, images=8), baked)
+    prior = rc.TEXTURE_PATH_CYCLES["node-graph"]
+    assert rc.load_speed(nodes).terrain_cpu_s_per_mp_sample == pytest.approx(0.4 * prior)
+    assert rc.load_speed(nodes).background_cpu_s_per_mp_sample == pytest.approx(0.1)
+    extra = rc.TEXTURE_PATH_POST_S["tiled"] / 1.25
+    assert rc.load_speed(tiled).post_s_per_mp == pytest.approx(0.2 + extra)
+    # once rendered, a path's own records
+    rc.save_speed(replace(TRUE, terrain_cpu_s_per_mp_sample=1.5, images=8), nodes)
+    assert rc.load_speed(nodes).terrain_cpu_s_per_mp_sample == pytest.approx(1.5)
+    assert rc.load_speed(baked).terrain_cpu_s_per_mp_sample == pytest.approx(0.4)
+    # a record from before the path was filed counts as baked
+    path = tmp_path / rc.SPEED_FILE
+    data = json.loads(path.read_text())
+    for r in data["records"]:
+        r.pop("texture")
+    path.write_text(json.dumps(data))
+    assert rc.load_speed(baked).terrain_cpu_s_per_mp_sample == pytest.approx(0.95)
