@@ -192,7 +192,9 @@ def mapper_structure(rec, calibration: str) -> None:
 
 
 def similarity_onto(src: np.ndarray, tgt: np.ndarray) -> np.ndarray:
-    """``src`` (N, 3) mapped by the least-squares similarity onto ``tgt`` (Umeyama)."""
+    """``src`` (N, 3) mapped by the least-squares similarity onto ``tgt`` (Umeyama; the
+    robust similarity of designer.sfm.georeference.fit_similarity finds none for a block
+    whose true points lie exactly in one plane)."""
     ms, mt = src.mean(axis=0), tgt.mean(axis=0)
     a, b = src - ms, tgt - mt
     U, S, Vt = np.linalg.svd(b.T @ a / len(src))
