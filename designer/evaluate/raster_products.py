@@ -196,6 +196,21 @@ def dome_over_area(dod: Raster, gsd_m: float | None, survey_area_world=None):
     return fit_dome(dod, gsd_m), "the whole DoD"
 
 
+def _dsm_surface_dod(points: np.ndarray, vertices: np.ndarray, faces, cell_m: float,
+                     what: str) -> tuple[Raster, Raster, Raster]:
+    """(median DSM, true surface, DoD) of the cloud ``points`` (N, 3 world) on the grid of
+    ``cell_m`` cells over the part of its extent inside the mesh's; a one-line error
+    naming ``what`` when they do not overlap in plan."""
+    lo = np.maximum(points[:, :2].min(axis=0), vertices[:, :2].min(axis=0))
+    hi = np.minimum(points[:, :2].max(axis=0), vertices[:, :2].max(axis=0))
+    if not (hi > lo).all():
+        raise DesignerError(f"{what}: the cloud and the true mesh do not overlap in plan; "
+                            "are they in the same coordinates?")
+    dsm = dsm_from_points(points, cell_m, (lo[0], lo[1], hi[0], hi[1]))
+    surface = surface_raster(vertices, faces, dsm.grid)
+    return dsm, surface, dem_of_difference(dsm, surface)
+
+
 def cloud_dome(points_world, true_mesh, cell_m: float, gsd_m: float | None = None,
                survey_area_world=None) -> dict:
     """The dome of a cloud (N, 3 world) against the true mesh, as
@@ -204,13 +219,8 @@ def cloud_dome(points_world, true_mesh, cell_m: float, gsd_m: float | None = Non
     from designer.evaluate.distance import _mesh_arrays
 
     vertices, faces = _mesh_arrays(true_mesh)
-    points = np.asarray(points_world, dtype=np.float64)
-    lo = np.maximum(points[:, :2].min(axis=0), vertices[:, :2].min(axis=0))
-    hi = np.minimum(points[:, :2].max(axis=0), vertices[:, :2].max(axis=0))
-    if not (hi > lo).all():
-        raise DesignerError("dome: the cloud and the true mesh do not overlap in plan")
-    dsm = dsm_from_points(points, cell_m, (lo[0], lo[1], hi[0], hi[1]))
-    dod = dem_of_difference(dsm, surface_raster(vertices, faces, dsm.grid))
+    _, _, dod = _dsm_surface_dod(np.asarray(points_world, dtype=np.float64), vertices, faces,
+                                 cell_m, "dome")
     dome, area = dome_over_area(dod, gsd_m, survey_area_world)
     return {**_dome_dict(dome), "area": area, "cell_m": float(cell_m)}
 
@@ -240,14 +250,7 @@ def write_raster_products(out_dir, cloud_points_world, true_mesh, crs, cell_m: f
         raise DesignerError("raster products: the point cloud is empty; there is nothing "
                             "to grid")
     crs_from_user(crs)  # a bad CRS fails before any file is written
-    lo = np.maximum(points[:, :2].min(axis=0), vertices[:, :2].min(axis=0))
-    hi = np.minimum(points[:, :2].max(axis=0), vertices[:, :2].max(axis=0))
-    if not (hi > lo).all():
-        raise DesignerError("raster products: the cloud and the true mesh do not overlap "
-                            "in plan; are they in the same coordinates?")
-    dsm = dsm_from_points(points, cell_m, (lo[0], lo[1], hi[0], hi[1]))
-    surface = surface_raster(vertices, faces, dsm.grid)
-    dod = dem_of_difference(dsm, surface)
+    dsm, surface, dod = _dsm_surface_dod(points, vertices, faces, cell_m, "raster products")
     whole = fit_dome(dod, gsd_m)
     dome, area_name = dome_over_area(dod, gsd_m, survey_area_world)
     stats = dod_statistics(dod, surface)
