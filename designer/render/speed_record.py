@@ -19,6 +19,7 @@ from designer.survey.render_cost import (
     frame_cpu_s,
     image_costs,
     load_speed,
+    project_bake_mp,
     save_speed,
 )
 
@@ -32,6 +33,19 @@ def job_texture_path(job) -> str:
     if terrain is not None and any(m.variation for m in terrain.materials):
         return "node-graph"
     return "baked"
+
+
+def job_bake_mp(prepared: PreparedJob, project) -> float | None:
+    """Megapixels of the ground texture bake the job prepared (render_cost.project_bake_mp
+    of its project, with the texture image it built); None without the project."""
+    if project is None:
+        return None
+    if job_texture_path(prepared.job) != "baked":
+        return 0.0  # tiles baked as frames see them, or no bake (bench render's node graph)
+    hf = prepared.scene.heightfield
+    rgb = prepared.scene.texture_rgb
+    return project_bake_mp(project, None if hf is None else hf.extent_m,
+                           None if rgb is None else (rgb.shape[1], rgb.shape[0]))
 
 
 def record_render_speed(prepared: PreparedJob, report: RenderReport,
@@ -56,7 +70,8 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
                         np.array([p.C_world for p in poses]).reshape(-1, 3),
                         np.array([p.R_cam_to_world for p in poses]).reshape(-1, 3, 3),
                         [prepared.interior_of(p.image_name) for p in poses],
-                        prepared.job.render.samples, project, job_texture_path(prepared.job))
+                        prepared.job.render.samples, project, job_texture_path(prepared.job),
+                        job_bake_mp(prepared, project))
     all_costs = dict(zip(timed, costs, strict=True))
     images = [all_costs[i] for i in frames]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
@@ -71,6 +86,6 @@ def record_render_speed(prepared: PreparedJob, report: RenderReport,
                    + sum(c.megapixels * measured.post_s_per_mp for c in all_costs.values())
                    / workers)
     fixed = prepare_seconds + max(0.0, report.wall_seconds - frames_wall)
-    measured = replace(measured, fixed_s=fixed)
+    measured = replace(measured, fixed_s=fixed, fixed_bake_mp=typical.bake_mp)
     save_speed(measured, typical)
     return measured

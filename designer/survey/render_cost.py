@@ -13,7 +13,10 @@ and the whole render stage of N images with w workers on c cores
 
 (every core path-traces; each worker does its own file and effects work while the other
 workers render); ``fixed`` is the preparation and the workers' start (scene, texture
-bake, lens warp, Blender start-up).
+bake, lens warp, Blender start-up). Most of the preparation of a varied ground texture
+is its bake, so ``fixed`` grows with the bake's megapixels B (:func:`project_bake_mp`):
+a fixed part measured at B₀ counts as ``fixed + bake · (B − B₀)`` for a render baking B
+(at least :data:`MIN_FIXED_S`; ``bake`` is :data:`BAKE_S_PER_MP` s per megapixel).
 
 The coefficients are this machine's (:class:`RenderSpeed`), measured by ``designer
 warmup`` (run by ``make setup``: a short probe render of the example survey) and by every
@@ -86,6 +89,12 @@ _MATCH = {
 TEXTURE_PATH_CYCLES = {"baked": 1.0, "tiled": 1.25, "node-graph": 2.5}
 #: … and the seconds per image added outside Cycles (the tiles' bake and load)
 TEXTURE_PATH_POST_S = {"baked": 0.0, "tiled": 0.3, "node-graph": 0.0}
+#: seconds of preparation per megapixel of the ground texture's bake (the bake kernel,
+#: the light map folded in, the file written): the example's 77 MP bake took 12.7 s of
+#: its 14.6 s preparation on the reference machine, 2026-12-06 (cProfile of prepare_job)
+BAKE_S_PER_MP = 0.165
+#: the least fixed part of a render: Blender's start and a small scene's preparation
+MIN_FIXED_S = 1.0
 #: a record from before the texture path was filed is of the path most renders took
 _DEFAULT_PATH = "baked"
 
@@ -107,6 +116,11 @@ class RenderSpeed:
     #: when it was measured (local time, ISO), and on how many images
     measured: str = ""
     images: int = 0
+    #: the megapixels of the texture bake ``fixed_s`` was measured with (None: unknown,
+    #: a record from before bakes were counted: ``fixed_s`` is used as it is)
+    fixed_bake_mp: float | None = None
+    #: seconds of preparation per megapixel of texture bake (fixed_for)
+    bake_s_per_mp: float = BAKE_S_PER_MP
 
     @property
     def calibrated(self) -> bool:
@@ -126,9 +140,12 @@ class RenderSpeed:
 #: baked texture with the light map folded in, one worker; ``designer render`` of
 #: ``designer new --template survey`` in ``make demo`` on a fresh clone: 60 images of
 #: 1368 × 912 px at 16 spp, 20 % to 100 % of each on the terrain, render stage 161 s).
+#: The fixed part is that of a render with no bake (the tiny study template's render,
+#: 2.36 s with its 1.44 MP bake, less the bake's seconds): a render baking B megapixels
+#: adds ``BAKE_S_PER_MP · B``.
 REFERENCE = RenderSpeed(terrain_cpu_s_per_mp_sample=0.301,
                         background_cpu_s_per_mp_sample=0.109, post_s_per_mp=0.175,
-                        fixed_s=9.7)
+                        fixed_s=2.1, fixed_bake_mp=0.0)
 
 
 def cache_dir() -> Path:
@@ -180,7 +197,8 @@ def _speed_of(record: dict, images: int | None = None) -> RenderSpeed:
     return RenderSpeed(*(float(record[k]) for k in _COEFFICIENTS),
                        source=str(record.get("source", "render")),
                        measured=str(record.get("measured", "")),
-                       images=int(record.get("images", 0)) if images is None else images)
+                       images=int(record.get("images", 0)) if images is None else images,
+                       fixed_bake_mp=record.get("fixed_bake_mp"))
 
 
 def load_speed(image: ImageCost | None = None) -> RenderSpeed:
@@ -193,9 +211,10 @@ def load_speed(image: ImageCost | None = None) -> RenderSpeed:
         if image is None:
             return REFERENCE
         reference = {**asdict(REFERENCE), "texture": _DEFAULT_PATH}
-        return replace(REFERENCE, **{name: _as_path(reference, name, image)
-                                     for name in ("terrain_cpu_s_per_mp_sample",
-                                                  "post_s_per_mp")})
+        return replace(REFERENCE, fixed_bake_mp=image.bake_mp,
+                       **{name: _as_path(reference, name, image)
+                          for name in ("terrain_cpu_s_per_mp_sample", "post_s_per_mp",
+                                       "fixed_s")})
     key = cost_key(image) if image is not None else None
     values: dict[str, float] = {}
     used: dict[int, dict] = {}
@@ -213,14 +232,18 @@ def load_speed(image: ImageCost | None = None) -> RenderSpeed:
     latest = max(used.values(), key=lambda r: records.index(r))
     return RenderSpeed(**values, source=str(latest.get("source", "render")),
                        measured=str(latest.get("measured", "")),
-                       images=sum(int(r.get("images", 0)) for r in used.values()))
+                       images=sum(int(r.get("images", 0)) for r in used.values()),
+                       fixed_bake_mp=None if image is None else image.bake_mp)
 
 
 def _as_path(record: dict, name: str, image: ImageCost | None) -> float:
     """A record's coefficient ``name`` for an image of ``image``'s texture path: scaled by
     the paths' priors (TEXTURE_PATH_CYCLES, TEXTURE_PATH_POST_S) when the record was
-    rendered on another path."""
+    rendered on another path; its fixed part for ``image``'s bake (:func:`fixed_for`)."""
     value = float(record[name])
+    if name == "fixed_s" and image is not None:
+        return fixed_for(RenderSpeed(0, 0, 0, value, fixed_bake_mp=record.get("fixed_bake_mp")),
+                         image.bake_mp)
     mine, theirs = (image.texture, record["texture"]) if image is not None else ("", "")
     if mine == theirs:
         return value
@@ -270,6 +293,18 @@ class ImageCost:
     effects: str = "none"
     #: how the renderer draws the ground texture (TEXTURE_PATH_CYCLES: texture_path)
     texture: str = "baked"
+    #: megapixels of the ground texture bake the render prepares (project_bake_mp; the
+    #: same for every image of a render; None: unknown)
+    bake_mp: float | None = None
+
+
+def fixed_for(speed: RenderSpeed, bake_mp: float | None) -> float:
+    """``speed``'s fixed part for a render that bakes ``bake_mp`` megapixels (module
+    docstring); as measured where either bake is unknown."""
+    if bake_mp is None or speed.fixed_bake_mp is None:
+        return speed.fixed_s
+    return max(MIN_FIXED_S,
+               speed.fixed_s + speed.bake_s_per_mp * (bake_mp - speed.fixed_bake_mp))
 
 
 def frame_cpu_s(speed: RenderSpeed, image: ImageCost) -> float:
@@ -325,7 +360,8 @@ def estimate_render(images: Sequence[ImageCost], workers: int, cores: int | None
             speeds, speed = [], load_speed()
     cpu = sum(frame_cpu_s(sp, i) for sp, i in zip(speeds, images, strict=True))
     post = sum(i.megapixels * sp.post_s_per_mp for sp, i in zip(speeds, images, strict=True))
-    fixed = max((sp.fixed_s for sp in speeds), default=speed.fixed_s if speed else 0.0)
+    fixed = max((fixed_for(sp, i.bake_mp) for sp, i in zip(speeds, images, strict=True)),
+                default=speed.fixed_s if speed else 0.0)
     return RenderEstimate(fixed, cpu / cores + post / workers, len(images))
 
 
@@ -461,43 +497,69 @@ def project_texture_path(project, rendered_extent_m, texture_px: tuple[int, int]
     (x0, x1, y0, y1; None: a mesh terrain); ``texture_px`` (W, H) the tiled texture image's
     size (a procedural texture's is computed from its texel; an image texture of unknown
     size counts as baked)."""
+    return project_texture(project, rendered_extent_m, texture_px)[0]
+
+
+def project_bake_mp(project, rendered_extent_m, texture_px: tuple[int, int] | None = None
+                    ) -> float | None:
+    """Megapixels of the ground texture bake a render of the project prepares (arguments
+    of :func:`project_texture_path`): the whole bake, or the detail bake over the declared
+    terrain where the surroundings are baked coarsely (whose small coarse bake is not
+    counted); 0 where nothing is baked before the frames (a texture without variation, an
+    orthophoto, the tiled and node-graph paths); None where the texture's size is
+    unknown."""
+    return project_texture(project, rendered_extent_m, texture_px)[1]
+
+
+def project_texture(project, rendered_extent_m, texture_px: tuple[int, int] | None = None
+                    ) -> tuple[str, float | None]:
+    """(:func:`project_texture_path`, :func:`project_bake_mp`)."""
     tex = project.scene.texture
     src = tex.source
     e = project.scene.terrain.extent
     if tex.variation is None or type(src).__name__ == "OrthophotoTexture":
-        return "baked"
+        return "baked", 0.0
     if texture_px is None:
         texel = getattr(src, "texel_size_m", None)
         if texel is None:
-            return "baked"
+            return "baked", None
         texture_px = (round(e.width_m / tex.repeat_X / texel),
                       round(e.length_m / tex.repeat_Y / texel))
     texel_x = e.width_m / tex.repeat_X / texture_px[0]
     texel_y = e.length_m / tex.repeat_Y / texture_px[1]
     declared = (round(e.width_m / texel_x), round(e.length_m / texel_y))
     if rendered_extent_m is None:
-        return texture_path(True, declared, declared, False, False)
+        path = texture_path(True, declared, declared, False, False)
+        return path, declared[0] * declared[1] / 1e6 if path == "baked" else 0.0
     x0, x1, y0, y1 = rendered_extent_m
     whole = (round((x1 - x0) / texel_x), round((y1 - y0) / texel_y))
     grown = whole[0] > declared[0] or whole[1] > declared[1]
     # a flat terrain is two triangles, too wide to tile (render.job_tiles.needs_tiles)
     fine = type(project.scene.terrain.source).__name__ != "FlatTerrain"
-    return texture_path(True, whole, declared, grown, fine)
+    path = texture_path(True, whole, declared, grown, fine)
+    if path != "baked":
+        return path, 0.0
+    from designer.project.scene_limits import MAX_BAKE_PX
+
+    baked = whole if max(whole) <= MAX_BAKE_PX else declared
+    return path, baked[0] * baked[1] / 1e6
 
 
 def image_costs(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarray,
                 interiors: Sequence, samples: int, project=None,
-                texture: str = "baked") -> list[ImageCost]:
+                texture: str = "baked", bake_mp: float | None = None) -> list[ImageCost]:
     """The model's view of N images: size (megapixels of each image's rendered interior),
     ``samples`` per pixel and the share of its pixels that see the terrain
     (``terrain_fractions``). ``C_world`` (N, 3) m and ``R_cam_to_world`` (N, 3, 3) are the
     images' poses, ``interiors`` their N rendered interior orientations; images sharing
     one interior object are measured together. ``project``: the images' project, whose
     scene kind and effects file them (:func:`cost_key`); ``texture`` the renderer's path
-    for the ground texture (:func:`texture_path`)."""
+    for the ground texture (:func:`texture_path`), ``bake_mp`` the megapixels of its bake
+    (:func:`project_bake_mp`)."""
     kind = ({"scene": scene_kind(project), "effects": effects_key(project)}
             if project is not None else {})
     kind["texture"] = texture
+    kind["bake_mp"] = bake_mp
     C_world, R_cam_to_world = np.asarray(C_world, float), np.asarray(R_cam_to_world, float)
     groups: dict[int, list[int]] = {}
     for k, interior in enumerate(interiors):
@@ -524,12 +586,12 @@ def project_image_costs(project, images, heightfield,
     interiors = {c: render_interior(project.camera(c), project.render.resolution_scale)
                  for c in images.camera_order()}
     st = images.stations
+    texture, bake_mp = project_texture(project, None if heightfield is None
+                                       else heightfield.extent_m, texture_px)
     return image_costs(heightfield, np.array([s.C_world for s in st]).reshape(-1, 3),
                        np.array([s.R_cam_to_world for s in st]).reshape(-1, 3, 3),
                        [interiors[c] for c in images.camera_ids],
-                       project.render.effective_samples, project,
-                       project_texture_path(project, None if heightfield is None
-                                            else heightfield.extent_m, texture_px))
+                       project.render.effective_samples, project, texture, bake_mp)
 
 
 def format_duration(seconds: float) -> str:

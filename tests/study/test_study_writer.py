@@ -109,7 +109,7 @@ def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
     # a machine half as fast: every coefficient doubled, the render estimate doubles
     slow = replace(REFERENCE, **{k: 2 * getattr(REFERENCE, k) for k in (
         "terrain_cpu_s_per_mp_sample", "background_cpu_s_per_mp_sample", "post_s_per_mp",
-        "fixed_s")})
+        "fixed_s", "bake_s_per_mp")})
     twice = plan_cost(plan, hf, speed=slow)
     assert twice.render_s == pytest.approx(2 * cost.render_s)
     assert twice.reconstruct_s == cost.reconstruct_s

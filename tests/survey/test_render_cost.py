@@ -192,3 +192,39 @@ def test_a_texture_path_never_rendered_is_estimated_from_the_others_by_its_prior
         r.pop("texture")
     path.write_text(json.dumps(data))
     assert rc.load_speed(baked).terrain_cpu_s_per_mp_sample == pytest.approx(0.95)
+
+
+def test_the_fixed_part_grows_with_the_texture_bake(tmp_path, monkeypatch):
+    """A render's preparation is mostly its ground texture bake: the reference fixed part
+    and a record's are counted for the bake of the render estimated."""
+    monkeypatch.setenv("DESIGNER_CACHE_DIR", str(tmp_path))
+    small = rc.ImageCost(0.02, 4, 1.0, bake_mp=1.44)
+    large = replace(small, bake_mp=77.4)
+    unknown = replace(small, bake_mp=None)
+    per_mp = rc.REFERENCE.bake_s_per_mp
+    fixed_small = rc.estimate_render([small], 1).setup_s
+    assert fixed_small == pytest.approx(rc.REFERENCE.fixed_s + 1.44 * per_mp)
+    assert rc.estimate_render([large], 1).setup_s == pytest.approx(fixed_small + 75.96 * per_mp)
+    # a record measured with one bake, used for another
+    rc.save_speed(replace(TRUE, fixed_bake_mp=1.44, images=8), small)
+    assert rc.estimate_render([small], 1).setup_s == pytest.approx(5.0)
+    assert rc.estimate_render([large], 1).setup_s == pytest.approx(5.0 + 75.96 * per_mp)
+    # never below Blender's start; as measured where a bake is unknown
+    assert rc.fixed_for(replace(TRUE, fixed_bake_mp=77.4), 0.0) == rc.MIN_FIXED_S
+    assert rc.estimate_render([unknown], 1).setup_s == pytest.approx(5.0)
+
+
+def test_the_bake_of_a_project_is_what_prepare_job_bakes(tmp_path):
+    """project_bake_mp against the size of the bake the render job prepares."""
+    from designer.project.load import load_project
+    from designer.render.job import project_surroundings
+    from designer.render.texture_bake import bake_size_px
+    from designer.scene.build import build_scene
+    from designer.project.new import write_template
+
+    path = write_template(tmp_path / "p.xml", "survey")[0]
+    project = load_project(path)
+    growth, _ = project_surroundings(project, tmp_path)
+    scene = build_scene(project, tmp_path, growth)
+    W, H = bake_size_px(scene.texture_rgb.shape, scene.texture_tiles)
+    assert rc.project_bake_mp(project, scene.heightfield.extent_m) == pytest.approx(W * H / 1e6)

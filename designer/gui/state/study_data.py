@@ -29,12 +29,13 @@ from pathlib import Path
 
 #: reconstruction + comparison seconds per image (sparse SfM, on its own): A + B ×
 #: megapixels of the rendered image, fitted to two measured studies on the 2-core
-#: machine — the tiny study (``designer study new --template tiny``): 2.1 s for 18
-#: images of 0.019 MP (0.12 s per image; reconstruct 1.31 s + compare 0.83 s, the
-#: mapper refining the focal length only while it grows), and the gcp-count example: 21
-#: CPU seconds for 12 images of 0.31 MP (1.75 s per image; docs/studies.md) —
-RECONSTRUCT_S_A = 0.01
-RECONSTRUCT_S_B_PER_MP = 6.0
+#: machine — the tiny study (``designer study new --template tiny``): 1.39 s wall
+#: (1.93 s CPU) for 18 images of 0.019 MP (0.077 s per image; reconstruct 0.77 s +
+#: compare 0.63 s, 2026-12-06), and the gcp-count example: 21 CPU seconds for 12 images
+#: of 0.31 MP (1.75 s per image; docs/studies.md); the line through both has a
+#: negative A, so A is 0 and B the larger image's —
+RECONSTRUCT_S_A = 0.0
+RECONSTRUCT_S_B_PER_MP = 5.7
 #: — up to at most this (the feature count is capped, so larger images cost little more:
 #: ``designer demo`` reconstructed the example's 60 images of 1.25 MP in 418 s, dense
 #: cloud included; docs/benchmarks.md)
@@ -50,14 +51,14 @@ DENSE_FACTOR = 1.3
 #: (dense cloud included; docs/benchmarks.md)
 FEATURE_SHARE = 0.55
 #: the share of a reconstruction + comparison a run pays when it reuses the SfM model
-#: of an earlier run: the tiny study's runs that reused it took 0.64–1.2 s against
-#: 3.6–5.0 s (0.15–0.28), the gcp-count example's 3.2 s against 21 s (0.15)
-AFTER_SFM_SHARE = 0.25
+#: of an earlier run: the tiny study's runs that reused it took 0.27 s against 1.39 s
+#: (0.19, 2026-12-06), the gcp-count example's 3.2 s against 21 s (0.15)
+AFTER_SFM_SHARE = 0.2
 #: seconds of each run outside its render and reconstruction (the study's planning of
 #: the run: project, prepared render job, ground truth; its results and figures): the
-#: tiny study ran 4 runs in 54 s wall of which the stages took 27 s, and 2 runs in 26 s
-#: of which 12.8 s, 3 runs in 30 s of which 17 s (6.8, 6.7 and 4.3 s per run)
-RUN_OVERHEAD_S = 6.0
+#: tiny study's 3 runs took 10.0 s wall of which the stages took 4.5 s (1.8 s per run,
+#: an idle machine, 2026-12-06); on a busy one earlier, 4.3 to 6.8 s per run
+RUN_OVERHEAD_S = 3.0
 
 
 def _sfm_key(features_key: str, project) -> str:
