@@ -24,6 +24,7 @@ BENCHMARKS = {
     "reconstruct": "designer.bench.reconstruct",
     "rolling-adjustment": "designer.bench.rolling_adjustment",
     "doming": "designer.bench.doming",
+    "scale": "designer.bench.scale",
 }
 
 
@@ -48,6 +49,9 @@ def register(subparsers) -> None:
     parser.add_argument("--images", type=int, default=None, metavar="N",
                         help="gui: open a survey of about N images (the survey-block "
                              "template scaled; 720 is the template itself)")
+    parser.add_argument("--sizes", default=None, metavar="N,N,…",
+                        help="scale: the block sizes to measure, in images (default "
+                             "60,240,720)")
     parser.add_argument("--variants", action="store_true",
                         help="render: also the rows of the world's elements (sun over time, "
                              "moving objects, buildings, plants, clouds, rig, rolling shutter)")
@@ -107,11 +111,30 @@ def run(args) -> int:
 
             raise DesignerError(f"--images {args.images}: give a number of images >= 1")
         options["images"] = args.images
+    if args.sizes is not None:
+        options["sizes"] = _sizes(args.sizes, args.name, module)
     if "on_row" in inspect.signature(module.run).parameters:
         options["on_row"] = _live_rows(module)
     rows = module.run(repeats=args.repeats, scale=args.scale, **options)
     print(module.format_table(rows))
     return 0
+
+
+def _sizes(text: str, name: str, module) -> tuple[int, ...]:
+    """``--sizes 60,240,720`` as numbers of images (DesignerError says what is wrong)."""
+    from designer.errors import DesignerError
+
+    if "sizes" not in inspect.signature(module.run).parameters:
+        raise DesignerError(f"--sizes: only 'designer bench scale' takes it, not "
+                            f"'designer bench {name}'")
+    try:
+        sizes = tuple(int(v) for v in text.replace(" ", "").split(",") if v)
+    except ValueError:
+        sizes = ()
+    if not sizes or min(sizes) < 4:
+        raise DesignerError(f"--sizes {text}: give block sizes in images, at least 4 each, "
+                            "separated by commas (e.g. 60,240,720)")
+    return sizes
 
 
 def _live_rows(module):

@@ -75,11 +75,13 @@ def _log_default(message: str) -> None:
 
 
 @contextlib.contextmanager
-def _timed(timings: dict[str, float], name: str) -> Iterator[None]:
-    """``timings[name]``: the seconds the block took (when it finishes)."""
-    t = time.perf_counter()
+def _timed(timings: dict[str, float], name: str, cpu: dict[str, float]) -> Iterator[None]:
+    """``timings[name]``: the wall seconds the block took, ``cpu[name]`` this process's
+    CPU seconds in it (all threads), when it finishes."""
+    t, c = time.perf_counter(), time.process_time()
     yield
     timings[name] = time.perf_counter() - t
+    cpu[name] = time.process_time() - c
 
 
 def reconstruct(
@@ -106,22 +108,24 @@ def reconstruct(
     out.mkdir(parents=True, exist_ok=True)
     cache = FeatureCache(feature_cache) if feature_cache is not None else None
     timings: dict[str, float] = {}
-    with _timed(timings, "features_s"):
+    cpu: dict[str, float] = {}  # the same stages' CPU seconds
+    with _timed(timings, "features_s", cpu):
         features = extract_features(inputs, out / "database.db", cache, log)
-    with _timed(timings, "matching_s"):
+    with _timed(timings, "matching_s", cpu):
         matches = match_features(inputs, features, out, cache, log)
     layout = apply_rigs(features.db_path, inputs.cams, rigs, project_path, survey, log) \
         if mode == "free" else None
-    with _timed(timings, "reconstruction_s"):
+    with _timed(timings, "reconstruction_s", cpu):
         mapped = map_cameras(inputs, features, matches, layout, out / "sparse", cache, log)
     rec = mapped.rec
-    with _timed(timings, "adjustment_s"):
+    with _timed(timings, "adjustment_s", cpu):
         block = filter_and_adjust(rec, inputs, log)
     evaluated = evaluate_block(rec, inputs, block, layout)
     written = write_model(rec, inputs.offset, evaluated.rows, out)  # rec now world frame
     reused = {"features": features.reused, "matches": matches.reused,
               **({} if mapped.reused is None else {"sfm": mapped.reused})}
     summary = summary_of(rec, inputs, evaluated, block, layout, matches, reused, timings)
+    summary["stage_cpu_seconds"] = cpu
     truth_project = project_path or project_of_survey(survey)
     survey_gsd_m = gsd_m(inputs, rec)
     summary["sparse_dome"] = tie_point_dome(rec, truth_project, survey_gsd_m, log)
