@@ -48,14 +48,14 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+from designer.project.templates import block_of_side
+
 OUT_DIR = Path("bench-scale")
 #: the block sizes measured by default (images)
 SIZES = (60, 240, 720)
 #: the example's flight area (m a side) and its images
 EXAMPLE_AREA_M = 70.0
 EXAMPLE_IMAGES = 60
-#: the declared terrain's margin around the flight area on each side (the example's)
-TERRAIN_MARGIN_M = 15.0
 #: the table's stages, in processing order
 STAGES = ("plan", "render", "features", "matching", "mapping", "mapping (global)",
           "adjustment", "dense", "fusion", "rasters", "compare")
@@ -79,39 +79,11 @@ def block_project(images: int, scale: float = 1.0):
     area_m = EXAMPLE_AREA_M
     if images != EXAMPLE_IMAGES:
         area_m = _area_for(project, images)
-        project = _scaled(project, area_m)
+        project = block_of_side(project, area_m)
     render = replace(project.render,
                      resolution_scale=project.render.resolution_scale * scale)
     return replace(project, render=render,
                    name=f"Scale bench: {area_m:.0f} m block, about {images} images")
-
-
-def _scaled(project, area_m: float):
-    """``project`` (the example) over a flight area ``area_m`` a side."""
-    from designer.project import model as m
-
-    E0, N0 = project.origin.E0, project.origin.N0
-    half = area_m / 2
-    terrain_half = half + TERRAIN_MARGIN_M
-    terrain = replace(project.scene.terrain, extent=m.Extent(
-        E0 - terrain_half, N0 - terrain_half, E0 + terrain_half, N0 + terrain_half))
-    tiles = round(2 * terrain_half / 20.0)  # the example's 20 m texture tiles
-    texture = replace(project.scene.texture, repeat_X=tiles, repeat_Y=tiles)
-    k = max(3, round(4 * area_m / 350.0))
-    inset = half - 10.0  # the outer ring 10 m inside the area, as in survey-block
-    control = [-inset + 2 * inset * i / (k - 1) for i in range(k)]
-    check = [(a + b) / 2 for a, b in zip(control, control[1:])]
-    targets = tuple(
-        m.Target(id=f"{prefix}{i + 1:02d}", role=role, shape="checker", size_m=0.8,
-                 true=m.TruePosition(E0 + a, N0 + b))
-        for prefix, role, offsets in (("GCP", "control", control), ("CHK", "check", check))
-        for i, (a, b) in enumerate((a, b) for b in offsets for a in offsets))
-    scene = replace(project.scene, terrain=terrain, texture=texture,
-                    targets=replace(project.scene.targets, targets=targets))
-    area = tuple((E0 + a * half, N0 + b * half) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)))
-    plan = replace(project.trajectory.flight_plan, area=area)
-    return replace(project, scene=scene,
-                   trajectory=replace(project.trajectory, flight_plan=plan))
 
 
 def _area_for(project, images: int) -> float:
@@ -124,7 +96,7 @@ def _area_for(project, images: int) -> float:
     area = EXAMPLE_AREA_M * math.sqrt(images / EXAMPLE_IMAGES)
     for _ in range(4):
         area = 2 * round(area / 2)  # the terrain's extent a whole number of grid nodes
-        scaled = _scaled(project, area)
+        scaled = block_of_side(project, area)
         hf = build_heightfield(scaled.scene.terrain, Path("."), scaled.crs)
         n = len(project_stations(scaled, hf)[0])
         if abs(n - images) <= 0.05 * images:

@@ -15,7 +15,7 @@ from pathlib import Path
 #: result is written; bad input is 2, an interruption 130)
 RUNS_FAILED_EXIT = 3
 
-TEMPLATES = ("gcp-count", "flight-geometry", "doming", "altitude", "rig-obliques",
+TEMPLATES = ("gcp-count", "flight-geometry", "doming", "block-size", "altitude", "rig-obliques",
              "rolling-shutter", "example-processing", "tiny")
 
 

@@ -271,6 +271,46 @@ def survey_block() -> Template:
     return Template(project)
 
 
+#: a block's declared terrain reaches this far past its flight area on every side (the
+#: example's 15 m)
+BLOCK_TERRAIN_MARGIN_M = 15.0
+
+
+def block_of_side(project: m.Project, area_m: float) -> m.Project:
+    """``project`` (the example survey, or a project like it) flown over a square area
+    ``area_m`` a side about its origin: the declared terrain 15 m wider on every side,
+    the ground texture's tiles kept 20 m across, control GCPs on a k × k grid (k = 4 at
+    350 m as in the survey-block template, at least 3) with the outer ring 10 m inside
+    the area, check points on the grid between them. ``area_m`` a whole number of metres
+    keeps the terrain's extent a whole number of 0.5 m grid cells."""
+    import dataclasses
+
+    E0, N0 = project.origin.E0, project.origin.N0
+    half = area_m / 2
+    terrain_half = half + BLOCK_TERRAIN_MARGIN_M
+    terrain = dataclasses.replace(project.scene.terrain, extent=m.Extent(
+        E0 - terrain_half, N0 - terrain_half, E0 + terrain_half, N0 + terrain_half))
+    tiles = max(1, round(2 * terrain_half / 20.0))
+    texture = dataclasses.replace(project.scene.texture, repeat_X=tiles, repeat_Y=tiles)
+    k = max(3, round(4 * area_m / BLOCK_AREA_M))
+    inset = max(half - 10.0, half / 2)
+    control = [-inset + 2 * inset * i / (k - 1) for i in range(k)]
+    check = [(a + b) / 2 for a, b in zip(control, control[1:], strict=False)]
+    targets = tuple(
+        m.Target(id=f"{prefix}{i + 1:02d}", role=role, shape="checker", size_m=0.8,
+                 true=m.TruePosition(E0 + a, N0 + b))
+        for prefix, role, offsets in (("GCP", "control", control), ("CHK", "check", check))
+        for i, (a, b) in enumerate((a, b) for b in offsets for a in offsets))
+    old = project.scene.targets or m.Targets(())
+    scene = dataclasses.replace(project.scene, terrain=terrain, texture=texture,
+                                targets=dataclasses.replace(old, targets=targets))
+    area = tuple((E0 + a * half, N0 + b * half)
+                 for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)))
+    plan = dataclasses.replace(project.trajectory.flight_plan, area=area)
+    return dataclasses.replace(project, scene=scene, trajectory=dataclasses.replace(
+        project.trajectory, flight_plan=plan))
+
+
 def validation_cube() -> Template:
     """A 4 m cube on flat ground seen by 24 oblique photos on a circle: exact geometry."""
     cam = m.Camera(id="a7r4", name="Sony a7R IV, 35 mm lens", focal_length_mm=35.0,

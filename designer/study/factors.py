@@ -322,6 +322,21 @@ def _with_variation_strength(p: m.Project, value: float) -> m.Project:
 
 
 #: flight geometries of the ``flight-geometry`` factor: (crosshatch, tilt in deg)
+def _block_side(p: m.Project) -> float | None:
+    """The flight area's east–west side (m), None without a flight plan."""
+    plan = p.trajectory.flight_plan
+    if plan is None or not plan.area:
+        return None
+    xs = [x for x, _ in plan.area]
+    return max(xs) - min(xs)
+
+
+def _with_block_side(p: m.Project, side_m: float) -> m.Project:
+    from designer.project.templates import block_of_side
+
+    return block_of_side(p, side_m)
+
+
 GEOMETRIES = {"nadir": (False, 0.0), "crosshatch": (True, 0.0), "tilted": (True, 20.0)}
 
 
@@ -417,6 +432,9 @@ _HAND_WRITTEN: list[Factor] = [
        "variation, 0 to 1; 0 removes the variation (the plain tiled texture)", "render", _float,
        lambda p: p.scene.texture.variation.strength if p.scene.texture.variation else 0.0,
        _with_variation_strength),
+    _F("block-side-m", "side of a square flight area about the origin (m): the terrain 15 m "
+       "wider, control GCPs on a grid and check points between them, as the scale bench's "
+       "blocks", "render", _float, _block_side, _with_block_side),
     _F("render-preset", "render quality preset: draft, survey or metrology", "render",
        _choice("draft", "survey", "metrology"), lambda p: p.render.preset,
        lambda p, v: replace(p, render=replace(p.render, preset=v, samples=None))),

@@ -105,6 +105,23 @@ STUDIES = {
                '  <replicates count="3" vary="pre-calibration marking-error"/>\n'
                '  <metrics>sparse_dome_gsd check_rmse_z_gsd focal_error_px k1_error '
                'k1_error_beyond_focal</metrics>\n'),
+    "block-size": ("How does the error grow with the block? The example survey (its "
+                   "camera, height, overlaps and hills) over square areas of 70, 184 and 352 "
+                   "m a side (about 60, 240 and 720 images, the scale bench's blocks; "
+                   "control GCPs on a grid, about 2 to 3 per 100 images, check points "
+                   "between them), images at a quarter of the example's size (342 x 228 px), "
+                   "with a fixed and a self-calibrated (radial) camera starting from a "
+                   "pre-calibration wrong by 5 px in f and 0.02 in k1; the GCPs as a "
+                   "similarity after the adjustment. One render per block.",
+                   '  <factor name="block-side-m">\n'
+                   '    <description>side of the flight area</description>\n'
+                   '    <values>70 184 352</values>\n  </factor>\n'
+                   '  <factor name="calibration">\n'
+                   '    <values>fixed radial</values>\n  </factor>\n'
+                   '  <design>full-factorial</design>\n'
+                   '  <replicates count="1"/>\n'
+                   '  <metrics>registered check_rmse_xy_m check_rmse_z_gsd sparse_dome_gsd '
+                   'focal_error_px k1_error</metrics>\n'),
     "altitude": ("Flight altitude (GSD) against accuracy and render time.",
                  '  <factor name="altitude-m">\n'
                  '    <range start="25" stop="40" step="5"/>\n  </factor>\n'
@@ -200,6 +217,8 @@ def template_base(name: str) -> m.Project:
                        trajectory=replace(p.trajectory, time_line=time_line))
     if name == "doming":
         return doming_base()
+    if name == "block-size":
+        return block_size_base()
     if name == "flight-geometry":
         p = base_project()
         cam = replace(p.cameras[0], distortion=m.BrownConradyDistortion(k1=-0.08, k2=0.01))
@@ -234,6 +253,23 @@ def doming_base() -> m.Project:
     return replace(p, scene=scene, trajectory=m.Trajectory(flight_plan=plan),
                    processing=processing,
                    effects=m.Effects(sensor_noise=m.SensorNoise(4.0, seed=1)))
+
+
+def block_size_base() -> m.Project:
+    """The example survey at a quarter of its image size (resolution scale 0.0625: 342 ×
+    228 px), its camera pre-calibrated with an error of 5 px in f and 0.02 in k1, the
+    GCPs as a similarity after the adjustment, no dense matching (the tie points' dome
+    is measured)."""
+    from designer.project.templates import template
+
+    p = template("survey").project
+    processing = m.Processing(
+        calibration=m.Calibration("fixed", m.PreCalibrationError(focal_px=5.0, k1=0.02,
+                                                                 seed=1)),
+        gcps=m.GcpProcessing(mode="similarity", marking_sigma_px=0.5, seed=1),
+        dense="none")
+    return replace(p, render=replace(p.render, resolution_scale=0.0625),
+                   processing=processing)
 
 
 def write_template(name: str, path: Path) -> list[Path]:

@@ -86,3 +86,20 @@ def test_bad_sizes_are_refused_with_the_fix(tmp_path):
     other = subprocess.run([sys.executable, "-m", "designer", "bench", "core",
                             "--sizes", "60"], cwd=tmp_path, capture_output=True, text=True)
     assert other.returncode == 2 and "only 'designer bench scale'" in other.stderr
+
+
+def test_the_block_side_factor_gives_the_bench_blocks():
+    """A study's ``block-side-m`` and the scale bench make the same blocks."""
+    from designer.study.factors import FACTORS
+    from designer.study.templates import template_base
+
+    factor = FACTORS["block-side-m"]
+    base = template_base("block-size")
+    assert factor.get(base) == 70.0
+    big = factor.set(base, 352.0)
+    bench = scale.block_project(720, 0.25)
+    assert factor.get(big) == 352.0
+    assert big.scene.terrain == bench.scene.terrain
+    assert big.scene.targets.targets == bench.scene.targets.targets
+    assert big.trajectory.flight_plan.area == bench.trajectory.flight_plan.area
+    assert big.render.resolution_scale == bench.render.resolution_scale
