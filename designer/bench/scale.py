@@ -198,6 +198,9 @@ def measure_block(images: int, folder: Path, scale: float = 1.0, log=None) -> li
     rows: dict[str, dict] = {}
     plan = _run_step(["plan", str(xml)], "plan", log=log)
     rows["plan"] = plan
+    # what the plan estimates before this block renders (the records of smaller blocks
+    # rendered before it count, as on a user's machine)
+    planned = _plan_figures(project)
     survey, recon = folder / "survey", folder / "reconstruction"
     rows["render"] = _run_step(["render", str(xml), "-o", str(survey), "--progress", "none"],
                                "render", log=log)
@@ -233,9 +236,10 @@ def measure_block(images: int, folder: Path, scale: float = 1.0, log=None) -> li
                                  str(folder / "compare")], "compare", log=log)
     distances = json.loads((folder / "compare" / "summary.json").read_text())["distances"]
     out = [{"images": images, "stage": s, **{k: rows[s].get(k) for k in
-                                              ("wall_s", "cpu_s", "peak_mb")}}
+                                              ("wall_s", "cpu_s", "peak_mb", "estimate_s")}}
            for s in STAGES]
-    gsd_m = _median_gsd_m(project)
+    gsd_m = planned["gsd_m"]
+    rows["render"]["estimate_s"] = planned["render_estimate_s"]
     check = summary.get("check") or {}
     out.append({
         "images": images, "stage": "block", "registered": summary["registered"],
@@ -263,11 +267,13 @@ def _area_of(project) -> float:
     return max(xs) - min(xs)
 
 
-def _median_gsd_m(project) -> float:
-    """The block's median GSD, as ``designer plan`` computes it."""
+def _plan_figures(project) -> dict:
+    """The block's median GSD and render estimate (s), as ``designer plan`` gives them."""
     from designer.survey.plan_report import plan_project
 
-    return float(plan_project(project, Path(".")).analysis.median_gsd_m())
+    analysis = plan_project(project, Path(".")).analysis
+    return {"gsd_m": float(analysis.median_gsd_m()),
+            "render_estimate_s": float(analysis.render_time_s)}
 
 
 def _texture_of(project) -> str:
@@ -381,6 +387,10 @@ def format_table(rows: list[dict]) -> str:
         e = exp.get(stage)
         lines.append(f"{stage:<17}" + "".join(f"{p:>30}" for p in parts)
                      + (f"   exponent {e:.2f}" if e is not None else ""))
+    estimates = [(n, cell.get((n, "render"), {})) for n in sizes]
+    lines.append("render estimated by designer plan before it ran: " + ", ".join(
+        f"{n} images {r['estimate_s']:.0f} s ({r['estimate_s'] / r['wall_s']:.2f} of the "
+        f"measured)" for n, r in estimates if r.get("estimate_s") and r.get("wall_s")))
     if len(sizes) >= 2:
         lines.append(f"exponent: log(wall ratio) / log(image ratio) between {sizes[-2]} and "
                      f"{sizes[-1]} images (1 = linear)")

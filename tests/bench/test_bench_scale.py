@@ -59,6 +59,7 @@ def test_bench_scale_runs_two_small_blocks_end_to_end(tmp_path):
     for stage in scale.STAGES:
         assert any(line.startswith(stage + " ") for line in table.splitlines()), stage
     assert "between 12 and 24 images" in table
+    assert "render estimated by designer plan before it ran: 12 images" in table
     data = json.loads((tmp_path / "bench-scale" / "scale.json").read_text())
     rows = data["rows"]
     for n in (12, 24):
@@ -67,6 +68,7 @@ def test_bench_scale_runs_two_small_blocks_end_to_end(tmp_path):
             assert stages[stage]["wall_s"] > 0, (n, stage)
         for stage in ("render", "features", "matching", "mapping", "fusion", "compare"):
             assert stages[stage]["peak_mb"] > 50, (n, stage)  # Python and COLMAP at least
+        assert stages["render"]["estimate_s"] > 0  # designer plan's, before the render
         block = stages["block"]
         assert block["registered"] >= 0.9 * n
         assert math.isfinite(block["check_rmse_z_gsd"]) and block["check_rmse_z_gsd"] < 3
