@@ -595,12 +595,9 @@ MAX_FUNCTION_LINES = 80
 #: test says so), and a new long function is split, not added.
 LONG_FUNCTIONS: dict[str, str] = {
     # pipelines with one option inline per step; being split into named steps (issue #54)
-    "designer/render/job.py:prepare_job":
-        "the render job's scene, bakes, cameras, effects and files inline; its split into "
-        "named steps is under way in render (issue #54 item 1)",
     "designer/render/pipeline.py:render_project":
         "the render's phases (prepare, probe, frames, exports) with resume and progress "
-        "inline; to split as prepare_job is",
+        "inline; to split as prepare_job was",
     "designer/study/run.py:_execute":
         "the study's render and processing tasks scheduled with their caches and progress "
         "in one loop; its task kinds to become functions of their own",
