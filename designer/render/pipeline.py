@@ -160,7 +160,7 @@ def parse_frames(text: str | None, n_frames: int) -> list[int]:
 
 def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     """Pixel coordinates of every GCP in every image where it is visible and unoccluded."""
-    from designer.survey.raycast import TerrainRaycaster
+    from designer.core.raycast import TerrainRaycaster
     from designer.survey.visibility import visible_pairs
 
     targets = prepared.scene.targets

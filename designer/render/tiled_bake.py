@@ -132,7 +132,7 @@ def frame_tiles(grid: TileGrid, extent_m: tuple[float, float, float, float], hei
     size and MARGIN_M. Rays that miss the terrain add nothing (that ground, seen towards
     the horizon, shows the coarse bake). ``C_world`` (N, 3) m, ``R_cam_to_world`` (N, 3, 3)."""
     from designer.core.projection import pixel_rays_world
-    from designer.survey.raycast import raycaster_of
+    from designer.core.raycast import raycaster_of
 
     x0, x1, y0, y1 = extent_m
     caster = raycaster_of(heightfield)

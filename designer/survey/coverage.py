@@ -50,11 +50,11 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
+from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.errors import DesignerError
 from designer.survey import area as _area
 from designer.survey.flight import FlightPlan, Station
-from designer.survey.raycast import TerrainRaycaster
 from designer.survey.visibility import visible_pairs
 
 #: thresholds reported by :attr:`CoverageMap.shares`

@@ -442,7 +442,7 @@ def terrain_fractions(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarr
     R = np.asarray(R_cam_to_world, dtype=float).reshape(n, 3, 3)
     # every image's rays at once: only hit or miss is used (past the terrain's edge is a
     # miss), which the ray caster decides without casting most of them
-    from designer.survey.raycast import raycaster_of
+    from designer.core.raycast import raycaster_of
 
     rays = np.einsum("kij,rj->kri", R, rays_cam).reshape(-1, 3)
     seen = raycaster_of(heightfield).sees_surface(np.repeat(C, len(uv), axis=0), rays)

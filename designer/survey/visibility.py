@@ -21,8 +21,8 @@ import numpy as np
 
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
+from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
-from designer.survey.raycast import TerrainRaycaster
 
 #: rays per image edge used to bound a camera's footprint
 BORDER_RAYS_PER_EDGE = 9

@@ -18,6 +18,7 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
+from designer.core.raycast import TerrainRaycaster, raycaster_of
 from designer.errors import DesignerError
 from designer.gui.state.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
@@ -43,7 +44,6 @@ from designer.scene.lighting import (
 from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
-from designer.survey.raycast import TerrainRaycaster, raycaster_of
 from designer.survey.station_clearance import plant_cylinders
 from designer.survey.surroundings import GrownTerrain
 from designer.survey.terrain_reach import Reach, terrain_file_reach
