@@ -97,7 +97,7 @@ def run_survey(n_images: int) -> list[dict]:
     import os
     import shutil
 
-    from designer.survey.render_cost import cache_dir
+    from designer.render_time.model import cache_dir
 
     tmp = Path(tempfile.mkdtemp(prefix="designer-bench-gui-"))
     (tmp / "cache").mkdir()
@@ -172,8 +172,8 @@ def _rows(path: Path, n: int, open_s: float, first_frame_s: float, frames: list,
           figures: list, ticks, gui_estimate_s: float, gui_void) -> list[dict]:
     """The bench's rows from the window's measurements, beside ``designer plan`` of the
     same file (in this process)."""
+    from designer.render_time.model import format_duration
     from designer.survey.plan_report import VOID_WARN, plan_project, plan_summary
-    from designer.survey.render_cost import format_duration
 
     t0 = time.perf_counter()
     s = plan_summary(plan_project(_load(path), path.parent))

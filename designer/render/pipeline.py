@@ -44,8 +44,8 @@ from designer.render.runner import (
     image_size_px,
     render_frames,
 )
-from designer.render.timing import RenderTimes
 from designer.render.void_share import VoidSummary
+from designer.render_time.timing import RenderTimes
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
 
@@ -334,7 +334,7 @@ def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: 
     warning."""
     import sys
 
-    from designer.render.speed_record import record_render_speed
+    from designer.render_time.record import record_render_speed
 
     try:
         record_render_speed(prepared, report, prepare_seconds, project=project)

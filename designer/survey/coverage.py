@@ -478,7 +478,7 @@ def analyse_plan(
     R = np.array([s.R_cam_to_world for s in stations])
     cover = coverage_map(ground_grid(heightfield, area, cell_m), C, R, interior, rc, tol_m)
     gcps = None if gcp_xyz is None else gcp_visibility(gcp_xyz, C, R, interior, rc, tol_m)
-    render = None  # the caller's estimate (designer.survey.render_cost)
+    render = None  # the caller's estimate (designer.render_time.model)
     st = analyse_stations(stations, interior, rc, samples_per_axis)
     centre = st.centre_ground_xyz
     # Over the area: the station itself and the ground its principal ray meets.

@@ -77,10 +77,10 @@ _MATCH = {
     ("fixed_s",): (("scene", "texture", "effects", "samples_band", "size_band"),
                    ("scene", "effects", "samples_band", "size_band"), ("scene", "effects")),
 }
-#: How the renderer draws the ground texture (designer.render.job takes the same choice,
-#: :func:`texture_path`): "baked" — one image lookup per sample (a plain tiled texture, an
-#: orthophoto, or a varied texture baked whole); "tiled" — a varied texture too wide for
-#: one bake, baked in tiles that each frame loads as it sees them; "node-graph" — the
+#: How the renderer draws the ground texture (designer.render.job_terrain takes the same
+#: choice, :func:`texture_path`): "baked" — one image lookup per sample (a plain tiled
+#: texture, an orthophoto, or a varied texture baked whole); "tiled" — a varied texture
+#: too wide for one bake, baked in tiles that each frame loads as it sees them; "node-graph" — the
 #: varied texture blended by Cycles' nodes per sample (five lookups; ``designer bench
 #: render``'s unbaked row, or a mesh terrain too wide for one bake). Each path's
 #: coefficients come from renders of that path; until this machine has rendered one, the

@@ -11,7 +11,7 @@ import pytest
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
-from designer.survey import render_cost as rc
+from designer.render_time import model as rc
 
 TRUE = rc.RenderSpeed(terrain_cpu_s_per_mp_sample=0.4, background_cpu_s_per_mp_sample=0.1,
                       post_s_per_mp=0.2, fixed_s=5.0, source="render")
