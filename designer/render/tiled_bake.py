@@ -162,12 +162,10 @@ def frame_tiles(grid: TileGrid, extent_m: tuple[float, float, float, float], hei
 
 def _probe_pixels(interior) -> np.ndarray:
     """Pixel positions (M, 2) on an image's border and a grid inside it."""
+    from designer.core.projection import edge_pixels
+
     W, H = interior.image_size_px
-    t = np.linspace(0.0, 1.0, BORDER_RAYS)
-    border = np.concatenate([np.column_stack([t * W, np.zeros_like(t)]),
-                             np.column_stack([t * W, np.full_like(t, H)]),
-                             np.column_stack([np.zeros_like(t), t * H]),
-                             np.column_stack([np.full_like(t, W), t * H])])
+    border = edge_pixels(interior, BORDER_RAYS)
     g = (np.arange(INNER_RAYS) + 0.5) / INNER_RAYS
     inner = np.column_stack([np.tile(g * W, INNER_RAYS), np.repeat(g * H, INNER_RAYS)])
     return np.concatenate([border, inner])
