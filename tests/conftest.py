@@ -17,7 +17,7 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 @pytest.fixture(autouse=True)
 def _own_cache_dir(tmp_path_factory, monkeypatch):
     """Each test its own designer cache folder (the render-speed file,
-    designer.survey.render_cost): no test sees another's, or the user's, calibration;
+    designer.render_time.model): no test sees another's, or the user's, calibration;
     the variable reaches the processes a test starts."""
     monkeypatch.setenv("DESIGNER_CACHE_DIR", str(tmp_path_factory.mktemp("designer-cache")))
 

@@ -142,34 +142,11 @@ def _run(scale: float) -> list[dict]:
 
 
 def _time_edit(window, new, altitude: float) -> tuple[float, float]:
-    """Seconds from the edit to (new stations, the first frame showing them), waiting in
-    Qt's event loop as the window does (a busy-wait would hold the GIL from the worker)."""
-    from PySide6.QtCore import QEventLoop, QTimer
+    """Seconds from the edit to (the first frame showing the new stations, new stations)."""
+    from designer.bench.gui_survey import time_flight_edit
 
-    sync, view = window.sync, window.view
-    loop = QEventLoop()
-    marks: dict[str, float] = {}
-
-    def stations_done() -> None:
-        if sync.stations is not None and sync.stations.calc.altitude_agl_m == altitude:
-            marks.setdefault("stations", time.perf_counter())
-
-    def frame_done() -> None:
-        if "stations" in marks:
-            marks.setdefault("frame", time.perf_counter())
-            loop.quit()
-
-    sync.stations_changed.connect(stations_done)
-    view.frame_rendered.connect(frame_done)
-    QTimer.singleShot(30000, loop.quit)
-    t0 = time.perf_counter()
-    window.editor.edit(new, "Flight height")
-    loop.exec()
-    sync.stations_changed.disconnect(stations_done)
-    view.frame_rendered.disconnect(frame_done)
-    if "frame" not in marks:
-        raise RuntimeError("the view did not update within 30 s")
-    return marks["frame"] - t0, marks["stations"] - t0
+    marks = time_flight_edit(window, new, altitude)
+    return marks["frame"], marks["stations"]
 
 
 def _frame_seconds(app, view, n: int = 5) -> float:

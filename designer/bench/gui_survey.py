@@ -97,7 +97,7 @@ def run_survey(n_images: int) -> list[dict]:
     import os
     import shutil
 
-    from designer.survey.render_cost import cache_dir
+    from designer.render_time.model import cache_dir
 
     tmp = Path(tempfile.mkdtemp(prefix="designer-bench-gui-"))
     (tmp / "cache").mkdir()
@@ -172,8 +172,8 @@ def _rows(path: Path, n: int, open_s: float, first_frame_s: float, frames: list,
           figures: list, ticks, gui_estimate_s: float, gui_void) -> list[dict]:
     """The bench's rows from the window's measurements, beside ``designer plan`` of the
     same file (in this process)."""
+    from designer.render_time.model import format_duration
     from designer.survey.plan_report import VOID_WARN, plan_project, plan_summary
-    from designer.survey.render_cost import format_duration
 
     t0 = time.perf_counter()
     s = plan_summary(plan_project(_load(path), path.parent))
@@ -223,14 +223,27 @@ def _load(path: Path):
 def _time_edit(window, altitude: float) -> tuple[float, float]:
     """Seconds from a flight-height edit to the first frame showing the new stations and
     to the Flight panel's figures over them; then waits until the window is idle."""
-    from PySide6.QtCore import QEventLoop, QTimer
-
     from designer.gui.app import wait_idle
     from designer.gui.state import edits
+
+    new = edits.set_flight(window.document.project, altitude_agl_m=altitude)
+    marks = time_flight_edit(window, new, altitude, figures=True, timeout_s=120.0)
+    wait_idle(window, 600)
+    return marks["frame"], marks["figures"]
+
+
+def time_flight_edit(window, new, altitude: float, *, figures: bool = False,
+                     timeout_s: float = 30.0) -> dict[str, float]:
+    """Seconds from a flight-height edit (``new``: the project at ``altitude``) to the new
+    stations ("stations"), the first frame showing them ("frame") and, with ``figures``,
+    the Flight panel's figures over them ("figures"). Waits in Qt's event loop as the
+    window does (a busy-wait would hold the GIL from the worker), ``timeout_s`` at most."""
+    from PySide6.QtCore import QEventLoop, QTimer
 
     sync, view = window.sync, window.view
     loop = QEventLoop()
     marks: dict[str, float] = {}
+    wanted = ("frame", "figures") if figures else ("frame",)
 
     def stations_done() -> None:
         if sync.stations is not None and sync.stations.calc.altitude_agl_m == altitude:
@@ -239,7 +252,7 @@ def _time_edit(window, altitude: float) -> tuple[float, float]:
     def frame_done() -> None:
         if "stations" in marks:
             marks.setdefault("frame", time.perf_counter())
-            if "figures" in marks:
+            if all(k in marks for k in wanted):
                 loop.quit()
 
     def figures_done() -> None:
@@ -250,19 +263,20 @@ def _time_edit(window, altitude: float) -> tuple[float, float]:
 
     sync.stations_changed.connect(stations_done)
     view.frame_rendered.connect(frame_done)
-    sync.plan_changed.connect(figures_done)
-    QTimer.singleShot(120000, loop.quit)
-    new = edits.set_flight(window.document.project, altitude_agl_m=altitude)
+    if figures:
+        sync.plan_changed.connect(figures_done)
+    QTimer.singleShot(round(1000 * timeout_s), loop.quit)
     t0 = time.perf_counter()
     window.editor.edit(new, "Flight height")
     loop.exec()
     sync.stations_changed.disconnect(stations_done)
     view.frame_rendered.disconnect(frame_done)
-    sync.plan_changed.disconnect(figures_done)
-    if "frame" not in marks or "figures" not in marks:
-        raise RuntimeError("the window did not update within 120 s")
-    wait_idle(window, 600)
-    return marks["frame"] - t0, marks["figures"] - t0
+    if figures:
+        sync.plan_changed.disconnect(figures_done)
+    if any(k not in marks for k in wanted):
+        raise RuntimeError(f"the {'window' if figures else 'view'} did not update within "
+                           f"{timeout_s:g} s")
+    return {k: t - t0 for k, t in marks.items()}
 
 
 def format_survey_table(rows: list[dict]) -> str:

@@ -53,7 +53,7 @@ from designer.project import load_project, template, write_project
 from designer.project import model as m
 from designer.render.job import prepare_job
 from designer.render.runner import render_frames
-from designer.render.stages import STAGE_COLUMNS, mean_stages
+from designer.render_time.stages import STAGE_COLUMNS, mean_stages
 
 
 def _example(folder: Path) -> Path:

@@ -14,7 +14,7 @@ image for those frames with its ratio to the measured: the model as ``designer p
 has it on a machine that has rendered the example and nothing else (a record fitted to
 the example's baked row, in a cache folder of the run's own), so the rows of other
 sizes and paths are estimated through the texture path's priors
-(``designer.survey.render_cost.TEXTURE_PATH_CYCLES``). Every row renders in its own
+(``designer.render_time.model.TEXTURE_PATH_CYCLES``). Every row renders in its own
 worker process, one after the other in one run.
 """
 
@@ -33,8 +33,7 @@ from designer.project import model as m
 from designer.project import template, write_project
 from designer.render.job import prepare_job
 from designer.render.runner import render_frames
-from designer.render.speed_record import job_texture_path
-from designer.survey.render_cost import (
+from designer.render_time.model import (
     REFERENCE,
     fit_speed,
     frame_cpu_s,
@@ -42,6 +41,7 @@ from designer.survey.render_cost import (
     load_speed,
     save_speed,
 )
+from designer.render_time.record import job_texture_path
 
 #: (terrain side, flight area side) in metres
 SIZES = ((100.0, 70.0), (500.0, 350.0), (1200.0, 1000.0))

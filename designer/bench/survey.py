@@ -16,10 +16,10 @@ import numpy as np
 from designer.bench.timing import best_of
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
+from designer.core.raycast import TerrainRaycaster
 from designer.survey import area as survey_area
 from designer.survey import coverage, gcp_layout
 from designer.survey.flight import plan_flight
-from designer.survey.raycast import TerrainRaycaster
 
 ORIGIN_EN = (500000.0, 5000000.0)
 

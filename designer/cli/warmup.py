@@ -45,7 +45,7 @@ def run(args) -> int:
           flush=True)
     if not getattr(args, "no_probe", False):
         from designer.render.probe import probe_render_speed
-        from designer.survey.render_cost import cache_dir
+        from designer.render_time.model import cache_dir
 
         speed = probe_render_speed()
         print(f"render speed measured in {time.perf_counter() - t2:.1f} s "

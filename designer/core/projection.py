@@ -137,6 +137,18 @@ def image_corners_px(interior: InteriorOrientation) -> np.ndarray:
     return np.array([[0.0, 0.0], [W, 0.0], [W, H], [0.0, H]])
 
 
+def edge_pixels(interior: InteriorOrientation, per_edge: int) -> np.ndarray:
+    """``per_edge`` pixel positions evenly along each image edge, ends included (4·per_edge,
+    2): the top edge left to right, the bottom edge, the left edge top to bottom, the
+    right edge."""
+    W, H = interior.image_size_px
+    s = np.linspace(0.0, 1.0, per_edge)
+    return np.concatenate([np.column_stack([s * W, np.zeros_like(s)]),
+                           np.column_stack([s * W, np.full_like(s, H)]),
+                           np.column_stack([np.zeros_like(s), s * H]),
+                           np.column_stack([np.full_like(s, W), s * H])])
+
+
 def ground_sample_distance_m(interior: InteriorOrientation, distance_m: float | np.ndarray):
     """Ground sample distance (m/px) at the principal point for a surface ``distance_m``
     in front of the camera, perpendicular to the viewing axis: distance · pitch / f.

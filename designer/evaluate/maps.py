@@ -130,14 +130,20 @@ def write_error_map_png(path: str | os.PathLike, grid: ErrorGrid, *,
     # y given: the title sits where matplotlib would put it (no ticks on top), without
     # measuring the axis' tight box on every draw (a fifth of the figure's time)
     ax.set_title(f"{title} ({grid.cell_m:g} m cells)", y=1.0)
+    plan_axes(ax)
+    fig.subplots_adjust(**MAP_MARGINS)  # fixed: tight_layout would draw the figure twice
+    return _save(fig, path)
+
+
+def plan_axes(ax) -> None:
+    """Label a plan map's axes: easting and northing in metres, written out in full (no
+    offset), equal scales, the eastings turned to stay apart."""
     ax.set_xlabel("easting (m)")
     ax.set_ylabel("northing (m)")
     ax.ticklabel_format(useOffset=False, style="plain")
     ax.set_aspect("equal")
     for tick in ax.get_xticklabels():
         tick.set_rotation(30)
-    fig.subplots_adjust(**MAP_MARGINS)  # fixed: tight_layout would draw the figure twice
-    return _save(fig, path)
 
 
 def write_histogram_png(path: str | os.PathLike, stats: dict, *,

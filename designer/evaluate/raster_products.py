@@ -19,6 +19,7 @@ import numpy as np
 
 from designer.atomic import atomic_path
 from designer.errors import DesignerError
+from designer.evaluate.maps import plan_axes
 from designer.evaluate.rasters import (
     DomeFit,
     Raster,
@@ -125,12 +126,7 @@ def write_dod_png(path, dod: Raster, dome: DomeFit | None = None, stats: dict | 
             ring = np.vstack([dome_area_world, dome_area_world[:1]])
             ax.plot(ring[:, 0], ring[:, 1], "-", color="k", lw=0.8)
     ax.set_title(title, fontsize=10)
-    ax.set_xlabel("easting (m)")
-    ax.set_ylabel("northing (m)")
-    ax.ticklabel_format(useOffset=False, style="plain")
-    ax.set_aspect("equal")
-    for tick in ax.get_xticklabels():
-        tick.set_rotation(30)
+    plan_axes(ax)
     fig.tight_layout()
     return _save(fig, path)
 

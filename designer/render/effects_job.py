@@ -1,5 +1,5 @@
-"""The camera effects of a render job, outside Blender: each camera's effect chain, and
-one frame's raw render turned into its finished image.
+"""The camera effects of a render job, outside Blender: the job's spec of them, each
+camera's effect chain, and one frame's raw render turned into its finished image.
 
 The render worker applies them right after Cycles; :func:`apply_effects_pass` applies
 them to raw renders kept from an earlier run (``render_project(..., raw_from=DIR)``), so
@@ -12,7 +12,29 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from designer.render.job_spec import FrameSpec, RenderJob
+from designer.render.job_spec import CameraEffectsSpec, EffectsSpec, FrameSpec, RenderJob
+
+
+def effects_spec(model, interiors: dict, rendered: dict, job_dir: Path, rig: bool
+                 ) -> EffectsSpec | None:
+    """The job's camera effects (None: every image is final as rendered): everything the
+    worker needs to build each chain, the project's effects ``model``, each camera's
+    interior as rendered and its distortion warp (written beside the job). ``interiors``
+    and ``rendered`` (pinhole, warp) by camera id; ``rig``: several cameras."""
+    from designer.effects.from_model import effects_from_model
+
+    with_effects = [c for c, i in interiors.items()
+                    if not effects_from_model(model, i, warp=rendered[c][1]).is_empty]
+    if not with_effects:
+        return None
+    parts: dict[str, CameraEffectsSpec] = {}
+    for c in with_effects:
+        w, warp_file = rendered[c][1], None
+        if w is not None:
+            warp_file = "distortion_warp.npz" if not rig else f"distortion_warp_{c}.npz"
+            w.save(Path(job_dir) / warp_file)
+        parts[c] = CameraEffectsSpec(interior=interiors[c], warp=warp_file)
+    return EffectsSpec(model=model, cameras=parts, rig=rig)
 
 
 def load_effects(job: RenderJob, base: Path) -> dict:

@@ -10,7 +10,7 @@ step is its own sun: frames taken at the same moment share one.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -178,6 +178,38 @@ class ObjectLighting:
                 steps.append(LightStep(sun[0], sun[1], tuple(
                     self.objects(*sun, tag=f"-{len(steps):05d}", time_s=t))))
         return tuple(steps), [index[k] for k in keys]
+
+
+@dataclass(frozen=True)
+class FrameLight:
+    """How a job's frames are lit: ``objects`` (the first light step's, with a sun over
+    time), the light ``steps`` (empty: one sun for every frame), each frame's step index
+    (None with one sun) and each frame's sun (grid azimuth, elevation; deg)."""
+
+    objects: list
+    steps: tuple
+    frame_steps: list
+    suns: list
+
+
+def frame_light(light: ObjectLighting, project: m.Project, scene: BuiltScene, times,
+                n_frames: int) -> FrameLight:
+    """Write the lit objects of the job's ``n_frames`` frames taken at ``times``
+    (StationTime each; None: no time line): one set for one sun, else one per light
+    step."""
+    suns = frame_suns(project, times)
+    clouds = project.scene.lighting.clouds
+    drifting = clouds is not None and times is not None
+    if suns is None and not drifting:
+        # one sun (and clouds frozen at take-off, if any): the objects as built are lit
+        # for every frame
+        objects = light.objects(scene.sun_azimuth_deg, scene.sun_elevation_deg)
+        suns = [(scene.sun_azimuth_deg, scene.sun_elevation_deg)] * n_frames
+        return FrameLight(objects, (), [None] * n_frames, suns)
+    if suns is None:
+        suns = [(scene.sun_azimuth_deg, scene.sun_elevation_deg)] * n_frames
+    steps, frame_steps = light.steps(suns, [t.time_s for t in times] if drifting else None)
+    return FrameLight(list(steps[0].objects), steps, frame_steps, suns)
 
 
 def _targets_object(scene: BuiltScene, origin: np.ndarray, job_dir: Path,

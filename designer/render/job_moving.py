@@ -16,6 +16,22 @@ from designer.scene.moving import MovingPose, pose_at, shape_mesh
 MOVING_PREFIX = "moving:"
 
 
+def moving_job(project: m.Project, base_dir: Path, scene, job_dir: Path, times,
+               origin: np.ndarray, contexts: list[dict]
+               ) -> tuple[tuple[MeshSpec, ...], dict | None, list[tuple[MovingPose, ...]]]:
+    """(the job's mesh specs, the meshes as :func:`moving_meshes`, per frame every moving
+    object's pose) for frames taken at ``times`` (StationTime each); each frame's poses
+    also go into its context (``contexts``, one dict per frame, filled in). Nothing
+    without moving objects or a time line."""
+    if not project.scene.moving_objects or times is None:
+        return (), None, []
+    specs, meshes = moving_meshes(project, base_dir, job_dir)
+    moving = frame_moving_poses(project, scene, [t.time_s for t in times])
+    for i, frame_poses in enumerate(moving):
+        contexts[i]["moving_poses"] = local_poses(frame_poses, origin)
+    return specs, meshes, moving
+
+
 def moving_meshes(project: m.Project, base_dir: Path, job_dir: Path
                   ) -> tuple[tuple[MeshSpec, ...], dict[str, tuple[np.ndarray, np.ndarray]]]:
     """(the job's mesh specs, {object id: (vertices (N, 3), faces (M, 3)) in the object's

@@ -26,8 +26,8 @@ from designer.render.job import PreparedJob
 from designer.render.job_spec import SKY_RGB
 from designer.render.provenance import ImageProvenance, ground_truth_digest
 from designer.render.runner import RenderReport
-from designer.render.stages import round_stages
 from designer.render.void_share import VoidSummary, round_void_share, void_summary
+from designer.render_time.stages import round_stages
 
 __all__ = ["GROUND_TRUTH_DIR", "MANIFEST", "Manifest", "read_manifest"]
 
@@ -123,7 +123,7 @@ class Manifest:
                    void_share: float | None = None) -> None:
         """Record a finished image: its seconds in the worker (``render_seconds``, the
         whole frame) and, when the worker reported them, each stage's seconds
-        (:data:`designer.render.stages.FRAME_STAGES`) and the share of the image that
+        (:data:`designer.render_time.stages.FRAME_STAGES`) and the share of the image that
         sees no object (``void_share``, 0..1: :mod:`designer.render.void_share`)."""
         name = self.prepared.job.image_names[index]
         entry = {"frame": index, "render_seconds": round(seconds, 4)}
@@ -147,7 +147,7 @@ class Manifest:
 
     def finish(self, report: RenderReport, times=None) -> Path:
         """The run's last record: its report and its timings
-        (:class:`designer.render.timing.RenderTimes`, ``times_last_run``)."""
+        (:class:`designer.render_time.timing.RenderTimes`, ``times_last_run``)."""
         if times is not None:
             self.data["times_last_run"] = times.to_json()
         if report.blender_version:

@@ -44,8 +44,8 @@ from designer.render.runner import (
     image_size_px,
     render_frames,
 )
-from designer.render.timing import RenderTimes
 from designer.render.void_share import VoidSummary
+from designer.render_time.timing import RenderTimes
 
 DEFAULT_FORMATS = ("colmap", "odm", "metashape", "opk", "gcp")
 
@@ -160,7 +160,7 @@ def parse_frames(text: str | None, n_frames: int) -> list[int]:
 
 def ground_truth_observations(prepared: PreparedJob) -> list[GcpObservation]:
     """Pixel coordinates of every GCP in every image where it is visible and unoccluded."""
-    from designer.survey.raycast import TerrainRaycaster
+    from designer.core.raycast import TerrainRaycaster
     from designer.survey.visibility import visible_pairs
 
     targets = prepared.scene.targets
@@ -334,7 +334,7 @@ def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: 
     warning."""
     import sys
 
-    from designer.render.speed_record import record_render_speed
+    from designer.render_time.record import record_render_speed
 
     try:
         record_render_speed(prepared, report, prepare_seconds, project=project)

@@ -3,7 +3,7 @@
 It renders six frames of the example survey (``designer new --template survey``) as
 ``designer demo`` renders them — at the edges of the flight and over the middle, so
 both the terrain's and the background's cost are seen — and stores the fitted
-coefficients (:mod:`designer.survey.render_cost`, source "probe"). About 30 s on 2
+coefficients (:mod:`designer.render_time.model`, source "probe"). About 30 s on 2
 cores. Every later ``designer render`` adds a record of its own kind.
 """
 
@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 #: frames of the example's 60 rendered by the probe: the first frame of each worker
-#: builds Cycles' scene and goes into the fixed part (speed_record); the others span the
+#: builds Cycles' scene and goes into the fixed part (render_time.record); the others span the
 #: share of the image on the terrain (0.2 to 1)
 PROBE_FRAMES = (0, 10, 20, 29, 39, 59)
 
@@ -24,7 +24,7 @@ def probe_render_speed(progress=None):
     from designer.project import template, write_project
     from designer.render.job import prepare_job
     from designer.render.runner import render_frames
-    from designer.render.speed_record import record_render_speed
+    from designer.render_time.record import record_render_speed
 
     with tempfile.TemporaryDirectory(prefix="designer-probe-") as tmp:
         tmp = Path(tmp)

@@ -23,7 +23,7 @@ from pathlib import Path
 from designer.core.layout import PARTIAL_DIR
 from designer.errors import DesignerError
 from designer.render.job_spec import RenderJob
-from designer.survey.render_cost import default_workers
+from designer.render_time.model import default_workers
 
 ProgressCallback = Callable[[dict], None]
 
@@ -39,7 +39,7 @@ class RenderReport:
     blender_version: str | None = None
     wall_seconds: float = 0.0
     peak_rss_mb: list[float] = field(default_factory=list)  # one per worker process
-    #: index -> seconds of each stage of the frame (designer.render.stages.FRAME_STAGES)
+    #: index -> seconds of each stage of the frame (designer.render_time.stages.FRAME_STAGES)
     stages: dict[int, dict[str, float]] = field(default_factory=dict)
     #: frames that were the first of their worker process (Cycles builds its copy of the
     #: scene during that render)

@@ -132,7 +132,7 @@ def frame_tiles(grid: TileGrid, extent_m: tuple[float, float, float, float], hei
     size and MARGIN_M. Rays that miss the terrain add nothing (that ground, seen towards
     the horizon, shows the coarse bake). ``C_world`` (N, 3) m, ``R_cam_to_world`` (N, 3, 3)."""
     from designer.core.projection import pixel_rays_world
-    from designer.survey.raycast import raycaster_of
+    from designer.core.raycast import raycaster_of
 
     x0, x1, y0, y1 = extent_m
     caster = raycaster_of(heightfield)
@@ -162,12 +162,10 @@ def frame_tiles(grid: TileGrid, extent_m: tuple[float, float, float, float], hei
 
 def _probe_pixels(interior) -> np.ndarray:
     """Pixel positions (M, 2) on an image's border and a grid inside it."""
+    from designer.core.projection import edge_pixels
+
     W, H = interior.image_size_px
-    t = np.linspace(0.0, 1.0, BORDER_RAYS)
-    border = np.concatenate([np.column_stack([t * W, np.zeros_like(t)]),
-                             np.column_stack([t * W, np.full_like(t, H)]),
-                             np.column_stack([np.zeros_like(t), t * H]),
-                             np.column_stack([np.full_like(t, W), t * H])])
+    border = edge_pixels(interior, BORDER_RAYS)
     g = (np.arange(INNER_RAYS) + 0.5) / INNER_RAYS
     inner = np.column_stack([np.tile(g * W, INNER_RAYS), np.repeat(g * H, INNER_RAYS)])
     return np.concatenate([border, inner])

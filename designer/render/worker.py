@@ -512,7 +512,7 @@ def render_frame(scene, camera, frame: FrameSpec, out_dir: Path, ext: str, parti
                  raw_dir: Path | None = None, void_map: Path | None = None) -> dict:
     """Render one frame; apply the camera effects (if any); write its time into the EXIF
     when ``exif``; rename the image into place. Returns its path, the seconds of each
-    stage (``stages``: :data:`designer.render.stages.FRAME_STAGES`) and its
+    stage (``stages``: :data:`designer.render_time.stages.FRAME_STAGES`) and its
     ``void_share`` (0..1, :mod:`designer.render.void_share`; None without ``void_map``,
     the file :func:`add_void_map` has each render write); ``setup_s`` is the caller's
     part of the frame's set-up (light step, plants).

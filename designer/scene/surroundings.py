@@ -161,7 +161,7 @@ def _procedural(src: m.ProceduralTerrain, x0: float, x1: float, y0: float, y1: f
     every node, as they are fixed to the world). The last two are kept (read-only): an
     edit that leaves the growth as it was (a flight height typed in the window, the plan
     figures after the stations) takes the same height field, and its ray caster
-    (designer.survey.raycast.raycaster_of), without computing the hills again."""
+    (designer.core.raycast.raycaster_of), without computing the hills again."""
     from designer.scene.terrain import terrain_heights
 
     d = src.grid_spacing_m

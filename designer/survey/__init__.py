@@ -13,8 +13,8 @@ Modules:
 * :mod:`.area` — survey areas (simple polygons) and the polygon operations used here;
 * :mod:`.gcp_layout` — GCP positions, control/check roles, simulated survey error;
 * :mod:`.flight` — the flight planner (QGroundControl's CameraCalc formulas) and pose noise;
-* :mod:`.raycast` — fast first-hit and line-of-sight queries on a height field;
-* :mod:`.visibility` — which cameras see which ground points (image + occlusion);
+* :mod:`.visibility` — which cameras see which ground points (image + occlusion, by
+  :mod:`designer.core.raycast`);
 * :mod:`.coverage` — what ``designer plan`` reports: GSD, overlap, coverage, GCP views;
 * :mod:`.maps` — PNG maps of coverage count and GSD.
 """

@@ -50,11 +50,11 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
+from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.errors import DesignerError
 from designer.survey import area as _area
 from designer.survey.flight import FlightPlan, Station
-from designer.survey.raycast import TerrainRaycaster
 from designer.survey.visibility import visible_pairs
 
 #: thresholds reported by :attr:`CoverageMap.shares`
@@ -478,7 +478,7 @@ def analyse_plan(
     R = np.array([s.R_cam_to_world for s in stations])
     cover = coverage_map(ground_grid(heightfield, area, cell_m), C, R, interior, rc, tol_m)
     gcps = None if gcp_xyz is None else gcp_visibility(gcp_xyz, C, R, interior, rc, tol_m)
-    render = None  # the caller's estimate (designer.survey.render_cost)
+    render = None  # the caller's estimate (designer.render_time.model)
     st = analyse_stations(stations, interior, rc, samples_per_axis)
     centre = st.centre_ground_xyz
     # Over the area: the station itself and the ground its principal ray meets.

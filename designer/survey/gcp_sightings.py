@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.core.raycast import TerrainRaycaster
 from designer.project import model as m
 from designer.project.interiors import render_interior
 from designer.survey.coverage import GcpVisibility, gcp_visibility
 from designer.survey.project_poses import ProjectImages
-from designer.survey.raycast import TerrainRaycaster
 
 
 def project_gcp_visibility(project: m.Project, images: ProjectImages, gcp_xyz: np.ndarray,

@@ -126,7 +126,7 @@ def finest_gsd_m(project: m.Project, hf, images, raycaster=None) -> float:
     """The finest GSD (m/px) any image of ``images`` (designer.survey.project_poses) has
     on the height field ``hf``, sampled at a 3 × 3 grid of pixels per image: the slant
     distance along the optical axis × pixel pitch / focal length. NaN if no ray meets it.
-    ``raycaster``: a :class:`designer.survey.raycast.TerrainRaycaster` over ``hf`` the
+    ``raycaster``: a :class:`designer.core.raycast.TerrainRaycaster` over ``hf`` the
     caller holds already (else one is built)."""
     from designer.core.projection import ground_sample_distance_m
     from designer.core.rotation import R_CV_FROM_PHOTO
@@ -158,7 +158,7 @@ def finest_gsd_m(project: m.Project, hf, images, raycaster=None) -> float:
     if not rays:
         return math.nan
     C = np.concatenate(starts)
-    from designer.survey.raycast import TerrainRaycaster
+    from designer.core.raycast import TerrainRaycaster
 
     rc = raycaster if raycaster is not None else TerrainRaycaster(hf)
     hits = rc.surface_hit(C, np.concatenate(rays), tol_m=1e-6)

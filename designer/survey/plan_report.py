@@ -21,6 +21,13 @@ from designer.core.rotation import opk_from_rotation
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.project.interiors import render_interior
+from designer.render_time.model import (
+    estimate_render_s,
+    format_duration,
+    load_speed,
+    project_image_costs,
+    render_workers,
+)
 from designer.scene.build import BuiltTarget, build_heightfield, build_targets
 from designer.scene.surroundings import surroundings_mode
 from designer.survey.coverage import PlanAnalysis, analyse_plan
@@ -28,13 +35,6 @@ from designer.survey.flight import Station
 from designer.survey.gcp_sightings import project_gcp_visibility
 from designer.survey.hard_cases import aliasing_warning, control_warning, network_warnings
 from designer.survey.project_poses import platform_stations, project_images, project_stations
-from designer.survey.render_cost import (
-    estimate_render_s,
-    format_duration,
-    load_speed,
-    project_image_costs,
-    render_workers,
-)
 from designer.survey.surroundings import VOID_WARN, ImageGround, image_ground, repeat_warning
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.core.heightfield import Heightfield
+from designer.core.raycast import TerrainRaycaster, raycaster_of
 from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.project import model as m
 from designer.project.interiors import render_interior
@@ -29,7 +30,6 @@ from designer.scene.surroundings import (
     growth_step_m,
     surroundings_mode,
 )
-from designer.survey.raycast import TerrainRaycaster, raycaster_of
 
 #: the grid spacing flat ground's margin counts in (m)
 FLAT_MARGIN_SPACING_M = 0.5
@@ -162,7 +162,7 @@ VOID_WARN = 0.01
 def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
                 check: Callable[[], None] | None = None) -> np.ndarray:
     """(M,) share of each image's pixels (a grid of pixel-centre rays) whose ray meets no
-    terrain of ``raycaster`` (a :class:`~designer.survey.raycast.TerrainRaycaster` over
+    terrain of ``raycaster`` (a :class:`~designer.core.raycast.TerrainRaycaster` over
     the rendered terrain): what renders as background. With ``far_ground`` (the
     renderer's ring of ground to the horizon, and a sky) no ray sees the background: one
     pointing down meets the far ground, one pointing up the sky. ``check`` is called

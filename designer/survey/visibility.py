@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
-from designer.core.projection import project_points
+from designer.core.projection import edge_pixels, project_points
+from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
-from designer.survey.raycast import TerrainRaycaster
 
 #: rays per image edge used to bound a camera's footprint
 BORDER_RAYS_PER_EDGE = 9
@@ -64,13 +64,8 @@ def footprint_boxes(
     with heights in [z_min_m, z_max_m]; infinite for a camera that sees the horizon."""
     C = np.asarray(C_world, dtype=float).reshape(-1, 3)
     R = np.asarray(R_cam_to_world, dtype=float).reshape(-1, 3, 3)
-    W, H = interior.image_size_px
-    s = np.linspace(0.0, 1.0, BORDER_RAYS_PER_EDGE)
-    uv = np.vstack([np.column_stack([s * W, np.zeros_like(s)]),
-                    np.column_stack([s * W, np.full_like(s, H)]),
-                    np.column_stack([np.zeros_like(s), s * H]),
-                    np.column_stack([np.full_like(s, W), s * H])])
-    rays_cv = interior.rays_cv(uv)  # (S, 3), the same for every camera
+    # (S, 3), the same for every camera
+    rays_cv = interior.rays_cv(edge_pixels(interior, BORDER_RAYS_PER_EDGE))
     rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)  # (M, S, 3) world
     down = np.all(rays[:, :, 2] < -1e-9, axis=1)
     boxes = np.tile([-np.inf, np.inf, -np.inf, np.inf], (len(C), 1))

@@ -111,10 +111,10 @@ def _images_seeing_each_gcp(project, base_dir) -> dict[str, int]:
     """Counted image by image, each with its own pose and camera: the GCP inside the
     picture and not behind the terrain."""
     from designer.core.projection import project_points
+    from designer.core.raycast import TerrainRaycaster
     from designer.project.interiors import render_interior
     from designer.scene.build import build_heightfield, build_targets
     from designer.survey.project_poses import project_images
-    from designer.survey.raycast import TerrainRaycaster
 
     hf = build_heightfield(project.scene.terrain, base_dir, project.crs)
     rc = TerrainRaycaster(hf)

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from designer.core.heightfield import Heightfield
+from designer.core.raycast import TerrainRaycaster
 from designer.scene.world_noise import _splitmix64, octave_sum
-from designer.survey.raycast import TerrainRaycaster
 
 
 # ------------------------------------------------------------------ the numpy oracles
@@ -169,7 +169,7 @@ def test_octave_sum_broadcasts_a_grid_and_keeps_its_shape():
 @pytest.mark.parametrize("touch_m,min_step_m,max_iter", [(1e-3, 0.0, 64), (0.0, 0.02, 256),
                                                          (1e-3, 0.0, 3)])
 def test_the_cast_is_the_numpy_steps_to_the_bit(touch_m, min_step_m, max_iter):
-    from designer.survey.raycast import _block_reduce, _range_max_table
+    from designer.core.raycast import _block_reduce, _range_max_table
 
     rng = np.random.default_rng(8)
     ny, nx = 61, 83

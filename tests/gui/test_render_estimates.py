@@ -13,7 +13,7 @@ from PySide6.QtCore import Qt
 
 from designer.gui.state import edits
 from designer.project import model as m
-from designer.survey.render_cost import load_speed
+from designer.render_time.model import load_speed
 from tests.gui.helpers import problems, wait_idle
 
 pytestmark = [pytest.mark.gui, pytest.mark.blender, pytest.mark.slow]

@@ -11,7 +11,7 @@ import re
 import pytest
 
 from designer.gui.state.output_state import RenderState
-from designer.survey.render_cost import RenderSpeed, save_speed
+from designer.render_time.model import RenderSpeed, save_speed
 from tests.gui.helpers import open_panel, problems, wait_idle
 from tests.synthetic import small_survey, write_project_file
 

@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from designer.survey.render_cost import SPEED_FILE, cache_dir, cost_key
+from designer.render_time.model import SPEED_FILE, cache_dir, cost_key
 from tests.gui.helpers import open_panel, wait_idle
 from tests.gui.study_helpers import _add, _checked, _tiny_base
 

@@ -15,7 +15,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from designer.gui.qt.command_process import RenderProcess
-from designer.render.timing import RenderTimes
+from designer.render_time.timing import RenderTimes
 
 pytestmark = pytest.mark.gui
 

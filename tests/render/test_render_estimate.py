@@ -9,8 +9,8 @@ import time
 import pytest
 
 from designer.render.pipeline import render_project
+from designer.render_time.model import load_speed
 from designer.survey.plan_report import plan_project
-from designer.survey.render_cost import load_speed
 from tests.synthetic import small_survey, write_project_file
 
 

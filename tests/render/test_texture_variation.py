@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from designer.project import model as m
-from designer.render.job import BAKED_LIT_TEXTURE, BAKED_TEXTURE, JOB_DIR, prepare_job
+from designer.render.job import JOB_DIR, prepare_job
 from designer.render.job_spec import MaterialSpec, RenderJob
+from designer.render.job_terrain import BAKED_LIT_TEXTURE, BAKED_TEXTURE
 from designer.render.pipeline import render_project
 from designer.render.provenance import job_provenance
 from tests.synthetic import small_survey, write_project_file
@@ -228,12 +229,12 @@ def test_a_second_preparation_keeps_the_bake_of_the_same_inputs(tmp_path, monkey
     """A resumed render prepares its job again: the bake the job folder holds from the
     same inputs (texture, variation, light map) is kept, not baked again; a changed
     variation is baked anew."""
-    from designer.render import job as job_module
+    from designer.render import job_terrain
     from designer.render.job import prepare_job
 
     calls = []
-    real = job_module.bake_varied_texture
-    monkeypatch.setattr(job_module, "bake_varied_texture",
+    real = job_terrain.bake_varied_texture
+    monkeypatch.setattr(job_terrain, "bake_varied_texture",
                         lambda *a: calls.append(1) or real(*a))
     variation = m.TextureVariation(1, 20.0, 0.3)
     project = nadir_project(variation)

@@ -96,7 +96,7 @@ def test_the_panel_counts_renders_as_the_study_run_does(tmp_path, name, counts):
 
     from designer.gui.state import derived
     from designer.gui.state.study_data import plan_cost
-    from designer.survey.render_cost import REFERENCE
+    from designer.render_time.model import REFERENCE
 
     path = ROOT / "resources" / "studies" / f"{name}.xml"
     if name == "tiny":

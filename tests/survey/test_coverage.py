@@ -2,9 +2,9 @@ import numpy as np
 import pytest
 
 from designer.core.projection import project_points
+from designer.core.raycast import TerrainRaycaster
 from designer.survey import area, coverage, gcp_layout
 from designer.survey.flight import plan_flight
-from designer.survey.raycast import TerrainRaycaster
 from designer.survey.visibility import visible_pairs
 from tests.survey.scenes import refined, sight_clearance_deg
 from tests.synthetic import ORIGIN_WORLD, flat_terrain, hilly_terrain, phantom4

@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
+from designer.core.raycast import TerrainRaycaster
 from designer.survey import area, coverage
 from designer.survey.flight import plan_flight
-from designer.survey.raycast import TerrainRaycaster
 from tests.synthetic import ORIGIN_WORLD, hilly_terrain, phantom4
 
 pytest.importorskip("matplotlib")

@@ -1,6 +1,6 @@
 """`designer plan`'s footprint is the image at the flight's GSD, also where most images of
 a high flight look past a small terrain (their centre rays would enter the terrain's
-solid side far below its surface, :mod:`designer.survey.raycast`)."""
+solid side far below its surface, :mod:`designer.core.raycast`)."""
 
 from __future__ import annotations
 

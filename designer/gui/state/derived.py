@@ -18,6 +18,7 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
+from designer.core.raycast import TerrainRaycaster, raycaster_of
 from designer.errors import DesignerError
 from designer.gui.state.view_geometry import (
     MAX_DISPLAY_NODES_PER_SIDE,
@@ -43,7 +44,6 @@ from designer.scene.lighting import (
 from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
-from designer.survey.raycast import TerrainRaycaster, raycaster_of
 from designer.survey.station_clearance import plant_cylinders
 from designer.survey.surroundings import GrownTerrain
 from designer.survey.terrain_reach import Reach, terrain_file_reach
@@ -399,7 +399,7 @@ class StationsResult:
     R_cam_to_world: np.ndarray
     stations: tuple = ()
     #: every image (all cameras of a rig) as the render-time model sees it
-    #: (designer.survey.render_cost): size, samples, share on the terrain
+    #: (designer.render_time.model): size, samples, share on the terrain
     render_costs: tuple = ()
     #: every rendered image's name, in render (frame) order: a rig station gives one per
     #: camera, so these are not the stations' names
@@ -418,16 +418,16 @@ class StationsResult:
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
     """Estimated wall seconds of rendering the images ``costs`` (ImageCost) on this
-    machine (:mod:`designer.survey.render_cost`), at the project's samples or a preset's."""
+    machine (:mod:`designer.render_time.model`), at the project's samples or a preset's."""
     return render_estimate(project, costs, preset).total_s
 
 
 def render_estimate(project: m.Project, costs, preset: str | None = None):
     """:func:`render_estimate_s` with the set-up apart from the images' seconds
-    (a ``render_cost.RenderEstimate``)."""
+    (a ``render_time.model.RenderEstimate``)."""
     from dataclasses import replace as _replace
 
-    from designer.survey.render_cost import estimate_render, render_workers
+    from designer.render_time.model import estimate_render, render_workers
 
     if preset is not None:
         costs = [_replace(c, samples=m.PRESET_SAMPLES[preset]) for c in costs]
@@ -453,8 +453,8 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     """Stations of the flight plan and explicit photos, drawn over the terrain and the
     surroundings the renders include (footprints lie on both)."""
     from designer.project.interiors import interior_from_camera
+    from designer.render_time.model import project_image_costs
     from designer.survey.project_poses import project_images, project_stations
-    from designer.survey.render_cost import project_image_costs
     from designer.survey.surroundings import grown_terrain
 
     hf = terrain.heightfield if terrain is not None else None

@@ -5,7 +5,7 @@ time) and the contents of a study output folder (``designer study run -o DIR``).
 Time estimate (seconds on one worker):
 
 * render: per distinct image set, the render-time model with this machine's measured
-  coefficients (:mod:`designer.survey.render_cost`: the set-up, every image's size,
+  coefficients (:mod:`designer.render_time.model`: the set-up, every image's size,
   samples and share on the terrain, the run's workers);
 * reconstruction + comparison: per distinct processing, its images ×
   :func:`reconstruct_seconds_per_image` (grows with the image size, measured); a
@@ -143,7 +143,7 @@ class PlanCost:
     #: runs that would fail, told before the study runs (:func:`plan_warnings`)
     warnings: tuple[str, ...] = ()
     #: the render coefficients the estimate's text names: those of the first render's
-    #: kind of image (``render_cost.RenderSpeed``; None without a render)
+    #: kind of image (``render_time.model.RenderSpeed``; None without a render)
     basis_speed: object = None
 
     @property
@@ -164,15 +164,15 @@ def plan_cost(plan, heightfield, speed=None) -> PlanCost:
     """Counts and estimated seconds (one worker) of a planned study
     (:func:`designer.study.design.plan_study`); ``heightfield``: the base terrain's;
     ``speed``: the render coefficients of every image (default: this machine's for each
-    kind of image, its own records, :func:`designer.survey.render_cost.load_speed`)."""
+    kind of image, its own records, :func:`designer.render_time.model.load_speed`)."""
     from designer.project.interiors import interior_from_camera
-    from designer.survey.project_poses import project_images, project_stations
-    from designer.survey.render_cost import (
+    from designer.render_time.model import (
         estimate_render_s,
         load_speed,
         project_image_costs,
         render_workers,
     )
+    from designer.survey.project_poses import project_images, project_stations
     from designer.survey.surroundings import rendered_terrain
 
     basis = speed

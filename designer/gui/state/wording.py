@@ -496,7 +496,7 @@ def duration(seconds: float) -> str:
 
 
 def estimate_basis(speed) -> str:
-    """Where a render-time estimate comes from (a ``render_cost.RenderSpeed``): it says
+    """Where a render-time estimate comes from (a ``render_time.model.RenderSpeed``): it says
     'uncalibrated' while the figures are the reference machine's, not this one's."""
     return speed.describe()
 

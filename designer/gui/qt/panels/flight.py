@@ -328,7 +328,7 @@ class FlightPanel(Panel):
         if stations.render_costs:
             from designer.gui.state.render_figures import flight_estimate_line
             from designer.gui.state.wording import estimate_basis
-            from designer.survey.render_cost import load_speed
+            from designer.render_time.model import load_speed
 
             # this machine's speed as measured now (a render since may have refined it)
             self.time_label.setText(flight_estimate_line(

@@ -34,8 +34,8 @@ from designer.gui.state.render_figures import preset_cost_lines, up_to_date_line
 from designer.gui.state.wording import count, duration, estimate_basis
 from designer.project import model as m
 from designer.render.pipeline import ImagesKept, continue_hint
-from designer.render.timing import RenderTimes
-from designer.survey.render_cost import load_speed
+from designer.render_time.model import load_speed
+from designer.render_time.timing import RenderTimes
 
 THUMB_PX = 120
 #: what the panel says when Render could not save the project

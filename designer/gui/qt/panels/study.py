@@ -41,10 +41,10 @@ from designer.gui.qt.widgets import combo, form, ispin, message_box
 from designer.gui.state.study_data import duration_text
 from designer.gui.state.study_words import draw_words, factor_words, metric_words, tip
 from designer.gui.state.wording import count, estimate_basis
+from designer.render_time.model import load_speed
 from designer.study.cost import COSTS
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import DEFAULT_METRICS, BaseProject, FactorSpec, Replicates, Study
-from designer.survey.render_cost import load_speed
 
 DESIGNS = [("one at a time (each factor around the base)", "one-at-a-time"),
            ("full factorial (every combination)", "full-factorial")]

@@ -1,6 +1,6 @@
 """The ray caster's answers against oracles: rays that graze hills hit the first crossing
 along the ray (dense sampling is the oracle), not a later one past a crest half-cell
-marching steps over (designer.survey.raycast.MAX_STEPS); whether a ray sees the surface
+marching steps over (designer.core.raycast.MAX_STEPS); whether a ray sees the surface
 is what its cast surface hit says, for rays down, up, level, from over, beside, below
 and under the grid."""
 
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from designer.core.heightfield import Heightfield
+from designer.core.raycast import TerrainRaycaster
 from designer.scene.world_noise import octave_sum
-from designer.survey.raycast import TerrainRaycaster
 
 
 def _hills() -> Heightfield:

@@ -77,10 +77,10 @@ _MATCH = {
     ("fixed_s",): (("scene", "texture", "effects", "samples_band", "size_band"),
                    ("scene", "effects", "samples_band", "size_band"), ("scene", "effects")),
 }
-#: How the renderer draws the ground texture (designer.render.job takes the same choice,
-#: :func:`texture_path`): "baked" — one image lookup per sample (a plain tiled texture, an
-#: orthophoto, or a varied texture baked whole); "tiled" — a varied texture too wide for
-#: one bake, baked in tiles that each frame loads as it sees them; "node-graph" — the
+#: How the renderer draws the ground texture (designer.render.job_terrain takes the same
+#: choice, :func:`texture_path`): "baked" — one image lookup per sample (a plain tiled
+#: texture, an orthophoto, or a varied texture baked whole); "tiled" — a varied texture
+#: too wide for one bake, baked in tiles that each frame loads as it sees them; "node-graph" — the
 #: varied texture blended by Cycles' nodes per sample (five lookups; ``designer bench
 #: render``'s unbaked row, or a mesh terrain too wide for one bake). Each path's
 #: coefficients come from renders of that path; until this machine has rendered one, the
@@ -442,7 +442,7 @@ def terrain_fractions(heightfield, C_world: np.ndarray, R_cam_to_world: np.ndarr
     R = np.asarray(R_cam_to_world, dtype=float).reshape(n, 3, 3)
     # every image's rays at once: only hit or miss is used (past the terrain's edge is a
     # miss), which the ray caster decides without casting most of them
-    from designer.survey.raycast import raycaster_of
+    from designer.core.raycast import raycaster_of
 
     rays = np.einsum("kij,rj->kri", R, rays_cam).reshape(-1, 3)
     seen = raycaster_of(heightfield).sees_surface(np.repeat(C, len(uv), axis=0), rays)

@@ -1,6 +1,10 @@
 """After a render: record this machine's render coefficients fitted to its frames
-(:mod:`designer.survey.render_cost`), filed under what drives their cost, so the next
-estimate of that kind of render is this machine's."""
+(:mod:`designer.render_time.model`), filed under what drives their cost, so the next
+estimate of that kind of render is this machine's.
+
+It reads the render's prepared job (:class:`designer.render.job.PreparedJob`) and its
+report (:class:`designer.render.runner.RenderReport`) by their fields alone: the render
+calls it, so it imports nothing of render."""
 
 from __future__ import annotations
 
@@ -11,9 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from designer.render.job import PreparedJob
-from designer.render.runner import RenderReport
-from designer.survey.render_cost import (
+from designer.render_time.model import (
     cost_key,
     fit_speed,
     frame_cpu_s,
@@ -25,7 +27,7 @@ from designer.survey.render_cost import (
 
 
 def job_texture_path(job) -> str:
-    """The path a job's renderer takes for the ground texture (render_cost.texture_path):
+    """The path a job's renderer takes for the ground texture (model.texture_path):
     tiled, node-graph (a material blends the variation itself) or baked."""
     if job.tiled_texture is not None:
         return "tiled"
@@ -35,8 +37,8 @@ def job_texture_path(job) -> str:
     return "baked"
 
 
-def job_bake_mp(prepared: PreparedJob, project) -> float | None:
-    """Megapixels of the ground texture bake the job prepared (render_cost.project_bake_mp
+def job_bake_mp(prepared, project) -> float | None:
+    """Megapixels of the ground texture bake the job prepared (model.project_bake_mp
     of its project, with the texture image it built); None without the project."""
     if project is None:
         return None
@@ -48,7 +50,7 @@ def job_bake_mp(prepared: PreparedJob, project) -> float | None:
                            None if rgb is None else (rgb.shape[1], rgb.shape[0]))
 
 
-def record_render_speed(prepared: PreparedJob, report: RenderReport,
+def record_render_speed(prepared, report,
                         prepare_seconds: float, cores: int | None = None,
                         source: str = "render", project=None):
     """Fit the coefficients to the frames ``report`` rendered (with their stages) and

@@ -11,7 +11,7 @@ import pytest
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
-from designer.survey import render_cost as rc
+from designer.render_time import model as rc
 
 TRUE = rc.RenderSpeed(terrain_cpu_s_per_mp_sample=0.4, background_cpu_s_per_mp_sample=0.1,
                       post_s_per_mp=0.2, fixed_s=5.0, source="render")
@@ -217,10 +217,10 @@ def test_the_fixed_part_grows_with_the_texture_bake(tmp_path, monkeypatch):
 def test_the_bake_of_a_project_is_what_prepare_job_bakes(tmp_path):
     """project_bake_mp against the size of the bake the render job prepares."""
     from designer.project.load import load_project
+    from designer.project.new import write_template
     from designer.render.job import project_surroundings
     from designer.render.texture_bake import bake_size_px
     from designer.scene.build import build_scene
-    from designer.project.new import write_template
 
     path = write_template(tmp_path / "p.xml", "survey")[0]
     project = load_project(path)
