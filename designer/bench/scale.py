@@ -279,7 +279,7 @@ def _plan_figures(project) -> dict:
 def _texture_of(project) -> str:
     """How the renderer draws the block's ground texture (baked, tiled, node graph)."""
     from designer.gui.state import derived
-    from designer.survey.render_cost import project_texture_path
+    from designer.render_time.model import project_texture_path
     from designer.survey.surroundings import rendered_terrain
     from designer.survey.project_poses import project_images
 

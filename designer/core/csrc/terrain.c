@@ -1,6 +1,6 @@
 /* designer.core._cterrain: the terrain's hot loops, compiled.
  *
- * - cast: designer.survey.raycast.TerrainRaycaster._march up to its last fallback: each
+ * - cast: designer.core.raycast.TerrainRaycaster._march up to its last fallback: each
  *   ray's stretch clipped to the grid's box, the highest terrain and steepest slope over
  *   it (range maxima of per-block maxima), and the sphere-tracing steps over the height
  *   field's bilinear surface;
