@@ -343,11 +343,14 @@ def write_figure(rows: list[dict], path: Path) -> Path:
 
     fig, ax = plt.subplots(figsize=(8, 5.5))
     sizes = sorted({r["images"] for r in rows if r["stage"] == "block"})
-    for stage in STAGES:
+    colours = plt.get_cmap("tab20").colors  # one of its own for each of the 11 stages
+    for k, stage in enumerate(STAGES):
         pts = [(r["images"], r["wall_s"]) for r in rows
                if r["stage"] == stage and r["wall_s"] and r["wall_s"] > 0]
         if len(pts) >= 2:
-            ax.plot(*zip(*pts), marker="o", label=stage)
+            ax.plot(*zip(*pts), marker="os^Dv"[k % 5], color=colours[(2 * k) % 20
+                                                                    + (k >= 10)],
+                    label=stage)
     if sizes:
         ax.plot(sizes, [sizes[0] and s / sizes[0] for s in sizes], "k--", lw=1,
                 label="slope 1 (linear), from 1 s")
