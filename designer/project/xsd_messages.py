@@ -200,9 +200,18 @@ def _not_a_choice(error: _Error) -> tuple[str, Issue | None]:
             error.issue("choice", value=error.value, choices=allowed))
 
 
+def _matches(pattern: str, text: str) -> bool:
+    """Whether ``text`` matches an XSD pattern read as a Python one (the schema's are
+    plain classes and counts); True for one Python cannot read, so that it is not blamed."""
+    try:
+        return re.fullmatch(pattern, text) is not None
+    except re.error:
+        return True
+
+
 def _no_pattern(error: _Error) -> tuple[str, Issue | None]:
     error = _item(error, lambda t, item: not all(
-        re.fullmatch(p, t) for p in item.facets.get("pattern", ())))
+        _matches(p, t) for p in item.facets.get("pattern", ())))
     issue = error.issue("pattern", value=error.value)
     if error.non_finite:
         return _not_finite(error), issue

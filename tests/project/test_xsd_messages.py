@@ -146,3 +146,18 @@ def test_a_list_names_its_item_that_is_not_a_choice(tmp_path):
     assert choice.message.startswith('<replicates>: vary="weather" is not allowed; use one '
                                      "of: gcp-selection, clouds, survey-error")
     assert (choice.issue.code, choice.issue.value) == ("choice", "weather")
+
+
+def test_a_list_names_its_item_that_is_not_a_name(tmp_path):
+    from designer.study.xml import read_study
+
+    path = tmp_path / "s.xml"
+    path.write_text('<?xml version="1.0"?>\n<study xmlns="urn:designer:project:1" '
+                    'schema-version="1.0" name="s">\n  <base-project file="b.xml"/>\n'
+                    '  <factor name="k1"><values>0 0.1</values></factor>\n'
+                    '  <metrics>check_rmse_z_m -bad</metrics>\n</study>\n')
+    with pytest.raises(ProjectError) as caught:
+        read_study(path)
+    messages = [p.message for p in caught.value.problems]
+    assert any(m.startswith("<metrics>: value '-bad' may contain only letters, digits")
+               for m in messages), messages
