@@ -13,6 +13,10 @@ from designer.gui.state.wording import error_text, humanize
 from designer.scene.terrain import procedural_terrain
 from designer.survey import area as area_mod
 from designer.survey import gcp_layout
+from designer.survey.flight import plan_flight
+from tests.synthetic import phantom4
+
+SQUARE = area_mod.rectangle(0, 0, 100, 100)
 
 
 def _raised(call, *args, **kwargs) -> ParameterError:
@@ -41,8 +45,12 @@ def test_a_size_that_is_not_whole_grid_cells_is_worded_from_its_fields():
      "number of check points 7 must be from 0 to the 5 GCPs"),
     (gcp_layout.assign_roles, (5, 2.5), {"pattern": "interleaved"},
      "number of check points 2.5 must be a whole number"),
-    (area_mod.inset, (area_mod.rectangle(0, 0, 10, 10), -1.0), {},
-     "margin -1 m must be at least 0 m"),
+    (area_mod.inset, (SQUARE, -1.0), {}, "margin -1 m must be at least 0 m"),
+    (plan_flight, (SQUARE, phantom4()), {"altitude_agl_m": 50.0, "forward_tilt_deg": 95.0},
+     "forward tilt 95 ° must be from -80 to 80 °"),
+    (plan_flight, (SQUARE, phantom4()), {"altitude_agl_m": 50.0,
+                                         "grid_angle_deg": float("nan")},
+     "line azimuth not a number must be a finite number of degrees"),
 ])
 def test_parameter_errors_are_worded_from_their_fields(call, args, kwargs, text):
     error = _raised(call, *args, **kwargs)
