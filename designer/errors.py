@@ -22,3 +22,17 @@ class NotInvertibleError(DesignerError, ArithmeticError):
 class InvalidDataError(DesignerError, ValueError):
     """A value a data type or an exchange format cannot hold (a name with a comma, a
     non-finite coordinate, a repeated id); the message names the fix."""
+
+
+class ParameterError(DesignerError):
+    """A parameter given a value it may not have. Besides the library's message it carries
+    the fields a program words it from without reading the message: ``name``, the
+    parameter as the code calls it (``spacing_m``); ``value``, the value given; ``must``,
+    what the value must be, in words (``greater than 0``, ``a whole number of 0.5 m grid
+    cells``); ``unit``, the value's unit ("": none). The fields default to empty so that
+    the error pickles like any other (they travel in its ``__dict__``)."""
+
+    def __init__(self, message: str, *, name: str = "", value: object = None, must: str = "",
+                 unit: str = "") -> None:
+        super().__init__(message)
+        self.name, self.value, self.must, self.unit = name, value, must, unit

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.core.heightfield import Heightfield
-from designer.errors import DesignerError
+from designer.errors import ParameterError
 from designer.scene.dem import load_dem
 from designer.scene.mesh import TerrainMesh, heightfield_to_mesh, load_mesh, write_mesh_ply
 from designer.scene.world_noise import octave_sum
@@ -76,11 +76,15 @@ def procedural_terrain(
     for name, value in (("size_x_m", size_x_m), ("size_y_m", size_y_m),
                         ("spacing_m", spacing_m), ("hill_size_m", hill_size_m)):
         if not (np.isfinite(value) and value > 0):
-            raise DesignerError(f"procedural terrain: {name} must be > 0, got {value}")
+            raise ParameterError(f"procedural terrain: {name} must be > 0, got {value}",
+                                 name=name, value=value, unit="m", must="greater than 0 m")
     if not (np.isfinite(relief_m) and relief_m >= 0):
-        raise DesignerError(f"procedural terrain: relief_m must be >= 0, got {relief_m}")
+        raise ParameterError(f"procedural terrain: relief_m must be >= 0, got {relief_m}",
+                             name="relief_m", value=relief_m, unit="m",
+                             must="at least 0 m")
     if not 0.0 <= roughness <= 1.0:
-        raise DesignerError(f"procedural terrain: roughness must be in [0, 1], got {roughness}")
+        raise ParameterError(f"procedural terrain: roughness must be in [0, 1], got {roughness}",
+                             name="roughness", value=roughness, must="from 0 to 1")
     nx = _cells(size_x_m, spacing_m, "size_x_m") + 1
     ny = _cells(size_y_m, spacing_m, "size_y_m") + 1
     x = float(x0_m) + np.arange(nx) * float(spacing_m)
@@ -116,7 +120,10 @@ def terrain_octaves(hill_size_m: float, spacing_m: float) -> int:
 def _cells(size_m: float, spacing_m: float, name: str) -> int:
     n = round(size_m / spacing_m)
     if n < 1 or abs(n * spacing_m - size_m) > _GRID_TOL * size_m:
-        raise DesignerError(
+        raise ParameterError(
             f"procedural terrain: {name}={size_m} is not a whole number of "
-            f"spacing_m={spacing_m} cells; choose a spacing that divides the size")
+            f"spacing_m={spacing_m} cells; choose a spacing that divides the size",
+            name=name, value=size_m, unit="m",
+            must=f"a whole number of {spacing_m:g} m grid cells; choose a grid spacing that "
+                 "divides it")
     return n

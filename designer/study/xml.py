@@ -16,7 +16,8 @@ from lxml import etree
 from designer.project.problems import Problem, ProjectError, SourceMap
 from designer.project.schema import NAMESPACE, SUPPORTED_VERSIONS
 from designer.project.xml_read import _content_problem, _syntax_problem, read_xml_file
-from designer.project.xsd_messages import SchemaInfo, translate_xsd_error
+from designer.project.xsd_info import SchemaInfo
+from designer.project.xsd_messages import translate_xsd_error
 from designer.study.cost import DEFAULT_COST
 from designer.study.spec import (
     DEFAULT_METRICS,

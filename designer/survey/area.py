@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer.core.heightfield import Heightfield
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterError
 from designer.project.checks import plain_number
 
 
@@ -124,7 +124,8 @@ def inset(area, margin_m: float) -> np.ndarray:
     """
     poly = as_polygon(area)
     if not margin_m >= 0:
-        raise DesignerError(f"margin_m = {margin_m} must be >= 0 m")
+        raise ParameterError(f"margin_m = {margin_m} must be >= 0 m", name="margin_m",
+                             value=margin_m, unit="m", must="at least 0 m")
     if margin_m == 0:
         return poly
     origin = poly[0]

@@ -52,7 +52,7 @@ from designer.core.interior import InteriorOrientation
 from designer.core.projection import project_points
 from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterError
 from designer.survey import area as _area
 from designer.survey.flight import FlightPlan, Station
 from designer.survey.visibility import visible_pairs
@@ -114,7 +114,8 @@ def ground_grid(heightfield: Heightfield, area, cell_m: float | None = None) -> 
     poly = _area.as_polygon(area)
     cell = default_cell_m(heightfield, poly) if cell_m is None else float(cell_m)
     if not (math.isfinite(cell) and cell > 0):
-        raise DesignerError(f"coverage grid cell = {cell_m} m must be > 0")
+        raise ParameterError(f"coverage grid cell = {cell_m} m must be > 0", name="cell_m",
+                             value=cell_m, unit="m", must="greater than 0 m")
     x0, x1, y0, y1 = heightfield.extent_m
     lo = np.maximum(poly.min(axis=0), [x0, y0])
     hi = np.minimum(poly.max(axis=0), [x1, y1])

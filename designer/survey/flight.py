@@ -69,7 +69,7 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.rotation import perturb_rotation, rotation_from_heading_tilt_roll
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterError
 from designer.survey import area as _area
 
 ORIENTATIONS = ("landscape", "portrait")
@@ -236,10 +236,14 @@ def plan_flight(
                        side_overlap_fraction=side_overlap_fraction, orientation=orientation)
     poly = _area.as_polygon(area)
     if not math.isfinite(grid_angle_deg):
-        raise DesignerError(f"grid angle = {grid_angle_deg} must be a finite number of degrees")
+        raise ParameterError(f"grid angle = {grid_angle_deg} must be a finite number of degrees",
+                             name="grid_angle_deg", value=grid_angle_deg,
+                             must="a finite number of degrees")
     if not (math.isfinite(forward_tilt_deg) and abs(forward_tilt_deg) <= MAX_TILT_DEG):
-        raise DesignerError(
-            f"forward tilt = {forward_tilt_deg} deg must lie within +-{MAX_TILT_DEG:g} deg")
+        raise ParameterError(
+            f"forward tilt = {forward_tilt_deg} deg must lie within +-{MAX_TILT_DEG:g} deg",
+            name="tilt_deg", value=forward_tilt_deg, unit="deg",
+            must=f"from -{MAX_TILT_DEG:g} to {MAX_TILT_DEG:g} °")
     if start_corner not in START_CORNERS:
         raise DesignerError(f"start corner {start_corner!r} must be one of {list(START_CORNERS)}")
     reference = _reference_height(poly, heightfield, altitude_mode, altitude_reference)

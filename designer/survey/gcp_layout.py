@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from designer.core.heightfield import Heightfield
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterError
 from designer.survey import area as _area
 
 CONTROL = "control"
@@ -110,7 +110,9 @@ def random_stratified(
     """
     n = _count(n, "n")
     if not (math.isfinite(min_spacing_m) and min_spacing_m >= 0):
-        raise DesignerError(f"min_spacing_m = {min_spacing_m} must be a distance >= 0 m")
+        raise ParameterError(f"min_spacing_m = {min_spacing_m} must be a distance >= 0 m",
+                             name="min_spacing_m", value=min_spacing_m, unit="m",
+                             must="at least 0 m")
     poly = _area.as_polygon(area)
     origin = poly[0]
     local = poly - origin
@@ -150,9 +152,11 @@ def assign_roles(
     """
     n = _count(n, "n")
     if isinstance(n_check, bool) or not isinstance(n_check, int | np.integer):
-        raise DesignerError(f"n_check = {n_check!r} must be a whole number")
+        raise ParameterError(f"n_check = {n_check!r} must be a whole number",
+                             name="n_check", value=n_check, must="a whole number")
     if not 0 <= n_check <= n:
-        raise DesignerError(f"n_check = {n_check} must be between 0 and the {n} GCPs")
+        raise ParameterError(f"n_check = {n_check} must be between 0 and the {n} GCPs",
+                             name="n_check", value=n_check, must=f"from 0 to the {n} GCPs")
     if (seed is None) == (pattern is None):
         raise DesignerError("give either a seed or a pattern to assign GCP roles, not both")
     roles = np.full(n, CONTROL, dtype="<U7")

@@ -43,10 +43,10 @@ UNDER_THE_GROUND = ("no figures over the terrain: camera stations are under the 
 
 
 def _message(error: BaseException) -> str:
-    from designer.gui.state.wording import humanize
+    from designer.gui.state.wording import error_text, humanize
 
     if isinstance(error, DesignerError | ValueError | KeyError | OSError):
-        return humanize(str(error))
+        return error_text(error)
     return f"{type(error).__name__}: {humanize(str(error))}"
 
 

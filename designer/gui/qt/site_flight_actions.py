@@ -27,7 +27,7 @@ from pathlib import Path
 from PySide6.QtWidgets import QFileDialog, QMenu
 
 from designer.errors import DesignerError
-from designer.gui.state.wording import count, humanize
+from designer.gui.state.wording import count, error_text
 
 #: Export flight plan: file type → (format, heights)
 EXPORT_FILTERS = {
@@ -88,7 +88,7 @@ class SiteFlightActions:
         try:
             check_site_dem(dem)
         except (DesignerError, OSError) as error:
-            self.window.show_problems([humanize(str(error))], f"Cannot import the site {dem.name}")
+            self.window.show_problems([error_text(error)], f"Cannot import the site {dem.name}")
             return False
         return True
 
@@ -101,7 +101,7 @@ class SiteFlightActions:
         try:
             site_project(dem, orthophoto, dem.with_suffix(".xml"))
         except (DesignerError, OSError) as error:
-            self.window.show_problems([humanize(str(error))],
+            self.window.show_problems([error_text(error)],
                                       f"Cannot import the site {dem.name}")
             return False
         return True
@@ -119,7 +119,7 @@ class SiteFlightActions:
             project = site_project(dem, orthophoto, path)
             write_new_project(path, project, {}, True, str(path), check_files=True)
         except (DesignerError, OSError) as error:
-            w.show_problems([humanize(str(error))], f"Cannot import the site {dem.name}")
+            w.show_problems([error_text(error)], f"Cannot import the site {dem.name}")
             return False
         return w.file_actions.open(path)
 
@@ -145,7 +145,7 @@ class SiteFlightActions:
         try:
             project = replay_project(source, doc.project, doc.base_dir)
         except (DesignerError, OSError) as error:
-            w.show_problems([humanize(str(error))], f"Cannot import the flight {source.name}")
+            w.show_problems([error_text(error)], f"Cannot import the flight {source.name}")
             return False
         photos = count(len(project.trajectory.exterior_orientations), "photo")
         w.editor.edit(project, f"Import flight ({photos})")
@@ -180,7 +180,7 @@ class SiteFlightActions:
             spec = export_flight(w.document.project, w.document.base_dir, fmt, path,
                                  altitude=altitude)
         except (DesignerError, OSError) as error:
-            w.show_problems([humanize(str(error))], "Flight plan not written")
+            w.show_problems([error_text(error)], "Flight plan not written")
             return False
         w.show_problems([])
         w.statusBar().showMessage(

@@ -2,10 +2,12 @@
 
 Validation issues are worded from their structured fields (code, element, attribute,
 value, limits; :class:`designer.project.problems.Issue`) and the declarations' labels,
-never by reading their message: :func:`issue_text`, :func:`problem_text`. Errors raised
-by the library as plain text name its parameters (``size_x_m``) and print numbers the
-way Python does (``5.40595e+06``); :func:`humanize` shows such a field as the panel
-labels it and numbers in fixed point with sensible decimals.
+never by reading their message: :func:`issue_text`, :func:`problem_text`. A library
+error that carries its fields (:class:`designer.errors.ParameterError`: parameter, value,
+what it must be) is worded from them: :func:`error_text`. Errors raised by the library as
+plain text name its parameters (``size_x_m``) and print numbers the way Python does
+(``5.40595e+06``); :func:`humanize` shows such a field as the panel labels it and numbers
+in fixed point with sensible decimals.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import math
 import re
 from dataclasses import replace
 
+from designer.errors import ParameterError
 from designer.gui.state.field_places import (
     declaration_at,
     element_title,
@@ -177,6 +180,31 @@ def humanize(message: str) -> str:
     message = _IDENT.sub(lambda mt: _maybe_field(mt.group(0)), message)
     message = _SCI.sub(lambda mt: fixed(float(mt.group(0))), message)
     return _LONG.sub(lambda mt: fixed(float(mt.group(1))), message)
+
+
+def _parameter_label(name: str) -> str:
+    """A library parameter as the panels label it; one no panel labels as its words
+    (``relief_m`` → ``relief``: the unit follows the value)."""
+    if name in FIELD_NAMES:
+        return FIELD_NAMES[name]
+    words = name.split("_")
+    return " ".join(words[:-1] if len(words) > 1 and words[-1] in _UNITS else words)
+
+
+def error_text(error: BaseException) -> str:
+    """A library error as the window says it: a :class:`~designer.errors.ParameterError`
+    from its fields (the parameter as the panels label it, its value in fixed point with
+    its unit, what it must be: ``terrain width (X) 100 m must be a whole number of 3 m
+    grid cells; …``), any other as its message with :func:`humanize`."""
+    if not (isinstance(error, ParameterError) and error.name and error.must):
+        return humanize(str(error))
+    value = error.value
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        shown = f"“{value}”"
+    else:
+        unit = f" {_UNITS.get(error.unit, error.unit)}" if error.unit else ""
+        shown = (_value_text(float(value)) if isinstance(value, float) else f"{value}") + unit
+    return f"{_parameter_label(error.name)} {shown} must be {error.must}"
 
 
 def _declaration(issue: Issue) -> Declared | None:

@@ -375,7 +375,7 @@ class GcpPanel(Panel):
             roles = gcp_layout.assign_roles(len(xy), self.n_check.value(),
                                             pattern="interleaved")
         except DesignerError as error:
-            self.error_label.setText(f"{step}: {error}; not applied")
+            self.error_label.setText(f"{step}: {wording.error_text(error)}; not applied")
             return
         new = edits.layout_targets(project, xy, roles, self.size.value())
         problem = edits.control_problem(project, new, "layout not applied")
