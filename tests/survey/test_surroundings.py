@@ -129,3 +129,27 @@ def test_surroundings_that_repeat_a_plain_tile_are_warned_about():
     assert warning.startswith("the surroundings repeat the texture's 20 m tile")
     assert "scale 40 m" in warning and "surroundings mode to none" in warning
     assert repeat_warning(plain, Growth()) is None  # nothing grown: nothing repeated
+
+
+def test_void_shares_skip_only_images_whose_whole_bundle_sees_the_ground(monkeypatch):
+    """An image whose four corner rays come down on the rendered terrain with room to
+    spare is not cast ray by ray (surely_sees_surface); the shares are the same numbers as
+    every ray cast, for the example with and without surroundings and for a rig's
+    obliques (which look past the terrain)."""
+    import designer.survey.surroundings as surroundings
+    from designer.project.templates import survey_structures
+
+    cases = [template("survey").project,
+             _with_surroundings(template("survey").project, "none"),
+             _with_surroundings(survey_structures().project, "none")]
+    for project in cases:
+        hf, images = _declared(project)
+        grown = surroundings.grown_terrain(project, hf, images)
+        rc = surroundings.raycaster_of(grown.surroundings.heightfield)
+        fast = surroundings.void_shares(project, images, rc)
+        with monkeypatch.context() as patch:
+            patch.setattr(surroundings, "_bounding_cone_cv", lambda rays: None)
+            every_ray = surroundings.void_shares(project, images, rc)
+        assert np.array_equal(fast, every_ray)
+        assert (fast == 0.0).any()
+    assert (fast > 0.01).any()  # the last case sees void
