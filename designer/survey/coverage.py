@@ -49,7 +49,7 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
-from designer.core.projection import project_points
+from designer.core.projection import project_pairwise
 from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.errors import DesignerError
 from designer.survey import area as _area
@@ -320,23 +320,13 @@ def _margins(samples, hit, pairs, C, R, interior) -> np.ndarray:
     """Signed distances (px) of each pair's station samples to the other image's four
     border lines, positive inside: (P, 4, k²) as (u, W − u, v, H − v)."""
     W, H = interior.image_size_px
-    n_s = samples.shape[1]
-    out = np.full((len(pairs), 4, n_s), _OUTSIDE_PX)
-    order = np.argsort(pairs[:, 1], kind="stable")
-    bounds = np.searchsorted(pairs[order, 1], np.arange(len(C) + 1))
-    for j in range(len(C)):
-        rows = order[bounds[j]:bounds[j + 1]]
-        if rows.size == 0:
-            continue
-        stations = pairs[rows, 0]
-        pts = samples[stations].reshape(-1, 3)
-        ok = hit[stations].ravel()
-        proj = project_points(pts[ok], C[j], R[j], interior)
-        u, v = proj.uv_px[0, :, 0], proj.uv_px[0, :, 1]
-        m = np.stack([u, W - u, v, H - v])
-        full = np.full((4, pts.shape[0]), _OUTSIDE_PX)
-        full[:, ok] = np.where(proj.in_front[0], m, _OUTSIDE_PX)
-        out[rows] = full.reshape(4, rows.size, n_s).transpose(1, 0, 2)
+    out = np.full((len(pairs), 4, samples.shape[1]), _OUTSIDE_PX)
+    # every pair's samples that met the ground, each into the pair's other camera at once
+    row, s = np.nonzero(hit[pairs[:, 0]])
+    proj = project_pairwise(samples[pairs[row, 0], s], C, R, pairs[row, 1], interior)
+    u, v = proj.uv_px[:, 0], proj.uv_px[:, 1]
+    m = np.where(proj.in_front, np.stack([u, W - u, v, H - v]), _OUTSIDE_PX)
+    out[row, :, s] = m.T
     return out
 
 

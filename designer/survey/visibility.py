@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
-from designer.core.projection import project_points
+from designer.core.projection import project_pairwise
 from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.survey.raycast import TerrainRaycaster
 
@@ -30,6 +30,8 @@ BORDER_RAYS_PER_EDGE = 9
 BOX_GROWTH = 0.05
 #: sight lines tested for occlusion in one vectorised batch
 OCCLUSION_BATCH = 1 << 19
+#: (camera, candidate point) pairs projected in one vectorised batch
+PROJECTION_BATCH = 1 << 18
 
 
 @dataclass(frozen=True)
@@ -118,22 +120,37 @@ def visible_pairs(
     xs = P[order, 0]
     W, H = interior.image_size_px
     cams, pts, uvs, depths = [], [], [], []
+    batch_cams, batch_pts, n_batch = [], [], 0
+
+    def project_batch() -> None:
+        # the candidates of several cameras projected together, each into its own
+        cam, pt = np.concatenate(batch_cams), np.concatenate(batch_pts)
+        proj = project_pairwise(P[pt], C, R, cam, interior)
+        uv, ok = proj.uv_px, proj.in_image
+        if border_px > 0:
+            ok &= ((uv[:, 0] >= border_px) & (uv[:, 0] <= W - border_px)
+                   & (uv[:, 1] >= border_px) & (uv[:, 1] <= H - border_px))
+        cams.append(cam[ok])
+        pts.append(pt[ok])
+        uvs.append(uv[ok])
+        depths.append(proj.depth_m[ok])
+        batch_cams.clear()
+        batch_pts.clear()
+
     for m in range(len(C)):
         x0, x1, y0, y1 = boxes[m]
         cand = order[np.searchsorted(xs, x0, "left"):np.searchsorted(xs, x1, "right")]
         cand = cand[(P[cand, 1] >= y0) & (P[cand, 1] <= y1)]
         if cand.size == 0:
             continue
-        proj = project_points(P[cand], C[m], R[m], interior)
-        uv = proj.uv_px[0]
-        ok = proj.in_image[0]
-        if border_px > 0:
-            ok &= ((uv[:, 0] >= border_px) & (uv[:, 0] <= W - border_px)
-                   & (uv[:, 1] >= border_px) & (uv[:, 1] <= H - border_px))
-        cams.append(np.full(np.count_nonzero(ok), m))
-        pts.append(cand[ok])
-        uvs.append(uv[ok])
-        depths.append(proj.depth_m[0, ok])
+        batch_cams.append(np.full(cand.size, m))
+        batch_pts.append(cand)
+        n_batch += cand.size
+        if n_batch >= PROJECTION_BATCH:
+            project_batch()
+            n_batch = 0
+    if batch_cams:
+        project_batch()
     if not cams:
         return _no_pairs()
     cam, pt = np.concatenate(cams), np.concatenate(pts)
