@@ -320,14 +320,16 @@ def _margins(samples, hit, pairs, C, R, interior) -> np.ndarray:
     """Signed distances (px) of each pair's station samples to the other image's four
     border lines, positive inside: (P, 4, k²) as (u, W − u, v, H − v)."""
     W, H = interior.image_size_px
-    out = np.full((len(pairs), 4, samples.shape[1]), _OUTSIDE_PX)
+    n_s = samples.shape[1]
     # every pair's samples that met the ground, each into the pair's other camera at once
     row, s = np.nonzero(hit[pairs[:, 0]])
     proj = project_pairwise(samples[pairs[row, 0], s], C, R, pairs[row, 1], interior)
-    u, v = proj.uv_px[:, 0], proj.uv_px[:, 1]
-    m = np.where(proj.in_front, np.stack([u, W - u, v, H - v]), _OUTSIDE_PX)
-    out[row, :, s] = m.T
-    return out
+    front = proj.in_front
+    at = (row * n_s + s)[front]
+    u, v = proj.uv_px[front, 0], proj.uv_px[front, 1]
+    out = np.full((4, len(pairs) * n_s), _OUTSIDE_PX)
+    out[0, at], out[1, at], out[2, at], out[3, at] = u, W - u, v, H - v
+    return out.reshape(4, len(pairs), n_s).transpose(1, 0, 2)
 
 
 def _triangles(a: np.ndarray):
