@@ -97,7 +97,8 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     from designer.survey.project_poses import project_images
     from designer.survey.surroundings import image_ground
 
-    images = project_images(project, hf)
+    images = (stations_result.images if stations_result.images is not None
+              else project_images(project, hf))
     # over the rendered terrain (the declared one and its surroundings), as designer plan:
     # past the declared terrain's edge the images see the surroundings, or void
     # a newer edit stops this analysis between its stages (job_control)
