@@ -119,12 +119,29 @@ def visible_pairs(
     order = np.argsort(P[:, 0], kind="stable")
     xs = P[order, 0]
     W, H = interior.image_size_px
+    # each camera's candidates: the points in its box, from the run of points sorted by
+    # x that the box's x range spans; cameras are taken in batches of about
+    # PROJECTION_BATCH candidates, each batch projected in one pass (each point into its
+    # own camera), in camera order and, within a camera, in x order
+    first = np.searchsorted(xs, boxes[:, 0], "left")
+    runs = np.maximum(np.searchsorted(xs, boxes[:, 1], "right") - first, 0)
+    ends = np.cumsum(runs)
     cams, pts, uvs, depths = [], [], [], []
-    batch_cams, batch_pts, n_batch = [], [], 0
-
-    def project_batch() -> None:
-        # the candidates of several cameras projected together, each into its own
-        cam, pt = np.concatenate(batch_cams), np.concatenate(batch_pts)
+    start = 0
+    while start < len(C):
+        stop = max(start + 1, int(np.searchsorted(
+            ends, ends[start] - runs[start] + PROJECTION_BATCH, "right")))
+        n_run = runs[start:stop]
+        cam = np.repeat(np.arange(start, stop), n_run)
+        # position in the x-sorted run of each candidate: its camera's first + its rank
+        rank = np.arange(cam.size) - np.repeat(np.cumsum(n_run) - n_run, n_run)
+        pt = order[first[cam] + rank]
+        box = boxes[cam]
+        inside = (P[pt, 1] >= box[:, 2]) & (P[pt, 1] <= box[:, 3])
+        cam, pt = cam[inside], pt[inside]
+        start = stop
+        if cam.size == 0:
+            continue
         proj = project_pairwise(P[pt], C, R, cam, interior)
         uv, ok = proj.uv_px, proj.in_image
         if border_px > 0:
@@ -134,23 +151,6 @@ def visible_pairs(
         pts.append(pt[ok])
         uvs.append(uv[ok])
         depths.append(proj.depth_m[ok])
-        batch_cams.clear()
-        batch_pts.clear()
-
-    for m in range(len(C)):
-        x0, x1, y0, y1 = boxes[m]
-        cand = order[np.searchsorted(xs, x0, "left"):np.searchsorted(xs, x1, "right")]
-        cand = cand[(P[cand, 1] >= y0) & (P[cand, 1] <= y1)]
-        if cand.size == 0:
-            continue
-        batch_cams.append(np.full(cand.size, m))
-        batch_pts.append(cand)
-        n_batch += cand.size
-        if n_batch >= PROJECTION_BATCH:
-            project_batch()
-            n_batch = 0
-    if batch_cams:
-        project_batch()
     if not cams:
         return _no_pairs()
     cam, pt = np.concatenate(cams), np.concatenate(pts)

@@ -277,3 +277,26 @@ def _every_triangle_share(p, q, r):
     with np.errstate(invalid="ignore", divide="ignore"):
         corner = x * x / ((x - y) * (x - z))
     return np.select([n_pos == 3, n_pos == 0, n_pos == 1], [1.0, 0.0, corner], 1.0 - corner)
+
+
+def test_visible_pairs_are_the_same_whatever_the_projection_batches(monkeypatch):
+    """Cameras are taken in batches of about PROJECTION_BATCH candidates (a camera's run
+    is never split); small batches, one camera per batch at the extreme, give the same
+    pairs in the same order."""
+    from designer.survey import visibility
+
+    hf = hilly_terrain(relief_m=60.0)
+    rc = TerrainRaycaster(hf)
+    cam = phantom4()
+    plan = plan_flight(area.rectangle(100, 100, 300, 300), cam, altitude_agl_m=50.0,
+                       front_overlap_fraction=0.7, side_overlap_fraction=0.6, heightfield=hf,
+                       forward_tilt_deg=35.0, grid_angle_deg=20.0)
+    P = coverage.ground_grid(hf, area.rectangle(80, 80, 320, 320), cell_m=12.0).points_world()
+    C, R = plan.C_world, plan.R_cam_to_world
+    whole = visible_pairs(P, C, R, cam, rc, border_px=10.0)
+    assert whole.camera.size > 1000
+    for batch in (5000, 1):
+        monkeypatch.setattr(visibility, "PROJECTION_BATCH", batch)
+        part = visible_pairs(P, C, R, cam, rc, border_px=10.0)
+        for name in ("camera", "point", "uv_px", "depth_m"):
+            assert np.array_equal(getattr(part, name), getattr(whole, name)), name
