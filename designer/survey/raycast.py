@@ -53,12 +53,21 @@ class TerrainRaycaster:
         x0, x1, y0, y1 = heightfield.extent_m
         self._box = (x0, x1, y0, y1)
         self.z_min_m, self.z_max_m = float(z.min()), float(z.max())
-        cell_max = np.maximum(np.maximum(z[:-1, :-1], z[:-1, 1:]),
-                              np.maximum(z[1:, :-1], z[1:, 1:]))
+        # (the same arithmetic as written plainly, in place: over a survey's millions of
+        # nodes each temporary array is tens of megabytes)
+        cell_max = np.maximum(z[:-1, :-1], z[:-1, 1:])
+        np.maximum(cell_max, np.maximum(z[1:, :-1], z[1:, 1:]), out=cell_max)
         # within a bilinear cell |dh/dx| is at most the larger of its two x edges' slopes
-        ex = np.abs(np.diff(z, axis=1)) / self._dx
-        ey = np.abs(np.diff(z, axis=0)) / self._dy
-        cell_slope = np.hypot(np.maximum(ex[:-1], ex[1:]), np.maximum(ey[:, :-1], ey[:, 1:]))
+        ex = np.diff(z, axis=1)
+        np.abs(ex, out=ex)
+        ex /= self._dx
+        ey = np.diff(z, axis=0)
+        np.abs(ey, out=ey)
+        ey /= self._dy
+        cell_slope = np.maximum(ex[:-1], ex[1:])
+        del ex
+        np.hypot(cell_slope, np.maximum(ey[:, :-1], ey[:, 1:]), out=cell_slope)
+        del ey
         self._block = int(block_cells)
         top = _range_max_table(_block_reduce(cell_max, self._block, -np.inf))
         slope = _range_max_table(_block_reduce(cell_slope, self._block, 0.0))
