@@ -83,3 +83,23 @@ def test_the_gcp_tables_columns_hold_their_values_whole_with_the_right_dock_show
         # the column is as wide as its values and header: nothing in it is cut
         assert header.sectionSize(c) >= max(table.sizeHintForColumn(c),
                                             header.sectionSizeHint(c)), name
+
+
+def test_an_empty_studys_errors_show_without_scrolling_the_study_panel(qtbot, window):
+    """Round four: the errors of a study without factors lay below the fold of the Study
+    panel (under the run's progress bar and log); they show under Run, unscrolled."""
+    from PySide6.QtCore import QPoint
+    from PySide6.QtWidgets import QScrollArea
+
+    w = window
+    panel = open_panel(w, "Study")
+    wait_idle(qtbot, w)
+    qtbot.waitUntil(panel.errors.isVisible, timeout=10000)
+    assert "no factor yet" in panel.errors.text()
+    area = panel.findChild(QScrollArea)  # the panel's own, around its fields
+    assert area.verticalScrollBar().value() == 0
+    viewport = area.viewport()
+    for widget in (panel.errors, panel.run_box.run_button, panel.run_box.reason):
+        top = widget.mapTo(viewport, QPoint(0, 0)).y()
+        assert 0 <= top and top + widget.height() <= viewport.height(), (
+            widget.objectName(), top, widget.height(), viewport.height())
