@@ -60,6 +60,17 @@ def test_opening_a_survey_computes_its_figures_once_off_the_ui_thread(
     assert flight.real_box.title() == REAL_TITLE
     assert flight.real_overlap.isEnabled() and flight.real_overlap.text().startswith("front")
 
+    # a moved GCP is counted again as it is made, with the images the figures have: no
+    # figures job, no flight planned again
+    from designer.gui.state import edits
+
+    t = w.document.project.targets[0]
+    w.editor.edit(edits.move_target(w.document.project, t.id, t.true.X + 3.0, t.true.Y),
+                  "Move GCP")
+    wait_idle(qtbot, w)
+    assert figures == [False] and planned == [False] and grown == [False]
+    assert w.sync.plan.gcp_ids[0] == t.id
+
 
 def test_figures_of_before_an_edit_are_greyed_while_the_new_ones_are_computed(
         qtbot, window, tmp_path):

@@ -430,7 +430,7 @@ class SceneSync(PhotoSelection, QObject):
 
         try:
             self.plan = with_targets(self.plan, self.document.project, self.terrain,
-                                     self.targets)
+                                     self.targets, self.stations.images)
         except (DesignerError, ValueError) as error:
             self._plan_failed(error)
             return
