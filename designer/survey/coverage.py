@@ -360,21 +360,23 @@ def _triangle_shares(margins: np.ndarray) -> np.ndarray:
     a triangle (only triangles holding a corner of the other image are approximate).
     """
     P, n_border, k = margins.shape[:3]
-    rows = margins.reshape(P * n_border, k * k)
+    # border-major rows: the margins come as a view of border-major arrays (_margins), so
+    # this copies nothing
+    rows = np.moveaxis(margins, 1, 0).reshape(n_border * P, k * k)
     inside = rows >= 0
     all_in, any_in = inside.all(axis=1), inside.any(axis=1)
     # a border whose samples lie all on one side gives 1 or 0 to every triangle; only
     # those crossing the grid need the triangles (over a 5,000-image block, most pairs'
     # borders cross none: this was 20 of the plan figures' 35 s)
     out = np.ones((P, 2 * (k - 1) ** 2))
-    out[(~any_in).reshape(P, n_border).any(axis=1)] = 0.0
+    out[(~any_in).reshape(n_border, P).any(axis=0)] = 0.0
     mixed = np.flatnonzero(any_in & ~all_in)
     if not len(mixed):
         return out
     share = _crossed_shares(rows[mixed].reshape(-1, k, k), inside[mixed].reshape(-1, k, k))
     # multiplied in border order, as a product over the four (x · 1 is x exactly, so
     # leaving out the borders that give 1 changes no bit)
-    pair, border = np.divmod(mixed, n_border)
+    border, pair = np.divmod(mixed, P)
     for b in range(n_border):
         sel = border == b
         out[pair[sel]] *= share[sel]
@@ -390,20 +392,20 @@ def _crossed_shares(grid: np.ndarray, inside: np.ndarray) -> np.ndarray:
     flat = grid.ravel()
     s = inside.view(np.int8)
     s00, s01, s10, s11 = s[:, :-1, :-1], s[:, :-1, 1:], s[:, 1:, :-1], s[:, 1:, 1:]
-    halves = []
+    n_cell = (k - 1) ** 2
+    out = np.empty((N, 2 * n_cell))
     # each cell's triangles (p00, p01, p11) and (p00, p11, p10): the offsets of the
     # second and third vertex from p00 in the flat grid
-    for n_pos, (dq, dr) in (((s00 + s01) + s11, (1, k + 1)),
-                            ((s00 + s11) + s10, (k + 1, k))):
-        share = (n_pos == 3).astype(float)
-        cut = np.flatnonzero((n_pos == 1) | (n_pos == 2))
-        cell, rc = np.divmod(cut, (k - 1) ** 2)
-        r, c = np.divmod(rc, k - 1)
-        p = cell * (k * k) + r * k + c
-        share.reshape(-1)[cut] = _cut_share(flat[p], flat[p + dq], flat[p + dr],
-                                            n_pos.reshape(-1)[cut])
-        halves.append(share.reshape(N, -1))
-    return np.concatenate(halves, axis=1)
+    for half, (n_pos, (dq, dr)) in enumerate((((s00 + s01) + s11, (1, k + 1)),
+                                              ((s00 + s11) + s10, (k + 1, k)))):
+        n_pos = n_pos.reshape(N, n_cell)
+        share = out[:, half * n_cell:(half + 1) * n_cell]
+        np.equal(n_pos, 3, out=share, casting="unsafe")
+        row, cell = np.nonzero((n_pos == 1) | (n_pos == 2))
+        r, c = np.divmod(cell, k - 1)
+        p = row * (k * k) + r * k + c
+        share[row, cell] = _cut_share(flat[p], flat[p + dq], flat[p + dr], n_pos[row, cell])
+    return out
 
 
 def _cut_share(p, q, r, n_pos):
