@@ -105,11 +105,23 @@ def project_pairwise(
     uv = np.empty((N, 2))
     depth = np.empty(N)
     in_front = np.empty(N, dtype=bool)
+    # camera by camera, each camera's points turned as project_points turns them (the same
+    # product, so the same bits); the rest point by point in chunks
+    order = np.argsort(cam, kind="stable")
+    by_cam = cam[order]
+    D = P[order] - C[by_cam]
+    X = np.empty((3, N))
+    cuts = np.flatnonzero(np.diff(by_cam)) + 1
+    for a, b in zip(np.r_[0, cuts], np.r_[cuts, N], strict=True):
+        if b > a:
+            X[:, a:b] = R_cv[by_cam[a]] @ D[a:b].T
     for start in range(0, N, CHUNK_POINTS):
         sl = slice(start, min(start + CHUNK_POINTS, N))
-        k = cam[sl]
-        X = np.ascontiguousarray(np.einsum("nij,nj->in", R_cv[k], P[sl] - C[k]))
-        _camera_to_pixels(X, interior, uv[sl], depth[sl], in_front[sl])
+        rows = order[sl]
+        u, d, f = np.empty((sl.stop - start, 2)), np.empty(sl.stop - start), np.empty(
+            sl.stop - start, dtype=bool)
+        _camera_to_pixels(np.ascontiguousarray(X[:, sl]), interior, u, d, f)
+        uv[rows], depth[rows], in_front[rows] = u, d, f
     W, H = interior.image_size_px
     with np.errstate(invalid="ignore"):
         in_image = (in_front & (uv[:, 0] >= 0) & (uv[:, 0] < W)
