@@ -154,8 +154,8 @@ def _tree_rss_mb(root: int) -> float:
 
 def _run_step(args: list[str], stage: str, marks=(), log=None) -> dict:
     """Run ``designer ARGS`` as a whole process: its wall and CPU seconds (its children
-    included), its peak memory per stage (``marks``: patterns of printed lines → the stage they start).
-    A failing step raises with its last lines."""
+    included), its peak memory per stage (``marks``: patterns of printed lines → the
+    stage they start). A failing step raises with its last lines."""
     cmd = [sys.executable, "-m", "designer", *args]
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
@@ -280,8 +280,8 @@ def _texture_of(project) -> str:
     """How the renderer draws the block's ground texture (baked, tiled, node graph)."""
     from designer.gui.state import derived
     from designer.render_time.model import project_texture_path
-    from designer.survey.surroundings import rendered_terrain
     from designer.survey.project_poses import project_images
+    from designer.survey.surroundings import rendered_terrain
 
     hf = derived.compute_terrain(project, Path(".")).heightfield
     rendered = rendered_terrain(project, hf, project_images(project, hf)).heightfield
@@ -348,7 +348,7 @@ def write_figure(rows: list[dict], path: Path) -> Path:
         pts = [(r["images"], r["wall_s"]) for r in rows
                if r["stage"] == stage and r["wall_s"] and r["wall_s"] > 0]
         if len(pts) >= 2:
-            ax.plot(*zip(*pts), marker="os^Dv"[k % 5], color=colours[(2 * k) % 20
+            ax.plot(*zip(*pts, strict=True), marker="os^Dv"[k % 5], color=colours[(2 * k) % 20
                                                                     + (k >= 10)],
                     label=stage)
     if sizes:

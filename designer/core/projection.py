@@ -85,10 +85,58 @@ def project_points(
     return Projection(uv_px=uv, in_front=in_front, in_image=in_image, depth_m=depth)
 
 
+def project_pairwise(
+    points_world: np.ndarray,
+    C_world: np.ndarray,
+    R_cam_to_world: np.ndarray,
+    camera: np.ndarray,
+    interior: InteriorOrientation,
+) -> Projection:
+    """Project each world point k (N, 3) into its own camera ``camera[k]`` of C (M, 3),
+    R (M, 3, 3): :func:`project_points` of many cameras with a few points each in one
+    pass. The result's arrays have no camera axis: ``uv_px`` (N, 2), the others (N,)."""
+    P = np.asarray(points_world, dtype=float).reshape(-1, 3)
+    C = np.asarray(C_world, dtype=float).reshape(-1, 3)
+    R_cv = R_cv_from_world(np.asarray(R_cam_to_world, dtype=float).reshape(-1, 3, 3))
+    cam = np.asarray(camera, dtype=np.intp).reshape(-1)
+    if len(cam) != len(P):
+        raise ValueError(f"{len(P)} points but {len(cam)} camera indices")
+    N = len(P)
+    uv = np.empty((N, 2))
+    depth = np.empty(N)
+    in_front = np.empty(N, dtype=bool)
+    # camera by camera, each camera's points turned as project_points turns them (the same
+    # product, so the same bits); the rest point by point in chunks
+    order = np.argsort(cam, kind="stable")
+    by_cam = cam[order]
+    D = P[order] - C[by_cam]
+    X = np.empty((3, N))
+    cuts = np.flatnonzero(np.diff(by_cam)) + 1
+    for a, b in zip(np.r_[0, cuts], np.r_[cuts, N], strict=True):
+        if b > a:
+            X[:, a:b] = R_cv[by_cam[a]] @ D[a:b].T
+    for start in range(0, N, CHUNK_POINTS):
+        sl = slice(start, min(start + CHUNK_POINTS, N))
+        rows = order[sl]
+        u, d, f = np.empty((sl.stop - start, 2)), np.empty(sl.stop - start), np.empty(
+            sl.stop - start, dtype=bool)
+        _camera_to_pixels(np.ascontiguousarray(X[:, sl]), interior, u, d, f)
+        uv[rows], depth[rows], in_front[rows] = u, d, f
+    W, H = interior.image_size_px
+    with np.errstate(invalid="ignore"):
+        in_image = (in_front & (uv[:, 0] >= 0) & (uv[:, 0] < W)
+                    & (uv[:, 1] >= 0) & (uv[:, 1] < H))
+    return Projection(uv_px=uv, in_front=in_front, in_image=in_image, depth_m=depth)
+
+
 def _project_chunk(P, C, R_cv, interior, uv_out, depth_out, front_out) -> None:
     # Subtract the centre first, in float64: UTM-sized values cancel exactly here.
     # Rows of X (3, n) are contiguous, which keeps the element-wise work fast.
-    X = R_cv @ (P - C).T
+    _camera_to_pixels(R_cv @ (P - C).T, interior, uv_out, depth_out, front_out)
+
+
+def _camera_to_pixels(X, interior, uv_out, depth_out, front_out) -> None:
+    """Pixels of CV-camera-frame points X (3, n), written into the outputs (X is used up)."""
     z = X[2]
     depth_out[:] = z
     model = interior.distortion

@@ -53,12 +53,21 @@ class TerrainRaycaster:
         x0, x1, y0, y1 = heightfield.extent_m
         self._box = (x0, x1, y0, y1)
         self.z_min_m, self.z_max_m = float(z.min()), float(z.max())
-        cell_max = np.maximum(np.maximum(z[:-1, :-1], z[:-1, 1:]),
-                              np.maximum(z[1:, :-1], z[1:, 1:]))
+        # (the same arithmetic as written plainly, in place: over a survey's millions of
+        # nodes each temporary array is tens of megabytes)
+        cell_max = np.maximum(z[:-1, :-1], z[:-1, 1:])
+        np.maximum(cell_max, np.maximum(z[1:, :-1], z[1:, 1:]), out=cell_max)
         # within a bilinear cell |dh/dx| is at most the larger of its two x edges' slopes
-        ex = np.abs(np.diff(z, axis=1)) / self._dx
-        ey = np.abs(np.diff(z, axis=0)) / self._dy
-        cell_slope = np.hypot(np.maximum(ex[:-1], ex[1:]), np.maximum(ey[:, :-1], ey[:, 1:]))
+        ex = np.diff(z, axis=1)
+        np.abs(ex, out=ex)
+        ex /= self._dx
+        ey = np.diff(z, axis=0)
+        np.abs(ey, out=ey)
+        ey /= self._dy
+        cell_slope = np.maximum(ex[:-1], ex[1:])
+        del ex
+        np.hypot(cell_slope, np.maximum(ey[:, :-1], ey[:, 1:]), out=cell_slope)
+        del ey
         self._block = int(block_cells)
         top = _range_max_table(_block_reduce(cell_max, self._block, -np.inf))
         slope = _range_max_table(_block_reduce(cell_slope, self._block, 0.0))
@@ -139,6 +148,37 @@ class TerrainRaycaster:
         if rest.size:
             out[rest] = np.isfinite(self.surface_hit(org[rest], d[rest])).all(axis=1)
         return out
+
+    def surely_sees_surface(self, origins_world, corner_directions_world,
+                            margin_m: float = 1e-3) -> np.ndarray:
+        """(M,) True where every ray from origin k (M, 3) inside the convex cone of its
+        corner directions (M, n, 3) is one :meth:`sees_surface` finds over the grid
+        without casting it (its ``sure`` test), so a bundle of such rays (an image's) need
+        not be tested ray by ray. The test holds for the corners with ``margin_m`` to
+        spare: a ray of the cone is a positive blend of the corners, it goes down where
+        they all do, and it comes down to a horizontal plane inside the hull of where
+        they do (a central projection keeps convex sets convex), so inside the grid's
+        box where they all are; the margin leaves room for rounding."""
+        org = np.asarray(origins_world, dtype=float).reshape(-1, 3)
+        d = np.asarray(corner_directions_world, dtype=float)
+        d = d / np.linalg.norm(d, axis=2, keepdims=True)
+        x0, x1, y0, y1 = self._box
+        oz = org[:, 2:3]
+        down = np.all(d[:, :, 2] < -1e-6, axis=1)
+
+        def inside(xy):
+            return np.all((xy[..., 0] >= x0 + margin_m) & (xy[..., 0] <= x1 - margin_m)
+                          & (xy[..., 1] >= y0 + margin_m) & (xy[..., 1] <= y1 - margin_m),
+                          axis=-1)
+
+        with np.errstate(divide="ignore", invalid="ignore"):
+            low = org[:, None, :2] + ((self.z_min_m - oz) / d[:, :, 2])[..., None] * d[..., :2]
+            top = org[:, None, :2] + ((self.z_max_m - oz) / d[:, :, 2])[..., None] * d[..., :2]
+            above = oz[:, 0] > self.z_max_m
+            # from above the highest point the rays come down to it over the grid; from
+            # between the lowest and the highest point they start over it
+            start = np.where(above, inside(top), inside(org[:, None, :2]))
+            return down & (oz[:, 0] >= self.z_min_m) & start & inside(low)
 
     def occluded(
         self, points_world, cameras_world, tol_m: float = 0.01, max_iter: int = MAX_STEPS

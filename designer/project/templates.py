@@ -7,6 +7,7 @@ mesh, a texture image), so the installed tool needs no data files and the exampl
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -295,7 +296,7 @@ def block_of_side(project: m.Project, area_m: float) -> m.Project:
     k = max(3, round(4 * area_m / BLOCK_AREA_M))
     inset = max(half - 10.0, half / 2)
     control = [-inset + 2 * inset * i / (k - 1) for i in range(k)]
-    check = [(a + b) / 2 for a, b in zip(control, control[1:], strict=False)]
+    check = [(a + b) / 2 for a, b in itertools.pairwise(control)]
     targets = tuple(
         m.Target(id=f"{prefix}{i + 1:02d}", role=role, shape="checker", size_m=0.8,
                  true=m.TruePosition(E0 + a, N0 + b))

@@ -102,6 +102,26 @@ def contains(area, xy_m) -> np.ndarray:
     return inside
 
 
+def contains_grid(area, x_m, y_m) -> np.ndarray:
+    """:func:`contains` of the grid's nodes (x_m[j], y_m[i]) as an (ny, nx) array: the same
+    answers (the same arithmetic), with each edge's crossing found once per row instead
+    of once per node (over a 5,000-image block's terrain, 4 M nodes)."""
+    poly = as_polygon(area)
+    v = poly - poly[0]
+    x = np.asarray(x_m, dtype=float).ravel() - poly[0][0]
+    y = np.asarray(y_m, dtype=float).ravel() - poly[0][1]
+    inside = np.zeros((len(y), len(x)), dtype=bool)
+    for a, b in zip(v, np.roll(v, -1, axis=0), strict=True):
+        rows = np.flatnonzero((a[1] > y) != (b[1] > y))
+        x_cross = a[0] + (y[rows] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
+        inside[rows] ^= x[None, :] < x_cross[:, None]
+    i, j = np.nonzero(~inside)
+    if len(i):
+        p = np.column_stack([x[j], y[i]])
+        inside[i, j] = distance_to_boundary_m(poly, p + poly[0]) <= 1e-9
+    return inside
+
+
 def distance_to_boundary_m(area, xy_m) -> np.ndarray:
     """Distance (N,) in metres from points (N, 2) to the nearest polygon edge."""
     poly = as_polygon(area)

@@ -49,7 +49,7 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
-from designer.core.projection import project_points
+from designer.core.projection import project_pairwise
 from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
 from designer.errors import DesignerError, ParameterError
@@ -322,23 +322,15 @@ def _margins(samples, hit, pairs, C, R, interior) -> np.ndarray:
     border lines, positive inside: (P, 4, k²) as (u, W − u, v, H − v)."""
     W, H = interior.image_size_px
     n_s = samples.shape[1]
-    out = np.full((len(pairs), 4, n_s), _OUTSIDE_PX)
-    order = np.argsort(pairs[:, 1], kind="stable")
-    bounds = np.searchsorted(pairs[order, 1], np.arange(len(C) + 1))
-    for j in range(len(C)):
-        rows = order[bounds[j]:bounds[j + 1]]
-        if rows.size == 0:
-            continue
-        stations = pairs[rows, 0]
-        pts = samples[stations].reshape(-1, 3)
-        ok = hit[stations].ravel()
-        proj = project_points(pts[ok], C[j], R[j], interior)
-        u, v = proj.uv_px[0, :, 0], proj.uv_px[0, :, 1]
-        m = np.stack([u, W - u, v, H - v])
-        full = np.full((4, pts.shape[0]), _OUTSIDE_PX)
-        full[:, ok] = np.where(proj.in_front[0], m, _OUTSIDE_PX)
-        out[rows] = full.reshape(4, rows.size, n_s).transpose(1, 0, 2)
-    return out
+    # every pair's samples that met the ground, each into the pair's other camera at once
+    row, s = np.nonzero(hit[pairs[:, 0]])
+    proj = project_pairwise(samples[pairs[row, 0], s], C, R, pairs[row, 1], interior)
+    front = proj.in_front
+    at = (row * n_s + s)[front]
+    u, v = proj.uv_px[front, 0], proj.uv_px[front, 1]
+    out = np.full((4, len(pairs) * n_s), _OUTSIDE_PX)
+    out[0, at], out[1, at], out[2, at], out[3, at] = u, W - u, v, H - v
+    return out.reshape(4, len(pairs), n_s).transpose(1, 0, 2)
 
 
 def _triangles(a: np.ndarray):
@@ -369,31 +361,56 @@ def _triangle_shares(margins: np.ndarray) -> np.ndarray:
     a triangle (only triangles holding a corner of the other image are approximate).
     """
     P, n_border, k = margins.shape[:3]
-    rows = margins.reshape(P * n_border, k, k)
+    # border-major rows: the margins come as a view of border-major arrays (_margins), so
+    # this copies nothing
+    rows = np.moveaxis(margins, 1, 0).reshape(n_border * P, k * k)
+    inside = rows >= 0
+    all_in, any_in = inside.all(axis=1), inside.any(axis=1)
     # a border whose samples lie all on one side gives 1 or 0 to every triangle; only
     # those crossing the grid need the triangles (over a 5,000-image block, most pairs'
     # borders cross none: this was 20 of the plan figures' 35 s)
-    inside = (rows >= 0).reshape(len(rows), -1)
-    n_tri = 2 * (k - 1) ** 2
-    share = np.repeat(inside.all(axis=1).astype(float)[:, None], n_tri, axis=1)
-    mixed = np.flatnonzero(inside.any(axis=1) & ~inside.all(axis=1))
-    if len(mixed):
-        share[mixed] = _triangle_share(*_triangles(rows[mixed]))
-    return np.prod(share.reshape(P, n_border, n_tri), axis=1)
+    out = np.ones((P, 2 * (k - 1) ** 2))
+    out[(~any_in).reshape(n_border, P).any(axis=0)] = 0.0
+    mixed = np.flatnonzero(any_in & ~all_in)
+    if not len(mixed):
+        return out
+    share = _crossed_shares(rows[mixed].reshape(-1, k, k), inside[mixed].reshape(-1, k, k))
+    # multiplied in border order, as a product over the four (x · 1 is x exactly, so
+    # leaving out the borders that give 1 changes no bit)
+    border, pair = np.divmod(mixed, P)
+    for b in range(n_border):
+        sel = border == b
+        out[pair[sel]] *= share[sel]
+    return out
 
 
-def _triangle_share(p, q, r):
-    """Share of a triangle where the linear interpolant of vertex values is ≥ 0."""
-    n_pos = (p >= 0).astype(np.int8) + (q >= 0) + (r >= 0)
-    out = (n_pos == 3).astype(float)
-    # only a triangle a border crosses has a share between 0 and 1
-    cut = (n_pos == 1) | (n_pos == 2)
-    out[cut] = _cut_share(p[cut], q[cut], r[cut], n_pos[cut])
+def _crossed_shares(grid: np.ndarray, inside: np.ndarray) -> np.ndarray:
+    """Share of every triangle of (N, k, k) sample grids where the linear interpolant of
+    its vertex values is ≥ 0, (N, T) in :func:`_triangles`' order; only the triangles a
+    border crosses are measured (about one in ten: the rest are 1 or 0 from their
+    vertices' sides, ``inside``)."""
+    N, k = grid.shape[:2]
+    flat = grid.ravel()
+    s = inside.view(np.int8)
+    s00, s01, s10, s11 = s[:, :-1, :-1], s[:, :-1, 1:], s[:, 1:, :-1], s[:, 1:, 1:]
+    n_cell = (k - 1) ** 2
+    out = np.empty((N, 2 * n_cell))
+    # each cell's triangles (p00, p01, p11) and (p00, p11, p10): the offsets of the
+    # second and third vertex from p00 in the flat grid
+    for half, (n_pos, (dq, dr)) in enumerate((((s00 + s01) + s11, (1, k + 1)),
+                                              ((s00 + s11) + s10, (k + 1, k)))):
+        n_pos = n_pos.reshape(N, n_cell)
+        share = out[:, half * n_cell:(half + 1) * n_cell]
+        np.equal(n_pos, 3, out=share, casting="unsafe")
+        row, cell = np.nonzero((n_pos == 1) | (n_pos == 2))
+        r, c = np.divmod(cell, k - 1)
+        p = row * (k * k) + r * k + c
+        share[row, cell] = _cut_share(flat[p], flat[p + dq], flat[p + dr], n_pos[row, cell])
     return out
 
 
 def _cut_share(p, q, r, n_pos):
-    """:func:`_triangle_share` of triangles with one or two vertices ≥ 0 (flat arrays)."""
+    """The share ≥ 0 of triangles with one or two vertices ≥ 0 (flat arrays)."""
     # the vertex whose sign differs from the other two, and those two
     lone_is_p = (p >= 0) != (q >= 0)
     lone_is_p &= (p >= 0) != (r >= 0)

@@ -400,10 +400,9 @@ def _heights_inside(hf: Heightfield, poly: np.ndarray) -> np.ndarray:
     j0, j1 = (np.clip(np.array([lo[0], hi[0]]) - hf.x0_m, 0, None) / hf.dx_m).astype(int)
     i0, i1 = (np.clip(np.array([lo[1], hi[1]]) - hf.y0_m, 0, None) / hf.dy_m).astype(int)
     j1, i1 = min(j1 + 1, nx - 1), min(i1 + 1, ny - 1)
-    X, Y = np.meshgrid(hf.x0_m + np.arange(j0, j1 + 1) * hf.dx_m,
-                       hf.y0_m + np.arange(i0, i1 + 1) * hf.dy_m)
     z = hf.heights_m[i0:i1 + 1, j0:j1 + 1]
-    inside = _area.contains(poly, np.column_stack([X.ravel(), Y.ravel()]))
+    inside = _area.contains_grid(poly, hf.x0_m + np.arange(j0, j1 + 1) * hf.dx_m,
+                                 hf.y0_m + np.arange(i0, i1 + 1) * hf.dy_m).ravel()
     if inside.any():
         return z.ravel()[inside]
     # an area smaller than a grid cell: sample its vertices and centroid instead

@@ -135,26 +135,25 @@ def finest_gsd_m(project: m.Project, hf, images, raycaster=None) -> float:
 
     starts, rays, axes, pitch_over_f = [], [], [], []
     # each camera's rays once (inverting the distortion per image was 5 s of the plan
-    # figures at 5,000 images), turned by each image's rotation as pixel_rays_world does
-    per_camera: dict[str, tuple] = {}
-    for station, camera_id in zip(images.stations, images.camera_ids, strict=True):
-        if camera_id not in per_camera:
-            io = render_interior(project.camera(camera_id), project.render.resolution_scale)
-            W, H = io.image_size_px
-            g = np.linspace(0.05, 0.95, 3)
-            uv = np.stack(np.meshgrid(g * W, g * H), axis=-1).reshape(-1, 2)
-            try:
-                per_camera[camera_id] = (io, uv, io.rays_cv(uv))
-            except NotInvertibleError:
-                per_camera[camera_id] = (io, uv, None)
-        io, uv, rays_cv = per_camera[camera_id]
-        if rays_cv is None:
+    # figures at 5,000 images), turned by each image's rotation as pixel_rays_world does,
+    # all images of the camera at once
+    for camera_id in images.camera_order():
+        io = render_interior(project.camera(camera_id), project.render.resolution_scale)
+        W, H = io.image_size_px
+        g = np.linspace(0.05, 0.95, 3)
+        uv = np.stack(np.meshgrid(g * W, g * H), axis=-1).reshape(-1, 2)
+        try:
+            rays_cv = io.rays_cv(uv)
+        except NotInvertibleError:
             continue
-        R_world_from_cv = np.asarray(station.R_cam_to_world, dtype=float) @ R_CV_FROM_PHOTO
-        rays.append(rays_cv @ R_world_from_cv.T)
-        starts.append(np.repeat(np.asarray(station.C_world, float)[None], len(uv), axis=0))
-        axes.append(np.repeat(-np.asarray(station.R_cam_to_world)[None, :, 2], len(uv), 0))
-        pitch_over_f.append(np.full(len(uv), float(ground_sample_distance_m(io, 1.0))))
+        k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
+        R = np.array([images.stations[i].R_cam_to_world for i in k], float).reshape(-1, 3, 3)
+        C = np.array([images.stations[i].C_world for i in k], float).reshape(-1, 3)
+        n = len(k) * len(uv)
+        rays.append(np.matmul(rays_cv, np.swapaxes(R @ R_CV_FROM_PHOTO, 1, 2)).reshape(n, 3))
+        starts.append(np.repeat(C, len(uv), axis=0))
+        axes.append(np.repeat(-R[:, :, 2], len(uv), axis=0))
+        pitch_over_f.append(np.full(n, float(ground_sample_distance_m(io, 1.0))))
     if not rays:
         return math.nan
     C = np.concatenate(starts)

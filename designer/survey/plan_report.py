@@ -67,9 +67,10 @@ def plan_project(project: m.Project, base_dir: Path, cell_m: float | None = None
     if hf is None:
         raise DesignerError("designer plan needs a height-field terrain (flat, procedural or "
                             "DEM); a mesh terrain cannot be analysed yet")
-    stations, camera_id = project_stations(project, hf)
-    carriers = tuple(platform_stations(project, hf)[1])
-    images = project_images(project, hf)
+    platform = platform_stations(project, hf)  # the flight planned once for all three
+    stations, camera_id = project_stations(project, hf, platform)
+    carriers = tuple(platform[1])
+    images = project_images(project, hf, platform)
     n_all = len(images.stations)
     # the images see the rendered terrain: the declared one and its surroundings
     ground = image_ground(project, hf, images)

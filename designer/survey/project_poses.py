@@ -183,7 +183,8 @@ def platform_stations(
 
 
 def project_stations(
-    project: m.Project, hf: Heightfield | None
+    project: m.Project, hf: Heightfield | None,
+    platform: tuple[list[Station], list[str]] | None = None,
 ) -> tuple[list[Station], str]:
     """All stations of the project in order (explicit ones first) and their camera id.
 
@@ -192,9 +193,10 @@ def project_stations(
     rig is the platform's pose, with the rig's planning camera
     (:func:`planning_camera_id`); :func:`project_images` gives its images. Without a rig
     every station must use the same camera; with one the returned camera is the first
-    station's planning camera.
+    station's planning camera. ``platform``: :func:`platform_stations` of the same
+    project and terrain, when the caller has it (the flight is then not planned again).
     """
-    stations, carriers = platform_stations(project, hf)
+    stations, carriers = platform if platform is not None else platform_stations(project, hf)
     camera_ids = [planning_camera_id(project, c) for c in carriers]
     # with rigs several cameras are the point: the figures are then the first station's
     # planning camera's (project_images gives every image its own)
@@ -230,10 +232,12 @@ class ProjectImages:
         return tuple(dict.fromkeys(self.camera_ids))
 
 
-def project_images(project: m.Project, hf: Heightfield | None) -> ProjectImages:
+def project_images(project: m.Project, hf: Heightfield | None,
+                   platform: tuple[list[Station], list[str]] | None = None) -> ProjectImages:
     """All images of the project (see :class:`ProjectImages`); a project without a rig has
-    one image per station, exactly :func:`project_stations`'."""
-    platform, carriers = platform_stations(project, hf)
+    one image per station, exactly :func:`project_stations`'. ``platform``: as
+    :func:`project_stations` takes it."""
+    platform, carriers = platform if platform is not None else platform_stations(project, hf)
     stations, cameras, index = [], [], []
     for k, (st, carrier) in enumerate(zip(platform, carriers, strict=True)):
         rig = project.trajectory.rig(carrier)

@@ -78,19 +78,24 @@ def ground_reach(project: m.Project, images, ground_low_m: float) -> Reach:
     # each camera's border rays in its own frame, once (pixel_rays_world's steps)
     rays_cv = {c: _rays_cv(i, border_pixels(i)) for c, i in interiors.items()}
     points, horizon = [], False
-    for st, c in zip(images.stations, images.camera_ids, strict=True):
-        d = rays_cv[c] @ (np.asarray(st.R_cam_to_world, dtype=float) @ R_CV_FROM_PHOTO).T
-        C = np.asarray(st.C_world, float)
-        height = max(C[2] - ground_low_m, 1.0)
-        reach = DETAIL_REACH_HEIGHTS * height
+    # the images of each camera at once (each image's rays turned by its own rotation)
+    for c in images.camera_order():
+        k = [i for i, cam in enumerate(images.camera_ids) if cam == c]
+        R = np.array([images.stations[i].R_cam_to_world for i in k], float).reshape(-1, 3, 3)
+        C = np.array([images.stations[i].C_world for i in k], float).reshape(-1, 3)
+        d = np.matmul(rays_cv[c], np.swapaxes(R @ R_CV_FROM_PHOTO, 1, 2))  # (n, S, 3)
+        height = np.maximum(C[:, 2] - ground_low_m, 1.0)
+        reach = (DETAIL_REACH_HEIGHTS * height)[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(d[:, 2] < 0, (ground_low_m - C[2]) / d[:, 2], np.inf)
+            t = np.where(d[..., 2] < 0, (ground_low_m - C[:, 2:3]) / d[..., 2], np.inf)
         far = ~(t <= reach)
         horizon |= bool(far.any())
         # a ray near the horizon: its horizontal direction out to the detailed reach
-        horizontal = d[:, :2] / np.maximum(np.linalg.norm(d[:, :2], axis=1), 1e-12)[:, None]
-        xy = np.where(far[:, None], C[:2] + reach * horizontal, C[:2] + t[:, None] * d[:, :2])
-        points.append(xy)
+        horizontal = d[..., :2] / np.maximum(np.linalg.norm(d[..., :2], axis=2),
+                                             1e-12)[..., None]
+        xy = np.where(far[..., None], C[:, None, :2] + reach[..., None] * horizontal,
+                      C[:, None, :2] + t[..., None] * d[..., :2])
+        points.append(xy.reshape(-1, 2))
     xy = np.concatenate(points) if points else np.zeros((0, 2))
     if not len(xy):
         return Reach((math.inf, -math.inf, math.inf, -math.inf), False)
@@ -181,6 +186,14 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
         k = [i for i, c in enumerate(images.camera_ids) if c == camera_id]
         C = np.array([images.stations[i].C_world for i in k], float).reshape(-1, 3)
         R = np.array([images.stations[i].R_cam_to_world for i in k]).reshape(-1, 3, 3)
+        cone = _bounding_cone_cv(rays_cv)
+        if cone is not None:
+            # an image whose whole bundle of rays surely comes down on the terrain
+            # shows no void: its rays need not be tested one by one (the same share, 0)
+            corners = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, cone)
+            keep = ~raycaster.surely_sees_surface(C, corners)
+            k = [i for i, kept in zip(k, keep, strict=True) if kept]
+            C, R = C[keep], R[keep]
         rays = np.einsum("mij,sj->msi", R @ R_CV_FROM_PHOTO, rays_cv)
         for a in range(0, len(k), VOID_CHUNK):
             if check is not None:
@@ -195,6 +208,20 @@ def void_shares(project: m.Project, images, raycaster, far_ground: bool = False,
 
 #: images whose void rays are cast together (between two calls of ``check``)
 VOID_CHUNK = 64
+
+
+def _bounding_cone_cv(rays_cv: np.ndarray) -> np.ndarray | None:
+    """Four CV-frame directions (4, 3) whose convex cone holds every ray of ``rays_cv``
+    (the rectangle the rays span on the image plane z = 1), or None when a ray does not
+    point forward (a fisheye's past 90°): there is no such rectangle."""
+    z = rays_cv[:, 2]
+    if not np.all(z > 0) or not np.all(np.isfinite(rays_cv)):
+        return None
+    x, y = rays_cv[:, 0] / z, rays_cv[:, 1] / z
+    # a little wider than the rays span, so rounding keeps every ray inside the cone
+    pad = 1e-9 * (1.0 + np.abs(x).max() + np.abs(y).max())
+    x0, x1, y0, y1 = x.min() - pad, x.max() + pad, y.min() - pad, y.max() + pad
+    return np.array([[x0, y0, 1.0], [x1, y0, 1.0], [x1, y1, 1.0], [x0, y1, 1.0]])
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.core.interior import InteriorOrientation
-from designer.core.projection import edge_pixels, project_points
+from designer.core.projection import edge_pixels, project_pairwise
 from designer.core.raycast import TerrainRaycaster
 from designer.core.rotation import R_CV_FROM_PHOTO
 
@@ -30,6 +30,10 @@ BORDER_RAYS_PER_EDGE = 9
 BOX_GROWTH = 0.05
 #: sight lines tested for occlusion in one vectorised batch
 OCCLUSION_BATCH = 1 << 19
+#: (camera, candidate point) pairs projected in one vectorised batch
+PROJECTION_BATCH = 1 << 18
+#: at most this many strips of points (:class:`_BoxIndex`)
+MAX_STRIPS = 4096
 
 
 @dataclass(frozen=True)
@@ -109,26 +113,44 @@ def visible_pairs(
     if raycaster is not None:
         z_lo, z_hi = min(z_lo, raycaster.z_min_m), max(z_hi, raycaster.z_max_m)
     boxes = footprint_boxes(C, R, interior, z_lo, z_hi)
-    order = np.argsort(P[:, 0], kind="stable")
-    xs = P[order, 0]
+    index = _BoxIndex(P[:, :2], boxes)
     W, H = interior.image_size_px
+    # each camera's candidates: the points in its box (found strip by strip, _BoxIndex);
+    # cameras are taken in batches of about PROJECTION_BATCH candidates, each batch
+    # projected in one pass (each point into its own camera), in camera order and,
+    # within a camera, in the order of the points' x
+    run_cam, run_first, run_count = index.runs(boxes)
+    per_camera = np.bincount(run_cam, weights=run_count, minlength=len(C)).astype(np.intp)
+    ends = np.cumsum(per_camera)
     cams, pts, uvs, depths = [], [], [], []
-    for m in range(len(C)):
-        x0, x1, y0, y1 = boxes[m]
-        cand = order[np.searchsorted(xs, x0, "left"):np.searchsorted(xs, x1, "right")]
-        cand = cand[(P[cand, 1] >= y0) & (P[cand, 1] <= y1)]
-        if cand.size == 0:
+    start = 0
+    while start < len(C):
+        stop = max(start + 1, int(np.searchsorted(
+            ends, ends[start] - per_camera[start] + PROJECTION_BATCH, "right")))
+        r0, r1 = np.searchsorted(run_cam, [start, stop])
+        n_run = run_count[r0:r1]
+        cam = np.repeat(run_cam[r0:r1], n_run)
+        # each candidate's place in the index: its run's first + its rank in the run
+        rank = np.arange(cam.size) - np.repeat(np.cumsum(n_run) - n_run, n_run)
+        pt = index.order[np.repeat(run_first[r0:r1], n_run) + rank]
+        box = boxes[cam]
+        inside = ((P[pt, 0] >= box[:, 0]) & (P[pt, 0] <= box[:, 1])
+                  & (P[pt, 1] >= box[:, 2]) & (P[pt, 1] <= box[:, 3]))
+        cam, pt = cam[inside], pt[inside]
+        start = stop
+        if cam.size == 0:
             continue
-        proj = project_points(P[cand], C[m], R[m], interior)
-        uv = proj.uv_px[0]
-        ok = proj.in_image[0]
+        by_x = np.lexsort((index.x_rank[pt], cam))
+        cam, pt = cam[by_x], pt[by_x]
+        proj = project_pairwise(P[pt], C, R, cam, interior)
+        uv, ok = proj.uv_px, proj.in_image
         if border_px > 0:
             ok &= ((uv[:, 0] >= border_px) & (uv[:, 0] <= W - border_px)
                    & (uv[:, 1] >= border_px) & (uv[:, 1] <= H - border_px))
-        cams.append(np.full(np.count_nonzero(ok), m))
-        pts.append(cand[ok])
+        cams.append(cam[ok])
+        pts.append(pt[ok])
         uvs.append(uv[ok])
-        depths.append(proj.depth_m[0, ok])
+        depths.append(proj.depth_m[ok])
     if not cams:
         return _no_pairs()
     cam, pt = np.concatenate(cams), np.concatenate(pts)
@@ -141,6 +163,50 @@ def visible_pairs(
         keep = ~hidden
         cam, pt, uv, depth = cam[keep], pt[keep], uv[keep], depth[keep]
     return VisiblePairs(camera=cam, point=pt, uv_px=uv, depth_m=depth)
+
+
+class _BoxIndex:
+    """Points (N, 2) sorted into strips along x and by y within each strip, so that the
+    points inside a box (x0, x1, y0, y1) are a few runs of the sorted points (one per
+    strip the box spans) instead of every point of its x range. Strips are about as wide
+    as the typical box."""
+
+    def __init__(self, xy: np.ndarray, boxes: np.ndarray) -> None:
+        x, y = xy[:, 0], xy[:, 1]
+        self.x_rank = np.empty(len(x), dtype=np.intp)
+        self.x_rank[np.argsort(x, kind="stable")] = np.arange(len(x))
+        self.x_min, x_span = float(x.min()), float(np.ptp(x))
+        finite = np.isfinite(boxes).all(axis=1)
+        width = float(np.median(boxes[finite, 1] - boxes[finite, 0])) if finite.any() else 0.0
+        self.n_strips = int(np.clip(round(x_span / width), 1, MAX_STRIPS)) if width > 0 else 1
+        self.width = max(x_span / self.n_strips, 1e-9)
+        strip = self._strip(x)
+        self.y_min, self.span = float(y.min()), float(np.ptp(y)) + 1.0
+        self.order = np.lexsort((y, strip))
+        # one sorted key: the strip, then y within it (y − y_min < span)
+        self.key = strip[self.order] * self.span + (y[self.order] - self.y_min)
+
+    def _strip(self, x) -> np.ndarray:
+        with np.errstate(invalid="ignore"):
+            s = np.floor((np.asarray(x, float) - self.x_min) / self.width)
+        return np.clip(np.nan_to_num(s, nan=0.0), 0, self.n_strips - 1).astype(np.intp)
+
+    def runs(self, boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(camera, first, count) of the runs of ``order`` that hold every point inside
+        each box (and a few outside: the caller tests the box), in camera order."""
+        ok = ~np.isnan(boxes).any(axis=1)
+        s0, s1 = self._strip(boxes[:, 0]), self._strip(boxes[:, 1])
+        n = np.where(ok, s1 - s0 + 1, 0)
+        cam = np.repeat(np.arange(len(boxes)), n)
+        strip = np.repeat(s0, n) + np.arange(cam.size) - np.repeat(np.cumsum(n) - n, n)
+        # the y range within the strip, kept inside it (an infinite box: the whole strip);
+        # widened a little: the key's rounding never drops a point in the box
+        pad = 1e-9 * self.span * (self.n_strips + 1)
+        lo = np.clip(boxes[cam, 2] - self.y_min, -0.5, self.span - 0.5) - pad
+        hi = np.clip(boxes[cam, 3] - self.y_min, -0.5, self.span - 0.5) + pad
+        first = np.searchsorted(self.key, strip * self.span + lo, "left")
+        last = np.searchsorted(self.key, strip * self.span + hi, "right")
+        return cam, first, np.maximum(last - first, 0)
 
 
 def _no_pairs() -> VisiblePairs:

@@ -12,6 +12,7 @@ from designer.core.projection import (
     ground_sample_distance_m,
     intersect_plane,
     pixel_rays_world,
+    project_pairwise,
     project_points,
 )
 from designer.core.rotation import opencv_rvec_tvec_from_photo, rotation_from_opk
@@ -153,6 +154,29 @@ def test_many_cameras_at_once_match_one_at_a_time():
         alone = project_points(points, C[m], R[m], cam)
         assert np.array_equal(together.in_image[m], alone.in_image[0])
         np.testing.assert_allclose(together.uv_px[m], alone.uv_px[0], atol=1e-9)
+
+
+def test_each_point_in_its_own_camera_matches_one_camera_at_a_time():
+    """project_pairwise (the plan figures' many cameras with a few points each) against
+    project_points camera by camera, to the bit, also behind a camera and for a fisheye."""
+    rng = np.random.default_rng(8)
+    fisheye = FisheyeEquidistant(k1=0.03, k2=-0.01, k3=0.002, k4=-0.0005)
+    for cam in (camera(BrownConrady(k1=-0.05, p1=1e-3)), camera(fisheye)):
+        poses = [random_pose(rng) for _ in range(9)]
+        C = np.array([p[0] for p in poses])
+        R = np.array([p[1] for p in poses])
+        points = ORIGIN_WORLD + rng.uniform([-80, -80, -5], [80, 80, 120], size=(3000, 3))
+        which = rng.integers(0, 9, len(points))
+        pairwise = project_pairwise(points, C, R, which, cam)
+        assert pairwise.in_front.any() and not pairwise.in_front.all()
+        for m in range(9):
+            sel = which == m
+            alone = project_points(points[sel], C[m], R[m], cam)
+            assert np.array_equal(pairwise.in_front[sel], alone.in_front[0])
+            assert np.array_equal(pairwise.in_image[sel], alone.in_image[0])
+            # the same numbers to the bit: each camera's points are turned as one product
+            np.testing.assert_array_equal(pairwise.uv_px[sel], alone.uv_px[0])
+            np.testing.assert_array_equal(pairwise.depth_m[sel], alone.depth_m[0])
 
 
 @settings(max_examples=60, deadline=None)

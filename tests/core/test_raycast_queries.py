@@ -91,3 +91,29 @@ def test_sees_surface_is_whether_the_surface_hit_is_found():
     cast = np.isfinite(rc.surface_hit(org, d)).all(axis=1)
     np.testing.assert_array_equal(seen, cast)
     assert 0.2 < seen.mean() < 0.8  # both answers are common
+
+
+def test_a_cone_surely_seeing_the_surface_holds_only_rays_that_see_it():
+    """surely_sees_surface (an image's bundle of rays judged by its four corners) is True
+    only where every ray of the cone is one sees_surface finds; over the hills, cones from
+    above, from between the hills and from beside the grid give both answers."""
+    hf = _hills()
+    rc = TerrainRaycaster(hf)
+    rng = np.random.default_rng(11)
+    n = 3000
+    x0, x1, y0, y1 = hf.extent_m
+    org = np.column_stack([rng.uniform(x0 - 100, x1 + 100, n), rng.uniform(y0 - 100, y1 + 100, n),
+                           rng.uniform(rc.z_min_m - 10, rc.z_max_m + 300, n)])
+    axis = rng.normal(0.0, 0.3, (n, 3))
+    axis[:, 2] = -1.0
+    spread = rng.uniform(0.05, 0.8, (n, 1, 1))
+    corners = axis[:, None, :] + spread * np.array(
+        [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]])
+    sure = rc.surely_sees_surface(org, corners)
+    assert 0.1 < sure.mean() < 0.9  # both answers are common
+    # rays of the cones (positive blends of the corners, the corners themselves among them)
+    w = rng.dirichlet(np.ones(4), (n, 40))
+    w[:, :4] = np.eye(4)
+    rays = np.einsum("nrc,nci->nri", w, corners)
+    seen = rc.sees_surface(np.repeat(org, 40, axis=0), rays.reshape(-1, 3)).reshape(n, 40)
+    assert seen[sure].all()

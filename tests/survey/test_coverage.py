@@ -277,3 +277,46 @@ def _every_triangle_share(p, q, r):
     with np.errstate(invalid="ignore", divide="ignore"):
         corner = x * x / ((x - y) * (x - z))
     return np.select([n_pos == 3, n_pos == 0, n_pos == 1], [1.0, 0.0, corner], 1.0 - corner)
+
+
+def test_visible_pairs_are_the_same_whatever_the_projection_batches(monkeypatch):
+    """Cameras are taken in batches of about PROJECTION_BATCH candidates (a camera's run
+    is never split); small batches, one camera per batch at the extreme, give the same
+    pairs in the same order; the candidates found strip by strip (_BoxIndex) are every
+    point each camera sees, also for a camera whose footprint box is infinite."""
+    from designer.core.rotation import rotation_from_opk
+    from designer.survey import visibility
+
+    hf = hilly_terrain(relief_m=60.0)
+    rc = TerrainRaycaster(hf)
+    cam = phantom4()
+    plan = plan_flight(area.rectangle(100, 100, 300, 300), cam, altitude_agl_m=50.0,
+                       front_overlap_fraction=0.7, side_overlap_fraction=0.6, heightfield=hf,
+                       forward_tilt_deg=35.0, grid_angle_deg=20.0)
+    P = coverage.ground_grid(hf, area.rectangle(80, 80, 320, 320), cell_m=12.0).points_world()
+    # and a camera looking at the horizon (its footprint box is infinite)
+    C = np.vstack([plan.C_world, plan.C_world[:1]])
+    R = np.concatenate([plan.R_cam_to_world, rotation_from_opk(0.0, np.radians(-80.0), 0.0)[None]])
+    boxes = visibility.footprint_boxes(C, R, cam, 0.0, 100.0)
+    assert np.isinf(boxes[-1]).all() and np.isfinite(boxes[:-1]).all()
+    whole = visible_pairs(P, C, R, cam, rc, border_px=10.0)
+    assert whole.camera.size > 1000 and (whole.camera == len(C) - 1).sum() > 10
+    for m in range(len(C)):  # each camera's points in the order of their x (ties: index)
+        mine = whole.point[whole.camera == m]
+        assert np.array_equal(mine, np.sort(mine)[np.argsort(P[np.sort(mine), 0],
+                                                             kind="stable")])
+    for batch in (5000, 1):
+        monkeypatch.setattr(visibility, "PROJECTION_BATCH", batch)
+        part = visible_pairs(P, C, R, cam, rc, border_px=10.0)
+        for name in ("camera", "point", "uv_px", "depth_m"):
+            assert np.array_equal(getattr(part, name), getattr(whole, name)), name
+    # without occlusion: every point in the image (past the border), none more
+    bare = visible_pairs(P, C, R, cam, None, border_px=10.0)
+    in_image = project_points(P, C, R, cam)
+    W, H = cam.image_size_px
+    for m in range(len(C)):
+        uv = in_image.uv_px[m]
+        with np.errstate(invalid="ignore"):
+            seen = (in_image.in_image[m] & (uv[:, 0] >= 10.0) & (uv[:, 0] <= W - 10.0)
+                    & (uv[:, 1] >= 10.0) & (uv[:, 1] <= H - 10.0))
+        assert np.array_equal(np.sort(bare.point[bare.camera == m]), np.flatnonzero(seen))

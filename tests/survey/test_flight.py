@@ -306,3 +306,29 @@ def test_the_kept_reference_height_is_the_terrains_own():
     raised = Heightfield(hf.x0_m, hf.y0_m, hf.dx_m, hf.dy_m, hf.heights_m + 10.0)
     up = plan_flight(square, phantom4(), altitude_agl_m=80, heightfield=raised)
     assert np.allclose(up.C_world[:, 2] - 10.0, first.C_world[:, 2])
+
+
+def test_contains_grid_is_contains_of_every_node():
+    """area.contains_grid (the reference height's nodes inside the area, crossings found
+    once per row) answers as contains node by node: concave and rotated areas, nodes on
+    edges and vertices, UTM-sized coordinates."""
+    rng = np.random.default_rng(4)
+    E0, N0 = ORIGIN_WORLD[:2]
+    polygons = [
+        area.rectangle(E0 + 10.0, N0 + 10.0, E0 + 90.0, N0 + 70.0),
+        np.array([[0, 0], [80, 0], [80, 80], [40, 30], [0, 80]], float) + [E0, N0],
+        np.array([[50, 0], [100, 50], [50, 100], [0, 50]], float) + [E0, N0],
+    ]
+    x = E0 - 5.0 + np.arange(111) * 1.0
+    y = N0 - 5.0 + np.arange(97) * 1.0 + rng.uniform(0, 1e-3)
+    for poly in polygons:
+        X, Y = np.meshgrid(x, y)
+        one_by_one = area.contains(poly, np.column_stack([X.ravel(), Y.ravel()]))
+        grid = area.contains_grid(poly, x, y)
+        assert grid.shape == (len(y), len(x))
+        assert np.array_equal(grid.ravel(), one_by_one)
+        assert 0.2 < grid.mean() < 0.9
+    # nodes exactly on the edges and vertices count inside
+    square = area.rectangle(E0, N0, E0 + 10.0, N0 + 10.0)
+    on = area.contains_grid(square, E0 + np.arange(11.0), N0 + np.arange(11.0))
+    assert on.all()

@@ -129,3 +129,68 @@ def test_surroundings_that_repeat_a_plain_tile_are_warned_about():
     assert warning.startswith("the surroundings repeat the texture's 20 m tile")
     assert "scale 40 m" in warning and "surroundings mode to none" in warning
     assert repeat_warning(plain, Growth()) is None  # nothing grown: nothing repeated
+
+
+def test_void_shares_skip_only_images_whose_whole_bundle_sees_the_ground(monkeypatch):
+    """An image whose four corner rays come down on the rendered terrain with room to
+    spare is not cast ray by ray (surely_sees_surface); the shares are the same numbers as
+    every ray cast, for the example with and without surroundings and for a rig's
+    obliques (which look past the terrain)."""
+    import designer.survey.surroundings as surroundings
+    from designer.project.templates import survey_structures
+
+    cases = [template("survey").project,
+             _with_surroundings(template("survey").project, "none"),
+             _with_surroundings(survey_structures().project, "none")]
+    for project in cases:
+        hf, images = _declared(project)
+        grown = surroundings.grown_terrain(project, hf, images)
+        rc = surroundings.raycaster_of(grown.surroundings.heightfield)
+        fast = surroundings.void_shares(project, images, rc)
+        with monkeypatch.context() as patch:
+            patch.setattr(surroundings, "_bounding_cone_cv", lambda rays: None)
+            every_ray = surroundings.void_shares(project, images, rc)
+        assert np.array_equal(fast, every_ray)
+        assert (fast == 0.0).any()
+    assert (fast > 0.01).any()  # the last case sees void
+
+
+def test_the_ground_reach_of_all_images_at_once_is_each_images_own():
+    """ground_reach turns each camera's border rays for all its images at once; the reach
+    is what each image's rays give alone (a rig's obliques, and an image seeing the
+    horizon)."""
+    import math
+
+    from designer.project.templates import survey_structures
+    from designer.survey.surroundings import (
+        DETAIL_REACH_HEIGHTS,
+        _rays_cv,
+        border_pixels,
+        ground_reach,
+    )
+
+    project = survey_structures().project
+    hf, images = _declared(project)
+    tilted = images.stations[0]
+    horizon = dataclasses.replace(tilted, R_cam_to_world=tilted.R_cam_to_world @ np.array(
+        [[1.0, 0.0, 0.0], [0.0, math.cos(1.4), -math.sin(1.4)],
+         [0.0, math.sin(1.4), math.cos(1.4)]]))
+    images = dataclasses.replace(images, stations=(horizon, *images.stations[1:]))
+    low = float(hf.heights_m.min()) - 2.0
+    points, seen_horizon = [], False
+    for st, c in zip(images.stations, images.camera_ids, strict=True):
+        interior = render_interior(project.camera(c), project.render.resolution_scale)
+        d = _rays_cv(interior, border_pixels(interior)) @ (st.R_cam_to_world
+                                                           @ R_CV_FROM_PHOTO).T
+        reach = DETAIL_REACH_HEIGHTS * max(st.C_world[2] - low, 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(d[:, 2] < 0, (low - st.C_world[2]) / d[:, 2], np.inf)
+        far = ~(t <= reach)
+        seen_horizon |= bool(far.any())
+        flat = d[:, :2] / np.maximum(np.linalg.norm(d[:, :2], axis=1), 1e-12)[:, None]
+        points.append(np.where(far[:, None], st.C_world[:2] + reach * flat,
+                               st.C_world[:2] + t[:, None] * d[:, :2]))
+    xy = np.concatenate(points)
+    got = ground_reach(project, images, low)
+    assert seen_horizon and got.horizon
+    assert got.extent_m == (xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max())

@@ -65,8 +65,9 @@ def _extra_panels():
 
 
 #: the docks' widths at the start (px): the left one fits the GCP table's id, role, images
-#: and true X, Y, Z; the 3D view takes the rest (at 1600 px, about 640)
-LEFT_DOCK_PX = 430
+#: and true X, Y, Z (a typed height whole) beside the right dock; the 3D view takes the rest
+#: (at 1600 px, about 650)
+LEFT_DOCK_PX = 480
 RIGHT_DOCK_PX = 460
 
 

@@ -58,6 +58,8 @@ class SceneSync(PhotoSelection, QObject):
     coverage_changed = Signal()
     lighting_changed = Signal()
     plan_changed = Signal()
+    #: the plan figures started or stopped being computed (``plan_computing``)
+    plan_computing_changed = Signal()
     #: the problems found over what is drawn (camera stations under the ground) changed
     problems_changed = Signal()
     message = Signal(str)
@@ -88,6 +90,9 @@ class SceneSync(PhotoSelection, QObject):
         self.plan = None
         #: the (terrain, stations) ``plan`` was computed over; None while one is computed
         self._plan_inputs: tuple | None = None
+        #: the plan figures of the latest stations are being computed in a worker thread
+        #: (seconds at survey size): ``plan`` is None or the figures before the edit
+        self.plan_computing = False
         self.errors: dict[str, str] = {}
         self.coverage_enabled = False
         self._tiles: tuple[int, int] | None = None
@@ -108,6 +113,7 @@ class SceneSync(PhotoSelection, QObject):
         self.coverage = None
         self.plan = None
         self._plan_inputs = None
+        self._set_plan_computing(False)
         self._tiles = None
         self._area_key = None
         self.selected_photo = None  # of the project before
@@ -424,7 +430,7 @@ class SceneSync(PhotoSelection, QObject):
 
         try:
             self.plan = with_targets(self.plan, self.document.project, self.terrain,
-                                     self.targets)
+                                     self.targets, self.stations.images)
         except (DesignerError, ValueError) as error:
             self._plan_failed(error)
             return
@@ -538,6 +544,7 @@ class SceneSync(PhotoSelection, QObject):
             # figures measured from under the ground mean nothing: the Problems list
             # says what to fix, the Flight panel why it has no figures
             self.tasks.cancel("plan")
+            self._set_plan_computing(False)
             self.plan = None
             self.errors["plan"] = UNDER_THE_GROUND
             self.plan_changed.emit()
@@ -546,24 +553,36 @@ class SceneSync(PhotoSelection, QObject):
             self._clear("plan")
         if terrain is None or stations is None or terrain.heightfield is None:
             self.tasks.cancel("plan")
+            self._set_plan_computing(False)
             self.plan = None
             self.plan_changed.emit()
             return
+        # the window is usable meanwhile: the stations, render estimate and everything
+        # else are shown; the Flight panel marks its figures over the terrain as being
+        # computed until they arrive
         self.tasks.submit("plan", compute_plan_figures, self.document.project, terrain,
                           stations, self.targets,
                           on_done=lambda figures: self._plan_done(figures, terrain, stations),
                           on_error=self._plan_failed)
+        self._set_plan_computing(True)
+
+    def _set_plan_computing(self, computing: bool) -> None:
+        if computing != self.plan_computing:
+            self.plan_computing = computing
+            self.plan_computing_changed.emit()
 
     def _plan_done(self, figures, terrain, stations) -> None:
         self._clear("plan")
         self.plan = figures
         self._plan_inputs = (terrain, stations)
+        self._set_plan_computing(False)
         self.plan_changed.emit()
 
     def _plan_failed(self, error: BaseException) -> None:
         self.plan = None
         self._plan_inputs = None
         self.errors["plan"] = _message(error)
+        self._set_plan_computing(False)
         self.plan_changed.emit()
 
     # ------------------------------------------------------------------ coverage

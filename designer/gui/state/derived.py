@@ -414,6 +414,9 @@ class StationsResult:
     #: (:func:`designer.gui.state.view_geometry.far_ground_display`); None without
     #: surroundings (the renders then end at the extent, and so does the view)
     far_ground: TerrainDisplay | None = None
+    #: every image of these stations (designer.survey.project_poses.ProjectImages), which
+    #: the plan figures analyse: the flight is not planned again for them
+    images: object = None
 
 
 def render_estimate_s(project: m.Project, costs, preset: str | None = None) -> float:
@@ -454,17 +457,22 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     surroundings the renders include (footprints lie on both)."""
     from designer.project.interiors import interior_from_camera
     from designer.render_time.model import project_image_costs
-    from designer.survey.project_poses import project_images, project_stations
+    from designer.survey.project_poses import (
+        platform_stations,
+        project_images,
+        project_stations,
+    )
     from designer.survey.surroundings import grown_terrain
 
     hf = terrain.heightfield if terrain is not None else None
-    stations, camera_id = project_stations(project, hf)
+    platform = platform_stations(project, hf)  # the flight planned once for both
+    stations, camera_id = project_stations(project, hf, platform)
     try:
         interior = interior_from_camera(project.camera(camera_id))
     except KeyError:
         raise DesignerError(f"the stations use camera '{camera_id}', which is not defined; "
                             "choose a camera in the Flight panel") from None
-    images = project_images(project, hf)
+    images = project_images(project, hf, platform)
     # grown once per edit: the plan figures analyse over the same grown terrain
     grown = grown_terrain(project, hf, images)
     rendered = grown.surroundings.heightfield
@@ -494,7 +502,8 @@ def compute_stations(project: m.Project, terrain: TerrainResult | None) -> Stati
     far = far_ground_display(rendered) if surrounded else None
     return StationsResult(geometry, n_images, camera_id, interior, calc, seconds, C, R,
                           tuple(stations), costs,
-                          tuple(s.image_name for s in images.stations), grown, ring, far)
+                          tuple(s.image_name for s in images.stations), grown, ring, far,
+                          images)
 
 
 #: the surroundings the footprints are cast on keep at most this many nodes per side

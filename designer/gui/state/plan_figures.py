@@ -97,7 +97,8 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     from designer.survey.project_poses import project_images
     from designer.survey.surroundings import image_ground
 
-    images = project_images(project, hf)
+    images = (stations_result.images if stations_result.images is not None
+              else project_images(project, hf))
     # over the rendered terrain (the declared one and its surroundings), as designer plan:
     # past the declared terrain's edge the images see the surroundings, or void
     # a newer edit stops this analysis between its stages (job_control)
@@ -149,12 +150,14 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
                        finest_gsd_m=finest)
 
 
-def with_targets(figures: PlanFigures, project: m.Project, terrain, targets_result
-                 ) -> PlanFigures:
+def with_targets(figures: PlanFigures, project: m.Project, terrain, targets_result,
+                 images=None) -> PlanFigures:
     """``figures`` with the GCP part (ids, images per GCP, where, the warning about GCPs
     seen by too few images) counted anew for ``project``'s targets, the flight's part
     kept: a moved, added or deleted GCP changes no image. Tens of milliseconds, so a
-    GCP edit is counted as it is made."""
+    GCP edit is counted as it is made. ``images``: the project's images
+    (``project_images``) the figures were computed for, when the caller has them (the
+    flight is then not planned again: a tenth of a second at survey size)."""
     from designer.survey.gcp_sightings import project_gcp_visibility
     from designer.survey.project_poses import project_images
 
@@ -163,8 +166,10 @@ def with_targets(figures: PlanFigures, project: m.Project, terrain, targets_resu
         ids, index, uv = (), (), ()
     else:
         ids = tuple(targets_result.ids)
-        vis = project_gcp_visibility(project, project_images(project, hf),
-                                     targets_result.true_xyz, terrain.raycaster)
+        if images is None:
+            images = project_images(project, hf)
+        vis = project_gcp_visibility(project, images, targets_result.true_xyz,
+                                     terrain.raycaster)
         index, uv = vis.images, vis.uv_px
     gcp_images = np.array([len(k) for k in index], dtype=int)
     old = _gcp_warnings(figures.gcp_ids, figures.gcp_images)

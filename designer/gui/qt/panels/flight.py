@@ -28,6 +28,10 @@ from designer.gui.state.wording import count
 from designer.project import model as m
 
 FP = "trajectory.flight_plan"
+#: the box of the figures over the real terrain
+REAL_TITLE = "over the real terrain (as designer plan measures it)"
+#: what the box says while its figures are computed
+COMPUTING = "being computed…"
 #: the rig mount table: (header, Mount field or "rig")
 MOUNT_COLUMNS = (("rig", "rig"), ("camera", "camera"), ("suffix", "suffix"),
                  ("ω °", "omega_deg"), ("φ °", "phi_deg"), ("κ °", "kappa_deg"))
@@ -185,6 +189,7 @@ class FlightPanel(Panel):
         view.interaction.mode_changed.connect(self._mode_changed)
         self.sync.stations_changed.connect(self._readouts)
         self.sync.plan_changed.connect(self._plan_readouts)
+        self.sync.plan_computing_changed.connect(self._plan_readouts)
         # what lies off the terrain file's ground moves with the GCPs, buildings and area;
         # the control's spread with the GCPs
         self.sync.terrain_changed.connect(self._show_warnings)
@@ -216,7 +221,8 @@ class FlightPanel(Panel):
         f.addRow(self.error_label)
         layout.addWidget(info)
 
-        real = QGroupBox("over the real terrain (as designer plan measures it)")
+        real = QGroupBox(REAL_TITLE)
+        self.real_box = real
         f = form(real)
         self.real_gsd, self.real_overlap, self.real_images = readout(), readout(), readout()
         f.addRow("GSD", self.real_gsd)
@@ -337,13 +343,20 @@ class FlightPanel(Panel):
                 estimate_basis(load_speed(stations.render_costs[0]))))
 
     def _plan_readouts(self) -> None:
-        """Figures of the flight over the real terrain and the warnings they raise."""
+        """Figures of the flight over the real terrain and the warnings they raise; while
+        they are computed (seconds at survey size) the box says so and the figures of
+        before the edit, if any, are greyed."""
         f = self.sync.plan
+        computing = self.sync.plan_computing
+        self.real_box.setTitle(REAL_TITLE + (f" — {COMPUTING}" if computing else ""))
+        for label in (self.real_gsd, self.real_overlap, self.real_images):
+            label.setEnabled(not computing)
         if f is None:
             error = self.sync.errors.get("plan", "")
             for label in (self.real_gsd, self.real_images):
                 label.setText("–")
-            self.real_overlap.setText(f"not computed: {self._no_plan_reason(error)}")
+            self.real_overlap.setText(COMPUTING if computing else
+                                      f"not computed: {self._no_plan_reason(error)}")
             self._show_warnings()
             return
         scale = self.project.render.resolution_scale

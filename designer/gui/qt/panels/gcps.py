@@ -36,6 +36,11 @@ COLUMN_TIPS = {"Z": "the target's true height; blank: on the ground",
                "images": "images of the flight that see the GCP unoccluded (red below 3)"}
 #: the read-only column: images of the flight that see the GCP (over the real terrain)
 IMAGES_COLUMN = 9
+#: the true Z, kept as wide as Z_WIDEST (a height with its millimetres) and the cell's
+#: padding (px)
+Z_COLUMN = 4
+Z_WIDEST = "8888.888"
+CELL_PADDING_PX = 12
 #: the height of the table with its messages under it (px)
 TABLE_BOX_PX = 280
 
@@ -192,6 +197,10 @@ class GcpPanel(Panel):
         self._image_counts()
         # as narrow as their numbers and headers: the columns a surveyor reads at once fit
         self.table.resizeColumnsToContents()
+        # the true Z as wide as a height even while every GCP lies on the ground (blank):
+        # typing one does not push the column past the dock's edge
+        z_px = self.table.fontMetrics().horizontalAdvance(Z_WIDEST) + CELL_PADDING_PX
+        self.table.setColumnWidth(Z_COLUMN, max(self.table.columnWidth(Z_COLUMN), z_px))
         self._cell_errors.clear()  # the table shows the project's values again
         self._show_cell_errors()
         if built is None and project.targets and "targets" in self.sync.errors:

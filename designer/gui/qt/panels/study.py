@@ -188,6 +188,7 @@ class StudyPanel(StudyFiles, Panel):
                                     MESSAGE_LINES)
         self.messages.setObjectName("study-messages")
         layout.addWidget(self.messages)
+        layout.addWidget(self.run_box.progress_box)
 
         results = QGroupBox("results")
         v = QVBoxLayout(results)
