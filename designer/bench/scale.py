@@ -235,11 +235,11 @@ def measure_block(images: int, folder: Path, scale: float = 1.0, log=None) -> li
     rows["compare"] = _run_step(["compare", str(recon / "dense.ply"), str(xml), "-o",
                                  str(folder / "compare")], "compare", log=log)
     distances = json.loads((folder / "compare" / "summary.json").read_text())["distances"]
+    rows["render"]["estimate_s"] = planned["render_estimate_s"]
     out = [{"images": images, "stage": s, **{k: rows[s].get(k) for k in
                                               ("wall_s", "cpu_s", "peak_mb", "estimate_s")}}
            for s in STAGES]
     gsd_m = planned["gsd_m"]
-    rows["render"]["estimate_s"] = planned["render_estimate_s"]
     check = summary.get("check") or {}
     out.append({
         "images": images, "stage": "block", "registered": summary["registered"],

@@ -112,7 +112,13 @@ class _Model:
         """(t limit, distorted radius g reaches there, end of the monotone region)."""
         mono = self._max_monotone()
         limit = min(mono, self._cap)
-        return limit, float(self._g(np.float64(limit))) if limit < math.inf else math.inf, mono
+        if limit == math.inf:
+            return limit, math.inf, mono
+        # a vanishing coefficient puts the limit far past any image (k2 = -1e-250: t ~ 1e125)
+        # where g overflows: the distorted radius there is past every float, +inf
+        with np.errstate(over="ignore", invalid="ignore"):
+            reach = float(self._g(np.float64(limit)))
+        return limit, reach if math.isfinite(reach) else math.inf, mono
 
     def _invert_radial(self, target: np.ndarray, tol: float, max_iter: int) -> np.ndarray:
         """t in [0, limit] with |g(t) − target| <= tol (N,), NaN where there is none:

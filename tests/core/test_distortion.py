@@ -495,3 +495,16 @@ def test_to_dict():
         "model": "fisheye_equidistant", "k1": 0.0, "k2": 0.0, "k3": 0.25, "k4": 0.0}
     model = BROWN_CASES[3]
     assert BrownConrady(**{k: v for k, v in model.to_dict().items() if k != "model"}) == model
+
+
+def test_a_vanishing_coefficient_puts_the_limit_past_every_image_without_overflow():
+    """k2 = -8e-255 (a value the project's random round trip drew): the monotone region
+    ends near t = 1e125, where g overflows; the image is invertible, with no warning."""
+    import warnings
+
+    from designer.core.distortion import BrownConrady
+
+    d = BrownConrady(k1=0.0078125, k2=-8.411652069934376e-255)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert d.invertibility_problem(64.0, 64.0, 32.0, 32.0, 64.0, 64.0) is None

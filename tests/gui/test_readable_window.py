@@ -85,7 +85,7 @@ def test_a_new_project_reads_as_new_until_it_is_edited(qtbot, window, monkeypatc
     wait_idle(qtbot, w)
     assert w.isWindowModified() and "not saved" in w.windowTitle()
     w.activateWindow()
-    qtbot.waitUntil(w.isActiveWindow)  # under load a key sent before is lost
+    qtbot.waitUntil(w.isActiveWindow, timeout=20000)  # under load a key sent before is lost
     QTest.keyClick(w.windowHandle(), Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     wait_idle(qtbot, w)
     _reads_as_new(w)  # undone: as it came

@@ -11,7 +11,7 @@ from PySide6.QtCore import Qt
 
 from designer.evaluate.writers import write_distances_ply
 from designer.gui.state.reconstruct_job import ReconstructJob
-from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
+from tests.gui.cloud_helpers import cloud_seen_from_above, isolated_point, point_on_screen
 from tests.gui.helpers import (
     add_hills_and_flight,
     cloud_with_outlier,
@@ -83,7 +83,7 @@ def test_click_on_a_point_reads_its_distance(qtbot, window, tmp_path):
     wait_idle(qtbot, w)
     cloud_seen_from_above(w)
     r = results.result
-    k = 17
+    k = isolated_point(w, r.points_world)
     pos = point_on_screen(w, r.points_world[k])
     qtbot.mouseClick(w.view.plotter, Qt.MouseButton.LeftButton, pos=pos)
     expected = f"{1000 * r.distances_m[k]:+.1f} mm"

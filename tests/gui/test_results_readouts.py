@@ -11,7 +11,7 @@ from PySide6.QtCore import Qt
 from designer.evaluate.writers import write_distances_ply
 from designer.gui.state.reconstruct_job import ReconstructJob
 from designer.gui.state.wording import point_text
-from tests.gui.cloud_helpers import cloud_seen_from_above, point_on_screen
+from tests.gui.cloud_helpers import cloud_seen_from_above, isolated_point, point_on_screen
 from tests.gui.helpers import (
     add_hills_and_flight,
     cloud_with_outlier,
@@ -59,7 +59,7 @@ def test_a_picked_point_reads_the_same_in_the_panel_and_the_status_bar(qtbot, wi
     wait_idle(qtbot, w)
     cloud_seen_from_above(w)
     r = results.result
-    k = 17
+    k = isolated_point(w, r.points_world)
     pos = point_on_screen(w, r.points_world[k])
     # the cursor moved onto the point, then a click on it
     qtbot.mouseMove(w.view.plotter, pos)
