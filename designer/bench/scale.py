@@ -174,8 +174,11 @@ def _run_step(args: list[str], stage: str, marks=(), log=None) -> dict:
     peaks = sampler.stop()
     proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode != 0:
-        raise RuntimeError(f"designer {' '.join(args)} failed (exit {proc.returncode}): "
-                           + " | ".join(tail[-5:]))
+        from designer.errors import DesignerError
+
+        raise DesignerError(f"designer {' '.join(args)} failed (exit {proc.returncode}): "
+                            + " | ".join(tail[-5:]) + "; the blocks measured before it are "
+                            "in bench-scale/scale.json")
     if log is not None:
         log(f"{stage}: {wall:.1f} s")
     return {"wall_s": wall, "cpu_s": usage.ru_utime + usage.ru_stime,
