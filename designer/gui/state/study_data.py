@@ -33,9 +33,11 @@ from pathlib import Path
 #: (1.93 s CPU) for 18 images of 0.019 MP (0.077 s per image; reconstruct 0.77 s +
 #: compare 0.63 s, 2026-12-06), and the gcp-count example: 21 CPU seconds for 12 images
 #: of 0.31 MP (1.75 s per image; docs/studies.md); the line through both has a
-#: negative A, so A is 0 and B the larger image's —
+#: negative A, so A is 0 and B lies between the two images' 4.0 and 5.6 s per MP (the
+#: tiny study's estimate then sits midway between its measured CPU and wall seconds,
+#: the gcp-count example's 11 % low) —
 RECONSTRUCT_S_A = 0.0
-RECONSTRUCT_S_B_PER_MP = 5.7
+RECONSTRUCT_S_B_PER_MP = 5.0
 #: — up to at most this (the feature count is capped, so larger images cost little more:
 #: ``designer demo`` reconstructed the example's 60 images of 1.25 MP in 418 s, dense
 #: cloud included; docs/benchmarks.md)
