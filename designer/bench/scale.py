@@ -246,7 +246,7 @@ def measure_block(images: int, folder: Path, scale: float = 1.0, log=None) -> li
     check = summary.get("check") or {}
     out.append({
         "images": images, "stage": "block", "registered": summary["registered"],
-        "area_m": _area_of(project), "gsd_m": gsd_m, "texture": _texture_of(project),
+        "area_m": _area_of(project), "gsd_m": gsd_m, "texture": planned["texture"],
         "resolution_scale": project.render.resolution_scale,
         "check_n": check.get("n"), "check_rmse_xy_gsd": _in_gsd(check.get("rmse_xy_m"), gsd_m),
         "check_rmse_z_gsd": _in_gsd(check.get("rmse_z_m"), gsd_m),
@@ -271,24 +271,15 @@ def _area_of(project) -> float:
 
 
 def _plan_figures(project) -> dict:
-    """The block's median GSD and render estimate (s), as ``designer plan`` gives them."""
+    """The block's median GSD, render estimate (s) and texture path, as ``designer plan``
+    gives them (its heightfield is the rendered terrain, surroundings included)."""
+    from designer.render_time.model import project_texture_path
     from designer.survey.plan_report import plan_project
 
-    analysis = plan_project(project, Path(".")).analysis
-    return {"gsd_m": float(analysis.median_gsd_m()),
-            "render_estimate_s": float(analysis.render_time_s)}
-
-
-def _texture_of(project) -> str:
-    """How the renderer draws the block's ground texture (baked, tiled, node graph)."""
-    from designer.gui.state import derived
-    from designer.render_time.model import project_texture_path
-    from designer.survey.project_poses import project_images
-    from designer.survey.surroundings import rendered_terrain
-
-    hf = derived.compute_terrain(project, Path(".")).heightfield
-    rendered = rendered_terrain(project, hf, project_images(project, hf)).heightfield
-    return project_texture_path(project, rendered.extent_m)
+    planned = plan_project(project, Path("."))
+    return {"gsd_m": float(planned.analysis.median_gsd_m()),
+            "render_estimate_s": float(planned.analysis.render_time_s),
+            "texture": project_texture_path(project, planned.heightfield.extent_m)}
 
 
 def exponents(rows: list[dict]) -> dict[str, float]:
