@@ -25,6 +25,7 @@ BENCHMARKS = {
     "rolling-adjustment": "designer.bench.rolling_adjustment",
     "doming": "designer.bench.doming",
     "scale": "designer.bench.scale",
+    "mapper": "designer.bench.mapper",
 }
 
 
@@ -38,7 +39,8 @@ def register(subparsers) -> None:
     parser.add_argument("--scale", type=float, default=1.0, help=argparse.SUPPRESS)
     parser.add_argument("--survey", type=Path, default=None, metavar="DIR",
                         help="reconstruct: an already rendered example survey (a folder "
-                             "'designer render' wrote) instead of rendering it")
+                             "'designer render' wrote) instead of rendering it; mapper: "
+                             "the rendered survey to map (required)")
     parser.add_argument("--image-size", choices=["small", "example"], default=None,
                         help="study: the base survey's small 640 x 480 camera, or the example "
                              "survey's camera at its 1368 x 912 px")
@@ -67,7 +69,8 @@ def run(args) -> int:
             from designer.errors import DesignerError
 
             raise DesignerError(f"--survey: 'designer bench {args.name}' renders its own "
-                                "survey; give --survey only to 'designer bench reconstruct'")
+                                "survey; give --survey only to 'designer bench reconstruct' or "
+                                "'mapper'")
         if not (args.survey / "manifest.json").is_file():
             from designer.errors import DesignerError
 

@@ -123,9 +123,14 @@ def check_every_camera_registered(rec, cams: list[SurveyCamera], survey: Path) -
             "overlaps) or process each camera's images as a survey of their own")
 
 
-def incremental_sfm(pycolmap, db_path, image_dir, sparse, calibration: str):
-    """COLMAP's incremental mapper, seeded, set for survey images; its largest model."""
+def incremental_sfm(pycolmap, db_path, image_dir, sparse, calibration: str,
+                    global_ba_ratio: float = 1.1):
+    """COLMAP's incremental mapper, seeded, set for survey images; its largest model.
+    ``global_ba_ratio``: the growth of the model (registered images, tie points) between
+    two adjustments of the whole model (COLMAP's default 1.1; designer bench mapper
+    measures others)."""
     options = pycolmap.IncrementalPipelineOptions()
+    options.ba_global_frames_ratio = options.ba_global_points_ratio = global_ba_ratio
     options.num_threads = -1
     options.random_seed = 0  # RANSAC and the mapper's choices seeded: runs repeat closer
     options.ba_refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
