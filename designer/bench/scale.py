@@ -246,6 +246,7 @@ def measure_block(images: int, folder: Path, scale: float = 1.0, log=None) -> li
     check = summary.get("check") or {}
     out.append({
         "images": images, "stage": "block", "registered": summary["registered"],
+        "rendered": summary["images"],
         "area_m": _area_of(project), "gsd_m": gsd_m, "texture": planned["texture"],
         "resolution_scale": project.render.resolution_scale,
         "check_n": check.get("n"), "check_rmse_xy_gsd": _in_gsd(check.get("rmse_xy_m"), gsd_m),
@@ -284,17 +285,21 @@ def _plan_figures(project) -> dict:
 
 def exponents(rows: list[dict]) -> dict[str, float]:
     """Each stage's growth exponent between the two largest sizes measured:
-    log(wall ratio) / log(image ratio)."""
-    sizes = sorted({r["images"] for r in rows if r["stage"] == "block"})
+    log(wall ratio) / log(image ratio), the images each block's plan rendered (a block
+    is named by the size it was laid out for; its plan may give a few images less)."""
+    blocks = {r["images"]: r.get("rendered") or r["images"] for r in rows
+              if r["stage"] == "block"}
+    sizes = sorted(blocks)
     if len(sizes) < 2:
         return {}
     a, b = sizes[-2], sizes[-1]
+    ratio = blocks[b] / blocks[a]
     wall = {(r["images"], r["stage"]): r["wall_s"] for r in rows if r["stage"] != "block"}
     out = {}
     for stage in STAGES:
         wa, wb = wall.get((a, stage)), wall.get((b, stage))
         if wa and wb and wa > 0 and wb > 0:
-            out[stage] = math.log(wb / wa) / math.log(b / a)
+            out[stage] = math.log(wb / wa) / math.log(ratio)
     return out
 
 
@@ -389,19 +394,22 @@ def format_table(rows: list[dict]) -> str:
         f"{n} images {r['estimate_s']:.0f} s ({r['estimate_s'] / r['wall_s']:.2f} of the "
         f"measured)" for n, r in estimates if r.get("estimate_s") and r.get("wall_s")))
     if len(sizes) >= 2:
-        lines.append(f"exponent: log(wall ratio) / log(image ratio) between {sizes[-2]} and "
-                     f"{sizes[-1]} images (1 = linear)")
+        lines.append(f"exponent: log(wall ratio) / log(image ratio) between the {sizes[-2]} "
+                     f"and {sizes[-1]} blocks, by the images their plans rendered "
+                     "(1 = linear)")
     lines.append("")
     lines.append(f"{'block':<10}{'area m':>8}{'scale':>7}{'texture':>11}{'GSD cm':>8}"
                  f"{'reg.':>10}{'check n':>8}{'XY GSD':>8}{'Z GSD':>7}{'global reg.':>12}"
                  f"{'dense pts':>11}{'median d GSD':>13}{'|d| 68% GSD':>12}{'load':>6}")
     for n in sizes:
         b = blocks[n]
+        rendered = b.get("rendered") or n  # the images its plan rendered
         lines.append(
             f"{n:<10}{b['area_m']:>8.0f}{b['resolution_scale']:>7.3f}{b['texture']:>11}"
-            f"{100 * b['gsd_m']:>8.2f}{b['registered']:>5}/{n:<4}{num(b['check_n'], 'd'):>8}"
+            f"{100 * b['gsd_m']:>8.2f}{b['registered']:>5}/{rendered:<4}"
+            f"{num(b['check_n'], 'd'):>8}"
             f"{num(b['check_rmse_xy_gsd'], '.2f'):>8}{num(b['check_rmse_z_gsd'], '.2f'):>7}"
-            f"{b['global_registered']:>7}/{n:<4}{num(b['dense_points'], 'd'):>11}"
+            f"{b['global_registered']:>7}/{rendered:<4}{num(b['dense_points'], 'd'):>11}"
             f"{num(b['dense_median_gsd'], '+.2f'):>13}{num(b['dense_abs_q68_gsd'], '.2f'):>12}"
             f"{b['load_average']:>6.1f}")
     lines.append("wall: seconds as a user waits (plan, render, compare: whole processes with "

@@ -48,6 +48,15 @@ def test_the_exponent_is_the_slope_between_the_two_largest_blocks():
     assert "plan" not in e
 
 
+def test_the_exponent_counts_the_images_a_block_rendered():
+    """A block laid out for 240 images whose plan rendered 230: the ratio is 720 / 230."""
+    rows = [{"images": 240, "stage": "block", "rendered": 230},
+            {"images": 720, "stage": "block", "rendered": 720},
+            {"images": 240, "stage": "render", "wall_s": 230.0},
+            {"images": 720, "stage": "render", "wall_s": 720.0}]
+    assert scale.exponents(rows)["render"] == pytest.approx(1.0)
+
+
 @pytest.mark.blender
 @pytest.mark.slow
 def test_bench_scale_runs_two_small_blocks_end_to_end(tmp_path):
