@@ -142,7 +142,7 @@ CODES = {
                       "(``value``: the format; ``choices``: its extensions)",
     "stations-too-low": "camera stations below, or within the camera's near distance of, "
                         "the terrain, a building or a plant (``value``: a "
-                        "designer.survey.station_clearance.LowStations)",
+                        "designer.checks.station_clearance.LowStations)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }
