@@ -19,7 +19,7 @@ import numpy as np
 from designer.checks.hard_cases import HardCaseWarning
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.checks import plain_m
+from designer.project.validate_shared import plain_m
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: the modules that word what check, plan and the window say
 MESSAGE_MODULES = sorted(
     [*ROOT.glob("designer/project/validate*.py")] + [ROOT / "designer" / p for p in (
-        "project/checks.py", "project/files.py", "project/xml_read.py",
+        "project/validate_shared.py", "project/files.py", "project/xml_read.py",
         "checks/hard_cases.py", "checks/terrain_reach.py", "checks/station_clearance.py",
         "checks/project_checks.py",
         "survey/surroundings.py", "checks/plan_report.py", "survey/project_poses.py",
