@@ -38,10 +38,10 @@ def run_demo(
     frames: str | None = None,
 ) -> Path:
     """Run the demo into ``output``; returns the path of the report."""
+    from designer.checks.plan_report import format_plan, plan_project, plan_summary
     from designer.project import load_project
     from designer.render.pipeline import render_project
     from designer.survey.maps import write_coverage_map, write_gsd_map
-    from designer.survey.plan_report import format_plan, plan_project, plan_summary
 
     # COLMAP's per-step INFO lines (dense fusion prints one per image) stay out of the
     # demo's output; warnings and errors still show (read when pycolmap loads)

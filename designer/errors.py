@@ -36,3 +36,8 @@ class ParameterError(DesignerError):
                  unit: str = "") -> None:
         super().__init__(message)
         self.name, self.value, self.must, self.unit = name, value, must, unit
+
+
+class ParameterValueError(ParameterError, ValueError):
+    """A :class:`ParameterError` of a function whose contract is a ValueError for a bad
+    argument (the imaging effects' numbers): callers catching ValueError still catch it."""

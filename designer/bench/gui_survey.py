@@ -172,8 +172,8 @@ def _rows(path: Path, n: int, open_s: float, first_frame_s: float, frames: list,
           figures: list, ticks, gui_estimate_s: float, gui_void) -> list[dict]:
     """The bench's rows from the window's measurements, beside ``designer plan`` of the
     same file (in this process)."""
+    from designer.checks.plan_report import VOID_WARN, plan_project, plan_summary
     from designer.render_time.model import format_duration
-    from designer.survey.plan_report import VOID_WARN, plan_project, plan_summary
 
     t0 = time.perf_counter()
     s = plan_summary(plan_project(_load(path), path.parent))

@@ -274,8 +274,8 @@ def _area_of(project) -> float:
 def _plan_figures(project) -> dict:
     """The block's median GSD, render estimate (s) and texture path, as ``designer plan``
     gives them (its heightfield is the rendered terrain, surroundings included)."""
+    from designer.checks.plan_report import plan_project
     from designer.render_time.model import project_texture_path
-    from designer.survey.plan_report import plan_project
 
     planned = plan_project(project, Path("."))
     return {"gsd_m": float(planned.analysis.median_gsd_m()),

@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
 
+from designer.errors import ParameterValueError
+
 if TYPE_CHECKING:
     from designer.core.interior import InteriorOrientation
 
@@ -139,7 +141,8 @@ def frame_key(seed: int, frame_index: int, stream: int = 0) -> np.uint64:
     """
     for name, value in (("seed", seed), ("frame_index", frame_index), ("stream", stream)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
-            raise ValueError(f"{name} = {value!r} must be a whole number >= 0")
+            raise ParameterValueError(f"{name} = {value!r} must be a whole number >= 0",
+                                      name=name, value=value, must="a whole number, at least 0")
     key = [int(seed), int(frame_index)] + ([int(stream)] if stream else [])
     return np.random.SeedSequence(key).generate_state(1, np.uint64)[0]
 

@@ -50,7 +50,7 @@ from designer.core.distortion import BrownConrady, FisheyeEquidistant
 from designer.core.interior import UNDISTORT_TOL_PX, InteriorOrientation
 from designer.effects.base import Effect, FrameContext
 from designer.effects.resample import SUPPORT_PX, check_order, warp_image
-from designer.errors import DesignerError, NotInvertibleError
+from designer.errors import DesignerError, NotInvertibleError, ParameterValueError
 
 #: safety margin (render px) around the region the warp samples, beyond the kernel's reach
 MARGIN_PX = 2.0
@@ -88,7 +88,9 @@ def pinhole_render_camera(
     ``max_field_deg``.
     """
     if isinstance(oversample, bool) or not isinstance(oversample, int) or oversample < 1:
-        raise ValueError(f"oversample = {oversample!r} must be a whole number >= 1")
+        raise ParameterValueError(f"oversample = {oversample!r} must be a whole number >= 1",
+                                  name="oversample", value=oversample,
+                                  must="a whole number, at least 1")
     check_order(order)
     lens = interior.distortion
     if lens is None or (isinstance(lens, BrownConrady) and lens.is_identity):

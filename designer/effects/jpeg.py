@@ -17,14 +17,16 @@ import numpy as np
 from designer.atomic import write_bytes_atomic
 from designer.effects.base import CameraContext, ChannelOrder, Effect, FrameContext
 from designer.effects.registry import implements
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterValueError
 from designer.project import model as m
 
 
 def _check(image: np.ndarray, quality: int) -> None:
     if isinstance(quality, bool) or not isinstance(quality, int | np.integer) or not (
             1 <= quality <= 100):
-        raise ValueError(f"JPEG quality {quality!r} must be a whole number from 1 to 100")
+        raise ParameterValueError(
+            f"JPEG quality {quality!r} must be a whole number from 1 to 100", name="quality",
+            value=quality, must="a whole number from 1 to 100")
     if image.dtype != np.uint8:
         raise DesignerError(f"JPEG stores 8 bits per channel, the image is {image.dtype}; "
                             f"render 8-bit images or drop the JPEG effect")

@@ -21,7 +21,7 @@ import numpy as np
 
 from designer.effects.base import CameraContext, Effect, FrameContext
 from designer.effects.registry import implements
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterValueError
 from designer.project import model as m
 
 BORDER = cv2.BORDER_REFLECT
@@ -42,7 +42,9 @@ def linear_motion_kernel(displacement_px: tuple[float, float],
     du, dv = (float(d) for d in displacement_px)
     length = math.hypot(du, dv)
     if not math.isfinite(length):
-        raise ValueError(f"displacement {displacement_px!r} must be finite")
+        raise ParameterValueError(f"displacement {displacement_px!r} must be finite",
+                                  name="displacement_px", value=displacement_px,
+                                  must="finite")
     n = math.ceil(length * samples_per_px) + 1
     t = (np.arange(n) + 0.5) / n - 0.5
     hx, hy = math.ceil(abs(du) / 2) + 1, math.ceil(abs(dv) / 2) + 1

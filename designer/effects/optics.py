@@ -19,7 +19,7 @@ from designer.core.interior import InteriorOrientation
 from designer.effects._pixel_kernels import times_gain
 from designer.effects.base import CameraContext, Effect, FrameContext, channels_last
 from designer.effects.registry import implements
-from designer.errors import DesignerError
+from designer.errors import DesignerError, ParameterValueError
 from designer.project import model as m
 
 #: how images are extended beyond their edges by the blurs (mirror about the edge)
@@ -88,7 +88,9 @@ class RadialVignetting(Effect):
     def from_corner_falloff(cls, interior: InteriorOrientation, corner_falloff: float
                             ) -> RadialVignetting:
         if not 0.0 <= corner_falloff <= 1.0:
-            raise ValueError(f"corner_falloff = {corner_falloff!r} must be from 0 to 1")
+            raise ParameterValueError(
+                f"corner_falloff = {corner_falloff!r} must be from 0 to 1",
+                name="corner_falloff", value=corner_falloff, must="from 0 to 1")
         return cls(interior, (-float(corner_falloff),))
 
     @property
@@ -130,7 +132,8 @@ def gaussian_blur(image: np.ndarray, sigma_px: float) -> np.ndarray:
     """Convolve with a Gaussian PSF of standard deviation ``sigma_px`` (px), ±4σ kernel,
     edges mirrored. σ = 0 returns a copy."""
     if not sigma_px >= 0:
-        raise ValueError(f"sigma_px = {sigma_px!r} must be >= 0")
+        raise ParameterValueError(f"sigma_px = {sigma_px!r} must be >= 0", name="sigma_px",
+                                  value=sigma_px, unit="px", must="at least 0 px")
     if sigma_px == 0:
         return image.copy()
     return cv2.GaussianBlur(image, (0, 0), sigmaX=sigma_px, sigmaY=sigma_px, borderType=BORDER)

@@ -28,6 +28,28 @@ class Problem:
     #: another version): what the window says, naming no element of the file and its fix
     #: in the window's terms; None: the window words it from ``issue`` or ``message``
     words: str | None = field(default=None, compare=False, repr=False)
+    #: the element the problem is about, as ``message`` begins with it (``<element>: ``);
+    #: None where the message leads with no element of the file
+    element: str | None = field(default=None, compare=False, repr=False)
+    #: the elements the sentence after ``<element>: `` names, each written ``<name>``
+    #: there: a program quotes them its own way without reading the message
+    named: tuple[str, ...] = field(default=(), compare=False, repr=False)
+
+    @classmethod
+    def about(cls, element: str, sentence: str, line: int = 1, column: int = 1, *,
+              named: tuple[str, ...] = (), issue: Issue | None = None,
+              words: str | None = None) -> Problem:
+        """The problem ``<element>: sentence`` with its element and the elements the
+        sentence names (``named``) as fields."""
+        return cls(f"<{element}>: {sentence}", line, column, issue, words, element,
+                   tuple(named))
+
+    @property
+    def sentence(self) -> str:
+        """What is wrong and its fix: ``message`` after its leading ``<element>: ``."""
+        if self.element is None:
+            return self.message
+        return self.message.removeprefix(f"<{self.element}>: ")
 
     def format(self, source: str) -> str:
         """``FILE:LINE:COLUMN: message`` on one line (line breaks in values are escaped)."""
@@ -142,7 +164,7 @@ CODES = {
                       "(``value``: the format; ``choices``: its extensions)",
     "stations-too-low": "camera stations below, or within the camera's near distance of, "
                         "the terrain, a building or a plant (``value``: a "
-                        "designer.survey.station_clearance.LowStations)",
+                        "designer.checks.station_clearance.LowStations)",
     "colour": "a colour (``attr``) that is not three numbers from 0 to 1 (``value``: as "
               "read)",
 }
@@ -171,7 +193,7 @@ class SourceMap:
         key = issue.key or issue.tag
         line = self._where.get((id(issue.obj), key)) or self._first.get(id(issue.obj), 1)
         line, column = self.position(line, issue.tag, issue.attr)
-        return Problem(f"<{issue.tag}>: {issue.message}", line, column, issue)
+        return Problem.about(issue.tag, issue.message, line, column, issue=issue)
 
     def position(self, line: int, tag: str, attr: str | None = None) -> tuple[int, int]:
         """(line, 1-based column) of ``<tag``, or of ``attr=`` inside that start tag.
@@ -208,4 +230,4 @@ class SourceMap:
 
 def unlocated(issue: Issue) -> Problem:
     """An issue of a model that was not read from a file (line 0, column 0)."""
-    return Problem(f"<{issue.tag}>: {issue.message}", 0, 0, issue)
+    return Problem.about(issue.tag, issue.message, 0, 0, issue=issue)

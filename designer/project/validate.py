@@ -11,12 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from designer.project import model as m
-from designer.project.checks import finite_issues
 from designer.project.problems import Issue, Problem, SourceMap, unlocated
 from designer.project.validate_camera import camera_issues
 from designer.project.validate_declared import declared_issues
 from designer.project.validate_processing import processing_issues
 from designer.project.validate_scene import scene_issues
+from designer.project.validate_shared import finite_issues
 from designer.project.validate_trajectory import (
     effects_issues,
     render_output_issues,

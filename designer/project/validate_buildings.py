@@ -6,7 +6,6 @@ import math
 from pathlib import Path
 
 from designer.project import model as m
-from designer.project.checks import file_issue, plain_extent, plain_m
 from designer.project.declare import declared_field
 from designer.project.files import mesh_problem, resolve
 from designer.project.geometry import (
@@ -17,6 +16,7 @@ from designer.project.geometry import (
     rectangle_corner_error_deg,
 )
 from designer.project.problems import Issue
+from designer.project.validate_shared import file_issue, plain_extent, plain_m
 
 #: the highest wall or ridge a building may have above its base (m)
 MAX_BUILDING_HEIGHT_M = declared_field(m.Building, "eave_height_m").attr.high

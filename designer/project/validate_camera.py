@@ -13,10 +13,10 @@ import math
 
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.checks import finite_issues
 from designer.project.declare import declared_field
 from designer.project.problems import Issue
 from designer.project.validate_declared import element_issues
+from designer.project.validate_shared import finite_issues
 
 
 def camera_issues(cam: m.Camera, resolution_scale: float = 1.0) -> list[Issue]:

@@ -8,13 +8,6 @@ from datetime import datetime
 from pathlib import Path
 
 from designer.project import model as m
-from designer.project.checks import (
-    file_issue,
-    finite_issues,
-    is_ok,
-    plain_extent,
-    plain_m,
-)
 from designer.project.files import (
     ascii_grid_extent,
     ascii_grid_header,
@@ -33,6 +26,13 @@ from designer.project.scene_limits import (
 )
 from designer.project.validate_buildings import building_issues
 from designer.project.validate_declared import element_issues
+from designer.project.validate_shared import (
+    file_issue,
+    finite_issues,
+    is_ok,
+    plain_extent,
+    plain_m,
+)
 
 
 def scene_issues(scene: m.Scene, base: Path | None) -> list[Issue]:

@@ -8,14 +8,6 @@ from collections import Counter
 
 from designer.core.rig import mount_tilt_deg
 from designer.project import model as m
-from designer.project.checks import (
-    BIT_DEPTHS,
-    EXTENSIONS,
-    finite_issues,
-    is_ok,
-    plain_extent,
-    plain_m,
-)
 from designer.project.geometry import (
     polygon_area,
     polygon_is_degenerate,
@@ -23,6 +15,14 @@ from designer.project.geometry import (
 )
 from designer.project.problems import Issue
 from designer.project.validate_declared import element_issues
+from designer.project.validate_shared import (
+    BIT_DEPTHS,
+    EXTENSIONS,
+    finite_issues,
+    is_ok,
+    plain_extent,
+    plain_m,
+)
 
 _IMAGE_SUFFIX = re.compile(r"\.(png|jpe?g|tiff?|exr|bmp)$", re.IGNORECASE)
 

@@ -6,11 +6,11 @@ from __future__ import annotations
 import math
 
 from designer.project import model as m
-from designer.project.checks import is_ok, plain_extent, plain_m
 from designer.project.declare import declared_field
 from designer.project.problems import Issue
 from designer.project.utc import EXAMPLE_UTC, parse_utc
 from designer.project.validate_declared import element_issues
+from designer.project.validate_shared import is_ok, plain_extent, plain_m
 
 
 def trigger_distance_m(project: m.Project, plan: m.FlightPlan) -> float | None:

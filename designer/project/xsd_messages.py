@@ -97,12 +97,23 @@ def translate_xsd_error(entry, root: etree._Element, smap: SourceMap,
     info = info or schema_info()
     error = _read(entry, root, info)
     if error is None:
-        return Problem(f"<project>: {_local(entry.message)}", entry.line or 1, 1)
+        return Problem.about("project", _local(entry.message), entry.line or 1, 1)
     text, issue = WORDING.get(entry.type, _fallback)(error)
     line, column = smap.position(entry.line or 1, error.tag, error.attr)
     if issue is not None:
         issue = dataclasses.replace(issue, message=text)
-    return Problem(f"<{error.tag}>: {text}", line, column, issue)
+    return Problem.about(error.tag, text, line, column, issue=issue,
+                         named=_named(text, error))
+
+
+def _named(text: str, error: _Error) -> tuple[str, ...]:
+    """The elements ``text`` names as ``<name>``: of the schema's elements (its wording
+    and the documentation it quotes name no others) and the element at fault and its
+    parent (an unknown element is in no schema), in the order of first mention."""
+    names = {error.tag, *((error.parent,) if error.parent else ()),
+             *(name for _, name in error.info.element_doc)}
+    return tuple(sorted((n for n in names if f"<{n}>" in text),
+                        key=lambda n: text.index(f"<{n}>")))
 
 
 def _read(entry, root: etree._Element, info: SchemaInfo) -> _Error | None:

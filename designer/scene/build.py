@@ -15,8 +15,8 @@ import numpy as np
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.checks import plain_number
 from designer.project.scene_limits import MAX_TEXTURE_TEXELS
+from designer.project.validate_shared import plain_number
 from designer.scene.gcp_target import (
     DEFAULT_LIFT_M,
     target_clearance_m,

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.checks.hard_cases import collinear_problem
 from designer.errors import DesignerError
 from designer.project import model as m
 from designer.sfm.adjustment import ControlPoint, PositionPriors, adjust
 from designer.sfm.georeference import fit_similarity, triangulate_gcps
-from designer.survey.hard_cases import collinear_problem
 
 #: RANSAC inlier threshold of the GCP similarity, m
 GCP_SIMILARITY_MAX_ERROR_M = 0.5

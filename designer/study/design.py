@@ -54,9 +54,10 @@ def replicate_seed(draw: str, replicate: int) -> int:
     return zlib.crc32(f"{draw}/{replicate}".encode()) & 0x7FFFFFFF
 
 
-def _problem(study: Study, where: Where, tag: str, message: str) -> ProjectError:
+def _problem(study: Study, where: Where, tag: str, message: str,
+             named: tuple[str, ...] = ()) -> ProjectError:
     return ProjectError(str(study.source or "<study>"),
-                        [Problem(f"<{tag}>: {message}", where.line, where.column)])
+                        [Problem.about(tag, message, where.line, where.column, named=named)])
 
 
 def load_base(study: Study) -> tuple[m.Project, Path]:
@@ -112,7 +113,8 @@ def _check_factors(study: Study) -> None:
     if not study.factors:
         raise _problem(study, study.where, "study",
                        "the design is empty: no <factor>; add at least one "
-                       "<factor name=\"...\"><values>...</values></factor>")
+                       "<factor name=\"...\"><values>...</values></factor>",
+                       named=("factor",))
     seen = set()
     for f in study.factors:
         if f.name not in FACTORS:

@@ -60,8 +60,8 @@ def read_study(path: str | os.PathLike) -> Study:
 def parse_study(data: bytes, source: str = "<memory>", path: Path | None = None) -> Study:
     problem = _content_problem(data)
     if problem:
-        raise ProjectError(source, [Problem(problem.message.replace("<project>", "<study>")
-                                            .replace("a project", "a study"))])
+        raise ProjectError(source, [Problem.about(
+            "study", problem.sentence.replace("a project", "a study"))])
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False,
                              huge_tree=False, collect_ids=False)
     try:
@@ -86,14 +86,16 @@ def parse_study(data: bytes, source: str = "<memory>", path: Path | None = None)
 def _check_root(root: etree._Element, source: str) -> None:
     qname = etree.QName(root)
     if qname.localname != "study" or qname.namespace != NAMESPACE:
-        raise ProjectError(source, [Problem(
-            f"<{qname.localname}>: the root element must be <study xmlns=\"{NAMESPACE}\" "
+        raise ProjectError(source, [Problem.about(
+            qname.localname, f"the root element must be <study xmlns=\"{NAMESPACE}\" "
             f"schema-version=\"{SUPPORTED_VERSIONS[-1]}\" name=\"...\">; this is not a "
-            "designer study file", root.sourceline or 1, 1)])
+            "designer study file", root.sourceline or 1, 1,
+            words=f"this is not a designer study file (it holds a '{qname.localname}', not "
+                  "a study); open a study file")])
     version = (root.get("schema-version") or "").strip()
     if version and version not in SUPPORTED_VERSIONS:
-        raise ProjectError(source, [Problem(
-            f"<study>: schema-version '{version}' is not supported; use "
+        raise ProjectError(source, [Problem.about(
+            "study", f"schema-version '{version}' is not supported; use "
             f"{', '.join(SUPPORTED_VERSIONS)}", root.sourceline or 1, 1)])
 
 
@@ -116,9 +118,10 @@ def _model(root, smap: SourceMap, text: str, source: str, path: Path | None) -> 
     file = base_el.get("file")
     where = _where(smap, base_el)
     if (file is None) == (not inline):
-        raise ProjectError(source, [Problem(
-            "<base-project>: give either file=\"PATH\" or one <project> inside, not "
-            f"{'both' if file else 'neither'}", where.line, where.column)])
+        raise ProjectError(source, [Problem.about(
+            "base-project", "give either file=\"PATH\" or one <project> inside, not "
+            f"{'both' if file else 'neither'}", where.line, where.column,
+            named=("project",))])
     inline_xml = None
     if inline:
         el = inline[0]
@@ -159,5 +162,5 @@ def _range_values(r: etree._Element, smap: SourceMap, source: str) -> tuple[str,
         return range_levels(start, stop, step)
     except ValueError as error:
         where = _where(smap, r)
-        raise ProjectError(source, [Problem(f"<range>: {error}", where.line,
-                                            where.column)]) from None
+        raise ProjectError(source, [Problem.about("range", str(error), where.line,
+                                                  where.column)]) from None

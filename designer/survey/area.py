@@ -14,7 +14,7 @@ import numpy as np
 
 from designer.core.heightfield import Heightfield
 from designer.errors import DesignerError, ParameterError
-from designer.project.checks import plain_number
+from designer.project.validate_shared import plain_number
 
 
 def rectangle(x_min_m: float, y_min_m: float, x_max_m: float, y_max_m: float) -> np.ndarray:

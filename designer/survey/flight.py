@@ -116,12 +116,14 @@ def camera_calc(
         raise DesignerError("give either a flight height above ground or a target GSD, not both")
     if gsd_m is not None:
         if not (math.isfinite(gsd_m) and gsd_m > 0):
-            raise DesignerError(f"target GSD = {gsd_m} m/px must be > 0")
+            raise ParameterError(f"target GSD = {gsd_m} m/px must be > 0", name="gsd_m",
+                                 value=gsd_m, unit="m", must="greater than 0 m")
         altitude_agl_m = gsd_m * f_m / pitch_m
     assert altitude_agl_m is not None
     if not (math.isfinite(altitude_agl_m) and altitude_agl_m > 0):
-        raise DesignerError(
-            f"flight height above ground = {altitude_agl_m} m must be > 0 m")
+        raise ParameterError(
+            f"flight height above ground = {altitude_agl_m} m must be > 0 m",
+            name="altitude_agl_m", value=altitude_agl_m, unit="m", must="greater than 0 m")
     gsd = altitude_agl_m * pitch_m / f_m
     width_m = altitude_agl_m * interior.sensor_width_mm / interior.focal_length_mm
     height_m = altitude_agl_m * interior.sensor_height_mm / interior.focal_length_mm
@@ -325,15 +327,19 @@ def apply_pose_noise(
 # ----------------------------------------------------------------------------- helpers
 def _overlap(value: float, name: str) -> float:
     if not math.isfinite(value) or value < 0:
-        raise DesignerError(f"{name} = {value} must be a fraction in [0, 1)")
+        raise ParameterError(f"{name} = {value} must be a fraction in [0, 1)", name=name,
+                             value=value, must="a fraction from 0 to below 1")
     if 1.0 < value < 100.0:
-        raise DesignerError(
+        raise ParameterError(
             f"{name} = {value} must be a fraction in [0, 1), not a percentage; "
-            f"{value:g} % is written {value / 100:g}")
+            f"{value:g} % is written {value / 100:g}", name=name, value=value,
+            must=f"a fraction from 0 to below 1, not a percentage ({value:g} % is "
+                 f"{value / 100:g})")
     if value >= 1.0:
-        raise DesignerError(
+        raise ParameterError(
             f"{name} = {value}: an overlap of 100 % or more never moves on; use a "
-            f"fraction below 1")
+            f"fraction below 1", name=name, value=value,
+            must="a fraction below 1 (an overlap of 100 % or more never moves on)")
     return float(value)
 
 

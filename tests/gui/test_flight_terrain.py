@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import pytest
 
+from designer.checks.plan_report import plan_project, plan_summary
 from designer.gui.qt.panels.gcps import IMAGES_COLUMN
 from designer.gui.state import edits
-from designer.survey.plan_report import plan_project, plan_summary
 from tests.gui.helpers import problems, wait_idle
 
 pytestmark = pytest.mark.gui

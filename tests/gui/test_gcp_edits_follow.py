@@ -11,9 +11,9 @@ from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QPushButton
 
+from designer.checks.plan_report import plan_project, plan_summary
 from designer.gui.qt.panels.gcps import IMAGES_COLUMN
 from designer.gui.state import edits
-from designer.survey.plan_report import plan_project, plan_summary
 from tests.gui.helpers import (
     activate,
     open_panel,

@@ -1,5 +1,5 @@
 """The Flight panel warns, as ``designer check`` does, of the cases that degrade results
-(designer.survey.hard_cases): here control GCPs nearly on one line, and the warning
+(designer.checks.hard_cases): here control GCPs nearly on one line, and the warning
 follows the GCP table's edits."""
 
 from __future__ import annotations
@@ -54,8 +54,8 @@ def test_collinear_control_and_a_thin_network_on_a_terrain_mesh_are_warned(
     photos as designer check does."""
     from dataclasses import replace
 
+    from designer.checks.hard_cases import collinear_control_warning, network_warnings
     from designer.project import model as m
-    from designer.survey.hard_cases import collinear_control_warning, network_warnings
     from tests.hard_cases import scenes
 
     w = window

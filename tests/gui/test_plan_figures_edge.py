@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import pytest
 
+from designer.checks.plan_report import plan_project, plan_summary
 from designer.gui.state import derived, edits, files
 from designer.gui.state.plan_figures import compute_plan_figures
 from designer.project import model as m
-from designer.survey.plan_report import plan_project, plan_summary
 
 LOW_M, HIGH_M = -15.0, 15.0
 

@@ -12,13 +12,13 @@ from designer.cli.main import main
 
 
 def test_the_window_and_check_find_the_same_stations_in_buildings_and_trees(tmp_path):
+    from designer.checks.station_clearance import clearance_issues
     from designer.gui.state import derived
     from designer.gui.state.station_problems import (
         station_problem_lines,
         window_low_stations,
     )
     from designer.project import load_project
-    from designer.survey.station_clearance import clearance_issues
 
     path = tmp_path / "p.xml"
     with contextlib.redirect_stdout(io.StringIO()):

@@ -11,9 +11,9 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QDoubleSpinBox
 
+from designer.checks.plan_report import plan_project, plan_summary
 from designer.project import load_project
 from designer.project import model as m
-from designer.survey.plan_report import plan_project, plan_summary
 from tests.gui.helpers import design_example, field, ground_pixels, problems, wait_idle
 
 pytestmark = pytest.mark.gui

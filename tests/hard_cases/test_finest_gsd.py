@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
+from designer.checks.hard_cases import finest_gsd_m
 from designer.core.projection import ground_sample_distance_m, pixel_rays_world
 from designer.core.raycast import TerrainRaycaster
 from designer.project import template
 from designer.project.interiors import render_interior
 from designer.scene.build import build_heightfield
-from designer.survey.hard_cases import finest_gsd_m
 from designer.survey.project_poses import project_images
 
 

@@ -57,9 +57,9 @@ def test_the_windows_warnings_name_the_panels(tmp_path):
 def test_no_survey_camera_preset_is_warned_of(key):
     """Every real camera designer knows, the GoPro as a pinhole (104° across) among them,
     flown at 120 m (the usual ceiling for drones) is silent."""
+    from designer.checks.hard_cases import optics_warnings
     from designer.project import model as m
     from designer.project.camera_presets import preset
-    from designer.survey.hard_cases import optics_warnings
 
     camera = preset(key).camera()
     plan = m.FlightPlan(camera=camera.id, image_prefix="I", area=((0, 0), (1, 0), (1, 1)),

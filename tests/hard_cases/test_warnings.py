@@ -1,4 +1,4 @@
-"""``designer check``'s hard-case warnings (designer.survey.hard_cases) and the guards
+"""``designer check``'s hard-case warnings (designer.checks.hard_cases) and the guards
 without a render: each warning appears on the project that walks into its case and not
 on the same project a step away from it; the refusals name the case and the fix."""
 
@@ -13,16 +13,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from designer.cli.main import main
-from designer.core.heightfield import Heightfield
-from designer.errors import DesignerError
-from designer.project import model as m
-from designer.survey.hard_cases import (
+from designer.checks.hard_cases import (
     collinear_control_warning,
     collinear_problem,
     distortion_warning,
     point_spread,
 )
+from designer.cli.main import main
+from designer.core.heightfield import Heightfield
+from designer.errors import DesignerError
+from designer.project import model as m
 from tests.hard_cases import scenes
 from tests.synthetic import model_camera, write_project_file
 

@@ -37,9 +37,10 @@ ROOT = Path(__file__).resolve().parents[2]
 #: the modules that word what check, plan and the window say
 MESSAGE_MODULES = sorted(
     [*ROOT.glob("designer/project/validate*.py")] + [ROOT / "designer" / p for p in (
-        "project/checks.py", "project/files.py", "project/xml_read.py",
-        "survey/hard_cases.py", "survey/terrain_reach.py", "survey/station_clearance.py",
-        "survey/surroundings.py", "survey/plan_report.py", "survey/project_poses.py",
+        "project/validate_shared.py", "project/files.py", "project/xml_read.py",
+        "checks/hard_cases.py", "checks/terrain_reach.py", "checks/station_clearance.py",
+        "checks/project_checks.py",
+        "survey/surroundings.py", "checks/plan_report.py", "survey/project_poses.py",
         "gui/state/wording.py", "gui/state/plan_figures.py", "gui/state/hard_cases.py",
         "gui/state/station_problems.py", "gui/state/files.py", "cli/check.py",
         "cli/plan.py")])
@@ -227,10 +228,10 @@ def test_problems_of_the_file_as_a_whole(name, content, tmp_path, monkeypatch, c
 def test_the_issues_cases_as_check_plan_and_the_window_word_them(tmp_path, capsys):
     """A flight inside the hills (an error of check and plan, a line of the Problems
     list) and a 0.001 mm lens (check's warnings, the Flight panel's lines)."""
+    from designer.checks.station_clearance import clearance_issues
     from designer.gui.state.hard_cases import hard_case_lines
     from designer.gui.state.wording import issue_line
     from designer.project import load_project
-    from designer.survey.station_clearance import clearance_issues
     from tests.survey.scenes import survey_flown
 
     low = survey_flown(tmp_path, 5.0)

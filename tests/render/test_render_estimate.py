@@ -8,9 +8,9 @@ import time
 
 import pytest
 
+from designer.checks.plan_report import plan_project
 from designer.render.pipeline import render_project
 from designer.render_time.model import load_speed
-from designer.survey.plan_report import plan_project
 from tests.synthetic import small_survey, write_project_file
 
 

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from designer.checks.plan_report import plan_project, project_with_explicit_poses
 from designer.project.load import load_project
-from designer.survey.plan_report import plan_project, project_with_explicit_poses
 from designer.survey.project_poses import photo_lines
 
 ROOT = Path(__file__).resolve().parents[2]

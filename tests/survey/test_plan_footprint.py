@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
+from designer.checks.plan_report import plan_project
 from designer.project.load import load_project
-from designer.survey.plan_report import plan_project
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "resources" / "examples" / "survey" / "survey.xml"

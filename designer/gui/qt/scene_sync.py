@@ -516,7 +516,7 @@ class SceneSync(PhotoSelection, QObject):
         """GCPs, buildings and flight-area vertices outside the ground the terrain file
         holds (as ``designer check`` warns), each with its fix; compared with the reach
         read with the terrain, so asking after every edit costs microseconds."""
-        from designer.survey.terrain_reach import reach_warnings
+        from designer.checks.terrain_reach import reach_warnings
 
         reach = self.terrain.reach if self.terrain is not None else None
         return [f"{w.message}; {w.fix}"

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.checks.station_clearance import plant_cylinders
+from designer.checks.terrain_reach import Reach, terrain_file_reach
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
 from designer.core.raycast import TerrainRaycaster, raycaster_of
@@ -44,9 +46,7 @@ from designer.scene.lighting import (
 from designer.scene.mesh import TerrainMesh
 from designer.scene.objects import PlacedObjects, build_objects
 from designer.survey.flight import CameraCalc, camera_calc
-from designer.survey.station_clearance import plant_cylinders
 from designer.survey.surroundings import GrownTerrain
-from designer.survey.terrain_reach import Reach, terrain_file_reach
 
 
 @dataclass(frozen=True, eq=False)
@@ -67,7 +67,7 @@ class TerrainResult:
     irradiance: np.ndarray | None = None
     #: the box a DEM or terrain mesh holds ground in (None: flat, procedural), read here
     #: once so that each edit only compares places with it
-    #: (:func:`designer.survey.terrain_reach.reach_warnings`)
+    #: (:func:`designer.checks.terrain_reach.reach_warnings`)
     reach: Reach | None = None
 
 
@@ -332,7 +332,7 @@ class VegetationResult:
     (M, 3) (foliage in its group's colour, wood in the wood colour) and the number of
     plants; ``plants``: each plant's (base_world (P, 3), height_m (P,), crown_m (P,)),
     which the camera stations are kept clear of
-    (designer.survey.station_clearance.plant_cylinders)."""
+    (designer.checks.station_clearance.plant_cylinders)."""
 
     vertices_world: np.ndarray
     faces: np.ndarray

@@ -1,4 +1,4 @@
-"""``designer check``'s hard-case warnings (designer.survey.hard_cases) over what the
+"""``designer check``'s hard-case warnings (designer.checks.hard_cases) over what the
 window has already computed, for the Flight panel (Qt-free).
 
 The lens of each camera is weighed as it is edited (a millisecond, kept per camera); the
@@ -16,9 +16,7 @@ import functools
 
 import numpy as np
 
-from designer.errors import DesignerError
-from designer.project import model as m
-from designer.survey.hard_cases import (
+from designer.checks.hard_cases import (
     HardCaseWarning,
     coarse_gsd_warning,
     collinear_control_warning,
@@ -27,6 +25,8 @@ from designer.survey.hard_cases import (
     texture_warnings,
     wide_lens_warning,
 )
+from designer.errors import DesignerError
+from designer.project import model as m
 
 
 @functools.lru_cache(maxsize=64)

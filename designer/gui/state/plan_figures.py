@@ -50,7 +50,7 @@ class PlanFigures:
     gcp_image_index: tuple[np.ndarray, ...] = ()
     gcp_uv_px: tuple[np.ndarray, ...] = ()
     #: the finest GSD (m/px) of any rendered image, sampled as ``designer check`` does
-    #: (designer.survey.hard_cases.finest_gsd_m): the texture's texel is weighed
+    #: (designer.checks.hard_cases.finest_gsd_m): the texture's texel is weighed
     #: against it as it is edited
     finest_gsd_m: float = float("nan")
 
@@ -112,7 +112,7 @@ def compute_plan_figures(project: m.Project, terrain, stations_result, targets_r
     centre = analysis.stations.centre_ground_xyz
     gsd = analysis.coverage.gsd_mean_m
     gsd = gsd[np.isfinite(gsd)]
-    from designer.survey.hard_cases import finest_gsd_m, network_warnings
+    from designer.checks.hard_cases import finest_gsd_m, network_warnings
 
     seen = _rendered_images(project, images, ground, terrain.raycaster, gcp_xyz)
     check()

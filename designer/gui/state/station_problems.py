@@ -1,7 +1,7 @@
 """Camera stations under the ground, over what the window has computed (Qt-free).
 
 ``designer check`` and ``designer plan`` refuse stations below the terrain, inside a
-building or a plant (designer.survey.station_clearance); the window lists them among
+building or a plant (designer.checks.station_clearance); the window lists them among
 its problems as the flight is edited. The stations, the terrain's height field, the
 buildings' meshes and the plants are those the view draws, so asking after every edit
 costs a bilinear height per station and a few box tests: milliseconds.
@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.project import model as m
-from designer.survey.station_clearance import (
+from designer.checks.station_clearance import (
     LowStations,
     low_stations,
     low_stations_issue,
     station_clearance,
 )
+from designer.project import model as m
 
 
 def window_low_stations(project: m.Project, terrain, stations, buildings=None,

@@ -2,7 +2,9 @@
 
 Validation issues are worded from their structured fields (code, element, attribute,
 value, limits; :class:`designer.project.problems.Issue`) and the declarations' labels,
-never by reading their message: :func:`issue_text`, :func:`problem_text`. A library
+never by reading their message: :func:`issue_text`, :func:`problem_text`; a schema
+problem about the file's structure from the element it is about and the elements its
+sentence names (``Problem.element``, ``Problem.named``): :func:`untagged`. A library
 error that carries its fields (:class:`designer.errors.ParameterError`: parameter, value,
 what it must be) is worded from them: :func:`error_text`. Errors raised by the library as
 plain text name its parameters (``size_x_m``) and print numbers the way Python does
@@ -41,6 +43,10 @@ LIBRARY_NAMES = {
     "n_check": "number of check points",
     "cell_m": "coverage grid cell",
     "size_m": "target size",
+    "front_overlap_fraction": "front overlap",
+    "side_overlap_fraction": "side overlap",
+    "oversample": "distortion oversampling",
+    "displacement_px": "motion blur displacement",
 }
 
 
@@ -457,17 +463,15 @@ def field_place(issue: Issue) -> str | None:
     return None if panel is None or d is None else f"{panel} › {d.label}"
 
 
-_TAG = re.compile(r"</?([A-Za-z][\w.-]*)(?:\s[^<>]*)?/?>")
-_ELEMENT = re.compile(r"^((?:[^:]*:){3} )<([A-Za-z][\w.-]*)>: ")
-
-
-def untagged(message: str) -> str:
+def untagged(problem: Problem, source: str) -> str:
     """A schema error about the file's structure (an element unknown, missing, out of
-    order: only a hand-edited file has them) without XML's angle brackets: the place in
-    the file leads (the sentence names the element), the elements it names are quoted
-    (“camera”)."""
-    message = _ELEMENT.sub(r"\1", message, count=1)
-    return _TAG.sub(lambda mt: f"“{mt.group(1)}”", message)
+    order: only a hand-edited file has them) without XML's angle brackets, from the
+    problem's fields: the place in the file leads (the sentence names the element), the
+    elements the sentence names are quoted (“camera”)."""
+    sentence = problem.sentence
+    for name in problem.named:
+        sentence = sentence.replace(f"<{name}>", f"“{name}”")
+    return Problem(sentence, problem.line, problem.column).format(source)
 
 
 def problem_text(problem: Problem | str, source: str) -> str:
@@ -482,7 +486,7 @@ def problem_text(problem: Problem | str, source: str) -> str:
     if problem.words is not None:  # the file as a whole: no line, no element
         return f"{source}: {problem.words}"
     if problem.issue is None:
-        return humanize(untagged(problem.format(source)))
+        return humanize(untagged(problem, source))
     place = _place(problem.issue)
     text = issue_text(problem.issue)  # a value's starts with the field's label
     worded = f"{place} › {text}" if place else text

@@ -14,8 +14,8 @@ from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, form, readout
 from designer.gui.state.edits import AbsentElement
 from designer.project import model as m
-from designer.project.checks import plain_number
 from designer.project.geometry import point_in_polygon
+from designer.project.validate_shared import plain_number
 
 #: a new building's footprint (m east × m north) and heights (m above its base)
 NEW_SIZE_M = (10.0, 8.0)

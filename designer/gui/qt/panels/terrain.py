@@ -18,7 +18,7 @@ from designer.gui.qt.field_rules import ruled_dspin
 from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.widgets import combo, dspin, form, format_number, ispin, readout
 from designer.project import model as m
-from designer.project.checks import GRID_TOL, MAX_TERRAIN_NODES
+from designer.project.scene_limits import GRID_TOL, MAX_TERRAIN_NODES
 
 KINDS = [("procedural hills", "procedural"), ("flat plane", "flat"),
          ("DEM file (GeoTIFF, ESRI ASCII)", "dem"), ("mesh file (PLY, OBJ, STL)", "mesh")]

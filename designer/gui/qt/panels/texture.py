@@ -11,12 +11,12 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QImage, QPixmap
 from PySide6.QtWidgets import QFileDialog, QGroupBox, QHBoxLayout, QLabel, QPushButton
 
+from designer.checks.plan_report import texture_repeat_warning
 from designer.gui.qt.field_rules import ruled_dspin, ruled_ispin
 from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, form, format_number, ispin, readout
 from designer.gui.state import derived
 from designer.project import model as m
-from designer.survey.plan_report import texture_repeat_warning
 
 PATTERNS = ["grass", "soil", "gravel", "noise", "checkerboard", "slanted-edge"]
 def rgb_pixmap(rgb: np.ndarray, side_px: int) -> QPixmap:

@@ -1,5 +1,6 @@
-"""Shared pieces of the semantic checks: the coordinate limit, element names, number
-checks and formats (the scene's limits: ``designer.project.scene_limits``)."""
+"""Shared pieces of the semantic checks (``validate*.py``): the coordinate limit, element
+names, number checks and formats (the scene's limits: ``designer.project.scene_limits``;
+the checks beyond validation: :mod:`designer.checks`)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,6 @@ import math
 
 from designer.project import model as m
 from designer.project.problems import Issue
-from designer.project.scene_limits import GRID_TOL, MAX_TERRAIN_NODES  # noqa: F401  (read by gui.panels.terrain)
 
 #: no coordinate or length in a project may exceed this (m); larger values are typos
 MAX_ABS_COORDINATE_M = 1e8

@@ -52,8 +52,8 @@ def test_stations_inside_a_building_or_a_tree_and_just_above_the_ground():
     """On flat ground at 0 m: a station 1 m above the ground beside everything is clear;
     one 0.5 cm above it is within the camera's near distance; one inside a 6 m building;
     one inside an 8 m tree's crown; one over the building's roof."""
+    from designer.checks.station_clearance import NEAR_M, station_clearance
     from designer.core.heightfield import Heightfield
-    from designer.survey.station_clearance import NEAR_M, station_clearance
 
     hf = Heightfield(-50.0, -50.0, 1.0, 1.0, np.zeros((101, 101)))
     box_v = np.array([[x, y, z] for z in (0.0, 6.0) for x, y in
@@ -72,8 +72,8 @@ def test_stations_inside_a_building_or_a_tree_and_just_above_the_ground():
 
 
 def test_low_stations_as_an_issue_of_the_flight_plan(tmp_path):
+    from designer.checks.station_clearance import clearance_issues
     from designer.project import load_project
-    from designer.survey.station_clearance import clearance_issues
 
     project = load_project(survey_flown(tmp_path, 5.0))
     (issue,) = clearance_issues(project, tmp_path)
@@ -89,7 +89,7 @@ def test_low_stations_as_an_issue_of_the_flight_plan(tmp_path):
 
 
 def test_the_near_distance_is_the_render_cameras():
+    from designer.checks.station_clearance import NEAR_M
     from designer.render.job_spec import CameraSpec
-    from designer.survey.station_clearance import NEAR_M
 
     assert CameraSpec(1, 1, "AUTO", 0, 0, 1, 1, 1, 1).clip_start_m == NEAR_M

@@ -9,7 +9,7 @@ exact line — are refused where they are read or used).
   rotation about the line they lie on; :func:`point_spread` measures it;
 * the GSD finer than the texture's texel (the texture is magnified, features repeat) and,
   the other way, texels finer than a third of the GSD (the plan's aliasing warning,
-  designer.survey.plan_report, reused);
+  designer.checks.plan_report, reused);
 * a lens whose image corners come close to the radius where its radial map stops being
   monotonic: undistortion magnifies pixel errors there;
 * networks too thin for structure from motion: fewer than 3 images, every image on one

@@ -6,7 +6,7 @@ clamped to an edge height, the flight would be planned over nothing).
 The semantic checks (``designer.project.validate_*``) compare these places with the
 declared extent; the file's own reach needs the file read, which is the scene's work,
 so ``designer check`` asks here and prints the answers as warnings
-(:class:`designer.survey.hard_cases.HardCaseWarning`).
+(:class:`designer.checks.hard_cases.HardCaseWarning`).
 """
 
 from __future__ import annotations
@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.checks.hard_cases import HardCaseWarning
 from designer.errors import DesignerError
 from designer.project import model as m
-from designer.project.checks import plain_m
-from designer.survey.hard_cases import HardCaseWarning
+from designer.project.validate_shared import plain_m
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from designer.checks.hard_cases import aliasing_warning, control_warning, network_warnings
 from designer.core.heightfield import Heightfield
 from designer.core.rotation import opk_from_rotation
 from designer.errors import DesignerError
@@ -33,7 +34,6 @@ from designer.scene.surroundings import surroundings_mode
 from designer.survey.coverage import PlanAnalysis, analyse_plan
 from designer.survey.flight import Station
 from designer.survey.gcp_sightings import project_gcp_visibility
-from designer.survey.hard_cases import aliasing_warning, control_warning, network_warnings
 from designer.survey.project_poses import platform_stations, project_images, project_stations
 from designer.survey.surroundings import VOID_WARN, ImageGround, image_ground, repeat_warning
 
