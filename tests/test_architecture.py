@@ -77,8 +77,10 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "vtk": ("gui.qt",),
     "vtkmodules": ("gui.qt",),
     # the benchmarks build synthetic blocks as pycolmap reconstructions (bench doming, the
-    # rolling-shutter block) and keep the old per-observation Ceres solver as a reference
-    "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling"),
+    # rolling-shutter block) and keep the old per-observation Ceres solver as a reference;
+    # bench mapper runs sfm.mapping's incremental mapper, which is handed pycolmap
+    "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling",
+                 "bench.mapper"),
     "pyceres": ("sfm", "bench.rolling_reference"),
     "distributed": ("render.cluster", "study.run"),
     "pyexiv2": ("flight.image_meta", "render.exif"),
