@@ -45,11 +45,12 @@ def run(args) -> int:
         plan_summary,
         project_with_explicit_poses,
     )
+    from designer.survey.station_clearance import refuse_low_stations
 
     if args.cell_m is not None and not args.cell_m > 0:
         raise DesignerError(f"--cell-m {args.cell_m}: give a cell size > 0 m")
     project, smap = load_project_located(args.project)
-    _refuse_low_stations(project, smap, args.project)
+    refuse_low_stations(project, smap, args.project)
     if isinstance(project.scene.terrain.source, m.MeshTerrain):
         # the analysis below refuses a mesh; the warnings that need no height field first
         for warning in control_and_network_warnings(project, args.project.parent):
@@ -77,15 +78,3 @@ def run(args) -> int:
         if not args.json:
             print(f"wrote {args.write_poses} with {len(result.stations)} explicit poses")
     return 0
-
-
-
-def _refuse_low_stations(project, smap, path: Path) -> None:
-    """Raise a ProjectError, as ``designer check``, when camera stations lie under the
-    terrain, a building or a plant: the figures measured from there mean nothing."""
-    from designer.project.problems import ProjectError
-    from designer.survey.station_clearance import clearance_issues
-
-    issues = clearance_issues(project, path.parent)
-    if issues:
-        raise ProjectError(str(path), [smap.locate(i) for i in issues])

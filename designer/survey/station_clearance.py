@@ -256,6 +256,18 @@ def clearance_issues(project: m.Project, base_dir: Path, hf=None, images=None
     return low_stations_issue(project, low)
 
 
+def refuse_low_stations(project: m.Project, smap, path: Path) -> None:
+    """Raise a ProjectError (``FILE:LINE:COL: <flight-plan>: …``) when stations of
+    ``project``, read from ``path`` with its SourceMap ``smap``, are under the ground:
+    ``designer plan`` and ``designer render`` refuse such a file (the window saves it as
+    work in progress)."""
+    from designer.project.problems import ProjectError
+
+    issues = clearance_issues(project, path.parent)
+    if issues:
+        raise ProjectError(str(path), [smap.locate(i) for i in issues])
+
+
 def _standing(project: m.Project, base_dir: Path, hf) -> tuple[list, tuple | None]:
     """The buildings' meshes and the plants (base, height, crown) standing on ``hf``,
     as the renderer places them; what cannot be built is left out (its file check says
