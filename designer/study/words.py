@@ -1,8 +1,9 @@
-"""The Study panel's words for what a study file names by identifier: factors, the draws
-replicates re-seed, the results.csv metrics and the costs. A surveyor reads "flight
-height above ground (m)", not ``altitude-m``; the identifier stays in the tooltip (it is
-what the study file and results.csv say). Every identifier has its words here: a test
-walks the lists of :mod:`designer.study`."""
+"""The words for what a study file names by identifier: factors, the draws replicates
+re-seed, the results.csv metrics and the costs. A surveyor reads "flight height above
+ground (m)", not ``altitude-m``: the Study panel names them so (the identifier in the
+tooltip, it is what the study file and results.csv say), and ``designer study check``
+names them so with the identifier after them, in parentheses (:func:`named`). Every
+identifier has its words here: a test walks the lists of :mod:`designer.study`."""
 
 from __future__ import annotations
 
@@ -141,6 +142,12 @@ def metric_words(column: str) -> str:
         what = "bare-ground cloud error" if bare else "cloud error"
         return f"{what} {_STATISTICS[statistic]} (m)"
     raise KeyError(column)
+
+
+def named(words: str, identifier: str) -> str:
+    """``“flight height above ground (m)” (altitude-m)``: the words, then what the study
+    file writes, for a line of the command line."""
+    return f"“{words}” ({identifier})"
 
 
 def tip(words_doc: str, identifier: str) -> str:
