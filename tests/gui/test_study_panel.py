@@ -233,7 +233,8 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     # the results: a row per run with the factor's level, metrics and status; the plots
     results = panel.results
     table = results.table
-    headers = [table.horizontalHeaderItem(c).text() for c in range(table.columnCount())]
+    headers = [table.horizontalHeaderItem(c).text().replace("\n", " ")
+               for c in range(table.columnCount())]
     assert table.rowCount() == 2
     assert {"run", "GCP marking error σ (px)", "check-point RMSE Z (m)", "flight time (min)",
             "status"} <= set(headers)

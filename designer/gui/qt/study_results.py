@@ -8,6 +8,7 @@ factor's levels, drawn here as the report draws them
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 from PySide6.QtCore import Qt, QUrl, Signal
@@ -106,7 +107,9 @@ class StudyResults(QWidget):
         self.table.clear()
         self.table.setColumnCount(len(columns))
         for c, key in enumerate(columns):  # in words; results.csv's column in the tooltip
-            header = QTableWidgetItem(column_words(key))
+            # on two or three short lines: the words keep the columns about as narrow
+            # as their numbers
+            header = QTableWidgetItem("\n".join(textwrap.wrap(column_words(key), 16)))
             header.setToolTip(f"{column_words(key)}\n(in results.csv: {key})")
             self.table.setHorizontalHeaderItem(c, header)
         self.table.setRowCount(len(folder.rows))
