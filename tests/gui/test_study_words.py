@@ -111,8 +111,10 @@ def test_the_study_results_table_and_chart_selector_speak_words(qtbot, window, t
     assert "accuracy against cost (the report's figure)" in names, names
     chart_tips = [choice.itemData(k, Qt.ItemDataRole.ToolTipRole) for k in range(choice.count())]
     assert any("check_rmse_z_m" in (t or "") for t in chart_tips), chart_tips
-    # the chart drawn names its factor in words under its axis
+    # the chart drawn names its factor in words under its axis; the selector's tooltip
+    # says its whole name where the selector is too narrow for it
     choice.setCurrentIndex(0)
     wait_idle(qtbot, w)
+    assert choice.toolTip().startswith(names[0]), choice.toolTip()
     (ax,) = results.canvas.figure.axes
     assert not _named(ax.get_xlabel()), ax.get_xlabel()

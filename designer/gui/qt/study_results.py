@@ -130,8 +130,9 @@ class StudyResults(QWidget):
         self.figure_choice.clear()
         for k, chart in enumerate(self.charts):
             self.figure_choice.addItem(chart.name, k)
-            self.figure_choice.setItemData(k, chart.identifiers,
-                                           Qt.ItemDataRole.ToolTipRole)
+            self.figure_choice.setItemData(
+                k, f"{chart.name}\n(in the study's files: {chart.identifiers})",
+                Qt.ItemDataRole.ToolTipRole)
         drawn = {f"factor-{c.factor}" for c in self.charts}
         for path in folder.figures:  # the report's own figures of what is drawn: not again
             if path.stem not in drawn:
@@ -175,6 +176,10 @@ class StudyResults(QWidget):
         return self.charts[data] if isinstance(data, int) else None
 
     def _show_figure(self, *_) -> None:
+        # the whole name where the selector cuts a long one
+        self.figure_choice.setToolTip(self.figure_choice.currentData(
+            Qt.ItemDataRole.ToolTipRole) or "the study's charts: each metric against each "
+            "factor, then the report's figures")
         chart = self.chart
         if chart is not None:
             self._draw(chart)
