@@ -22,10 +22,19 @@ from collections.abc import Callable
 from pathlib import Path
 
 from designer.atomic import write_text_atomic
-from designer.core.layout import GROUND_TRUTH_DIR, IMAGES_DIR
+from designer.core.layout import (
+    GROUND_TRUTH_DIR,
+    IMAGES_DIR,
+    SIDE_BY_SIDE_ACCURACY_DIR,
+    SIDE_BY_SIDE_RECONSTRUCTION_DIR,
+    SIDE_BY_SIDE_SURVEY_DIR,
+)
 
-#: the render output folder inside the demo's folder (its images in SURVEY_DIR/images/)
-SURVEY_DIR = "survey"
+#: the render output folder inside the demo's folder (its images in SURVEY_DIR/images/);
+#: the reconstruction and the comparison beside it, where the window finds them
+SURVEY_DIR = SIDE_BY_SIDE_SURVEY_DIR
+RECONSTRUCTION_DIR = SIDE_BY_SIDE_RECONSTRUCTION_DIR
+ACCURACY_DIR = SIDE_BY_SIDE_ACCURACY_DIR
 #: the longer image side the demo's dense matching uses: 912 px of 1368 halves the
 #: matching time for 1.6 cm instead of 1.0 cm median |d| (designer bench dense)
 DEMO_DENSE_MAX_IMAGE_PX = 912
@@ -79,21 +88,17 @@ def run_demo(
     accuracy = None
     if frames is None:
         with stage("reconstruct (COLMAP)"):
-            from dataclasses import replace
-
-            from designer.project import model as m
             from designer.sfm.reconstruct import reconstruct
 
             # the project's processing (the defaults: true calibration held fixed, a
             # similarity onto exactly marked control GCPs) and the dense cloud; 4096 SIFT
             # features per 1.2 MP image are plenty and halve the matching time.
-            processing = replace(project.processing or m.Processing(), dense="cpu")
-            recon = reconstruct(output / SURVEY_DIR, output / "reconstruction", mode="free",
-                                max_features=4096, log=log, processing=processing,
+            recon = reconstruct(output / SURVEY_DIR, output / RECONSTRUCTION_DIR, mode="free",
+                                log=log, processing=demo_processing(project),
                                 project_path=project_path,
                                 dense_max_image_px=DEMO_DENSE_MAX_IMAGE_PX)
         with stage("compare with the truth"):
-            accuracy = _compare(project_path, recon, plan, output / "accuracy", log)
+            accuracy = _compare(project_path, recon, plan, output / ACCURACY_DIR, log)
     report = output / "report.md"
     text = _report_text(project, plan_summary(plan), summary, timings, accuracy)
     if accuracy is not None:
@@ -105,16 +110,33 @@ def run_demo(
     return report
 
 
+def demo_processing(project):
+    """The processing the demo reconstructs with: the project's (the defaults: true
+    calibration held fixed, a similarity onto exactly marked control GCPs) with the dense
+    cloud, and 4096 SIFT features per 1.2 MP image (plenty, and half the matching time)."""
+    from dataclasses import replace
+
+    from designer.project import model as m
+
+    processing = project.processing or m.Processing()
+    return replace(processing, dense="cpu",
+                   matching=replace(processing.matching, max_features=4096))
+
+
 def write_demo_project(output: Path) -> Path:
     """Write the demo's project, the example survey, as ``output``/survey.xml; returns
     its path. Its output folder is the one the demo renders into (SURVEY_DIR), so the
-    window opening it finds the demo's images, ground truth and render records."""
+    window opening it finds the demo's images, ground truth and render records; its
+    processing is the demo's (:func:`demo_processing`)."""
     from dataclasses import replace
 
     from designer.project import template, write_project
 
     project = template("survey").project
     project = replace(project, outputs=replace(project.outputs, directory=SURVEY_DIR))
+    # the processing it reconstructs with, so the window does not find its reconstruction
+    # made with other settings
+    project = replace(project, processing=demo_processing(project))
     project_path = Path(output) / "survey.xml"
     project_path.parent.mkdir(parents=True, exist_ok=True)
     write_project(project, project_path)

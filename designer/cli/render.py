@@ -55,6 +55,7 @@ def run(args) -> int:
     from designer.export.colmap import colmap_offset_world
 
     colmap_offset_world(args.colmap_offset, [])  # a bad value stops here, before any work
+    _refuse_low_stations(args.project)
     mode = args.progress or ("bar" if sys.stderr.isatty() else "none")
     reporter = ProgressPrinter(mode)
     try:
@@ -96,6 +97,16 @@ def run(args) -> int:
     if warning is not None:  # the last line: images that are partly empty background
         print(f"designer: warning: {warning}", file=sys.stderr)
     return 0
+
+
+def _refuse_low_stations(path: Path) -> None:
+    """Stop, as ``designer check`` and ``plan`` do, before anything is rendered when
+    camera stations are under the ground: their images would be taken from inside it."""
+    from designer.checks.project_checks import refuse_low_stations
+    from designer.project.load import load_project_located
+
+    project, smap = load_project_located(path)
+    refuse_low_stations(project, smap, path)
 
 
 class ProgressPrinter:

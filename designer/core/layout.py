@@ -23,6 +23,13 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
+#: a folder that holds a survey and its reconstruction side by side, as ``designer demo``
+#: writes it: DIR/survey (the render output), DIR/reconstruction (``designer
+#: reconstruct``'s folder) and DIR/accuracy (the comparison with the truth)
+SIDE_BY_SIDE_SURVEY_DIR = "survey"
+SIDE_BY_SIDE_RECONSTRUCTION_DIR = "reconstruction"
+SIDE_BY_SIDE_ACCURACY_DIR = "accuracy"
+
 IMAGES_DIR = "images"
 GROUND_TRUTH_DIR = "ground-truth"
 #: the rolling-shutter table of ground truth (one row per image: readout, direction, …)

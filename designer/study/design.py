@@ -15,6 +15,7 @@ from __future__ import annotations
 import difflib
 import itertools
 import os
+import re
 import zlib
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -23,6 +24,7 @@ from designer.project import model as m
 from designer.project.problems import Problem, ProjectError
 from designer.study.factors import DRAWS, FACTORS
 from designer.study.spec import Study, Where
+from designer.study.words import draw_words, factor_words, metric_words, named
 
 #: most runs (variants × replicates) a study may have
 MAX_RUNS = 100_000
@@ -54,10 +56,33 @@ def replicate_seed(draw: str, replicate: int) -> int:
     return zlib.crc32(f"{draw}/{replicate}".encode()) & 0x7FFFFFFF
 
 
-def _problem(study: Study, where: Where, tag: str, message: str,
-             named: tuple[str, ...] = ()) -> ProjectError:
-    return ProjectError(str(study.source or "<study>"),
-                        [Problem.about(tag, message, where.line, where.column, named=named)])
+def _problem(study: Study, where: Where, tag: str, message: str, words: str | None = None,
+             issue=None) -> ProjectError:
+    """``FILE:LINE:COL: <tag>: message``; ``words``: what the Study panel says (no
+    identifier of the study file; default ``message``), ``issue``: the project's issue a
+    level makes (the panel words it as its Problems list)."""
+    return ProjectError(str(study.source or "<study>"), [Problem(
+        f"<{tag}>: {message}", where.line, where.column, issue=issue,
+        words=message if words is None else words)])
+
+
+def _untagged(problem: Problem) -> str:
+    """A project problem's message without its leading ``<element>:`` (the line names the
+    study's element)."""
+    return re.sub(r"^<[^>\s]+>: ", "", problem.message)
+
+
+def _words(problem: Problem) -> str:
+    """What the panel says after "not valid:": nothing where it words the project's issue
+    itself (as its Problems list), else the problem's words or message."""
+    if problem.issue is not None:
+        return ""
+    return " " + (problem.words or _untagged(problem))
+
+
+def _factor(name: str) -> str:
+    """A factor as the command line names it: its words, then its identifier."""
+    return named(factor_words(name), name)
 
 
 def load_base(study: Study) -> tuple[m.Project, Path]:
@@ -70,8 +95,8 @@ def load_base(study: Study) -> tuple[m.Project, Path]:
         path = study.folder / study.base.file
         if not path.is_file():
             raise _problem(study, study.base.where, "base-project",
-                           f"file '{study.base.file}' does not exist (relative to the study "
-                           "file's folder); fix the path")
+                           f"the base project '{study.base.file}' does not exist (relative "
+                           "to the study file's folder); fix the path")
         return load_project(path), path.parent
     source = str(study.source or "<study>")
     project, smap = parse_project(study.base.inline_xml, source)
@@ -81,8 +106,8 @@ def load_base(study: Study) -> tuple[m.Project, Path]:
     return project, study.folder
 
 
-def _project_problems(project: m.Project, base_dir: Path) -> list[str]:
-    """Schema and semantic problems of a changed project, as messages."""
+def _project_problems(project: m.Project, base_dir: Path) -> list[Problem]:
+    """Schema and semantic problems of a changed project."""
     from designer.project.model_to_xml import project_to_bytes
     from designer.project.validate import semantic_problems
     from designer.project.xml_read import parse_project
@@ -90,8 +115,8 @@ def _project_problems(project: m.Project, base_dir: Path) -> list[str]:
     try:
         parse_project(project_to_bytes(project), "<variant>")
     except ProjectError as error:
-        return [p.message for p in error.problems]
-    return [p.message for p in semantic_problems(project, base_dir)]
+        return error.problems
+    return semantic_problems(project, base_dir)
 
 
 def _apply(study: Study, project: m.Project, base_dir: Path, name: str, text: str):
@@ -103,33 +128,38 @@ def _apply(study: Study, project: m.Project, base_dir: Path, name: str, text: st
             value = os.path.relpath(study.folder / value, base_dir)
         changed = factor.set(project, value)
     except (ValueError, KeyError, TypeError, AttributeError) as error:
-        raise _problem(study, spec.values_where, "values",
-                       f"factor {name}: value '{text}' is not usable: {error}; "
-                       f"expected: {factor.doc}") from None
+        said = f"value '{text}' is not usable: {error}; expected: {factor.doc}"
+        raise _problem(study, spec.values_where, "values", f"{_factor(name)}: {said}",
+                       f"“{factor_words(name)}”: {said}") from None
     return changed
 
 
 def _check_factors(study: Study) -> None:
     if not study.factors:
         raise _problem(study, study.where, "study",
-                       "the design is empty: no <factor>; add at least one "
-                       "<factor name=\"...\"><values>...</values></factor>",
-                       named=("factor",))
+                       "the design is empty: it varies no factor; add at least one factor "
+                       "with its levels ('designer study factors' lists them)",
+                       "the design is empty: it varies no factor; add one with its levels")
     seen = set()
     for f in study.factors:
         if f.name not in FACTORS:
             close = difflib.get_close_matches(f.name, FACTORS, n=1)
-            hint = f"did you mean {close[0]}? " if close else ""
+            hint = f"did you mean {_factor(close[0])}? " if close else ""
             raise _problem(study, f.where, "factor",
-                           f"unknown factor '{f.name}'; {hint}use one of: "
-                           + ", ".join(FACTORS))
+                           f"unknown factor '{f.name}'; {hint}'designer study factors' "
+                           "lists every factor",
+                           f"unknown factor '{f.name}'" + (
+                               f" (did you mean “{factor_words(close[0])}”?)" if close
+                               else ""))
         if f.name in seen:
-            raise _problem(study, f.where, "factor",
-                           f"factor '{f.name}' is given twice; merge its values into one")
+            said = "is varied twice; merge its levels into one"
+            raise _problem(study, f.where, "factor", f"{_factor(f.name)} {said}",
+                           f"“{factor_words(f.name)}” {said}")
         seen.add(f.name)
         if len(set(f.values)) != len(f.values):
-            raise _problem(study, f.values_where, "values",
-                           f"factor {f.name}: a level is repeated; list each level once")
+            said = "a level is repeated; list each level once"
+            raise _problem(study, f.values_where, "values", f"{_factor(f.name)}: {said}",
+                           f"“{factor_words(f.name)}”: {said}")
 
 
 def plan_study(study: Study) -> Plan:
@@ -142,8 +172,13 @@ def plan_study(study: Study) -> Plan:
             close = difflib.get_close_matches(metric, METRIC_COLUMNS, n=1)
             raise _problem(study, study.where, "metrics",
                            f"unknown metric '{metric}'"
-                           + (f"; did you mean {close[0]}?" if close else "")
-                           + "; use columns of results.csv: " + ", ".join(METRIC_COLUMNS))
+                           + (f"; did you mean {named(metric_words(close[0]), close[0])}?"
+                              if close else "")
+                           + "; a metric is a column of the study's results (its list is "
+                           "in docs/study.md)",
+                           f"unknown metric '{metric}'" + (
+                               f" (did you mean “{metric_words(close[0])}”?)" if close
+                               else ""))
     base, base_dir = load_base(study)
     names = [f.name for f in study.factors]
     if study.design == "full-factorial":
@@ -170,14 +205,19 @@ def plan_study(study: Study) -> Plan:
             problems = _project_problems(project, base_dir)
             if problems:
                 spec = next(f for f in study.factors if f.name == name)
+                said = f"the level '{text}' makes a project that is not valid:"
                 raise _problem(study, spec.values_where, "values",
-                               f"factor {name} = '{text}' makes a project that is not valid: "
-                               f"{problems[0]}")
+                               f"{_factor(name)}: {said} {_untagged(problems[0])}",
+                               f"“{factor_words(name)}”: {said}{_words(problems[0])}",
+                               problems[0].issue)
             checked[(name, text)] = None
         if not combo:
             problems = _project_problems(project, base_dir)
             if problems:
-                raise _problem(study, study.base.where, "base-project", problems[0])
+                raise _problem(study, study.base.where, "base-project",
+                               f"the base project is not valid: {_untagged(problems[0])}",
+                               f"the base project is not valid:{_words(problems[0])}",
+                               problems[0].issue)
         variants.append((combo, project))
     # one combination is a study of one run (measured, no effect estimated); several
     # that all collapse onto the base are a mistake
@@ -196,8 +236,10 @@ def plan_study(study: Study) -> Plan:
                 try:
                     seeded = DRAWS[draw][1](seeded, seeds[draw])
                 except ValueError as error:
+                    said = f"{error}; do not re-draw it in every replicate"
                     raise _problem(study, study.replicates.where, "replicates",
-                                   f"vary '{draw}': {error}; remove it from vary") from None
+                                   f"{named(draw_words(draw), draw)}: {said}",
+                                   f"“{draw_words(draw)}”: {said}") from None
             runs.append(Run(f"v{v:03d}-r{r:02d}", v, r, levels, seeds, seeded))
     return Plan(study, base, base_dir, tuple(runs), len(variants))
 

@@ -72,7 +72,8 @@ def _choice(*choices: str) -> Callable[[str], str]:
 # ------------------------------------------------------------------ model helpers
 def _plan(p: m.Project) -> m.FlightPlan:
     if p.trajectory.flight_plan is None:
-        raise ValueError("the base project has no <flight-plan>; flight factors need one")
+        raise ValueError("the base project has no flight plan (Flight panel); flight factors "
+                         "need one")
     return p.trajectory.flight_plan
 
 
@@ -164,8 +165,9 @@ def _brown(p: m.Project) -> m.BrownConradyDistortion:
 def _with_sun_elevation(p: m.Project, value: float) -> m.Project:
     sun = p.scene.lighting.sun
     if not isinstance(sun, m.Sun):
-        raise ValueError("the base project gives the sun by date and place; "
-                         "sun-elevation-deg needs <sun azimuth-deg= elevation-deg=>")
+        raise ValueError("the base project gives the sun by date and place; varying the sun's "
+                         "elevation needs the sun given by its azimuth and elevation "
+                         "(Lighting panel)")
     lighting = replace(p.scene.lighting, sun=replace(sun, elevation_deg=value))
     return replace(p, scene=replace(p.scene, lighting=lighting))
 
@@ -180,8 +182,8 @@ def _utc(text: str) -> str:
 
 def _time_line(p: m.Project) -> m.TimeLine:
     if p.trajectory.time_line is None:
-        raise ValueError("the base project has no <time-line> in its trajectory; add one "
-                         "(takeoff-utc, speed-m-s) to vary the flight's timing")
+        raise ValueError("the base project has no time line (take-off time and speed, Flight "
+                         "panel); add one to vary the flight's timing")
     return p.trajectory.time_line
 
 
@@ -192,8 +194,8 @@ def _with_time_line(p: m.Project, **changes) -> m.Project:
 
 def _with_moving_speed(p: m.Project, speed_m_s: float) -> m.Project:
     if not p.scene.moving_objects:
-        raise ValueError("the base project has no <moving-objects> in its scene; add one to "
-                         "vary their speed")
+        raise ValueError("the base project has no moving objects (Moving objects panel); add "
+                         "one to vary their speed")
     moving = tuple(replace(o, speed_m_s=speed_m_s) for o in p.scene.moving_objects)
     return replace(p, scene=replace(p.scene, moving_objects=moving))
 
@@ -215,8 +217,8 @@ def _with_oblique_tilt(p: m.Project, tilt_deg: float) -> m.Project:
     from designer.core.rig import mount_tilt_deg, retilted_mount_deg
 
     if not p.trajectory.rigs:
-        raise ValueError("the base project has no <rig> in its trajectory; add an oblique "
-                         "rig to vary its tilt")
+        raise ValueError("the base project flies no camera rig; add an oblique rig (Camera "
+                         "panel) to vary its tilt")
     if not 0 < tilt_deg <= 90:
         raise ValueError("the oblique tilt must be greater than 0 and at most 90 degrees")
     rigs = []
@@ -235,8 +237,8 @@ def _with_oblique_tilt(p: m.Project, tilt_deg: float) -> m.Project:
 def _with_readout(p: m.Project, readout_s: float) -> m.Project:
     """The camera's rolling shutter with this readout (0: none), its direction kept."""
     if readout_s and p.trajectory.time_line is None:
-        raise ValueError("the base project has no <time-line> in its trajectory; a rolling "
-                         "shutter moves the camera along it: add one (takeoff-utc, speed-m-s)")
+        raise ValueError("the base project has no time line; a rolling shutter moves the "
+                         "camera along it: give a take-off time and speed (Flight panel)")
     rs = _camera(p).rolling_shutter
     direction = rs.direction if rs is not None else "top-to-bottom"
     return _with_camera(p, rolling_shutter=m.RollingShutter(readout_s, direction)
@@ -250,8 +252,8 @@ def _extruded(p: m.Project) -> list[m.Building]:
 def _with_eave_height(p: m.Project, eave_m: float) -> m.Project:
     """Every extruded building's walls ``eave_m`` high; a pitched roof keeps its rise."""
     if not _extruded(p):
-        raise ValueError("the base project has no <buildings> with a footprint; add one to "
-                         "vary their height")
+        raise ValueError("the base project has no building with a footprint (Buildings "
+                         "panel); add one to vary their height")
     buildings = tuple(b if b.file is not None else replace(
         b, eave_height_m=eave_m, ridge_height_m=None if b.ridge_height_m is None
         else b.ridge_height_m - b.eave_height_m + eave_m) for b in p.scene.buildings)
@@ -284,8 +286,8 @@ def _with_vegetation_density(p: m.Project, density_per_m2: float) -> m.Project:
 def _with_wind_amplitude(p: m.Project, amplitude_deg: float) -> m.Project:
     veg = p.scene.vegetation
     if veg is None:
-        raise ValueError("the base project has no <vegetation> in its scene; add one to vary "
-                         "the wind's sway")
+        raise ValueError("the base project has no vegetation (Vegetation panel); add some to "
+                         "vary the wind's sway")
     wind = replace(veg.wind or m.Wind(), amplitude_deg=amplitude_deg)
     return replace(p, scene=replace(p.scene, vegetation=replace(veg, wind=wind)))
 
@@ -301,8 +303,8 @@ def _with_texture_source(p: m.Project, source) -> m.Project:
 def _with_texel(p: m.Project, value: float) -> m.Project:
     src = _texture_source(p)
     if not isinstance(src, m.ProceduralTexture):
-        raise ValueError("the base texture is an image file; texel-size-m needs a "
-                         "procedural texture")
+        raise ValueError("the base texture is an image file; varying its texel size needs a "
+                         "procedural texture (Texture panel)")
     return _with_texture_source(p, replace(src, texel_size_m=value))
 
 
@@ -345,7 +347,7 @@ def _geometry(p: m.Project) -> str:
     for name, (cross, tilt) in GEOMETRIES.items():
         if plan.crosshatch == cross and plan.tilt_deg == tilt:
             return name
-    return f"crosshatch={str(plan.crosshatch).lower()} tilt={plan.tilt_deg:g}"
+    return f"{'crosshatch' if plan.crosshatch else 'parallel lines'}, tilted {plan.tilt_deg:g}°"
 
 
 def _set_geometry(p: m.Project, value: str) -> m.Project:
@@ -377,7 +379,7 @@ _HAND_WRITTEN: list[Factor] = [
        lambda p, v: _with_plan(p, pose_noise=replace(
            _noise(p), sigma_omega_deg=v, sigma_phi_deg=v, sigma_kappa_deg=v))),
     _F("control-count", "number of GCPs used as control (the others are check points); "
-       "chosen by control-spread", "processing", _int, lambda p: _control(p).count,
+       "chosen as the control spread says", "processing", _int, lambda p: _control(p).count,
        lambda p, v: _with_control(p, count=v, ids=())),
     _F("gcp-survey-sigma-m", "sigma of the simulated GCP survey, each axis (m)", "processing",
        _float, lambda p: _survey(p).sigma.X,
@@ -409,7 +411,7 @@ _HAND_WRITTEN: list[Factor] = [
     _F("oblique-tilt-deg", "tilt of every oblique rig mount from the platform's axis (deg; "
        "the nadir mounts stay)", "render", _float, _oblique_tilt, _with_oblique_tilt),
     _F("rolling-shutter-readout-s", "rolling-shutter readout time of the camera per frame "
-       "(s; 0: a global shutter; needs a <time-line>)", "render", _float,
+       "(s; 0: a global shutter; needs a take-off time and speed)", "render", _float,
        lambda p: _camera(p).readout_s, _with_readout),
     _F("building-eave-height-m", "wall height of every extruded building above its base "
        "(m); a gable or hip roof keeps its rise above the eaves", "render", _float,
@@ -515,7 +517,7 @@ def _seed_selection(p: m.Project, seed: int) -> m.Project:
 
 _HAND_WRITTEN_DRAWS: dict[str, tuple[str, Callable[[m.Project, int], m.Project]]] = {
     # more than a seed: a drawn selection is a random one
-    "gcp-selection": ("which GCPs are control (a control-count drawn at random)",
+    "gcp-selection": ("which GCPs are control (that many drawn at random)",
                       _seed_selection),
 }
 

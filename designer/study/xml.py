@@ -60,8 +60,13 @@ def read_study(path: str | os.PathLike) -> Study:
 def parse_study(data: bytes, source: str = "<memory>", path: Path | None = None) -> Study:
     problem = _content_problem(data)
     if problem:
-        raise ProjectError(source, [Problem.about(
-            "study", problem.sentence.replace("a project", "a study"))])
+        def study(text: str) -> str:
+            return (text.replace("<project>", "<study>").replace("a project", "a study")
+                    .replace("project file", "study file").replace(
+                        "(File › New)", "('designer study new')"))
+
+        raise ProjectError(source, [Problem(study(problem.message),
+                                            words=study(problem.words or problem.message))])
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False,
                              huge_tree=False, collect_ids=False)
     try:
@@ -70,7 +75,9 @@ def parse_study(data: bytes, source: str = "<memory>", path: Path | None = None)
         raise ProjectError(source, [_syntax_problem(error)]) from None
     if root.getroottree().docinfo.doctype:
         raise ProjectError(source, [Problem(
-            "<!DOCTYPE>: document type declarations are not allowed; remove it")])
+            "<!DOCTYPE>: document type declarations are not allowed; remove it",
+            words="the file declares a document type (DOCTYPE), which study files may not "
+                  "have; remove it in a text editor")])
     text = data.decode("utf-8", errors="replace")
     smap = SourceMap(text)
     _check_root(root, source)
@@ -86,17 +93,22 @@ def parse_study(data: bytes, source: str = "<memory>", path: Path | None = None)
 def _check_root(root: etree._Element, source: str) -> None:
     qname = etree.QName(root)
     if qname.localname != "study" or qname.namespace != NAMESPACE:
-        raise ProjectError(source, [Problem.about(
-            qname.localname, f"the root element must be <study xmlns=\"{NAMESPACE}\" "
-            f"schema-version=\"{SUPPORTED_VERSIONS[-1]}\" name=\"...\">; this is not a "
-            "designer study file", root.sourceline or 1, 1,
-            words=f"this is not a designer study file (it holds a '{qname.localname}', not "
-                  "a study); open a study file")])
+        raise ProjectError(source, [Problem(
+            f"<{qname.localname}>: the root element must be a designer study (element "
+            f"'study' in namespace {NAMESPACE}, schema-version {SUPPORTED_VERSIONS[-1]}, "
+            f"with a name), not '{qname.localname}'; this is not a designer study file",
+            root.sourceline or 1, 1,
+            words=f"this is not a designer study file (it holds a '{qname.localname}', "
+                  "not a study); open a study file, or start one with 'designer study new'")])
     version = (root.get("schema-version") or "").strip()
     if version and version not in SUPPORTED_VERSIONS:
-        raise ProjectError(source, [Problem.about(
-            "study", f"schema-version '{version}' is not supported; use "
-            f"{', '.join(SUPPORTED_VERSIONS)}", root.sourceline or 1, 1)])
+        supported = ", ".join(SUPPORTED_VERSIONS)
+        raise ProjectError(source, [Problem(
+            f"<study>: schema-version '{version}' is not supported; this designer reads "
+            f"schema versions {supported}; use a newer designer for files of a newer "
+            "version", root.sourceline or 1, 1,
+            words=f"the file was written for a newer designer (study format {version}; "
+                  f"this one reads {supported}); open it with a newer designer")])
 
 
 def _where(smap: SourceMap, el: etree._Element, attr: str | None = None) -> Where:
@@ -118,10 +130,11 @@ def _model(root, smap: SourceMap, text: str, source: str, path: Path | None) -> 
     file = base_el.get("file")
     where = _where(smap, base_el)
     if (file is None) == (not inline):
-        raise ProjectError(source, [Problem.about(
-            "base-project", "give either file=\"PATH\" or one <project> inside, not "
-            f"{'both' if file else 'neither'}", where.line, where.column,
-            named=("project",))])
+        said = ("the base project is given both as a file and inside the study; keep one"
+                if file else "the study names no base project; give its file, or put the "
+                "project inside the study")
+        raise ProjectError(source, [Problem(f"<base-project>: {said}", where.line,
+                                            where.column, words=said)])
     inline_xml = None
     if inline:
         el = inline[0]
@@ -162,5 +175,6 @@ def _range_values(r: etree._Element, smap: SourceMap, source: str) -> tuple[str,
         return range_levels(start, stop, step)
     except ValueError as error:
         where = _where(smap, r)
-        raise ProjectError(source, [Problem.about("range", str(error), where.line,
-                                                  where.column)]) from None
+        said = f"the levels' range: {error}"
+        raise ProjectError(source, [Problem(f"<range>: {said}", where.line, where.column,
+                                            words=said)]) from None

@@ -93,3 +93,18 @@ def test_the_near_distance_is_the_render_cameras():
     from designer.render.job_spec import CameraSpec
 
     assert CameraSpec(1, 1, "AUTO", 0, 0, 1, 1, 1, 1).clip_start_m == NEAR_M
+
+
+def test_render_refuses_a_flight_inside_the_hills(tmp_path, capsys):
+    """The window saves such a file as work in progress; rendering it would make images
+    from inside the hills, so ``designer render`` refuses it as check and plan do, before
+    any image is rendered, in one line."""
+    path = survey_flown(tmp_path, 5.0)
+    out = tmp_path / "out"
+    # two frames: were it not refused, the test would not render the whole survey
+    assert main(["render", str(path), "-o", str(out), "--frames", "0-1"]) == 2
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1, err
+    assert LOW.search(lines[0]), err
+    assert not (out / "images").exists()

@@ -66,8 +66,9 @@ def test_a_study_is_built_checked_saved_and_opened_again(qtbot, window, tmp_path
     bad = _add(qtbot, panel, "calibration", "fixed sometimes")
     _checked(qtbot, w, panel)
     error = panel.errors.text()
-    assert re.match(r".*untitled-study\.xml:\d+:\d+: <values>: factor calibration: value "
-                    r"'sometimes' is not usable: use one of: fixed", error), error
+    assert re.match(r".*untitled-study\.xml:\d+:\d+: “camera parameters the adjustment "
+                    r"estimates”: value 'sometimes' is not usable: use one of: fixed", error), \
+        error
     assert panel.errors.isVisible() and not panel.run_box.run_button.isEnabled()
     # a range that goes backwards is refused before the study is written
     qtbot.mouseClick(bad.remove_button, Qt.MouseButton.LeftButton)
@@ -140,12 +141,13 @@ def test_an_opened_study_with_an_error_points_into_its_file(qtbot, window, tmp_p
     assert panel.open_study(path)
     _checked(qtbot, w, panel)
     assert panel.errors.text().startswith(f"{path}:6:")
-    assert "factor altitude-m = '-5' makes a project that is not valid" in panel.errors.text()
+    assert "“flight height above ground (m)”: the level '-5' makes a project that is not " \
+           "valid: Flight › " in panel.errors.text(), panel.errors.text()
     assert not panel.run_box.run_button.isEnabled()
     # a file the reader refuses is listed, not half-loaded
     path.write_text(path.read_text().replace("factor>", "factr>").replace("<factor ", "<factr "))
     assert not panel.open_study(path)
-    assert f"{path}:6:3: <factr>: unknown element" in panel.errors.text()
+    assert f"{path}:6:3: unknown element “factr”" in panel.errors.text()
 
 
 def test_a_study_whose_base_is_missing_asks_for_it(qtbot, window, tmp_path):
@@ -231,19 +233,24 @@ def test_a_tiny_study_runs_cancels_resumes_and_shows_its_results(qtbot, window, 
     # the results: a row per run with the factor's level, metrics and status; the plots
     results = panel.results
     table = results.table
-    headers = [table.horizontalHeaderItem(c).text() for c in range(table.columnCount())]
+    headers = [table.horizontalHeaderItem(c).text().replace("\n", " ")
+               for c in range(table.columnCount())]
     assert table.rowCount() == 2
-    assert {"run", "marking-sigma-px", "check_rmse_z_m", "flight_min", "status"} <= \
-        set(headers)
-    levels = {table.item(r, headers.index("marking-sigma-px")).text() for r in range(2)}
+    assert {"run", "GCP marking error σ (px)", "check-point RMSE Z (m)", "flight time (min)",
+            "status"} <= set(headers)
+    levels = {table.item(r, headers.index("GCP marking error σ (px)")).text()
+              for r in range(2)}
     assert levels == {"0.5", "2"}
     assert {table.item(r, headers.index("status")).text() for r in range(2)} == {"ok"}
-    assert float(table.item(0, headers.index("check_rmse_z_m")).text()) > 0
+    assert float(table.item(0, headers.index("check-point RMSE Z (m)")).text()) > 0
     names = [results.figure_choice.itemText(k) for k in range(results.figure_choice.count())]
     # a chart per metric of the factor (drawn in the panel), then the report's figures
-    assert "marking-sigma-px: check-point RMSE Z (m)" in names and "pareto" in names
-    assert "factor-marking-sigma-px" not in names  # the report's row of them: not again
-    results.select_figure("pareto")
+    pareto = "accuracy against cost (the report's figure)"
+    assert "check-point RMSE Z (m) against GCP marking error σ (px)" in names, names
+    assert pareto in names, names
+    # the report's row of them: not again
+    assert "every metric against GCP marking error σ (px)" not in names
+    results.select_figure(pareto)
     assert results.figure_path.name == "pareto.png"
     assert not results.figure.pixmap().isNull() and results.figure.pixmap().width() > 100
     qtbot.mouseDClick(results.figure, Qt.MouseButton.LeftButton)

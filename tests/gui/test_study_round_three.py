@@ -51,8 +51,8 @@ def test_levels_that_are_not_numbers_are_refused_in_words(qtbot, window, tmp_pat
     _add(qtbot, panel, "render-samples", "abc")
     _checked(qtbot, w, panel)
     errors = panel.errors.text()
-    assert "factor render-samples: value 'abc' is not usable: not a whole number; write " \
-           "one such as 3" in errors, errors
+    assert "“render samples per pixel”: value 'abc' is not usable: not a whole number; " \
+           "write one such as 3" in errors, errors
     assert "invalid literal" not in errors and "base 10" not in errors
 
 
@@ -139,7 +139,7 @@ def _chart_areas(results, charts_per_report_figure: int) -> list[tuple[float, fl
         return [tuple(ax.get_window_extent().size) for ax in canvas.figure.axes]
     picture = results.figure.pixmap()
     across = charts_per_report_figure if results.figure_choice.currentText().startswith(
-        "factor-") else 1
+        "every metric against") else 1
     return [(picture.width() / across, picture.height())] * across
 
 
@@ -160,7 +160,7 @@ def test_each_study_chart_reads_at_the_window_size(qtbot, window, tmp_path):
     qtbot.waitUntil(lambda: results.figure_choice.count() > 0, timeout=10000)
     choice = results.figure_choice
     names = [choice.itemText(k) for k in range(choice.count())]
-    assert "pareto" in names, names
+    assert "accuracy against cost (the report's figure)" in names, names
     choice.setFocus()
     qtbot.keyClick(choice, Qt.Key.Key_Home)
     seen = []
@@ -189,14 +189,14 @@ def test_the_base_a_factor_varies_around_is_said_to_be_the_projects(qtbot, windo
     assert not panel.errors.isVisible(), panel.errors.text()
     assert "3 variants × 1 replicate = 3 runs" in re.sub("<[^>]+>", "", text), text
     # where the third run comes from: the base project as it is, which sets no JPEG quality
-    assert "one at a time: the base project as it is (jpeg-quality not set in it) and " \
+    assert "one at a time: the base project as it is (JPEG quality not set in it) and " \
            "2 variants" in text, text
     label = row.findChild(type(panel.plan_label)).text()
     assert "in the base project: not set" in label, label
     # a factor the project sets: its value, from the project
     row = _add(qtbot, panel, "marking-sigma-px", "2")
     text = _checked(qtbot, w, panel)
-    assert "(jpeg-quality not set in it, marking-sigma-px 0.5)" in text, text
+    assert "(JPEG quality not set in it, GCP marking error σ (px) 0.5)" in text, text
     assert "in the base project: 0.5" in row.findChild(type(panel.plan_label)).text()
     panel.design.setCurrentIndex(panel.design.findData("full-factorial"))
     text = _checked(qtbot, w, panel)

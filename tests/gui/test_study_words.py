@@ -68,3 +68,53 @@ def test_the_study_panel_words_every_identifier_and_tips_it(qtbot, window):
         Qt.CheckState.Checked)
     assert "check_rmse_xy_m" in panel.study().metrics
     assert panel.study().factors[0].name == "altitude-m"
+
+
+def _named(text: str) -> list[str]:
+    """The study file's and results.csv's identifiers in ``text`` (and any '_')."""
+    names = [n for n in (*FACTORS, *DRAWS, *METRIC_COLUMNS) if re.search(r"[-_]", n)]
+    return [n for n in names if re.search(rf"(?<![\w-]){re.escape(n)}(?![\w-])", text)] + (
+        ["_"] if "_" in text else [])
+
+
+@pytest.mark.gui
+def test_the_study_results_table_and_chart_selector_speak_words(qtbot, window, tmp_path):
+    """A finished study's table heads its columns and the selector names its charts in
+    words (they listed results.csv's ``check_rmse_z_m``, ``flight_min``, ``total_s``
+    and ``marking-sigma-px: …``, ``pareto``); results.csv's name stays in the tooltip."""
+    from tests.gui.helpers import answer_file_dialog
+    from tests.gui.study_helpers import _tiny_base, finished_study
+
+    w = window
+    panel, _ = _tiny_base(qtbot, w, tmp_path)
+    out = tmp_path / "tiny-study"
+    finished_study(tmp_path / "tiny-template.xml", out)
+    answer_file_dialog(out)
+    qtbot.mouseClick(panel.open_folder_button, Qt.MouseButton.LeftButton)
+    results = panel.results
+    qtbot.waitUntil(lambda: results.figure_choice.count() > 0, timeout=10000)
+    table = results.table
+    assert table.rowCount() > 0 and table.columnCount() > 4
+    headers = [table.horizontalHeaderItem(c) for c in range(table.columnCount())]
+    for header in headers:
+        assert not _named(header.text()), header.text()
+        assert "results.csv" in header.toolTip(), header.toolTip()
+    texts = [h.text().replace("\n", " ") for h in headers]
+    assert "check-point RMSE Z (m)" in texts and "time per run (s)" in texts, texts
+    tips = " ".join(h.toolTip() for h in headers)
+    assert "check_rmse_z_m" in tips and "total_s" in tips, tips
+    choice = results.figure_choice
+    names = [choice.itemText(k) for k in range(choice.count())]
+    for name in names:
+        assert not _named(name) and "_" not in name, names
+    assert any(n.startswith("check-point RMSE Z (m) against ") for n in names), names
+    assert "accuracy against cost (the report's figure)" in names, names
+    chart_tips = [choice.itemData(k, Qt.ItemDataRole.ToolTipRole) for k in range(choice.count())]
+    assert any("check_rmse_z_m" in (t or "") for t in chart_tips), chart_tips
+    # the chart drawn names its factor in words under its axis; the selector's tooltip
+    # says its whole name where the selector is too narrow for it
+    choice.setCurrentIndex(0)
+    wait_idle(qtbot, w)
+    assert choice.toolTip().startswith(names[0]), choice.toolTip()
+    (ax,) = results.canvas.figure.axes
+    assert not _named(ax.get_xlabel()), ax.get_xlabel()

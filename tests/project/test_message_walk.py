@@ -32,6 +32,7 @@ import pytest
 from designer.cli.main import main
 from designer.gui.state.wording import problem_text
 from designer.project.problems import ProjectError
+from tests.project.message_text import LOCATOR, SNAKE, XML, _literal, _sentences
 
 ROOT = Path(__file__).resolve().parents[2]
 #: the modules that word what check, plan and the window say
@@ -44,44 +45,6 @@ MESSAGE_MODULES = sorted(
         "gui/state/wording.py", "gui/state/plan_figures.py", "gui/state/hard_cases.py",
         "gui/state/station_problems.py", "gui/state/files.py", "cli/check.py",
         "cli/plan.py")])
-#: an XML element or end tag, or an attribute written as in the file
-XML = re.compile(r"</?[A-Za-z!][\w.:-]*|\b[a-z][\w-]*=[\"'{]")
-#: the command line's locator: ``<element>:`` after FILE:LINE:COL (or first)
-LOCATOR = re.compile(r"(^|\{\}: |: )<[\w!.-]+>: ")
-#: a Python identifier with an underscore (``focal_length_mm``); file paths, numbers
-#: and the names of files (``pose_noise.csv``) aside
-SNAKE = re.compile(r"(?<![\w./\\{%-])[a-z][a-z0-9]*(?:_[a-z0-9]+)+(?![\w./\\(-])")
-
-
-def _literal(node) -> str | None:
-    """The text of a string literal, an f-string's placeholders as {}."""
-    if isinstance(node, ast.Constant) and isinstance(node.value, str):
-        return node.value
-    if isinstance(node, ast.JoinedStr):
-        return "".join(v.value if isinstance(v, ast.Constant) else "{}" for v in node.values)
-    return None
-
-
-def _sentences(path: Path):
-    """(line, text) of every literal with a space in it, docstrings and the parts of
-    f-strings aside (the whole f-string is read)."""
-    tree = ast.parse(path.read_text())
-    skip = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Module | ast.FunctionDef | ast.ClassDef) and node.body \
-                and isinstance(node.body[0], ast.Expr):
-            skip.add(id(node.body[0].value))
-        if isinstance(node, ast.JoinedStr):
-            skip.update(id(v) for v in node.values)
-        if isinstance(node, ast.Call) and getattr(node.func, "attr", "") in (
-                "compile", "match", "search", "sub", "finditer", "fullmatch"):
-            skip.update(id(a) for a in node.args[:1])  # regular expressions
-    for node in ast.walk(tree):
-        text = _literal(node)
-        if text is not None and " " in text and id(node) not in skip:
-            yield node.lineno, text
-
-
 def _kebab_names() -> set[str]:
     """Every attribute and element of the project file with a hyphen in its name."""
     from designer.project import model as m

@@ -23,5 +23,5 @@ def test_eave_height_sets_every_building_and_keeps_the_roof_rise():
                for p in semantic_problems(f.set(p, -1.0)))
     bare = building_project(with_buildings=False)
     assert f.get(bare) is None
-    with pytest.raises(ValueError, match="no <buildings>"):
+    with pytest.raises(ValueError, match="no building"):
         f.set(bare, 5.0)

@@ -35,7 +35,7 @@ def test_oblique_tilt_turns_every_oblique_mount_and_keeps_its_direction():
 def test_oblique_tilt_needs_a_rig_and_a_sensible_angle():
     f = FACTORS["oblique-tilt-deg"]
     assert f.get(small_survey()) is None
-    with pytest.raises(ValueError, match="no <rig>"):
+    with pytest.raises(ValueError, match="flies no camera rig"):
         f.set(small_survey(), 30.0)
     with pytest.raises(ValueError, match="at most 90"):
         f.set(rig_survey(n_stations=1), 120.0)

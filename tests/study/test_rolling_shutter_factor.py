@@ -33,7 +33,7 @@ def test_a_readout_needs_the_base_project_to_have_a_time_line():
     f = FACTORS["rolling-shutter-readout-s"]
     example = template("survey").project
     assert example.trajectory.time_line is None and f.get(example) == 0.0
-    with pytest.raises(ValueError, match="time-line"):
+    with pytest.raises(ValueError, match="no time line"):
         f.set(example, 0.03)
     timed = dataclasses.replace(example, trajectory=dataclasses.replace(
         example.trajectory, time_line=m.TimeLine("2026-06-21T09:30:00Z", 8.0)))

@@ -191,9 +191,10 @@ STUDY = """<?xml version="1.0"?>
 
 @pytest.mark.parametrize("body, where, message", [
     ('  <factor name="altitude">\n    <values>20 30</values>\n  </factor>', "4:11",
-     "unknown factor 'altitude'; did you mean altitude-m?"),
+     "unknown factor 'altitude'; did you mean “flight height above ground (m)” "
+     "(altitude-m)?"),
     ('  <factor name="altitude-m">\n    <values>20 -5</values>\n  </factor>', "5:5",
-     "factor altitude-m = '-5' makes a project that is not valid"),
+     "(altitude-m): the level '-5' makes a project that is not valid"),
     ('  <factor name="calibration">\n    <values>fixed sometimes</values>\n  </factor>',
      "5:5", "value 'sometimes' is not usable: use one of: fixed"),
     ("", "2:1", "the design is empty"),
@@ -224,7 +225,8 @@ def test_a_missing_base_project_and_an_inline_one(tmp_path):
     path = tmp_path / "s.xml"
     path.write_text(STUDY.format(body='  <factor name="k1"><values>0.1</values></factor>')
                     .replace("tiny-base.xml", "nowhere.xml"))
-    with pytest.raises(ProjectError, match=r"s.xml:3:3: <base-project>: file 'nowhere.xml'"):
+    with pytest.raises(ProjectError,
+                       match=r"s.xml:3:3: <base-project>: the base project 'nowhere.xml'"):
         plan_study(read_study(path))
     write_template("tiny", tmp_path / "tiny.xml")
     base = (tmp_path / "tiny-base.xml").read_text().split("?>", 1)[1].strip()

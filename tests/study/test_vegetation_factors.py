@@ -37,7 +37,7 @@ def test_wind_amplitude_sets_and_adds_the_wind():
     f = FACTORS["vegetation-wind-amplitude-deg"]
     assert f.stage == "render"
     base = template("survey").project
-    with pytest.raises(ValueError, match="no <vegetation>"):
+    with pytest.raises(ValueError, match="no vegetation"):
         f.set(base, 5.0)
     plants = FACTORS["vegetation-density-per-m2"].set(base, 0.1)
     assert f.get(plants) == 0.0

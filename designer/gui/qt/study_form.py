@@ -134,7 +134,8 @@ def design_text(plan) -> str:
     values = []
     for f in plan.study.factors:
         value = base_value(FACTORS[f.name], plan.base)
-        values.append(f"{f.name} {value}" if value else f"{f.name} not set in it")
+        words = factor_words(f.name)
+        values.append(f"{words} {value}" if value else f"{words} not set in it")
     n = plan.n_variants - 1
     return (f"one at a time: the base project as it is ({', '.join(values)}) and {n} "
             f"variant{'s' if n != 1 else ''}, each one factor at one of its levels")

@@ -8,6 +8,7 @@ factor's levels, drawn here as the report draws them
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 from PySide6.QtCore import Qt, QUrl, Signal
@@ -27,7 +28,14 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from designer.gui.state.study_data import LevelChart, StudyFolder, cell_text, level_charts
+from designer.gui.state.study_data import (
+    LevelChart,
+    StudyFolder,
+    cell_text,
+    column_words,
+    figure_words,
+    level_charts,
+)
 
 FAILED_COLOUR = "#c0392b"
 FAILED_BACKGROUND = "#fdecea"
@@ -98,7 +106,12 @@ class StudyResults(QWidget):
         columns = folder.columns
         self.table.clear()
         self.table.setColumnCount(len(columns))
-        self.table.setHorizontalHeaderLabels([c.removeprefix("factor:") for c in columns])
+        for c, key in enumerate(columns):  # in words; results.csv's column in the tooltip
+            # on two or three short lines: the words keep the columns about as narrow
+            # as their numbers
+            header = QTableWidgetItem("\n".join(textwrap.wrap(column_words(key), 16)))
+            header.setToolTip(f"{column_words(key)}\n(in results.csv: {key})")
+            self.table.setHorizontalHeaderItem(c, header)
         self.table.setRowCount(len(folder.rows))
         for r, row in enumerate(folder.rows):
             failed = str(row.get("status", "")) != "ok"
@@ -117,10 +130,15 @@ class StudyResults(QWidget):
         self.figure_choice.clear()
         for k, chart in enumerate(self.charts):
             self.figure_choice.addItem(chart.name, k)
+            self.figure_choice.setItemData(
+                k, f"{chart.name}\n(in the study's files: {chart.identifiers})",
+                Qt.ItemDataRole.ToolTipRole)
         drawn = {f"factor-{c.factor}" for c in self.charts}
         for path in folder.figures:  # the report's own figures of what is drawn: not again
             if path.stem not in drawn:
-                self.figure_choice.addItem(path.stem, str(path))
+                self.figure_choice.addItem(figure_words(path.stem), str(path))
+                self.figure_choice.setItemData(self.figure_choice.count() - 1,
+                                               str(path), Qt.ItemDataRole.ToolTipRole)
         self.figure_choice.blockSignals(blocked)
         self.report_button.setEnabled((folder.path / "report.html").is_file())
         self._show_figure()
@@ -158,6 +176,10 @@ class StudyResults(QWidget):
         return self.charts[data] if isinstance(data, int) else None
 
     def _show_figure(self, *_) -> None:
+        # the whole name where the selector cuts a long one
+        self.figure_choice.setToolTip(self.figure_choice.currentData(
+            Qt.ItemDataRole.ToolTipRole) or "the study's charts: each metric against each "
+            "factor, then the report's figures")
         chart = self.chart
         if chart is not None:
             self._draw(chart)
@@ -244,5 +266,6 @@ def _plot(figure, chart: LevelChart) -> None:
     ax = figure.add_subplot()
     draw_level_chart(ax, chart.factor, chart.levels, chart.stats, chart.points,
                      chart.title, chart.is_cost)
+    ax.set_xlabel(column_words(f"factor:{chart.factor}"))  # in words, as the selector
     ax.set_title(ax.get_title(), fontsize=10)
     figure.set_layout_engine("constrained")

@@ -216,14 +216,46 @@ def load_compared_cloud(path: Path, reference: str = "") -> CloudResult:
                              Path(path))
 
 
-def last_reconstruction(survey_dir: Path) -> Path | None:
-    """The newest ``distances.ply`` of a reconstruction of ``survey_dir`` (any mode)."""
+@dataclass(frozen=True)
+class FoundReconstruction:
+    """A reconstruction of a survey found on disk: ``out_dir``, ``designer reconstruct``'s
+    folder (summary.json, gcp_residuals.csv, the dense products), ``distances_ply``, the
+    comparison's cloud, and the ``--mode`` it was made with (None: not known)."""
+
+    out_dir: Path
+    distances_ply: Path
+    mode: str | None
+
+
+def reconstructions_of(survey_dir: Path) -> list[FoundReconstruction]:
+    """Where designer's commands put a reconstruction of ``survey_dir`` and its
+    comparison with the truth: the window's and ``designer reconstruct``'s
+    SURVEY/reconstruction-MODE (compared into its compare/), and, for a survey folder
+    named as ``designer demo`` names it, the reconstruction beside it
+    (:data:`designer.core.layout.SIDE_BY_SIDE_RECONSTRUCTION_DIR`, compared into
+    :data:`~designer.core.layout.SIDE_BY_SIDE_ACCURACY_DIR`, made with --mode free).
+    Only those whose comparison exists."""
+    from designer.core import layout
     from designer.gui.state.reconstruct_job import MODES, ReconstructJob
 
-    found = [ReconstructJob(Path(), Path(survey_dir), mode).distances_ply
-             for _text, mode in MODES]
-    found = [p for p in found if p.is_file()]
-    return max(found, key=lambda p: p.stat().st_mtime) if found else None
+    survey_dir = Path(survey_dir)
+    found = []
+    for _text, mode in MODES:
+        job = ReconstructJob(Path(), survey_dir, mode)
+        found.append(FoundReconstruction(job.out_dir, job.distances_ply, mode))
+    if survey_dir.name == layout.SIDE_BY_SIDE_SURVEY_DIR:
+        beside = survey_dir.parent
+        found.append(FoundReconstruction(
+            beside / layout.SIDE_BY_SIDE_RECONSTRUCTION_DIR,
+            beside / layout.SIDE_BY_SIDE_ACCURACY_DIR / "distances.ply", "free"))
+    return [f for f in found if f.distances_ply.is_file()]
+
+
+def last_reconstruction(survey_dir: Path) -> FoundReconstruction | None:
+    """The newest reconstruction of ``survey_dir`` (:func:`reconstructions_of`) by its
+    comparison's time, or None."""
+    found = reconstructions_of(survey_dir)
+    return max(found, key=lambda f: f.distances_ply.stat().st_mtime) if found else None
 
 
 def draw_histogram(figure, d: np.ndarray, limit_m: float, cmap_name: str) -> tuple[int, int]:

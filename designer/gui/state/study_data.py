@@ -390,7 +390,13 @@ class LevelChart:
 
     @property
     def name(self) -> str:
-        return f"{self.factor}: {self.title}"
+        """The selector's words: the metric against the factor (no identifier)."""
+        return f"{column_words(self.metric)} against {column_words('factor:' + self.factor)}"
+
+    @property
+    def identifiers(self) -> str:
+        """What results.csv and the study file call the two (the selector's tooltip)."""
+        return f"{self.metric} against the levels of {self.factor}"
 
 
 def _number(value) -> float | None:
@@ -405,7 +411,6 @@ def level_charts(folder: StudyFolder) -> list[LevelChart]:
     """The charts of a finished study, one per factor and metric (the study's metrics,
     then its cost), from summary.json and results.csv."""
     from designer.study.levels import rows_at_level
-    from designer.study.report import label
 
     summary = folder.summary or {}
     design = summary.get("design", "one-at-a-time")
@@ -427,9 +432,42 @@ def level_charts(folder: StudyFolder) -> list[LevelChart]:
                 values = [_number(r.get(metric)) for r in rows
                           if str(r.get("status", "")) == "ok"]
                 points.append([v for v in values if v is not None])
-            charts.append(LevelChart(factor, metric, label(metric), levels, stats, points,
-                                     is_cost=metric == cost))
+            charts.append(LevelChart(factor, metric, column_words(metric), levels, stats,
+                                     points, is_cost=metric == cost))
     return charts
+
+
+def column_words(column: str) -> str:
+    """A column of the Study results table (:attr:`StudyFolder.columns`) in words: a
+    factor's (``factor:altitude-m``), a metric's or cost's, the run and its status."""
+    from designer.study.report import label
+    from designer.study.words import factor_words, metric_words
+
+    if column.startswith("factor:"):
+        return factor_words(column.removeprefix("factor:"))
+    if column in ("run", "status"):
+        return column
+    try:
+        return metric_words(column)
+    except KeyError:
+        return label(column)
+
+
+def figure_words(stem: str) -> str:
+    """A figure of the study's report (``figures/STEM.png``) in words: the accuracy
+    against cost, the error maps of a factor's levels, a factor's charts."""
+    from designer.study.words import factor_words
+
+    if stem == "pareto":
+        return "accuracy against cost (the report's figure)"
+    for prefix, what in (("maps-", "error maps over the levels of"),
+                         ("factor-", "every metric against")):
+        if stem.startswith(prefix):
+            try:
+                return f"{what} {factor_words(stem.removeprefix(prefix))}"
+            except KeyError:
+                break
+    return stem.replace("-", " ").replace("_", " ")
 
 
 def _figures(path: Path) -> list[Path]:

@@ -31,7 +31,6 @@ from designer.gui.state.reconstruct_job import (
     MODES,
     STAGES,
     ReconstructJob,
-    mode_of,
     processing_text,
     survey_status,
 )
@@ -119,6 +118,8 @@ class ResultsPanel(Panel):
         layout.addWidget(gcps)
         self.result: results_data.CloudResult | None = None
         self._compared: Path | None = None
+        #: the reconstruction folder the comparison shown was made from
+        self._compared_dir: Path | None = None
         self.limit_m = 1.0
         self._pending_residuals = None
         self.editor.document.events.connect("reset", self._reopened)
@@ -262,7 +263,7 @@ class ResultsPanel(Panel):
         job = self.job
         output_state.record_reconstruction_inputs(job.survey_dir, job.out_dir, self._digests)
         self.stage_label.setText(f"done: {job.out_dir}; report {job.compare_dir / 'report.html'}")
-        self._compared = job.distances_ply
+        self._compared, self._compared_dir = job.distances_ply, job.out_dir
         dense = self.dense.load(job.out_dir)
         self.show_reconstructed_cloud(dense.cloud_ply if dense is not None else None)
         if job.gcp_residuals_csv.is_file():
@@ -275,16 +276,17 @@ class ResultsPanel(Panel):
         self.rmse.setText("")
         folder = self.survey_dir()
         found = results_data.last_reconstruction(folder) if folder is not None else None
-        self._compared = found
-        dense = self.dense.load(found.parent.parent if found is not None else None)
+        self._compared = found.distances_ply if found is not None else None
+        self._compared_dir = found.out_dir if found is not None else None
+        dense = self.dense.load(self._compared_dir)
         if found is None:
             return  # the poses chosen stay as they are
         # the poses selector shows the poses of the reconstruction shown
-        index = self.mode.findData(mode_of(found.parent.parent))
+        index = self.mode.findData(found.mode)
         if index >= 0:
             self.mode.setCurrentIndex(index)
         self.show_reconstructed_cloud(dense.cloud_ply if dense is not None else None)
-        residuals = found.parent.parent / "gcp_residuals.csv"
+        residuals = found.out_dir / "gcp_residuals.csv"
         # the GCPs' truth needs the terrain, which is being computed right now
         self._pending_residuals = residuals if residuals.is_file() else None
 
@@ -293,9 +295,9 @@ class ResultsPanel(Panel):
         the rendered images no longer match the project."""
         self.survey_readout()  # the folder was just read: rendered meanwhile?
         stale = None
-        if self._compared is not None and self.survey_dir() is not None:
+        if self._compared_dir is not None and self.survey_dir() is not None:
             stale = output_state.reconstruction_state(self.survey_dir(),
-                                                      self._compared.parent.parent,
+                                                      self._compared_dir,
                                                       self.project.processing)
         if not stale and state is not None and not state.ok and self._compared is not None:
             stale = output_state.images_stale_text(state)

@@ -39,7 +39,13 @@ from designer.gui.qt.study_form import (
 from designer.gui.qt.study_results import StudyResults
 from designer.gui.qt.widgets import combo, form, ispin, message_box
 from designer.gui.state.study_data import duration_text
-from designer.gui.state.study_words import draw_words, factor_words, metric_words, tip
+from designer.gui.state.study_words import (
+    draw_words,
+    factor_words,
+    metric_words,
+    study_problem_lines,
+    tip,
+)
 from designer.gui.state.wording import count, estimate_basis
 from designer.render_time.model import load_speed
 from designer.study.cost import COSTS
@@ -158,8 +164,8 @@ class StudyPanel(StudyFiles, Panel):
         for k, c in enumerate(COSTS.values()):
             self.cost_axis.setItemData(k, tip(c.label, c.name), 3)  # Qt.ToolTipRole
         self.cost_axis.setObjectName("study-cost")
-        self.cost_axis.setToolTip("the cost the report plots accuracy against (<cost> in the "
-                             "study file; docs/studies.md)")
+        self.cost_axis.setToolTip("the cost the report plots accuracy against (the study "
+                                  "file's cost; docs/studies.md)")
         self.cost_axis.currentIndexChanged.connect(self.changed)
         f.addRow("accuracy against", self.cost_axis)
         v.addLayout(f)
@@ -336,7 +342,12 @@ class StudyPanel(StudyFiles, Panel):
         self.run_box.update_buttons()
 
     def _check_failed(self, error: BaseException) -> None:
-        lines = getattr(error, "lines", None) or [str(error)]
+        from designer.project.problems import ProjectError
+
+        if isinstance(error, ProjectError):  # the study's: in words
+            lines = study_problem_lines(error)
+        else:
+            lines = getattr(error, "lines", None) or [str(error)]
         self._show_errors(list(lines))
 
     def _show_errors(self, lines: list[str]) -> None:

@@ -62,6 +62,7 @@ class StudyFiles:
             if not chosen:
                 return False
             path = Path(chosen)
+        from designer.gui.state.study_words import study_problem_lines
         from designer.project.problems import ProjectError
         from designer.study.xml import read_study
 
@@ -69,7 +70,7 @@ class StudyFiles:
         try:
             study = read_study(path)
         except ProjectError as error:
-            self._show_errors(error.lines)
+            self._show_errors(study_problem_lines(error))
             return False
         for row in list(self.rows):
             self.rows.remove(row)
@@ -93,8 +94,8 @@ class StudyFiles:
                 levels = range_text(f.range_spec) if f.range_spec else " ".join(f.values)
                 self.add_factor(f.name, levels)
             else:
-                self._show_errors([f"{path}:{f.where.line}:{f.where.column}: <factor>: "
-                                   f"unknown factor '{f.name}'; not shown"])
+                self._show_errors([f"{path}: unknown factor '{f.name}' (line "
+                                   f"{f.where.line}): not shown"])
         self.design.setCurrentIndex(self.design.findData(study.design))
         self.replicates.setValue(study.replicates.count)
         for name, box in self.vary.items():
