@@ -129,8 +129,8 @@ class RenderSpeed:
     def describe(self) -> str:
         """Where the estimate comes from, for reports and panels."""
         if not self.calibrated:
-            return ("uncalibrated (reference figures; 'designer warmup' or a first render "
-                    "measures this machine)")
+            return ("uncalibrated: the reference machine's figures until 'designer warmup' "
+                    "or a first render measures this one")
         what = "probe render" if self.source == "probe" else "render"
         images = f"{self.images} image{'' if self.images == 1 else 's'}"
         return f"this machine, {what} of {images} on {self.measured}"

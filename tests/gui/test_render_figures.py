@@ -46,3 +46,17 @@ def test_one_image_reads_in_the_singular_and_costs_show_the_set_up_apart(qtbot, 
     assert panel.out_of_date.text() == "the rendered image is up to date with the project"
     panel.show_render_state(RenderState(True, 60, {}, [], "up to date"))
     assert panel.out_of_date.text() == "the 60 rendered images are up to date with the project"
+
+
+def test_the_flight_estimate_line_closes_each_bracket_once():
+    """Uncalibrated figures: the basis sits inside the line's own brackets, so it opens
+    none of its own (the walk of 12-06 read "…measures this machine))")."""
+    from designer.gui.state.render_figures import flight_estimate_line
+    from designer.gui.state.wording import estimate_basis
+    from designer.render_time.model import REFERENCE, ImageCost, estimate_render
+
+    estimate = estimate_render([ImageCost(megapixels=0.3072, samples=16)], 1,
+                               speed=REFERENCE)
+    line = flight_estimate_line(estimate, 16, estimate_basis(REFERENCE))
+    assert "uncalibrated" in line
+    assert line.count("(") == line.count(")") == 1, line
