@@ -75,7 +75,8 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     "vtkmodules": ("gui.qt",),
     # the benchmarks build synthetic blocks as pycolmap reconstructions (bench doming, the
     # rolling-shutter block) and keep the old per-observation Ceres solver as a reference
-    "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling"),
+    "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling",
+                 "bench.synthetic_block"),
     "pyceres": ("sfm", "bench.rolling_reference"),
     "distributed": ("render.cluster", "study.run"),
     "pyexiv2": ("flight.image_meta", "render.exif"),
