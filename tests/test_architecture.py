@@ -645,10 +645,6 @@ LONG_FUNCTIONS: dict[str, str] = {
         "the panel's widgets laid out in reading order (as FlightPanel.build)",
     "designer/gui/qt/panels/gcps.py:GcpPanel.build":
         "the panel's widgets laid out in reading order (as FlightPanel.build)",
-    "designer/gui/qt/panels/lighting.py:LightingPanel.build":
-        "the panel's widgets laid out in reading order (as FlightPanel.build)",
-    "designer/gui/qt/panels/render.py:RenderPanel.build":
-        "the panel's widgets laid out in reading order (as FlightPanel.build)",
 }
 
 
