@@ -80,7 +80,7 @@ THIRD_PARTY_ONLY_IN: dict[str, tuple[str, ...]] = {
     # rolling-shutter block) and keep the old per-observation Ceres solver as a reference;
     # bench mapper runs sfm.mapping's incremental mapper, which is handed pycolmap
     "pycolmap": ("sfm", "bench.doming", "bench.rolling_reference", "bench.synthetic_rolling",
-                 "bench.mapper"),
+                 "bench.synthetic_block", "bench.mapper"),
     "pyceres": ("sfm", "bench.rolling_reference"),
     "distributed": ("render.cluster", "study.run"),
     "pyexiv2": ("flight.image_meta", "render.exif"),
@@ -653,10 +653,6 @@ LONG_FUNCTIONS: dict[str, str] = {
     "designer/gui/qt/panels/processing.py:ProcessingPanel.build":
         "the panel's widgets laid out in reading order (as FlightPanel.build)",
     "designer/gui/qt/panels/gcps.py:GcpPanel.build":
-        "the panel's widgets laid out in reading order (as FlightPanel.build)",
-    "designer/gui/qt/panels/lighting.py:LightingPanel.build":
-        "the panel's widgets laid out in reading order (as FlightPanel.build)",
-    "designer/gui/qt/panels/render.py:RenderPanel.build":
         "the panel's widgets laid out in reading order (as FlightPanel.build)",
 }
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer.bench.table import Column, text_table
 from designer.bench.timing import best_of
 from designer.core.distortion import BrownConrady
 from designer.core.interior import InteriorOrientation
@@ -49,11 +50,9 @@ def _pinhole(camera: InteriorOrientation) -> InteriorOrientation:
 
 
 def format_table(rows: list[dict]) -> str:
-    lines = [f"{'case':<26} {'model':<16} {'seconds':>9} {'M points/s':>11}",
-             "-" * 65]
-    for r in rows:
-        lines.append(f"{r['case']:<26} {r['model']:<16} {r['seconds']:>9.3f} "
-                     f"{r['points_per_s'] / 1e6:>11.1f}")
-    lines.append("(one process, one thread: numpy is single-threaded for these operations; "
-                 "best of the repeats)")
-    return "\n".join(lines)
+    return text_table(
+        [Column("case", "<26", "case"), Column("model", "<16", "model"),
+         Column("seconds", ">9.3f", "seconds"),
+         Column("M points/s", ">11.1f", lambda r: r["points_per_s"] / 1e6)], rows,
+        "(one process, one thread: numpy is single-threaded for these operations; best of "
+        "the repeats)")

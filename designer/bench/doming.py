@@ -39,6 +39,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from designer.bench.synthetic_block import add_noisy_image, add_tracks
+
 
 @dataclass(frozen=True)
 class FlatBlock:
@@ -153,24 +155,9 @@ def synthetic_block(block: FlatBlock, tilt_deg: float, seed: int):
         uv, depth = project_px(true, R, C, pts)
         inside = np.flatnonzero((depth > 0) & (uv[:, 0] > 1) & (uv[:, 0] < W - 1)
                                 & (uv[:, 1] > 1) & (uv[:, 1] < H - 1))
-        uv = uv[inside] + rng.normal(0.0, block.noise_px, (len(inside), 2))
-        image = pycolmap.Image(name=f"IMG_{k:04d}", camera_id=1, image_id=k + 1)
-        image.points2D = pycolmap.Point2DList([pycolmap.Point2D(q) for q in uv])
-        C0 = C + rng.normal(0.0, 0.05, 3)
-        R0 = pycolmap.Rotation3d(rng.normal(0.0, 3e-4, 3)).matrix() @ R
-        rec.add_image_with_trivial_frame(
-            image, pycolmap.Rigid3d(pycolmap.Rotation3d(R0), -R0 @ C0))
-        for j, p in enumerate(inside):
-            seen.setdefault(int(p), []).append((k + 1, j))
-    truth = {}
-    for p, obs in seen.items():
-        if len(obs) < 3:
-            continue
-        track = pycolmap.Track()
-        for image_id, j in obs:
-            track.add_element(image_id, j)
-        truth[rec.add_point3D(pts[p] + rng.normal(0.0, 0.05, 3), track)] = pts[p]
-    return rec, truth
+        add_noisy_image(rec, rng, k + 1, f"IMG_{k:04d}", uv[inside], inside, block.noise_px,
+                        C, R, seen)
+    return rec, add_tracks(rec, seen, pts, rng)
 
 
 def mapper_structure(rec, calibration: str) -> None:

@@ -32,6 +32,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from designer.bench.table import Column, text_table
+
 #: edits timed (each alternates the flight height, so every one changes the stations)
 EDITS = 7
 
@@ -166,9 +168,7 @@ def format_table(rows: list[dict]) -> str:
         from designer.bench.gui_survey import format_survey_table
 
         return format_survey_table(rows)
-    lines = [f"{'step':<46} {'ms':>8}", "-" * 56]
-    for r in rows:
-        lines.append(f"{r['step']:<46} {r['ms']:>8.0f}")
-    lines.append(f"({rows[0]['case']}; {EDITS} flight-height edits; 1600 x 1000 window; "
-                 "OpenGL as available, Mesa llvmpipe under Xvfb here)")
-    return "\n".join(lines)
+    return text_table(
+        [Column("step", "<46", "step"), Column("ms", ">8.0f", "ms")], rows,
+        f"({rows[0]['case']}; {EDITS} flight-height edits; 1600 x 1000 window; OpenGL as "
+        "available, Mesa llvmpipe under Xvfb here)", rule_width=56)

@@ -17,6 +17,7 @@ if __package__ in (None, ""):  # run as a script from the repository root
 
 import numpy as np
 
+from designer.bench.table import Column, text_table
 from designer.bench.timing import best_of
 from designer.project import load_project, template, write_project
 from designer.project import model as m
@@ -68,12 +69,10 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    lines = [f"{'case':<26} {'stage':<32} {'seconds':>8} {'file MB':>8}", "-" * 77]
-    for r in rows:
-        lines.append(f"{r['case']:<26} {r['stage']:<32} {r['seconds']:>8.3f} "
-                     f"{r['size_mb']:>8.2f}")
-    lines.append("(best of the repeats; target: read + validate < 1 s)")
-    return "\n".join(lines)
+    return text_table(
+        [Column("case", "<26", "case"), Column("stage", "<32", "stage"),
+         Column("seconds", ">8.3f", "seconds"), Column("file MB", ">8.2f", "size_mb")], rows,
+        "(best of the repeats; target: read + validate < 1 s)")
 
 
 def main() -> int:

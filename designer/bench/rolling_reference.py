@@ -100,15 +100,14 @@ def _rolling_cost_class():
     return RollingShutterReprojCost, PositionPriorCost, VelocityPriorCost
 
 
-def adjust_rolling_ceres(rec, variable: tuple[int, ...], shutters: dict[str, RollingShutterImage],
-                   control, sigma_mark_px: float, priors, min_gcp_sigma_m: float,
-                   max_iterations: int = 100, fix_gauge: bool = False
-                   ) -> tuple[RollingShutterSolution, dict[str, np.ndarray]]:
-    """The final adjustment with each rolling-shutter image's velocity (module
-    docstring): tie points (σ 1 px), control marks and surveyed control coordinates, camera
-    position priors, the interior parameters ``variable``; ``rec`` is updated in place.
-    Images without a rolling shutter (not in ``shutters``) are global-shutter images.
-    Returns the solution and the control points' adjusted coordinates by id."""
+def adjust_rolling_ceres(
+    rec, variable: tuple[int, ...], shutters: dict[str, RollingShutterImage], control,
+    sigma_mark_px: float, priors, min_gcp_sigma_m: float, max_iterations: int = 100,
+    fix_gauge: bool = False,
+) -> tuple[RollingShutterSolution, dict[str, np.ndarray]]:
+    """designer.sfm.rolling_adjustment.adjust_rolling's problem (the same arguments and
+    returns) as Ceres solves it, with a Python cost per observation; ``rec`` is updated
+    in place."""
     import pyceres
     import pycolmap
     from pycolmap import cost_functions as cf

@@ -6,6 +6,7 @@ import math
 import tempfile
 from pathlib import Path
 
+from designer.bench.table import Column, text_table
 from designer.bench.timing import best_of
 from designer.scene.mesh import heightfield_to_mesh, write_mesh_ply
 from designer.scene.terrain import procedural_terrain
@@ -51,9 +52,8 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    lines = [f"{'step':<20} {'size':<18} {'seconds':>9} {'rate':>22}", "-" * 72]
-    for r in rows:
-        lines.append(f"{r['step']:<20} {r['size']:<18} {r['seconds']:>9.3f} {r['rate']:>22}")
-    lines.append("(one process; the FFTs use all cores, the rest one thread; best of the "
-                 "repeats; the PLY goes to the temporary folder)")
-    return "\n".join(lines)
+    return text_table(
+        [Column("step", "<20", "step"), Column("size", "<18", "size"),
+         Column("seconds", ">9.3f", "seconds"), Column("rate", ">22", "rate")], rows,
+        "(one process; the FFTs use all cores, the rest one thread; best of the repeats; "
+        "the PLY goes to the temporary folder)")

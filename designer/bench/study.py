@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from designer.bench.table import Column, text_table
+
 WORKERS = 2
 
 
@@ -89,17 +91,14 @@ def run(repeats: int = 1, scale: float = 1.0, image_size: str = "small",
 def format_table(rows: list[dict]) -> str:
     if rows and "label" in rows[0]:
         return format_stage_table(rows)
-    head = (f"{'study gcp-count, 2 workers':28s} {'size':>7s} {'images':>6s} {'wall s':>8s} "
-            f"{'runs':>5s} {'variants':>8s} "
-            f"{'renders':>8s} {'reconstr.':>9s} {'image sets':>10s} {'cache hits':>10s} "
-            f"{'failed':>6s} {'load':>5s}")
-    lines = [head, "-" * len(head)]
-    for r in rows:
-        lines.append(f"{r['run']:28s} {r['size']:>7s} {r['images'] or 0:6d} {r['wall_s']:8.1f} "
-                     f"{r['runs']:5d} {r['variants']:8d} "
-                     f"{r['renders']:8d} {r['reconstructions']:9d} {r['image_sets']:10d} "
-                     f"{r['cache_hits']:10d} {r['failed']:6d} {r['load']:5.1f}")
-    return "\n".join(lines)
+    return text_table(
+        [Column("study gcp-count, 2 workers", "28s", "run"), Column("size", ">7s", "size"),
+         Column("images", "6d", lambda r: r["images"] or 0), Column("wall s", "8.1f", "wall_s"),
+         *(Column(title, spec, key) for title, spec, key in (
+             ("runs", "5d", "runs"), ("variants", "8d", "variants"),
+             ("renders", "8d", "renders"), ("reconstr.", "9d", "reconstructions"),
+             ("image sets", "10d", "image_sets"), ("cache hits", "10d", "cache_hits"),
+             ("failed", "6d", "failed"), ("load", "5.1f", "load")))], rows)
 
 
 #: the per-run stage columns of results.csv: (table heading, column)

@@ -23,6 +23,7 @@ import time
 
 import numpy as np
 
+from designer.bench.table import Column, text_table
 from designer.project import template
 from designer.scene.build import build_scene
 from designer.scene.lighting import bake_lightmap
@@ -70,15 +71,14 @@ def run(repeats: int = 1, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    head = (f"{'UTC':>5} {'sun el':>6} {'step s':>6} {'sun moves':>9} {'method':<11} "
-            f"{'max error':>9} {'texels > 1/255':>14} {'bake s':>7} {'light map':>9}")
-    lines = [head, "-" * len(head)]
-    for r in rows:
-        lines.append(f"{r['utc']:>5} {r['elevation_deg']:>5.1f}° {r['step_s']:>6} "
-                     f"{r['sun_moves_deg']:>8.2f}° {r['method']:<11} "
-                     f"{r['max_error']:>9.3f} {100 * r['share_over_1_255']:>13.2f}% "
-                     f"{r['bake_s']:>7.2f} {r['texels']:>9}")
-    lines.append("error at the worst moment of a step against the exact bake, light units "
-                 "(1 = flat ground in full sun); nearest: a bake Δt/2 away; interpolate: the "
-                 "blend of the bakes at both ends; bake s: one exact light map")
-    return "\n".join(lines)
+    return text_table(
+        [Column("UTC", ">5", "utc"),
+         Column("sun el", ">6", lambda r: f"{r['elevation_deg']:>5.1f}°"),
+         Column("step s", ">6", "step_s"),
+         Column("sun moves", ">9", lambda r: f"{r['sun_moves_deg']:>8.2f}°"),
+         Column("method", "<11", "method"), Column("max error", ">9.3f", "max_error"),
+         Column("texels > 1/255", ">14", lambda r: f"{100 * r['share_over_1_255']:>13.2f}%"),
+         Column("bake s", ">7.2f", "bake_s"), Column("light map", ">9", "texels")], rows,
+        "error at the worst moment of a step against the exact bake, light units (1 = flat "
+        "ground in full sun); nearest: a bake Δt/2 away; interpolate: the blend of the bakes "
+        "at both ends; bake s: one exact light map")

@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from designer.bench.table import Column, text_table
 from designer.bench.timing import best_of
 from designer.core.heightfield import Heightfield
 from designer.core.interior import InteriorOrientation
@@ -76,9 +77,8 @@ def run(repeats: int = 3, scale: float = 1.0) -> list[dict]:
 
 
 def format_table(rows: list[dict]) -> str:
-    lines = [f"{'step':<40} {'images':>7} {'seconds':>9}", "-" * 58]
-    for r in rows:
-        lines.append(f"{r['step']:<40} {r['images']:>7d} {r['seconds']:>9.3f}")
-    lines.append("(1 km^2, 1 M-vertex terrain at UTM coordinates; one process, numpy "
-                 "single-threaded; best of the repeats)")
-    return "\n".join(lines)
+    return text_table(
+        [Column("step", "<40", "step"), Column("images", ">7d", "images"),
+         Column("seconds", ">9.3f", "seconds")], rows,
+        "(1 km^2, 1 M-vertex terrain at UTM coordinates; one process, numpy "
+        "single-threaded; best of the repeats)")

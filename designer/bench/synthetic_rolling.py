@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.bench.synthetic_block import add_noisy_image, add_tracks
 from designer.sfm.rolling_adjustment import RollingShutterImage
 
 #: CV-frame cam_from_world rotation of a nadir camera with the image top north
@@ -88,38 +89,13 @@ def rolling_block(spec: BlockSpec = BlockSpec(), seed: int = 0):
             uv = rolling_uv(pts, C, vel, spec)
             inside = (uv[:, 0] > 1) & (uv[:, 0] < W - 1) & (uv[:, 1] > 1) & (uv[:, 1] < H - 1)
             ids = np.flatnonzero(inside)
-            uv = uv[ids] + rng.normal(0, spec.noise_px, (len(ids), 2))
-            image = pycolmap.Image(name=name, camera_id=1, image_id=k + 1)
-            image.points2D = pycolmap.Point2DList([pycolmap.Point2D(xy) for xy in uv])
-            C0 = C + rng.normal(0, 0.05, 3)
-            R_cv = pycolmap.Rotation3d(rng.normal(0, 3e-4, 3)).matrix() @ FLIP
-            rec.add_image_with_trivial_frame(
-                image, pycolmap.Rigid3d(pycolmap.Rotation3d(R_cv), -R_cv @ C0))
-            for j, p in enumerate(ids):
-                obs.setdefault(int(p), []).append((k + 1, j))
+            add_noisy_image(rec, rng, k + 1, name, uv[ids], ids, spec.noise_px, C, FLIP, obs)
             true_C[name] = C
             # a turn of 10 s between strips: each strip is a leg of its own
             shutters[name] = RollingShutterImage(spec.readout_s, "top-to-bottom",
                                                  k * 1.0 + strip * 10.0)
             k += 1
     return rec, add_tracks(rec, obs, pts, rng), true_C, shutters
-
-
-def add_tracks(rec, obs: dict, pts: np.ndarray, rng) -> dict:
-    """Every point seen in 3 or more images (``obs``: point index → [(image id, point2D
-    index)]) added to ``rec`` at its true position ``pts`` off by 5 cm (drawn from
-    ``rng``); point id → true position."""
-    import pycolmap
-
-    true_pts = {}
-    for p, track in obs.items():
-        if len(track) < 3:
-            continue
-        t = pycolmap.Track()
-        for image_id, j in track:
-            t.add_element(image_id, j)
-        true_pts[rec.add_point3D(pts[p] + rng.normal(0, 0.05, 3), t)] = pts[p]
-    return true_pts
 
 
 def copy_of(rec):

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from designer.cli.flight_heights import add_height_arguments
+
 
 def register(subparsers) -> None:
     parser = subparsers.add_parser(
@@ -21,15 +23,8 @@ def register(subparsers) -> None:
                         help="qgc: .plan; kml: .kml or .kmz; wpml: DJI .kmz")
     parser.add_argument("-o", "--output", required=True, type=Path, metavar="FILE",
                         help="file to write (.plan, .kml/.kmz, .kmz)")
-    parser.add_argument("--altitude", choices=("relative", "amsl"), default="relative",
-                        help="heights relative to the take-off point (default) or absolute "
-                             "(project Z + --height-offset-m)")
-    parser.add_argument("--takeoff-height-m", type=float, default=None,
-                        help="project height Z of the take-off point (default: the terrain "
-                             "below the first photo)")
-    parser.add_argument("--height-offset-m", type=float, default=0.0,
-                        help="added to every absolute height written, e.g. the geoid "
-                             "undulation for WPML's ellipsoidal heights (default 0)")
+    add_height_arguments(parser, default="relative",
+                         offset_example="the geoid undulation for WPML's ellipsoidal heights")
     parser.add_argument("--speed-m-s", type=float, default=5.0,
                         help="flight speed (m/s, default 5)")
     parser.set_defaults(func=run)
@@ -40,8 +35,10 @@ def run(args) -> int:
     from designer.project import load_project
 
     project = load_project(args.project)
+    # designer.flight names absolute heights "amsl"
+    altitude = "amsl" if args.altitude == "absolute" else args.altitude
     spec = export_flight(
-        project, args.project.parent, args.format, args.output, altitude=args.altitude,
+        project, args.project.parent, args.format, args.output, altitude=altitude,
         takeoff_height_m=args.takeoff_height_m, height_offset_m=args.height_offset_m,
         speed_m_s=args.speed_m_s)
     lines = len(spec.lines)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from designer.cli.flight_heights import add_height_arguments
+
 
 def register(subparsers) -> None:
     parser = subparsers.add_parser(
@@ -22,15 +24,9 @@ def register(subparsers) -> None:
                         help="project giving the scene, CRS and camera")
     parser.add_argument("-o", "--output", required=True, type=Path, metavar="NEW.xml",
                         help="project file to write")
-    parser.add_argument("--height", choices=("absolute", "relative"), default="absolute",
-                        help="absolute heights (+ --height-offset-m) or DJI RelativeAltitude "
-                             "+ take-off height (default absolute)")
-    parser.add_argument("--takeoff-height-m", type=float, default=None,
-                        help="take-off height for --height relative (default: the base "
-                             "terrain below the first photo)")
-    parser.add_argument("--height-offset-m", type=float, default=0.0,
-                        help="added to absolute heights, e.g. minus the geoid undulation to "
-                             "turn ellipsoidal into orthometric heights (default 0)")
+    add_height_arguments(parser, default="absolute",
+                         offset_example="minus the geoid undulation to turn ellipsoidal "
+                                        "into orthometric heights")
     parser.add_argument("--csv-crs", default=None, metavar="EPSG:CODE",
                         help="CRS of a CSV's X/Y columns (default: the base project's)")
     parser.set_defaults(func=run)
@@ -40,7 +36,7 @@ def run(args) -> int:
     from designer.flight.importer import import_flight
 
     project = import_flight(
-        args.source, args.base, args.output, height=args.height,
+        args.source, args.base, args.output, height=args.altitude,
         takeoff_height_m=args.takeoff_height_m, height_offset_m=args.height_offset_m,
         csv_crs=args.csv_crs)
     eos = project.trajectory.exterior_orientations

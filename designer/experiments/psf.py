@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +32,7 @@ from designer.core.interior import InteriorOrientation
 from designer.experiments import figures
 from designer.experiments.jobs import MeshObject, render_views
 from designer.experiments.report import Criterion, Report, write_report
-from designer.experiments.settings import RenderSettings, quality
+from designer.experiments.settings import RenderSettings, ValidationConfig
 from designer.render.job_spec import MaterialSpec
 
 SIZE_PX = 33
@@ -45,11 +45,8 @@ ZERO = 0.0
 AREA_TOLERANCE = 0.03
 
 
-@dataclass(frozen=True)
-class PSFConfig:
-    settings: RenderSettings = field(default_factory=lambda: quality("metrology"))
-    seed: int = 0
-    workers: int | None = None
+#: how the PSF validation renders (settings, seed, workers), as every validation does
+PSFConfig = ValidationConfig
 
 
 def camera() -> InteriorOrientation:
@@ -183,15 +180,13 @@ def write_psf_report(result: list[PSFVariant], criteria: list[Criterion], out_di
     c = SIZE_PX // 2
     fig = figures.pixel_grids(out_dir / "psf-pixels.png",
                               [(_wrap(v.name), v.image) for v in result], (c, c))
-    passed = all(x.passed for x in criteria)
     r = Report("Validation 2: point-spread function")
-    r.para(f"**Result: {'PASSED' if passed else 'FAILED'}.**")
-    r.para(
+    passed = r.opening(
+        criteria,
         "**Question.** Does the renderer blur? A point that lies inside one pixel's field of "
         "view must light that pixel and no other — the point-spread function must be the "
         "pixel itself. Antialiasing filters that share samples between neighbouring pixels "
         "(Blender's default) spread light into the neighbours; the original study saw this.")
-    r.heading("How it was measured")
     r.bullets([
         f"**Camera.** {SIZE_PX} × {SIZE_PX} px, focal length {FOCAL_PX:g} px "
         f"({camera().focal_length_mm:g} mm lens, {camera().pixel_pitch_x_mm * 1000:g} µm "

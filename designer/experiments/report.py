@@ -51,6 +51,16 @@ class Report:
     def figure(self, file_name: str, caption: str) -> None:
         self.lines += [f"![{caption}]({file_name})", "", f"*{caption}*", ""]
 
+    def opening(self, criteria: list[Criterion], question: str) -> bool:
+        """A validation's first paragraphs: its result (PASSED when every criterion
+        passed, else FAILED), the question it answers, then the heading of how it was
+        measured. Returns whether every criterion passed."""
+        passed = all(c.passed for c in criteria)
+        self.para(f"**Result: {'PASSED' if passed else 'FAILED'}.**")
+        self.para(question)
+        self.heading("How it was measured")
+        return passed
+
     def criteria(self, criteria: list[Criterion]) -> None:
         self.table(["criterion", "measured", "limit", "result"],
                    [[f"**{c.name}**: {c.description}", c.value, c.limit,

@@ -8,7 +8,7 @@ costs in time"); ``PLAIN_64`` is the old 'metrology' setting they are measured a
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 
 from designer.render.job_spec import PIXEL_FILTER_NAMES, AdaptiveSampling, RenderSpec
 
@@ -97,3 +97,14 @@ def quality(name: str) -> RenderSettings:
     except KeyError:
         raise ValueError(f"unknown quality {name!r}; use one of "
                          f"{', '.join(QUALITY_PRESETS)}") from None
+
+
+@dataclass(frozen=True)
+class ValidationConfig:
+    """How a render validation (PSF, texture) renders: its Cycles settings (the
+    'metrology' preset by default), the noise seed, and the number of render workers
+    (``None``: as many as the machine suits)."""
+
+    settings: RenderSettings = field(default_factory=lambda: quality("metrology"))
+    seed: int = 0
+    workers: int | None = None

@@ -23,7 +23,7 @@ or, without antialiasing, the texel under each pixel centre.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +34,7 @@ from designer.effects.srgb import decode_image, encode_image
 from designer.experiments import figures
 from designer.experiments.jobs import MeshObject, render_views
 from designer.experiments.report import Criterion, Report, write_report
-from designer.experiments.settings import RenderSettings, quality
+from designer.experiments.settings import RenderSettings, ValidationConfig
 from designer.experiments.synthetic import coverage
 from designer.render.job_spec import MaterialSpec
 from designer.scene.texture import checkerboard_texture
@@ -51,11 +51,8 @@ OFFSET_M = (0.00037, -0.00071)
 MAX_EDGE_OFFSET_PX = 0.05
 
 
-@dataclass(frozen=True)
-class TextureConfig:
-    settings: RenderSettings = field(default_factory=lambda: quality("metrology"))
-    seed: int = 0
-    workers: int | None = None
+#: how the texture validation renders (settings, seed, workers), as every validation does
+TextureConfig = ValidationConfig
 
 
 def camera() -> InteriorOrientation:
@@ -251,15 +248,13 @@ def write_texture_report(renders, criteria, numbers, out_dir: Path, config: Text
     zoom = figures.profile(out_dir / "texture-profile-wide.png",
                            [(r.name, r.codes[row, 0:W].astype(float)) for r in renders],
                            eu, 0, f"Row {row}, the whole width ({W} px)")
-    passed = all(c.passed for c in criteria)
     r = Report("Validation 3: texture resolution")
-    r.para(f"**Result: {'PASSED' if passed else 'FAILED'}.**")
-    r.para(
+    passed = r.opening(
+        criteria,
         "**Question.** Does the renderer keep a texture's resolution? Texture interpolation "
         "can smooth a texture (each pixel blends neighbouring texels) so that the images hold "
         "less detail than the texture has, and edges move. For geometric experiments a texel "
         "must stay a sharp-edged square of the right size in the right place.")
-    r.heading("How it was measured")
     r.bullets([
         f"**Scene.** A 1 m × 1 m plane with a {TEXELS} × {TEXELS} black/white checkerboard "
         f"texture, one texel per square: 1 texel = {TEXEL_M * 100:g} cm.",

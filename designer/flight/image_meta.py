@@ -18,7 +18,7 @@ Data List" in the Mavic 3E/3T and Zenmuse P1 user manuals):
 Height assumption: DJI calls AbsoluteAltitude "geodetic"; aircraft with RTK write
 ellipsoidal heights, others a barometric height above mean sea level. The importer takes
 it as the project's height plus an optional offset (``--height-offset-m``); with
-``--height relative`` it uses RelativeAltitude + the take-off height instead.
+``--altitude relative`` it uses RelativeAltitude + the take-off height instead.
 """
 
 from __future__ import annotations

@@ -78,19 +78,19 @@ def photo_poses(
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """(C_world (3,), R_cam_to_world (3, 3)) of each photo in the project's frame."""
     if height not in HEIGHT_MODES:
-        raise DesignerError(f"--height {height}: use one of {', '.join(HEIGHT_MODES)}")
+        raise DesignerError(f"--altitude {height}: use one of {', '.join(HEIGHT_MODES)}")
     out = []
     for p in photos:
         X, Y = (float(v) for v in georef.from_crs(p.crs, p.x, p.y))
         if height == "absolute":
             if p.z_m is None:
                 raise fail(p.where, p.name, "no absolute height",
-                           "write GPSAltitude/AbsoluteAltitude, or use --height relative")
+                           "write GPSAltitude/AbsoluteAltitude, or use --altitude relative")
             Z = p.z_m + height_offset_m
         else:
             if p.relative_altitude_m is None:
                 raise fail(p.where, p.name, "no RelativeAltitude",
-                           "use --height absolute for this source")
+                           "use --altitude absolute for this source")
             if takeoff_height_m is None:
                 raise DesignerError("relative heights need the take-off height; give "
                                     "--takeoff-height-m")

@@ -344,19 +344,26 @@ def validation_cube() -> Template:
             m.Point3(0.0, 0.0, 0.0), 0.0, 0.0, 0.0, scale=4.0)),),
         lighting=m.Lighting(m.Sun(200.0, 45.0), sun_strength=4.0, sky_strength=1.0),
     )
-    project = m.Project(
-        name="Validation cube",
-        description=("A 4 m cube (mesh cube.obj, unit cube scaled 4x) on a flat plane, 24 "
-                     "photos on a 22 m circle at 12 m height looking at its centre. Pinhole "
-                     "camera, no effects: reconstructions should match to a fraction of GSD."),
-        crs="local engineering frame (m)",
-        origin=m.Origin(0.0, 0.0, 0.0),
-        scene=scene, cameras=(cam,),
-        trajectory=m.Trajectory(exterior_orientations=tuple(photos)),
+    project = _local_project(
+        "Validation cube",
+        "A 4 m cube (mesh cube.obj, unit cube scaled 4x) on a flat plane, 24 photos on a 22 m "
+        "circle at 12 m height looking at its centre. Pinhole camera, no effects: "
+        "reconstructions should match to a fraction of GSD.",
+        scene, cam, m.Trajectory(exterior_orientations=tuple(photos)),
         render=m.Render(preset="survey", resolution_scale=0.125, workers=2),
         outputs=m.Outputs("output", ("colmap", "opk", "gcp")),
     )
     return Template(project, {"cube.obj": cube_obj_bytes()})
+
+
+def _local_project(name: str, description: str, scene: m.Scene, camera: m.Camera,
+                   trajectory: m.Trajectory, **settings) -> m.Project:
+    """A project of one camera in a local engineering frame (m) with its origin at 0, as
+    the experiments' templates (validation cube, PSF, texture) are; ``settings`` are the
+    project's other fields (render, outputs, effects)."""
+    return m.Project(name=name, description=description, crs="local engineering frame (m)",
+                     origin=m.Origin(0.0, 0.0, 0.0), scene=scene, cameras=(camera,),
+                     trajectory=trajectory, **settings)
 
 
 def psf() -> Template:
@@ -373,15 +380,12 @@ def psf() -> Template:
                           repeat_X=8, repeat_Y=8, interpolation="closest"),
         lighting=m.Lighting(m.Sun(180.0, 60.0), sun_strength=4.0, sky_strength=1.0),
     )
-    project = m.Project(
-        name="PSF: slanted edges",
-        description=("Nadir photos from 30 m of a plane tiled with slanted edges (5 m tiles, "
-                     "5 mm texels, closest interpolation) to measure the system's point "
-                     "spread function: Cycles pixel filter plus a 0.7 px Gaussian blur."),
-        crs="local engineering frame (m)",
-        origin=m.Origin(0.0, 0.0, 0.0),
-        scene=scene, cameras=(cam,),
-        trajectory=m.Trajectory(exterior_orientations=photos),
+    project = _local_project(
+        "PSF: slanted edges",
+        "Nadir photos from 30 m of a plane tiled with slanted edges (5 m tiles, 5 mm texels, "
+        "closest interpolation) to measure the system's point spread function: Cycles pixel "
+        "filter plus a 0.7 px Gaussian blur.",
+        scene, cam, m.Trajectory(exterior_orientations=photos),
         effects=m.Effects(blur=m.Blur(0.7)),
         render=m.Render(preset="metrology", samples=256, pixel_filter_type="gaussian",
                         pixel_filter_width_px=1.5, resolution_scale=0.5, workers=2,
@@ -411,13 +415,11 @@ def texture() -> Template:
         gsd_m=0.02, front_overlap_percent=75.0, side_overlap_percent=65.0,
         grid_angle_deg=30.0, crosshatch=True, terrain_following=False, tilt_deg=0.0,
         pose_noise=None, random_seed=0)
-    project = m.Project(
-        name="Texture: an image texture tiled 8 x 8",
-        description=("A seamless 512 x 512 px image (texture.png) tiled 8 x 8 over a 40 m "
-                     "plane: 5 m tiles, about 1 cm texels; a crosshatch flight at 2 cm GSD."),
-        crs="local engineering frame (m)",
-        origin=m.Origin(0.0, 0.0, 0.0),
-        scene=scene, cameras=(cam,), trajectory=m.Trajectory(flight_plan=plan),
+    project = _local_project(
+        "Texture: an image texture tiled 8 x 8",
+        "A seamless 512 x 512 px image (texture.png) tiled 8 x 8 over a 40 m plane: 5 m "
+        "tiles, about 1 cm texels; a crosshatch flight at 2 cm GSD.",
+        scene, cam, m.Trajectory(flight_plan=plan),
         render=m.Render(preset="draft", resolution_scale=0.25, workers=2),
         outputs=m.Outputs("output", ("colmap", "metashape")),
     )

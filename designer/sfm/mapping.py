@@ -141,10 +141,15 @@ def incremental_sfm(pycolmap, db_path, image_dir, sparse, calibration: str,
     (options.ba_refine_focal_length, options.ba_refine_principal_point,
      options.ba_refine_extra_params) = mapper_refines(calibration)
     maps = pycolmap.incremental_mapping(db_path, image_dir, sparse, options=options)
+    return largest_model(maps, image_dir, "COLMAP could not start a reconstruction")
+
+
+def largest_model(maps: dict, image_dir, failure: str):
+    """The model of ``maps`` (a mapper's models by index) with the most registered images;
+    none is a DesignerError naming ``image_dir`` and the mapper's ``failure``."""
     if not maps:
-        raise DesignerError(
-            f"{image_dir}: COLMAP could not start a reconstruction: the images do not "
-            "overlap enough or show too little texture")
+        raise DesignerError(f"{image_dir}: {failure}: the images do not overlap enough or "
+                            "show too little texture")
     return max(maps.values(), key=lambda r: r.num_reg_images())
 
 
@@ -169,11 +174,7 @@ def global_sfm(pycolmap, db_path, image_dir, sparse, calibration: str):
         mapper_refines(calibration)
     ba.refine_sensor_from_rig = False  # a rig's calibration is known (designer.sfm.rigs)
     maps = pycolmap.global_mapping(db_path, image_dir, sparse, options=options)
-    if not maps:
-        raise DesignerError(
-            f"{image_dir}: COLMAP's global mapper found no reconstruction: the images do not "
-            "overlap enough or show too little texture")
-    return max(maps.values(), key=lambda r: r.num_reg_images())
+    return largest_model(maps, image_dir, "COLMAP's global mapper found no reconstruction")
 
 
 def known_pose_reconstruction(pycolmap, truth, db_path: Path):

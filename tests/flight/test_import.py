@@ -92,7 +92,7 @@ def test_relative_altitude_plus_takeoff_height(tmp_path):
                         takeoff_Z=takeoff, absolute_error_m=30.0, **SMALL_CAMERA)
     out = tmp_path / "flown.xml"
     assert main(["import-flight", str(images), "--base", str(base), "-o", str(out),
-                 "--height", "relative"]) == 0
+                 "--altitude", "relative"]) == 0
     _, dC, dR = compare(out, poses, jpg)
     assert dC <= 0.01 and dR <= 0.01
     absolute = tmp_path / "absolute.xml"  # the drifted absolute heights, less 30 m
@@ -100,7 +100,7 @@ def test_relative_altitude_plus_takeoff_height(tmp_path):
                  "--height-offset-m", "-30"]) == 0
     _, dC, _ = compare(absolute, poses, jpg)
     assert dC <= 0.01
-    shifted = tmp_path / "shifted.xml"
+    shifted = tmp_path / "shifted.xml"  # --height: the former name, kept for scripts
     assert main(["import-flight", str(images), "--base", str(base), "-o", str(shifted),
                  "--height", "relative", "--takeoff-height-m", str(takeoff + 2.0)]) == 0
     eos = load_project(shifted).trajectory.exterior_orientations

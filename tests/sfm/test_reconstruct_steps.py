@@ -16,7 +16,7 @@ from designer.errors import DesignerError
 from designer.project import model as m
 from designer.sfm.features import image_pairs
 from designer.sfm.inputs import SurveyCamera, pre_error, read_inputs
-from designer.sfm.mapping import mapper_refines, tied_images
+from designer.sfm.mapping import largest_model, mapper_refines, tied_images
 from designer.sfm.results import calibrated_sensors
 from designer.sfm.tie_points import (
     drop_outliers,
@@ -78,3 +78,15 @@ def test_without_a_rig_each_camera_is_calibrated_as_it_is():
     assert [(c.label, c.names) for c, _ in sensors] == [("nadir", ("a", "b")),
                                                         ("oblique", ("c",))]
     assert np.array_equal(sensors[1][1], params + 1)
+
+
+def test_the_mapper_keeps_its_largest_model_and_says_when_it_has_none(tmp_path):
+    import pycolmap
+
+    rec, *_ = rolling_block(BlockSpec(strips=2, per_strip=3, points=200), seed=1)
+    assert rec.num_reg_images() == 6
+    assert largest_model({0: pycolmap.Reconstruction(), 1: rec}, tmp_path, "x") is rec
+    with pytest.raises(DesignerError) as err:
+        largest_model({}, tmp_path, "COLMAP could not start a reconstruction")
+    assert str(err.value) == (f"{tmp_path}: COLMAP could not start a reconstruction: the "
+                              "images do not overlap enough or show too little texture")

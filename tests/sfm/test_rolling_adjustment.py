@@ -8,7 +8,7 @@ import pytest
 
 pycolmap = pytest.importorskip("pycolmap")
 
-from designer.bench.synthetic_rolling import add_tracks  # noqa: E402
+from designer.bench.synthetic_block import add_tracks  # noqa: E402
 from designer.errors import DesignerError  # noqa: E402
 from designer.sfm.adjustment import PositionPriors, adjust  # noqa: E402
 from designer.sfm.rolling_adjustment import (  # noqa: E402

@@ -14,7 +14,7 @@ Problems panel; nothing is written or changed when there is one.
 * Import flight replaces the open project's exposures by the flown photos (explicit
   exterior orientations, the camera the metadata names) as one undoable step; the 3D
   view draws their frusta and footprints like any other photos. Heights are the
-  images' absolute heights (``designer import-flight --height relative`` offers the DJI
+  images' absolute heights (``designer import-flight --altitude relative`` offers the DJI
   relative altitude).
 * Export flight plan writes the planned exposures in the format of the chosen file
   type, heights relative to the take-off point or above mean sea level as chosen.

@@ -62,7 +62,8 @@ class _Checked:
     #: called with (field, message) when the field's verdict changes ("" = valid)
     listener: Callable[[QWidget, str], None] | None = None
 
-    def _init_checked(self, label: str) -> None:
+    def __init__(self, label: str = "value") -> None:
+        super().__init__()  # the Qt spin box this is mixed into
         self.label = label
         self.error = ""
         self.setKeyboardTracking(False)
@@ -121,6 +122,12 @@ class _Checked:
     def _parse(self, text: str):
         raw = self._strip(text)
         return int(raw) if self._integer else float(raw)
+
+    def valueFromText(self, text: str):
+        try:
+            return self._parse(text)
+        except ValueError:
+            return self.value()
 
     # -------------------------------------------------------------- Qt hooks
     def validate(self, text: str, pos: int):
@@ -207,17 +214,6 @@ class _Checked:
 class CheckedDoubleSpin(_Checked, QDoubleSpinBox):
     """A number field that refuses invalid or out-of-range text instead of clamping it."""
 
-
-    def __init__(self, label: str = "value") -> None:
-        QDoubleSpinBox.__init__(self)
-        self._init_checked(label)
-
-    def valueFromText(self, text: str) -> float:
-        try:
-            return self._parse(text)
-        except ValueError:
-            return self.value()
-
     def textFromValue(self, value: float) -> str:
         return format_number(value, self.decimals())
 
@@ -226,16 +222,6 @@ class CheckedSpin(_Checked, QSpinBox):
     """A whole-number field that refuses invalid or out-of-range text."""
 
     _integer = True
-
-    def __init__(self, label: str = "value") -> None:
-        QSpinBox.__init__(self)
-        self._init_checked(label)
-
-    def valueFromText(self, text: str) -> int:
-        try:
-            return self._parse(text)
-        except ValueError:
-            return self.value()
 
 
 def dspin(lo: float, hi: float, decimals: int = 3, step: float = 1.0,

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from PySide6.QtWidgets import QComboBox, QGroupBox, QHBoxLayout, QPushButton
+from PySide6.QtWidgets import QGroupBox
 
+from designer.gui.qt.boxes import chosen_index, item_chooser, refill_chooser
 from designer.gui.qt.field_rules import ruled_like
 from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, form, readout
@@ -29,19 +30,10 @@ class BuildingsPanel(Panel):
     parts = frozenset({"objects", "terrain", "targets"})
 
     def build(self, layout) -> None:
-        self.chooser = QComboBox()
-        self.chooser.setObjectName("building")
-        self.chooser.currentIndexChanged.connect(lambda _i: self._show_selected())
-        layout.addWidget(self.chooser)
-        buttons = QHBoxLayout()
-        self.add_house, self.add_block = QPushButton("add a house"), QPushButton("add a block")
-        self.remove = QPushButton("remove")
-        self.add_house.clicked.connect(lambda: self._add("gable"))
-        self.add_block.clicked.connect(lambda: self._add("flat"))
-        self.remove.clicked.connect(self._remove)
-        for b in (self.add_house, self.add_block, self.remove):
-            buttons.addWidget(b)
-        layout.addLayout(buttons)
+        self.chooser, (self.add_house, self.add_block), self.remove = item_chooser(
+            layout, "building", self._show_selected,
+            [("add a house", lambda: self._add("gable")),
+             ("add a block", lambda: self._add("flat"))], self._remove)
 
         self.selected = QGroupBox("selected building")
         f = form(self.selected)
@@ -60,7 +52,7 @@ class BuildingsPanel(Panel):
     # ------------------------------------------------------------------ access
     def _index(self) -> int:
         """The chosen building; the first when none is chosen yet."""
-        return max(self.chooser.currentIndex(), 0)
+        return chosen_index(self.chooser)
 
     def _extruded(self, p: m.Project, name: str) -> m.Building:
         k = self._index()
@@ -118,14 +110,8 @@ class BuildingsPanel(Panel):
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
-        buildings = self.project.scene.buildings
-        keep = self._index()
-        blocked = self.chooser.blockSignals(True)
-        self.chooser.clear()
-        for b in buildings:
-            self.chooser.addItem(f"{b.id} ({b.roof if b.file is None else b.file})", b.id)
-        self.chooser.setCurrentIndex(min(max(keep, 0), len(buildings) - 1))
-        self.chooser.blockSignals(blocked)
+        refill_chooser(self.chooser, [(f"{b.id} ({b.roof if b.file is None else b.file})", b.id)
+                                      for b in self.project.scene.buildings])
         self._show_selected()
 
     def _show_selected(self) -> None:

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import dataclasses
 
-from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
+from PySide6.QtWidgets import QGroupBox, QLineEdit
 
 from designer.errors import DesignerError
-from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.boxes import readouts, wrapped_label
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.widgets import (
     INVALID_STYLE,
     combo,
@@ -125,15 +126,9 @@ class CameraPanel(Panel):
         f.addRow("during readout", self.shutter_label)
         layout.addWidget(shutter)
 
-        info = form()
-        self.pitch_label, self.fov_label, self.gsd_label = readout(), readout(), readout()
-        info.addRow("pixel pitch", self.pitch_label)
-        info.addRow("field of view", self.fov_label)
-        info.addRow("GSD", self.gsd_label)
-        layout.addLayout(info)
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
+        self.pitch_label, self.fov_label, self.gsd_label = readouts(
+            layout, "pixel pitch", "field of view", "GSD")
+        self.error_label = wrapped_label(ERROR_STYLE)
         layout.addWidget(self.error_label)
         self.sync.stations_changed.connect(self._readouts)
 

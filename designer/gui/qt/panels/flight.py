@@ -20,7 +20,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.boxes import checked_group, wrapped_label
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.widgets import combo, declared_field, dspin, form, ispin, model_getter, readout
 from designer.gui.state import derived, edits
 from designer.gui.state.switched_on import flight_gsd_cm, switched_on_flight
@@ -149,12 +150,9 @@ class FlightPanel(Panel):
         f.addRow(self.mount_table)
         layout.addWidget(rig)
 
-        noise = QGroupBox("pose noise (σ)")
-        noise.setToolTip("position σ along the world axes, angle σ about the camera axes")
-        f = form(noise)
-        self.noisy = QCheckBox("perturb the planned poses")
-        self.noisy.toggled.connect(self._noise_toggled)
-        f.addRow(self.noisy)
+        noise, f, self.noisy = checked_group(
+            "pose noise (σ)", "perturb the planned poses", self._noise_toggled,
+            "position σ along the world axes, angle σ about the camera axes")
         pn = f"{FP}.pose_noise"
         for label, field, unit in (("X", "sigma_X_m", "m"), ("Y", "sigma_Y_m", "m"),
                                    ("Z", "sigma_Z_m", "m"), ("ω", "sigma_omega_deg", "°"),
@@ -165,13 +163,11 @@ class FlightPanel(Panel):
                                             "Flight seed"))
         layout.addWidget(noise)
 
-        timing = QGroupBox("time line (when each photo is taken)")
-        timing.setToolTip("the first photo at take-off, then the stations in order at the "
-                          "speed, plus a turn time per line change (docs/world.md)")
-        f = form(timing)
-        self.timed = QCheckBox("the photos have times")
-        self.timed.toggled.connect(self._timing_toggled)
-        f.addRow(self.timed)
+        timing, f, self.timed = checked_group(
+            "time line (when each photo is taken)", "the photos have times",
+            self._timing_toggled,
+            "the first photo at take-off, then the stations in order at the speed, plus a "
+            "turn time per line change (docs/world.md)")
         tl = "trajectory.time_line"
         takeoff = _line()
         takeoff.setPlaceholderText(DEFAULT_TIME_LINE.takeoff_utc)
@@ -215,9 +211,7 @@ class FlightPanel(Panel):
         f.addRow("images", self.images_label)
         f.addRow("grid", self.calc_label)
         f.addRow("render time", self.time_label)
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
+        self.error_label = wrapped_label(ERROR_STYLE)
         f.addRow(self.error_label)
         layout.addWidget(info)
 

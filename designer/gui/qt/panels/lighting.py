@@ -7,12 +7,13 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel, QLineEdit
+from PySide6.QtWidgets import QGroupBox, QLabel, QLineEdit
 
 from designer.errors import DesignerError
-from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.boxes import checked_group, readouts, wrapped_label
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.photo_selection import FOLLOW_SELECTION
-from designer.gui.qt.widgets import combo, declared_field, dspin, form, readout
+from designer.gui.qt.widgets import combo, declared_field, dspin, form
 from designer.gui.state import derived, edits
 from designer.project import model as m
 from designer.project.declare import declared_field as declared
@@ -82,13 +83,10 @@ class LightingPanel(Panel):
                                            "scene.lighting.sky_strength", "Sky strength"))
         layout.addWidget(strengths)
 
-        clouds = QGroupBox("cloud shadows")
-        clouds.setToolTip("a seeded field of cloud shadows drifting with the wind over the "
-                          "flight's time line; they dim the direct sun (docs/world.md)")
-        f = form(clouds)
-        self.cloudy = QCheckBox("drifting cloud shadows")
-        self.cloudy.toggled.connect(self._clouds_toggled)
-        f.addRow(self.cloudy)
+        clouds, f, self.cloudy = checked_group(
+            "cloud shadows", "drifting cloud shadows", self._clouds_toggled,
+            "a seeded field of cloud shadows drifting with the wind over the flight's time "
+            "line; they dim the direct sun (docs/world.md)")
         for name, undo in (("cover", "Cloud cover"), ("size_m", "Cloud size"),
                            ("softness_m", "Cloud edge softness"), ("depth", "Cloud shadow depth"),
                            ("wind_speed_m_s", "Wind speed"),
@@ -115,14 +113,8 @@ class LightingPanel(Panel):
         self.sync.photo_selected.connect(lambda _k: self._name_selected_photo())
         self._fill_moments()
 
-        info = form()
-        self.sun_label, self.contrast_label = readout(), readout()
-        info.addRow("sun", self.sun_label)
-        info.addRow("shadows", self.contrast_label)
-        layout.addLayout(info)
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
+        self.sun_label, self.contrast_label = readouts(layout, "sun", "shadows")
+        self.error_label = wrapped_label(ERROR_STYLE)
         layout.addWidget(self.error_label)
 
     # ------------------------------------------------------------------ model → view

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton
+from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel
 
+from designer.gui.qt.boxes import chosen_index, item_chooser, refill_chooser
 from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.widgets import combo, declared_field, form, readout
 from designer.gui.state.edits import AbsentElement
@@ -23,19 +24,10 @@ class MovingObjectsPanel(Panel):
     parts = frozenset({"objects", "trajectory"})
 
     def build(self, layout) -> None:
-        self.chooser = QComboBox()
-        self.chooser.setObjectName("moving-object")
-        self.chooser.currentIndexChanged.connect(lambda _i: self._show_selected())
-        layout.addWidget(self.chooser)
-        buttons = QHBoxLayout()
-        self.add_car, self.add_person = QPushButton("add a car"), QPushButton("add a person")
-        self.remove = QPushButton("remove")
-        self.add_car.clicked.connect(lambda: self._add("car"))
-        self.add_person.clicked.connect(lambda: self._add("person"))
-        self.remove.clicked.connect(self._remove)
-        for b in (self.add_car, self.add_person, self.remove):
-            buttons.addWidget(b)
-        layout.addLayout(buttons)
+        self.chooser, (self.add_car, self.add_person), self.remove = item_chooser(
+            layout, "moving-object", self._show_selected,
+            [("add a car", lambda: self._add("car")),
+             ("add a person", lambda: self._add("person"))], self._remove)
 
         self.selected = QGroupBox("selected object")
         f = form(self.selected)
@@ -63,7 +55,7 @@ class MovingObjectsPanel(Panel):
     # ------------------------------------------------------------------ access
     def _index(self) -> int:
         """The chosen object; the first when none is chosen yet."""
-        return max(self.chooser.currentIndex(), 0)
+        return chosen_index(self.chooser)
 
     def _access(self, name: str):
         def get(p: m.Project):
@@ -85,14 +77,8 @@ class MovingObjectsPanel(Panel):
 
     # ------------------------------------------------------------------ model → view
     def refresh(self) -> None:
-        objects = self.project.scene.moving_objects
-        keep = self._index()
-        blocked = self.chooser.blockSignals(True)
-        self.chooser.clear()
-        for obj in objects:
-            self.chooser.addItem(f"{obj.id} ({obj.shape or obj.file})", obj.id)
-        self.chooser.setCurrentIndex(min(max(keep, 0), len(objects) - 1))
-        self.chooser.blockSignals(blocked)
+        refill_chooser(self.chooser, [(f"{obj.id} ({obj.shape or obj.file})", obj.id)
+                                      for obj in self.project.scene.moving_objects])
         self._show_selected()
         self._warn()
 

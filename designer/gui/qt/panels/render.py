@@ -18,12 +18,12 @@ from PySide6.QtWidgets import (
     QListView,
     QListWidget,
     QListWidgetItem,
-    QPlainTextEdit,
     QProgressBar,
     QPushButton,
 )
 
 from designer.core.layout import images_dir
+from designer.gui.qt.boxes import follow_process, log_view
 from designer.gui.qt.command_process import RenderProcess
 from designer.gui.qt.field_rules import ruled_dspin
 from designer.gui.qt.panels.base import Panel
@@ -178,16 +178,11 @@ class RenderPanel(Panel):
                                "the 3D view, the cloud shadows drawn at its moment); "
                                "double-click it to open it with the GCPs it sees")
         layout.addWidget(self.thumbs)
-        self.log = QPlainTextEdit()
-        self.log.setReadOnly(True)
-        self.log.setMaximumBlockCount(500)
-        self.log.setMaximumHeight(120)
+        self.log = log_view(500, 120)
         layout.addWidget(self.log)
 
         self.process = RenderProcess(self)
-        self.process.event.connect(self.on_event)
-        self.process.output.connect(self.log.appendPlainText)
-        self.process.finished.connect(self._finished)
+        follow_process(self.process, self.log, self.on_event, self._finished)
         self.sync.stations_changed.connect(self._cost)
         self.frames_done: dict[int, float] = {}
         self.skipped: set[int] = set()

@@ -13,7 +13,6 @@ from PySide6.QtWidgets import (
     QGroupBox,
     QHBoxLayout,
     QLabel,
-    QPlainTextEdit,
     QProgressBar,
     QPushButton,
     QTableWidget,
@@ -21,6 +20,7 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
+from designer.gui.qt.boxes import log_view
 from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.panels.dense_view import DenseView
 from designer.gui.qt.panels.out_of_date import OutOfDate
@@ -158,10 +158,7 @@ class ResultsPanel(Panel):
         self.stage_label = QLabel("")
         self.stage_label.setWordWrap(True)
         f.addRow(self.stage_label)
-        self.log = QPlainTextEdit()
-        self.log.setReadOnly(True)
-        self.log.setMaximumBlockCount(500)
-        self.log.setMaximumHeight(90)
+        self.log = log_view(500, 90)
         f.addRow(self.log)
         self.out_of_date = OutOfDate("results-out-of-date")
         f.addRow(self.out_of_date)

@@ -13,12 +13,12 @@ from PySide6.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QLineEdit,
-    QPlainTextEdit,
     QProgressBar,
     QPushButton,
     QToolButton,
 )
 
+from designer.gui.qt.boxes import follow_process, log_view
 from designer.gui.qt.study_process import StudyProcess, study_command
 from designer.gui.qt.study_results import FAILED_COLOUR
 from designer.gui.qt.widgets import form, ispin, message_box
@@ -77,15 +77,10 @@ class StudyRunBox(QGroupBox):
         self.state.setObjectName("study-state")
         self.state.setWordWrap(True)
         p.addRow(self.state)
-        self.log = QPlainTextEdit()
-        self.log.setReadOnly(True)
-        self.log.setMaximumBlockCount(300)
-        self.log.setMaximumHeight(90)
+        self.log = log_view(300, 90)
         p.addRow(self.log)
         self.process = StudyProcess(self)
-        self.process.event.connect(self.on_event)
-        self.process.output.connect(self.log.appendPlainText)
-        self.process.finished.connect(self._finished)
+        follow_process(self.process, self.log, self.on_event, self._finished)
         self.out_dir: Path | None = None
         self._folder_state = "empty"
         self.update_buttons()

@@ -9,14 +9,13 @@ from pathlib import Path
 from PySide6.QtWidgets import (
     QFileDialog,
     QGroupBox,
-    QHBoxLayout,
     QLabel,
-    QPushButton,
 )
 
+from designer.gui.qt.boxes import file_box, readouts, wrapped_label
 from designer.gui.qt.field_rules import ruled_dspin
 from designer.gui.qt.panels.base import ERROR_STYLE, Panel
-from designer.gui.qt.widgets import combo, dspin, form, format_number, ispin, readout
+from designer.gui.qt.widgets import combo, dspin, form, format_number, ispin
 from designer.project import model as m
 from designer.project.scene_limits import GRID_TOL, MAX_TERRAIN_NODES
 
@@ -115,25 +114,11 @@ class TerrainPanel(Panel):
                                                 "Flat terrain height"))
         layout.addWidget(self.flat)
 
-        self.file_box = QGroupBox("file")
-        row = QHBoxLayout(self.file_box)
-        self.file_label = QLabel("–")
-        self.file_label.setWordWrap(True)
-        browse = QPushButton("Import…")
-        browse.clicked.connect(self._import)
-        row.addWidget(self.file_label, 1)
-        row.addWidget(browse)
+        self.file_box, self.file_label = file_box("file", "Import…", self._import)
         layout.addWidget(self.file_box)
 
-        info = form()
-        self.size_label = readout()
-        self.relief_label = readout()
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
-        info.addRow("grid", self.size_label)
-        info.addRow("relief", self.relief_label)
-        layout.addLayout(info)
+        self.size_label, self.relief_label = readouts(layout, "grid", "relief")
+        self.error_label = wrapped_label(ERROR_STYLE)
         layout.addWidget(self.error_label)
         self.sync.terrain_changed.connect(self._show_result)
 

@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QImage, QPixmap
-from PySide6.QtWidgets import QFileDialog, QGroupBox, QHBoxLayout, QLabel, QPushButton
+from PySide6.QtWidgets import QFileDialog, QGroupBox, QLabel
 
 from designer.checks.plan_report import texture_repeat_warning
+from designer.gui.qt.boxes import file_box, readouts, wrapped_label
 from designer.gui.qt.field_rules import ruled_dspin, ruled_ispin
-from designer.gui.qt.panels.base import Panel
+from designer.gui.qt.panels.base import ERROR_STYLE, Panel
 from designer.gui.qt.widgets import combo, declared_field, form, format_number, ispin, readout
 from designer.gui.state import derived
 from designer.project import model as m
@@ -52,14 +53,7 @@ class TexturePanel(Panel):
             f"{src}.texel_size_m", "Texel size"))
         layout.addWidget(self.procedural)
 
-        self.image = QGroupBox("image")
-        row = QHBoxLayout(self.image)
-        self.file_label = QLabel("–")
-        self.file_label.setWordWrap(True)
-        browse = QPushButton("Choose…")
-        browse.clicked.connect(self._choose)
-        row.addWidget(self.file_label, 1)
-        row.addWidget(browse)
+        self.image, self.file_label = file_box("image", "Choose…", self._choose)
         layout.addWidget(self.image)
 
         tiling = QGroupBox("tiling and sampling")
@@ -88,19 +82,13 @@ class TexturePanel(Panel):
         f.addRow("repeat", self.repeat_label)
         layout.addWidget(self.variation)
 
-        info = form()
-        self.tile_label, self.texel_label, self.ratio_label = readout(), readout(), readout()
-        info.addRow("tile", self.tile_label)
-        info.addRow("texel on the ground", self.texel_label)
-        info.addRow("texels per image pixel", self.ratio_label)
-        layout.addLayout(info)
+        self.tile_label, self.texel_label, self.ratio_label = readouts(
+            layout, "tile", "texel on the ground", "texels per image pixel")
         self.preview = QLabel()
         self.preview.setMinimumHeight(160)
         self.preview.setAlignment(Qt.AlignmentFlag.AlignCenter)
         layout.addWidget(self.preview)
-        self.error_label = QLabel()
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #c0392b")
+        self.error_label = wrapped_label(ERROR_STYLE)
         layout.addWidget(self.error_label)
         self.sync.texture_changed.connect(self._show_texture)
         self.sync.stations_changed.connect(self._readouts)

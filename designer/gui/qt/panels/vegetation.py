@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from PySide6.QtWidgets import QCheckBox, QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton
+from PySide6.QtWidgets import QCheckBox, QGroupBox, QLabel
 
+from designer.gui.qt.boxes import checked_group, chosen_index, item_chooser, refill_chooser
 from designer.gui.qt.panels.base import Panel
 from designer.gui.qt.widgets import combo, declared_field, form, readout
 from designer.gui.state import edits
@@ -36,22 +37,11 @@ class VegetationPanel(Panel):
             "Vegetation target clearance"))
         layout.addWidget(self.placement)
 
-        self.chooser = QComboBox()
-        self.chooser.setObjectName("plant-group")
-        self.chooser.currentIndexChanged.connect(lambda _i: self._show_selected())
-        layout.addWidget(self.chooser)
-        buttons = QHBoxLayout()
-        self.add_buttons = {}
-        for kind, label in (("grass-tuft", "add grass"), ("shrub", "add shrubs"),
-                            ("tree", "add trees")):
-            button = QPushButton(label)
-            button.clicked.connect(lambda _c=False, k=kind: self._add(k))
-            buttons.addWidget(button)
-            self.add_buttons[kind] = button
-        self.remove = QPushButton("remove")
-        self.remove.clicked.connect(self._remove)
-        buttons.addWidget(self.remove)
-        layout.addLayout(buttons)
+        kinds = (("grass-tuft", "add grass"), ("shrub", "add shrubs"), ("tree", "add trees"))
+        self.chooser, added, self.remove = item_chooser(
+            layout, "plant-group", self._show_selected,
+            [(label, lambda k=kind: self._add(k)) for kind, label in kinds], self._remove)
+        self.add_buttons = {kind: button for (kind, _), button in zip(kinds, added, strict=True)}
 
         self.selected = QGroupBox("selected plants")
         f = form(self.selected)
@@ -72,11 +62,8 @@ class VegetationPanel(Panel):
         f.addRow("plants", self.count_label)
         layout.addWidget(self.selected)
 
-        self.wind = QGroupBox("wind")
-        f = form(self.wind)
-        self.windy = QCheckBox("plants sway in the wind")
-        self.windy.toggled.connect(self._wind_toggled)
-        f.addRow(self.windy)
+        self.wind, f, self.windy = checked_group("wind", "plants sway in the wind",
+                                                 self._wind_toggled)
         for label, name, undo in (("amplitude", "amplitude_deg", "Wind amplitude"),
                                   ("gust period", "gust_period_s", "Wind gust period"),
                                   ("towards", "direction_deg", "Wind direction")):
@@ -90,7 +77,7 @@ class VegetationPanel(Panel):
     # ------------------------------------------------------------------ access
     def _index(self) -> int:
         """The chosen group; the first when none is chosen yet."""
-        return max(self.chooser.currentIndex(), 0)
+        return chosen_index(self.chooser)
 
     def _groups(self, p: m.Project) -> tuple[m.PlantGroup, ...]:
         return p.scene.vegetation.plants if p.scene.vegetation is not None else ()
@@ -120,14 +107,9 @@ class VegetationPanel(Panel):
         blocked = self.enabled.blockSignals(True)
         self.enabled.setChecked(veg is not None)
         self.enabled.blockSignals(blocked)
-        groups = self._groups(self.project)
-        keep = self._index()
-        blocked = self.chooser.blockSignals(True)
-        self.chooser.clear()
-        for k, g in enumerate(groups):
-            self.chooser.addItem(f"{k + 1}: {g.kind or g.mesh} ({g.density_per_m2:g} /m²)", k)
-        self.chooser.setCurrentIndex(min(max(keep, 0), len(groups) - 1))
-        self.chooser.blockSignals(blocked)
+        refill_chooser(self.chooser, [
+            (f"{k + 1}: {g.kind or g.mesh} ({g.density_per_m2:g} /m²)", k)
+            for k, g in enumerate(self._groups(self.project))])
         blocked = self.windy.blockSignals(True)
         self.windy.setChecked(veg is not None and veg.wind is not None)
         self.windy.blockSignals(blocked)
