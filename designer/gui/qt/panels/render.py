@@ -1,4 +1,4 @@
-"""Render: quality preset with its measured cost, workers, start/cancel, per-image progress
+"""Render: quality preset with its cost (measured here, or the reference figures until then), workers, start/cancel, per-image progress
 and thumbnails. Rendering runs in ``designer render`` processes: the window never waits."""
 
 from __future__ import annotations
@@ -130,7 +130,7 @@ class RenderPanel(Panel):
         f.addRow("preset", self.bindings.bind(self.preset, "render.preset", "Render preset"))
         self.cost = readout()
         self.cost.setWordWrap(True)
-        f.addRow("measured cost", self.cost)
+        f.addRow("cost", self.cost)  # its lines say whose figures they are
         # a scale giving part pixels is refused where it is typed (it would block the
         # render), with the nearest scale that gives whole pixels
         f.addRow("resolution scale", self.bindings.bind(
