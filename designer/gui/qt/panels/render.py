@@ -1,5 +1,6 @@
 """Render: quality preset with its cost (measured here, or the reference figures until
-then), workers, start/cancel, per-image progress and thumbnails. Rendering runs in ``designer render`` processes: the window never waits."""
+then), workers, start/cancel, per-image progress and thumbnails. Rendering runs in
+``designer render`` processes: the window never waits."""
 
 from __future__ import annotations
 
