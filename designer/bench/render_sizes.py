@@ -70,9 +70,12 @@ def grown_example(terrain_m: float, area_m: float) -> m.Project:
 
 
 def run(repeats: int = 1, scale: float = 1.0,
-        on_row: Callable[[dict], None] | None = None) -> list[dict]:
+        on_row: Callable[[dict], None] | None = None, frames: int = FRAMES,
+        node_graph: bool = True) -> list[dict]:
     """One row per terrain size and texture path (module docstring); ``scale`` < 1 keeps
-    the sizes whose terrain is at most ``scale`` × 1.2 km."""
+    the sizes whose terrain is at most ``scale`` × 1.2 km; ``frames`` rendered per row
+    (more take in more of the frames that swap tiles: about one in 18 over a flight);
+    ``node_graph`` False leaves out the node graph's rows."""
     rows = []
     cache = os.environ.get("DESIGNER_CACHE_DIR")
     with tempfile.TemporaryDirectory(prefix="designer-bench-sizes-") as tmp:
@@ -80,8 +83,9 @@ def run(repeats: int = 1, scale: float = 1.0,
         os.environ["DESIGNER_CACHE_DIR"] = str(tmp / "cache")
         try:
             # the example's baked row first: the model's one record
-            order = [(SIZES[0], True), (SIZES[0], False)]
-            order += [(size, bake) for size in SIZES[1:] for bake in (False, True)]
+            paths = (False, True) if node_graph else (True,)
+            order = [(SIZES[0], True)] + [(SIZES[0], False)] * node_graph
+            order += [(size, bake) for size in SIZES[1:] for bake in paths]
             for (terrain_m, area_m), bake in order:
                 if terrain_m > scale * SIZES[-1][0]:
                     continue
@@ -89,7 +93,7 @@ def run(repeats: int = 1, scale: float = 1.0,
                 path = tmp / f"survey-{terrain_m:.0f}.xml"
                 write_project(project, path)
                 row = _row(project, path, tmp / f"{terrain_m:.0f}-{bake}", bake,
-                           calibrate=not rows)
+                           calibrate=not rows, count=frames)
                 row["terrain_m"] = terrain_m
                 rows.append(row)
                 if on_row is not None:
@@ -102,7 +106,8 @@ def run(repeats: int = 1, scale: float = 1.0,
     return rows
 
 
-def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool) -> dict:
+def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool,
+         count: int = FRAMES) -> dict:
     """One row (module docstring); ``calibrate``: first store the model's record fitted
     to this row's frames."""
     t0 = time.perf_counter()
@@ -110,7 +115,7 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool)
     prepare_s = time.perf_counter() - t0
     n = len(prepared.job.frames)
     mid = n // 2
-    frames = list(range(max(0, mid - 1), min(n, mid - 1 + FRAMES)))
+    frames = list(range(max(0, mid - 1), min(n, mid - 1 + count)))
     report = render_frames(prepared.job_path, frames, workers=1)
     timed = [i for i in frames if i in report.rendered and i not in report.first_frames]
     cycles = [report.stages[i]["cycles_s"] for i in timed]
@@ -135,7 +140,8 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool)
             "cycles_cpu_s": measured,
             "setup_s": float(np.mean(setup)) if setup else float("nan"),
             "peak_rss_mb": max(report.peak_rss_mb or [float("nan")]),
-            "model_cpu_s": estimate, "model_ratio": estimate / measured}
+            "model_cpu_s": estimate, "model_ratio": estimate / measured,
+            "cpu_per_frame_s": [round(c, 2) for c in cpu]}
 
 
 def format_row(r: dict) -> str:
