@@ -33,6 +33,7 @@ from designer.project import model as m
 from designer.project import template, write_project
 from designer.render.job import prepare_job
 from designer.render.runner import render_frames
+from designer.render.tiled_bake import TileGrid, swap_frames
 from designer.render_time.model import (
     REFERENCE,
     fit_speed,
@@ -148,6 +149,11 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool,
     cpu = [report.stages[i]["cycles_cpu_s"] for i in timed]
     setup = [report.stages[i].get("setup_s", 0.0) for i in timed]
     path_name = job_texture_path(prepared.job)
+    swaps = float("nan")
+    spec = prepared.job.tiled_texture
+    if spec is not None:
+        grid = TileGrid(tuple(spec.full_px), spec.core_px, spec.pad_px)
+        swaps = swap_frames(grid, tuple(spec.slots), [f.texture_tiles for f in prepared.job.frames])
     poses = [prepared.poses[i] for i in timed]
     costs = image_costs(prepared.scene.heightfield,
                         np.array([p.C_world for p in poses]).reshape(-1, 3),
@@ -167,7 +173,8 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool,
             "setup_s": float(np.mean(setup)) if setup else float("nan"),
             "peak_rss_mb": max(report.peak_rss_mb or [float("nan")]),
             "model_cpu_s": estimate, "model_ratio": estimate / measured,
-            "cpu_per_frame_s": [round(c, 2) for c in cpu]}
+            "cpu_per_frame_s": [round(c, 2) for c in cpu],
+            "flight_swaps": swaps}
 
 
 def _texture(r: dict) -> str:
@@ -203,6 +210,11 @@ def format_table(rows: list[dict]) -> str:
                              f"{r['cycles_s'] / base['cycles_s']:.2f}x the example's wall "
                              f"seconds, {r['cycles_cpu_s'] / base['cycles_cpu_s']:.2f}x its "
                              "CPU seconds")
+    for r in rows:
+        if r.get("flight_swaps") == r.get("flight_swaps"):  # not NaN: a tiled row
+            lines.append(f"{r['terrain_m']:.0f} m, {_texture(r)}: {r['flight_swaps']} of the "
+                         f"flight's {r['images']} frames change tile slots, rendered in order "
+                         "by one worker")
     lines.append("Cycles s, CPU s, setup s: per image, each worker's first frame left out; "
                  "setup: the frame's set-up (the tiles' bake and load); peak MB: the worker's; "
                  "model s: the render-time model's Cycles CPU seconds for the same images "

@@ -220,6 +220,20 @@ def slot_of(grid: TileGrid, slots: tuple[int, int], tiles) -> np.ndarray:
     return ((r % slots[0]) * slots[1] + c % slots[1]).astype(np.int32)
 
 
+def swap_frames(grid: TileGrid, slots: tuple[int, int], seen,
+                look_ahead: int = LOOK_AHEAD_FRAMES) -> int:
+    """How many of the frames one worker renders in the order of ``seen`` (each frame's
+    tiles) change any slot (:func:`slots_to_show`, with ``look_ahead`` next frames)."""
+    seen = list(seen)
+    shown: dict[int, int] = {}
+    count = 0
+    for i, tiles in enumerate(seen):
+        change = slots_to_show(grid, slots, shown, tiles, seen[i + 1:i + 1 + look_ahead])
+        count += bool(change)
+        shown.update(change)
+    return count
+
+
 def tiles_digest(*parts) -> str:
     """A digest of the inputs of a tiled bake (arrays, bytes, reprs) and of the code."""
     h = hashlib.sha256()

@@ -21,6 +21,7 @@ from designer.render.tiled_bake import (
     slot_of,
     slot_shape,
     slots_to_show,
+    swap_frames,
     tile_grid,
 )
 from designer.scene.terrain import heightfield_to_mesh
@@ -151,6 +152,7 @@ def test_a_swap_loads_the_next_frames_tiles_into_the_free_slots():
     # one per two (or fewer) crossings with them
     assert without >= 12
     assert ahead <= without / 2
+    assert swap_frames(grid, spare, frames) == ahead
 
 
 def test_a_frame_that_sees_its_slots_tiles_changes_nothing():
