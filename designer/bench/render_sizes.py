@@ -93,12 +93,14 @@ def _with_image_texture(project: m.Project, path: Path) -> m.Project:
 
 def run(repeats: int = 1, scale: float = 1.0,
         on_row: Callable[[dict], None] | None = None, frames: int = FRAMES,
-        node_graph: bool = True, image_texture: bool = False) -> list[dict]:
+        node_graph: bool = True, sources: tuple[str, ...] = ("procedural",)) -> list[dict]:
     """One row per terrain size and texture path (module docstring); ``scale`` < 1 keeps
     the sizes whose terrain is at most ``scale`` × 1.2 km; ``frames`` rendered per row
     (more take in more of the frames that swap tiles: about one in 18 over a flight);
-    ``node_graph`` False leaves out the node graph's rows; ``image_texture`` adds rows of
-    the grown terrains' bake with the texture from an image file (the same texels)."""
+    ``node_graph`` False leaves out the node graph's rows; ``sources``: the grown
+    terrains' texture sources, "procedural" (the example's) and "image" (an image file
+    holding the same texels: its bake's rows only). The example's baked row comes first
+    in any case: the model's one record."""
     rows = []
     cache = os.environ.get("DESIGNER_CACHE_DIR")
     with tempfile.TemporaryDirectory(prefix="designer-bench-sizes-") as tmp:
@@ -109,8 +111,8 @@ def run(repeats: int = 1, scale: float = 1.0,
             paths = (False, True) if node_graph else (True,)
             order = [(SIZES[0], True, False)] + [(SIZES[0], False, False)] * node_graph
             for size in SIZES[1:]:
-                order += [(size, bake, False) for bake in paths]
-                order += [(size, True, True)] * image_texture
+                order += [(size, bake, False) for bake in paths] * ("procedural" in sources)
+                order += [(size, True, True)] * ("image" in sources)
             for (terrain_m, area_m), bake, image in order:
                 if terrain_m > scale * SIZES[-1][0]:
                     continue
