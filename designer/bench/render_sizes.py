@@ -33,6 +33,7 @@ from designer.project import model as m
 from designer.project import template, write_project
 from designer.render.job import prepare_job
 from designer.render.runner import render_frames
+from designer.render.tiled_bake import TileGrid, swap_frames
 from designer.render_time.model import (
     REFERENCE,
     fit_speed,
@@ -51,10 +52,16 @@ FRAMES = 6
 TILE_M = 20.0
 
 
-def grown_example(terrain_m: float, area_m: float) -> m.Project:
+def grown_example(terrain_m: float, area_m: float,
+                  image_texture: Path | None = None) -> m.Project:
     """The example survey with a ``terrain_m`` square terrain and ``area_m`` square flight
-    area about the same centre, its texture tile kept at TILE_M."""
+    area about the same centre, its texture tile kept at TILE_M; with ``image_texture``
+    (a PNG file to write) the texture is that file, holding the example's procedural
+    tile: the same texels from an image (the source given relative to the file's folder,
+    where the project is to be written)."""
     project = template("survey").project
+    if image_texture is not None:
+        project = _with_image_texture(project, Path(image_texture))
     terrain = project.scene.terrain
     e = terrain.extent
     cx, cy = (e.min_X + e.max_X) / 2, (e.min_Y + e.max_Y) / 2
@@ -69,10 +76,31 @@ def grown_example(terrain_m: float, area_m: float) -> m.Project:
     return replace(project, scene=scene, trajectory=trajectory)
 
 
+def _with_image_texture(project: m.Project, path: Path) -> m.Project:
+    import cv2
+
+    from designer.scene.texture import procedural_texture
+
+    texture = project.scene.texture
+    src = texture.source
+    side_px = round(TILE_M / src.texel_size_m)
+    rgb = procedural_texture((side_px, side_px), src.seed, kind=src.pattern)
+    if not cv2.imwrite(str(path), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)):
+        raise OSError(f"could not write {path}")
+    texture = replace(texture, source=m.ImageTexture(file=path.name))
+    return replace(project, scene=replace(project.scene, texture=texture))
+
+
 def run(repeats: int = 1, scale: float = 1.0,
-        on_row: Callable[[dict], None] | None = None) -> list[dict]:
+        on_row: Callable[[dict], None] | None = None, frames: int = FRAMES,
+        node_graph: bool = True, sources: tuple[str, ...] = ("procedural",)) -> list[dict]:
     """One row per terrain size and texture path (module docstring); ``scale`` < 1 keeps
-    the sizes whose terrain is at most ``scale`` × 1.2 km."""
+    the sizes whose terrain is at most ``scale`` × 1.2 km; ``frames`` rendered per row
+    (more take in more of the frames that swap tiles: about one in 18 over a flight);
+    ``node_graph`` False leaves out the node graph's rows; ``sources``: the grown
+    terrains' texture sources, "procedural" (the example's) and "image" (an image file
+    holding the same texels: its bake's rows only). The example's baked row comes first
+    in any case: the model's one record."""
     rows = []
     cache = os.environ.get("DESIGNER_CACHE_DIR")
     with tempfile.TemporaryDirectory(prefix="designer-bench-sizes-") as tmp:
@@ -80,17 +108,22 @@ def run(repeats: int = 1, scale: float = 1.0,
         os.environ["DESIGNER_CACHE_DIR"] = str(tmp / "cache")
         try:
             # the example's baked row first: the model's one record
-            order = [(SIZES[0], True), (SIZES[0], False)]
-            order += [(size, bake) for size in SIZES[1:] for bake in (False, True)]
-            for (terrain_m, area_m), bake in order:
+            paths = (False, True) if node_graph else (True,)
+            order = [(SIZES[0], True, False)] + [(SIZES[0], False, False)] * node_graph
+            for size in SIZES[1:]:
+                order += [(size, bake, False) for bake in paths] * ("procedural" in sources)
+                order += [(size, True, True)] * ("image" in sources)
+            for (terrain_m, area_m), bake, image in order:
                 if terrain_m > scale * SIZES[-1][0]:
                     continue
-                project = grown_example(terrain_m, area_m)
-                path = tmp / f"survey-{terrain_m:.0f}.xml"
+                name = f"{terrain_m:.0f}-{bake}-{'image' if image else 'procedural'}"
+                png = tmp / f"texture-{name}.png" if image else None
+                project = grown_example(terrain_m, area_m, png)
+                path = tmp / f"survey-{name}.xml"
                 write_project(project, path)
-                row = _row(project, path, tmp / f"{terrain_m:.0f}-{bake}", bake,
-                           calibrate=not rows)
+                row = _row(project, path, tmp / name, bake, calibrate=not rows, count=frames)
                 row["terrain_m"] = terrain_m
+                row["source"] = "image" if image else "procedural"
                 rows.append(row)
                 if on_row is not None:
                     on_row(row)
@@ -102,7 +135,8 @@ def run(repeats: int = 1, scale: float = 1.0,
     return rows
 
 
-def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool) -> dict:
+def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool,
+         count: int = FRAMES) -> dict:
     """One row (module docstring); ``calibrate``: first store the model's record fitted
     to this row's frames."""
     t0 = time.perf_counter()
@@ -110,13 +144,18 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool)
     prepare_s = time.perf_counter() - t0
     n = len(prepared.job.frames)
     mid = n // 2
-    frames = list(range(max(0, mid - 1), min(n, mid - 1 + FRAMES)))
+    frames = list(range(max(0, mid - 1), min(n, mid - 1 + count)))
     report = render_frames(prepared.job_path, frames, workers=1)
     timed = [i for i in frames if i in report.rendered and i not in report.first_frames]
     cycles = [report.stages[i]["cycles_s"] for i in timed]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in timed]
     setup = [report.stages[i].get("setup_s", 0.0) for i in timed]
     path_name = job_texture_path(prepared.job)
+    swaps = float("nan")
+    spec = prepared.job.tiled_texture
+    if spec is not None:
+        grid = TileGrid(tuple(spec.full_px), spec.core_px, spec.pad_px)
+        swaps = swap_frames(grid, tuple(spec.slots), [f.texture_tiles for f in prepared.job.frames])
     poses = [prepared.poses[i] for i in timed]
     costs = image_costs(prepared.scene.heightfield,
                         np.array([p.C_world for p in poses]).reshape(-1, 3),
@@ -135,11 +174,17 @@ def _row(project: m.Project, path: Path, out: Path, bake: bool, calibrate: bool)
             "cycles_cpu_s": measured,
             "setup_s": float(np.mean(setup)) if setup else float("nan"),
             "peak_rss_mb": max(report.peak_rss_mb or [float("nan")]),
-            "model_cpu_s": estimate, "model_ratio": estimate / measured}
+            "model_cpu_s": estimate, "model_ratio": estimate / measured,
+            "cpu_per_frame_s": [round(c, 2) for c in cpu],
+            "flight_swaps": swaps}
+
+
+def _texture(r: dict) -> str:
+    return r["texture"] + (" img" if r.get("source") == "image" else "")
 
 
 def format_row(r: dict) -> str:
-    return (f"{r['terrain_m']:>9.0f} {r['images']:>6} {r['texture']:<10} {r['frames']:>6} "
+    return (f"{r['terrain_m']:>9.0f} {r['images']:>6} {_texture(r):<10} {r['frames']:>6} "
             f"{r['prepare_s']:>9.1f} {r['cycles_s']:>8.2f} {r['cycles_cpu_s']:>8.2f} "
             f"{r['setup_s']:>7.2f} {r['peak_rss_mb']:>8.0f} {r['model_cpu_s']:>8.2f} "
             f"{r['model_ratio']:>7.2f}")
@@ -163,13 +208,18 @@ def format_table(rows: list[dict]) -> str:
     if base is not None:
         for r in rows:
             if r is not base:
-                lines.append(f"{r['terrain_m']:.0f} m, {r['texture']}: Cycles "
+                lines.append(f"{r['terrain_m']:.0f} m, {_texture(r)}: Cycles "
                              f"{r['cycles_s'] / base['cycles_s']:.2f}x the example's wall "
                              f"seconds, {r['cycles_cpu_s'] / base['cycles_cpu_s']:.2f}x its "
                              "CPU seconds")
+    for r in rows:
+        if r.get("flight_swaps") == r.get("flight_swaps"):  # not NaN: a tiled row
+            lines.append(f"{r['terrain_m']:.0f} m, {_texture(r)}: {r['flight_swaps']} of the "
+                         f"flight's {r['images']} frames change tile slots, rendered in order "
+                         "by one worker")
     lines.append("Cycles s, CPU s, setup s: per image, each worker's first frame left out; "
                  "setup: the frame's set-up (the tiles' bake and load); peak MB: the worker's; "
                  "model s: the render-time model's Cycles CPU seconds for the same images "
                  "(this machine's records; wall = CPU / cores on an idle machine); model/: "
-                 "model s / CPU s")
+                 "model s / CPU s; img: the texture from an image file")
     return "\n".join(lines)

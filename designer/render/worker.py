@@ -40,7 +40,13 @@ from designer.render.job_spec import (
     RenderJob,
     TiledTextureSpec,
 )
-from designer.render.tiled_bake import TileGrid, ensure_tile, slot_of, tile_file
+from designer.render.tiled_bake import (
+    LOOK_AHEAD_FRAMES,
+    TileGrid,
+    ensure_tile,
+    slots_to_show,
+    tile_file,
+)
 from designer.render.void_share import VOID_MAP_SUFFIX, void_share_of_map
 from designer.scene.texture_variation import MIRROR_OFFSETS
 
@@ -271,16 +277,15 @@ def _varied(nodes, links, spec: MaterialSpec, base: Path, uv, lookup_uv, colour)
     return _mix(nodes, links, "MULTIPLY", 1.0, colour, planes.outputs["Red"])
 
 
-def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
-    """Give each tile slot's material of the terrain the frame's tile of that slot
-    (baking it first if no worker has: designer.render.tiled_bake); a slot the frame sees
-    no tile of keeps what it shows (the coarse bake until it first gets a tile); tiles no
-    slot shows any more are freed."""
+def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path, upcoming=()) -> None:
+    """Give the terrain's tile slots the frame's tiles, and when any changes the tiles
+    of the ``upcoming`` frames (designer.render.tiled_bake.slots_to_show; each baked
+    first if no worker has); a slot no frame wants keeps what it shows (the coarse bake
+    until it first gets a tile); tiles no slot shows any more are freed."""
     mesh = bpy.data.objects["terrain"].data
     grid = TileGrid(tuple(spec.full_px), spec.core_px, spec.pad_px)
     rows, columns = spec.slots
-    wanted = dict(zip(slot_of(grid, spec.slots, list(tiles or ())).tolist(), tiles or (),
-                      strict=True))
+    shown = {}
     for slot in range(rows * columns):
         material = mesh.materials[spec.first_material + slot]
         # no light is sampled from the ground (no bounces): without this, every swap of
@@ -288,13 +293,11 @@ def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
         # setting a property tags the material for a new shader, even to its value)
         if material.cycles.emission_sampling != "NONE":
             material.cycles.emission_sampling = "NONE"
-        nodes = material.node_tree.nodes
+        shown[slot] = _shown_tile(material.node_tree.nodes["texture"].image.filepath,
+                                  spec.digest)
+    for slot, k in slots_to_show(grid, spec.slots, shown, tiles, upcoming).items():
+        nodes = mesh.materials[spec.first_material + slot].node_tree.nodes
         tex, mapping = nodes["texture"], nodes["texture_mapping"]
-        k = wanted.get(slot)
-        if k is None or Path(tex.image.filepath).name == tile_file(spec.digest, k):
-            # a slot this frame does not see keeps its tile: the next frames along the
-            # line are likely to want it, and every swap costs Cycles a scene update
-            continue
         old = tex.image
         tex.image = load_image(str(ensure_tile(spec, k, base)), "Non-Color", half=True)
         scale, offset = grid.uv_transform(k)
@@ -302,6 +305,15 @@ def show_texture_tiles(spec: TiledTextureSpec, tiles, base: Path) -> None:
         mapping.inputs["Location"].default_value = (*offset, 0.0)
         if old.users == 0:
             bpy.data.images.remove(old)
+
+
+def _shown_tile(filepath: str, digest: str) -> int | None:
+    """The tile an image file of the job is (None: the coarse bake)."""
+    name = Path(filepath).name
+    prefix = tile_file(digest, 0)[:-len("0.tif")]
+    if not name.startswith(prefix):
+        return None
+    return int(name[len(prefix):-len(".tif")])
 
 
 def set_materials(mesh: bpy.types.Mesh, spec: MeshSpec, base: Path, data=None) -> None:
@@ -658,7 +670,9 @@ def main(argv: list[str] | None = None) -> int:
         if plants:
             pose_plants(plants, job.wind, frame.time_s)
         if job.tiled_texture is not None:
-            show_texture_tiles(job.tiled_texture, frame.texture_tiles, base)
+            upcoming = [frames[i].texture_tiles
+                        for i in wanted[order + 1:order + 1 + LOOK_AHEAD_FRAMES]]
+            show_texture_tiles(job.tiled_texture, frame.texture_tiles, base, upcoming)
         done = render_frame(scene, camera, frame, out_dir, ext, base / PARTIAL_DIR,
                             chains.get(frame.camera_id), exif,
                             setup_s=time.perf_counter() - t_setup, bare=args.bare,

@@ -20,6 +20,8 @@ from designer.render.tiled_bake import (
     light_window,
     slot_of,
     slot_shape,
+    slots_to_show,
+    swap_frames,
     tile_grid,
 )
 from designer.scene.terrain import heightfield_to_mesh
@@ -106,11 +108,58 @@ def test_a_nadir_frame_loads_the_tiles_under_its_footprint_and_no_other():
 def test_the_tiles_one_frame_sees_have_slots_of_their_own():
     grid = TileGrid((10000, 8000), core_px=1000, pad_px=4)  # 10 × 8 tiles
     seen = [grid.tiles_in(0.05, 0.25, 0.6, 0.75), grid.tiles_in(0.5, 0.62, 0.1, 0.3), ()]
-    slots = slot_shape(grid, seen)
+    slots = slot_shape(grid, seen, spare=0)
     assert slots == (3, 3)  # at most three rows and three columns in one frame
+    assert slot_shape(grid, seen) == (5, 5)  # and two spare rows and columns
     for tiles in seen:
         assert len(set(slot_of(grid, slots, list(tiles)).tolist())) == len(tiles)
     everything = slot_of(grid, slots, range(grid.count))
     assert set(everything.tolist()) == set(range(9))
     # a frame that sees the whole terrain: a slot per tile
     assert slot_shape(grid, [tuple(range(grid.count))]) == (8, 10)
+
+
+def _line_of_frames(grid):
+    """Frames along a line northwards over a 20 × 20 tile grid: each sees 3 columns and at
+    most 2 rows of tiles, a tile row crossed every 4 frames."""
+    frames = []
+    for i in range(60):
+        v1 = 0.95 - i * 0.0125
+        frames.append(grid.tiles_in(0.31, 0.44, v1 - 0.06, v1))
+    return frames
+
+
+def _show_all(grid, slots, frames, look_ahead):
+    shown, swaps = {}, 0
+    for i, tiles in enumerate(frames):
+        change = slots_to_show(grid, slots, shown, tiles, frames[i + 1:i + 1 + look_ahead])
+        swaps += bool(change)
+        shown.update(change)
+        # every tile the frame sees is in its own slot
+        assert all(shown[s] == k for s, k in zip(slot_of(grid, slots, list(tiles)).tolist(),
+                                                 tiles, strict=True))
+    return swaps
+
+
+def test_a_swap_loads_the_next_frames_tiles_into_the_free_slots():
+    grid = TileGrid((20000, 20000), core_px=1000, pad_px=4)
+    frames = _line_of_frames(grid)
+    spare = slot_shape(grid, frames)
+    assert spare == (4, 5)
+    without = _show_all(grid, slot_shape(grid, frames, spare=0), frames, 0)
+    ahead = _show_all(grid, spare, frames, 20)
+    # a row crossed every four frames: one swap per crossing without the free slots,
+    # one per two (or fewer) crossings with them
+    assert without >= 12
+    assert ahead <= without / 2
+    assert swap_frames(grid, spare, frames) == ahead
+
+
+def test_a_frame_that_sees_its_slots_tiles_changes_nothing():
+    grid = TileGrid((20000, 20000), core_px=1000, pad_px=4)
+    slots = (5, 5)
+    tiles = grid.tiles_in(0.31, 0.44, 0.5, 0.56)
+    shown = slots_to_show(grid, slots, {}, tiles, [grid.tiles_in(0.31, 0.44, 0.4, 0.46)])
+    assert set(tiles) <= set(shown.values()) and len(shown) > len(tiles)
+    # the same frame again, with other frames to come: no change (no scene update)
+    assert slots_to_show(grid, slots, shown, tiles, [grid.tiles_in(0.6, 0.7, 0.1, 0.2)]) == {}
