@@ -54,6 +54,16 @@ def register(subparsers) -> None:
     parser.add_argument("--sizes", default=None, metavar="N,N,…",
                         help="scale: the block sizes to measure, in images (default "
                              "60,240,720)")
+    parser.add_argument("--frames", type=int, default=None, metavar="N",
+                        help="render-sizes: frames rendered per row (more take in more of "
+                             "the frames that swap texture tiles)")
+    parser.add_argument("--no-node-graph", dest="node_graph", action="store_false",
+                        default=None,
+                        help="render-sizes: leave out the node graph's rows")
+    parser.add_argument("--texture-sources", default=None, metavar="S,S",
+                        help="render-sizes: the grown terrains' texture sources, "
+                             "'procedural' (the example's) and/or 'image' (an image file "
+                             "holding the same texels)")
     parser.add_argument("--variants", action="store_true",
                         help="render: also the rows of the world's elements (sun over time, "
                              "moving objects, buildings, plants, clouds, rig, rolling shutter)")
@@ -116,11 +126,37 @@ def run(args) -> int:
         options["images"] = args.images
     if args.sizes is not None:
         options["sizes"] = _sizes(args.sizes, args.name, module)
+    options.update(_render_sizes_options(args, module))
     if "on_row" in inspect.signature(module.run).parameters:
         options["on_row"] = _live_rows(module)
     rows = module.run(repeats=args.repeats, scale=args.scale, **options)
     print(module.format_table(rows))
     return 0
+
+
+def _render_sizes_options(args, module) -> dict:
+    """``--frames``, ``--no-node-graph`` and ``--texture-sources`` as run() options of
+    ``designer bench render-sizes`` (DesignerError for another bench or a bad value)."""
+    from designer.errors import DesignerError
+
+    given = {"frames": args.frames, "node_graph": args.node_graph,
+             "sources": args.texture_sources}
+    options = {k: v for k, v in given.items() if v is not None}
+    flag = {"frames": "--frames", "node_graph": "--no-node-graph",
+            "sources": "--texture-sources"}
+    for key in options:
+        if key not in inspect.signature(module.run).parameters:
+            raise DesignerError(f"{flag[key]}: only 'designer bench render-sizes' takes it, "
+                                f"not 'designer bench {args.name}'")
+    if "frames" in options and options["frames"] < 1:
+        raise DesignerError(f"--frames {args.frames}: give a number of frames >= 1")
+    if "sources" in options:
+        sources = tuple(v for v in args.texture_sources.replace(" ", "").split(",") if v)
+        if not sources or set(sources) - {"procedural", "image"}:
+            raise DesignerError(f"--texture-sources {args.texture_sources}: give "
+                                "procedural, image or both, separated by a comma")
+        options["sources"] = sources
+    return options
 
 
 def _sizes(text: str, name: str, module) -> tuple[int, ...]:
