@@ -53,3 +53,18 @@ def test_greyed_flight_and_plant_fields_show_what_switching_on_gives(qtbot, wind
     assert height.value() == m.PLANT_KINDS[FIRST_PLANT_KIND][0]
     assert not plants.kind.isEnabled() and plants.kind.currentData() == FIRST_PLANT_KIND
 
+
+
+def test_greyed_defocus_object_distance_says_each_images_own(qtbot, window, tmp_path):
+    """Defocus off: its object distance, greyed, shows what switching it on gives (each
+    image's own distance to the ground), not the field's old minimum of 0.1 m."""
+    w = window
+    project = small_survey(n_photos=3)
+    assert project.effects is None or project.effects.defocus is None
+    assert w.file_actions.open(write_project_file(project, tmp_path / "plain")), problems(w)
+    effects = open_panel(w, "Effects")
+    wait_idle(qtbot, w)
+    [box] = [b for b in effects.findChildren(QDoubleSpinBox)
+             if b.objectName().endswith(" object distance")]
+    assert not box.isEnabled()
+    assert box.text() == box.specialValueText() == "each image's distance to the ground"

@@ -20,6 +20,10 @@ def _object_distance() -> QDoubleSpinBox:
     box = declared_field(m.Defocus, "object_distance_m")
     box.setMinimum(0.0)  # 0 shows the special text: each image's own distance
     box.setSpecialValueText("each image's distance to the ground")
+    # what switching defocus on gives (no distance of its own), shown greyed while it is
+    # off, not the field's former minimum
+    box.setValue(0.0)
+    box.switched_on_value = 0.0
     return box
 
 
