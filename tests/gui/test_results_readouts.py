@@ -69,3 +69,27 @@ def test_a_picked_point_reads_the_same_in_the_panel_and_the_status_bar(qtbot, wi
     assert said in picked, (said, picked)
     qtbot.waitUntil(lambda: w.coords.text() == f"{said} (world)", timeout=3000)
     assert said in w.statusBar().currentMessage()
+
+
+def test_the_colour_range_without_distances_says_where_it_comes_from(qtbot, window,
+                                                                    tmp_path):
+    """No reconstruction: the greyed colour range says the distances set it, not the
+    field's minimum of 0.1 mm (the walk of 12-06); a result then gives its own range."""
+    w = window
+    add_hills_and_flight(w)
+    wait_idle(qtbot, w)
+    results = open_panel(w, "Results")
+    assert not results.range_spin.isEnabled()
+    assert results.range_spin.text() == "set by the distances"
+    project_path = tmp_path / "hills.xml"
+    assert w.file_actions.save_to(project_path), problems(w)
+    job = ReconstructJob(project_path, results.survey_dir(), "known-poses")
+    hf = w.sync.terrain.heightfield
+    x = np.arange(-20.0, 20.0)
+    xyz = np.column_stack([x, np.zeros(40), hf.height_at(x, np.zeros(40)) + 0.02])
+    job.compare_dir.mkdir(parents=True)
+    write_distances_ply(job.distances_ply, xyz, np.full(40, 0.02))
+    open_with_ctrl_o(qtbot, w, project_path)
+    qtbot.waitUntil(lambda: results.range_spin.isEnabled(), timeout=60_000)
+    assert results.range_spin.text().endswith("mm")
+    assert results.range_spin.value() > 0

@@ -82,7 +82,7 @@ class ResultsPanel(Panel):
                                 label="Colour range ±")
         self.range_spin.setToolTip("the colours (and the histogram) span ± this distance, "
                                    "at least 0.1 mm; points beyond take the end colours")
-        self.range_spin.setEnabled(False)
+        self._range_idle()
         self.range_spin.valueChanged.connect(lambda v: self.set_range(v / 1000))
         f.addRow("colour range ±", self.range_spin)
         self.picked = readout()
@@ -363,12 +363,22 @@ class ResultsPanel(Panel):
             terrain.heightfield if terrain else None, on_done=self.show_gcp_errors,
             on_error=lambda e: self.rmse.setText(f"{Path(path).name}: {e}"))
 
+    def _range_idle(self) -> None:
+        """No distances shown: the colour range, greyed, says it comes from them (not the
+        field's minimum, which no result has set)."""
+        self.range_spin.blockSignals(True)
+        self.range_spin.setEnabled(False)
+        self.range_spin.setMinimum(0.0)
+        self.range_spin.setSpecialValueText("set by the distances")
+        self.range_spin.setValue(0.0)
+        self.range_spin.blockSignals(False)
+
     def clear(self) -> None:
         self.sync.view.remove_layer("residuals")
         self.result = None
         self._show_missing()
         self.picked.setText(PICK_HINT)
-        self.range_spin.setEnabled(False)
+        self._range_idle()
         self.outlier_table.setRowCount(0)
         self.outlier_label.setText("")
         self.clipped_label.setText("")
@@ -406,6 +416,8 @@ class ResultsPanel(Panel):
                 self.outlier_table.setItem(r, c, QTableWidgetItem(text))
         self.range_spin.setEnabled(True)
         self.range_spin.blockSignals(True)
+        self.range_spin.setSpecialValueText("")
+        self.range_spin.setMinimum(1000 * results_data.COLOUR_RANGE_STEP_M)
         self.range_spin.setValue(1000 * result.limit_m)
         self.range_spin.blockSignals(False)
         self._histogram(result)
