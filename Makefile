@@ -1,5 +1,6 @@
 # The two commands of the README:
-#   make demo   - install everything and run the example survey end to end (headless)
+#   make demo   - install what the demo needs and run the example survey end to end
+#                 (headless); its own render measures this machine's render speed
 #   make test   - install everything and run the whole test suite (lint + pytest)
 PYTHON ?= python3.11
 VENV   ?= .venv
@@ -7,7 +8,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PROBED := $(VENV)/.probed
 
-.PHONY: setup install system demo test lint bench clean
+.PHONY: setup install system system-demo demo test lint bench clean
 
 # everything: the packages, the compiled kernels and the probe render
 setup: system $(PROBED)
@@ -15,8 +16,14 @@ setup: system $(PROBED)
 # the packages and the compiled kernels, without the probe render
 install: system $(STAMP)
 
+# every Debian package: the demo's and those only the tests and the GUI use (Xvfb, the
+# xcb libraries, CloudCompare, COLMAP's command line)
 system:
-	@bash scripts/install-system-packages.sh
+	@bash scripts/install-system-packages.sh all
+
+# the Debian packages the demo runs on (the C compiler, the libraries bpy loads)
+system-demo:
+	@bash scripts/install-system-packages.sh demo
 
 # the compiled kernels are rebuilt by pip install when their sources change
 $(STAMP): pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate/csrc/*.[ch] designer/core/csrc/*.c)
@@ -27,14 +34,15 @@ $(STAMP): pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate
 	$(BIN)/designer warmup --no-probe
 	touch $(STAMP)
 
-# the probe render: this machine's render speed, which every render-time estimate uses
-# (the demo's among them); the tests each keep their own empty render-speed cache
-# (tests/conftest.py), so make test does without it
+# the probe render: this machine's render speed, which every render-time estimate uses;
+# the tests each keep their own empty render-speed cache (tests/conftest.py), so make
+# test does without it, and so does make demo: its plan's estimate says it uses the
+# reference figures until its own render (60 images) records this machine's speed
 $(PROBED): $(STAMP)
 	$(BIN)/designer warmup
 	touch $(PROBED)
 
-demo: setup
+demo: system-demo $(STAMP)
 	$(BIN)/designer demo -o demo-output
 
 lint: install
