@@ -1,12 +1,15 @@
 # The two commands of the README:
-#   make demo   - install what the demo needs and run the example survey end to end
-#                 (headless); its own render measures this machine's render speed
+#   make demo   - install what the demo needs (the render and sfm extras, the Debian
+#                 packages it runs on) and run the example survey end to end (headless);
+#                 its own render measures this machine's render speed
 #   make test   - install everything and run the whole test suite (lint + pytest)
 PYTHON ?= python3.11
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PROBED := $(VENV)/.probed
+DEMO_STAMP := $(VENV)/.installed-demo
+, := ,
 
 .PHONY: setup install system system-demo demo test lint bench clean
 
@@ -26,13 +29,27 @@ system-demo:
 	@bash scripts/install-system-packages.sh demo
 
 # the compiled kernels are rebuilt by pip install when their sources change
-$(STAMP): pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate/csrc/*.[ch] designer/core/csrc/*.c)
+KERNEL_SOURCES := pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate/csrc/*.[ch] designer/core/csrc/*.c)
+
+# a virtual environment with designer and the extras named (the kernels compiled), checked
+define venv_install
 	@command -v $(PYTHON) >/dev/null || { echo "error: $(PYTHON) not found; install Python 3.11 (the bpy wheels exist only for 3.11)"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[all]"
+	$(BIN)/python -m pip install --quiet -e ".[$(1)]"
 	$(BIN)/designer warmup --no-probe
-	touch $(STAMP)
+endef
+
+# every extra (render, sfm, cluster, gui, test); they hold the demo's too
+$(STAMP): $(KERNEL_SOURCES)
+	$(call venv_install,all)
+	touch $(STAMP) $(DEMO_STAMP)
+
+# the extras the demo runs on (render = bpy, sfm = pycolmap), without the GUI's Qt and
+# VTK, Dask and the test tools
+$(DEMO_STAMP): $(KERNEL_SOURCES)
+	$(call venv_install,render$(,)sfm)
+	touch $(DEMO_STAMP)
 
 # the probe render: this machine's render speed, which every render-time estimate uses;
 # the tests each keep their own empty render-speed cache (tests/conftest.py), so make
@@ -42,7 +59,7 @@ $(PROBED): $(STAMP)
 	$(BIN)/designer warmup
 	touch $(PROBED)
 
-demo: system-demo $(STAMP)
+demo: system-demo $(DEMO_STAMP)
 	$(BIN)/designer demo -o demo-output
 
 lint: install
