@@ -23,7 +23,7 @@ def _env(tmp_path: Path) -> dict:
 def test_warmup_then_compare_imports_no_numba(tmp_path):
     env = _env(tmp_path)
     # without the probe render (six example frames), as `make install` (which `make test`
-    # runs first) runs it; `make setup` (`make demo`'s) runs the whole `designer warmup`
+    # and `make demo` run first) runs it; `make setup` runs the whole `designer warmup`
     done = subprocess.run([sys.executable, "-m", "designer", "warmup", "--no-probe"],
                           env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
