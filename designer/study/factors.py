@@ -534,8 +534,9 @@ def _declared_draws() -> dict[str, tuple[str, Callable[[m.Project, int], m.Proje
                 if el.path is None:
                     raise RuntimeError(f"{cls.__name__}.{d.name} declares draw "
                                        f"{d.attr.draw!r} but <{el.tag}> has no path")
+                # in a person's words (the Study panel's tooltip, the study schema)
                 seeds.setdefault(d.attr.draw, []).append(
-                    (el.path, d.name, f"<{el.tag}> {d.xml}"))
+                    (el.path, d.name, f"{d.label} of the {el.title}"))
 
     def reseed(p: m.Project, seed: int, where: list[tuple[str, str, str]]) -> m.Project:
         for path, name, _ in where:
@@ -543,7 +544,7 @@ def _declared_draws() -> dict[str, tuple[str, Callable[[m.Project, int], m.Proje
                 p = declare.with_value(p, path, name, seed)
         return p
 
-    return {name: ("the " + " and ".join(w for _, _, w in where),
+    return {name: ("the " + " and the ".join(w for _, _, w in where),
                    lambda p, s, where=where: reseed(p, s, where))
             for name, where in seeds.items()}
 

@@ -61,6 +61,16 @@ def test_no_sentence_of_a_studys_messages_names_an_identifier_or_xml():
     assert not found, "\n".join(found)
 
 
+def test_every_draws_description_is_in_words():
+    """The Study panel's tooltip of each re-drawn seed (and the study schema's
+    documentation) names the elements by their titles, not as XML (the walk of 12-06
+    found "the <cloud-shadows> seed" there: built from the declarations, no sentence of
+    the source shows it)."""
+    bad = {name: doc for name, (doc, _) in DRAWS.items()
+           if XML.findall(doc) or TAG.findall(doc) or SNAKE.findall(doc)}
+    assert not bad, bad
+
+
 STUDY = """<?xml version="1.0"?>
 <study xmlns="urn:designer:project:1" schema-version="1.0" name="bad">
   <base-project file="tiny-base.xml"/>
