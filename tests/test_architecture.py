@@ -613,9 +613,6 @@ MAX_FUNCTION_LINES = 80
 #: test says so), and a new long function is split, not added.
 LONG_FUNCTIONS: dict[str, str] = {
     # pipelines with one option inline per step; being split into named steps (issue #54)
-    "designer/render/pipeline.py:render_project":
-        "the render's phases (prepare, probe, frames, exports) with resume and progress "
-        "inline; to split as prepare_job was",
     "designer/study/run.py:_execute":
         "the study's render and processing tasks scheduled with their caches and progress "
         "in one loop; its task kinds to become functions of their own",

@@ -34,6 +34,7 @@ from designer.errors import DesignerError
 from designer.export.dispatch import write_all
 from designer.export.odm import odm_crs
 from designer.project import load_project
+from designer.project import model as m
 from designer.render.job import PreparedJob, prepare_job
 from designer.render.manifest import Manifest
 from designer.render.provenance import job_provenance
@@ -343,6 +344,174 @@ def _record_speed(prepared: PreparedJob, report: RenderReport, prepare_seconds: 
         print(f"designer: warning: render speed not recorded ({error})", file=sys.stderr)
 
 
+@dataclass(frozen=True)
+class _Run:
+    """One render's prepared state, shared by its steps: the project, the job, the
+    manifest updated as images land and the frames asked for."""
+
+    project: m.Project
+    project_path: Path
+    out_dir: Path
+    prepared: PreparedJob
+    manifest: Manifest
+    wanted: list[int]
+    prepare_seconds: float
+
+    @property
+    def images(self) -> Path:
+        """OUT/images."""
+        return Path(self.prepared.job.output_dir)
+
+
+def _prepare_run(project_path: Path, out_dir: Path, frames: str | None,
+                 quality: str | None, t_command: float) -> _Run:
+    """Load the project, prepare its job in ``out_dir`` and open its manifest with the
+    job's provenance; ``t_command``: when the command started (prepare time counts
+    from it)."""
+    project_path = Path(project_path).resolve()
+    project = load_project(project_path)
+    out_dir = Path(out_dir).resolve()  # tasks on cluster workers resolve nothing themselves
+    out_dir.mkdir(parents=True, exist_ok=True)
+    prepared = prepare_job(project, project_path.parent, out_dir, quality)
+    provenance = job_provenance(prepared.job, prepared.job_path.parent, project)
+    prepare_seconds = time.perf_counter() - t_command
+    wanted = parse_frames(frames, len(prepared.poses))
+    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
+                        crs=project.crs)
+    return _Run(project, project_path, out_dir, prepared, manifest, wanted, prepare_seconds)
+
+
+def _write_truth_and_readme(run: _Run, colmap_offset: str) -> tuple[dict[str, Path], float]:
+    """Write the ground truth (recorded in the manifest) and the folder's README; the
+    ground truth's files and the seconds it took."""
+    prepared = run.prepared
+    t_truth = time.perf_counter()
+    ground_truth = write_ground_truth(run.project, prepared, run.out_dir, colmap_offset)
+    truth_seconds = time.perf_counter() - t_truth
+    run.manifest.ground_truth_seconds(truth_seconds)
+    run.manifest.ground_truth_written(colmap_offset)
+    names = prepared.job.image_names
+    # the readout ODM is told: the first rolling-shutter image's
+    rolling = next((rs for rs in prepared.frame_shutters if rs is not None), None)
+    sizes = (None if prepared.cameras is None else
+             {c: i.image_size_px for c, i in prepared.cameras.interiors.items()})
+    write_readme(run.out_dir, list(names.values()), ground_truth,
+                 project=run.project_path.name,
+                 image_size_px=prepared.interior.image_size_px, camera_sizes_px=sizes,
+                 readout_s=rolling.readout_s if rolling is not None else None)
+    return ground_truth, truth_seconds
+
+
+def _stale_images(run: _Run) -> dict[int, list[str]]:
+    """Move a folder's old-layout images into images/, then find the wanted frames whose
+    complete-looking image was rendered from other inputs (or has no record of them),
+    with the parts of their inputs that changed: these are rendered again."""
+    names = run.prepared.job.image_names
+    move_old_layout_images(run.out_dir, names.values())
+    images = run.images
+    stale = {i: run.manifest.changed_parts(i) for i in run.wanted
+             if (images / names[i]).is_file()}
+    # the file's size (a decode) only for those: an image whose inputs are unchanged has
+    # the size they give
+    return {i: run.manifest.changed_parts(i, image_size_px(images / names[i]))
+            for i, parts in stale.items() if parts}
+
+
+def _recorder(run: _Run, measured: RenderReport,
+              progress: ProgressCallback | None) -> ProgressCallback:
+    """The progress callback the frames report to: each finished image goes into the
+    manifest and into ``measured``, then every event on to ``progress``."""
+    manifest = run.manifest
+
+    def record(event: dict) -> None:
+        if event.get("event") == "frame_done":
+            manifest.image_done(int(event["index"]), float(event["seconds"]),
+                                event.get("stages"), event.get("void_share"))
+            measured.frame_done(event)
+        elif event.get("event") == "worker_started":
+            measured.scene_seconds.append(0.0)  # one entry per worker
+        if progress is not None:
+            progress(event)
+
+    return record
+
+
+def _dispatch_frames(run: _Run, *, workers: int | None, scheduler: str | None,
+                     resume: bool, record: ProgressCallback, keep,
+                     keep_raw: Path | None, raw_from: Path | None) -> RenderReport:
+    """Render the wanted frames: through the camera effects only from raw renders
+    (``raw_from``), on a Dask cluster (``scheduler``), or in local workers."""
+    job_path = run.prepared.job_path
+    if raw_from is not None:
+        from designer.render.effects_job import apply_effects_pass
+
+        return apply_effects_pass(job_path, run.wanted, Path(raw_from),
+                                  resume=resume, progress=record, keep=keep)
+    if scheduler:
+        from designer.render.cluster import render_frames_on_cluster
+
+        return render_frames_on_cluster(job_path, run.wanted, scheduler,
+                                        resume=resume, progress=record, keep=keep)
+    return render_frames(job_path, run.wanted,
+                         workers=workers or run.project.render.workers,
+                         resume=resume, progress=record, keep=keep, keep_raw=keep_raw)
+
+
+def _render_wanted(run: _Run, stale: dict[int, list[str]], *, workers: int | None,
+                   scheduler: str | None, resume: bool, progress: ProgressCallback | None,
+                   keep_raw: Path | None, raw_from: Path | None) -> RenderReport:
+    """Render the wanted frames (keeping complete images unless ``stale``), recording
+    each in the manifest as it lands. Interrupted, the exception is given what is kept
+    (``stop.kept``) and an ``interrupted`` event is sent; either way this machine's
+    render speed is refined with the frames it finished (not on a cluster or from raw
+    renders)."""
+    def keep(index: int) -> bool:
+        return index not in stale
+
+    # what this run measured, kept as it arrives: an interrupted run still refines this
+    # machine's render speed with the frames it finished
+    measured = RenderReport()
+    t_render = time.perf_counter()
+    record = _recorder(run, measured, progress)
+    try:
+        return _dispatch_frames(run, workers=workers, scheduler=scheduler, resume=resume,
+                                record=record, keep=keep, keep_raw=keep_raw,
+                                raw_from=raw_from)
+    except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: say what is kept
+        names = run.prepared.job.image_names
+        stop.kept = images_kept(run.manifest, {i: names[i] for i in run.wanted},
+                                run.images, len(measured.rendered))
+        if progress is not None:
+            progress({"event": "interrupted", **stop.kept.to_json(), "resume": resume})
+        raise
+    finally:
+        if not scheduler and raw_from is None:  # a cluster's machines are not this one
+            measured.wall_seconds = time.perf_counter() - t_render
+            _record_speed(run.prepared, measured, run.prepare_seconds, run.project)
+
+
+def _finish(run: _Run, report: RenderReport, ground_truth: dict[str, Path],
+            stale: dict[int, list[str]], *, resume: bool,
+            progress: ProgressCallback | None, t_command: float,
+            truth_seconds: float) -> RenderSummary:
+    """Close the manifest with the run's timings, send the ``finished`` event, fail if
+    images failed twice, else the summary (with the stale images this run replaced)."""
+    times = RenderTimes.measured(report, time.perf_counter() - t_command,
+                                 run.prepare_seconds, truth_seconds)
+    manifest_path = run.manifest.finish(report, times)
+    if progress is not None:
+        progress({"event": "finished", **times.to_json()})
+    if report.failed:
+        raise DesignerError(
+            f"{len(report.failed)} of {len(run.wanted)} images failed twice (frames "
+            f"{report.failed[:10]}); see {run.prepared.job_path.parent / 'logs'}; rerun "
+            "with --resume to retry only those")
+    resumed = [i for i in stale if resume and i in report.rendered]
+    return RenderSummary(run.out_dir, run.prepared, report, ground_truth, manifest_path,
+                         stale={i: stale[i] for i in resumed},
+                         void=run.manifest.void_summary(), times=times)
+
+
 def render_project(
     project_path: Path,
     out_dir: Path,
@@ -368,93 +537,11 @@ def render_project(
     (:func:`designer.render.effects_job.apply_effects_pass`).
     """
     t_command = time.perf_counter()
-    project_path = Path(project_path).resolve()
-    project = load_project(project_path)
-    out_dir = Path(out_dir).resolve()  # tasks on cluster workers resolve nothing themselves
-    out_dir.mkdir(parents=True, exist_ok=True)
-    prepared = prepare_job(project, project_path.parent, out_dir, quality)
-    provenance = job_provenance(prepared.job, prepared.job_path.parent, project)
-    prepare_seconds = time.perf_counter() - t_command
-    wanted = parse_frames(frames, len(prepared.poses))
-    manifest = Manifest(out_dir, project_path, prepared, provenance, prepare_seconds,
-                        crs=project.crs)
-    t_truth = time.perf_counter()
-    ground_truth = write_ground_truth(project, prepared, out_dir, colmap_offset)
-    truth_seconds = time.perf_counter() - t_truth
-    manifest.ground_truth_seconds(truth_seconds)
-    manifest.ground_truth_written(colmap_offset)
-    names = prepared.job.image_names
-    # the readout ODM is told: the first rolling-shutter image's
-    rolling = next((rs for rs in prepared.frame_shutters if rs is not None), None)
-    sizes = (None if prepared.cameras is None else
-             {c: i.image_size_px for c, i in prepared.cameras.interiors.items()})
-    write_readme(out_dir, list(names.values()), ground_truth, project=project_path.name,
-                 image_size_px=prepared.interior.image_size_px, camera_sizes_px=sizes,
-                 readout_s=rolling.readout_s if rolling is not None else None)
-    move_old_layout_images(out_dir, names.values())
-    images = Path(prepared.job.output_dir)
-    # complete-looking images rendered from other inputs (or with no record of them)
-    stale = {i: manifest.changed_parts(i) for i in wanted if (images / names[i]).is_file()}
-    # the file's size (a decode) only for those: an image whose inputs are unchanged has
-    # the size they give
-    stale = {i: manifest.changed_parts(i, image_size_px(images / names[i]))
-             for i, parts in stale.items() if parts}
-
-    def keep(index: int) -> bool:
-        return index not in stale
-
-    # what this run measured, kept as it arrives: an interrupted run still refines this
-    # machine's render speed with the frames it finished
-    measured = RenderReport()
-    t_render = time.perf_counter()
-
-    def record(event: dict) -> None:
-        if event.get("event") == "frame_done":
-            manifest.image_done(int(event["index"]), float(event["seconds"]),
-                                event.get("stages"), event.get("void_share"))
-            measured.frame_done(event)
-        elif event.get("event") == "worker_started":
-            measured.scene_seconds.append(0.0)  # one entry per worker
-        if progress is not None:
-            progress(event)
-
-    try:
-        if raw_from is not None:
-            from designer.render.effects_job import apply_effects_pass
-
-            report = apply_effects_pass(prepared.job_path, wanted, Path(raw_from),
-                                        resume=resume, progress=record, keep=keep)
-        elif scheduler:
-            from designer.render.cluster import render_frames_on_cluster
-
-            report = render_frames_on_cluster(prepared.job_path, wanted, scheduler,
-                                              resume=resume, progress=record, keep=keep)
-        else:
-            report = render_frames(prepared.job_path, wanted,
-                                   workers=workers or project.render.workers,
-                                   resume=resume, progress=record, keep=keep,
-                                   keep_raw=keep_raw)
-    except KeyboardInterrupt as stop:  # Ctrl-C, SIGTERM, SIGHUP: say what is kept
-        stop.kept = images_kept(manifest, {i: names[i] for i in wanted}, images,
-                                len(measured.rendered))
-        if progress is not None:
-            progress({"event": "interrupted", **stop.kept.to_json(), "resume": resume})
-        raise
-    finally:
-        if not scheduler and raw_from is None:  # a cluster's machines are not this one
-            measured.wall_seconds = time.perf_counter() - t_render
-            _record_speed(prepared, measured, prepare_seconds, project)
-    times = RenderTimes.measured(report, time.perf_counter() - t_command, prepare_seconds,
-                                 truth_seconds)
-    manifest_path = manifest.finish(report, times)
-    if progress is not None:
-        progress({"event": "finished", **times.to_json()})
-    if report.failed:
-        raise DesignerError(
-            f"{len(report.failed)} of {len(wanted)} images failed twice (frames "
-            f"{report.failed[:10]}); see {prepared.job_path.parent / 'logs'}; rerun with "
-            "--resume to retry only those")
-    resumed = [i for i in stale if resume and i in report.rendered]
-    return RenderSummary(out_dir, prepared, report, ground_truth, manifest_path,
-                         stale={i: stale[i] for i in resumed}, void=manifest.void_summary(),
-                         times=times)
+    run = _prepare_run(project_path, out_dir, frames, quality, t_command)
+    ground_truth, truth_seconds = _write_truth_and_readme(run, colmap_offset)
+    stale = _stale_images(run)
+    report = _render_wanted(run, stale, workers=workers, scheduler=scheduler,
+                            resume=resume, progress=progress, keep_raw=keep_raw,
+                            raw_from=raw_from)
+    return _finish(run, report, ground_truth, stale, resume=resume, progress=progress,
+                   t_command=t_command, truth_seconds=truth_seconds)
