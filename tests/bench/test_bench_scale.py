@@ -67,7 +67,7 @@ def test_bench_scale_runs_two_small_blocks_end_to_end(tmp_path):
     table = proc.stdout
     for stage in scale.STAGES:
         assert any(line.startswith(stage + " ") for line in table.splitlines()), stage
-    assert "between 12 and 24 images" in table
+    assert "between the 12 and 24 blocks" in table
     assert "render estimated by designer plan before it ran: 12 images" in table
     data = json.loads((tmp_path / "bench-scale" / "scale.json").read_text())
     rows = data["rows"]
