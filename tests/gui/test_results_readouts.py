@@ -24,6 +24,14 @@ from tests.gui.helpers import (
 pytestmark = pytest.mark.gui
 
 
+def _distances_on_the_ground(job: ReconstructJob, hf) -> None:
+    """The job's comparison: 40 points along the X axis, 2 cm above the terrain."""
+    x = np.arange(-20.0, 20.0)
+    xyz = np.column_stack([x, np.zeros(40), hf.height_at(x, np.zeros(40)) + 0.02])
+    job.compare_dir.mkdir(parents=True)
+    write_distances_ply(job.distances_ply, xyz, np.full(40, 0.02))
+
+
 def test_a_reopened_free_sfm_reconstruction_shows_free_sfm_poses(qtbot, window, tmp_path):
     w = window
     add_hills_and_flight(w)
@@ -33,11 +41,7 @@ def test_a_reopened_free_sfm_reconstruction_shows_free_sfm_poses(qtbot, window, 
     results = open_panel(w, "Results")
     assert results.mode.currentData() == "known-poses"  # the default
     job = ReconstructJob(project_path, results.survey_dir(), "free")
-    hf = w.sync.terrain.heightfield
-    x = np.arange(-20.0, 20.0)
-    xyz = np.column_stack([x, np.zeros(40), hf.height_at(x, np.zeros(40)) + 0.02])
-    job.compare_dir.mkdir(parents=True)
-    write_distances_ply(job.distances_ply, xyz, np.full(40, 0.02))
+    _distances_on_the_ground(job, w.sync.terrain.heightfield)
     assert w.file_actions.new(None)
     wait_idle(qtbot, w)
 
@@ -84,11 +88,7 @@ def test_the_colour_range_without_distances_says_where_it_comes_from(qtbot, wind
     project_path = tmp_path / "hills.xml"
     assert w.file_actions.save_to(project_path), problems(w)
     job = ReconstructJob(project_path, results.survey_dir(), "known-poses")
-    hf = w.sync.terrain.heightfield
-    x = np.arange(-20.0, 20.0)
-    xyz = np.column_stack([x, np.zeros(40), hf.height_at(x, np.zeros(40)) + 0.02])
-    job.compare_dir.mkdir(parents=True)
-    write_distances_ply(job.distances_ply, xyz, np.full(40, 0.02))
+    _distances_on_the_ground(job, w.sync.terrain.heightfield)
     open_with_ctrl_o(qtbot, w, project_path)
     qtbot.waitUntil(lambda: results.range_spin.isEnabled(), timeout=60_000)
     assert results.range_spin.text().endswith("mm")
