@@ -8,15 +8,14 @@ grown by a ratio since the last such adjustment (``ba_global_frames_ratio`` and
 ``ba_global_points_ratio``, 1.1 by default, which designer's mapper keeps). This bench
 measures what a larger ratio saves on a survey-size block and whether the cameras move:
 per ratio, the mapper's wall and CPU seconds (all of its threads), the images
-registered, and the camera centres' RMS against the truth in XY and Z after a
-similarity (Umeyama) of the free network onto the true centres, in the survey's GSD
-as the ground truth states it.
+registered, and the camera centres' RMS against the truth in XY and Z (m) after a
+similarity (Umeyama) of the free network onto the true centres.
 
 Features and matches are the project's own (designer.sfm.features), kept in
 ``DIR/../feature-cache``: a block of ``designer bench scale`` (``bench-scale/block-N/
-survey``) already holds them, so only the mapper runs. Each ratio maps a copy of the
-matched database in a temporary folder; nothing is written next to the survey but the
-cache.
+survey``) already holds them, so only the mapper runs. Each ratio maps its own copy of
+the matched database; all of it in a temporary folder removed at the end, nothing
+written next to the survey but the cache.
 """
 
 from __future__ import annotations
@@ -39,19 +38,20 @@ def run(repeats: int = 1, scale: float = 1.0, survey: Path | None = None,
     if survey is None:
         raise DesignerError("designer bench mapper: give --survey DIR, a rendered survey "
                             "(e.g. bench-scale/block-720/survey from 'designer bench scale')")
-    db, inputs = _matched_database(Path(survey))
     rows = []
-    for ratio in RATIOS:
-        row = _map_once(db, inputs, ratio)
-        rows.append(row)
-        if on_row is not None:
-            on_row(row)
+    with tempfile.TemporaryDirectory(prefix="bench-mapper-") as tmp:
+        db, inputs = _matched_database(Path(survey), Path(tmp))
+        for ratio in RATIOS:
+            row = _map_once(db, inputs, ratio)
+            rows.append(row)
+            if on_row is not None:
+                on_row(row)
     return rows
 
 
-def _matched_database(survey: Path):
+def _matched_database(survey: Path, work: Path):
     """The survey's features and matches (from the cache beside it, or computed into it)
-    in a database of a temporary folder, and the survey's processing inputs."""
+    in a database in ``work``, and the survey's processing inputs."""
     from designer.sfm.feature_cache import FeatureCache
     from designer.sfm.features import extract_features, match_features
     from designer.sfm.inputs import read_inputs
@@ -63,7 +63,6 @@ def _matched_database(survey: Path):
     processing = resolve_processing(survey)
     inputs = read_inputs(survey, "free", processing, None, log)
     cache = FeatureCache(survey.parent / "feature-cache")
-    work = Path(tempfile.mkdtemp(prefix="bench-mapper-"))
     features = extract_features(inputs, work / "database.db", cache, log)
     match_features(inputs, features, work, cache, log)
     return features.db_path, inputs
@@ -96,15 +95,11 @@ def _map_once(db: Path, inputs, ratio: float) -> dict:
 
 def centre_rms(est: np.ndarray, true: np.ndarray) -> tuple[float, float]:
     """RMS (XY, Z) of ``true`` minus the similarity (Umeyama, with scale) of ``est`` that
-    fits it best in least squares; N × 3 arrays of the same cameras."""
-    me, mt = est.mean(0), true.mean(0)
-    e, t = est - me, true - mt
-    u, s, vt = np.linalg.svd(t.T @ e / len(e))
-    d = np.eye(3)
-    d[2, 2] = np.sign(np.linalg.det(u @ vt))
-    rot = u @ d @ vt
-    scale = np.trace(np.diag(s) @ d) / (e ** 2).sum(1).mean()
-    res = true - (scale * e @ rot.T + mt)
+    fits it best in least squares (designer.bench.doming.similarity_onto); N × 3 arrays
+    of the same cameras."""
+    from designer.bench.doming import similarity_onto
+
+    res = true - similarity_onto(est, true)
     return float(np.sqrt((res[:, :2] ** 2).sum(1).mean())), float(np.sqrt((res[:, 2] ** 2).mean()))
 
 
