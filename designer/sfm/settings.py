@@ -48,7 +48,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
                        calibration: str | None = None, gcps: str | None = None,
                        marking_sigma_px: float | None = None,
                        position_prior: str | None = None, dense: str | None = None,
-                       max_features: int | None = None, pairs: str | None = None,
+                       max_features: int | None = None, sift_scale: str | None = None,
+                       pairs: str | None = None,
                        min_track_length: int | None = None,
                        control_ids: tuple[str, ...] | None = None,
                        control_count: int | None = None,
@@ -82,8 +83,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
         p = dataclasses.replace(p, position_prior=dataclasses.replace(
             p.position_prior, mode=position_prior))
     mt = p.matching
-    for name, value in (("max_features", max_features), ("pairs", pairs),
-                        ("min_track_length", min_track_length)):
+    for name, value in (("max_features", max_features), ("sift_scale", sift_scale),
+                        ("pairs", pairs), ("min_track_length", min_track_length)):
         if value is not None:
             mt = dataclasses.replace(mt, **{name: value})
     p = dataclasses.replace(p, matching=mt)

@@ -111,3 +111,35 @@ def test_runs_that_differ_only_after_sfm_share_the_mappers_model(survey, tmp_pat
                         processing=resolve_processing(survey, gcps="similarity",
                                                       mapper="global", max_features=2048))
     assert other.summary["reused_from_cache"]["sfm"] is False
+
+
+def _keypoint_scales_px(db_path):
+    """Every keypoint's scale (px): the square root of its affine shape's determinant."""
+    import sqlite3
+
+    import numpy as np
+
+    with sqlite3.connect(db_path) as db:
+        rows = db.execute("SELECT rows, cols, data FROM keypoints").fetchall()
+    shapes = [np.frombuffer(data, np.float32).reshape(n, c) for n, c, data in rows if n]
+    kp = np.concatenate(shapes)
+    return np.sqrt(np.abs(kp[:, 2] * kp[:, 5] - kp[:, 3] * kp[:, 4]))
+
+
+def test_sift_on_the_original_image_finds_no_sub_pixel_features_and_has_its_own_key(
+        survey, first, tmp_path):
+    """<matching sift-scale="original">: SIFT's first octave on the image itself (COLMAP's
+    first_octave 0), not on the image doubled (the default, -1). Its finest features are
+    then twice as coarse, and its features are kept under their own cache key."""
+    from designer.project import model as m
+
+    folder, doubled = first
+    processing = m.Processing(matching=m.Matching(max_features=2048, sift_scale="original"))
+    original = reconstruct(survey, tmp_path / "o", mode="known-poses", processing=processing,
+                           feature_cache=folder / "cache")
+    assert original.summary["reused_from_cache"]["features"] is False
+    s_doubled = _keypoint_scales_px(folder / "a" / "database.db")
+    s_original = _keypoint_scales_px(tmp_path / "o" / "database.db")
+    # SIFT's finest scale is 1.6 × 2^(first octave) px: about 0.8 px on the doubled image
+    assert s_doubled.min() < 1.2 < 1.5 < s_original.min()
+    assert original.n_registered == doubled.n_registered == original.n_images

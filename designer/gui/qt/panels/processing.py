@@ -45,6 +45,8 @@ PAIRS = [("by ground footprint", "footprint"), ("by camera position", "position"
          ("every pair (exhaustive)", "exhaustive")]
 ROLLING = [("as global-shutter images", "none"),
            ("compensated: each image's velocity in the adjustment", "compensate")]
+SIFT_SCALES = [("doubled (COLMAP's default)", "doubled"),
+               ("original (a quarter of the work)", "original"), ("half", "half")]
 DENSE = [("off (sparse cloud only)", "none"),
          ("CPU (semi-global matching + fusion)", "cpu"), ("automatic", "auto")]
 
@@ -158,6 +160,8 @@ class ProcessingPanel(Panel):
         f = form(match)
         f.addRow("SIFT features", b.bind(ispin(100, 1_000_000, "per image"),
                                          f"{MATCH}.max_features", "SIFT features"))
+        f.addRow("SIFT on the image", b.bind(combo(SIFT_SCALES), f"{MATCH}.sift_scale",
+                                             "SIFT image size"))
         f.addRow("pairs", b.bind(combo(PAIRS), f"{MATCH}.pairs", "Matched pairs"))
         f.addRow("tie points in", b.bind(ispin(2, 100, "images or more"),
                                          f"{MATCH}.min_track_length", "Minimum track length"))
