@@ -91,3 +91,18 @@ def bake(codes, shading, warp, bound_uv, tiles, offsets, closest, table, full, c
             for c in range(3):
                 value = colour[c] * planes[0] * 65535.0
                 out[r, col, c] = np.uint16(min(max(math.floor(value + 0.5), 0.0), 65535.0))
+
+
+@njit(cache=True, parallel=True)
+def fold_light_bgr(baked, light, out):
+    """out (h, w, 3) uint16 BGR ← ``baked`` (h, w, 3) uint16 RGB times ``light`` (h, w)
+    float32, rounded half to even and clipped to 0 … 65535: the float32 product
+    ``baked.astype(float32) * light[..., None]`` texel by texel, in the channel order
+    OpenCV writes."""
+    for r in prange(baked.shape[0]):
+        for col in range(baked.shape[1]):
+            f = light[r, col]
+            for c in range(3):
+                p = np.rint(np.float32(baked[r, col, c]) * f)
+                out[r, col, 2 - c] = np.uint16(min(max(p, np.float32(0.0)),
+                                                   np.float32(65535.0)))

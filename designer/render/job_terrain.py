@@ -227,11 +227,11 @@ def _write_bake(bake: VariedBake, objects: list, job_dir: Path, lit: bool) -> li
         # replicated: Blender's texel-centre convention with EXTEND
         light = cv2.resize(light.astype(np.float32) / np.float32(65535.0), (W, H),
                            interpolation=cv2.INTER_LINEAR)
-        lit_image = np.empty_like(baked)
-        for r in range(0, H, 256):  # bands of rows: the float copy of a large bake stays small
-            product = baked[r:r + 256].astype(np.float32) * light[r:r + 256, :, None]
-            lit_image[r:r + 256] = np.clip(np.rint(product), 0, 65535)
-        _write_keyed(job_dir / lit_file, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR), key)
+        from designer.render._bake_kernel import fold_light_bgr
+
+        lit_bgr = np.empty_like(baked)
+        fold_light_bgr(baked, np.ascontiguousarray(light, np.float32), lit_bgr)
+        _write_keyed(job_dir / lit_file, lit_bgr, key)
     folded = replace(material, texture=lit_file, lightmap=None)
     return [replace(o, materials=(folded, *o.materials[1:])) if o is terrain else o
             for o in objects]
@@ -246,6 +246,8 @@ def _write_two_bakes(two, extent_m, objects: list, job_dir: Path, lit: bool) -> 
     if lit and terrain.materials[0].lightmap is not None:
         light = cv2.imread(str(job_dir / terrain.materials[0].lightmap),
                            cv2.IMREAD_UNCHANGED).astype(np.float32) / np.float32(65535.0)
+    from designer.render._bake_kernel import fold_light_bgr
+
     folded = []
     for material, bake, rect in zip(terrain.materials[:2], (two.inner, two.coarse), rects,
                                     strict=True):
@@ -255,16 +257,16 @@ def _write_two_bakes(two, extent_m, objects: list, job_dir: Path, lit: bool) -> 
             folded.append(material)
             continue
         H, W = bake.shape[:2]
-        lit_image = np.empty_like(bake)
+        lit_bgr = np.empty_like(bake)
         for r in range(0, H, 256):  # bands of rows: the light's float copy stays small
             r1 = min(r + 256, H)
             top = rect[3] - r / H * (rect[3] - rect[2])
             bottom = rect[3] - r1 / H * (rect[3] - rect[2])
             band = sample_light_rect(light, (r1 - r, W), (rect[0], rect[1], bottom, top))
-            product = bake[r:r1].astype(np.float32) * band[:, :, None]
-            lit_image[r:r1] = np.clip(np.rint(product), 0, 65535)
+            fold_light_bgr(bake[r:r1], np.ascontiguousarray(band, np.float32),
+                           lit_bgr[r:r1])
         name = material.texture.replace("texture_", "texture_lit_", 1)
-        write_png(job_dir / name, cv2.cvtColor(lit_image, cv2.COLOR_RGB2BGR), fast=True)
+        write_png(job_dir / name, lit_bgr, fast=True)
         folded.append(replace(material, texture=name, lightmap=None))
     folded += terrain.materials[2:]  # the far ground keeps its own texture and light map
     return [replace(o, materials=tuple(folded)) if o is terrain else o for o in objects]

@@ -28,7 +28,10 @@ def warm_up() -> None:
     rng = np.random.default_rng(0)
     texture = rng.integers(0, 256, (8, 8, 3), dtype=np.uint8)
     planes = np.full((4, 4, 3), 32768, np.uint16)
-    bake_varied_texture(texture, (2, 2), VariationImages(planes, planes, 0.01))
+    baked = bake_varied_texture(texture, (2, 2), VariationImages(planes, planes, 0.01))
+    from designer.render._bake_kernel import fold_light_bgr
+
+    fold_light_bgr(baked, np.ones(baked.shape[:2], np.float32), np.empty_like(baked))
     project = template("survey").project
     camera = project.cameras[0]
     # the example camera at 1/48 of its size: 114 × 76 px, its lens and effects

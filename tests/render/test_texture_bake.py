@@ -80,3 +80,22 @@ def test_size_and_limit():
     assert not can_bake((800, 800, 3), (MAX_BAKE_PX // 800 + 1, 1))
     with pytest.raises(ValueError, match="uint8"):
         bake_varied_texture(np.zeros((4, 4, 3), np.uint16), (1, 1), _variation())
+
+
+def test_the_light_fold_is_the_float32_product_rounded_to_even_in_opencvs_order():
+    """The lit bake (the light map multiplied into the texture, render.job_terrain): texel
+    by texel the float32 product, rounded half to even, clipped to 16 bits, written in
+    OpenCV's BGR order; the halves and the overflow included."""
+    from designer.render._bake_kernel import fold_light_bgr
+
+    rng = np.random.default_rng(3)
+    baked = rng.integers(0, 65536, (37, 53, 3), dtype=np.uint16)
+    light = rng.uniform(0.0, 1.3, (37, 53)).astype(np.float32)
+    baked[0, :3] = (1, 3, 5)
+    light[0, :3] = 0.5  # 0.5, 1.5, 2.5 → 0, 2, 2
+    out = np.empty_like(baked)
+    fold_light_bgr(baked, light, out)
+    expected = np.clip(np.rint(baked.astype(np.float32) * light[..., None]), 0, 65535)
+    assert np.array_equal(out, expected.astype(np.uint16)[..., ::-1])
+    assert list(out[0, 0, ::-1]) == [0, 2, 2]
+    assert (out == 65535).any()  # light over 1 saturates
