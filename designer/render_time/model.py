@@ -33,12 +33,17 @@ the same whole key — widening to the scene kind, then to every record, only wh
 has none. So an estimate does not move when another kind of project renders, and one slow
 render (a busy machine) among several of the same kind moves no median far. Cycles' part
 is measured in CPU-seconds (all its threads), which a busy machine changes far less than
-wall time, and divided by the cores to predict wall time. Without any record the estimate
-uses :data:`REFERENCE` and says it is uncalibrated.
+wall time, and divided by the cores to predict wall time. The wall seconds outside Cycles
+(files, effects, preparation, start-up) are recorded as an idle machine's: scaled by the
+share of the cores the frames' Cycles threads had (render_time.record.core_share), so a
+render on a machine busy with other work does not make later estimates of an idle one
+too long. Without any record the estimate uses :data:`REFERENCE` and says it is
+uncalibrated.
 
 Not modelled: buildings, plants and moving objects (more geometry than the terrain),
-adaptive sampling (metrology preset: counted at its maximum samples), a machine busy
-with other work, and workers competing for the caches (two workers of one core each
+adaptive sampling (metrology preset: counted at its maximum samples), an estimate for a
+machine that will be busy with other work (every estimate is an idle machine's), and
+workers competing for the caches (two workers of one core each
 render the example about 20 % slower than one worker with both cores, which the model
 does not see: docs/benchmarks.md). A render of such a project records its own
 coefficients under its own kind.

@@ -77,17 +77,36 @@ def record_render_speed(prepared, report,
     all_costs = dict(zip(timed, costs, strict=True))
     images = [all_costs[i] for i in frames]
     cpu = [report.stages[i]["cycles_cpu_s"] for i in frames]
-    post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0))
+    # a busy machine stretches the wall seconds outside Cycles; each frame's are scaled
+    # to the idle machine by the share of the cores its Cycles threads had
+    threads = prepared.job.render.threads or max(1, cores // workers)
+    shares = {i: core_share(report.stages[i], threads) for i in timed}
+    post = [max(0.0, report.rendered[i] - report.stages[i].get("cycles_s", 0.0)) * shares[i]
             for i in frames]
     keys = Counter(json.dumps(cost_key(c), sort_keys=True) for c in images)
     typical = next(c for c in images
                    if json.dumps(cost_key(c), sort_keys=True) == keys.most_common(1)[0][0])
     measured = fit_speed(images, cpu, post, 0.0, source, prior=load_speed(typical))
-    # the fixed part: what the model of every timed frame leaves of the wall time
+    # the fixed part: what the model of every timed frame (an idle machine's seconds)
+    # leaves of the wall time, the wall time first scaled to the idle machine by the
+    # frames' median share of the cores (a busy machine's frames took 1/share as long)
     frames_wall = (sum(frame_cpu_s(measured, c) for c in all_costs.values()) / cores
                    + sum(c.megapixels * measured.post_s_per_mp for c in all_costs.values())
                    / workers)
-    fixed = prepare_seconds + max(0.0, report.wall_seconds - frames_wall)
+    share = float(np.median(list(shares.values())))
+    fixed = (prepare_seconds + max(0.0, report.wall_seconds - frames_wall / share)) * share
     measured = replace(measured, fixed_s=fixed, fixed_bake_mp=typical.bake_mp)
     save_speed(measured, typical)
     return measured
+
+
+def core_share(stages: dict, threads: int) -> float:
+    """The share of its ``threads`` cores a frame's Cycles render had (its CPU-seconds
+    over its wall seconds times the threads, at most 1; 1 when not measured): near 1 on
+    an idle machine, 0.3 when other work took seven tenths of the cores. The seconds
+    outside Cycles a busy machine measured, times this share, are an idle machine's."""
+    wall = float(stages.get("cycles_s") or 0.0)
+    cpu = float(stages.get("cycles_cpu_s") or 0.0)
+    if wall <= 0.0 or cpu <= 0.0:
+        return 1.0
+    return min(1.0, max(0.05, cpu / (wall * threads)))
