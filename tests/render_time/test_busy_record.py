@@ -8,7 +8,6 @@ import pytest
 
 from designer.render.job import prepare_job
 from designer.render.runner import RenderReport
-from designer.render_time import model as rc
 from designer.render_time.record import core_share, record_render_speed
 from tests import synthetic
 
