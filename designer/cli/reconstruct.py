@@ -54,6 +54,11 @@ def register(subparsers) -> None:
                         help="structure from motion (--mode free): incremental (COLMAP's, "
                              "the default) or global (GLOMAP's rotation averaging and global "
                              "positioning); docs/processing.md compares them")
+    parser.add_argument("--global-adjustment-growth", type=float, default=None,
+                        metavar="FACTOR",
+                        help="the incremental mapper adjusts the whole model again once it "
+                             "has grown by FACTOR (default 1.1, COLMAP's; 1.4 takes about a "
+                             "third less mapper time on blocks of hundreds of images)")
     parser.add_argument("--max-features", type=int, default=None,
                         help="SIFT features per image (default 8192)")
     parser.add_argument("--sift-scale", choices=["doubled", "original", "half"], default=None,
@@ -84,7 +89,7 @@ def run(args) -> int:
         pairs=args.pairs,
         min_track_length=args.min_track_length, control_ids=ids, control_count=count,
         control_spread=args.control_spread, rolling_shutter=args.rolling_shutter,
-        mapper=args.mapper)
+        mapper=args.mapper, global_adjustment_growth=args.global_adjustment_growth)
     out = args.output or args.survey / f"reconstruction-{args.mode}"
     if args.dense_max_image_px is not None and args.dense_max_image_px < 64:
         from designer.errors import DesignerError

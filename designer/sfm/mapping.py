@@ -49,9 +49,13 @@ def map_cameras(inputs: SurveyInputs, features: Features, matches: Matches, layo
     p = inputs.processing
     # the mapper's model depends on the matches, the interior it refines, the mapper
     # and the rig layout: runs that differ only after SfM share it
+    # (the incremental mapper's adjustment growth only when not COLMAP's default, so
+    # models kept before the setting existed are still found)
+    growth = p.sfm.global_adjustment_growth
+    growth_key = () if p.sfm.mapper == "global" or growth == DEFAULT_GROWTH else (growth,)
     sfm_key = fc_key("sfm", matches.key, p.calibration.mode, p.sfm.mapper,
-                     repr(None if layout is None else sorted(layout.frames.items()))
-                     ) if cache else ""
+                     repr(None if layout is None else sorted(layout.frames.items())),
+                     *growth_key) if cache else ""
     with cache.hold("sfm", sfm_key) if cache else contextlib.nullcontext():
         reused = bool(cache) and cache.fetch_model(sfm_key, sparse / "cached")
         if reused:
@@ -62,7 +66,8 @@ def map_cameras(inputs: SurveyInputs, features: Features, matches: Matches, layo
             rec = global_sfm(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
         else:
             log("incremental SfM")
-            rec = incremental_sfm(pycolmap, db_path, image_dir, sparse, p.calibration.mode)
+            rec = incremental_sfm(pycolmap, db_path, image_dir, sparse, p.calibration.mode,
+                                  global_ba_ratio=growth)
         if cache and not reused:
             cache.store_model(sfm_key, rec)
     check_every_camera_registered(rec, inputs.cams, inputs.survey)
@@ -123,12 +128,16 @@ def check_every_camera_registered(rec, cams: list[SurveyCamera], survey: Path) -
             "overlaps) or process each camera's images as a survey of their own")
 
 
+#: COLMAP's growth of the model between two adjustments of the whole model
+DEFAULT_GROWTH = 1.1
+
+
 def incremental_sfm(pycolmap, db_path, image_dir, sparse, calibration: str,
-                    global_ba_ratio: float = 1.1):
+                    global_ba_ratio: float = DEFAULT_GROWTH):
     """COLMAP's incremental mapper, seeded, set for survey images; its largest model.
     ``global_ba_ratio``: the growth of the model (registered images, tie points) between
-    two adjustments of the whole model (COLMAP's default 1.1; designer bench mapper
-    measures others)."""
+    two adjustments of the whole model (COLMAP's default 1.1; ``<sfm
+    global-adjustment-growth>``; designer bench mapper measures others)."""
     options = pycolmap.IncrementalPipelineOptions()
     options.ba_global_frames_ratio = options.ba_global_points_ratio = global_ba_ratio
     options.num_threads = -1

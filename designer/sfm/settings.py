@@ -55,7 +55,8 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
                        control_count: int | None = None,
                        control_spread: str | None = None,
                        rolling_shutter: str | None = None,
-                       mapper: str | None = None) -> m.Processing:
+                       mapper: str | None = None,
+                       global_adjustment_growth: float | None = None) -> m.Processing:
     """The project's ``<processing>`` (defaults when absent) with the given overrides."""
     base = m.Processing()
     path = project or project_of_survey(survey)
@@ -92,6 +93,9 @@ def resolve_processing(survey: Path, project: Path | None = None, *,
         p = dataclasses.replace(p, dense=dense)
     if mapper is not None:
         p = dataclasses.replace(p, sfm=dataclasses.replace(p.sfm, mapper=mapper))
+    if global_adjustment_growth is not None:
+        p = dataclasses.replace(p, sfm=dataclasses.replace(
+            p.sfm, global_adjustment_growth=global_adjustment_growth))
     check_processing(p)
     return p
 
@@ -110,6 +114,10 @@ def check_processing(p: m.Processing) -> None:
     if not track.in_range(p.matching.min_track_length):
         raise DesignerError(f"--min-track-length {p.matching.min_track_length}: use "
                             f"{track.range_text()}")
+    growth = declared_field(m.Sfm, "global_adjustment_growth")
+    if not growth.in_range(p.sfm.global_adjustment_growth):
+        raise DesignerError(f"--global-adjustment-growth {p.sfm.global_adjustment_growth}: "
+                            f"use {growth.range_text()}")
     if not 100 <= p.matching.max_features <= 1_000_000:
         raise DesignerError(f"--max-features {p.matching.max_features}: use 100 to 1000000")
     if p.calibration.rolling_shutter not in ("none", "compensate"):

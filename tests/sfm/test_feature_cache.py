@@ -111,6 +111,14 @@ def test_runs_that_differ_only_after_sfm_share_the_mappers_model(survey, tmp_pat
                         processing=resolve_processing(survey, gcps="similarity",
                                                       mapper="global", max_features=2048))
     assert other.summary["reused_from_cache"]["sfm"] is False
+    # so is another growth between the incremental mapper's whole-model adjustments
+    growth = reconstruct(survey, tmp_path / "e", mode="free", feature_cache=cache,
+                         processing=resolve_processing(survey, gcps="similarity",
+                                                       global_adjustment_growth=1.4,
+                                                       max_features=2048))
+    assert growth.summary["reused_from_cache"] == {"features": True, "matches": True,
+                                                   "sfm": False}
+    assert growth.n_registered == first.n_registered == first.n_images
 
 
 def _keypoint_scales_px(db_path):
