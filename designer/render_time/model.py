@@ -142,14 +142,14 @@ class RenderSpeed:
 
 
 #: Fitted to the example survey on the reference machine (2 cores, Blender 5.0.1, the
-#: baked texture with the light map folded in, one worker; ``designer render`` of
-#: ``designer new --template survey`` in ``make demo`` on a fresh clone: 60 images of
-#: 1368 × 912 px at 16 spp, 20 % to 100 % of each on the terrain, render stage 161 s).
-#: The fixed part is that of a render with no bake (the tiny study template's render,
-#: 2.36 s with its 1.44 MP bake, less the bake's seconds): a render baking B megapixels
-#: adds ``BAKE_S_PER_MP · B``.
-REFERENCE = RenderSpeed(terrain_cpu_s_per_mp_sample=0.301,
-                        background_cpu_s_per_mp_sample=0.109, post_s_per_mp=0.175,
+#: baked texture with the light map folded in, one worker): the record of the render in
+#: ``make demo`` on a fresh clone of d0aea2d with a new cache folder (the example's 60
+#: images of 1368 × 912 px at 16 spp, every pixel on the terrain or its surroundings,
+#: 59 frames fitted; render stage 258.7 s). The fixed part is that of a render with no
+#: bake (the tiny study template's render, 2.36 s with its 1.44 MP bake, less the bake's
+#: seconds): a render baking B megapixels adds ``BAKE_S_PER_MP · B``.
+REFERENCE = RenderSpeed(terrain_cpu_s_per_mp_sample=0.369,
+                        background_cpu_s_per_mp_sample=0.134, post_s_per_mp=0.203,
                         fixed_s=2.1, fixed_bake_mp=0.0)
 
 

@@ -4,6 +4,7 @@ render's own measured time — a ratio, not seconds."""
 
 from __future__ import annotations
 
+import os
 import time
 
 import pytest
@@ -30,9 +31,18 @@ def test_the_plan_estimate_matches_the_render_it_estimates(tmp_path):
     measured = time.perf_counter() - t0
     assert len(summary.report.rendered) == 6
     # the whole render stage as the user waits for it (preparation, Blender, frames,
-    # ground truth), within the issue's ±30 % and some slack for a busy CI machine
-    print(f"estimate {estimate:.1f} s, measured {measured:.1f} s")
-    assert 0.6 < estimate / measured < 1.6, (estimate, measured, speed)
+    # ground truth), within the issue's ±30 % and some slack; the estimate is an idle
+    # machine's, so the measured seconds are scaled by the share of the cores this
+    # render had (a test worker beside another renders on a busy machine)
+    import numpy as np
+
+    from designer.render_time.record import core_share
+
+    threads = max(1, os.cpu_count() or 1)
+    share = float(np.median([core_share(st, threads)
+                             for st in summary.report.stages.values()]))
+    print(f"estimate {estimate:.1f} s, measured {measured:.1f} s at {share:.2f} of the cores")
+    assert 0.6 < estimate / (measured * share) < 1.6, (estimate, measured, share, speed)
     # the manifest records each image's stages, the Cycles render among them
     import json
 
