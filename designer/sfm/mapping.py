@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer.errors import DesignerError
+from designer.project import model as m
 from designer.sfm.feature_cache import FeatureCache
 from designer.sfm.feature_cache import key as fc_key
 from designer.sfm.features import Features, Matches
@@ -128,8 +129,9 @@ def check_every_camera_registered(rec, cams: list[SurveyCamera], survey: Path) -
             "overlaps) or process each camera's images as a survey of their own")
 
 
-#: COLMAP's growth of the model between two adjustments of the whole model
-DEFAULT_GROWTH = 1.1
+#: COLMAP's growth of the model between two adjustments of the whole model (the
+#: project's default, <sfm global-adjustment-growth>)
+DEFAULT_GROWTH = m.Sfm().global_adjustment_growth
 
 
 def incremental_sfm(pycolmap, db_path, image_dir, sparse, calibration: str,
