@@ -160,7 +160,7 @@ class ProcessingPanel(Panel):
         f = form(match)
         f.addRow("SIFT features", b.bind(ispin(100, 1_000_000, "per image"),
                                          f"{MATCH}.max_features", "SIFT features"))
-        f.addRow("SIFT on the image", b.bind(combo(SIFT_SCALES), f"{MATCH}.sift_scale",
+        f.addRow("SIFT image size", b.bind(combo(SIFT_SCALES), f"{MATCH}.sift_scale",
                                              "SIFT image size"))
         f.addRow("pairs", b.bind(combo(PAIRS), f"{MATCH}.pairs", "Matched pairs"))
         f.addRow("tie points in", b.bind(ispin(2, 100, "images or more"),
