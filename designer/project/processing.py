@@ -176,7 +176,7 @@ class Matching:
         "default, first octave -1; Metashape's 'highest' alignment accuracy), original "
         "(first octave 0, Metashape's 'high': about a quarter of the extraction work, "
         "without the features finer than a pixel or two) or half (first octave 1, "
-        "'medium')", label="SIFT works on the image")
+        "'medium')", label="SIFT image size")
 
 
 @element("sfm", title="structure from motion", path="processing.sfm", stage="processing")

@@ -143,7 +143,7 @@ def _reader(pycolmap, camera: SurveyCamera, start: np.ndarray, mode: str):
 
 
 def _extract(pycolmap, db_path: Path, image_dir: Path, names: list[str], reader,
-             max_features: int, first_octave: int = -1) -> None:
+             max_features: int, first_octave: int) -> None:
     extraction = pycolmap.FeatureExtractionOptions()
     extraction.sift.max_num_features = max_features
     extraction.sift.first_octave = first_octave
